@@ -1,0 +1,21 @@
+// Composite pass: resolves weighted blended OIT (accumulation, revealage) over the opaque image.
+@group(0) @binding(0) var accum_tex: texture_2d<f32>;
+@group(0) @binding(1) var revealage_tex: texture_2d<f32>;
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(pos.xy);
+    let accum = textureLoad(accum_tex, p, 0);
+    let revealage = textureLoad(revealage_tex, p, 0).r;
+    if accum.a <= 1e-6 {
+        discard;
+    }
+    let color = accum.rgb / max(accum.a, 1e-6);
+    return vec4<f32>(color, 1.0 - revealage);
+}

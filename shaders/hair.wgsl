@@ -1,0 +1,56 @@
+// Eye pass for hair: strands as lines, Kajiya-Kay shading, shadowed by the selected method's visibility and by
+// opaque meshes, composited with weighted blended order-independent transparency (McGuire & Bavoil 2013).
+#include "common/frame.wgsl"
+#include "common/scene_bindings.wgsl"
+#include "common/kajiya_kay.wgsl"
+#include_method
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) alpha: f32,
+    @location(2) tangent: vec3<f32>,
+    @location(3) thickness: f32,
+    // rgb colour; a = 1 when the strand carries its own colour, 0 to use the global hair colour.
+    @location(4) color: vec4<f32>,
+}
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) tangent: vec3<f32>,
+    @location(2) color: vec4<f32>,
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = frame.world_to_clip * vec4<f32>(v.position, 1.0);
+    out.world = v.position;
+    out.tangent = v.tangent;
+    let rgb = mix(frame.hair_color.rgb, v.color.rgb, v.color.a);
+    out.color = vec4<f32>(rgb, clamp(v.alpha * frame.hair_color.a, 0.0, 1.0));
+    return out;
+}
+
+struct OitTargets {
+    @location(0) accum: vec4<f32>,
+    @location(1) revealage: vec4<f32>,
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> OitTargets {
+    let t = normalize(in.tangent);
+    let to_eye = normalize(frame.eye_position.xyz - in.world);
+    let l = light_dir(in.world);
+    let v = hair_visibility(in.world) * mesh_visibility(in.world);
+    let shaded = kajiya_kay(t, l, to_eye, in.color.rgb) * light_radiance(in.world) * v + in.color.rgb * 0.08;
+    let a = in.color.a;
+    // Depth weight in the spirit of McGuire & Bavoil: nearer fragments dominate. The distance is measured in
+    // units of the camera-to-target distance (eye_position.w), so the weight does not depend on the scene's scale.
+    let d = length(frame.eye_position.xyz - in.world) / frame.eye_position.w;
+    let w = a * clamp(pow(max(2.0 - d, 0.0), 8.0), 1e-2, 3e3);
+    var out: OitTargets;
+    out.accum = vec4<f32>(shaded * a, a) * w;
+    out.revealage = vec4<f32>(a, 0.0, 0.0, 0.0);
+    return out;
+}

@@ -1,0 +1,41 @@
+// Eye pass for opaque meshes: Lambert shading, shadowed by other meshes (shadow map) and by hair (the selected
+// shadow method's visibility).
+#include "common/frame.wgsl"
+#include "common/scene_bindings.wgsl"
+#include_method
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec3<f32>,
+}
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec3<f32>,
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = frame.world_to_clip * vec4<f32>(v.position, 1.0);
+    out.world = v.position;
+    out.normal = v.normal;
+    out.color = v.color;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    var n = normalize(in.normal);
+    let to_eye = normalize(frame.eye_position.xyz - in.world);
+    if dot(n, to_eye) < 0.0 {
+        n = -n;
+    }
+    let l = light_dir(in.world);
+    let v = mesh_visibility(in.world) * hair_visibility(in.world);
+    let lit = in.color * light_radiance(in.world) * max(dot(n, l), 0.0) * v;
+    return vec4<f32>(lit + in.color * 0.12, 1.0);
+}

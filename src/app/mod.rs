@@ -1,0 +1,444 @@
+//! The workbench window: an eframe app with the wgpu viewport in the centre, parameter panels on the left and a
+//! status line at the bottom. Settings persist between runs; presets load and save the same struct.
+
+mod panels;
+mod viewport;
+
+use crate::gpu::{self, AdapterPreference, timing::PassTime};
+use crate::methods::registry;
+use crate::render::Renderer;
+use crate::scene::Scene;
+use crate::settings::Settings;
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::{Arc, mpsc};
+use std::time::Instant;
+
+const SETTINGS_KEY: &str = "hairlab.settings";
+
+/// The wgpu setup hairlab asks eframe (and the UI tests) for: the adapter policy and the features its passes need.
+pub fn wgpu_setup(pref: AdapterPreference) -> egui_wgpu::WgpuSetup {
+    let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
+    setup.instance_descriptor.backends = gpu::backends();
+    setup.native_adapter_selector = Some(Arc::new(move |adapters, _surface| {
+        gpu::select_adapter(adapters, AdapterPreference::from_env_or(pref)).map_err(|e| e.to_string())
+    }));
+    setup.device_descriptor = Arc::new(|adapter| {
+        let mut d = gpu::device_descriptor(adapter);
+        d.required_limits.max_texture_dimension_2d = d.required_limits.max_texture_dimension_2d.max(8192);
+        d
+    });
+    egui_wgpu::WgpuSetup::CreateNew(setup)
+}
+
+/// Window options: wgpu renderer with [`wgpu_setup`].
+pub fn native_options() -> eframe::NativeOptions {
+    eframe::NativeOptions {
+        renderer: eframe::Renderer::Wgpu,
+        viewport: egui::ViewportBuilder::default()
+            .with_title("hairlab")
+            .with_inner_size([1280.0, 800.0]),
+        wgpu_options: egui_wgpu::WgpuConfiguration {
+            wgpu_setup: wgpu_setup(AdapterPreference::Hardware),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// What a pending file dialog is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DialogPurpose {
+    OpenScene,
+    SaveScreenshot,
+    LoadPreset,
+    SavePreset,
+}
+
+/// A message for the status line.
+#[derive(Clone, Debug)]
+struct Message {
+    text: String,
+    error: bool,
+}
+
+pub struct HairlabApp {
+    settings: Settings,
+    render_state: Option<egui_wgpu::RenderState>,
+    renderer: Option<Renderer>,
+    scene: Option<Scene>,
+    /// Settings of the scene currently loaded (to notice when it must be rebuilt).
+    built_scene: Option<crate::settings::SceneSettings>,
+    texture: Option<(egui::TextureId, u32, u32)>,
+    last_rendered: Option<(Settings, u32, u32)>,
+    adapter: String,
+    message: Option<Message>,
+    dialog: Option<(DialogPurpose, mpsc::Receiver<Option<PathBuf>>)>,
+    screenshot_request: Option<PathBuf>,
+    frame_ms: VecDeque<f64>,
+    pass_times: Vec<PassTime>,
+    continuous: bool,
+    last_frame: Option<Instant>,
+    /// Hides measured times (they differ run to run) so UI snapshots are reproducible.
+    snapshot_mode: bool,
+}
+
+impl HairlabApp {
+    /// Starts with `settings`, or the persisted settings when `settings` is `None`.
+    pub fn new(cc: &eframe::CreationContext<'_>, settings: Option<Settings>) -> HairlabApp {
+        let mut message = None;
+        let persisted: Option<Settings> = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY));
+        let settings = settings
+            .or_else(|| persisted.filter(|s| s.validate().is_ok()))
+            .unwrap_or_else(|| {
+                Settings::load_preset("default", &[]).unwrap_or_else(|e| {
+                    message = Some(Message {
+                        text: format!("{e:#}"),
+                        error: true,
+                    });
+                    Settings::default()
+                })
+            });
+        let adapter = match &cc.wgpu_render_state {
+            Some(rs) => gpu::describe(&rs.adapter.get_info()),
+            None => "no wgpu renderer".to_string(),
+        };
+        log::info!("GPU: {adapter}");
+        let mut app = HairlabApp {
+            settings,
+            render_state: cc.wgpu_render_state.clone(),
+            renderer: None,
+            scene: None,
+            built_scene: None,
+            texture: None,
+            last_rendered: None,
+            adapter,
+            message,
+            dialog: None,
+            screenshot_request: None,
+            frame_ms: VecDeque::new(),
+            pass_times: Vec::new(),
+            continuous: false,
+            last_frame: None,
+            snapshot_mode: false,
+        };
+        app.rebuild_scene();
+        app
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    /// The scene on screen, if one loaded.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref()
+    }
+
+    /// The current status-line message and whether it is an error.
+    pub fn message(&self) -> Option<(&str, bool)> {
+        self.message.as_ref().map(|m| (m.text.as_str(), m.error))
+    }
+
+    /// Saves the viewport to `path` as PNG after the next frame (the path the screenshot dialog and shortcut use).
+    pub fn request_screenshot(&mut self, path: PathBuf) {
+        self.screenshot_request = Some(path);
+    }
+
+    /// Replaces measured times in the UI by a placeholder, for reproducible snapshots.
+    pub fn set_snapshot_mode(&mut self, on: bool) {
+        self.snapshot_mode = on;
+    }
+
+    fn info(&mut self, text: impl Into<String>) {
+        let text = text.into();
+        log::info!("{text}");
+        self.message = Some(Message { text, error: false });
+    }
+
+    fn error(&mut self, text: impl Into<String>) {
+        let text = text.into();
+        log::error!("{text}");
+        self.message = Some(Message { text, error: true });
+    }
+
+    /// Builds the scene from the settings (generator or file) and uploads it. On failure the previous scene stays
+    /// and the error is shown.
+    fn rebuild_scene(&mut self) {
+        let scene_settings = self.settings.scene.clone();
+        let scene = match scene_settings.build() {
+            Ok(s) => s,
+            Err(e) => {
+                self.error(format!("{e:#}"));
+                if self.scene.is_some() {
+                    // Keep showing the previous scene and its settings.
+                    if let Some(prev) = self.built_scene.clone() {
+                        self.settings.scene = prev;
+                    }
+                }
+                return;
+            }
+        };
+        if self.settings.camera.distance <= 0.0
+            || self
+                .built_scene
+                .as_ref()
+                .is_some_and(|b| b.file != scene_settings.file)
+        {
+            self.settings.camera.frame(&scene.framing_bounds());
+        }
+        let Some(rs) = &self.render_state else {
+            self.scene = Some(scene);
+            self.built_scene = Some(scene_settings);
+            return;
+        };
+        let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
+        let result = match self.renderer.as_mut() {
+            Some(r) => r.set_scene(&scene),
+            None => Renderer::new(&gpu, &scene, self.settings.render.map_resolution).map(|r| {
+                self.renderer = Some(r);
+            }),
+        };
+        match result {
+            Ok(()) => {
+                self.info(format!(
+                    "scene: {} strands, {} segments, {} triangles",
+                    scene.strands.strand_count(),
+                    scene.strands.segment_count(),
+                    scene.triangle_count()
+                ));
+                self.scene = Some(scene);
+                self.built_scene = Some(scene_settings);
+                self.last_rendered = None;
+            }
+            Err(e) => {
+                self.error(format!("cannot upload the scene: {e}"));
+                if let Some(prev) = self.built_scene.clone() {
+                    self.settings.scene = prev;
+                }
+            }
+        }
+    }
+
+    /// Opens a native file dialog on a worker thread so the window never freezes.
+    fn open_dialog(&mut self, purpose: DialogPurpose, ctx: &egui::Context) {
+        if self.dialog.is_some() {
+            return;
+        }
+        let (tx, rx) = mpsc::channel();
+        let ctx = ctx.clone();
+        std::thread::spawn(move || {
+            type Pick = std::pin::Pin<Box<dyn std::future::Future<Output = Option<rfd::FileHandle>> + Send>>;
+            let d = rfd::AsyncFileDialog::new();
+            let fut: Pick = match purpose {
+                DialogPurpose::OpenScene => Box::pin(
+                    d.add_filter("hair or glTF", &["hair", "gltf", "glb"])
+                        .set_title("Load strands")
+                        .pick_file(),
+                ),
+                DialogPurpose::SaveScreenshot => Box::pin(
+                    d.add_filter("PNG", &["png"])
+                        .set_file_name("hairlab.png")
+                        .set_title("Export screenshot")
+                        .save_file(),
+                ),
+                DialogPurpose::LoadPreset => Box::pin(
+                    d.add_filter("preset", &["toml"])
+                        .set_directory("presets")
+                        .pick_file(),
+                ),
+                DialogPurpose::SavePreset => Box::pin(
+                    d.add_filter("preset", &["toml"])
+                        .set_directory("presets")
+                        .set_file_name("my-preset.toml")
+                        .save_file(),
+                ),
+            };
+            let picked = pollster::block_on(fut).map(|h| h.path().to_path_buf());
+            let _ = tx.send(picked);
+            ctx.request_repaint();
+        });
+        self.dialog = Some((purpose, rx));
+    }
+
+    fn poll_dialog(&mut self) {
+        let Some((purpose, rx)) = &self.dialog else { return };
+        let purpose = *purpose;
+        let picked = match rx.try_recv() {
+            Ok(p) => p,
+            Err(mpsc::TryRecvError::Empty) => return,
+            Err(mpsc::TryRecvError::Disconnected) => None,
+        };
+        self.dialog = None;
+        let Some(path) = picked else {
+            self.info(
+                "no file chosen (if no dialog appeared, no desktop portal is running: drop files on the window, \
+                 press F12 for a quick screenshot, or use the CLI)",
+            );
+            return;
+        };
+        match purpose {
+            DialogPurpose::OpenScene => self.open_scene_file(path),
+            DialogPurpose::SaveScreenshot => self.screenshot_request = Some(path),
+            DialogPurpose::LoadPreset => match Settings::load_preset(&path.to_string_lossy(), &[]) {
+                Ok(s) => {
+                    self.settings = s;
+                    self.rebuild_scene();
+                    self.info(format!("preset loaded: {}", path.display()));
+                }
+                Err(e) => self.error(format!("{e:#}")),
+            },
+            DialogPurpose::SavePreset => match self.settings.save_preset(&path) {
+                Ok(()) => self.info(format!("preset saved: {}", path.display())),
+                Err(e) => self.error(format!("{e:#}")),
+            },
+        }
+    }
+
+    fn open_scene_file(&mut self, path: PathBuf) {
+        self.settings.scene.file = Some(path);
+        self.settings.camera.distance = 0.0;
+        self.rebuild_scene();
+    }
+
+    fn save_screenshot(&mut self, path: PathBuf) {
+        let Some(r) = &self.renderer else {
+            self.error("no viewport to save");
+            return;
+        };
+        let result = r.read_output().map_err(anyhow::Error::from).and_then(|img| {
+            let mut png = Vec::new();
+            img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+            crate::io::write_atomic(&path, &png)?;
+            Ok((img.width(), img.height()))
+        });
+        match result {
+            Ok((w, h)) => self.info(format!("screenshot saved: {} ({w}×{h})", path.display())),
+            Err(e) => self.error(format!("screenshot failed: {e:#}")),
+        }
+    }
+
+    fn handle_input(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .collect()
+        });
+        if let Some(path) = dropped.into_iter().next() {
+            if path.extension().is_some_and(|e| e == "toml") {
+                match Settings::load_preset(&path.to_string_lossy(), &[]) {
+                    Ok(s) => {
+                        self.settings = s;
+                        self.rebuild_scene();
+                    }
+                    Err(e) => self.error(format!("{e:#}")),
+                }
+            } else {
+                self.open_scene_file(path);
+            }
+        }
+        let (save_dialog, quick_save, frame) = ctx.input_mut(|i| {
+            (
+                i.consume_key(egui::Modifiers::COMMAND, egui::Key::S),
+                i.consume_key(egui::Modifiers::NONE, egui::Key::F12),
+                i.consume_key(egui::Modifiers::NONE, egui::Key::F),
+            )
+        });
+        if save_dialog {
+            self.open_dialog(DialogPurpose::SaveScreenshot, ctx);
+        }
+        if quick_save {
+            let stamp = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_secs())
+                .unwrap_or(0);
+            self.screenshot_request = Some(PathBuf::from(format!("hairlab-{stamp}.png")));
+        }
+        if frame && !ctx.egui_wants_keyboard_input() {
+            self.frame_scene();
+        }
+    }
+
+    fn frame_scene(&mut self) {
+        if let Some(s) = &self.scene {
+            self.settings.camera.frame(&s.framing_bounds());
+        }
+    }
+
+    fn status_line(&self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            if self.snapshot_mode {
+                ui.label("timings hidden (snapshot mode)");
+                return;
+            }
+            let mut sorted: Vec<f64> = self.frame_ms.iter().copied().collect();
+            sorted.sort_by(f64::total_cmp);
+            if let Some(median) = sorted.get(sorted.len() / 2) {
+                // Continuous: wall time between frames. On demand: CPU time to record and submit a frame.
+                let what = if self.continuous { "frame" } else { "submit" };
+                ui.label(format!("{what} {median:.1} ms (median of {})", sorted.len()));
+            }
+            if self.pass_times.is_empty() {
+                ui.label("GPU: no timestamp queries");
+            } else {
+                let total: f64 = self.pass_times.iter().map(|p| p.ms).sum();
+                let parts: Vec<String> = self
+                    .pass_times
+                    .iter()
+                    .map(|p| format!("{} {:.2}", p.name, p.ms))
+                    .collect();
+                ui.label(format!("GPU {total:.2} ms: {}", parts.join(" · ")));
+            }
+            ui.separator();
+            ui.label(&self.adapter);
+            if let Some(m) = &self.message {
+                ui.separator();
+                let color = if m.error {
+                    ui.visuals().error_fg_color
+                } else {
+                    ui.visuals().text_color()
+                };
+                ui.colored_label(color, &m.text);
+            }
+        });
+    }
+}
+
+impl eframe::App for HairlabApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        self.poll_dialog();
+        self.handle_input(&ctx);
+        egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));
+        egui::Panel::left("controls")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui, &ctx));
+            });
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| self.viewport(ui));
+        if let Some(path) = self.screenshot_request.take() {
+            self.save_screenshot(path);
+        }
+        if self.continuous || self.dialog.is_some() {
+            ctx.request_repaint();
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, SETTINGS_KEY, &self.settings);
+    }
+}
+
+/// Names of registered methods, for the UI.
+fn method_names() -> Vec<(&'static str, &'static str)> {
+    registry::all().iter().map(|m| (m.name(), m.label())).collect()
+}

@@ -1,0 +1,145 @@
+//! The central viewport: renders the scene into the renderer's colour texture at the panel's pixel size, shows it
+//! as an egui image, and turns mouse input into camera and light motion.
+//!
+//! Left drag orbits, middle drag (or shift + left) pans, right drag moves the light, the wheel zooms.
+
+use super::HairlabApp;
+use crate::methods::registry;
+use crate::render::FrameInput;
+use std::time::Instant;
+
+impl HairlabApp {
+    pub(super) fn viewport(&mut self, ui: &mut egui::Ui) {
+        let rect = ui.available_rect_before_wrap();
+        let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        self.camera_input(ui, &response);
+        let ppp = ui.ctx().pixels_per_point();
+        let width = ((rect.width() * ppp).round() as u32).clamp(1, 8192);
+        let height = ((rect.height() * ppp).round() as u32).clamp(1, 8192);
+        let Some(rs) = self.render_state.clone() else {
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "no wgpu renderer",
+                egui::FontId::proportional(16.0),
+                ui.visuals().error_fg_color,
+            );
+            return;
+        };
+        let Some(renderer) = self.renderer.as_mut() else {
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "no scene loaded — see the message below",
+                egui::FontId::proportional(16.0),
+                ui.visuals().error_fg_color,
+            );
+            return;
+        };
+        let key = (self.settings.clone(), width, height);
+        if self.continuous || self.last_rendered.as_ref() != Some(&key) {
+            let method = match registry::find(&self.settings.method.name) {
+                Ok(m) => m,
+                Err(e) => {
+                    self.error(e);
+                    self.settings.method = Default::default();
+                    return;
+                }
+            };
+            let start = Instant::now();
+            let input = FrameInput {
+                camera: &self.settings.camera,
+                light: &self.settings.light,
+                render: &self.settings.render,
+                method,
+                method_params: &self.settings.method.params,
+                width,
+                height,
+            };
+            if let Err(e) = renderer.render(&input) {
+                let msg = format!("render failed: {e}");
+                self.last_rendered = Some(key);
+                self.error(msg);
+                return;
+            }
+            let now = Instant::now();
+            let ms = match (self.continuous, self.last_frame) {
+                (true, Some(prev)) => (now - prev).as_secs_f64() * 1e3,
+                _ => (now - start).as_secs_f64() * 1e3,
+            };
+            self.last_frame = Some(now);
+            self.frame_ms.push_back(ms);
+            while self.frame_ms.len() > 60 {
+                self.frame_ms.pop_front();
+            }
+            self.last_rendered = Some(key);
+            // Timings arrive a frame or two later: look again shortly.
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        let times = renderer.timings();
+        if !times.is_empty() {
+            self.pass_times = times;
+        }
+        let id = match self.texture {
+            Some((id, w, h)) if (w, h) == (width, height) => id,
+            Some((id, _, _)) => {
+                rs.renderer.write().update_egui_texture_from_wgpu_texture(
+                    &rs.device,
+                    renderer.display_view(),
+                    wgpu::FilterMode::Nearest,
+                    id,
+                );
+                self.texture = Some((id, width, height));
+                id
+            }
+            None => {
+                let id = rs.renderer.write().register_native_texture(
+                    &rs.device,
+                    renderer.display_view(),
+                    wgpu::FilterMode::Nearest,
+                );
+                self.texture = Some((id, width, height));
+                id
+            }
+        };
+        ui.painter().image(
+            id,
+            rect,
+            egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+            egui::Color32::WHITE,
+        );
+    }
+
+    fn camera_input(&mut self, ui: &egui::Ui, response: &egui::Response) {
+        let cam = &mut self.settings.camera;
+        let delta = response.drag_delta();
+        let shift = ui.input(|i| i.modifiers.shift);
+        if response.dragged_by(egui::PointerButton::Primary) && !shift {
+            cam.yaw_deg -= delta.x * 0.4;
+            cam.pitch_deg = (cam.pitch_deg + delta.y * 0.4).clamp(-89.0, 89.0);
+        }
+        if response.dragged_by(egui::PointerButton::Middle)
+            || (response.dragged_by(egui::PointerButton::Primary) && shift)
+        {
+            let view = cam.world_to_view().inverse();
+            let scale = cam.distance * (cam.fov_y_deg.to_radians() * 0.5).tan() * 2.0
+                / response.rect.height().max(1.0);
+            let right = view.x_axis.truncate() * (-delta.x * scale);
+            let up = view.y_axis.truncate() * (delta.y * scale);
+            let t = glam::Vec3::from(cam.target) + right + up;
+            cam.target = t.into();
+        }
+        if response.dragged_by(egui::PointerButton::Secondary) {
+            let l = &mut self.settings.light;
+            l.azimuth_deg = (l.azimuth_deg + delta.x * 0.4).rem_euclid(360.0);
+            l.elevation_deg = (l.elevation_deg - delta.y * 0.4).clamp(-89.0, 89.0);
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                cam.distance = (cam.distance * (-scroll * 0.002).exp()).max(1e-4);
+            }
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! The headless command line: `render`, `info`, `gen`. With no subcommand, `hairlab` opens the workbench window.
+//! Every failure is one line naming the file and the problem, and a non-zero exit; outputs are written whole.
+
+use crate::gpu::{self, AdapterPreference, Gpu};
+use crate::methods::registry;
+use crate::render::{FrameInput, Renderer};
+use crate::scene::generate::{GenKind, GenParams, HairStyle};
+use crate::scene::hair;
+use crate::settings::{Settings, apply_override};
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "hairlab",
+    version,
+    about = "A workbench for real-time hair self-shadowing methods."
+)]
+#[command(after_help = "With no subcommand, hairlab opens the workbench window.")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Preset for the window (built-in name, `presets/<name>.toml`, or a path); default: the last session's.
+    #[arg(long, global = false)]
+    pub preset: Option<String>,
+    /// Override a preset value for the window, e.g. `--set render.hair_alpha=0.2` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a preset headlessly to a PNG: the same image the window shows.
+    Render(RenderArgs),
+    /// Print what a `.hair` / glTF file holds: strands, points, segments, bounds, arrays.
+    Info(InfoArgs),
+    /// Generate procedural hair and write it as a `.hair` file.
+    Gen(GenArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Preset: built-in name (default, patch), `presets/<name>.toml`, or a path to a TOML file.
+    #[arg(long, default_value = "default")]
+    pub preset: String,
+    /// Override any preset value by dotted key, e.g. `--set method.name=none --set light.azimuth_deg=90`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Image width in pixels (overrides render.width).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides render.height).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Output PNG path.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// A `.hair`, `.gltf` or `.glb` file.
+    pub file: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct GenArgs {
+    /// What to grow: `head` (ellipsoid scalp) or `patch` (a block of hair or grass).
+    #[arg(value_parser = ["head", "patch"])]
+    pub kind: String,
+    /// straight, wavy or curly.
+    #[arg(long, value_parser = ["straight", "wavy", "curly"])]
+    pub style: Option<String>,
+    /// Number of strands.
+    #[arg(long)]
+    pub strands: Option<u32>,
+    /// Segments per strand (1..=65535).
+    #[arg(long)]
+    pub segments: Option<u32>,
+    /// Strand length in world units.
+    #[arg(long)]
+    pub length: Option<f32>,
+    /// Number of clumps (0: none).
+    #[arg(long)]
+    pub clumps: Option<u32>,
+    /// Random seed (same seed, same hair).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Any other generator parameter, e.g. `--set curl_radius=0.01` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output `.hair` path.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Runs a subcommand.
+pub fn run(cmd: Command) -> Result<()> {
+    match cmd {
+        Command::Render(a) => render(&a),
+        Command::Info(a) => info(&a.file),
+        Command::Gen(a) => gen_hair(&a),
+    }
+}
+
+fn render(a: &RenderArgs) -> Result<()> {
+    let mut overrides = a.set.clone();
+    if let Some(w) = a.width {
+        overrides.push(format!("render.width={w}"));
+    }
+    if let Some(h) = a.height {
+        overrides.push(format!("render.height={h}"));
+    }
+    let mut settings = Settings::load_preset(&a.preset, &overrides)?;
+    if a.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
+        anyhow::bail!("{}: the output must be a .png file", a.out.display());
+    }
+    let image = render_image(&mut settings)?;
+    let mut png = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+    crate::io::write_atomic(&a.out, &png)?;
+    println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
+    Ok(())
+}
+
+/// Renders `settings` headlessly (framing the camera when its distance is 0) and returns the image. Prints the
+/// scene, the adapter and per-pass GPU times on stderr.
+pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
+    let scene = settings.scene.build()?;
+    if settings.camera.distance <= 0.0 {
+        settings.camera.frame(&scene.framing_bounds());
+    }
+    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    let mut renderer = Renderer::new(&gpu, &scene, settings.render.map_resolution)?;
+    let method = registry::find(&settings.method.name).map_err(anyhow::Error::msg)?;
+    let input = FrameInput {
+        camera: &settings.camera,
+        light: &settings.light,
+        render: &settings.render,
+        method,
+        method_params: &settings.method.params,
+        width: settings.render.width,
+        height: settings.render.height,
+    };
+    renderer.render(&input)?;
+    let times = renderer.wait_timings();
+    let image = renderer.read_output()?;
+    eprintln!(
+        "{} strands, {} segments, {} triangles on {}",
+        scene.strands.strand_count(),
+        scene.strands.segment_count(),
+        scene.triangle_count(),
+        gpu::describe(&gpu.info)
+    );
+    for t in &times {
+        eprintln!("  {:>16}: {:.3} ms", t.name, t.ms);
+    }
+    Ok(image)
+}
+
+fn info(path: &Path) -> Result<()> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let scene = crate::scene::load::load_scene(path)?;
+    println!("file:      {}", path.display());
+    if ext.as_deref() == Some("hair") {
+        let h = hair::read_hair_file(path)?;
+        let present: Vec<&str> = [
+            ("segments", h.segments.is_some()),
+            ("points", h.points.is_some()),
+            ("thickness", h.thickness.is_some()),
+            ("transparency", h.transparency.is_some()),
+            ("colors", h.color.is_some()),
+        ]
+        .iter()
+        .filter(|(_, p)| *p)
+        .map(|(n, _)| *n)
+        .collect();
+        println!("arrays:    {}", present.join(", "));
+        if !h.info.is_empty() {
+            println!("info:      {}", h.info);
+        }
+    } else {
+        println!(
+            "meshes:    {} ({} triangles)",
+            scene.meshes.len(),
+            scene.triangle_count()
+        );
+    }
+    let s = &scene.strands;
+    println!("strands:   {}", s.strand_count());
+    println!("points:    {}", s.point_count());
+    println!("segments:  {}", s.segment_count());
+    let b = scene.strand_bounds();
+    if b.is_empty() {
+        println!("bounds:    (no strands)");
+    } else {
+        println!(
+            "bounds:    min ({:.4}, {:.4}, {:.4}) max ({:.4}, {:.4}, {:.4})",
+            b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
+        );
+    }
+    Ok(())
+}
+
+fn gen_hair(a: &GenArgs) -> Result<()> {
+    let mut p = GenParams {
+        kind: if a.kind == "patch" {
+            GenKind::Patch
+        } else {
+            GenKind::Head
+        },
+        ..GenParams::default()
+    };
+    if let Some(s) = &a.style {
+        p.style = match s.as_str() {
+            "straight" => HairStyle::Straight,
+            "curly" => HairStyle::Curly,
+            _ => HairStyle::Wavy,
+        };
+    }
+    p.strands = a.strands.unwrap_or(p.strands);
+    p.segments = a.segments.unwrap_or(p.segments);
+    p.length = a.length.unwrap_or(p.length);
+    p.clumps = a.clumps.unwrap_or(p.clumps);
+    p.seed = a.seed.unwrap_or(p.seed);
+    if !a.set.is_empty() {
+        let mut tree = toml::Table::try_from(&p).context("generator parameters")?;
+        for o in &a.set {
+            apply_override(&mut tree, o)?;
+        }
+        p = GenParams::deserialize(toml::Value::Table(tree)).context("generator parameters")?;
+    }
+    let scene = crate::scene::generate::generate(&p).map_err(|e| anyhow::anyhow!("gen {}: {e}", a.kind))?;
+    let info = format!("hairlab gen {} seed {}", a.kind, p.seed);
+    let file = hair::HairFile::from_strands(&scene.strands, &info)?;
+    hair::write_hair_file(&a.out, &file)?;
+    println!(
+        "wrote {}: {} strands, {} points, {} segments",
+        a.out.display(),
+        scene.strands.strand_count(),
+        scene.strands.point_count(),
+        scene.strands.segment_count()
+    );
+    Ok(())
+}

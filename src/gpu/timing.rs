@@ -1,0 +1,169 @@
+//! Per-pass GPU timing with timestamp queries.
+//!
+//! Each frame a pass asks for [`GpuTimer::pass`] and gets the timestamp writes for its render pass; at the end of
+//! the frame the queries are resolved into a readback buffer. Readbacks are non-blocking (a small ring of buffers):
+//! [`GpuTimer::poll`] returns the newest finished frame's timings, or [`GpuTimer::wait`] blocks for the CLI.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Most passes one frame can time.
+pub const MAX_PASSES: u32 = 16;
+const RING: usize = 3;
+
+/// GPU time of one pass in milliseconds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassTime {
+    pub name: &'static str,
+    pub ms: f64,
+}
+
+struct Slot {
+    buffer: wgpu::Buffer,
+    names: Vec<&'static str>,
+    ready: Arc<AtomicBool>,
+    in_flight: bool,
+}
+
+pub struct GpuTimer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    slots: Vec<Slot>,
+    current: usize,
+    names: Vec<&'static str>,
+    period_ns: f64,
+    latest: Vec<PassTime>,
+}
+
+impl GpuTimer {
+    /// `None` when the device has no timestamp queries.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Option<GpuTimer> {
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        let count = MAX_PASSES * 2;
+        let bytes = count as u64 * 8;
+        let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("hairlab.timing.queries"),
+            ty: wgpu::QueryType::Timestamp,
+            count,
+        });
+        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.timing.resolve"),
+            size: bytes,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let slots = (0..RING)
+            .map(|i| Slot {
+                buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("hairlab.timing.readback{i}")),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                names: Vec::new(),
+                ready: Arc::new(AtomicBool::new(false)),
+                in_flight: false,
+            })
+            .collect();
+        Some(GpuTimer {
+            queries,
+            resolve,
+            slots,
+            current: 0,
+            names: Vec::new(),
+            period_ns: queue.get_timestamp_period() as f64,
+            latest: Vec::new(),
+        })
+    }
+
+    /// Timestamp writes for the next pass of this frame (`None` once [`MAX_PASSES`] are used).
+    pub fn pass(&mut self, name: &'static str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.names.len() as u32;
+        if i >= MAX_PASSES {
+            return None;
+        }
+        self.names.push(name);
+        Some(wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(2 * i),
+            end_of_pass_write_index: Some(2 * i + 1),
+        })
+    }
+
+    /// Resolves this frame's queries; call once after the frame's passes are recorded, before submitting.
+    /// Returns false (and drops this frame's timings) when every readback buffer is still in flight.
+    pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) -> bool {
+        let names = std::mem::take(&mut self.names);
+        if names.is_empty() {
+            return false;
+        }
+        let Some(idx) = (0..RING)
+            .map(|k| (self.current + k) % RING)
+            .find(|&k| !self.slots[k].in_flight)
+        else {
+            return false;
+        };
+        let n = names.len() as u32 * 2;
+        encoder.resolve_query_set(&self.queries, 0..n, &self.resolve, 0);
+        let slot = &mut self.slots[idx];
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &slot.buffer, 0, n as u64 * 8);
+        slot.names = names;
+        self.current = idx;
+        true
+    }
+
+    /// Starts the readback of the frame just resolved; call right after submitting it.
+    pub fn after_submit(&mut self) {
+        let slot = &mut self.slots[self.current];
+        if slot.in_flight || slot.names.is_empty() {
+            return;
+        }
+        slot.in_flight = true;
+        slot.ready.store(false, Ordering::SeqCst);
+        let ready = slot.ready.clone();
+        slot.buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            ready.store(r.is_ok(), Ordering::SeqCst)
+        });
+        self.current = (self.current + 1) % RING;
+    }
+
+    /// Collects finished readbacks without blocking; returns the newest known timings.
+    pub fn poll(&mut self, device: &wgpu::Device) -> &[PassTime] {
+        let _ = device.poll(wgpu::PollType::Poll);
+        self.collect();
+        &self.latest
+    }
+
+    /// Blocks until every readback in flight has finished; returns the newest timings.
+    pub fn wait(&mut self, device: &wgpu::Device) -> &[PassTime] {
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        self.collect();
+        &self.latest
+    }
+
+    fn collect(&mut self) {
+        for slot in &mut self.slots {
+            if !slot.in_flight || !slot.ready.load(Ordering::SeqCst) {
+                continue;
+            }
+            let n = slot.names.len() * 2;
+            if let Ok(view) = slot.buffer.get_mapped_range(..) {
+                let ticks: &[u64] = bytemuck::cast_slice(&view[..n * 8]);
+                self.latest = slot
+                    .names
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &name)| PassTime {
+                        name,
+                        ms: ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns * 1e-6,
+                    })
+                    .collect();
+            }
+            slot.buffer.unmap();
+            slot.in_flight = false;
+            slot.ready.store(false, Ordering::SeqCst);
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! hairlab: a workbench for real-time hair self-shadowing methods, side by side on the same strands.
+#![allow(clippy::too_many_arguments)]
+
+pub mod app;
+pub mod cli;
+pub mod gpu;
+pub mod io;
+pub mod methods;
+pub mod render;
+pub mod scene;
+pub mod settings;
+pub mod shaders;
+pub mod visibility;

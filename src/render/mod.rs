@@ -1,0 +1,458 @@
+//! The renderer: light passes, the selected shadow method, the eye passes and the compositor, into one colour
+//! texture that the window shows and screenshots save. The GUI and `hairlab render` use the same code path.
+
+pub mod geometry;
+pub mod light_frame;
+pub mod passes;
+pub mod targets;
+pub mod uniforms;
+
+use crate::gpu::timing::{GpuTimer, PassTime};
+use crate::gpu::{Gpu, GpuError, readback};
+use crate::methods::{ParamValues, ShadowMethod};
+use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::settings::RenderSettings;
+use geometry::GeometryBuffers;
+use glam::{Mat4, Vec3};
+use light_frame::LightFrame;
+use passes::composite::CompositePass;
+use passes::hair::HairPass;
+use passes::light_depth::{LightDepthMaps, LightDepthPass};
+use passes::mesh::MeshPass;
+use passes::shadow_map::{ShadowMap, ShadowMapPass};
+use targets::EyeTargets;
+use uniforms::FrameUniforms;
+
+/// Everything one frame depends on besides the scene.
+pub struct FrameInput<'a> {
+    pub camera: &'a Camera,
+    pub light: &'a Light,
+    pub render: &'a RenderSettings,
+    pub method: &'a dyn ShadowMethod,
+    pub method_params: &'a ParamValues,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Side of the opaque meshes' shadow map.
+pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
+
+/// GPU memory held by the renderer, by part.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MemoryReport {
+    pub geometry: u64,
+    pub light_depth_maps: u64,
+    pub shadow_map: u64,
+    pub eye_targets: u64,
+    pub method: u64,
+}
+
+impl MemoryReport {
+    pub fn total(&self) -> u64 {
+        self.geometry + self.light_depth_maps + self.shadow_map + self.eye_targets
+    }
+}
+
+pub struct Renderer {
+    gpu: Gpu,
+    frame_buffer: wgpu::Buffer,
+    frame_layout: wgpu::BindGroupLayout,
+    scene_layout: wgpu::BindGroupLayout,
+    frame_bind_group: wgpu::BindGroup,
+    scene_bind_group: wgpu::BindGroup,
+    shadow_sampler: wgpu::Sampler,
+    geometry: GeometryBuffers,
+    light_depth: LightDepthPass,
+    light_maps: LightDepthMaps,
+    shadow_map_pass: ShadowMapPass,
+    shadow_map: ShadowMap,
+    mesh_pass: MeshPass,
+    hair_pass: HairPass,
+    composite: CompositePass,
+    composite_bind_group: wgpu::BindGroup,
+    targets: EyeTargets,
+    timer: Option<GpuTimer>,
+    scene_center: Vec3,
+    scene_radius: f32,
+    strand_bounds: crate::scene::Aabb,
+    scene_bounds: crate::scene::Aabb,
+    segments: usize,
+}
+
+impl Renderer {
+    pub fn new(gpu: &Gpu, scene: &Scene, map_resolution: u32) -> Result<Renderer, GpuError> {
+        let device = &gpu.device;
+        gpu.check_texture_size("light map", map_resolution)?;
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.frame.uniforms"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let uniform_entry = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniforms>() as u64),
+            },
+            count: None,
+        };
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.frame.bind_group_layout"),
+            entries: &[uniform_entry],
+        });
+        let float_tex = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.scene.bind_group_layout"),
+            entries: &[
+                uniform_entry,
+                float_tex(1),
+                float_tex(2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+            ],
+        });
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("hairlab.shadow_map.sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.frame.bind_group"),
+            layout: &frame_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buffer.as_entire_binding(),
+            }],
+        });
+        let light_maps = LightDepthMaps::new(device, map_resolution);
+        let shadow_map = ShadowMap::new(
+            device,
+            SHADOW_MAP_RESOLUTION.min(device.limits().max_texture_dimension_2d),
+        );
+        let scene_bind_group = Self::make_scene_bind_group(
+            device,
+            &scene_layout,
+            &frame_buffer,
+            &light_maps,
+            &shadow_map,
+            &shadow_sampler,
+        );
+        let targets = EyeTargets::new(device, 16, 16);
+        let composite = CompositePass::new(device);
+        let composite_bind_group = composite.bind_group(device, &targets);
+        let geometry = GeometryBuffers::upload(gpu, scene)?;
+        Ok(Renderer {
+            gpu: gpu.clone(),
+            light_depth: LightDepthPass::new(device, &frame_layout),
+            shadow_map_pass: ShadowMapPass::new(device, &frame_layout),
+            mesh_pass: MeshPass::new(device, &scene_layout),
+            hair_pass: HairPass::new(device, &scene_layout),
+            timer: GpuTimer::new(device, &gpu.queue),
+            scene_center: scene.bounds().center(),
+            scene_radius: scene.bounds().radius(),
+            strand_bounds: scene.strand_bounds(),
+            scene_bounds: scene.bounds(),
+            segments: scene.strands.segment_count(),
+            frame_buffer,
+            frame_layout,
+            scene_layout,
+            frame_bind_group,
+            scene_bind_group,
+            shadow_sampler,
+            geometry,
+            light_maps,
+            shadow_map,
+            composite,
+            composite_bind_group,
+            targets,
+        })
+    }
+
+    fn make_scene_bind_group(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        frame: &wgpu::Buffer,
+        maps: &LightDepthMaps,
+        shadow: &ShadowMap,
+        sampler: &wgpu::Sampler,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.scene.bind_group"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: frame.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&maps.near_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&maps.far_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&shadow.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        })
+    }
+
+    /// Replaces the scene geometry (buffers re-sized from the new scene).
+    pub fn set_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
+        self.geometry = GeometryBuffers::upload(&self.gpu, scene)?;
+        self.scene_center = scene.bounds().center();
+        self.scene_radius = scene.bounds().radius();
+        self.strand_bounds = scene.strand_bounds();
+        self.scene_bounds = scene.bounds();
+        self.segments = scene.strands.segment_count();
+        Ok(())
+    }
+
+    fn ensure_sizes(&mut self, width: u32, height: u32, map_resolution: u32) -> Result<(), GpuError> {
+        let device = &self.gpu.device;
+        if self.light_maps.near.width() != map_resolution {
+            self.gpu.check_texture_size("light map", map_resolution)?;
+            self.light_maps = LightDepthMaps::new(device, map_resolution);
+            self.scene_bind_group = Self::make_scene_bind_group(
+                device,
+                &self.scene_layout,
+                &self.frame_buffer,
+                &self.light_maps,
+                &self.shadow_map,
+                &self.shadow_sampler,
+            );
+        }
+        if self.targets.width != width || self.targets.height != height {
+            self.gpu.check_texture_size("viewport", width.max(height))?;
+            self.targets = EyeTargets::new(device, width, height);
+            self.composite_bind_group = self.composite.bind_group(device, &self.targets);
+        }
+        Ok(())
+    }
+
+    /// The light frame fitted to the strands (hair maps).
+    pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
+        LightFrame::fit(light, self.scene_center, self.scene_radius, &self.strand_bounds)
+    }
+
+    /// Camera matrices for an image of `width`×`height`.
+    pub fn world_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
+        let aspect = width as f32 / height.max(1) as f32;
+        let r = self.scene_radius.max(1e-3);
+        let dist = camera.eye().distance(self.scene_center);
+        let near = (dist - 2.0 * r).max(r * 0.01).max(camera.distance * 0.01);
+        let far = dist + 2.0 * r;
+        Mat4::perspective_rh(camera.fov_y_deg.to_radians(), aspect, near, far) * camera.world_to_view()
+    }
+
+    fn uniforms(&self, f: &FrameInput) -> FrameUniforms {
+        let hair = self.hair_light_frame(f.light);
+        let shadow = LightFrame::fit(f.light, self.scene_center, self.scene_radius, &self.scene_bounds);
+        let eye = f.camera.eye();
+        let spot = f.light.kind == LightKind::Spot;
+        let intensity = f.light.intensity;
+        let c = f.render.hair_color;
+        FrameUniforms {
+            world_to_clip: self.world_to_clip(f.camera, f.width, f.height).to_cols_array_2d(),
+            world_to_light_view: hair.world_to_view.to_cols_array_2d(),
+            world_to_light_clip: hair.world_to_clip().to_cols_array_2d(),
+            world_to_shadow_clip: shadow.world_to_clip().to_cols_array_2d(),
+            eye_position: [eye.x, eye.y, eye.z, f.camera.distance.max(1e-4)],
+            to_light: [
+                hair.to_light.x,
+                hair.to_light.y,
+                hair.to_light.z,
+                if spot { 1.0 } else { 0.0 },
+            ],
+            light_position: [
+                hair.position.x,
+                hair.position.y,
+                hair.position.z,
+                (f.light.cone_deg.to_radians() * 0.5).cos(),
+            ],
+            light_color: [
+                f.light.color[0] * intensity,
+                f.light.color[1] * intensity,
+                f.light.color[2] * intensity,
+                1.0,
+            ],
+            hair_color: [c[0], c[1], c[2], f.render.hair_alpha],
+            light_range: [hair.near, hair.far, self.light_maps.near.width() as f32, 0.0],
+            method_params: f.method.uniform_params(f.method_params),
+            viewport: [
+                f.width as f32,
+                f.height as f32,
+                self.shadow_map.texture.width() as f32,
+                1e-4,
+            ],
+        }
+    }
+
+    /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
+    pub fn render(&mut self, f: &FrameInput) -> Result<(), GpuError> {
+        self.ensure_sizes(f.width.max(1), f.height.max(1), f.render.map_resolution)?;
+        let u = self.uniforms(f);
+        self.gpu
+            .queue
+            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
+        let device = self.gpu.device.clone();
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("hairlab.frame.encoder"),
+        });
+        macro_rules! ts {
+            ($name:literal) => {
+                self.timer.as_mut().and_then(|t| t.pass($name))
+            };
+        }
+        self.light_depth.record(
+            &mut enc,
+            &self.light_maps,
+            &self.frame_bind_group,
+            &self.geometry,
+            ts!("light depth"),
+        );
+        self.shadow_map_pass.record(
+            &mut enc,
+            &self.shadow_map,
+            &self.frame_bind_group,
+            &self.geometry,
+            ts!("mesh shadow map"),
+        );
+        self.mesh_pass.record(
+            &device,
+            &mut enc,
+            f.method,
+            &self.targets,
+            f.render.background,
+            &self.scene_bind_group,
+            &self.geometry,
+            ts!("eye: meshes"),
+        );
+        self.hair_pass.record(
+            &device,
+            &mut enc,
+            f.method,
+            &self.targets,
+            &self.scene_bind_group,
+            &self.geometry,
+            ts!("eye: hair"),
+        );
+        self.composite.record(
+            &mut enc,
+            &self.targets,
+            &self.composite_bind_group,
+            ts!("composite"),
+        );
+        if let Some(t) = self.timer.as_mut() {
+            t.resolve(&mut enc);
+        }
+        self.gpu.queue.submit([enc.finish()]);
+        if let Some(t) = self.timer.as_mut() {
+            t.after_submit();
+        }
+        Ok(())
+    }
+
+    /// Newest per-pass GPU times (non-blocking; empty without timestamp support).
+    pub fn timings(&mut self) -> Vec<PassTime> {
+        match self.timer.as_mut() {
+            Some(t) => t.poll(&self.gpu.device).to_vec(),
+            None => Vec::new(),
+        }
+    }
+
+    /// Waits for the GPU and returns the last frame's per-pass times.
+    pub fn wait_timings(&mut self) -> Vec<PassTime> {
+        match self.timer.as_mut() {
+            Some(t) => t.wait(&self.gpu.device).to_vec(),
+            None => Vec::new(),
+        }
+    }
+
+    /// The final image of the last frame (Rgba8UnormSrgb).
+    pub fn output(&self) -> &wgpu::Texture {
+        &self.targets.color
+    }
+
+    /// The final image as egui should sample it (sRGB bytes, no decode).
+    pub fn display_view(&self) -> &wgpu::TextureView {
+        &self.targets.display_view
+    }
+
+    /// Reads the final image back as tightly packed sRGB RGBA8.
+    pub fn read_output(&self) -> Result<image::RgbaImage, GpuError> {
+        let bytes = readback::read_texture_rgba8(&self.gpu, &self.targets.color)?;
+        image::RgbaImage::from_raw(self.targets.width, self.targets.height, bytes)
+            .ok_or_else(|| GpuError::Readback("output size mismatch".into()))
+    }
+
+    /// Reads a light-depth map back (`far == false`: nearest depths).
+    pub fn read_light_depth(&self, far: bool) -> Result<Vec<f32>, GpuError> {
+        let t = if far {
+            &self.light_maps.far
+        } else {
+            &self.light_maps.near
+        };
+        Ok(bytemuck::pod_collect_to_vec(&readback::read_texture(
+            &self.gpu, t, 4,
+        )?))
+    }
+
+    pub fn memory(&self, method: &dyn ShadowMethod) -> MemoryReport {
+        MemoryReport {
+            geometry: self.geometry.bytes,
+            light_depth_maps: self.light_maps.bytes(),
+            shadow_map: self.shadow_map.bytes(),
+            eye_targets: self.targets.bytes(),
+            method: method.memory_bytes(self.light_maps.near.width()),
+        }
+    }
+
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    pub fn segment_count(&self) -> usize {
+        self.segments
+    }
+
+    /// The layout the light passes bind (the frame uniforms alone).
+    pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.frame_layout
+    }
+}

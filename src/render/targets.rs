@@ -1,0 +1,72 @@
+//! The eye-view render targets: the final colour image (what the viewport shows and screenshots save), depth,
+//! and the two weighted-blended OIT targets.
+
+pub struct EyeTargets {
+    pub color: wgpu::Texture,
+    pub color_view: wgpu::TextureView,
+    /// The colour image viewed as plain `Rgba8Unorm`: egui blends in gamma space and wants the sRGB-encoded bytes.
+    pub display_view: wgpu::TextureView,
+    pub depth_view: wgpu::TextureView,
+    pub accum_view: wgpu::TextureView,
+    pub revealage_view: wgpu::TextureView,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl EyeTargets {
+    pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+    pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+    pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+    pub const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> EyeTargets {
+        let make = |label, format, usage, view_formats: &[wgpu::TextureFormat]| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | usage,
+                view_formats,
+            })
+        };
+        let sampled = wgpu::TextureUsages::TEXTURE_BINDING;
+        let color = make(
+            "hairlab.eye.color",
+            Self::COLOR,
+            sampled | wgpu::TextureUsages::COPY_SRC,
+            &[Self::COLOR.remove_srgb_suffix()],
+        );
+        let view = |t: wgpu::Texture| t.create_view(&Default::default());
+        EyeTargets {
+            color_view: color.create_view(&Default::default()),
+            display_view: color.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("hairlab.eye.color_display"),
+                format: Some(Self::COLOR.remove_srgb_suffix()),
+                ..Default::default()
+            }),
+            color,
+            depth_view: view(make(
+                "hairlab.eye.depth",
+                Self::DEPTH,
+                wgpu::TextureUsages::empty(),
+                &[],
+            )),
+            accum_view: view(make("hairlab.eye.oit_accum", Self::ACCUM, sampled, &[])),
+            revealage_view: view(make("hairlab.eye.oit_revealage", Self::REVEALAGE, sampled, &[])),
+            width,
+            height,
+        }
+    }
+
+    /// Bytes of GPU memory the targets hold.
+    pub fn bytes(&self) -> u64 {
+        self.width as u64 * self.height as u64 * (4 + 4 + 8 + 2)
+    }
+}

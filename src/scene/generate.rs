@@ -1,0 +1,644 @@
+//! Seeded, deterministic procedural hair: a head (an ellipsoid scalp grown with hair), a hair patch (roots on a
+//! square, growing up), or hair grown on a loaded scalp mesh.
+//!
+//! Every strand is traced with `segments` steps of exactly `length / segments`, so its points are evenly spaced in
+//! arc length and it is `length` long. Each step goes along the strand's growth direction, which starts along the
+//! root normal and turns towards −Y with `gravity` (head and scalp only); the style tilts each step sideways —
+//! a sine for wavy hair (lateral amplitude `wave_amplitude`, `wave_frequency` waves over the length), a helix for
+//! curly hair (radius `curl_radius`, `curl_turns` turns over the length) — with a random phase per strand. On the
+//! generated head a step that would enter the head slides along it instead. Clumping then makes each strand follow
+//! its nearest clump centre strand, offset by the difference of their roots, the offset shrinking towards the tip
+//! by `clump_strength`.
+//!
+//! Randomness comes from SplitMix64 streams derived from `seed` (one for roots, one per strand), so the same
+//! parameters give bit-identical output.
+
+use glam::{Quat, Vec3};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::{Aabb, Mesh, Scene, Strands};
+
+/// Most points [`generate`] produces (about 1.2 GB of positions and colours).
+pub const MAX_POINTS: u64 = 50_000_000;
+/// Longest strand [`generate`] accepts, in world units (keeps every coordinate far from `f32` overflow).
+pub const MAX_LENGTH: f32 = 10_000.0;
+/// Radii of the generated head ellipsoid (x: ear to ear, y: up, z: towards the face, which looks down +Z).
+pub const HEAD_RADII: Vec3 = Vec3::new(0.09, 0.115, 0.10);
+/// Longitude and latitude subdivisions of the head mesh.
+const HEAD_LON: u32 = 40;
+const HEAD_LAT: u32 = 24;
+const SKIN: Vec3 = Vec3::new(0.80, 0.60, 0.50);
+const FLOOR_COLOR: Vec3 = Vec3::new(0.55, 0.55, 0.55);
+const BROWN: Vec3 = Vec3::new(0.30, 0.19, 0.11);
+/// Turning rate towards −Y, in radians per strand length, at `gravity` = 1.
+const GRAVITY_TURN: f32 = 8.0;
+/// The largest sideways tilt (sine of the angle) a style may give a step.
+const MAX_TILT: f32 = 0.95;
+/// Direction head hair is combed in at the root (back and a little down, away from the face).
+const COMB: Vec3 = Vec3::new(0.0, -0.4, -1.0);
+/// Weight of the normal against the unit comb direction in a head root's start direction (0.6: about 59° off the
+/// normal), so hair lies along the scalp instead of standing up where gravity cannot bend it (at the crown).
+const ROOT_LIFT: f32 = 0.6;
+/// Steps landing inside this multiple of the head's radii slide along the head instead of entering it.
+const HEAD_SHELL: f32 = 1.03;
+
+/// What to grow hair on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GenKind {
+    /// An ellipsoid head, included as an opaque mesh, with hair on its upper and back part.
+    #[default]
+    Head,
+    /// A block of hair (or grass): roots on a square at y = 0, growing up +Y; `gravity` does not apply.
+    Patch,
+}
+
+/// Shape of each strand.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HairStyle {
+    Straight,
+    #[default]
+    Wavy,
+    Curly,
+}
+
+/// Generator parameters, as written in presets (TOML) and set from the CLI and GUI.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GenParams {
+    pub kind: GenKind,
+    pub style: HairStyle,
+    /// Strand count before density scaling.
+    pub strands: u32,
+    /// Multiplier on `strands` (rounded to the nearest whole strand).
+    pub density: f32,
+    /// Segments per strand (1..=65535, the `.hair` limit).
+    pub segments: u32,
+    /// Strand length in world units.
+    pub length: f32,
+    /// Number of clumps; 0 = no clumping.
+    pub clumps: u32,
+    /// 0..1: how far tips pull towards their clump centre strand.
+    pub clump_strength: f32,
+    /// Wavy: lateral amplitude in world units.
+    pub wave_amplitude: f32,
+    /// Wavy: waves over the strand length.
+    pub wave_frequency: f32,
+    /// Curly: helix radius in world units.
+    pub curl_radius: f32,
+    /// Curly: helix turns over the strand length.
+    pub curl_turns: f32,
+    /// How much hair droops (head and scalp): 0 = grows straight along the root normal.
+    pub gravity: f32,
+    pub seed: u64,
+    /// Adds a ground quad under the hair, an opaque mesh that receives hair shadows.
+    pub floor: bool,
+    /// Writes a per-strand brown colour variation. Off by default: strands without colours take the renderer's
+    /// hair colour, so the colour control applies.
+    pub strand_colors: bool,
+}
+
+impl Default for GenParams {
+    /// A wavy head of 3000 strands × 24 segments = 72 000 segments.
+    fn default() -> Self {
+        GenParams {
+            kind: GenKind::Head,
+            style: HairStyle::Wavy,
+            strands: 3000,
+            density: 1.0,
+            segments: 24,
+            length: 0.25,
+            clumps: 120,
+            clump_strength: 0.5,
+            wave_amplitude: 0.006,
+            wave_frequency: 3.0,
+            curl_radius: 0.006,
+            curl_turns: 4.0,
+            gravity: 1.0,
+            seed: 1,
+            floor: true,
+            strand_colors: false,
+        }
+    }
+}
+
+/// Invalid generator parameters or scalp meshes. Each message names the parameter at fault.
+#[derive(Debug, Error, PartialEq)]
+pub enum GenError {
+    #[error("invalid {param} = {value}: {rule}")]
+    Param {
+        param: &'static str,
+        value: String,
+        rule: &'static str,
+    },
+    #[error("strands × density = {strands} × {density} rounds to no strands; at least 1 is needed")]
+    NoStrands { strands: u32, density: f32 },
+    #[error("{strands} strands × ({segments} segments + 1) = {points} points, more than the cap of {cap}")]
+    TooManyPoints {
+        strands: u64,
+        segments: u32,
+        points: u64,
+        cap: u64,
+    },
+    #[error("scalp mesh: {reason}")]
+    BadScalp { reason: String },
+    #[error("scalp mesh has no upward-facing triangles (normal.y > -0.2) to grow hair on")]
+    NoScalpArea,
+}
+
+/// Generates the scene `p` describes: hair plus the head mesh (head kind) and the floor (if `p.floor`).
+pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
+    let n = validate(p)?;
+    let mut rng = Rng::new(p.seed, 0);
+    let (strands, mut meshes) = match p.kind {
+        GenKind::Head => {
+            let roots: Vec<Root> = (0..n).map(|_| head_root(&mut rng)).collect();
+            (
+                grow_all(p, p.gravity, &roots, Some(HEAD_RADII)),
+                vec![ellipsoid_mesh(HEAD_RADII)],
+            )
+        }
+        GenKind::Patch => (
+            grow_all(p, 0.0, &patch_roots(n, p.length * 0.6, &mut rng), None),
+            Vec::new(),
+        ),
+    };
+    if p.floor {
+        let floor_y = if p.kind == GenKind::Patch { Some(0.0) } else { None };
+        meshes.push(floor_mesh(&strands, &meshes, floor_y));
+    }
+    Ok(Scene::new(strands, meshes))
+}
+
+/// Grows hair on a loaded scalp mesh: roots on random points of its upward-facing triangles (normal.y > -0.2),
+/// area-weighted, growing along the interpolated normal and drooping with gravity. `p.kind` is ignored; the scene
+/// holds the scalp mesh itself, the hair and (if `p.floor`) a floor. Strands are not kept out of the mesh.
+pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError> {
+    let n = validate(p)?;
+    let tris = scalp_triangles(scalp)?;
+    let total = tris.last().map_or(0.0, |t| t.cum_area);
+    if total <= 0.0 {
+        return Err(GenError::NoScalpArea);
+    }
+    let mut rng = Rng::new(p.seed, 0);
+    let roots: Vec<Root> = (0..n)
+        .map(|_| {
+            let target = f64::from(rng.f32()) * total;
+            let k = tris
+                .partition_point(|t| t.cum_area <= target)
+                .min(tris.len().saturating_sub(1));
+            tris.get(k).map_or(
+                Root {
+                    pos: Vec3::ZERO,
+                    dir: Vec3::Y,
+                },
+                |t| t.sample(scalp, &mut rng),
+            )
+        })
+        .collect();
+    let strands = grow_all(p, p.gravity, &roots, None);
+    let mut meshes = vec![scalp.clone()];
+    if p.floor {
+        meshes.push(floor_mesh(&strands, &meshes, None));
+    }
+    Ok(Scene::new(strands, meshes))
+}
+
+/// Checks the parameters and returns the strand count after density scaling.
+fn validate(p: &GenParams) -> Result<usize, GenError> {
+    fn param(param: &'static str, value: impl ToString, rule: &'static str) -> GenError {
+        GenError::Param {
+            param,
+            value: value.to_string(),
+            rule,
+        }
+    }
+    if !(1..=65535).contains(&p.segments) {
+        return Err(param(
+            "segments",
+            p.segments,
+            "must be in 1..=65535 (the .hair format stores u16 counts)",
+        ));
+    }
+    if !(p.length > 0.0 && p.length <= MAX_LENGTH) {
+        return Err(param("length", p.length, "must be positive and at most 10000"));
+    }
+    if !(p.density.is_finite() && p.density >= 0.0) {
+        return Err(param("density", p.density, "must be finite and not negative"));
+    }
+    if !(0.0..=1.0).contains(&p.clump_strength) {
+        return Err(param("clump_strength", p.clump_strength, "must lie in [0, 1]"));
+    }
+    for (name, v) in [
+        ("wave_amplitude", p.wave_amplitude),
+        ("wave_frequency", p.wave_frequency),
+        ("curl_radius", p.curl_radius),
+        ("curl_turns", p.curl_turns),
+        ("gravity", p.gravity),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(param(name, v, "must be finite and not negative"));
+        }
+    }
+    for (name, v) in [("wave_frequency", p.wave_frequency), ("curl_turns", p.curl_turns)] {
+        if !(std::f32::consts::TAU * v / p.length).is_finite() {
+            return Err(param(name, v, "is too large for the strand length"));
+        }
+    }
+    let n = (f64::from(p.strands) * f64::from(p.density)).round();
+    if n < 1.0 {
+        return Err(GenError::NoStrands {
+            strands: p.strands,
+            density: p.density,
+        });
+    }
+    let points = n * (f64::from(p.segments) + 1.0);
+    if points > MAX_POINTS as f64 {
+        return Err(GenError::TooManyPoints {
+            strands: n as u64,
+            segments: p.segments,
+            points: points as u64,
+            cap: MAX_POINTS,
+        });
+    }
+    Ok(n as usize)
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): tiny, fast, and good enough for jitter.
+struct Rng(u64);
+
+impl Rng {
+    /// Stream `stream` of `seed`: the stream number is scrambled before it is mixed into the seed, so the streams
+    /// of one seed start far apart.
+    fn new(seed: u64, stream: u64) -> Rng {
+        let mut s = Rng(stream);
+        let mixed = s.next_u64();
+        Rng(seed ^ mixed)
+    }
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (1.0 / (1u32 << 24) as f32)
+    }
+    /// Uniform in [a, b).
+    fn range(&mut self, a: f32, b: f32) -> f32 {
+        a + (b - a) * self.f32()
+    }
+    fn angle(&mut self) -> f32 {
+        self.range(0.0, std::f32::consts::TAU)
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Root {
+    pos: Vec3,
+    /// Unit initial growth direction.
+    dir: Vec3,
+}
+
+/// Is the unit-sphere direction `w` on the scalp? Above a hairline that runs from the nape (low at the back) over
+/// the ears to the forehead (high at the front), so the face and the neck stay bare.
+fn on_scalp(w: Vec3) -> bool {
+    w.y > 0.133 + 0.633 * w.z
+}
+
+/// A root on the scalp part of the head ellipsoid, uniform in area (rejection sampling).
+fn head_root(rng: &mut Rng) -> Root {
+    let r = HEAD_RADII;
+    let min_r = r.min_element();
+    loop {
+        let y = rng.range(-1.0, 1.0);
+        let phi = rng.angle();
+        let s = (1.0 - y * y).max(0.0).sqrt();
+        let w = Vec3::new(s * phi.cos(), y, s * phi.sin());
+        // The map w ↦ r·w scales area by r.x·r.y·r.z·|w / r|; accept in proportion to it.
+        let accept = (w / r).length() * min_r;
+        if on_scalp(w) && rng.f32() < accept {
+            let normal = (w / r).normalize_or(Vec3::Y);
+            // Combed back and down: lean the start direction into the scalp's tangent plane along COMB.
+            let comb = COMB.reject_from_normalized(normal).normalize_or(Vec3::NEG_Z);
+            return Root {
+                pos: w * r,
+                dir: (normal * ROOT_LIFT + comb).normalize_or(normal),
+            };
+        }
+    }
+}
+
+/// `n` roots jittered in the cells of a square grid of side `side` at y = 0 (a random subset of cells when `n` is
+/// not a square), growing up +Y with a slight random tilt.
+fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
+    let mut m = n.isqrt();
+    if m * m < n {
+        m += 1;
+    }
+    let mut cells: Vec<usize> = (0..m * m).collect();
+    for i in 0..n.min(cells.len()) {
+        let j = i + (rng.next_u64() % (cells.len() - i) as u64) as usize;
+        cells.swap(i, j);
+    }
+    cells
+        .iter()
+        .take(n)
+        .map(|&c| {
+            let (cx, cz) = ((c % m) as f32, (c / m) as f32);
+            let x = ((cx + rng.f32()) / m as f32 - 0.5) * side;
+            let z = ((cz + rng.f32()) / m as f32 - 0.5) * side;
+            let tilt = Vec3::new(rng.range(-0.15, 0.15), 0.0, rng.range(-0.15, 0.15));
+            Root {
+                pos: Vec3::new(x, 0.0, z),
+                dir: (Vec3::Y + tilt).normalize(),
+            }
+        })
+        .collect()
+}
+
+/// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping, and
+/// colours the strands.
+fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> Strands {
+    let per = p.segments as usize + 1;
+    let mut points = Vec::with_capacity(roots.len() * per);
+    let mut color = Vec::with_capacity(roots.len() * per);
+    for (i, root) in roots.iter().enumerate() {
+        let mut rng = Rng::new(p.seed, i as u64 + 1);
+        grow_strand(p, gravity, root, head, &mut rng, &mut points);
+        let tint =
+            Vec3::new(rng.range(0.9, 1.1), rng.range(0.9, 1.1), rng.range(0.9, 1.1)) * rng.range(0.75, 1.25);
+        color.extend(std::iter::repeat_n((BROWN * tint).min(Vec3::ONE), per));
+    }
+    clump(p, roots, head, &mut points);
+    Strands {
+        points,
+        counts: vec![per as u32; roots.len()],
+        thickness: None,
+        alpha: None,
+        color: p.strand_colors.then_some(color),
+    }
+}
+
+/// Removes the component of `d` that would take a step of length `h` from `p` into the head shell; by convexity the
+/// step then never gets closer to the head.
+fn slide_on_head(p: Vec3, d: Vec3, h: f32, radii: Option<Vec3>) -> Vec3 {
+    let Some(r) = radii else { return d };
+    if ((p + d * h) / (r * HEAD_SHELL)).length_squared() >= 1.0 {
+        return d;
+    }
+    let Some(g) = (p / (r * r)).try_normalize() else {
+        return d;
+    };
+    let inward = d.dot(g);
+    if inward >= 0.0 {
+        return d;
+    }
+    (d - g * inward)
+        .try_normalize()
+        .unwrap_or_else(|| g.any_orthonormal_vector())
+}
+
+/// Turns the unit direction `t` towards −Y by `angle` radians, stopping at −Y. A direction pointing straight up
+/// has no preferred way down and stays.
+fn droop(t: Vec3, angle: f32) -> Vec3 {
+    let Some(side) = Vec3::NEG_Y.reject_from_normalized(t).try_normalize() else {
+        return t;
+    };
+    let a = angle.min(t.dot(Vec3::NEG_Y).clamp(-1.0, 1.0).acos());
+    (t * a.cos() + side * a.sin()).normalize_or(t)
+}
+
+/// Traces one strand of `p.segments` steps of exactly `p.length / p.segments` and appends its points.
+fn grow_strand(
+    p: &GenParams,
+    gravity: f32,
+    root: &Root,
+    head: Option<Vec3>,
+    rng: &mut Rng,
+    out: &mut Vec<Vec3>,
+) {
+    let len = p.length;
+    let h = len / p.segments as f32;
+    let mut t = root.dir;
+    let mut u = Quat::from_axis_angle(t, rng.angle()) * t.any_orthonormal_vector();
+    let phase = rng.angle();
+    let turn = gravity * GRAVITY_TURN / len;
+    let (wave_w, curl_w) = (
+        std::f32::consts::TAU * p.wave_frequency / len,
+        std::f32::consts::TAU * p.curl_turns / len,
+    );
+    let mut pos = root.pos;
+    out.push(pos);
+    for i in 0..p.segments {
+        let s = (i as f32 + 0.5) * h;
+        let v = t.cross(u);
+        let d = match p.style {
+            HairStyle::Straight => t,
+            HairStyle::Wavy => {
+                // Lateral speed k integrates to a sine of amplitude wave_amplitude.
+                let k = (p.wave_amplitude * wave_w * (wave_w * s + phase).cos()).clamp(-MAX_TILT, MAX_TILT);
+                t * (1.0 - k * k).sqrt() + u * k
+            }
+            HairStyle::Curly => {
+                // Constant lateral speed k rotating at curl_w traces a helix of radius k / curl_w = curl_radius.
+                let k = (p.curl_radius * curl_w).min(MAX_TILT);
+                let a = curl_w * s + phase;
+                t * (1.0 - k * k).sqrt() + (v * a.cos() - u * a.sin()) * k
+            }
+        };
+        pos += slide_on_head(pos, d, h, head) * h;
+        out.push(pos);
+        let bent = droop(t, turn * h);
+        let next = slide_on_head(pos, bent, h, head);
+        u = (Quat::from_rotation_arc(t, next) * u)
+            .reject_from_normalized(next)
+            .normalize_or(u);
+        t = next;
+    }
+}
+
+/// Makes each strand follow its nearest clump centre (the first `clumps` strands, whose roots are random):
+/// point j becomes centre_j + (root − centre_root) · (1 − clump_strength · j / segments). On the head, points the
+/// offset pushed inside are moved back out onto the head's surface.
+fn clump(p: &GenParams, roots: &[Root], head: Option<Vec3>, points: &mut [Vec3]) {
+    let k = (p.clumps as usize).min(roots.len());
+    if k == 0 {
+        return;
+    }
+    let per = p.segments as usize + 1;
+    let centres: Vec<Vec<Vec3>> = points.chunks_exact(per).take(k).map(<[Vec3]>::to_vec).collect();
+    for (strand, root) in points.chunks_exact_mut(per).zip(roots).skip(k) {
+        let (nearest, _) = centres
+            .iter()
+            .enumerate()
+            .fold((0, f32::INFINITY), |best, (c, centre)| {
+                let d = centre
+                    .first()
+                    .map_or(f32::INFINITY, |q| q.distance_squared(root.pos));
+                if d < best.1 { (c, d) } else { best }
+            });
+        let Some(centre) = centres.get(nearest) else {
+            continue;
+        };
+        let Some(&centre_root) = centre.first() else {
+            continue;
+        };
+        let offset = root.pos - centre_root;
+        for (j, (q, cq)) in strand.iter_mut().zip(centre).enumerate() {
+            let shrink = 1.0 - p.clump_strength * j as f32 / p.segments as f32;
+            *q = *cq + offset * shrink;
+            if let Some(r) = head
+                && j > 0
+            {
+                let f = (*q / r).length();
+                if f < 1.0 && f > 0.0 {
+                    *q /= f;
+                }
+            }
+        }
+    }
+}
+
+/// Lat/long ellipsoid with outward normals; degenerate triangles at the poles are left out.
+fn ellipsoid_mesh(r: Vec3) -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    for i in 0..=HEAD_LAT {
+        let theta = std::f32::consts::PI * i as f32 / HEAD_LAT as f32;
+        for j in 0..=HEAD_LON {
+            let phi = std::f32::consts::TAU * j as f32 / HEAD_LON as f32;
+            let w = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            positions.push(w * r);
+            normals.push((w / r).normalize_or(Vec3::Y));
+        }
+    }
+    let row = HEAD_LON + 1;
+    let mut indices = Vec::new();
+    for i in 0..HEAD_LAT {
+        for j in 0..HEAD_LON {
+            let a = i * row + j;
+            let (b, c, d) = (a + row, a + row + 1, a + 1);
+            if i + 1 < HEAD_LAT {
+                indices.extend_from_slice(&[a, c, b]);
+            }
+            if i > 0 {
+                indices.extend_from_slice(&[a, d, c]);
+            }
+        }
+    }
+    Mesh {
+        positions,
+        normals,
+        indices,
+        color: SKIN,
+    }
+}
+
+/// A square ground quad facing +Y below everything (at `y` when given), wide enough to catch the hair's shadow.
+fn floor_mesh(strands: &Strands, meshes: &[Mesh], y: Option<f32>) -> Mesh {
+    let b = meshes.iter().fold(Aabb::from_points(&strands.points), |b, m| {
+        b.union(Aabb::from_points(&m.positions))
+    });
+    let (c, e) = (b.center(), b.extent());
+    // Wide enough for the shadow of the top of the hair from a light about 50° up.
+    let half = 0.5 * e.x.max(e.z) + 0.9 * e.y;
+    let y = y.unwrap_or(b.min.y - 0.01 * e.y.max(1e-3));
+    let positions = vec![
+        Vec3::new(c.x - half, y, c.z - half),
+        Vec3::new(c.x - half, y, c.z + half),
+        Vec3::new(c.x + half, y, c.z + half),
+        Vec3::new(c.x + half, y, c.z - half),
+    ];
+    Mesh {
+        normals: vec![Vec3::Y; 4],
+        positions,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        color: FLOOR_COLOR,
+    }
+}
+
+/// An upward-facing scalp triangle with the running total of area up to and including it.
+struct ScalpTri {
+    corners: [u32; 3],
+    normal: Vec3,
+    cum_area: f64,
+}
+
+impl ScalpTri {
+    /// A uniform point on the triangle, with the interpolated vertex normal (or the face normal).
+    fn sample(&self, mesh: &Mesh, rng: &mut Rng) -> Root {
+        let (r1, r2) = (rng.f32().sqrt(), rng.f32());
+        let (wb, wc) = (r1 * (1.0 - r2), r1 * r2);
+        let corner = |k: usize, v: &[Vec3]| {
+            self.corners
+                .get(k)
+                .and_then(|&i| v.get(i as usize))
+                .copied()
+                .unwrap_or(Vec3::ZERO)
+        };
+        let [a, b, c] = [0, 1, 2].map(|k| corner(k, &mesh.positions));
+        let pos = a + (b - a) * wb + (c - a) * wc;
+        let normal = if mesh.normals.len() == mesh.positions.len() {
+            let [na, nb, nc] = [0, 1, 2].map(|k| corner(k, &mesh.normals));
+            na + (nb - na) * wb + (nc - na) * wc
+        } else {
+            self.normal
+        };
+        Root {
+            pos,
+            dir: normal
+                .try_normalize()
+                .filter(|n| n.is_finite())
+                .unwrap_or(self.normal),
+        }
+    }
+}
+
+/// The mesh's upward-facing triangles with cumulative areas; errors on indices out of range or non-finite positions.
+fn scalp_triangles(mesh: &Mesh) -> Result<Vec<ScalpTri>, GenError> {
+    let bad = |reason: String| GenError::BadScalp { reason };
+    let vertex = |i: u32| {
+        let p = mesh.positions.get(i as usize).copied().ok_or_else(|| {
+            bad(format!(
+                "index {i} is out of range for {} vertices",
+                mesh.positions.len()
+            ))
+        })?;
+        if p.is_finite() {
+            Ok(p)
+        } else {
+            Err(bad(format!("vertex {i} has a non-finite position {p}")))
+        }
+    };
+    let has_normals = mesh.normals.len() == mesh.positions.len();
+    let mut out = Vec::new();
+    let mut total = 0.0f64;
+    for &corners in mesh.indices.as_chunks::<3>().0 {
+        let [a, b, c] = corners;
+        let (pa, pb, pc) = (vertex(a)?, vertex(b)?, vertex(c)?);
+        let cross = (pb - pa).cross(pc - pa);
+        let Some(mut normal) = cross.try_normalize() else {
+            continue;
+        };
+        if has_normals {
+            let vn: Vec3 = corners.iter().filter_map(|&i| mesh.normals.get(i as usize)).sum();
+            if vn.dot(normal) < 0.0 {
+                normal = -normal;
+            }
+        }
+        if normal.y > -0.2 {
+            total += f64::from(cross.length()) * 0.5;
+            out.push(ScalpTri {
+                corners,
+                normal,
+                cum_area: total,
+            });
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,298 @@
+//! Everything a view of hairlab depends on — scene source, render settings, light, camera, shadow method — as one
+//! serde struct. Presets are this struct in TOML (`presets/*.toml`); the GUI persists it between runs; the CLI
+//! loads a preset and applies `--set key=value` overrides on the TOML tree before validating.
+
+use crate::methods::{self, ParamValues, registry};
+use crate::scene::generate::GenParams;
+use crate::scene::{Camera, Light};
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct Settings {
+    pub scene: SceneSettings,
+    pub render: RenderSettings,
+    pub light: Light,
+    pub camera: Camera,
+    pub method: MethodSettings,
+}
+
+/// Where the strands come from: a file when `file` is set, the generator otherwise.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct SceneSettings {
+    pub file: Option<PathBuf>,
+    pub generator: GenParams,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RenderSettings {
+    /// Output size of `hairlab render` (the window uses its viewport size).
+    pub width: u32,
+    pub height: u32,
+    /// Side of the square light-space hair maps, 1..=4096.
+    pub map_resolution: u32,
+    /// Global hair opacity in (0, 1].
+    pub hair_alpha: f32,
+    /// Colour of strands without their own colour (linear RGB).
+    pub hair_color: [f32; 3],
+    pub background: [f32; 3],
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            map_resolution: 512,
+            hair_alpha: 0.35,
+            hair_color: [0.30, 0.18, 0.09],
+            background: [0.12, 0.13, 0.15],
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MethodSettings {
+    pub name: String,
+    /// Parameters of the selected method; missing ones take the method's defaults.
+    pub params: ParamValues,
+}
+
+impl Default for MethodSettings {
+    fn default() -> Self {
+        MethodSettings {
+            name: "opaque-shadow-map".into(),
+            params: ParamValues::new(),
+        }
+    }
+}
+
+/// Built-in presets, available wherever the binary runs.
+pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
+    ("default", include_str!("../presets/default.toml")),
+    ("patch", include_str!("../presets/patch.toml")),
+];
+
+impl SceneSettings {
+    /// Builds the scene: loads `file` when set, runs the generator otherwise.
+    pub fn build(&self) -> Result<crate::scene::Scene> {
+        match &self.file {
+            Some(f) => crate::scene::load::load_scene(f),
+            None => crate::scene::generate::generate(&self.generator)
+                .map_err(|e| anyhow::anyhow!("scene generator: {e}")),
+        }
+    }
+}
+
+impl Settings {
+    /// Range checks with messages naming the key.
+    pub fn validate(&self) -> Result<()> {
+        let r = &self.render;
+        if !(1..=8192).contains(&r.width) || !(1..=8192).contains(&r.height) {
+            bail!(
+                "render.width/height must be in 1..=8192 (got {}x{})",
+                r.width,
+                r.height
+            );
+        }
+        if !(1..=4096).contains(&r.map_resolution) {
+            bail!(
+                "render.map_resolution must be in 1..=4096 (got {})",
+                r.map_resolution
+            );
+        }
+        if !(r.hair_alpha > 0.0 && r.hair_alpha <= 1.0) {
+            bail!("render.hair_alpha must be in (0, 1] (got {})", r.hair_alpha);
+        }
+        for (k, c) in [
+            ("render.hair_color", r.hair_color),
+            ("render.background", r.background),
+        ] {
+            if c.iter().any(|v| !v.is_finite() || *v < 0.0) {
+                bail!("{k} must hold three finite non-negative numbers (got {c:?})");
+            }
+        }
+        let l = &self.light;
+        if ![
+            l.azimuth_deg,
+            l.elevation_deg,
+            l.distance,
+            l.cone_deg,
+            l.intensity,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
+        {
+            bail!("light values must be finite");
+        }
+        if !(-90.0..=90.0).contains(&l.elevation_deg) {
+            bail!(
+                "light.elevation_deg must be in [-90, 90] (got {})",
+                l.elevation_deg
+            );
+        }
+        if !(1.0..=170.0).contains(&l.cone_deg) || l.distance < 1.01 || l.intensity < 0.0 {
+            bail!("light: cone_deg in [1, 170], distance >= 1.01 scene radii, intensity >= 0");
+        }
+        let c = &self.camera;
+        if !(5.0..=120.0).contains(&c.fov_y_deg) || !c.distance.is_finite() || c.distance < 0.0 {
+            bail!("camera: fov_y_deg in [5, 120] and distance >= 0 (0 frames the scene)");
+        }
+        let m = registry::find(&self.method.name).map_err(anyhow::Error::msg)?;
+        methods::validate(m, &self.method.params).map_err(anyhow::Error::msg)?;
+        Ok(())
+    }
+
+    /// Parses TOML; `origin` names the source in errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Settings> {
+        Self::from_toml_with(text, origin, &[])
+    }
+
+    /// Parses TOML, applies `key=value` overrides (dotted keys, TOML values; bare words are taken as strings),
+    /// then validates.
+    pub fn from_toml_with(text: &str, origin: &str, overrides: &[String]) -> Result<Settings> {
+        let mut tree: toml::Table =
+            toml::from_str(text).with_context(|| format!("{origin}: invalid TOML"))?;
+        for o in overrides {
+            apply_override(&mut tree, o)?;
+        }
+        let s: Settings = Settings::deserialize(toml::Value::Table(tree))
+            .with_context(|| format!("{origin}: invalid preset"))?;
+        s.validate()
+            .with_context(|| format!("{origin}: invalid preset"))?;
+        Ok(s)
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("Settings always serialises to TOML")
+    }
+
+    /// Loads a preset by name (built-in, or `presets/<name>.toml` under the current directory) or by path.
+    pub fn load_preset(name_or_path: &str, overrides: &[String]) -> Result<Settings> {
+        let path = Path::new(name_or_path);
+        let local = Path::new("presets").join(format!("{name_or_path}.toml"));
+        let file = if path.extension().is_some_and(|e| e == "toml") || path.is_file() {
+            Some(path.to_path_buf())
+        } else if local.is_file() {
+            Some(local)
+        } else {
+            None
+        };
+        match file {
+            Some(f) => {
+                let text =
+                    std::fs::read_to_string(&f).with_context(|| format!("{}: cannot read", f.display()))?;
+                let mut s = Settings::from_toml_with(&text, &f.display().to_string(), overrides)?;
+                s.resolve_paths(f.parent().unwrap_or(Path::new(".")));
+                Ok(s)
+            }
+            None => {
+                let (_, text) = BUILTIN_PRESETS
+                    .iter()
+                    .find(|(n, _)| *n == name_or_path)
+                    .with_context(|| {
+                        let names: Vec<_> = BUILTIN_PRESETS.iter().map(|(n, _)| *n).collect();
+                        format!(
+                            "no preset '{name_or_path}': not a file, and built-in presets are {}",
+                            names.join(", ")
+                        )
+                    })?;
+                Settings::from_toml_with(text, &format!("preset '{name_or_path}'"), overrides)
+            }
+        }
+    }
+
+    /// Makes a relative scene file path relative to the preset's folder.
+    fn resolve_paths(&mut self, base: &Path) {
+        if let Some(f) = &self.scene.file
+            && f.is_relative()
+        {
+            self.scene.file = Some(base.join(f));
+        }
+    }
+
+    /// Writes the settings as a preset file (atomically).
+    pub fn save_preset(&self, path: &Path) -> Result<()> {
+        crate::io::write_atomic(path, self.to_toml().as_bytes())
+    }
+}
+
+/// Sets `key=value` (dotted key) in a TOML tree. The value is parsed as TOML, or taken as a string.
+pub fn apply_override(tree: &mut toml::Table, assignment: &str) -> Result<()> {
+    let (key, raw) = assignment
+        .split_once('=')
+        .with_context(|| format!("--set '{assignment}': expected key=value"))?;
+    let key = key.trim();
+    let value: toml::Value = match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
+        Ok(mut t) => t.remove("v").unwrap_or(toml::Value::String(raw.to_string())),
+        Err(_) => toml::Value::String(raw.trim().to_string()),
+    };
+    let mut parts: Vec<&str> = key.split('.').collect();
+    let last = parts
+        .pop()
+        .filter(|l| !l.is_empty())
+        .with_context(|| format!("--set '{assignment}': empty key"))?;
+    let mut table = tree;
+    for p in parts {
+        let entry = table
+            .entry(p.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = entry
+            .as_table_mut()
+            .with_context(|| format!("--set '{assignment}': '{p}' is not a table"))?;
+    }
+    table.insert(last.to_string(), value);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_presets_parse_and_validate() {
+        for (name, _) in BUILTIN_PRESETS {
+            Settings::load_preset(name, &[]).unwrap_or_else(|e| panic!("preset {name}: {e:#}"));
+        }
+    }
+
+    #[test]
+    fn overrides_reach_nested_keys_and_are_validated() {
+        let s = Settings::from_toml_with(
+            "",
+            "test",
+            &[
+                "render.hair_alpha=0.5".into(),
+                "method.name=none".into(),
+                "scene.generator.seed=7".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(s.render.hair_alpha, 0.5);
+        assert_eq!(s.method.name, "none");
+        assert_eq!(s.scene.generator.seed, 7);
+        let e = Settings::from_toml_with("", "test", &["render.hair_alpha=2".into()]).unwrap_err();
+        assert!(format!("{e:#}").contains("hair_alpha"), "{e:#}");
+        let e = Settings::from_toml_with("", "test", &["method.params.bias=5".into()]).unwrap_err();
+        assert!(format!("{e:#}").contains("'bias' = 5 is out of range"), "{e:#}");
+        let e = Settings::from_toml_with("[render]\nwidht = 3\n", "x.toml", &[]).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("x.toml") && format!("{e:#}").contains("widht"),
+            "{e:#}"
+        );
+    }
+
+    #[test]
+    fn round_trips_through_toml() {
+        let mut s = Settings::default();
+        s.render.hair_alpha = 0.25;
+        s.method.params.insert("bias".into(), 0.01);
+        let back = Settings::from_toml(&s.to_toml(), "roundtrip").unwrap();
+        assert_eq!(back, s);
+    }
+}

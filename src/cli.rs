@@ -88,6 +88,9 @@ pub struct GenArgs {
     /// Random seed (same seed, same hair).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Grow the hair on this glTF mesh's triangles instead of the built-in ellipsoid (`head` kind).
+    #[arg(long)]
+    pub scalp: Option<PathBuf>,
     /// Any other generator parameter, e.g. `--set curl_radius=0.01` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -232,7 +235,12 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
         }
         p = GenParams::deserialize(toml::Value::Table(tree)).context("generator parameters")?;
     }
-    let scene = crate::scene::generate::generate(&p).map_err(|e| anyhow::anyhow!("gen {}: {e}", a.kind))?;
+    let scene = crate::settings::SceneSettings {
+        file: None,
+        scalp: a.scalp.clone(),
+        generator: p.clone(),
+    }
+    .build()?;
     let info = format!("hairlab gen {} seed {}", a.kind, p.seed);
     let file = hair::HairFile::from_strands(&scene.strands, &info)?;
     hair::write_hair_file(&a.out, &file)?;

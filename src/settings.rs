@@ -19,11 +19,13 @@ pub struct Settings {
     pub method: MethodSettings,
 }
 
-/// Where the strands come from: a file when `file` is set, the generator otherwise.
+/// Where the strands come from: a file when `file` is set, the generator otherwise (on `scalp`'s triangles when
+/// that glTF file is given, on the generator's own ellipsoid or patch when not).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
 #[serde(default, deny_unknown_fields)]
 pub struct SceneSettings {
     pub file: Option<PathBuf>,
+    pub scalp: Option<PathBuf>,
     pub generator: GenParams,
 }
 
@@ -81,10 +83,23 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
 impl SceneSettings {
     /// Builds the scene: loads `file` when set, runs the generator otherwise.
     pub fn build(&self) -> Result<crate::scene::Scene> {
-        match &self.file {
-            Some(f) => crate::scene::load::load_scene(f),
-            None => crate::scene::generate::generate(&self.generator)
-                .map_err(|e| anyhow::anyhow!("scene generator: {e}")),
+        use crate::scene::{Mesh, generate, gltf_load};
+        match (&self.file, &self.scalp) {
+            (Some(f), _) => crate::scene::load::load_scene(f),
+            (None, Some(scalp)) => {
+                let meshes = gltf_load::load_gltf(scalp)?.meshes;
+                if meshes.is_empty() {
+                    anyhow::bail!(
+                        "{}: a scalp needs triangles, and this file has none",
+                        scalp.display()
+                    );
+                }
+                generate::generate_on_scalp(&self.generator, &Mesh::merged(&meshes))
+                    .map_err(|e| anyhow::anyhow!("scene generator on {}: {e}", scalp.display()))
+            }
+            (None, None) => {
+                generate::generate(&self.generator).map_err(|e| anyhow::anyhow!("scene generator: {e}"))
+            }
         }
     }
 }
@@ -209,10 +224,13 @@ impl Settings {
 
     /// Makes a relative scene file path relative to the preset's folder.
     fn resolve_paths(&mut self, base: &Path) {
-        if let Some(f) = &self.scene.file
-            && f.is_relative()
+        for f in [&mut self.scene.file, &mut self.scene.scalp]
+            .into_iter()
+            .flatten()
         {
-            self.scene.file = Some(base.join(f));
+            if f.is_relative() {
+                *f = base.join(&*f);
+            }
         }
     }
 

@@ -133,6 +133,21 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// All `meshes` as one (indices re-based); the colour of the first.
+    pub fn merged(meshes: &[Mesh]) -> Mesh {
+        let mut out = Mesh {
+            color: meshes.first().map_or(Vec3::ONE, |m| m.color),
+            ..Mesh::default()
+        };
+        for m in meshes {
+            let base = out.positions.len() as u32;
+            out.positions.extend_from_slice(&m.positions);
+            out.normals.extend_from_slice(&m.normals);
+            out.indices.extend(m.indices.iter().map(|i| i + base));
+        }
+        out
+    }
+
     /// Computes area-weighted smooth normals from the triangles.
     pub fn compute_normals(&mut self) {
         let mut n = vec![Vec3::ZERO; self.positions.len()];

@@ -1,0 +1,168 @@
+//! The command line as a user runs it: success paths write whole files; bad input gives one error line naming
+//! the file and the problem, a non-zero exit, and no output file.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn hairlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("run hairlab")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The `error:` lines hairlab printed (drivers may print their own noise on stderr).
+fn error_lines(o: &Output) -> Vec<String> {
+    stderr(o)
+        .lines()
+        .filter(|l| l.starts_with("error: ") && !l.contains("XDG_RUNTIME_DIR"))
+        .map(String::from)
+        .collect()
+}
+
+fn assert_fails(o: &Output, needles: &[&str]) {
+    assert!(!o.status.success(), "expected failure, stderr: {}", stderr(o));
+    let lines = error_lines(o);
+    assert_eq!(lines.len(), 1, "exactly one error line expected: {lines:?}");
+    for n in needles {
+        assert!(lines[0].contains(n), "{:?} does not mention {n:?}", lines[0]);
+    }
+}
+
+#[test]
+fn gen_then_info_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("patch.hair");
+    let f = f.to_str().unwrap();
+    let o = hairlab(&[
+        "gen",
+        "patch",
+        "--strands",
+        "50",
+        "--segments",
+        "4",
+        "--seed",
+        "9",
+        "--out",
+        f,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = hairlab(&["info", f]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("strands:   50"), "{out}");
+    assert!(out.contains("points:    250"), "{out}");
+    assert!(out.contains("segments:  200"), "{out}");
+    assert!(out.contains("arrays:    segments, points"), "{out}");
+}
+
+#[test]
+fn gen_rejects_invalid_parameters_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("bad.hair");
+    let o = hairlab(&["gen", "head", "--segments", "0", "--out", f.to_str().unwrap()]);
+    assert_fails(&o, &["segments"]);
+    assert!(!f.exists());
+    let o = hairlab(&[
+        "gen",
+        "head",
+        "--set",
+        "clump_strength=3",
+        "--out",
+        f.to_str().unwrap(),
+    ]);
+    assert_fails(&o, &["clump_strength"]);
+    assert!(!f.exists());
+}
+
+#[test]
+fn info_reports_broken_files_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let truncated = dir.path().join("truncated.hair");
+    std::fs::write(&truncated, b"HAIR\x01\x00\x00\x00").unwrap();
+    assert_fails(
+        &hairlab(&["info", truncated.to_str().unwrap()]),
+        &["truncated.hair"],
+    );
+    let magic = dir.path().join("magic.hair");
+    std::fs::write(&magic, [b'X'; 128]).unwrap();
+    assert_fails(&hairlab(&["info", magic.to_str().unwrap()]), &["magic.hair"]);
+    let gltf = dir.path().join("broken.gltf");
+    std::fs::write(&gltf, b"{ not json").unwrap();
+    assert_fails(&hairlab(&["info", gltf.to_str().unwrap()]), &["broken.gltf"]);
+    let other = dir.path().join("strands.obj");
+    std::fs::write(&other, b"v 0 0 0").unwrap();
+    assert_fails(&hairlab(&["info", other.to_str().unwrap()]), &["strands.obj"]);
+    assert_fails(
+        &hairlab(&["info", "/nonexistent/x.hair"]),
+        &["/nonexistent/x.hair"],
+    );
+}
+
+#[test]
+fn render_rejects_bad_presets_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("shot.png");
+    let o = dir.path().join("shot.png");
+    let out_s = out.to_str().unwrap();
+    assert_fails(
+        &hairlab(&["render", "--preset", "no-such-preset", "--out", out_s]),
+        &["no-such-preset"],
+    );
+    assert_fails(
+        &hairlab(&["render", "--set", "render.hair_alpha=5", "--out", out_s]),
+        &["hair_alpha"],
+    );
+    assert_fails(
+        &hairlab(&["render", "--set", "method.name=magic", "--out", out_s]),
+        &["magic"],
+    );
+    let preset = dir.path().join("broken.toml");
+    std::fs::write(&preset, "[render]\nmap_resolution = \"big\"\n").unwrap();
+    assert_fails(
+        &hairlab(&["render", "--preset", preset.to_str().unwrap(), "--out", out_s]),
+        &["broken.toml"],
+    );
+    let missing = dir.path().join("scene.toml");
+    std::fs::write(&missing, "[scene]\nfile = \"missing.hair\"\n").unwrap();
+    assert_fails(
+        &hairlab(&["render", "--preset", missing.to_str().unwrap(), "--out", out_s]),
+        &["missing.hair"],
+    );
+    assert!(!Path::new(&o).exists(), "no output on failure");
+}
+
+#[test]
+fn render_writes_a_png_of_the_requested_size() {
+    if hairlab::gpu::Gpu::for_tests().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("shot.png");
+    let o = hairlab(&[
+        "render",
+        "--set",
+        "scene.generator.strands=300",
+        "--set",
+        "scene.generator.segments=8",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (96, 64));
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(leftovers.len(), 1, "temporary files left behind: {leftovers:?}");
+}

@@ -313,7 +313,8 @@ fn zero_clump_strength_translates_the_centre_shape() {
 
 #[test]
 fn wave_and_curl_amplitudes_match_the_parameters() {
-    // Same seed: each wavy/curly strand starts like its straight twin, which is a line for a patch (no gravity).
+    // Same seed: each wavy/curly strand starts like its straight twin, which is a line for a patch (no
+    // gravity).
     let base = GenParams {
         segments: 200,
         wave_frequency: 3.0,

@@ -99,8 +99,8 @@ fn assert_close(a: Vec3, b: Vec3) {
     assert!((a - b).abs().max_element() < 1e-6, "{a} != {b}");
 }
 
-/// Quad (rotated 90° about X), indexed LINES (2 chained segments + 1 separate), an unindexed LINES pair joined by
-/// position, a LINE_STRIP of 4 points with rgba colours, and a POINTS primitive that is skipped.
+/// Quad (rotated 90° about X), indexed LINES (2 chained segments + 1 separate), an unindexed LINES pair
+/// joined by position, a LINE_STRIP of 4 points with rgba colours, and a POINTS primitive that is skipped.
 fn sample(dir: &Path) -> PathBuf {
     let mut b = Builder::default();
     let quad_pos = b.vec3(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
@@ -133,7 +133,8 @@ fn sample(dir: &Path) -> PathBuf {
         r#"[{{"name":"quad","primitives":[{{"attributes":{{"POSITION":{quad_pos},"NORMAL":{quad_nrm}}},
               "indices":{quad_idx},"material":0}}]}},
            {{"name":"hair","primitives":[
-              {{"attributes":{{"POSITION":{lines_pos},"COLOR_0":{lines_col}}},"indices":{lines_idx},"mode":1}},
+              {{"attributes":{{"POSITION":{lines_pos},"COLOR_0":{lines_col}}},
+                "indices":{lines_idx},"mode":1}},
               {{"attributes":{{"POSITION":{dup_pos}}},"mode":1}},
               {{"attributes":{{"POSITION":{strip_pos},"COLOR_0":{strip_col}}},"mode":3}},
               {{"attributes":{{"POSITION":{dup_pos}}},"mode":0}}]}}]"#

@@ -194,9 +194,10 @@ fn write_hair_file_refuses_invalid_contents_and_leaves_old_file() {
     let mut file = HairFile::from_strands(&full_strands(), "").expect("valid strands");
     file.segments = Some(vec![2, 2]); // 6 points promised, 5 present
     let err = write_hair_file(&path, &file).expect_err("invalid");
-    assert!(
-        matches!(&err, HairError::InFile { source, .. } if matches!(**source, HairError::SegmentMismatch { .. }))
-    );
+    let HairError::InFile { cause, .. } = &err else {
+        panic!("expected an error naming the file: {err:?}")
+    };
+    assert!(matches!(**cause, HairError::SegmentMismatch { .. }), "{cause:?}");
     assert_eq!(std::fs::read(&path).expect("read"), b"old contents");
 }
 

@@ -26,10 +26,10 @@ pub enum GpuError {
     NoAdapter,
     #[error("no adapter supports {missing:?} (found: {found}); {INSTALL_HINT}")]
     MissingFeatures { missing: wgpu::Features, found: String },
-    #[error("cannot open the GPU device on {adapter}: {source}")]
+    #[error("cannot open the GPU device on {adapter}: {cause}")]
     RequestDevice {
         adapter: String,
-        source: wgpu::RequestDeviceError,
+        cause: wgpu::RequestDeviceError,
     },
     #[error("{what} needs {bytes} bytes, more than this GPU allows in one buffer ({limit} bytes)")]
     TooLarge { what: String, bytes: u64, limit: u64 },
@@ -142,9 +142,9 @@ impl Gpu {
         let adapter = select_adapter(&adapters, pref)?;
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(adapter.request_device(&device_descriptor(&adapter)))
-            .map_err(|source| GpuError::RequestDevice {
+            .map_err(|cause| GpuError::RequestDevice {
                 adapter: describe(&info),
-                source,
+                cause,
             })?;
         log::info!("GPU: {}", describe(&info));
         Ok(Gpu { device, queue, info })

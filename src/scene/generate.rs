@@ -1,14 +1,17 @@
-//! Seeded, deterministic procedural hair: a head (an ellipsoid scalp grown with hair), a hair patch (roots on a
-//! square, growing up), or hair grown on a loaded scalp mesh.
+//! Seeded, deterministic procedural hair: a head (an ellipsoid scalp grown with hair), a hair patch (roots on
+//! a square, growing up), or hair grown on a loaded scalp mesh.
 //!
-//! Every strand is traced with `segments` steps of exactly `length / segments`, so its points are evenly spaced in
-//! arc length and it is `length` long. Each step goes along the strand's growth direction, which starts along the
-//! root normal and turns towards −Y with `gravity` (head and scalp only); the style tilts each step sideways —
-//! a sine for wavy hair (lateral amplitude `wave_amplitude`, `wave_frequency` waves over the length), a helix for
-//! curly hair (radius `curl_radius`, `curl_turns` turns over the length) — with a random phase per strand. On the
-//! generated head a step that would enter the head slides along it instead. Clumping then makes each strand follow
-//! its nearest clump centre strand, offset by the difference of their roots, the offset shrinking towards the tip
-//! by `clump_strength`.
+//! Every strand is traced with `segments` steps of exactly `length / segments`, so its points are evenly
+//! spaced in arc length and it is `length` long. Each step goes along the strand's growth direction, which
+//! starts along the root normal and turns towards −Y with `gravity` (head and scalp only); the style tilts
+//! each step sideways — a sine for wavy hair (lateral amplitude `wave_amplitude`, `wave_frequency` waves over
+//! the length), a helix for curly hair (radius `curl_radius`, `curl_turns` turns over the length) — with a
+//! random phase per strand. On the generated head a step that would enter the head slides along it instead.
+//! Clumping then makes each strand follow its nearest clump centre strand, offset by the difference of their
+//! roots, the offset shrinking towards the tip by `clump_strength`.
+//!
+//! With `strand_colors` each strand gets a slight random variation around a brown; without, the strands have no
+//! colour array and take the renderer's hair colour. No per-point alpha or thickness arrays are written.
 //!
 //! Randomness comes from SplitMix64 streams derived from `seed` (one for roots, one per strand), so the same
 //! parameters give bit-identical output.
@@ -37,8 +40,9 @@ const GRAVITY_TURN: f32 = 8.0;
 const MAX_TILT: f32 = 0.95;
 /// Direction head hair is combed in at the root (back and a little down, away from the face).
 const COMB: Vec3 = Vec3::new(0.0, -0.4, -1.0);
-/// Weight of the normal against the unit comb direction in a head root's start direction (0.6: about 59° off the
-/// normal), so hair lies along the scalp instead of standing up where gravity cannot bend it (at the crown).
+/// Weight of the normal against the unit comb direction in a head root's start direction (0.6: about 59° off
+/// the normal), so hair lies along the scalp instead of standing up where gravity cannot bend it (at the
+/// crown).
 const ROOT_LIFT: f32 = 0.6;
 /// Steps landing inside this multiple of the head's radii slide along the head instead of entering it.
 const HEAD_SHELL: f32 = 1.03;
@@ -95,8 +99,8 @@ pub struct GenParams {
     pub seed: u64,
     /// Adds a ground quad under the hair, an opaque mesh that receives hair shadows.
     pub floor: bool,
-    /// Writes a per-strand brown colour variation. Off by default: strands without colours take the renderer's
-    /// hair colour, so the colour control applies.
+    /// Writes a per-strand brown colour variation. Off by default: strands without colours take the
+    /// renderer's hair colour, so the colour control applies.
     pub strand_colors: bool,
 }
 
@@ -172,9 +176,10 @@ pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
     Ok(Scene::new(strands, meshes))
 }
 
-/// Grows hair on a loaded scalp mesh: roots on random points of its upward-facing triangles (normal.y > -0.2),
-/// area-weighted, growing along the interpolated normal and drooping with gravity. `p.kind` is ignored; the scene
-/// holds the scalp mesh itself, the hair and (if `p.floor`) a floor. Strands are not kept out of the mesh.
+/// Grows hair on a loaded scalp mesh: roots on random points of its upward-facing triangles (normal.y >
+/// -0.2), area-weighted, growing along the interpolated normal and drooping with gravity. `p.kind` is
+/// ignored; the scene holds the scalp mesh itself, the hair and (if `p.floor`) a floor. Strands are not kept
+/// out of the mesh.
 pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError> {
     let n = validate(p)?;
     let tris = scalp_triangles(scalp)?;
@@ -270,8 +275,8 @@ fn validate(p: &GenParams) -> Result<usize, GenError> {
 struct Rng(u64);
 
 impl Rng {
-    /// Stream `stream` of `seed`: the stream number is scrambled before it is mixed into the seed, so the streams
-    /// of one seed start far apart.
+    /// Stream `stream` of `seed`: the stream number is scrambled before it is mixed into the seed, so the
+    /// streams of one seed start far apart.
     fn new(seed: u64, stream: u64) -> Rng {
         let mut s = Rng(stream);
         let mixed = s.next_u64();
@@ -304,8 +309,8 @@ struct Root {
     dir: Vec3,
 }
 
-/// Is the unit-sphere direction `w` on the scalp? Above a hairline that runs from the nape (low at the back) over
-/// the ears to the forehead (high at the front), so the face and the neck stay bare.
+/// Is the unit-sphere direction `w` on the scalp? Above a hairline that runs from the nape (low at the back)
+/// over the ears to the forehead (high at the front), so the face and the neck stay bare.
 fn on_scalp(w: Vec3) -> bool {
     w.y > 0.133 + 0.633 * w.z
 }
@@ -333,8 +338,8 @@ fn head_root(rng: &mut Rng) -> Root {
     }
 }
 
-/// `n` roots jittered in the cells of a square grid of side `side` at y = 0 (a random subset of cells when `n` is
-/// not a square), growing up +Y with a slight random tilt.
+/// `n` roots jittered in the cells of a square grid of side `side` at y = 0 (a random subset of cells when
+/// `n` is not a square), growing up +Y with a slight random tilt.
 fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
     let mut m = n.isqrt();
     if m * m < n {
@@ -361,18 +366,20 @@ fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
         .collect()
 }
 
-/// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping, and
-/// colours the strands.
+/// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping,
+/// and colours the strands.
 fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> Strands {
     let per = p.segments as usize + 1;
     let mut points = Vec::with_capacity(roots.len() * per);
-    let mut color = Vec::with_capacity(roots.len() * per);
+    let mut color = Vec::with_capacity(if p.strand_colors { roots.len() * per } else { 0 });
     for (i, root) in roots.iter().enumerate() {
         let mut rng = Rng::new(p.seed, i as u64 + 1);
         grow_strand(p, gravity, root, head, &mut rng, &mut points);
-        let tint =
-            Vec3::new(rng.range(0.9, 1.1), rng.range(0.9, 1.1), rng.range(0.9, 1.1)) * rng.range(0.75, 1.25);
-        color.extend(std::iter::repeat_n((BROWN * tint).min(Vec3::ONE), per));
+        if p.strand_colors {
+            let tint = Vec3::new(rng.range(0.9, 1.1), rng.range(0.9, 1.1), rng.range(0.9, 1.1))
+                * rng.range(0.75, 1.25);
+            color.extend(std::iter::repeat_n((BROWN * tint).min(Vec3::ONE), per));
+        }
     }
     clump(p, roots, head, &mut points);
     Strands {
@@ -384,8 +391,8 @@ fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> 
     }
 }
 
-/// Removes the component of `d` that would take a step of length `h` from `p` into the head shell; by convexity the
-/// step then never gets closer to the head.
+/// Removes the component of `d` that would take a step of length `h` from `p` into the head shell; by
+/// convexity the step then never gets closer to the head.
 fn slide_on_head(p: Vec3, d: Vec3, h: f32, radii: Option<Vec3>) -> Vec3 {
     let Some(r) = radii else { return d };
     if ((p + d * h) / (r * HEAD_SHELL)).length_squared() >= 1.0 {
@@ -403,8 +410,8 @@ fn slide_on_head(p: Vec3, d: Vec3, h: f32, radii: Option<Vec3>) -> Vec3 {
         .unwrap_or_else(|| g.any_orthonormal_vector())
 }
 
-/// Turns the unit direction `t` towards −Y by `angle` radians, stopping at −Y. A direction pointing straight up
-/// has no preferred way down and stays.
+/// Turns the unit direction `t` towards −Y by `angle` radians, stopping at −Y. A direction pointing straight
+/// up has no preferred way down and stays.
 fn droop(t: Vec3, angle: f32) -> Vec3 {
     let Some(side) = Vec3::NEG_Y.reject_from_normalized(t).try_normalize() else {
         return t;
@@ -445,7 +452,8 @@ fn grow_strand(
                 t * (1.0 - k * k).sqrt() + u * k
             }
             HairStyle::Curly => {
-                // Constant lateral speed k rotating at curl_w traces a helix of radius k / curl_w = curl_radius.
+                // Constant lateral speed k rotating at curl_w traces a helix of radius k / curl_w =
+                // curl_radius.
                 let k = (p.curl_radius * curl_w).min(MAX_TILT);
                 let a = curl_w * s + phase;
                 t * (1.0 - k * k).sqrt() + (v * a.cos() - u * a.sin()) * k
@@ -463,8 +471,8 @@ fn grow_strand(
 }
 
 /// Makes each strand follow its nearest clump centre (the first `clumps` strands, whose roots are random):
-/// point j becomes centre_j + (root − centre_root) · (1 − clump_strength · j / segments). On the head, points the
-/// offset pushed inside are moved back out onto the head's surface.
+/// point j becomes centre_j + (root − centre_root) · (1 − clump_strength · j / segments). On the head, points
+/// the offset pushed inside are moved back out onto the head's surface.
 fn clump(p: &GenParams, roots: &[Root], head: Option<Vec3>, points: &mut [Vec3]) {
     let k = (p.clumps as usize).min(roots.len());
     if k == 0 {
@@ -539,7 +547,8 @@ fn ellipsoid_mesh(r: Vec3) -> Mesh {
     }
 }
 
-/// A square ground quad facing +Y below everything (at `y` when given), wide enough to catch the hair's shadow.
+/// A square ground quad facing +Y below everything (at `y` when given), wide enough to catch the hair's
+/// shadow.
 fn floor_mesh(strands: &Strands, meshes: &[Mesh], y: Option<f32>) -> Mesh {
     let b = meshes.iter().fold(Aabb::from_points(&strands.points), |b, m| {
         b.union(Aabb::from_points(&m.positions))
@@ -599,7 +608,8 @@ impl ScalpTri {
     }
 }
 
-/// The mesh's upward-facing triangles with cumulative areas; errors on indices out of range or non-finite positions.
+/// The mesh's upward-facing triangles with cumulative areas; errors on indices out of range or non-finite
+/// positions.
 fn scalp_triangles(mesh: &Mesh) -> Result<Vec<ScalpTri>, GenError> {
     let bad = |reason: String| GenError::BadScalp { reason };
     let vertex = |i: u32| {

@@ -1,15 +1,16 @@
 //! glTF 2.0 (`.gltf` / `.glb`) loading: triangles become opaque [`Mesh`]es, lines become hair [`Strands`].
 //!
-//! The default scene (else the first scene, else every root node) is walked with node world transforms applied.
-//! Triangle lists, strips and fans become one mesh per primitive, coloured by the material's base colour factor;
-//! normals come from the file (through the normal matrix) or are computed. `LINES` primitives are chained into
-//! strands while each segment starts where the previous one ended (same index or same position); each
-//! `LINE_STRIP` is one strand. `COLOR_0` gives strand colours (and per-point alpha when it has four components).
-//! `POINTS` and `LINE_LOOP` primitives are skipped with a warning. Only buffers are loaded: images are not decoded,
-//! so a missing or broken texture does not stop a scene from loading.
+//! The default scene (else the first scene, else every root node) is walked with node world transforms
+//! applied. Triangle lists, strips and fans become one mesh per primitive, coloured by the material's base
+//! colour factor; normals come from the file (through the normal matrix) or are computed. `LINES` primitives
+//! are chained into strands while each segment starts where the previous one ended (same index or same
+//! position); each `LINE_STRIP` is one strand. `COLOR_0` gives strand colours (and per-point alpha when it
+//! has four components). `POINTS` and `LINE_LOOP` primitives are skipped with a warning. Only buffers are
+//! loaded: images are not decoded, so a missing or broken texture does not stop a scene from loading.
 //!
 //! The `gltf` crate panics on some malformed files (an attribute naming an accessor that does not exist, for
-//! one); [`load_gltf`] turns such a panic into [`GltfError::Malformed`] instead of taking the application down.
+//! one); [`load_gltf`] turns such a panic into [`GltfError::Malformed`] instead of taking the application
+//! down.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -24,8 +25,8 @@ use super::{Mesh, Scene, Strands};
 /// Everything that can go wrong loading a glTF file; every message names the file.
 #[derive(Debug, Error)]
 pub enum GltfError {
-    #[error("{path}: {source}")]
-    Gltf { path: PathBuf, source: gltf::Error },
+    #[error("{path}: {cause}")]
+    Gltf { path: PathBuf, cause: gltf::Error },
     #[error("{path}: malformed glTF: {message}")]
     Malformed { path: PathBuf, message: String },
     #[error("{path}: contains no triangles or lines")]
@@ -67,9 +68,9 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
 }
 
 fn load(path: &Path) -> Result<Scene, GltfError> {
-    let gltf_err = |source| GltfError::Gltf {
+    let gltf_err = |cause| GltfError::Gltf {
         path: path.to_owned(),
-        source,
+        cause,
     };
     let gltf::Gltf { document, blob } = gltf::Gltf::open(path).map_err(gltf_err)?;
     let buffers = gltf::import_buffers(&document, path.parent(), blob).map_err(gltf_err)?;

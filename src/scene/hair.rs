@@ -1,13 +1,15 @@
 //! Cem Yuksel's `.hair` format (<http://www.cemyuksel.com/research/hairmodels/>), read and write.
 //!
 //! Layout, little-endian: a 128-byte header — `"HAIR"`, u32 strand count, u32 point count, u32 array flags,
-//! u32 default segments per strand, f32 default thickness, f32 default transparency, f32×3 default colour and an
-//! 88-byte NUL-padded info string — followed by the arrays the flags name, in this order: u16 segments per strand,
-//! f32×3 points, f32 thickness, f32 transparency, f32×3 colours (all but the first one entry per point).
+//! u32 default segments per strand, f32 default thickness, f32 default transparency, f32×3 default colour and
+//! an 88-byte NUL-padded info string — followed by the arrays the flags name, in this order: u16 segments per
+//! strand, f32×3 points, f32 thickness, f32 transparency, f32×3 colours (all but the first one entry per
+//! point).
 //!
 //! Reading checks the size the header implies against the file before allocating anything, then validates the
-//! contents (segment counts against the point count, finite points, thickness and transparency ranges). Bytes after
-//! the last array are ignored with a `log::warn!`: some exporters pad files, and the arrays themselves are complete.
+//! contents (segment counts against the point count, finite points, thickness and transparency ranges). Bytes
+//! after the last array are ignored with a `log::warn!`: some exporters pad files, and the arrays themselves
+//! are complete.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -34,18 +36,18 @@ const KNOWN_FLAGS: u32 = FLAG_SEGMENTS | FLAG_POINTS | FLAG_THICKNESS | FLAG_TRA
 /// Everything that can go wrong reading or writing a `.hair` file. Each message is one line.
 #[derive(Debug, Error)]
 pub enum HairError {
-    #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {cause}")]
+    Io { path: PathBuf, cause: std::io::Error },
     /// A decoding or validation error in a named file.
-    #[error("{path}: {source}")]
-    InFile { path: PathBuf, source: Box<HairError> },
+    #[error("{path}: {cause}")]
+    InFile { path: PathBuf, cause: Box<HairError> },
     #[error("not a .hair file: it starts with \"{}\" instead of \"HAIR\"", found.escape_ascii())]
     BadMagic { found: [u8; 4] },
     #[error("truncated header: the file holds {len} bytes, the header alone needs 128")]
     TruncatedHeader { len: usize },
     #[error(
-        "truncated: header says {strands} strands and {points} points ({arrays}), which need {needed} bytes after \
-         the header, but the file holds only {available} (needs {} more bytes)",
+        "truncated: header says {strands} strands and {points} points ({arrays}), which need {needed} bytes \
+         after the header, but the file holds only {available} (needs {} more bytes)",
         needed - available
     )]
     Truncated {
@@ -58,9 +60,9 @@ pub enum HairError {
     #[error("the file has no points array, so there is no hair to show")]
     NoPoints,
     #[error(
-        "segment counts add up to {expected} points ((segments + 1) over {strands} strands{}) but there are {points} \
-         points",
-        match default_segments { Some(d) => format!(", each with the default {d} segments"), None => String::new() }
+        "segment counts add up to {expected} points ((segments + 1) over {strands} strands{}) but there are \
+         {points} points",
+        default_segments.map_or(String::new(), |d| format!(", using the default of {d} segments per strand"))
     )]
     SegmentMismatch {
         strands: u32,
@@ -90,8 +92,8 @@ pub enum HairError {
 
 /// A `.hair` file: header defaults and info string, plus the arrays the file holds.
 ///
-/// A value returned by [`read_hair`] or [`HairFile::from_strands`] passes [`HairFile::validate`]; values edited by
-/// hand should be validated again (as [`write_hair_file`] and [`HairFile::to_strands`] do).
+/// A value returned by [`read_hair`] or [`HairFile::from_strands`] passes [`HairFile::validate`]; values
+/// edited by hand should be validated again (as [`write_hair_file`] and [`HairFile::to_strands`] do).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HairFile {
     /// Number of strands; equals `segments.len()` when the segments array is present.
@@ -100,7 +102,8 @@ pub struct HairFile {
     pub default_thickness: f32,
     pub default_transparency: f32,
     pub default_color: Vec3,
-    /// The info string, without NUL padding; [`write_hair`] keeps at most 87 bytes of it so a NUL terminator fits.
+    /// The info string, without NUL padding; [`write_hair`] keeps at most 87 bytes of it so a NUL terminator
+    /// fits.
     pub info: String,
     /// Segments per strand (a strand has segments + 1 points).
     pub segments: Option<Vec<u16>>,
@@ -112,7 +115,8 @@ pub struct HairFile {
 }
 
 impl HairFile {
-    /// Number of points the per-point arrays hold: the points array's length, or the first other per-point array's.
+    /// Number of points the per-point arrays hold: the points array's length, or the first other per-point
+    /// array's.
     pub fn point_count(&self) -> usize {
         self.points
             .as_ref()
@@ -172,9 +176,10 @@ impl HairFile {
         Ok(())
     }
 
-    /// Converts to [`Strands`]: transparency `t` becomes alpha `1 - t`; without a segments array every strand has
-    /// `default_segments` segments. Arrays the file lacks stay `None` (the header defaults are not materialised, so
-    /// the renderer's own thickness, alpha and colour apply); they remain available on `self`.
+    /// Converts to [`Strands`]: transparency `t` becomes alpha `1 - t`; without a segments array every strand
+    /// has `default_segments` segments. Arrays the file lacks stay `None` (the header defaults are not
+    /// materialised, so the renderer's own thickness, alpha and colour apply); they remain available on
+    /// `self`.
     pub fn to_strands(&self) -> Result<Strands, HairError> {
         self.validate()?;
         let points = self.points.clone().ok_or(HairError::NoPoints)?;
@@ -195,12 +200,12 @@ impl HairFile {
         })
     }
 
-    /// Builds a file from strands: always a segments array and points, plus thickness, transparency (`1 - alpha`)
-    /// and colour arrays where the strands have them. Header defaults: thickness 1, transparency 0, colour white,
-    /// default segments 0 (unused, since the segments array is present).
+    /// Builds a file from strands: always a segments array and points, plus thickness, transparency (`1 -
+    /// alpha`) and colour arrays where the strands have them. Header defaults: thickness 1, transparency 0,
+    /// colour white, default segments 0 (unused, since the segments array is present).
     ///
-    /// Alpha values below 0.5 may not survive `1 - (1 - alpha)` bit-exactly in `f32`; values from 0.5 to 1 and
-    /// multiples of 2⁻²⁴ do. Errors when a strand has 0 or more than 65536 points, or the contents fail
+    /// Alpha values below 0.5 may not survive `1 - (1 - alpha)` bit-exactly in `f32`; values from 0.5 to 1
+    /// and multiples of 2⁻²⁴ do. Errors when a strand has 0 or more than 65536 points, or the contents fail
     /// [`HairFile::validate`].
     pub fn from_strands(strands: &Strands, info: &str) -> Result<HairFile, HairError> {
         let segments = strands
@@ -342,8 +347,8 @@ pub fn read_hair(bytes: &[u8]) -> Result<HairFile, HairError> {
         );
     }
 
-    // Sizes in u64 from u32 counts: at most 32 × (2³² − 1) bytes, far from overflowing; saturating anyway so that
-    // an impossible size reads as "does not fit" rather than wrapping.
+    // Sizes in u64 from u32 counts: at most 32 × (2³² − 1) bytes, far from overflowing; saturating anyway so
+    // that an impossible size reads as "does not fit" rather than wrapping.
     let has = |bit: u32| flags & bit != 0;
     let per_point = |bit: u32, size: u64| {
         if has(bit) {
@@ -438,13 +443,13 @@ pub fn read_hair(bytes: &[u8]) -> Result<HairFile, HairError> {
 
 /// Reads and validates a `.hair` file; every error names the file.
 pub fn read_hair_file(path: &Path) -> Result<HairFile, HairError> {
-    let bytes = std::fs::read(path).map_err(|source| HairError::Io {
+    let bytes = std::fs::read(path).map_err(|cause| HairError::Io {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     read_hair(&bytes).map_err(|e| HairError::InFile {
         path: path.to_owned(),
-        source: Box::new(e),
+        cause: Box::new(e),
     })
 }
 
@@ -508,16 +513,16 @@ fn push_vec3s(out: &mut Vec<u8>, v: &[Vec3]) {
     }
 }
 
-/// Validates `h` and writes it to `path` atomically: the bytes go to a temporary file in the same directory, which
-/// is then renamed over `path`, so a failure never leaves a half-written file behind.
+/// Validates `h` and writes it to `path` atomically: the bytes go to a temporary file in the same directory,
+/// which is then renamed over `path`, so a failure never leaves a half-written file behind.
 pub fn write_hair_file(path: &Path, h: &HairFile) -> Result<(), HairError> {
     h.validate().map_err(|e| HairError::InFile {
         path: path.to_owned(),
-        source: Box::new(e),
+        cause: Box::new(e),
     })?;
-    let io_err = |source| HairError::Io {
+    let io_err = |cause| HairError::Io {
         path: path.to_owned(),
-        source,
+        cause,
     };
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let name = path

@@ -4,6 +4,7 @@
 #include "common/scene_bindings.wgsl"
 #include "common/kajiya_kay.wgsl"
 #include_method
+#include "common/method_lookup.wgsl"
 
 struct VertexIn {
     @location(0) position: vec3<f32>,

@@ -3,6 +3,7 @@
 #include "common/frame.wgsl"
 #include "common/scene_bindings.wgsl"
 #include_method
+#include "common/method_lookup.wgsl"
 
 struct VertexIn {
     @location(0) position: vec3<f32>,

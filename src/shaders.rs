@@ -1,31 +1,35 @@
 //! WGSL sources embedded at compile time and a tiny include step: `#include "common/x.wgsl"` pastes a shared file,
 //! `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`).
 
-/// Every WGSL file under `shaders/`, by path relative to that folder.
-pub const SOURCES: &[(&str, &str)] = &[
-    ("common/frame.wgsl", include_str!("../shaders/common/frame.wgsl")),
-    (
-        "common/scene_bindings.wgsl",
-        include_str!("../shaders/common/scene_bindings.wgsl"),
-    ),
-    (
-        "common/kajiya_kay.wgsl",
-        include_str!("../shaders/common/kajiya_kay.wgsl"),
-    ),
-    ("methods/none.wgsl", include_str!("../shaders/methods/none.wgsl")),
-    (
-        "methods/opaque_shadow_map.wgsl",
-        include_str!("../shaders/methods/opaque_shadow_map.wgsl"),
-    ),
-    ("light_depth.wgsl", include_str!("../shaders/light_depth.wgsl")),
-    ("shadow_map.wgsl", include_str!("../shaders/shadow_map.wgsl")),
-    ("mesh.wgsl", include_str!("../shaders/mesh.wgsl")),
-    ("hair.wgsl", include_str!("../shaders/hair.wgsl")),
-    ("composite.wgsl", include_str!("../shaders/composite.wgsl")),
+/// Embeds files of `shaders/` by their path relative to that folder.
+macro_rules! embed {
+    ($($path:literal),* $(,)?) => {
+        &[$(($path, include_str!(concat!("../shaders/", $path)))),*]
+    };
+}
+
+/// Every WGSL file under `shaders/`, by path relative to that folder (a test checks none is missing).
+pub const SOURCES: &[(&str, &str)] = embed![
+    "common/frame.wgsl",
+    "common/scene_bindings.wgsl",
+    "common/kajiya_kay.wgsl",
+    "common/light_vertex.wgsl",
+    "common/method_lookup.wgsl",
+    "methods/none.wgsl",
+    "methods/opaque_shadow_map.wgsl",
+    "methods/reference.wgsl",
+    "light_depth.wgsl",
+    "shadow_map.wgsl",
+    "abuffer.wgsl",
+    "depth_peel.wgsl",
+    "mesh.wgsl",
+    "hair.wgsl",
+    "composite.wgsl",
+    "evaluate.wgsl",
 ];
 
 /// Pass shaders that take a method lookup through `#include_method`.
-pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl"];
+pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl", "evaluate.wgsl"];
 
 /// The embedded source of `path`.
 pub fn source(path: &str) -> Option<&'static str> {

@@ -63,3 +63,8 @@ fn light_radiance(world: vec3<f32>) -> vec3<f32> {
     }
     return frame.light_color.rgb;
 }
+
+// Optical depth b = -ln(1 - alpha), alpha clamped below 1 (design.md; visibility::optical_depth).
+fn optical_depth(alpha: f32) -> f32 {
+    return -log(1.0 - clamp(alpha, 0.0, 1.0 - 1e-6));
+}

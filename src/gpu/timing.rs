@@ -8,19 +8,19 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Most passes one frame can time.
-pub const MAX_PASSES: u32 = 16;
+pub const MAX_PASSES: u32 = 64;
 const RING: usize = 3;
 
 /// GPU time of one pass in milliseconds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassTime {
-    pub name: &'static str,
+    pub name: String,
     pub ms: f64,
 }
 
 struct Slot {
     buffer: wgpu::Buffer,
-    names: Vec<&'static str>,
+    names: Vec<String>,
     ready: Arc<AtomicBool>,
     in_flight: bool,
 }
@@ -30,7 +30,7 @@ pub struct GpuTimer {
     resolve: wgpu::Buffer,
     slots: Vec<Slot>,
     current: usize,
-    names: Vec<&'static str>,
+    names: Vec<String>,
     period_ns: f64,
     latest: Vec<PassTime>,
 }
@@ -79,17 +79,32 @@ impl GpuTimer {
     }
 
     /// Timestamp writes for the next pass of this frame (`None` once [`MAX_PASSES`] are used).
-    pub fn pass(&mut self, name: &'static str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = self.names.len() as u32;
-        if i >= MAX_PASSES {
-            return None;
-        }
-        self.names.push(name);
+    pub fn pass(&mut self, name: impl Into<String>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.next(name)?;
         Some(wgpu::RenderPassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(2 * i),
             end_of_pass_write_index: Some(2 * i + 1),
         })
+    }
+
+    /// Timestamp writes for the next compute pass of this frame.
+    pub fn compute_pass(&mut self, name: impl Into<String>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let i = self.next(name)?;
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(2 * i),
+            end_of_pass_write_index: Some(2 * i + 1),
+        })
+    }
+
+    fn next(&mut self, name: impl Into<String>) -> Option<u32> {
+        let i = self.names.len() as u32;
+        if i >= MAX_PASSES {
+            return None;
+        }
+        self.names.push(name.into());
+        Some(i)
     }
 
     /// Resolves this frame's queries; call once after the frame's passes are recorded, before submitting.
@@ -155,8 +170,8 @@ impl GpuTimer {
                     .names
                     .iter()
                     .enumerate()
-                    .map(|(i, &name)| PassTime {
-                        name,
+                    .map(|(i, name)| PassTime {
+                        name: name.clone(),
                         ms: ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns * 1e-6,
                     })
                     .collect();

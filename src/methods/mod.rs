@@ -3,8 +3,14 @@
 
 pub mod none;
 pub mod opaque_shadow_map;
+pub mod reference;
 pub mod registry;
 
+use crate::gpu::timing::GpuTimer;
+use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::GeometryBuffers;
+use crate::render::passes::light_depth::LightDepthMaps;
+use crate::visibility::{Fragment, MethodParams};
 use std::collections::BTreeMap;
 
 /// The kind and range of one method parameter.
@@ -59,7 +65,8 @@ pub trait ShadowMethod: Sync {
     fn label(&self) -> &'static str;
     /// The paper the method follows (or a one-line description of the baseline).
     fn source(&self) -> &'static str;
-    /// The WGSL file under `shaders/` defining `fn hair_visibility(world: vec3<f32>) -> f32`.
+    /// The WGSL file under `shaders/` defining `fn visibility_at(texel: vec2<i32>, z: f32) -> f32` over the
+    /// method's group-1 resources.
     fn lookup_wgsl(&self) -> &'static str;
     /// Tunable parameters, shown as the method's panel.
     fn params(&self) -> &'static [ParamSpec] {
@@ -69,11 +76,117 @@ pub trait ShadowMethod: Sync {
     fn uniform_params(&self, _values: &ParamValues) -> [f32; 4] {
         [0.0; 4]
     }
-    /// GPU memory in bytes of the maps this method reads at `map_resolution`², beyond the scene geometry.
-    fn memory_bytes(&self, map_resolution: u32) -> u64;
-    /// CPU model of the method for one texel: visibility at normalised light depth `z` given the texel's
-    /// fragments as `(depth, alpha)` (the specification the GPU lookup must match).
-    fn visibility(&self, values: &ParamValues, fragments: &[(f32, f32)], z: f32) -> f32;
+    /// The CPU model with these parameter values (`None` for the baselines, which define
+    /// [`ShadowMethod::visibility`] directly).
+    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
+        None
+    }
+    /// CPU model of the method for one texel: visibility at normalised light depth `z` given all the texel's
+    /// fragments (the specification the GPU lookup must match).
+    fn visibility(&self, values: &ParamValues, hair_alpha: f32, fragments: &[Fragment], z: f32) -> f32 {
+        match self.model(values, hair_alpha) {
+            Some(m) => m.visibility_curve(fragments, &[z])[0],
+            None => 1.0,
+        }
+    }
+    /// Creates the method's GPU state (maps, pipelines, the group-1 bind group its lookup reads).
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu>;
+}
+
+/// What a method's light passes can use.
+pub struct MethodContext<'a> {
+    pub gpu: &'a Gpu,
+    /// Group 0 of every light pass: the frame uniforms.
+    pub frame_layout: &'a wgpu::BindGroupLayout,
+    pub frame_bind_group: &'a wgpu::BindGroup,
+    pub geometry: &'a GeometryBuffers,
+    /// Nearest and furthest strand depth per texel, already rendered this frame.
+    pub light_maps: &'a LightDepthMaps,
+    pub values: &'a ParamValues,
+    pub hair_alpha: f32,
+}
+
+impl MethodContext<'_> {
+    pub fn map_resolution(&self) -> u32 {
+        self.light_maps.near.width()
+    }
+}
+
+/// A method's GPU side: its maps, the passes that fill them, and the bind group its lookup reads.
+pub trait MethodGpu: Send {
+    /// (Re)allocates the maps for the current parameters and records the method's light passes.
+    fn record(
+        &mut self,
+        ctx: &MethodContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) -> Result<(), GpuError>;
+    /// Group 1 of the eye passes and of the evaluation pass.
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout;
+    fn bind_group(&self) -> &wgpu::BindGroup;
+    /// GPU memory held by the method's maps, in bytes.
+    fn memory_bytes(&self) -> u64;
+    /// Geometry passes one frame of the method takes (besides the shared light-depth pass).
+    fn geometry_passes(&self) -> u32 {
+        0
+    }
+    /// The reference's A-buffer (only the reference has one).
+    fn as_reference(&self) -> Option<&crate::render::passes::abuffer::ABuffer> {
+        None
+    }
+}
+
+/// GPU state of a method whose lookup reads only the shared light-depth maps: an empty group 1.
+pub struct NoMaps {
+    layout: wgpu::BindGroupLayout,
+    bind_group: wgpu::BindGroup,
+    bytes_per_texel: u64,
+    bytes: u64,
+}
+
+impl NoMaps {
+    /// `bytes_per_texel`: bytes of the shared maps the lookup reads, reported as the method's memory.
+    pub fn new(gpu: &Gpu, bytes_per_texel: u64) -> NoMaps {
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("hairlab.method.empty_layout"),
+                entries: &[],
+            });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.method.empty_bind_group"),
+            layout: &layout,
+            entries: &[],
+        });
+        NoMaps {
+            layout,
+            bind_group,
+            bytes_per_texel,
+            bytes: 0,
+        }
+    }
+}
+
+impl MethodGpu for NoMaps {
+    fn record(
+        &mut self,
+        ctx: &MethodContext,
+        _encoder: &mut wgpu::CommandEncoder,
+        _timer: &mut Option<GpuTimer>,
+    ) -> Result<(), GpuError> {
+        let res = ctx.map_resolution() as u64;
+        self.bytes = res * res * self.bytes_per_texel;
+        Ok(())
+    }
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+    fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
+    }
+    fn memory_bytes(&self) -> u64 {
+        self.bytes
+    }
 }
 
 /// The value of `spec` in `values`, or its default.

@@ -1,6 +1,8 @@
 //! No hair self-shadowing: every strand is fully lit (`V = 1`). The baseline that shows what shadows add.
 
-use super::{ParamValues, ShadowMethod};
+use super::{MethodGpu, NoMaps, ParamValues, ShadowMethod};
+use crate::gpu::Gpu;
+use crate::visibility::Fragment;
 
 pub struct NoShadow;
 
@@ -17,10 +19,10 @@ impl ShadowMethod for NoShadow {
     fn lookup_wgsl(&self) -> &'static str {
         "methods/none.wgsl"
     }
-    fn memory_bytes(&self, _map_resolution: u32) -> u64 {
-        0
-    }
-    fn visibility(&self, _values: &ParamValues, _fragments: &[(f32, f32)], _z: f32) -> f32 {
+    fn visibility(&self, _values: &ParamValues, _alpha: f32, _fragments: &[Fragment], _z: f32) -> f32 {
         1.0
+    }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(NoMaps::new(gpu, 0))
     }
 }

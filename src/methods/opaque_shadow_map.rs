@@ -2,7 +2,9 @@
 //! as soon as it lies behind the nearest hair fragment of its light texel. The classic failure that motivates
 //! every semi-transparent method: hair goes black one strand deep.
 
-use super::{ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use super::{MethodGpu, NoMaps, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use crate::gpu::Gpu;
+use crate::visibility::Fragment;
 
 pub struct OpaqueShadowMap;
 
@@ -37,17 +39,17 @@ impl ShadowMethod for OpaqueShadowMap {
     fn uniform_params(&self, values: &ParamValues) -> [f32; 4] {
         [value(values, &PARAMS[0]), 0.0, 0.0, 0.0]
     }
-    fn memory_bytes(&self, map_resolution: u32) -> u64 {
-        // Reads the nearest-depth map (R32Float).
-        map_resolution as u64 * map_resolution as u64 * 4
-    }
-    fn visibility(&self, values: &ParamValues, fragments: &[(f32, f32)], z: f32) -> f32 {
-        let near = fragments.iter().map(|f| f.0).fold(f32::INFINITY, f32::min);
+    fn visibility(&self, values: &ParamValues, _alpha: f32, fragments: &[Fragment], z: f32) -> f32 {
+        let near = fragments.iter().map(|f| f.depth).fold(f32::INFINITY, f32::min);
         if z > near + value(values, &PARAMS[0]) {
             0.0
         } else {
             1.0
         }
+    }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        // Reads the shared nearest- and furthest-depth maps (two R32Float).
+        Box::new(NoMaps::new(gpu, 8))
     }
 }
 
@@ -59,10 +61,10 @@ mod tests {
     fn shadowed_only_behind_nearest_fragment_plus_bias() {
         let m = OpaqueShadowMap;
         let v = ParamValues::from([("bias".to_string(), 0.01)]);
-        let frags = [(0.5, 0.2), (0.3, 0.1), (0.8, 0.9)];
-        assert_eq!(m.visibility(&v, &frags, 0.1), 1.0);
-        assert_eq!(m.visibility(&v, &frags, 0.305), 1.0, "inside the bias");
-        assert_eq!(m.visibility(&v, &frags, 0.32), 0.0);
-        assert_eq!(m.visibility(&v, &[], 0.9), 1.0, "an empty texel is lit");
+        let frags = [(0.5, 0.2), (0.3, 0.1), (0.8, 0.9)].map(Fragment::from);
+        assert_eq!(m.visibility(&v, 1.0, &frags, 0.1), 1.0);
+        assert_eq!(m.visibility(&v, 1.0, &frags, 0.305), 1.0, "inside the bias");
+        assert_eq!(m.visibility(&v, 1.0, &frags, 0.32), 0.0);
+        assert_eq!(m.visibility(&v, 1.0, &[], 0.9), 1.0, "an empty texel is lit");
     }
 }

@@ -3,8 +3,9 @@
 use super::ShadowMethod;
 use super::none::NoShadow;
 use super::opaque_shadow_map::OpaqueShadowMap;
+use super::reference::Reference;
 
-static METHODS: &[&dyn ShadowMethod] = &[&NoShadow, &OpaqueShadowMap];
+static METHODS: &[&dyn ShadowMethod] = &[&NoShadow, &OpaqueShadowMap, &Reference];
 
 /// Every registered method, in UI order.
 pub fn all() -> &'static [&'static dyn ShadowMethod] {

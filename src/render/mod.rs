@@ -9,17 +9,20 @@ pub mod uniforms;
 
 use crate::gpu::timing::{GpuTimer, PassTime};
 use crate::gpu::{Gpu, GpuError, readback};
-use crate::methods::{ParamValues, ShadowMethod};
+use crate::methods::{MethodContext, MethodGpu, ParamValues, ShadowMethod};
 use crate::scene::{Camera, Light, LightKind, Scene};
 use crate::settings::RenderSettings;
 use geometry::GeometryBuffers;
 use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
+use passes::abuffer::RefFragment;
 use passes::composite::CompositePass;
+use passes::depth_peel::DepthPeel;
 use passes::hair::HairPass;
 use passes::light_depth::{LightDepthMaps, LightDepthPass};
 use passes::mesh::MeshPass;
 use passes::shadow_map::{ShadowMap, ShadowMapPass};
+use std::collections::HashMap;
 use targets::EyeTargets;
 use uniforms::FrameUniforms;
 
@@ -70,6 +73,9 @@ pub struct Renderer {
     hair_pass: HairPass,
     composite: CompositePass,
     composite_bind_group: wgpu::BindGroup,
+    evaluate: passes::evaluate::EvaluatePass,
+    methods: HashMap<&'static str, Box<dyn MethodGpu>>,
+    peel: Option<DepthPeel>,
     targets: EyeTargets,
     timer: Option<GpuTimer>,
     scene_center: Vec3,
@@ -91,7 +97,7 @@ impl Renderer {
         });
         let uniform_entry = wgpu::BindGroupLayoutEntry {
             binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
                 has_dynamic_offset: false,
@@ -105,7 +111,7 @@ impl Renderer {
         });
         let float_tex = |binding| wgpu::BindGroupLayoutEntry {
             binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
+            visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Float { filterable: false },
                 view_dimension: wgpu::TextureViewDimension::D2,
@@ -121,7 +127,7 @@ impl Renderer {
                 float_tex(2),
                 wgpu::BindGroupLayoutEntry {
                     binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                     ty: wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
                         view_dimension: wgpu::TextureViewDimension::D2,
@@ -131,7 +137,7 @@ impl Renderer {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
@@ -173,8 +179,11 @@ impl Renderer {
             gpu: gpu.clone(),
             light_depth: LightDepthPass::new(device, &frame_layout),
             shadow_map_pass: ShadowMapPass::new(device, &frame_layout),
-            mesh_pass: MeshPass::new(device, &scene_layout),
-            hair_pass: HairPass::new(device, &scene_layout),
+            mesh_pass: MeshPass::new(&scene_layout),
+            hair_pass: HairPass::new(&scene_layout),
+            evaluate: passes::evaluate::EvaluatePass::new(device, &scene_layout),
+            methods: HashMap::new(),
+            peel: None,
             timer: GpuTimer::new(device, &gpu.queue),
             scene_center: scene.bounds().center(),
             scene_radius: scene.bounds().radius(),
@@ -325,6 +334,59 @@ impl Renderer {
 
     /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
     pub fn render(&mut self, f: &FrameInput) -> Result<(), GpuError> {
+        let mut enc = self.record_light_passes(f)?;
+        let device = self.gpu.device.clone();
+        let method_gpu = &self.methods[f.method.name()];
+        self.mesh_pass.record(
+            &device,
+            &mut enc,
+            f.method,
+            method_gpu.as_ref(),
+            &self.targets,
+            f.render.background,
+            &self.scene_bind_group,
+            &self.geometry,
+            ts(&mut self.timer, "eye: meshes"),
+        );
+        self.hair_pass.record(
+            &device,
+            &mut enc,
+            f.method,
+            method_gpu.as_ref(),
+            &self.targets,
+            &self.scene_bind_group,
+            &self.geometry,
+            ts(&mut self.timer, "eye: hair"),
+        );
+        self.composite.record(
+            &mut enc,
+            &self.targets,
+            &self.composite_bind_group,
+            ts(&mut self.timer, "composite"),
+        );
+        self.submit(enc);
+        Ok(())
+    }
+
+    /// Renders only the light-space side of a frame (light depth, mesh shadow map, the method's maps) and
+    /// submits it: what [`Renderer::evaluate`] and the reference read.
+    pub fn render_light(&mut self, f: &FrameInput) -> Result<(), GpuError> {
+        let enc = self.record_light_passes(f)?;
+        self.submit(enc);
+        Ok(())
+    }
+
+    fn submit(&mut self, mut enc: wgpu::CommandEncoder) {
+        if let Some(t) = self.timer.as_mut() {
+            t.resolve(&mut enc);
+        }
+        self.gpu.queue.submit([enc.finish()]);
+        if let Some(t) = self.timer.as_mut() {
+            t.after_submit();
+        }
+    }
+
+    fn record_light_passes(&mut self, f: &FrameInput) -> Result<wgpu::CommandEncoder, GpuError> {
         self.ensure_sizes(f.width.max(1), f.height.max(1), f.render.map_resolution)?;
         let u = self.uniforms(f);
         self.gpu
@@ -334,58 +396,86 @@ impl Renderer {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.frame.encoder"),
         });
-        macro_rules! ts {
-            ($name:literal) => {
-                self.timer.as_mut().and_then(|t| t.pass($name))
-            };
-        }
         self.light_depth.record(
             &mut enc,
             &self.light_maps,
             &self.frame_bind_group,
             &self.geometry,
-            ts!("light depth"),
+            ts(&mut self.timer, "light depth"),
         );
         self.shadow_map_pass.record(
             &mut enc,
             &self.shadow_map,
             &self.frame_bind_group,
             &self.geometry,
-            ts!("mesh shadow map"),
+            ts(&mut self.timer, "mesh shadow map"),
         );
-        self.mesh_pass.record(
-            &device,
-            &mut enc,
-            f.method,
-            &self.targets,
-            f.render.background,
+        let gpu = self.gpu.clone();
+        let method_gpu = self
+            .methods
+            .entry(f.method.name())
+            .or_insert_with(|| f.method.create_gpu(&gpu));
+        let ctx = MethodContext {
+            gpu: &gpu,
+            frame_layout: &self.frame_layout,
+            frame_bind_group: &self.frame_bind_group,
+            geometry: &self.geometry,
+            light_maps: &self.light_maps,
+            values: f.method_params,
+            hair_alpha: f.render.hair_alpha,
+        };
+        method_gpu.record(&ctx, &mut enc, &mut self.timer)?;
+        Ok(enc)
+    }
+
+    /// Evaluates the method's GPU lookup (`visibility_at`) at `(texel x, texel y, light depth)` samples, on the
+    /// maps of the last frame rendered with `method`.
+    pub fn evaluate(
+        &mut self,
+        method: &dyn ShadowMethod,
+        samples: &[[f32; 3]],
+    ) -> Result<Vec<f32>, GpuError> {
+        let method_gpu = self.methods.get(method.name()).ok_or_else(|| {
+            GpuError::Readback(format!("method '{}' has not been rendered yet", method.name()))
+        })?;
+        self.evaluate.run(
+            &self.gpu,
+            method,
+            method_gpu.as_ref(),
             &self.scene_bind_group,
+            samples,
+        )
+    }
+
+    /// The reference's per-texel fragment lists (row-major texels, each sorted by depth then segment), from the
+    /// last frame rendered with the reference method.
+    pub fn reference_lists(&self) -> Result<Vec<Vec<RefFragment>>, GpuError> {
+        let abuffer = self
+            .methods
+            .get("reference")
+            .and_then(|m| m.as_reference())
+            .ok_or_else(|| GpuError::Readback("the reference has not been rendered yet".into()))?;
+        abuffer.read_lists(&self.gpu)
+    }
+
+    /// Depth-peels the strands of the last frame's light view (the slow exact reference; see
+    /// [`passes::depth_peel`]).
+    pub fn depth_peel(&mut self, max_layers: u32) -> Result<passes::depth_peel::Peeled, GpuError> {
+        let peel = self
+            .peel
+            .get_or_insert_with(|| DepthPeel::new(&self.gpu, &self.frame_layout));
+        peel.peel(
+            &self.gpu,
+            &self.frame_bind_group,
             &self.geometry,
-            ts!("eye: meshes"),
-        );
-        self.hair_pass.record(
-            &device,
-            &mut enc,
-            f.method,
-            &self.targets,
-            &self.scene_bind_group,
-            &self.geometry,
-            ts!("eye: hair"),
-        );
-        self.composite.record(
-            &mut enc,
-            &self.targets,
-            &self.composite_bind_group,
-            ts!("composite"),
-        );
-        if let Some(t) = self.timer.as_mut() {
-            t.resolve(&mut enc);
-        }
-        self.gpu.queue.submit([enc.finish()]);
-        if let Some(t) = self.timer.as_mut() {
-            t.after_submit();
-        }
-        Ok(())
+            self.light_maps.near.width(),
+            max_layers,
+        )
+    }
+
+    /// The GPU state of `method` after it has been rendered once.
+    pub fn method_gpu(&self, method: &dyn ShadowMethod) -> Option<&dyn MethodGpu> {
+        self.methods.get(method.name()).map(|m| m.as_ref())
     }
 
     /// Newest per-pass GPU times (non-blocking; empty without timestamp support).
@@ -439,7 +529,7 @@ impl Renderer {
             light_depth_maps: self.light_maps.bytes(),
             shadow_map: self.shadow_map.bytes(),
             eye_targets: self.targets.bytes(),
-            method: method.memory_bytes(self.light_maps.near.width()),
+            method: self.methods.get(method.name()).map_or(0, |m| m.memory_bytes()),
         }
     }
 
@@ -455,4 +545,9 @@ impl Renderer {
     pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
         &self.frame_layout
     }
+}
+
+/// Timestamp writes for the next pass, when timing is on.
+fn ts<'a>(timer: &'a mut Option<GpuTimer>, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
+    timer.as_mut().and_then(|t| t.pass(name))
 }

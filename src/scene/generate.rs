@@ -10,8 +10,8 @@
 //! Clumping then makes each strand follow its nearest clump centre strand, offset by the difference of their
 //! roots, the offset shrinking towards the tip by `clump_strength`.
 //!
-//! With `strand_colors` each strand gets a slight random variation around a brown; without, the strands have no
-//! colour array and take the renderer's hair colour. No per-point alpha or thickness arrays are written.
+//! With `strand_colors` each strand gets a slight random variation around a brown; without, the strands have
+//! no colour array and take the renderer's hair colour. No per-point alpha or thickness arrays are written.
 //!
 //! Randomness comes from SplitMix64 streams derived from `seed` (one for roots, one per strand), so the same
 //! parameters give bit-identical output.
@@ -367,7 +367,7 @@ fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
 }
 
 /// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping,
-/// and colours the strands.
+/// and colours the strands when `p.strand_colors` is set.
 fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> Strands {
     let per = p.segments as usize + 1;
     let mut points = Vec::with_capacity(roots.len() * per);

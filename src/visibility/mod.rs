@@ -1,1 +1,267 @@
-//! placeholder
+//! CPU models of every self-shadowing method, the exact reference, and the error metrics.
+//!
+//! These models are the specification the GPU methods must match texel for texel: each model is a pure
+//! function pair `build(params, fragments) -> Texel` (the texel holds exactly what the GPU stores, in the
+//! same numeric layout) and `visibility(params, &Texel, z) -> f32`. No GPU, no UI here.
+//!
+//! # Shared conventions (design.md)
+//! - A light-space [`Fragment`] has a normalised light depth in `[0, 1]` across the strands' fitted light
+//!   range (0 = nearest strand point, 1 = furthest) and an opacity `alpha` in `[0, 1)`.
+//! - Every method accumulates optical depth `b = -ln(1 - alpha)` ([`optical_depth`]) and returns
+//!   `V = exp(-accumulated b)`.
+//! - The exact reference is `V_ref(z) = exp(-sum of b over fragments with depth < z)` (strictly less: a
+//!   fragment does not shadow itself), see [`reference`](mod@reference).
+//! - Per-texel quantities the GPU gets from the light-depth pass are the min and max fragment depth of the
+//!   texel, `near` and `far` ([`depth_range`]); an empty texel keeps the pass's clear values `near = 1`,
+//!   `far = 0`.
+//! - Fragments whose depth is not finite are ignored by every model (the light-depth pass clamps depth, so
+//!   the GPU never produces them).
+//! - Fragment order never matters: all models are sums over fragments (GPU additive blending or atomics),
+//!   apart from f32 rounding of those sums, which depends on the order on the GPU too.
+//! - Shared f32 expressions the GPU must use: [`optical_depth`], [`relative_depth`], [`slice_index`],
+//!   [`lerp_up`].
+
+pub mod bom;
+pub mod dc;
+pub mod dom;
+pub mod metrics;
+pub mod occupancy;
+pub mod osm;
+pub mod reference;
+
+#[cfg(test)]
+mod test_support;
+
+pub use bom::{BomParams, BomTexel, SplitCriterion, SplitScore, SplitSearch};
+pub use dc::{DcParams, DcTexel};
+pub use dom::{BeyondLastLayer, DomParams, DomTexel, LayerSpacing};
+pub use metrics::{MapError, TexelError};
+pub use occupancy::{OccupancyParams, OccupancyTexel, OccupancyVariant};
+pub use osm::{OsmParams, OsmTexel};
+pub use reference::{Reference, ReferenceTexel};
+
+/// One rasterised hair fragment seen from the light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fragment {
+    /// Normalised light depth in `[0, 1]` across the strands' fitted light range.
+    pub depth: f32,
+    /// Opacity in `[0, 1)`.
+    pub alpha: f32,
+}
+
+impl Fragment {
+    pub fn new(depth: f32, alpha: f32) -> Self {
+        Self { depth, alpha }
+    }
+
+    /// The fragment's optical depth `b` ([`optical_depth`] of its alpha).
+    pub fn optical_depth(&self) -> f32 {
+        optical_depth(self.alpha)
+    }
+}
+
+impl From<(f32, f32)> for Fragment {
+    /// From `(depth, alpha)`.
+    fn from((depth, alpha): (f32, f32)) -> Self {
+        Self { depth, alpha }
+    }
+}
+
+/// Largest alpha used in [`optical_depth`]: `1 - 1e-6`, so that `b` stays finite (at most about 13.8).
+pub const MAX_ALPHA: f32 = 1.0 - 1e-6;
+
+/// Optical depth `b = -ln(1 - alpha)` with alpha clamped to `[0, MAX_ALPHA]` (a NaN alpha counts as 0).
+///
+/// GPU: `-log(1.0 - clamp(alpha, 0.0, 1.0 - 1e-6))`.
+pub fn optical_depth(alpha: f32) -> f32 {
+    let a = if alpha > 0.0 { alpha.min(MAX_ALPHA) } else { 0.0 };
+    -(1.0 - a).ln()
+}
+
+/// The fragments with a finite depth (the only ones any model sees).
+pub(crate) fn valid(fragments: &[Fragment]) -> impl Iterator<Item = &Fragment> {
+    fragments.iter().filter(|f| f.depth.is_finite())
+}
+
+/// `(near, far)`: min and max depth of the texel's fragments, as the light-depth pass stores them (Min and
+/// Max blending). With no fragments, the pass's clear values `(1.0, 0.0)`.
+pub fn depth_range(fragments: &[Fragment]) -> (f32, f32) {
+    valid(fragments).fold((1.0, 0.0), |(near, far), f| (near.min(f.depth), far.max(f.depth)))
+}
+
+/// Relative depth `t` of `z` inside the texel range `[near, far]` (0 at near, 1 at far), unclamped.
+///
+/// When the range is empty or a single point (`far <= near`: one fragment, all fragments at one depth, or an
+/// empty texel) the result is the step `t = 0` for `z <= near`, `t = 1` beyond, which keeps every range-based
+/// method exact there. GPU, exactly this expression:
+/// `select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near)`.
+pub fn relative_depth(z: f32, near: f32, far: f32) -> f32 {
+    if far > near {
+        (z - near) / (far - near)
+    } else if z > near {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// Index of the slice a coordinate `x = t * n` falls in, for `n` uniform slices: `min(floor(x), n - 1)`, and
+/// 0 for negative (or NaN) `x`.
+///
+/// GPU: `min(u32(max(floor(x), 0.0)), n - 1u)` with `x` computed as `t * f32(n)`.
+pub fn slice_index(x: f32, n: usize) -> usize {
+    // `as usize` saturates: negative and NaN give 0.
+    (x.floor() as usize).min(n.saturating_sub(1))
+}
+
+/// Linear interpolation between two accumulated optical depths `a <= b`, capped at `b`:
+/// `min(a + (b - a) * f, b)`. The cap keeps the reconstructed optical depth non-decreasing across slice
+/// boundaries under f32 rounding (so `V` never increases with depth). GPU: the same expression.
+pub fn lerp_up(a: f32, b: f32, f: f32) -> f32 {
+    (a + (b - a) * f).min(b)
+}
+
+/// Visibility from accumulated optical depth: `V = exp(-omega)`. GPU: `exp(-omega)`.
+pub fn transmittance(omega: f32) -> f32 {
+    (-omega).exp()
+}
+
+/// A method model: its parameters build one texel from the texel's fragments and answer visibility queries.
+pub trait Model {
+    /// Exactly what the GPU stores per texel.
+    type Texel;
+    /// Builds the texel from its fragments (any order).
+    fn build(&self, fragments: &[Fragment]) -> Self::Texel;
+    /// Visibility at normalised light depth `z`.
+    fn visibility(&self, texel: &Self::Texel, z: f32) -> f32;
+    /// Builds the texel once and evaluates `V` at every depth of `zs`.
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        let texel = self.build(fragments);
+        zs.iter().map(|&z| self.visibility(&texel, z)).collect()
+    }
+}
+
+/// Any method with its parameters, for callers that evaluate methods generically (inspector plot, metrics).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MethodParams {
+    Reference,
+    Osm(OsmParams),
+    Dom(DomParams),
+    Bom(BomParams),
+    Dc(DcParams),
+    Occupancy(OccupancyParams),
+}
+
+impl MethodParams {
+    /// Short stable name: `reference`, `osm`, `dom`, `bom`, `dc`, `occupancy`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Reference => "reference",
+            Self::Osm(_) => "osm",
+            Self::Dom(_) => "dom",
+            Self::Bom(_) => "bom",
+            Self::Dc(_) => "dc",
+            Self::Occupancy(_) => "occupancy",
+        }
+    }
+
+    /// Builds the method's texel from `fragments` once and evaluates `V` at every depth of `zs`.
+    pub fn visibility_curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        match self {
+            Self::Reference => Reference.curve(fragments, zs),
+            Self::Osm(p) => p.curve(fragments, zs),
+            Self::Dom(p) => p.curve(fragments, zs),
+            Self::Bom(p) => p.curve(fragments, zs),
+            Self::Dc(p) => p.curve(fragments, zs),
+            Self::Occupancy(p) => p.curve(fragments, zs),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::LN_2;
+
+    #[test]
+    fn optical_depth_of_half_is_ln2() {
+        assert!((optical_depth(0.5) - LN_2).abs() < 1e-7);
+        // 1 - 0.75 = 1/4 -> b = ln 4 = 2 ln 2.
+        assert!((optical_depth(0.75) - 2.0 * LN_2).abs() < 1e-6);
+        assert_eq!(optical_depth(0.0), 0.0);
+    }
+
+    #[test]
+    fn optical_depth_clamps() {
+        assert_eq!(optical_depth(-0.5), 0.0);
+        assert_eq!(optical_depth(f32::NAN), 0.0);
+        assert_eq!(optical_depth(1.0), optical_depth(MAX_ALPHA));
+        assert_eq!(optical_depth(7.0), optical_depth(MAX_ALPHA));
+        // -ln(1e-6) = 13.8155; in f32, MAX_ALPHA = 0.99999899 and 1 - MAX_ALPHA = 1.01328e-6, so b = 13.8023.
+        assert!((optical_depth(1.0) - 13.8023).abs() < 1e-3);
+    }
+
+    #[test]
+    fn depth_range_is_min_max_or_clear_values() {
+        let f = [
+            Fragment::new(0.4, 0.1),
+            Fragment::new(0.2, 0.1),
+            Fragment::new(f32::NAN, 0.1),
+        ];
+        assert_eq!(depth_range(&f), (0.2, 0.4));
+        assert_eq!(depth_range(&[]), (1.0, 0.0));
+    }
+
+    #[test]
+    fn relative_depth_cases() {
+        assert_eq!(relative_depth(0.3, 0.2, 0.6), (0.3f32 - 0.2) / (0.6f32 - 0.2));
+        assert_eq!(relative_depth(0.6, 0.2, 0.6), 1.0);
+        // Degenerate range: step at near.
+        assert_eq!(relative_depth(0.5, 0.5, 0.5), 0.0);
+        assert_eq!(relative_depth(0.4, 0.5, 0.5), 0.0);
+        assert_eq!(relative_depth(0.50001, 0.5, 0.5), 1.0);
+        // Empty texel clear values.
+        assert_eq!(relative_depth(0.9, 1.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn slice_index_cases() {
+        assert_eq!(slice_index(0.0, 4), 0);
+        assert_eq!(slice_index(3.999, 4), 3);
+        assert_eq!(slice_index(4.0, 4), 3);
+        assert_eq!(slice_index(-2.5, 4), 0);
+        assert_eq!(slice_index(f32::NAN, 4), 0);
+        assert_eq!(slice_index(1e30, 4), 3);
+        assert_eq!(slice_index(5.0, 0), 0);
+    }
+
+    #[test]
+    fn lerp_up_is_capped() {
+        assert_eq!(lerp_up(1.0, 3.0, 0.5), 2.0);
+        assert_eq!(lerp_up(1.0, 3.0, 1.0), 3.0);
+        assert_eq!(lerp_up(1.0, 3.0, 2.0), 3.0);
+        assert_eq!(lerp_up(1.0, 3.0, 0.0), 1.0);
+    }
+
+    #[test]
+    fn method_names_and_curves() {
+        let frags = [Fragment::new(0.2, 0.5), Fragment::new(0.6, 0.5)];
+        let methods = [
+            MethodParams::Reference,
+            MethodParams::Osm(OsmParams::default()),
+            MethodParams::Dom(DomParams::default()),
+            MethodParams::Bom(BomParams::default()),
+            MethodParams::Dc(DcParams::default()),
+            MethodParams::Occupancy(OccupancyParams::new(0.5)),
+        ];
+        let names: Vec<_> = methods.iter().map(|m| m.name()).collect();
+        assert_eq!(names, ["reference", "osm", "dom", "bom", "dc", "occupancy"]);
+        for m in methods {
+            // Every method is exactly 1 at depth 0 here (nothing precedes it, and 0 is the first OSM plane)
+            // and exp(-2 ln 2) = 1/4 beyond the last fragment.
+            let v = m.visibility_curve(&frags, &[0.0, 2.0]);
+            assert_eq!(v[0], 1.0, "{}", m.name());
+            assert!((v[1] - 0.25).abs() < 1e-6, "{}: {}", m.name(), v[1]);
+        }
+    }
+}

@@ -1,31 +1,37 @@
 //! Eye pass for hair: strands as lines (LineList), depth-tested against the meshes without writing depth, into
 //! the weighted-blended OIT targets (accumulation: One/One; revealage: Zero/OneMinusSrc). One pipeline per method.
 
-use crate::methods::ShadowMethod;
+use crate::methods::{MethodGpu, ShadowMethod};
 use crate::render::geometry::{GeometryBuffers, HairVertex};
 use crate::render::targets::EyeTargets;
 use std::collections::HashMap;
 
 pub struct HairPass {
-    layout: wgpu::PipelineLayout,
+    scene_layout: wgpu::BindGroupLayout,
     pipelines: HashMap<&'static str, wgpu::RenderPipeline>,
 }
 
 impl HairPass {
-    pub fn new(device: &wgpu::Device, scene_layout: &wgpu::BindGroupLayout) -> HairPass {
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.hair.layout"),
-            bind_group_layouts: &[Some(scene_layout)],
-            immediate_size: 0,
-        });
-        HairPass {
-            layout,
+    pub fn new(scene_layout: &wgpu::BindGroupLayout) -> Self {
+        Self {
+            scene_layout: scene_layout.clone(),
             pipelines: HashMap::new(),
         }
     }
 
-    fn pipeline(&mut self, device: &wgpu::Device, method: &dyn ShadowMethod) -> &wgpu::RenderPipeline {
+    fn pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        method: &dyn ShadowMethod,
+        method_gpu: &dyn MethodGpu,
+    ) -> &wgpu::RenderPipeline {
+        let scene_layout = &self.scene_layout;
         self.pipelines.entry(method.name()).or_insert_with(|| {
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("hairlab.hair.layout"),
+                bind_group_layouts: &[Some(scene_layout), Some(method_gpu.bind_group_layout())],
+                immediate_size: 0,
+            });
             let module = super::shader_module(
                 device,
                 "hairlab.hair.shader",
@@ -44,7 +50,7 @@ impl HairPass {
             };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("hairlab.hair.pipeline"),
-                layout: Some(&self.layout),
+                layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs_main"),
@@ -97,12 +103,13 @@ impl HairPass {
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         method: &dyn ShadowMethod,
+        method_gpu: &dyn MethodGpu,
         targets: &EyeTargets,
         scene: &wgpu::BindGroup,
         geometry: &GeometryBuffers,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let pipeline = self.pipeline(device, method);
+        let pipeline = self.pipeline(device, method, method_gpu);
         let clear = |view, v: f64| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -142,6 +149,7 @@ impl HairPass {
         }
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, scene, &[]);
+        pass.set_bind_group(1, method_gpu.bind_group(), &[]);
         pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
         pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);

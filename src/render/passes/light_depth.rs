@@ -1,7 +1,7 @@
 //! Light-depth pass: nearest and furthest strand depth per light texel (R32Float, Min and Max blending), in the
 //! frame fitted to the strand bounds. Every shadow method starts from these maps.
 
-use crate::render::geometry::{GeometryBuffers, HairVertex};
+use crate::render::geometry::GeometryBuffers;
 
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -79,33 +79,18 @@ impl LightDepthPass {
                 write_mask: wgpu::ColorWrites::RED,
             })
         };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hairlab.light_depth.pipeline"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(HairVertex::layout())],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[
-                    target(wgpu::BlendOperation::Min),
-                    target(wgpu::BlendOperation::Max),
-                ],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let targets = [
+            target(wgpu::BlendOperation::Min),
+            target(wgpu::BlendOperation::Max),
+        ];
+        let pipeline = super::light_pipeline(
+            device,
+            "hairlab.light_depth.pipeline",
+            &layout,
+            &module,
+            "fs_main",
+            &targets,
+        );
         LightDepthPass { pipeline }
     }
 
@@ -142,13 +127,6 @@ impl LightDepthPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if geometry.hair_index_count == 0 {
-            return;
-        }
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
-        pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
+        super::draw_strands(&mut pass, &self.pipeline, frame, None, geometry);
     }
 }

@@ -1,30 +1,36 @@
 //! Eye pass for opaque meshes (clears colour and depth). One pipeline per shadow method, built on first use.
 
-use crate::methods::ShadowMethod;
+use crate::methods::{MethodGpu, ShadowMethod};
 use crate::render::geometry::{GeometryBuffers, MeshVertex};
 use crate::render::targets::EyeTargets;
 use std::collections::HashMap;
 
 pub struct MeshPass {
-    layout: wgpu::PipelineLayout,
+    scene_layout: wgpu::BindGroupLayout,
     pipelines: HashMap<&'static str, wgpu::RenderPipeline>,
 }
 
 impl MeshPass {
-    pub fn new(device: &wgpu::Device, scene_layout: &wgpu::BindGroupLayout) -> MeshPass {
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.mesh.layout"),
-            bind_group_layouts: &[Some(scene_layout)],
-            immediate_size: 0,
-        });
-        MeshPass {
-            layout,
+    pub fn new(scene_layout: &wgpu::BindGroupLayout) -> Self {
+        Self {
+            scene_layout: scene_layout.clone(),
             pipelines: HashMap::new(),
         }
     }
 
-    fn pipeline(&mut self, device: &wgpu::Device, method: &dyn ShadowMethod) -> &wgpu::RenderPipeline {
+    fn pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        method: &dyn ShadowMethod,
+        method_gpu: &dyn MethodGpu,
+    ) -> &wgpu::RenderPipeline {
+        let scene_layout = &self.scene_layout;
         self.pipelines.entry(method.name()).or_insert_with(|| {
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("hairlab.mesh.layout"),
+                bind_group_layouts: &[Some(scene_layout), Some(method_gpu.bind_group_layout())],
+                immediate_size: 0,
+            });
             let module = super::shader_module(
                 device,
                 "hairlab.mesh.shader",
@@ -33,7 +39,7 @@ impl MeshPass {
             );
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("hairlab.mesh.pipeline"),
-                layout: Some(&self.layout),
+                layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs_main"),
@@ -66,13 +72,14 @@ impl MeshPass {
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         method: &dyn ShadowMethod,
+        method_gpu: &dyn MethodGpu,
         targets: &EyeTargets,
         background: [f32; 3],
         scene: &wgpu::BindGroup,
         geometry: &GeometryBuffers,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let pipeline = self.pipeline(device, method);
+        let pipeline = self.pipeline(device, method, method_gpu);
         let [r, g, b] = background.map(|c| c as f64);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.mesh.pass"),
@@ -102,6 +109,7 @@ impl MeshPass {
         }
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, scene, &[]);
+        pass.set_bind_group(1, method_gpu.bind_group(), &[]);
         pass.set_vertex_buffer(0, geometry.mesh_vertices.slice(..));
         pass.set_index_buffer(geometry.mesh_indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..geometry.mesh_index_count, 0, 0..1);

@@ -1,6 +1,9 @@
 //! One file per pass: each holds its pipeline(s) and records itself into an encoder.
 
+pub mod abuffer;
 pub mod composite;
+pub mod depth_peel;
+pub mod evaluate;
 pub mod hair;
 pub mod light_depth;
 pub mod mesh;
@@ -19,4 +22,126 @@ pub fn shader_module(
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(src.into()),
     })
+}
+
+/// Format of [`NullTarget`].
+pub const NULL_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+/// The colour target of light passes that write only storage buffers: it sets the render area (a pass needs an
+/// attachment) and is never written (write mask empty). One byte per texel.
+pub struct NullTarget {
+    view: wgpu::TextureView,
+    resolution: u32,
+}
+
+impl NullTarget {
+    pub fn new(device: &wgpu::Device, resolution: u32) -> NullTarget {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("hairlab.light.null_target"),
+            size: wgpu::Extent3d {
+                width: resolution,
+                height: resolution,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: NULL_TARGET_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        NullTarget {
+            view: texture.create_view(&Default::default()),
+            resolution,
+        }
+    }
+
+    /// Re-creates the target when the map resolution changed.
+    pub fn ensure(&mut self, device: &wgpu::Device, resolution: u32) {
+        if self.resolution != resolution {
+            *self = NullTarget::new(device, resolution);
+        }
+    }
+
+    /// The pipeline target state matching [`NullTarget::attachment`].
+    pub fn target_state() -> Option<wgpu::ColorTargetState> {
+        Some(wgpu::ColorTargetState {
+            format: NULL_TARGET_FORMAT,
+            blend: None,
+            write_mask: wgpu::ColorWrites::empty(),
+        })
+    }
+
+    pub fn attachment(&self) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+        Some(wgpu::RenderPassColorAttachment {
+            view: &self.view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Discard,
+            },
+        })
+    }
+
+    pub fn bytes(&self) -> u64 {
+        self.resolution as u64 * self.resolution as u64
+    }
+}
+
+/// A pipeline drawing the strands from the light with the shared light vertex stage (`vs_main`), no depth test,
+/// fragment entry `fragment_entry` writing `targets`.
+pub fn light_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(crate::render::geometry::HairVertex::layout())],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::LineList,
+            ..Default::default()
+        },
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment_entry),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Draws every strand segment with `pipeline`: group 0 the frame uniforms, group 1 the pass's own resources.
+pub fn draw_strands(
+    pass: &mut wgpu::RenderPass<'_>,
+    pipeline: &wgpu::RenderPipeline,
+    frame: &wgpu::BindGroup,
+    resources: Option<&wgpu::BindGroup>,
+    geometry: &crate::render::geometry::GeometryBuffers,
+) {
+    if geometry.hair_index_count == 0 {
+        return;
+    }
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, frame, &[]);
+    if let Some(r) = resources {
+        pass.set_bind_group(1, r, &[]);
+    }
+    pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
+    pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+    pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
 }

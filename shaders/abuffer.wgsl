@@ -1,0 +1,41 @@
+// Reference A-buffer: every light-space hair fragment of every texel, in per-texel linked lists built in one
+// geometry pass (after a counting pass sized the node buffer). Sorted on the CPU, the lists are the exact
+// reference the methods are measured against; a test shows they equal the depth peel layer for layer.
+#include "common/frame.wgsl"
+#include "common/light_vertex.wgsl"
+
+struct Node {
+    depth: f32,
+    alpha: f32,
+    segment: u32,
+    // Index + 1 of the next node of the texel's list; 0 ends the list.
+    next: u32,
+}
+
+// [0]: fragments counted, [1]: nodes allocated, [2]: fragments dropped (node buffer full).
+@group(1) @binding(0) var<storage, read_write> counters: array<atomic<u32>, 4>;
+// Index + 1 of each texel's first node; 0 = empty texel.
+@group(1) @binding(1) var<storage, read_write> heads: array<atomic<u32>>;
+@group(1) @binding(2) var<storage, read_write> nodes: array<Node>;
+
+@vertex
+fn vs_main(v: LightVertexIn) -> LightFragment {
+    return light_vertex(v);
+}
+
+@fragment
+fn fs_count(f: LightFragment) {
+    atomicAdd(&counters[0], 1u);
+}
+
+@fragment
+fn fs_fill(f: LightFragment) {
+    let i = atomicAdd(&counters[1], 1u);
+    if i >= arrayLength(&nodes) {
+        atomicAdd(&counters[2], 1u);
+        return;
+    }
+    let t = texel_index(f.clip);
+    let next = atomicExchange(&heads[t], i + 1u);
+    nodes[i] = Node(fragment_depth(f), f.alpha, f.segment, next);
+}

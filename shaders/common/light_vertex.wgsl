@@ -1,0 +1,40 @@
+// The vertex stage every light-space pass shares, so that all of them (the light-depth pass, the reference and
+// every method) see bitwise the same fragments: same position, same interpolated depth and alpha.
+
+struct LightVertexIn {
+    @builtin(vertex_index) index: u32,
+    @location(0) position: vec3<f32>,
+    @location(1) alpha: f32,
+}
+
+struct LightFragment {
+    @builtin(position) clip: vec4<f32>,
+    // Normalised light depth (see light_depth()).
+    @location(0) depth: f32,
+    // Opacity: the point's alpha times the global hair alpha.
+    @location(1) alpha: f32,
+    // Segment id: the index of the segment's first point (the provoking vertex of a LineList segment).
+    @location(2) @interpolate(flat) segment: u32,
+}
+
+fn light_vertex(v: LightVertexIn) -> LightFragment {
+    var out: LightFragment;
+    out.clip = frame.world_to_light_clip * vec4<f32>(v.position, 1.0);
+    out.depth = light_depth(v.position);
+    out.alpha = clamp(v.alpha * frame.hair_color.a, 0.0, 1.0);
+    out.segment = v.index;
+    return out;
+}
+
+// The depth a light-space fragment stores: clamped to [0,1]; abs() turns -0.0 into +0.0 so the bit pattern of
+// the depth orders like the value (the depth peel compares bits).
+fn fragment_depth(f: LightFragment) -> f32 {
+    return abs(clamp(f.depth, 0.0, 1.0));
+}
+
+
+// Linear index of a light-map texel.
+fn texel_index(clip: vec4<f32>) -> u32 {
+    let p = vec2<u32>(clip.xy);
+    return p.y * u32(frame.light_range.z) + p.x;
+}

@@ -1,0 +1,29 @@
+// Shadow method "reference": exact visibility from the texel's complete fragment list,
+// V(z) = exp(-sum of b over fragments with depth < z) (design.md).
+
+struct RefNode {
+    depth: f32,
+    alpha: f32,
+    segment: u32,
+    next: u32,
+}
+
+@group(1) @binding(0) var<storage, read> ref_heads: array<u32>;
+@group(1) @binding(1) var<storage, read> ref_nodes: array<RefNode>;
+
+fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
+    let t = u32(texel.y) * u32(frame.light_range.z) + u32(texel.x);
+    var i = ref_heads[t];
+    var sum = 0.0;
+    var steps = 0u;
+    let n = arrayLength(&ref_nodes);
+    while i != 0u && steps < n {
+        let node = ref_nodes[i - 1u];
+        if node.depth < z {
+            sum += optical_depth(node.alpha);
+        }
+        i = node.next;
+        steps += 1u;
+    }
+    return exp(-sum);
+}

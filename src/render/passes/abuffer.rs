@@ -1,0 +1,309 @@
+//! Reference A-buffer pass: a counting pass sizes the node buffer from the scene, then one geometry pass links
+//! every light-space fragment into its texel's list (storage-buffer atomics in the fragment shader). The lists,
+//! read back and sorted, are the exact per-texel fragment lists of the reference; the eye passes can also walk
+//! them to shade with exact visibility.
+
+use crate::gpu::timing::GpuTimer;
+use crate::gpu::{Gpu, GpuError, readback};
+use crate::render::geometry::GeometryBuffers;
+
+/// Bytes of one list node (depth, alpha, segment, next).
+pub const NODE_BYTES: u64 = 16;
+
+/// One light-space fragment as the reference keeps it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefFragment {
+    pub depth: f32,
+    pub alpha: f32,
+    /// Index of the segment's first point: with the depth, it orders fragments totally.
+    pub segment: u32,
+}
+
+/// Sorts a texel's fragments by (depth, segment), the order the depth peel produces.
+pub fn sort_fragments(list: &mut [RefFragment]) {
+    list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
+}
+
+pub struct ABuffer {
+    count_pipeline: wgpu::RenderPipeline,
+    fill_pipeline: wgpu::RenderPipeline,
+    pass_layout: wgpu::BindGroupLayout,
+    pub lookup_layout: wgpu::BindGroupLayout,
+    counters: wgpu::Buffer,
+    heads: wgpu::Buffer,
+    nodes: wgpu::Buffer,
+    capacity: u64,
+    resolution: u32,
+    pass_bind_group: wgpu::BindGroup,
+    pub lookup_bind_group: wgpu::BindGroup,
+    target: super::NullTarget,
+    /// Fragments of the last frame.
+    pub fragment_count: u64,
+}
+
+fn storage_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl ABuffer {
+    pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout) -> ABuffer {
+        let device = &gpu.device;
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.abuffer.pass_layout"),
+            entries: &[
+                storage_entry(0, frag, false),
+                storage_entry(1, frag, false),
+                storage_entry(2, frag, false),
+            ],
+        });
+        let look = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.abuffer.lookup_layout"),
+            entries: &[storage_entry(0, look, true), storage_entry(1, look, true)],
+        });
+        let module = super::shader_module(device, "hairlab.abuffer.shader", "abuffer.wgsl", None);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hairlab.abuffer.layout"),
+            bind_group_layouts: &[Some(frame_layout), Some(&pass_layout)],
+            immediate_size: 0,
+        });
+        let targets = [super::NullTarget::target_state()];
+        let pipeline = |entry: &str| {
+            super::light_pipeline(
+                device,
+                "hairlab.abuffer.pipeline",
+                &layout,
+                &module,
+                entry,
+                &targets,
+            )
+        };
+        let count_pipeline = pipeline("fs_count");
+        let fill_pipeline = pipeline("fs_fill");
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.abuffer.counters"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let (heads, nodes) = (
+            Self::buffer(gpu, "hairlab.abuffer.heads", 4),
+            Self::buffer(gpu, "hairlab.abuffer.nodes", NODE_BYTES),
+        );
+        let (pass_bind_group, lookup_bind_group) =
+            Self::bind_groups(gpu, &pass_layout, &lookup_layout, &counters, &heads, &nodes);
+        ABuffer {
+            count_pipeline,
+            fill_pipeline,
+            pass_layout,
+            lookup_layout,
+            counters,
+            heads,
+            nodes,
+            capacity: 1,
+            resolution: 1,
+            pass_bind_group,
+            lookup_bind_group,
+            target: super::NullTarget::new(device, 1),
+            fragment_count: 0,
+        }
+    }
+
+    fn buffer(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
+        gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    fn bind_groups(
+        gpu: &Gpu,
+        pass_layout: &wgpu::BindGroupLayout,
+        lookup_layout: &wgpu::BindGroupLayout,
+        counters: &wgpu::Buffer,
+        heads: &wgpu::Buffer,
+        nodes: &wgpu::Buffer,
+    ) -> (wgpu::BindGroup, wgpu::BindGroup) {
+        let pass = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.abuffer.pass_bind_group"),
+            layout: pass_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: counters.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: heads.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: nodes.as_entire_binding(),
+                },
+            ],
+        });
+        let lookup = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.abuffer.lookup_bind_group"),
+            layout: lookup_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: heads.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: nodes.as_entire_binding(),
+                },
+            ],
+        });
+        (pass, lookup)
+    }
+
+    fn draw(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::RenderPipeline,
+        frame: &wgpu::BindGroup,
+        geometry: &GeometryBuffers,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("hairlab.abuffer.pass"),
+            color_attachments: &[self.target.attachment()],
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        super::draw_strands(&mut pass, pipeline, frame, Some(&self.pass_bind_group), geometry);
+    }
+
+    /// Counts this frame's fragments (a blocking readback), grows the node buffer to fit them, and records the
+    /// pass that fills the lists into `encoder`.
+    pub fn record(
+        &mut self,
+        gpu: &Gpu,
+        frame: &wgpu::BindGroup,
+        geometry: &GeometryBuffers,
+        resolution: u32,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) -> Result<(), GpuError> {
+        let device = &gpu.device;
+        self.target.ensure(device, resolution);
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("hairlab.abuffer.count"),
+        });
+        enc.clear_buffer(&self.counters, 0, None);
+        self.draw(&mut enc, &self.count_pipeline, frame, geometry, None);
+        let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.abuffer.count_readback"),
+            size: 16,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        enc.copy_buffer_to_buffer(&self.counters, 0, &readback_buffer, 0, 16);
+        gpu.queue.submit([enc.finish()]);
+        let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::read_buffer(gpu, &readback_buffer)?);
+        let count = counts[0] as u64;
+        self.fragment_count = count;
+        let texels = resolution as u64 * resolution as u64;
+        let max_binding = device.limits().max_storage_buffer_binding_size;
+        let node_bytes = count.max(1) * NODE_BYTES;
+        if node_bytes > max_binding || texels * 4 > max_binding {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the reference A-buffer ({count} light-space fragments at {resolution}² texels; lower the map \
+                     resolution or the strand count)"
+                ),
+                bytes: node_bytes.max(texels * 4),
+                limit: max_binding,
+            });
+        }
+        if count > self.capacity || resolution != self.resolution {
+            self.capacity = self.capacity.max(count).max(1);
+            self.resolution = resolution;
+            self.heads = Self::buffer(gpu, "hairlab.abuffer.heads", texels * 4);
+            self.nodes = Self::buffer(gpu, "hairlab.abuffer.nodes", self.capacity * NODE_BYTES);
+            (self.pass_bind_group, self.lookup_bind_group) = Self::bind_groups(
+                gpu,
+                &self.pass_layout,
+                &self.lookup_layout,
+                &self.counters,
+                &self.heads,
+                &self.nodes,
+            );
+        }
+        encoder.clear_buffer(&self.counters, 0, None);
+        encoder.clear_buffer(&self.heads, 0, None);
+        let ts = timer.as_mut().and_then(|t| t.pass("reference: A-buffer"));
+        self.draw(encoder, &self.fill_pipeline, frame, geometry, ts);
+        Ok(())
+    }
+
+    pub fn memory_bytes(&self) -> u64 {
+        self.heads.size() + self.nodes.size() + self.counters.size() + self.target.bytes()
+    }
+
+    /// Reads the lists back: per texel (row-major), its fragments sorted by (depth, segment). Fails if the
+    /// node buffer overflowed (it cannot when [`ABuffer::record`] sized it this frame).
+    pub fn read_lists(&self, gpu: &Gpu) -> Result<Vec<Vec<RefFragment>>, GpuError> {
+        let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.counters)?);
+        if counters[2] > 0 {
+            return Err(GpuError::Readback(format!(
+                "reference A-buffer overflow: {} fragments did not fit in {} nodes",
+                counters[2], self.capacity
+            )));
+        }
+        let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.heads)?);
+        let nodes: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.nodes)?);
+        let used = counters[1] as usize;
+        let mut lists = vec![Vec::new(); heads.len()];
+        for (t, &head) in heads.iter().enumerate() {
+            let mut i = head as usize;
+            let mut steps = 0;
+            while i != 0 && i <= used && steps <= used {
+                let n = nodes[i - 1];
+                lists[t].push(RefFragment {
+                    depth: f32::from_bits(n[0]),
+                    alpha: f32::from_bits(n[1]),
+                    segment: n[2],
+                });
+                i = n[3] as usize;
+                steps += 1;
+            }
+            sort_fragments(&mut lists[t]);
+        }
+        Ok(lists)
+    }
+}
+
+/// Copies a storage buffer into a mappable one and reads it.
+pub fn copy_out(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hairlab.readback.staging"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    gpu.queue.submit([enc.finish()]);
+    readback::read_buffer(gpu, &staging)
+}

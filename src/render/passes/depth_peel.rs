@@ -1,0 +1,178 @@
+//! Light-space depth peeling on (depth, segment id): the exact reference peeled layer by layer until a layer
+//! peels nothing. Slow (three geometry passes and a readback per layer) and used to verify the A-buffer, which
+//! must give the same per-texel lists; see `shaders/depth_peel.wgsl` for how depth ties are kept.
+
+use super::abuffer::{RefFragment, copy_out};
+use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::GeometryBuffers;
+
+pub struct DepthPeel {
+    depth_pipeline: wgpu::RenderPipeline,
+    segment_pipeline: wgpu::RenderPipeline,
+    alpha_pipeline: wgpu::RenderPipeline,
+    advance_pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// Per-texel lists peeled front to back, and the number of layers it took.
+pub struct Peeled {
+    pub lists: Vec<Vec<RefFragment>>,
+    pub layers: u32,
+}
+
+impl DepthPeel {
+    pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout) -> DepthPeel {
+        let device = &gpu.device;
+        let stages = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let entry = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: stages,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.depth_peel.layout"),
+            entries: &(0..6).map(entry).collect::<Vec<_>>(),
+        });
+        let module = super::shader_module(device, "hairlab.depth_peel.shader", "depth_peel.wgsl", None);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hairlab.depth_peel.pipeline_layout"),
+            bind_group_layouts: &[Some(frame_layout), Some(&layout)],
+            immediate_size: 0,
+        });
+        let targets = [super::NullTarget::target_state()];
+        let pipeline = |e: &str| {
+            super::light_pipeline(
+                device,
+                "hairlab.depth_peel.pipeline",
+                &pipeline_layout,
+                &module,
+                e,
+                &targets,
+            )
+        };
+        let advance_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("hairlab.depth_peel.advance"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_advance"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        DepthPeel {
+            depth_pipeline: pipeline("fs_depth"),
+            segment_pipeline: pipeline("fs_segment"),
+            alpha_pipeline: pipeline("fs_alpha"),
+            advance_pipeline,
+            layout,
+        }
+    }
+
+    /// Peels until a layer is empty or `max_layers` layers are done (then it fails: the lists would be cut).
+    pub fn peel(
+        &self,
+        gpu: &Gpu,
+        frame: &wgpu::BindGroup,
+        geometry: &GeometryBuffers,
+        resolution: u32,
+        max_layers: u32,
+    ) -> Result<Peeled, GpuError> {
+        let device = &gpu.device;
+        let texels = resolution as u64 * resolution as u64;
+        let buffer = |label: &str, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let previous = buffer("hairlab.depth_peel.previous", texels * 8);
+        let cand_depth = buffer("hairlab.depth_peel.candidate_depth", texels * 4);
+        let cand_segment = buffer("hairlab.depth_peel.candidate_segment", texels * 4);
+        let cand_alpha = buffer("hairlab.depth_peel.candidate_alpha", texels * 4);
+        let layer = buffer("hairlab.depth_peel.layer", texels * 16);
+        let peeled = buffer("hairlab.depth_peel.peeled", 16);
+        let buffers = [
+            &previous,
+            &cand_depth,
+            &cand_segment,
+            &cand_alpha,
+            &layer,
+            &peeled,
+        ];
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.depth_peel.bind_group"),
+            layout: &self.layout,
+            entries: &buffers
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect::<Vec<_>>(),
+        });
+        let target = super::NullTarget::new(device, resolution);
+        let none = vec![u32::MAX; texels as usize];
+        gpu.queue
+            .write_buffer(&cand_depth, 0, bytemuck::cast_slice(&none));
+        gpu.queue
+            .write_buffer(&cand_segment, 0, bytemuck::cast_slice(&none));
+        let mut lists = vec![Vec::new(); texels as usize];
+        for layers in 0..=max_layers {
+            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hairlab.depth_peel.layer"),
+            });
+            enc.clear_buffer(&peeled, 0, None);
+            for pipeline in [&self.depth_pipeline, &self.segment_pipeline, &self.alpha_pipeline] {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("hairlab.depth_peel.pass"),
+                    color_attachments: &[target.attachment()],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                super::draw_strands(&mut pass, pipeline, frame, Some(&bind_group), geometry);
+            }
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("hairlab.depth_peel.advance"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.advance_pipeline);
+                pass.set_bind_group(0, frame, &[]);
+                pass.set_bind_group(1, &bind_group, &[]);
+                pass.dispatch_workgroups((texels as u32).div_ceil(64), 1, 1);
+            }
+            gpu.queue.submit([enc.finish()]);
+            let count: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &peeled)?);
+            if count[0] == 0 {
+                return Ok(Peeled { lists, layers });
+            }
+            if layers == max_layers {
+                break;
+            }
+            let texel_layer: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &layer)?);
+            for (t, l) in texel_layer.iter().enumerate() {
+                if l[3] == 1 {
+                    lists[t].push(RefFragment {
+                        depth: f32::from_bits(l[0]),
+                        alpha: f32::from_bits(l[2]),
+                        segment: l[1],
+                    });
+                }
+            }
+        }
+        Err(GpuError::Readback(format!(
+            "depth peel did not finish within {max_layers} layers"
+        )))
+    }
+}

@@ -1,0 +1,173 @@
+//! Error metrics against the exact reference (design.md, "Error metrics"): texel error and map error.
+//!
+//! Texel error: mean and max of `|V_m(z) - V_ref(z)|` over `z` in the texel's fragment range `[near, far]`,
+//! sampled at
+//! - every fragment depth (each fragment once, duplicates included: these are the depths at which the eye
+//!   pass shades the hair, and where the reference's "a fragment does not shadow itself" matters most), and
+//! - a uniform grid of `M` points from `near` to `far` inclusive, `z_i = near + (far - near) * (i / (M - 1))`
+//!   (`M = 1`: `near` only; `M = 0`: no grid).
+//!
+//! Map error: the mean of the texel mean errors over the texels holding fragments (with the max of their max
+//! errors alongside).
+
+use super::{Fragment, MethodParams, Model, Reference, depth_range, valid};
+
+/// Default number of grid points `M` per texel.
+pub const DEFAULT_GRID_POINTS: usize = 64;
+
+/// Error of one texel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelError {
+    pub mean: f32,
+    pub max: f32,
+    /// Number of depths sampled (fragments + grid points).
+    pub samples: usize,
+}
+
+/// Error of a whole map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapError {
+    /// Mean over the texels holding fragments of their mean error.
+    pub mean: f32,
+    /// Max over those texels of their max error.
+    pub max: f32,
+    /// Number of texels holding fragments.
+    pub texels: usize,
+}
+
+/// The depths the texel error samples: the fragment depths (input order), then the `grid_points` grid over
+/// `[near, far]`. Empty when the texel holds no fragment.
+pub fn sample_depths(fragments: &[Fragment], grid_points: usize) -> Vec<f32> {
+    let mut zs: Vec<f32> = valid(fragments).map(|f| f.depth).collect();
+    if zs.is_empty() {
+        return zs;
+    }
+    let (near, far) = depth_range(fragments);
+    zs.extend((0..grid_points).map(|i| {
+        if grid_points == 1 {
+            near
+        } else {
+            near + (far - near) * (i as f32 / (grid_points - 1) as f32)
+        }
+    }));
+    zs
+}
+
+/// Texel error of `method` on one texel (`None` when it holds no fragment).
+pub fn texel_error(method: &MethodParams, fragments: &[Fragment], grid_points: usize) -> Option<TexelError> {
+    let zs = sample_depths(fragments, grid_points);
+    if zs.is_empty() {
+        return None;
+    }
+    let model = method.visibility_curve(fragments, &zs);
+    let exact = Reference.curve(fragments, &zs);
+    let (sum, max) = model
+        .iter()
+        .zip(&exact)
+        .fold((0.0f64, 0.0f32), |(sum, max), (&m, &r)| {
+            let e = (m - r).abs();
+            (sum + f64::from(e), max.max(e))
+        });
+    Some(TexelError {
+        mean: (sum / zs.len() as f64) as f32,
+        max,
+        samples: zs.len(),
+    })
+}
+
+/// Map error of `method` over a map given as one fragment list per texel (`None` when no texel holds
+/// fragments).
+pub fn map_error<T: AsRef<[Fragment]>>(
+    method: &MethodParams,
+    map: &[T],
+    grid_points: usize,
+) -> Option<MapError> {
+    let (sum, max, texels) = map
+        .iter()
+        .filter_map(|t| texel_error(method, t.as_ref(), grid_points))
+        .fold((0.0f64, 0.0f32, 0usize), |(sum, max, n), e| {
+            (sum + f64::from(e.mean), max.max(e.max), n + 1)
+        });
+    (texels > 0).then(|| MapError {
+        mean: (sum / texels as f64) as f32,
+        max,
+        texels,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::visibility::test_support::{Rng, random_texel};
+    use crate::visibility::{DcParams, DomParams, OccupancyParams, OsmParams};
+
+    #[test]
+    fn sample_depths_hand_computed() {
+        let f = [
+            Fragment::new(0.2, 0.5),
+            Fragment::new(0.6, 0.5),
+            Fragment::new(0.2, 0.1),
+        ];
+        // Fragments, then 3 grid points over [0.2, 0.6]: 0.2, 0.4, 0.6.
+        let zs = sample_depths(&f, 3);
+        assert_eq!(zs.len(), 6);
+        assert_eq!(zs[..3], [0.2, 0.6, 0.2]);
+        assert_eq!(zs[3], 0.2);
+        assert!((zs[4] - 0.4).abs() < 1e-7);
+        assert_eq!(zs[5], 0.6);
+        assert_eq!(sample_depths(&f, 1), [0.2, 0.6, 0.2, 0.2]);
+        assert_eq!(sample_depths(&f, 0), [0.2, 0.6, 0.2]);
+        assert!(sample_depths(&[], 64).is_empty());
+        assert!(sample_depths(&[Fragment::new(f32::NAN, 0.5)], 64).is_empty());
+    }
+
+    #[test]
+    fn texel_error_hand_computed() {
+        // OSM with one slice: the only plane (z = 1) holds everything, V_osm(z) = exp(-z * total b).
+        let osm = MethodParams::Osm(OsmParams { slices: 1 });
+        // Fragments 0 and 1, alpha 0.5: V_osm = 4^-z; V_ref = 1 at z = 0, 1/2 on (0, 1].
+        // Samples (M = 3): 0, 1 | 0, 0.5, 1. Errors 0, 1/4 | 0, 0, 1/4: mean 0.1, max 0.25.
+        let two = [Fragment::new(0.0, 0.5), Fragment::new(1.0, 0.5)];
+        let e = texel_error(&osm, &two, 3).unwrap();
+        assert_eq!(e.samples, 5);
+        assert!((e.mean - 0.1).abs() < 1e-6);
+        assert!((e.max - 0.25).abs() < 1e-6);
+        // One fragment at 0.5: all 4 samples at 0.5, V_osm = 2^-0.5, V_ref = 1: error 1 - 1/sqrt 2.
+        let one = [Fragment::new(0.5, 0.5)];
+        let e1 = texel_error(&osm, &one, 3).unwrap();
+        let want = 1.0 - 0.5f32.sqrt();
+        assert!((e1.mean - want).abs() < 1e-6 && (e1.max - want).abs() < 1e-6);
+        assert!(texel_error(&osm, &[], 3).is_none());
+
+        // Map error: texels holding fragments only; the mean of (0.1, 1 - 1/sqrt 2), the max of the maxes.
+        let map: Vec<&[Fragment]> = vec![&two[..], &[], &one[..]];
+        let m = map_error(&osm, &map, 3).unwrap();
+        assert_eq!(m.texels, 2);
+        assert!((m.mean - (0.1 + want) / 2.0).abs() < 1e-6);
+        assert!((m.max - want).abs() < 1e-6);
+        let empty: Vec<Vec<Fragment>> = vec![vec![], vec![]];
+        assert!(map_error(&osm, &empty, 3).is_none());
+    }
+
+    #[test]
+    fn reference_has_no_error_and_methods_stay_in_range() {
+        let mut rng = Rng::new(60);
+        let map: Vec<Vec<Fragment>> = (0..50).map(|_| random_texel(&mut rng, 60)).collect();
+        let r = map_error(&MethodParams::Reference, &map, DEFAULT_GRID_POINTS).unwrap();
+        assert_eq!((r.mean, r.max, r.texels), (0.0, 0.0, 50));
+        for m in [
+            MethodParams::Osm(OsmParams::default()),
+            MethodParams::Dom(DomParams::default()),
+            MethodParams::Bom(Default::default()),
+            MethodParams::Dc(DcParams::default()),
+            MethodParams::Occupancy(OccupancyParams::new(0.3)),
+        ] {
+            let e = map_error(&m, &map, DEFAULT_GRID_POINTS).unwrap();
+            assert!(
+                e.mean > 0.0 && e.mean <= e.max && e.max <= 1.0,
+                "{}: {e:?}",
+                m.name()
+            );
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! The exact reference on the GPU (lavapipe in CI): the A-buffer gives exactly the lists depth peeling gives,
+//! depth ties survive, the light-depth maps hold exactly the lists' extremes, and the reference lookup equals the
+//! CPU definition `V = exp(-sum of b over fragments in front)`.
+
+mod common;
+
+use hairlab::gpu::Gpu;
+use hairlab::methods::registry;
+use hairlab::render::passes::abuffer::RefFragment;
+use hairlab::render::{FrameInput, Renderer};
+use hairlab::scene::{Scene, Strands};
+use hairlab::settings::Settings;
+use hairlab::visibility::{Fragment, MethodParams, metrics};
+
+fn frame<'a>(s: &'a Settings, method: &'a str) -> FrameInput<'a> {
+    FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find(method).unwrap(),
+        method_params: &s.method.params,
+        width: 8,
+        height: 8,
+    }
+}
+
+fn small_scene(s: &mut Settings) -> Scene {
+    let scene = s.scene.build().unwrap();
+    s.camera.frame(&scene.framing_bounds());
+    scene
+}
+
+#[test]
+fn abuffer_equals_depth_peeling() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = 150;
+    s.scene.generator.segments = 8;
+    s.render.map_resolution = 48;
+    let scene = small_scene(&mut s);
+    let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    r.render_light(&frame(&s, "reference")).unwrap();
+    let lists = r.reference_lists().unwrap();
+    let peeled = r.depth_peel(4096).unwrap();
+    let total: usize = lists.iter().map(Vec::len).sum();
+    let max = lists.iter().map(Vec::len).max().unwrap();
+    assert!(
+        total > 1000 && max > 5,
+        "test scene too thin: {total} fragments, depth complexity {max}"
+    );
+    assert_eq!(
+        peeled.layers as usize, max,
+        "one peel layer per fragment of the deepest texel"
+    );
+    assert_eq!(peeled.lists.len(), lists.len());
+    for (t, (a, p)) in lists.iter().zip(&peeled.lists).enumerate() {
+        assert_eq!(a, p, "texel {t}: A-buffer and depth peel disagree");
+    }
+}
+
+/// Two identical strands: every fragment of one has a twin with the same depth in the same texel. A peel with a
+/// strict depth test would keep one of each pair; peeling on (depth, segment) keeps both.
+#[test]
+fn depth_ties_are_kept() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let points: Vec<glam::Vec3> = (0..6)
+        .map(|i| glam::Vec3::new(0.02 * i as f32, 0.01 * i as f32, 0.003 * i as f32))
+        .collect();
+    let mut strands = Strands {
+        points: points.clone(),
+        counts: vec![6],
+        ..Strands::default()
+    };
+    strands.append(&Strands {
+        points,
+        counts: vec![6],
+        ..Strands::default()
+    });
+    let scene = Scene::new(strands, Vec::new());
+    let mut s = common::small_settings(8, 8);
+    s.render.map_resolution = 32;
+    s.camera.frame(&scene.framing_bounds());
+    let mut r = Renderer::new(&gpu, &scene, 32).unwrap();
+    r.render_light(&frame(&s, "reference")).unwrap();
+    let peeled = r.depth_peel(256).unwrap();
+    let lists = r.reference_lists().unwrap();
+    let mut pairs = 0;
+    for (a, p) in lists.iter().zip(&peeled.lists) {
+        assert_eq!(a, p);
+        assert_eq!(p.len() % 2, 0, "a fragment lost its twin: {p:?}");
+        for pair in p.chunks(2) {
+            assert_eq!(pair[0].depth, pair[1].depth);
+            // Segment ids of the twins differ by the 6 points of the first strand.
+            assert_eq!(pair[1].segment, pair[0].segment + 6, "{pair:?}");
+            pairs += 1;
+        }
+    }
+    assert!(
+        pairs >= 20,
+        "only {pairs} tied pairs: the strands barely cover the map"
+    );
+}
+
+#[test]
+fn light_depth_maps_hold_the_lists_extremes_and_lookup_matches_cpu() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = 200;
+    s.scene.generator.segments = 10;
+    s.render.map_resolution = 64;
+    let scene = small_scene(&mut s);
+    let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
+    let reference = registry::find("reference").unwrap();
+    r.render_light(&frame(&s, "reference")).unwrap();
+    let lists = r.reference_lists().unwrap();
+    let near = r.read_light_depth(false).unwrap();
+    let far = r.read_light_depth(true).unwrap();
+    let mut samples = Vec::new();
+    let mut expected = Vec::new();
+    let model = MethodParams::Reference;
+    for (t, list) in lists.iter().enumerate() {
+        if list.is_empty() {
+            assert_eq!(
+                (near[t], far[t]),
+                (1.0, 0.0),
+                "texel {t} empty in the A-buffer but not in the depth maps"
+            );
+            continue;
+        }
+        // Bitwise: the same fragments, the same interpolated depths.
+        assert_eq!(near[t].to_bits(), list[0].depth.to_bits(), "texel {t} nearest");
+        assert_eq!(
+            far[t].to_bits(),
+            list.last().unwrap().depth.to_bits(),
+            "texel {t} furthest"
+        );
+        let frags: Vec<Fragment> = list
+            .iter()
+            .map(|f: &RefFragment| Fragment::new(f.depth, f.alpha))
+            .collect();
+        let zs = metrics::sample_depths(&frags, 16);
+        let (x, y) = ((t % 64) as f32, (t / 64) as f32);
+        expected.extend(model.visibility_curve(&frags, &zs));
+        samples.extend(zs.iter().map(|&z| [x, y, z]));
+    }
+    assert!(samples.len() > 10_000, "{} samples", samples.len());
+    let gpu_v = r.evaluate(reference, &samples).unwrap();
+    let worst = gpu_v
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    // Both sum the same f32 optical depths, in different orders: rounding only.
+    assert!(
+        worst <= 1e-5,
+        "reference lookup differs from the CPU definition by {worst}"
+    );
+}

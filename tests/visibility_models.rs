@@ -1,0 +1,115 @@
+//! The CPU visibility models through their public API only, as the inspector, the bench and the GPU
+//! comparison tests use them: generic evaluation with `MethodParams`, the error metrics, and the BOM
+//! split-ratio search.
+
+use hairlab::visibility::{
+    BomParams, DcParams, DomParams, Fragment, MethodParams, OccupancyParams, OsmParams, SplitCriterion, bom,
+    metrics, reference,
+};
+
+/// SplitMix64, for deterministic test maps.
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// A hair-like texel of uniform `alpha`: a stray strand in front, then a clump of 20..40 fragments further
+/// in.
+fn stray_then_clump(rng: &mut Rng, alpha: f32) -> Vec<Fragment> {
+    let stray = 0.3 * rng.unit();
+    let centre = stray + 0.3 + 0.3 * rng.unit();
+    let n = 20 + (20.0 * rng.unit()) as usize;
+    let mut f: Vec<Fragment> = (0..n)
+        .map(|_| (centre + 0.1 * (rng.unit() - 0.5), alpha).into())
+        .collect();
+    f.push(Fragment::new(stray, alpha));
+    f
+}
+
+fn all_methods(alpha: f32) -> Vec<MethodParams> {
+    vec![
+        MethodParams::Reference,
+        MethodParams::Osm(OsmParams { slices: 16 }),
+        MethodParams::Osm(OsmParams { slices: 256 }),
+        MethodParams::Dom(DomParams::default()),
+        MethodParams::Bom(BomParams::default()),
+        MethodParams::Dc(DcParams::default()),
+        MethodParams::Occupancy(OccupancyParams::new(alpha)),
+    ]
+}
+
+#[test]
+fn every_method_gives_a_valid_curve() {
+    let mut rng = Rng(7);
+    let zs: Vec<f32> = (0..=200).map(|i| -0.1 + 1.2 * i as f32 / 200.0).collect();
+    for _ in 0..50 {
+        let texel = stray_then_clump(&mut rng, 0.3);
+        let first = texel.iter().map(|f| f.depth).fold(f32::INFINITY, f32::min);
+        for m in all_methods(0.3) {
+            let v = m.visibility_curve(&texel, &zs);
+            assert!(v.iter().all(|v| (0.0..=1.0).contains(v)), "{}", m.name());
+            assert!(
+                v.windows(2).all(|w| w[1] <= w[0]),
+                "{} not non-increasing",
+                m.name()
+            );
+            // The reference, DOM, BOM and occupancy maps leave everything up to the first fragment
+            // unshadowed.
+            if matches!(m.name(), "reference" | "dom" | "bom" | "occupancy") {
+                assert_eq!(m.visibility_curve(&texel, &[first])[0], 1.0, "{}", m.name());
+            }
+        }
+        assert_eq!(reference::visibility(&texel, first), 1.0);
+    }
+}
+
+#[test]
+fn map_errors_follow_the_papers_claims() {
+    let mut rng = Rng(8);
+    let map: Vec<Vec<Fragment>> = (0..100).map(|_| stray_then_clump(&mut rng, 0.3)).collect();
+    let error = |m: MethodParams| {
+        metrics::map_error(&m, &map, metrics::DEFAULT_GRID_POINTS)
+            .unwrap()
+            .mean
+    };
+    assert_eq!(error(MethodParams::Reference), 0.0);
+    // More OSM slices, less error (Kim & Neumann; Yuksel & Keyser Fig. 1).
+    assert!(
+        error(MethodParams::Osm(OsmParams { slices: 256 }))
+            < error(MethodParams::Osm(OsmParams { slices: 16 }))
+    );
+    // A stray strand in front of the clump: 3 DOM layers starting at the stray strand miss the clump, the
+    // occupancy map follows it (Sintorn & Assarsson §2.1, Fig. 4-5).
+    assert!(
+        error(MethodParams::Occupancy(OccupancyParams::new(0.3)))
+            < error(MethodParams::Dom(DomParams::default()))
+    );
+}
+
+#[test]
+fn bom_split_search_scores_every_ratio() {
+    let mut rng = Rng(9);
+    let map: Vec<Vec<Fragment>> = (0..64).map(|_| stray_then_clump(&mut rng, 0.5)).collect();
+    let search = bom::search_split_ratio(8, &map);
+    let ratios: Vec<f32> = search.scores.iter().map(|s| s.ratio).collect();
+    assert_eq!(ratios, bom::split_ratios());
+    for criterion in [
+        SplitCriterion::CrossCorrelation,
+        SplitCriterion::SumOfAbsoluteDifferences,
+    ] {
+        let best = search.best(criterion);
+        assert!(ratios.contains(&best));
+        let chosen = MethodParams::Bom(BomParams {
+            layers: 8,
+            split_ratio: best,
+        });
+        assert!(metrics::map_error(&chosen, &map, 16).is_some());
+    }
+}

@@ -37,5 +37,5 @@ fn fs_fill(f: LightFragment) {
     }
     let t = texel_index(f.clip);
     let next = atomicExchange(&heads[t], i + 1u);
-    nodes[i] = Node(fragment_depth(f), f.alpha, f.segment, next);
+    nodes[i] = Node(fragment_depth(f.depth), f.alpha, f.segment, next);
 }

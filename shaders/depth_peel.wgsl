@@ -31,7 +31,7 @@ fn after_previous(t: u32, depth_bits: u32, segment1: u32) -> bool {
 @fragment
 fn fs_depth(f: LightFragment) {
     let t = texel_index(f.clip);
-    let d = bitcast<u32>(fragment_depth(f));
+    let d = bitcast<u32>(fragment_depth(f.depth));
     if after_previous(t, d, f.segment + 1u) {
         atomicMin(&candidate_depth[t], d);
     }
@@ -40,7 +40,7 @@ fn fs_depth(f: LightFragment) {
 @fragment
 fn fs_segment(f: LightFragment) {
     let t = texel_index(f.clip);
-    let d = bitcast<u32>(fragment_depth(f));
+    let d = bitcast<u32>(fragment_depth(f.depth));
     if d == atomicLoad(&candidate_depth[t]) && after_previous(t, d, f.segment + 1u) {
         atomicMin(&candidate_segment[t], f.segment + 1u);
     }
@@ -49,7 +49,7 @@ fn fs_segment(f: LightFragment) {
 @fragment
 fn fs_alpha(f: LightFragment) {
     let t = texel_index(f.clip);
-    let d = bitcast<u32>(fragment_depth(f));
+    let d = bitcast<u32>(fragment_depth(f.depth));
     if d == atomicLoad(&candidate_depth[t]) && f.segment + 1u == atomicLoad(&candidate_segment[t]) {
         candidate_alpha[t] = f.alpha;
     }

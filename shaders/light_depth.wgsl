@@ -15,6 +15,6 @@ struct Targets {
 
 @fragment
 fn fs_main(f: LightFragment) -> Targets {
-    let d = fragment_depth(f);
+    let d = fragment_depth(f.depth);
     return Targets(vec4<f32>(d, 0.0, 0.0, 1.0), vec4<f32>(d, 0.0, 0.0, 1.0));
 }

@@ -28,8 +28,8 @@ fn light_vertex(v: LightVertexIn) -> LightFragment {
 
 // The depth a light-space fragment stores: clamped to [0,1]; abs() turns -0.0 into +0.0 so the bit pattern of
 // the depth orders like the value (the depth peel compares bits).
-fn fragment_depth(f: LightFragment) -> f32 {
-    return abs(clamp(f.depth, 0.0, 1.0));
+fn fragment_depth(depth: f32) -> f32 {
+    return abs(clamp(depth, 0.0, 1.0));
 }
 
 

@@ -3,6 +3,7 @@
 
 pub mod none;
 pub mod opaque_shadow_map;
+pub mod osm;
 pub mod reference;
 pub mod registry;
 

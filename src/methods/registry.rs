@@ -3,9 +3,10 @@
 use super::ShadowMethod;
 use super::none::NoShadow;
 use super::opaque_shadow_map::OpaqueShadowMap;
+use super::osm::Osm;
 use super::reference::Reference;
 
-static METHODS: &[&dyn ShadowMethod] = &[&NoShadow, &OpaqueShadowMap, &Reference];
+static METHODS: &[&dyn ShadowMethod] = &[&NoShadow, &OpaqueShadowMap, &Reference, &Osm];
 
 /// Every registered method, in UI order.
 pub fn all() -> &'static [&'static dyn ShadowMethod] {

@@ -2,7 +2,11 @@
 
 #![allow(dead_code)]
 
+use hairlab::gpu::Gpu;
+use hairlab::methods::{ParamValues, registry};
+use hairlab::render::{FrameInput, Renderer};
 use hairlab::settings::Settings;
+use hairlab::visibility::{Fragment, metrics};
 use std::path::{Path, PathBuf};
 
 /// Environment variable that rewrites snapshot images instead of comparing.
@@ -73,4 +77,69 @@ pub fn compare_snapshot(name: &str, img: &image::RgbaImage, channel_tolerance: u
             out.display()
         );
     }
+}
+
+/// Renders `method` with `params` on the small test scene and returns the largest |V_gpu - V_cpu| over all
+/// samples, with the sample count.
+pub fn max_gpu_cpu_difference(
+    gpu: &Gpu,
+    method: &str,
+    params: &[(&str, f32)],
+    resolution: u32,
+) -> (f32, usize) {
+    let mut s: Settings = small_settings(8, 8);
+    s.scene.generator.strands = 300;
+    s.scene.generator.segments = 10;
+    s.render.map_resolution = resolution;
+    let scene = s.scene.build().unwrap();
+    s.camera.frame(&scene.framing_bounds());
+    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let frame = |m: &'static str| FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find(m).unwrap(),
+        method_params: if m == "reference" {
+            &s.method.params
+        } else {
+            &values
+        },
+        width: 8,
+        height: 8,
+    };
+    r.render_light(&frame("reference")).unwrap();
+    let lists = r.reference_lists().unwrap();
+    let m = registry::find(method).unwrap();
+    r.render_light(&frame(m.name())).unwrap();
+    let model = m
+        .model(&values, s.render.hair_alpha)
+        .expect("method has a CPU model");
+    let mut samples = Vec::new();
+    let mut expected = Vec::new();
+    for (t, list) in lists.iter().enumerate() {
+        if list.is_empty() {
+            continue;
+        }
+        let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
+        let zs = metrics::sample_depths(&frags, 16);
+        let (x, y) = ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
+        expected.extend(model.visibility_curve(&frags, &zs));
+        samples.extend(zs.iter().map(|&z| [x, y, z]));
+    }
+    assert!(
+        expected.iter().any(|v| *v < 0.5) && expected.iter().any(|v| *v > 0.9),
+        "{method}: the test scene should hold both lit and deeply shadowed samples"
+    );
+    let got = r.evaluate(m, &samples).unwrap();
+    let worst = got
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        got.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
+        "{method}: V outside [0,1]"
+    );
+    (worst, samples.len())
 }

@@ -38,6 +38,9 @@ pub enum Command {
     Info(InfoArgs),
     /// Generate procedural hair and write it as a `.hair` file.
     Gen(GenArgs),
+    /// Evaluate a method's CPU model on one texel's fragments (CSV rows `depth,alpha`, depth in [0,1]) and
+    /// print CSV `depth,reference,<method>`: the papers' texel experiments, in a script.
+    Curve(CurveArgs),
 }
 
 #[derive(Args, Debug)]
@@ -67,8 +70,9 @@ pub struct InfoArgs {
 
 #[derive(Args, Debug)]
 pub struct GenArgs {
-    /// What to grow: `head` (ellipsoid scalp) or `patch` (a block of hair or grass).
-    #[arg(value_parser = ["head", "patch"])]
+    /// What to grow: `head` (ellipsoid scalp), `patch` (a block of hair or grass), or a stress scene:
+    /// `stray-strand`, `mixed-sizes`, `many-clumps` (see the presets of the same names).
+    #[arg(value_parser = ["head", "patch", "stray-strand", "mixed-sizes", "many-clumps"])]
     pub kind: String,
     /// straight, wavy or curly.
     #[arg(long, value_parser = ["straight", "wavy", "curly"])]
@@ -99,12 +103,45 @@ pub struct GenArgs {
     pub out: PathBuf,
 }
 
+#[derive(Args, Debug)]
+#[command(after_long_help = curve_params_help())]
+pub struct CurveArgs {
+    /// CSV of the texel's fragments: one `depth,alpha` row each (a header row is skipped).
+    #[arg(long)]
+    pub fragments: PathBuf,
+    /// Method name (see `--help` for every method's parameters).
+    #[arg(long)]
+    pub method: String,
+    /// Method parameter, e.g. `--param slices=64` (repeatable).
+    #[arg(long = "param", value_name = "KEY=VALUE")]
+    pub params: Vec<String>,
+    /// Number of depths, uniform over [0, 1].
+    #[arg(long, default_value_t = 256)]
+    pub samples: usize,
+    /// Global hair alpha for methods that assume one (occupancy); default: the mean alpha of the fragments.
+    #[arg(long)]
+    pub hair_alpha: Option<f32>,
+}
+
+/// Every method's parameters, for `hairlab curve --help`.
+fn curve_params_help() -> String {
+    let mut out = String::from("Methods and their parameters:\n");
+    for m in crate::methods::registry::all() {
+        out.push_str(&format!("  {} — {}\n", m.name(), m.source()));
+        for p in m.params() {
+            out.push_str(&format!("      {} (default {}): {}\n", p.key, p.default, p.help));
+        }
+    }
+    out
+}
+
 /// Runs a subcommand.
 pub fn run(cmd: Command) -> Result<()> {
     match cmd {
         Command::Render(a) => render(&a),
         Command::Info(a) => info(&a.file),
         Command::Gen(a) => gen_hair(&a),
+        Command::Curve(a) => curve(&a),
     }
 }
 
@@ -251,5 +288,79 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
         scene.strands.point_count(),
         scene.strands.segment_count()
     );
+    Ok(())
+}
+
+/// Reads `depth,alpha` rows; errors name the file and line.
+pub fn read_fragments_csv(path: &Path) -> Result<Vec<crate::visibility::Fragment>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let parsed = match fields.as_slice() {
+            [d, a] => d.parse::<f32>().ok().zip(a.parse::<f32>().ok()),
+            _ => None,
+        };
+        match parsed {
+            Some((depth, alpha)) => {
+                if !(depth.is_finite() && (0.0..=1.0).contains(&alpha)) {
+                    anyhow::bail!(
+                        "{}:{}: depth must be finite and alpha in [0, 1] (got {line})",
+                        path.display(),
+                        i + 1
+                    );
+                }
+                out.push(crate::visibility::Fragment::new(depth, alpha));
+            }
+            None if i == 0 && out.is_empty() => {}
+            None => anyhow::bail!(
+                "{}:{}: expected `depth,alpha`, got `{line}`",
+                path.display(),
+                i + 1
+            ),
+        }
+    }
+    Ok(out)
+}
+
+fn curve(a: &CurveArgs) -> Result<()> {
+    let method = registry::find(&a.method).map_err(anyhow::Error::msg)?;
+    let mut values = crate::methods::ParamValues::new();
+    for p in &a.params {
+        let (k, v) = p
+            .split_once('=')
+            .with_context(|| format!("--param '{p}': expected key=value"))?;
+        let v: f32 = v
+            .trim()
+            .parse()
+            .with_context(|| format!("--param '{p}': not a number"))?;
+        values.insert(k.trim().to_string(), v);
+    }
+    crate::methods::validate(method, &values).map_err(anyhow::Error::msg)?;
+    if !(2..=1_000_000).contains(&a.samples) {
+        anyhow::bail!("--samples must be in 2..=1000000 (got {})", a.samples);
+    }
+    let frags = read_fragments_csv(&a.fragments)?;
+    let alpha = a.hair_alpha.unwrap_or_else(|| {
+        if frags.is_empty() {
+            0.5
+        } else {
+            frags.iter().map(|f| f.alpha).sum::<f32>() / frags.len() as f32
+        }
+    });
+    let zs: Vec<f32> = (0..a.samples)
+        .map(|i| i as f32 / (a.samples - 1) as f32)
+        .collect();
+    let reference = crate::visibility::MethodParams::Reference.visibility_curve(&frags, &zs);
+    let mut out = format!("depth,reference,{}\n", method.name());
+    for (i, z) in zs.iter().enumerate() {
+        let v = method.visibility(&values, alpha, &frags, *z);
+        out.push_str(&format!("{z},{},{v}\n", reference[i]));
+    }
+    print!("{out}");
     Ok(())
 }

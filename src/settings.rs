@@ -78,6 +78,13 @@ impl Default for MethodSettings {
 pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
     ("default", include_str!("../presets/default.toml")),
     ("patch", include_str!("../presets/patch.toml")),
+    ("stray-strand", include_str!("../presets/stray-strand.toml")),
+    ("mixed-sizes", include_str!("../presets/mixed-sizes.toml")),
+    ("many-clumps", include_str!("../presets/many-clumps.toml")),
+    (
+        "straight-grazing",
+        include_str!("../presets/straight-grazing.toml"),
+    ),
 ];
 
 impl SceneSettings {

@@ -166,3 +166,63 @@ fn render_writes_a_png_of_the_requested_size() {
         .collect();
     assert_eq!(leftovers.len(), 1, "temporary files left behind: {leftovers:?}");
 }
+
+#[test]
+fn curve_prints_the_cpu_model_against_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("texel.csv");
+    std::fs::write(&csv, "depth,alpha\n0.2,0.5\n0.5,0.5\n0.8,0.5\n").unwrap();
+    let o = hairlab(&[
+        "curve",
+        "--fragments",
+        csv.to_str().unwrap(),
+        "--method",
+        "osm",
+        "--param",
+        "slices=4",
+        "--samples",
+        "11",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let rows: Vec<Vec<f32>> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(out.lines().next(), Some("depth,reference,osm"));
+    assert_eq!(rows.len(), 11);
+    // b = ln 2 per fragment. Reference: 1 up to 0.2, then 1/2, 1/4 past 0.5, 1/8 past 0.8.
+    let reference = [1.0, 1.0, 1.0, 0.5, 0.5, 0.5, 0.25, 0.25, 0.25, 0.125, 0.125];
+    // OSM-4 planes (optical depth at 0.25, 0.5, 0.75, 1): ln2, ln2, 2 ln2, 3 ln2. At z = 0.1 (x = 0.4 in slice 0)
+    // V = 2^-0.4; at 0.3 (x = 1.2) between ln2 and ln2: 1/2; at 0.6 (x = 2.4): ln2 + 0.4 ln2 -> 2^-1.4.
+    let osm = [(1, 2f32.powf(-0.4)), (3, 0.5), (6, 2f32.powf(-1.4)), (10, 0.125)];
+    for (i, r) in rows.iter().enumerate() {
+        assert!((r[0] - i as f32 / 10.0).abs() < 1e-6);
+        assert!(
+            (r[1] - reference[i]).abs() < 1e-6,
+            "reference at row {i}: {}",
+            r[1]
+        );
+    }
+    for (i, v) in osm {
+        assert!(
+            (rows[i][2] - v).abs() < 1e-5,
+            "osm at row {i}: {} vs {v}",
+            rows[i][2]
+        );
+    }
+    std::fs::write(&csv, "0.2,0.5\n0.4,lots\n").unwrap();
+    let o = hairlab(&["curve", "--fragments", csv.to_str().unwrap(), "--method", "osm"]);
+    assert_fails(&o, &["texel.csv:2"]);
+    let o = hairlab(&[
+        "curve",
+        "--fragments",
+        csv.to_str().unwrap(),
+        "--method",
+        "osm",
+        "--param",
+        "slices=999",
+    ]);
+    assert_fails(&o, &["slices"]);
+}

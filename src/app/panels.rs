@@ -97,9 +97,16 @@ impl HairlabApp {
                 let before = g.clone();
                 egui::Grid::new("generator").num_columns(2).show(ui, |ui| {
                     ui.label("kind");
-                    ui.horizontal(|ui| {
-                        ui.selectable_value(&mut g.kind, GenKind::Head, "head");
-                        ui.selectable_value(&mut g.kind, GenKind::Patch, "patch");
+                    ui.horizontal_wrapped(|ui| {
+                        for (kind, name) in [
+                            (GenKind::Head, "head"),
+                            (GenKind::Patch, "patch"),
+                            (GenKind::StrayStrand, "stray strand"),
+                            (GenKind::MixedSizes, "mixed sizes"),
+                            (GenKind::ManyClumps, "many clumps"),
+                        ] {
+                            ui.selectable_value(&mut g.kind, kind, name);
+                        }
                     });
                     ui.end_row();
                     ui.label("style");

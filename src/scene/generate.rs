@@ -56,6 +56,16 @@ pub enum GenKind {
     Head,
     /// A block of hair (or grass): roots on a square at y = 0, growing up +Y; `gravity` does not apply.
     Patch,
+    /// Stress scene (Sintorn & Assarsson Fig. 4/5a): a dense clump of `strands` and one stray strand a clump
+    /// width in front of it towards +X, where the stress presets put the light. Breaks Deep Opacity Maps: the
+    /// stray strand sets the texels' start depth and their layers end before the clump.
+    StrayStrand,
+    /// Stress scene (Voicu §4.1/5.5): a short wide patch (a tenth of `length`) beside a tall narrow clump, both
+    /// growing up +Y, lit from above: one fixed layer depth cannot fit both. Bounding Opacity Maps fit each.
+    MixedSizes,
+    /// Stress scene (Mertens et al. Fig. 5): `clumps` (Q) thin horizontal sheets of hair stacked along +Y and
+    /// lit from above, so every texel sees Q separated clusters; Density Clustering has K = 4.
+    ManyClumps,
 }
 
 /// Shape of each strand.
@@ -168,9 +178,15 @@ pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
             grow_all(p, 0.0, &patch_roots(n, p.length * 0.6, &mut rng), None),
             Vec::new(),
         ),
+        GenKind::StrayStrand => (stray_strand(p, n, &mut rng), Vec::new()),
+        GenKind::MixedSizes => (mixed_sizes(p, n, &mut rng), Vec::new()),
+        GenKind::ManyClumps => (many_clumps(p, n, &mut rng), Vec::new()),
     };
     if p.floor {
-        let floor_y = if p.kind == GenKind::Patch { Some(0.0) } else { None };
+        let floor_y = match p.kind {
+            GenKind::Patch | GenKind::StrayStrand | GenKind::MixedSizes => Some(0.0),
+            GenKind::Head | GenKind::ManyClumps => None,
+        };
         meshes.push(floor_mesh(&strands, &meshes, floor_y));
     }
     Ok(Scene::new(strands, meshes))
@@ -364,6 +380,68 @@ fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
             }
         })
         .collect()
+}
+
+/// A patch of `n` strands of `length` on a square of side `side`, growing up +Y (no clumping), moved by
+/// `offset`.
+fn patch_block(p: &GenParams, n: usize, side: f32, length: f32, offset: Vec3, rng: &mut Rng) -> Strands {
+    let q = GenParams {
+        length,
+        clumps: 0,
+        ..p.clone()
+    };
+    let mut s = grow_all(&q, 0.0, &patch_roots(n, side, rng), None);
+    for x in &mut s.points {
+        *x += offset;
+    }
+    s
+}
+
+fn stray_strand(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
+    let mut s = patch_block(p, n, p.length * 0.4, p.length, Vec3::ZERO, rng);
+    let stray = GenParams {
+        style: HairStyle::Straight,
+        ..p.clone()
+    };
+    s.append(&patch_block(
+        &stray,
+        1,
+        0.0,
+        p.length,
+        Vec3::new(p.length * 0.6, 0.0, 0.0),
+        rng,
+    ));
+    s
+}
+
+fn mixed_sizes(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
+    let half = n.div_ceil(2);
+    let l = p.length;
+    let mut s = patch_block(p, half, l * 0.4, l * 0.1, Vec3::new(-l * 0.3, 0.0, 0.0), rng);
+    s.append(&patch_block(
+        p,
+        (n - half).max(1),
+        l * 0.15,
+        l,
+        Vec3::new(l * 0.2, 0.0, 0.0),
+        rng,
+    ));
+    s
+}
+
+fn many_clumps(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
+    let q = p.clumps.max(1) as usize;
+    let gap = p.length * 0.3;
+    let mut out = Strands::default();
+    for k in 0..q {
+        // A patch grown along +Y, laid down along +X and squashed into a thin sheet at height k * gap.
+        let mut sheet = patch_block(p, (n / q).max(1), p.length, p.length, Vec3::ZERO, rng);
+        for x in &mut sheet.points {
+            *x = Vec3::new(x.y - p.length * 0.5, k as f32 * gap + x.x * 0.03, x.z);
+        }
+        out.append(&sheet);
+    }
+    out
 }
 
 /// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping,

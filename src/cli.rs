@@ -41,6 +41,26 @@ pub enum Command {
     /// Evaluate a method's CPU model on one texel's fragments (CSV rows `depth,alpha`, depth in [0,1]) and
     /// print CSV `depth,reference,<method>`: the papers' texel experiments, in a script.
     Curve(CurveArgs),
+    /// Measure methods against the exact reference on a preset's scene: depth complexity, map error, GPU time
+    /// per pass (median), memory, geometry passes.
+    Measure(MeasureArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct MeasureArgs {
+    /// Preset: built-in name, `presets/<name>.toml`, or a path.
+    #[arg(long, default_value = "default")]
+    pub preset: String,
+    /// Override any preset value, e.g. `--set render.map_resolution=512` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Method configurations `name` or `name:key=value,...` (repeatable); default: the usual settings of every
+    /// registered method (OSM 16/64/256, DOM 3/7, BOM 4/8, DC 4, occupancy).
+    #[arg(long = "config", value_name = "METHOD[:K=V,...]")]
+    pub configs: Vec<String>,
+    /// Timed frames per configuration (after one warm-up frame).
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
 }
 
 #[derive(Args, Debug)]
@@ -142,6 +162,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Info(a) => info(&a.file),
         Command::Gen(a) => gen_hair(&a),
         Command::Curve(a) => curve(&a),
+        Command::Measure(a) => measure(&a),
     }
 }
 
@@ -362,5 +383,50 @@ fn curve(a: &CurveArgs) -> Result<()> {
         out.push_str(&format!("{z},{},{v}\n", reference[i]));
     }
     print!("{out}");
+    Ok(())
+}
+
+fn measure(a: &MeasureArgs) -> Result<()> {
+    use crate::measure::{MethodConfig, usual_configs};
+    let settings = Settings::load_preset(&a.preset, &a.set)?;
+    let configs = if a.configs.is_empty() {
+        usual_configs()
+    } else {
+        a.configs
+            .iter()
+            .map(|c| MethodConfig::parse(c))
+            .collect::<Result<Vec<_>>>()?
+    };
+    let (stats, rows) = crate::measure::measure(&settings, &configs, a.frames, |what| {
+        eprintln!("measuring {what}…")
+    })?;
+    println!(
+        "preset {}: {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity max {} mean {:.1}",
+        a.preset,
+        stats.strands,
+        stats.segments,
+        stats.map_resolution,
+        stats.fragments,
+        stats.occupied_texels,
+        stats.max_depth_complexity,
+        stats.mean_depth_complexity
+    );
+    println!(
+        "{:<22} {:>10} {:>10} {:>10} {:>11} {:>7}  passes",
+        "method", "map error", "worst", "GPU ms", "memory MiB", "geom"
+    );
+    for m in &rows {
+        let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
+        println!(
+            "{:<22} {:>10.5} {:>10.5} {:>10.3} {:>11.2} {:>7}  {}",
+            m.config.label(),
+            m.map_error,
+            m.worst_texel_error,
+            m.total_ms(),
+            m.memory_bytes as f64 / (1024.0 * 1024.0),
+            m.geometry_passes,
+            passes.join(" · ")
+        );
+    }
     Ok(())
 }

@@ -5,6 +5,7 @@ pub mod app;
 pub mod cli;
 pub mod gpu;
 pub mod io;
+pub mod measure;
 pub mod methods;
 pub mod render;
 pub mod scene;

@@ -42,6 +42,8 @@ pub struct RenderSettings {
     /// Colour of strands without their own colour (linear RGB).
     pub hair_color: [f32; 3],
     pub background: [f32; 3],
+    /// 3x3 percentage-closer filtering of the shadow method's visibility in the eye passes.
+    pub pcf: bool,
 }
 
 impl Default for RenderSettings {
@@ -53,6 +55,7 @@ impl Default for RenderSettings {
             hair_alpha: 0.35,
             hair_color: [0.30, 0.18, 0.09],
             background: [0.12, 0.13, 0.15],
+            pcf: false,
         }
     }
 }

@@ -16,7 +16,8 @@ struct FrameUniforms {
     light_color: vec4<f32>,
     // rgb: hair colour for strands without per-point colour; a: global hair alpha.
     hair_color: vec4<f32>,
-    // x: near, y: far (light-view distances of the hair frame), z: hair map resolution, w: unused.
+    // x: near, y: far (light-view distances of the hair frame), z: hair map resolution, w: 1 for 3x3 PCF of the
+    // method's visibility, 0 for none.
     light_range: vec4<f32>,
     // Parameters of the selected shadow method (meaning defined by the method's lookup WGSL).
     method_params: vec4<f32>,

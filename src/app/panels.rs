@@ -172,6 +172,8 @@ impl HairlabApp {
                 let r = &mut self.settings.render;
                 egui::Grid::new("render").num_columns(2).show(ui, |ui| {
                     row(ui, "hair alpha", egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0));
+                row(ui, "PCF 3×3", egui::Checkbox::without_text(&mut r.pcf))
+                    .on_hover_text("average the method's visibility over the 3×3 light texels around each point");
                     ui.label("hair colour");
                     ui.color_edit_button_rgb(&mut r.hair_color);
                     ui.end_row();

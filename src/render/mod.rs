@@ -321,7 +321,12 @@ impl Renderer {
                 1.0,
             ],
             hair_color: [c[0], c[1], c[2], f.render.hair_alpha],
-            light_range: [hair.near, hair.far, self.light_maps.near.width() as f32, 0.0],
+            light_range: [
+                hair.near,
+                hair.far,
+                self.light_maps.near.width() as f32,
+                if f.render.pcf { 1.0 } else { 0.0 },
+            ],
             method_params: f.method.uniform_params(f.method_params),
             viewport: [
                 f.width as f32,

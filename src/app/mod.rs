@@ -79,6 +79,8 @@ pub struct HairlabApp {
     pass_times: Vec<PassTime>,
     continuous: bool,
     last_frame: Option<Instant>,
+    /// Why the last frame could not be rendered (shown in place of the image).
+    viewport_error: Option<String>,
     /// Hides measured times (they differ run to run) so UI snapshots are reproducible.
     snapshot_mode: bool,
 }
@@ -121,6 +123,7 @@ impl HairlabApp {
             continuous: false,
             last_frame: None,
             snapshot_mode: false,
+            viewport_error: None,
         };
         app.rebuild_scene();
         app

@@ -56,11 +56,14 @@ impl HairlabApp {
                 width,
                 height,
             };
-            if let Err(e) = renderer.render(&input) {
+            let result = renderer.render(&input);
+            self.last_rendered = Some(key);
+            if let Err(e) = result {
                 let msg = format!("render failed: {e}");
-                self.last_rendered = Some(key);
+                self.viewport_error = Some(msg.clone());
                 self.error(msg);
-                return;
+            } else {
+                self.viewport_error = None;
             }
             let now = Instant::now();
             let ms = match (self.continuous, self.last_frame) {
@@ -72,10 +75,21 @@ impl HairlabApp {
             while self.frame_ms.len() > 60 {
                 self.frame_ms.pop_front();
             }
-            self.last_rendered = Some(key);
             // Timings arrive a frame or two later: look again shortly.
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        let Some(renderer) = self.renderer.as_mut() else { return };
+        if let Some(e) = &self.viewport_error {
+            // Never show a stale or half-made image: say what failed instead.
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                e,
+                egui::FontId::proportional(15.0),
+                ui.visuals().error_fg_color,
+            );
+            return;
         }
         let times = renderer.timings();
         if !times.is_empty() {

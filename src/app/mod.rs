@@ -69,7 +69,8 @@ pub struct HairlabApp {
     scene: Option<Scene>,
     /// Settings of the scene currently loaded (to notice when it must be rebuilt).
     built_scene: Option<crate::settings::SceneSettings>,
-    texture: Option<(egui::TextureId, u32, u32)>,
+    /// The viewport texture registered with egui, and the renderer's target generation it shows.
+    texture: Option<(egui::TextureId, u64)>,
     last_rendered: Option<(Settings, u32, u32)>,
     adapter: String,
     message: Option<Message>,
@@ -79,6 +80,8 @@ pub struct HairlabApp {
     pass_times: Vec<PassTime>,
     continuous: bool,
     last_frame: Option<Instant>,
+    /// The last on-demand method analysis: the method's name and what it found.
+    analysis: Option<(&'static str, crate::methods::AnalysisResult)>,
     /// Why the last frame could not be rendered (shown in place of the image).
     viewport_error: Option<String>,
     /// Hides measured times (they differ run to run) so UI snapshots are reproducible.
@@ -124,6 +127,7 @@ impl HairlabApp {
             last_frame: None,
             snapshot_mode: false,
             viewport_error: None,
+            analysis: None,
         };
         app.rebuild_scene();
         app
@@ -299,6 +303,40 @@ impl HairlabApp {
                 Ok(()) => self.info(format!("preset saved: {}", path.display())),
                 Err(e) => self.error(format!("{e:#}")),
             },
+        }
+    }
+
+    /// Runs a method's on-demand analysis on the exact fragment lists of the current light view and applies the
+    /// parameters it picks.
+    fn run_analysis(
+        &mut self,
+        method: &'static dyn crate::methods::ShadowMethod,
+        a: crate::methods::Analysis,
+    ) {
+        let Some(r) = self.renderer.as_mut() else { return };
+        let reference = match registry::find("reference") {
+            Ok(m) => m,
+            Err(e) => return self.error(e),
+        };
+        let empty = crate::methods::ParamValues::new();
+        let input = crate::render::FrameInput {
+            camera: &self.settings.camera,
+            light: &self.settings.light,
+            render: &self.settings.render,
+            method: reference,
+            method_params: &empty,
+            width: 1,
+            height: 1,
+        };
+        let lists = r.render_light(&input).and_then(|()| r.reference_lists());
+        match lists {
+            Ok(lists) => {
+                let result = (a.run)(&lists, &self.settings.method.params);
+                self.settings.method.params.extend(result.apply.clone());
+                self.info(format!("{}: {}", a.label, result.summary));
+                self.analysis = Some((method.name(), result));
+            }
+            Err(e) => self.error(format!("{}: {e}", a.label)),
         }
     }
 

@@ -96,18 +96,24 @@ impl HairlabApp {
                 let g = &mut self.settings.scene.generator;
                 let before = g.clone();
                 egui::Grid::new("generator").num_columns(2).show(ui, |ui| {
-                    ui.label("kind");
-                    ui.horizontal_wrapped(|ui| {
-                        for (kind, name) in [
-                            (GenKind::Head, "head"),
-                            (GenKind::Patch, "patch"),
-                            (GenKind::StrayStrand, "stray strand"),
-                            (GenKind::MixedSizes, "mixed sizes"),
-                            (GenKind::ManyClumps, "many clumps"),
-                        ] {
-                            ui.selectable_value(&mut g.kind, kind, name);
-                        }
-                    });
+                    let label = ui.label("kind");
+                    let kinds = [
+                        (GenKind::Head, "head"),
+                        (GenKind::Patch, "patch"),
+                        (GenKind::StrayStrand, "stray strand"),
+                        (GenKind::MixedSizes, "mixed sizes"),
+                        (GenKind::ManyClumps, "many clumps"),
+                    ];
+                    let current = kinds.iter().find(|(k, _)| *k == g.kind).map_or("?", |(_, n)| *n);
+                    egui::ComboBox::from_id_salt("kind")
+                        .selected_text(current)
+                        .show_ui(ui, |ui| {
+                            for (kind, name) in kinds {
+                                ui.selectable_value(&mut g.kind, kind, name);
+                            }
+                        })
+                        .response
+                        .labelled_by(label.id);
                     ui.end_row();
                     ui.label("style");
                     ui.horizontal(|ui| {
@@ -172,8 +178,9 @@ impl HairlabApp {
                 let r = &mut self.settings.render;
                 egui::Grid::new("render").num_columns(2).show(ui, |ui| {
                     row(ui, "hair alpha", egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0));
-                row(ui, "PCF 3×3", egui::Checkbox::without_text(&mut r.pcf))
-                    .on_hover_text("average the method's visibility over the 3×3 light texels around each point");
+                    row(ui, "PCF 3×3", egui::Checkbox::without_text(&mut r.pcf)).on_hover_text(
+                        "average the method's visibility over the 3×3 light texels around each point",
+                    );
                     ui.label("hair colour");
                     ui.color_edit_button_rgb(&mut r.hair_color);
                     ui.end_row();
@@ -272,6 +279,24 @@ impl HairlabApp {
                         m.params.insert(spec.key.to_string(), v);
                     }
                 }
+                if let Some(a) = method.analysis() {
+                    if ui.button(a.label).on_hover_text(a.help).clicked() {
+                        self.run_analysis(method, a);
+                    }
+                    if let Some((name, result)) = &self.analysis
+                        && *name == method.name()
+                    {
+                        ui.label(&result.summary);
+                        egui::Grid::new("analysis").striped(true).show(ui, |ui| {
+                            for row in &result.table {
+                                for cell in row {
+                                    ui.label(cell);
+                                }
+                                ui.end_row();
+                            }
+                        });
+                    }
+                }
             });
     }
 
@@ -289,7 +314,11 @@ impl HairlabApp {
                 }
                 if let (Some(r), Ok(m)) = (&self.renderer, registry::find(&self.settings.method.name)) {
                     let mem = r.memory(m);
-                    ui.label(format!("method maps: {}", mib(mem.method)));
+                    let passes = r.method_gpu(m).map_or(0, |g| g.geometry_passes());
+                    ui.label(format!(
+                        "method maps: {} · {passes} geometry passes",
+                        mib(mem.method)
+                    ));
                     ui.label(format!(
                         "light-depth maps {} · mesh shadow map {} · geometry {} · eye targets {}",
                         mib(mem.light_depth_maps),

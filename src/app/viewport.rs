@@ -79,7 +79,9 @@ impl HairlabApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         }
-        let Some(renderer) = self.renderer.as_mut() else { return };
+        let Some(renderer) = self.renderer.as_mut() else {
+            return;
+        };
         if let Some(e) = &self.viewport_error {
             // Never show a stale or half-made image: say what failed instead.
             ui.painter().text(
@@ -95,16 +97,17 @@ impl HairlabApp {
         if !times.is_empty() {
             self.pass_times = times;
         }
+        let generation = renderer.targets_generation();
         let id = match self.texture {
-            Some((id, w, h)) if (w, h) == (width, height) => id,
-            Some((id, _, _)) => {
+            Some((id, g)) if g == generation => id,
+            Some((id, _)) => {
                 rs.renderer.write().update_egui_texture_from_wgpu_texture(
                     &rs.device,
                     renderer.display_view(),
                     wgpu::FilterMode::Nearest,
                     id,
                 );
-                self.texture = Some((id, width, height));
+                self.texture = Some((id, generation));
                 id
             }
             None => {
@@ -113,7 +116,7 @@ impl HairlabApp {
                     renderer.display_view(),
                     wgpu::FilterMode::Nearest,
                 );
-                self.texture = Some((id, width, height));
+                self.texture = Some((id, generation));
                 id
             }
         };

@@ -1,7 +1,11 @@
 //! Shadow methods behind one trait. Each method is one file; [`registry`] lists them and is the only place that
 //! knows them all. The UI's method panel is generated from [`ShadowMethod::params`].
 
+pub mod bom;
+pub mod dc;
+pub mod dom;
 pub mod none;
+pub mod occupancy;
 pub mod opaque_shadow_map;
 pub mod osm;
 pub mod reference;
@@ -92,6 +96,28 @@ pub trait ShadowMethod: Sync {
     }
     /// Creates the method's GPU state (maps, pipelines, the group-1 bind group its lookup reads).
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu>;
+    /// An on-demand analysis of the exact fragment lists that tunes the method's parameters (e.g. Bounding
+    /// Opacity Maps' automatic split ratio); run from the method panel, never per frame.
+    fn analysis(&self) -> Option<Analysis> {
+        None
+    }
+}
+
+/// An on-demand computation over the reference's per-texel fragment lists.
+#[derive(Clone, Copy)]
+pub struct Analysis {
+    /// Button label.
+    pub label: &'static str,
+    pub help: &'static str,
+    pub run: fn(&[Vec<crate::render::passes::abuffer::RefFragment>], &ParamValues) -> AnalysisResult,
+}
+
+/// What an analysis found: parameter values to apply, a table of scores (first row: header) and a summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnalysisResult {
+    pub apply: ParamValues,
+    pub table: Vec<Vec<String>>,
+    pub summary: String,
 }
 
 /// What a method's light passes can use.

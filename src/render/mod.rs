@@ -77,6 +77,7 @@ pub struct Renderer {
     methods: HashMap<&'static str, Box<dyn MethodGpu>>,
     peel: Option<DepthPeel>,
     targets: EyeTargets,
+    targets_generation: u64,
     timer: Option<GpuTimer>,
     scene_center: Vec3,
     scene_radius: f32,
@@ -184,6 +185,7 @@ impl Renderer {
             evaluate: passes::evaluate::EvaluatePass::new(device, &scene_layout),
             methods: HashMap::new(),
             peel: None,
+            targets_generation: 0,
             timer: GpuTimer::new(device, &gpu.queue),
             scene_center: scene.bounds().center(),
             scene_radius: scene.bounds().radius(),
@@ -252,7 +254,7 @@ impl Renderer {
         Ok(())
     }
 
-    fn ensure_sizes(&mut self, width: u32, height: u32, map_resolution: u32) -> Result<(), GpuError> {
+    fn ensure_map_size(&mut self, map_resolution: u32) -> Result<(), GpuError> {
         let device = &self.gpu.device;
         if self.light_maps.near.width() != map_resolution {
             self.gpu.check_texture_size("light map", map_resolution)?;
@@ -266,12 +268,22 @@ impl Renderer {
                 &self.shadow_sampler,
             );
         }
+        Ok(())
+    }
+
+    fn ensure_eye_size(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
         if self.targets.width != width || self.targets.height != height {
             self.gpu.check_texture_size("viewport", width.max(height))?;
-            self.targets = EyeTargets::new(device, width, height);
-            self.composite_bind_group = self.composite.bind_group(device, &self.targets);
+            self.targets = EyeTargets::new(&self.gpu.device, width, height);
+            self.composite_bind_group = self.composite.bind_group(&self.gpu.device, &self.targets);
+            self.targets_generation += 1;
         }
         Ok(())
+    }
+
+    /// Increases whenever the output texture is re-created (a viewer must re-register it).
+    pub fn targets_generation(&self) -> u64 {
+        self.targets_generation
     }
 
     /// The light frame fitted to the strands (hair maps).
@@ -339,6 +351,7 @@ impl Renderer {
 
     /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
     pub fn render(&mut self, f: &FrameInput) -> Result<(), GpuError> {
+        self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
         let method_gpu = &self.methods[f.method.name()];
@@ -392,7 +405,7 @@ impl Renderer {
     }
 
     fn record_light_passes(&mut self, f: &FrameInput) -> Result<wgpu::CommandEncoder, GpuError> {
-        self.ensure_sizes(f.width.max(1), f.height.max(1), f.render.map_resolution)?;
+        self.ensure_map_size(f.render.map_resolution)?;
         let u = self.uniforms(f);
         self.gpu
             .queue

@@ -1,0 +1,73 @@
+// Deep Opacity Maps (Yuksel & Keyser 2008 §3), the opacity pass: K layers (1..=16) behind each texel's nearest
+// strand depth z0 (the shared near map), layer k from z0 + d_(k-1) to z0 + d_k. One geometry pass fills all
+// of them: ceil(K/4) RGBA32F targets (array layers) with additive blending; a fragment adds its optical depth
+// to its layer and every later one, so each stored value is the optical depth accumulated up to the layer's
+// far end (visibility::dom, build).
+#include "common/frame.wgsl"
+#include "common/light_vertex.wgsl"
+
+struct DomUniforms {
+    // d_1..d_K relative to z0: layer k (0-based) ends at ends[k / 4][k % 4].
+    ends: array<vec4<f32>, 4>,
+    layers: u32,
+    // 0: ignore fragments beyond the last layer, 1: add them to the last layer, 2: stretch the layers to far.
+    beyond: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(1) @binding(0) var<uniform> dom: DomUniforms;
+@group(1) @binding(1) var dom_near: texture_2d<f32>;
+@group(1) @binding(2) var dom_far: texture_2d<f32>;
+
+@vertex
+fn vs_main(v: LightVertexIn) -> LightFragment {
+    return light_vertex(v);
+}
+
+struct Layers {
+    @location(0) l0: vec4<f32>,
+    @location(1) l1: vec4<f32>,
+    @location(2) l2: vec4<f32>,
+    @location(3) l3: vec4<f32>,
+}
+
+fn dom_end(k: u32) -> f32 {
+    return dom.ends[k / 4u][k % 4u];
+}
+
+// b for the four layers first..first+3 that lie at or behind the fragment's layer k, 0 for those in front.
+fn contribution(k: u32, first: u32, b: f32) -> vec4<f32> {
+    let l = vec4<u32>(first, first + 1u, first + 2u, first + 3u);
+    return select(vec4<f32>(0.0), vec4<f32>(b), l >= vec4<u32>(k));
+}
+
+@fragment
+fn fs_main(f: LightFragment) -> Layers {
+    let texel = vec2<i32>(f.clip.xy);
+    let near = textureLoad(dom_near, texel, 0).r;
+    let n = dom.layers;
+    // The stretch scales every d_k to reach the texel's far depth; only it reads the far map.
+    var scale = 1.0;
+    if dom.beyond == 2u {
+        let far = textureLoad(dom_far, texel, 0).r;
+        scale = max(1.0, (far - near) / dom_end(n - 1u));
+    }
+    let dz = fragment_depth(f.depth) - near;
+    // The first layer whose far end lies beyond the fragment; n when none does.
+    var k = n;
+    for (var i = 0u; i < n; i++) {
+        if dz < scale * dom_end(i) {
+            k = i;
+            break;
+        }
+    }
+    if k == n {
+        if dom.beyond == 0u {
+            discard;
+        }
+        k = n - 1u;
+    }
+    let b = optical_depth(f.alpha);
+    return Layers(contribution(k, 0u, b), contribution(k, 4u, b), contribution(k, 8u, b), contribution(k, 12u, b));
+}

@@ -1,0 +1,161 @@
+//! Bounding Opacity Maps (Voicu, "Real-time volumetric shadows for dynamic rendering", MSc thesis, §5 and
+//! §5.2): each texel has a start AND an end depth, and `K` layers (1..=32) split that range by the hybrid
+//! linear/logarithmic split with ratio `r` (§5.2.3: 0 linear, 1 logarithmic); each stored value is the optical
+//! depth accumulated up to a layer's far end, and `V(z)` interpolates linearly between the layer boundaries in
+//! the split coordinate. The CPU model is `visibility::bom`.
+//!
+//! GPU: the start and end depths are the shared near and far maps of the light-depth pass (the thesis's two
+//! depth maps), read by texel, not stored again. The layers live in an RGBA32F array texture of `ceil(K / 4)`
+//! layers, all written by ONE geometry pass with `ceil(K / 4)` colour targets (8 at most, thesis §3.4) and
+//! additive blending: a fragment adds its optical depth to its layer and every later one. The split function is
+//! evaluated in the shaders (the thesis's lookup texture of §5.2.2 is not needed). The GPU side is
+//! `methods::dom`'s `LayerMapsGpu` with this method's shader and uniforms. Memory: 16 bytes per texel per 4
+//! layers plus the near and far maps it reads (8 bytes): BOM-4 takes 6 MiB at 512², BOM-32 34 MiB.
+//!
+//! The automatic split ratio (§5.2.3-5.2.4) is [`automatic_split_ratio`]: an on-demand computation over the
+//! reference's fragment lists, off the per-frame path (the thesis reads the layers back for it, and does not
+//! run it every frame either).
+
+use super::dom::{LayerMapsGpu, LayerMethod, LayerSetup};
+use super::{Analysis, AnalysisResult, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use crate::gpu::Gpu;
+use crate::render::passes::abuffer::RefFragment;
+use crate::visibility::bom::{MAX_LAYERS, search_split_ratio};
+use crate::visibility::{BomParams, Fragment, MethodParams, SplitCriterion, SplitSearch};
+use bytemuck::{Pod, Zeroable};
+
+const LAYERS: ParamSpec = ParamSpec {
+    key: "layers",
+    label: "layers",
+    help: "opacity layers K between each texel's start and end depth (1..=32)",
+    kind: ParamKind::Int { min: 1, max: 32 },
+    default: 4.0,
+};
+const SPLIT_RATIO: ParamSpec = ParamSpec {
+    key: "split_ratio",
+    label: "split ratio",
+    help: "hybrid split of the layers: 0 = linear, 1 = logarithmic (more layers near the start), between = mix",
+    kind: ParamKind::Float {
+        min: 0.0,
+        max: 1.0,
+        log: false,
+    },
+    default: 0.0,
+};
+const PARAMS: &[ParamSpec] = &[LAYERS, SPLIT_RATIO];
+
+pub struct Bom;
+
+fn bom_params(values: &ParamValues) -> BomParams {
+    BomParams {
+        layers: value(values, &LAYERS) as u32,
+        split_ratio: value(values, &SPLIT_RATIO),
+    }
+}
+
+/// The layer count, the depth maps read and the uniforms for `values`.
+fn bom_setup(values: &ParamValues) -> LayerSetup<BomUniforms> {
+    let p = bom_params(values);
+    let layers = p.layer_count() as u32;
+    LayerSetup {
+        layers,
+        // The start and end depths.
+        depth_maps: 2,
+        uniforms: BomUniforms {
+            layers,
+            split_ratio: p.ratio(),
+            pad: [0; 2],
+        },
+    }
+}
+
+impl ShadowMethod for Bom {
+    fn name(&self) -> &'static str {
+        "bom"
+    }
+    fn label(&self) -> &'static str {
+        "Bounding opacity maps"
+    }
+    fn source(&self) -> &'static str {
+        "Voicu, MSc thesis §5"
+    }
+    fn lookup_wgsl(&self) -> &'static str {
+        "methods/bom.wgsl"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
+        Some(MethodParams::Bom(bom_params(values)))
+    }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(LayerMapsGpu::new(
+            gpu,
+            LayerMethod {
+                name: "bom",
+                shader: "bom.wgsl",
+                max_layers: MAX_LAYERS,
+                setup: bom_setup,
+            },
+        ))
+    }
+    fn analysis(&self) -> Option<Analysis> {
+        Some(Analysis {
+            label: "Find split ratio",
+            help: "scores split ratios 0.0..1.0 by the correlation of successive layer images (Voicu 5.2.3) on \
+                   the exact fragment lists and applies the least correlated",
+            run: split_ratio_analysis,
+        })
+    }
+}
+
+/// Mirrors `BomUniforms` in `shaders/bom.wgsl` and `BomLookup` in `shaders/methods/bom.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct BomUniforms {
+    pub layers: u32,
+    /// `BomParams::ratio()`: in `[0, 1]`.
+    pub split_ratio: f32,
+    pub pad: [u32; 2],
+}
+
+/// Automatic split ratio (thesis §5.2.3-5.2.4, Algorithm 5.2.3.1) for `layers` layers over a whole rendered
+/// map: `lists` holds every texel's fragments, as `Renderer::reference_lists` returns them (empty texels
+/// included: they are pixels of the layer images, as in the thesis's read-back). Scores the split ratios
+/// 0.0, 0.1, ..., 1.0 by the correlation and the sum of absolute differences of successive layer images
+/// (`visibility::bom::search_split_ratio`); `SplitSearch::best` picks one. Costs one CPU build of the whole map
+/// per ratio: call it on demand, not every frame.
+pub fn automatic_split_ratio(lists: &[Vec<RefFragment>], layers: u32) -> SplitSearch {
+    let map: Vec<Vec<Fragment>> = lists
+        .iter()
+        .map(|list| list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect())
+        .collect();
+    search_split_ratio(layers, &map)
+}
+
+/// The automatic split ratio as a method-panel analysis: scores every ratio, applies the least correlated.
+fn split_ratio_analysis(lists: &[Vec<RefFragment>], values: &ParamValues) -> AnalysisResult {
+    let layers = value(values, &PARAMS[0]) as u32;
+    let search = automatic_split_ratio(lists, layers);
+    let best = search.best(SplitCriterion::CrossCorrelation);
+    let mut table = vec![vec![
+        "ratio".to_string(),
+        "correlation".to_string(),
+        "SAD".to_string(),
+    ]];
+    table.extend(search.scores.iter().map(|s| {
+        vec![
+            format!("{:.1}", s.ratio),
+            format!("{:.4}", s.correlation),
+            format!("{:.1}", s.sad),
+        ]
+    }));
+    AnalysisResult {
+        apply: ParamValues::from([("split_ratio".to_string(), best)]),
+        table,
+        summary: format!(
+            "least correlated: split ratio {best:.1} (by SAD: {:.1})",
+            search.best(SplitCriterion::SumOfAbsoluteDifferences)
+        ),
+    }
+}

@@ -1,0 +1,372 @@
+//! Occupancy Maps (Sintorn & Assarsson, I3D 2009, §3.1-3.3). The CPU model, which this GPU side matches texel for
+//! texel, is `visibility::occupancy`.
+//!
+//! GPU: per texel, the depth range is the shared light-depth maps (`near`, `far`, §3.1 Fig. 7). One geometry pass
+//! fills both maps (the paper uses two, one per blend function, and notes that one suffices where the blend
+//! functions can differ per target; storage-buffer atomics do that here), two storage buffers of 16 bytes per
+//! texel each, texel `t` in the u32 words `[4t, 4t + 4)`:
+//! - `hairlab.occupancy.bitmap`: the 128-slice occupancy bitmap, four u32 words (slice `s` = bit `s & 31` of
+//!   word `s >> 5`), set with `atomicOr` (wgpu has no logic-op blending);
+//! - `hairlab.occupancy.slabs`: the fragment count of each of the 4 slabs (slab map, `atomicAdd`); with the
+//!   occupancy-only variant, the texel's total count in word 0.
+//!
+//! The lookup (`shaders/methods/occupancy.wgsl`) is the order estimate of §3.2 with the interpolation inside
+//! the slice, and `V = exp(-o * b)` with `b = -ln(1 - alpha)` from the global hair alpha (`frame.hair_color.a`,
+//! the CPU model's `OccupancyParams::alpha` = [`MethodContext::hair_alpha`]); each fragment's own alpha is
+//! ignored, as in the paper.
+//!
+//! The half-texel jitter of §3.3 is not a parameter here: it offsets the continuous texture coordinate before
+//! the texel is chosen, which happens in the shared `light_texel` (`common/frame.wgsl`) before
+//! `visibility_at(texel, z)` is called; the lookup only receives the integer texel, and half a texel around
+//! its centre never leaves it. The per-texel CPU model cannot specify it either (its doc says so).
+//!
+//! Memory: 16 + 16 bytes of maps, the 8 bytes of the shared depth-range maps the method reads, and the 1-byte
+//! [`NullTarget`](passes::NullTarget) that sets the render area: 41 bytes per texel, 10.25 MiB at 512² (the paper,
+//! §4: 10 MB for its depth-range, occupancy and slab maps at 512²). Each buffer must fit the device's storage
+//! binding size (128 MiB on lavapipe: up to 2048²); beyond, [`GpuError::TooLarge`].
+
+use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use crate::gpu::timing::GpuTimer;
+use crate::gpu::{Gpu, GpuError};
+use crate::render::passes;
+use crate::visibility::{MethodParams, OccupancyParams, OccupancyVariant};
+use bytemuck::{Pod, Zeroable};
+
+/// Bytes per texel of each of the two storage buffers (four u32).
+pub const BUFFER_BYTES_PER_TEXEL: u64 = 16;
+/// Bytes per texel of the shared depth-range maps (two R32Float) the method reads.
+pub const DEPTH_RANGE_BYTES_PER_TEXEL: u64 = 8;
+
+const PARAMS: &[ParamSpec] = &[ParamSpec {
+    key: "variant",
+    label: "variant",
+    help: "0: occupancy map + slab map (4 slabs of 32 slices, the paper's method); \
+           1: occupancy map only (one count for the whole range, the simpler variant of §3)",
+    kind: ParamKind::Int { min: 0, max: 1 },
+    default: 0.0,
+}];
+
+pub struct Occupancy;
+
+fn variant(values: &ParamValues) -> OccupancyVariant {
+    if value(values, &PARAMS[0]) >= 0.5 {
+        OccupancyVariant::OccupancyOnly
+    } else {
+        OccupancyVariant::SlabMap
+    }
+}
+
+impl ShadowMethod for Occupancy {
+    fn name(&self) -> &'static str {
+        "occupancy"
+    }
+    fn label(&self) -> &'static str {
+        "Occupancy maps"
+    }
+    fn source(&self) -> &'static str {
+        "Sintorn & Assarsson 2009 §3"
+    }
+    fn lookup_wgsl(&self) -> &'static str {
+        "methods/occupancy.wgsl"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+    fn model(&self, values: &ParamValues, hair_alpha: f32) -> Option<MethodParams> {
+        Some(MethodParams::Occupancy(OccupancyParams {
+            alpha: hair_alpha,
+            variant: variant(values),
+        }))
+    }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(OccupancyGpu::new(gpu))
+    }
+}
+
+/// Mirrors `OccupancyUniforms` in `shaders/occupancy.wgsl` and `OccupancyLookup` in
+/// `shaders/methods/occupancy.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct OccupancyUniforms {
+    /// 0: slab map, 1: occupancy only.
+    pub variant: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+pub struct OccupancyGpu {
+    module: wgpu::ShaderModule,
+    pass_layout: wgpu::BindGroupLayout,
+    lookup_layout: wgpu::BindGroupLayout,
+    /// Built on first use (it needs the frame layout).
+    pipeline: Option<wgpu::RenderPipeline>,
+    uniforms: wgpu::Buffer,
+    target: passes::NullTarget,
+    maps: Option<OccupancyMaps>,
+}
+
+struct OccupancyMaps {
+    bitmap: wgpu::Buffer,
+    slabs: wgpu::Buffer,
+    /// The light-depth maps the pass bind group reads (re-created with the map resolution).
+    near: wgpu::Texture,
+    far: wgpu::Texture,
+    pass_bind_group: wgpu::BindGroup,
+    lookup_bind_group: wgpu::BindGroup,
+    resolution: u32,
+}
+
+fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty,
+        count: None,
+    }
+}
+
+fn storage(read_only: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+const UNIFORM: wgpu::BindingType = wgpu::BindingType::Buffer {
+    ty: wgpu::BufferBindingType::Uniform,
+    has_dynamic_offset: false,
+    min_binding_size: None,
+};
+
+const DEPTH_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+
+impl OccupancyGpu {
+    fn new(gpu: &Gpu) -> OccupancyGpu {
+        let device = &gpu.device;
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.occupancy.pass_layout"),
+            entries: &[
+                entry(0, frag, DEPTH_TEXTURE),
+                entry(1, frag, DEPTH_TEXTURE),
+                entry(2, frag, storage(false)),
+                entry(3, frag, storage(false)),
+                entry(4, frag, UNIFORM),
+            ],
+        });
+        let look = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.occupancy.lookup_layout"),
+            entries: &[
+                entry(0, look, storage(true)),
+                entry(1, look, storage(true)),
+                entry(2, look, UNIFORM),
+            ],
+        });
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.occupancy.uniforms"),
+            size: std::mem::size_of::<OccupancyUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        OccupancyGpu {
+            module: passes::shader_module(device, "hairlab.occupancy.shader", "occupancy.wgsl", None),
+            pass_layout,
+            lookup_layout,
+            pipeline: None,
+            uniforms,
+            target: passes::NullTarget::new(device, 1),
+            maps: None,
+        }
+    }
+
+    /// (Re)allocates the two buffers for `ctx`'s map resolution and binds them with the current light-depth
+    /// maps; refuses buffers beyond the device's storage binding size.
+    fn ensure_maps(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+        let resolution = ctx.map_resolution();
+        let (near, far) = (&ctx.light_maps.near, &ctx.light_maps.far);
+        if self
+            .maps
+            .as_ref()
+            .is_some_and(|m| m.resolution == resolution && m.near == *near && m.far == *far)
+        {
+            return Ok(());
+        }
+        let device = &ctx.gpu.device;
+        let limits = device.limits();
+        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let bytes = resolution as u64 * resolution as u64 * BUFFER_BYTES_PER_TEXEL;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the occupancy bitmap and the slab map at {resolution}² ({BUFFER_BYTES_PER_TEXEL} bytes per \
+                     texel each; lower the map resolution)"
+                ),
+                bytes,
+                limit,
+            });
+        }
+        let buffer = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let bitmap = buffer("hairlab.occupancy.bitmap");
+        let slabs = buffer("hairlab.occupancy.slabs");
+        let near_view = near.create_view(&Default::default());
+        let far_view = far.create_view(&Default::default());
+        let pass_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.occupancy.pass_bind_group"),
+            layout: &self.pass_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&near_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&far_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: bitmap.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: slabs.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+            ],
+        });
+        let lookup_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.occupancy.lookup_bind_group"),
+            layout: &self.lookup_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: bitmap.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: slabs.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+            ],
+        });
+        self.maps = Some(OccupancyMaps {
+            bitmap,
+            slabs,
+            near: near.clone(),
+            far: far.clone(),
+            pass_bind_group,
+            lookup_bind_group,
+            resolution,
+        });
+        Ok(())
+    }
+
+    fn ensure_pipeline(&mut self, device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) {
+        if self.pipeline.is_some() {
+            return;
+        }
+        self.pipeline = Some({
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("hairlab.occupancy.layout"),
+                bind_group_layouts: &[Some(frame_layout), Some(&self.pass_layout)],
+                immediate_size: 0,
+            });
+            passes::light_pipeline(
+                device,
+                "hairlab.occupancy.pipeline",
+                &layout,
+                &self.module,
+                "fs_main",
+                &[passes::NullTarget::target_state()],
+            )
+        });
+    }
+}
+
+impl MethodGpu for OccupancyGpu {
+    fn record(
+        &mut self,
+        ctx: &MethodContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) -> Result<(), GpuError> {
+        self.ensure_maps(ctx)?;
+        let device = &ctx.gpu.device;
+        self.target.ensure(device, ctx.map_resolution());
+        self.ensure_pipeline(device, ctx.frame_layout);
+        ctx.gpu.queue.write_buffer(
+            &self.uniforms,
+            0,
+            bytemuck::bytes_of(&OccupancyUniforms {
+                variant: match variant(ctx.values) {
+                    OccupancyVariant::SlabMap => 0,
+                    OccupancyVariant::OccupancyOnly => 1,
+                },
+                pad0: 0,
+                pad1: 0,
+                pad2: 0,
+            }),
+        );
+        let maps = self.maps.as_ref().expect("maps allocated above");
+        encoder.clear_buffer(&maps.bitmap, 0, None);
+        encoder.clear_buffer(&maps.slabs, 0, None);
+        let ts = timer
+            .as_mut()
+            .and_then(|t| t.pass("occupancy: bitmap + slab map"));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("hairlab.occupancy.pass"),
+            color_attachments: &[self.target.attachment()],
+            depth_stencil_attachment: None,
+            timestamp_writes: ts,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let pipeline = self.pipeline.as_ref().expect("pipeline built above");
+        passes::draw_strands(
+            &mut pass,
+            pipeline,
+            ctx.frame_bind_group,
+            Some(&maps.pass_bind_group),
+            ctx.geometry,
+        );
+        Ok(())
+    }
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.lookup_layout
+    }
+    fn bind_group(&self) -> &wgpu::BindGroup {
+        &self
+            .maps
+            .as_ref()
+            .expect("occupancy maps exist after the first record()")
+            .lookup_bind_group
+    }
+    fn memory_bytes(&self) -> u64 {
+        self.maps.as_ref().map_or(0, |m| {
+            let texels = m.resolution as u64 * m.resolution as u64;
+            m.bitmap.size() + m.slabs.size() + texels * DEPTH_RANGE_BYTES_PER_TEXEL + self.target.bytes()
+        })
+    }
+    fn geometry_passes(&self) -> u32 {
+        1
+    }
+}

@@ -1,0 +1,210 @@
+//! Deep Opacity Maps on the GPU (`hairlab::methods::dom`) against the CPU model `visibility::dom`, fed each
+//! texel's exact fragment list from the reference A-buffer: 1 to 16 layers, both spacings, the three options for
+//! fragments beyond the last layer, depth spans from 1e-4 to 1; map resolutions 1 and 2048; memory, geometry
+//! passes and the uniform layout.
+
+mod common;
+
+use common::max_gpu_cpu_difference;
+use hairlab::gpu::Gpu;
+use hairlab::methods::dom::DomUniforms;
+use hairlab::methods::{ParamValues, registry};
+use hairlab::render::{FrameInput, Renderer};
+use hairlab::shaders::compose;
+use hairlab::visibility::{Fragment, metrics};
+
+/// The layer of a fragment is chosen by the same f32 comparisons `dz < scale * d_k` as on the CPU, with the same
+/// `d_k` (uniform filled from `layer_ends`); additive blending sums the same f32 values in another order, and
+/// `exp`/`log` round differently: only rounding differs.
+const TOLERANCE: f32 = 1e-4;
+
+/// (layers, depth_span, spacing, beyond).
+const CONFIGS: &[(f32, f32, f32, f32)] = &[
+    // The paper's setting (and the defaults).
+    (3.0, 0.25, 0.0, 1.0),
+    (1.0, 0.25, 0.0, 0.0),
+    (1.0, 0.25, 0.0, 1.0),
+    (1.0, 0.25, 0.0, 2.0),
+    (16.0, 0.25, 0.0, 0.0),
+    (16.0, 0.25, 0.0, 1.0),
+    (16.0, 0.25, 0.0, 2.0),
+    (16.0, 0.25, 1.0, 1.0),
+    (5.0, 0.05, 1.0, 0.0),
+    (7.0, 1.0, 1.0, 2.0),
+    // Layers thinner than the depth rounding of a fragment: nearly all fragments lie beyond the last layer.
+    (4.0, 1e-4, 0.0, 1.0),
+    (4.0, 1e-4, 0.0, 2.0),
+];
+
+fn params(&(layers, depth_span, spacing, beyond): &(f32, f32, f32, f32)) -> [(&'static str, f32); 4] {
+    [
+        ("layers", layers),
+        ("depth_span", depth_span),
+        ("spacing", spacing),
+        ("beyond", beyond),
+    ]
+}
+
+#[test]
+fn dom_gpu_equals_cpu() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for config in CONFIGS {
+        let (worst, n) = max_gpu_cpu_difference(&gpu, "dom", &params(config), 64);
+        eprintln!("dom {config:?} at 64²: max |ΔV| = {worst:e} over {n} samples");
+        assert!(n > 5000, "only {n} samples");
+        assert!(worst <= TOLERANCE, "dom {config:?}: max |ΔV| = {worst}");
+    }
+}
+
+/// Renders a scene of `strands` strands at `resolution`² (light passes and a full frame), then returns the
+/// largest |V_gpu - V_cpu| over every fragment depth and a 16-point grid of every occupied texel, plus an empty
+/// texel (lit at every depth) when there is one, with the sample count. Fails on any V that is not finite or
+/// outside [0, 1].
+fn tiny_scene_difference(gpu: &Gpu, strands: u32, resolution: u32, params: &[(&str, f32)]) -> (f32, usize) {
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = strands;
+    s.scene.generator.segments = 10;
+    s.render.map_resolution = resolution;
+    let scene = s.scene.build().unwrap();
+    s.camera.frame(&scene.framing_bounds());
+    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let no_params = ParamValues::new();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let method = registry::find("dom").unwrap();
+    let frame = |name: &str, params| FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find(name).unwrap(),
+        method_params: params,
+        width: 8,
+        height: 8,
+    };
+    r.render_light(&frame("reference", &no_params)).unwrap();
+    let lists = r.reference_lists().unwrap();
+    r.render(&frame("dom", &values)).unwrap();
+    r.read_output().unwrap();
+    let model = method.model(&values, s.render.hair_alpha).unwrap();
+    let (mut samples, mut expected) = (Vec::new(), Vec::new());
+    let texel = |t: usize| ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
+    for (t, list) in lists.iter().enumerate() {
+        if list.is_empty() {
+            continue;
+        }
+        let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
+        let zs = metrics::sample_depths(&frags, 16);
+        let (x, y) = texel(t);
+        expected.extend(model.visibility_curve(&frags, &zs));
+        samples.extend(zs.iter().map(|&z| [x, y, z]));
+    }
+    if let Some(t) = lists.iter().position(|l| l.is_empty()) {
+        let (x, y) = texel(t);
+        samples.extend([-1.0, 0.0, 0.5, 1.0, 2.0].map(|z| [x, y, z]));
+        expected.extend([1.0; 5]);
+    }
+    let got = r.evaluate(method, &samples).unwrap();
+    assert!(
+        got.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
+        "V outside [0, 1] at {resolution}² with {params:?}"
+    );
+    let worst = got
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    (worst, samples.len())
+}
+
+#[test]
+fn extreme_resolutions_and_parameters() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let extremes = [
+        (1.0, 1e-4, 0.0, 0.0),
+        (1.0, 1.0, 1.0, 2.0),
+        (16.0, 1e-4, 1.0, 2.0),
+        (16.0, 1.0, 0.0, 1.0),
+        (16.0, 0.25, 0.0, 0.0),
+    ];
+    for (strands, resolution) in [(300, 1), (20, 2048)] {
+        for config in &extremes {
+            let (worst, n) = tiny_scene_difference(&gpu, strands, resolution, &params(config));
+            eprintln!(
+                "dom {config:?}, {strands} strands at {resolution}²: max |ΔV| = {worst:e} over {n} samples"
+            );
+            assert!(n > 10, "only {n} samples");
+            assert!(
+                worst <= TOLERANCE,
+                "dom {config:?} at {resolution}²: max |ΔV| = {worst}"
+            );
+        }
+    }
+}
+
+#[test]
+fn memory_and_geometry_passes() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = 20;
+    s.render.map_resolution = 512;
+    let scene = s.scene.build().unwrap();
+    let mut r = Renderer::new(&gpu, &scene, 512).unwrap();
+    let method = registry::find("dom").unwrap();
+    // Layers (one RGBA32F texel per 4 layers) + the near map z0 (4 bytes), + the far map for the stretch.
+    for (config, bytes_per_texel) in [
+        ((3.0, 0.25, 0.0, 1.0), 16 + 4),
+        ((4.0, 0.25, 0.0, 0.0), 16 + 4),
+        ((5.0, 0.25, 0.0, 1.0), 32 + 4),
+        ((16.0, 0.25, 1.0, 2.0), 64 + 8),
+    ] {
+        let values: ParamValues = params(&config).iter().map(|(k, v)| (k.to_string(), *v)).collect();
+        r.render_light(&FrameInput {
+            camera: &s.camera,
+            light: &s.light,
+            render: &s.render,
+            method,
+            method_params: &values,
+            width: 8,
+            height: 8,
+        })
+        .unwrap();
+        let m = r.method_gpu(method).unwrap();
+        assert_eq!(m.memory_bytes(), 512 * 512 * bytes_per_texel, "{config:?}");
+        assert_eq!(m.geometry_passes(), 1, "{config:?}");
+    }
+}
+
+/// `DomUniforms` mirrors the WGSL `DomUniforms` (light pass) and `DomLookup` (lookup) field by field.
+#[test]
+fn uniforms_match_wgsl() {
+    for (pass, method, name) in [
+        ("dom.wgsl", None, "DomUniforms"),
+        ("evaluate.wgsl", Some("methods/dom.wgsl"), "DomLookup"),
+    ] {
+        let src = compose(pass, method).unwrap();
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("{name} in {pass}"));
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
+        assert_eq!(*span as usize, std::mem::size_of::<DomUniforms>(), "{name}");
+        let wgsl: Vec<(&str, u32)> = members
+            .iter()
+            .map(|m| (m.name.as_deref().unwrap(), m.offset))
+            .collect();
+        assert_eq!(
+            wgsl,
+            [
+                ("ends", std::mem::offset_of!(DomUniforms, ends) as u32),
+                ("layers", std::mem::offset_of!(DomUniforms, layers) as u32),
+                ("beyond", std::mem::offset_of!(DomUniforms, beyond) as u32),
+                ("pad0", std::mem::offset_of!(DomUniforms, pad) as u32),
+                ("pad1", std::mem::offset_of!(DomUniforms, pad) as u32 + 4),
+            ],
+            "{name}"
+        );
+    }
+}

@@ -1,0 +1,208 @@
+//! Occupancy Maps on the GPU (`hairlab::methods::occupancy`) against the CPU model `visibility::occupancy`, fed
+//! each texel's exact fragment list from the reference A-buffer: both variants, map resolutions 1 to 2048,
+//! hair alphas from nearly clear to opaque; memory and the storage-size limit.
+
+mod common;
+
+use common::max_gpu_cpu_difference;
+use hairlab::gpu::{Gpu, GpuError};
+use hairlab::methods::{ParamValues, registry};
+use hairlab::render::{FrameInput, Renderer};
+use hairlab::visibility::{Fragment, metrics};
+
+/// The bitmap and the counts are integers built by the same f32 expressions as the CPU's (no sum of floats):
+/// only `exp`/`log` and the final division round differently, far below this.
+const TOLERANCE: f32 = 1e-4;
+
+const VARIANTS: [f32; 2] = [0.0, 1.0];
+
+#[test]
+fn occupancy_gpu_equals_cpu() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for variant in VARIANTS {
+        for resolution in [1, 64, 256] {
+            let (worst, n) = max_gpu_cpu_difference(&gpu, "occupancy", &[("variant", variant)], resolution);
+            eprintln!("occupancy variant {variant} at {resolution}²: max |ΔV| = {worst:e} over {n} samples");
+            assert!(n > 100, "only {n} samples");
+            assert!(
+                worst <= TOLERANCE,
+                "variant {variant} at {resolution}²: max |ΔV| = {worst}"
+            );
+        }
+    }
+}
+
+/// Renders a scene of `strands` strands from the light at `resolution`² with `hair_alpha`, then returns the
+/// largest |V_gpu - V_cpu| over every fragment depth and a 16-point grid of every occupied texel, with the
+/// sample count. Fails on any V that is not finite or outside [0, 1].
+fn tiny_scene_difference(
+    gpu: &Gpu,
+    strands: u32,
+    resolution: u32,
+    hair_alpha: f32,
+    variant: f32,
+) -> (f32, usize) {
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = strands;
+    s.scene.generator.segments = 10;
+    s.render.map_resolution = resolution;
+    s.render.hair_alpha = hair_alpha;
+    let scene = s.scene.build().unwrap();
+    s.camera.frame(&scene.framing_bounds());
+    let values: ParamValues = [("variant".to_string(), variant)].into();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let method = registry::find("occupancy").unwrap();
+    let frame = |name: &str, params| FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find(name).unwrap(),
+        method_params: params,
+        width: 8,
+        height: 8,
+    };
+    let no_params = ParamValues::new();
+    r.render_light(&frame("reference", &no_params)).unwrap();
+    let lists = r.reference_lists().unwrap();
+    r.render_light(&frame("occupancy", &values)).unwrap();
+    let model = method.model(&values, hair_alpha).unwrap();
+    let (mut samples, mut expected) = (Vec::new(), Vec::new());
+    for (t, list) in lists.iter().enumerate() {
+        if list.is_empty() {
+            continue;
+        }
+        let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
+        let zs = metrics::sample_depths(&frags, 16);
+        let (x, y) = ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
+        expected.extend(model.visibility_curve(&frags, &zs));
+        samples.extend(zs.iter().map(|&z| [x, y, z]));
+    }
+    // An empty texel (near 1, far 0) is lit at every depth.
+    if let Some(t) = lists.iter().position(|l| l.is_empty()) {
+        let (x, y) = ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
+        samples.extend([-1.0, 0.0, 0.5, 1.0, 2.0].map(|z| [x, y, z]));
+        expected.extend([1.0; 5]);
+    }
+    let got = r.evaluate(method, &samples).unwrap();
+    assert!(
+        got.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
+        "V outside [0, 1] at {resolution}², alpha {hair_alpha}, variant {variant}"
+    );
+    let worst = got
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    (worst, samples.len())
+}
+
+#[test]
+fn extreme_resolutions_and_alphas() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for (strands, resolution) in [(300, 1), (20, 2048)] {
+        for variant in VARIANTS {
+            for hair_alpha in [0.01, 0.35, 1.0] {
+                let (worst, n) = tiny_scene_difference(&gpu, strands, resolution, hair_alpha, variant);
+                eprintln!(
+                    "occupancy variant {variant}, {strands} strands at {resolution}², alpha {hair_alpha}: \
+                     max |ΔV| = {worst:e} over {n} samples"
+                );
+                assert!(n > 10, "only {n} samples");
+                assert!(
+                    worst <= TOLERANCE,
+                    "variant {variant} at {resolution}², alpha {hair_alpha}: max |ΔV| = {worst}"
+                );
+            }
+        }
+    }
+}
+
+fn render_light_at(gpu: &Gpu, resolution: u32) -> (Renderer, Result<(), GpuError>) {
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = 20;
+    s.render.map_resolution = resolution;
+    let scene = s.scene.build().unwrap();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let result = r.render_light(&FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find("occupancy").unwrap(),
+        method_params: &ParamValues::new(),
+        width: 8,
+        height: 8,
+    });
+    (r, result)
+}
+
+#[test]
+fn memory_and_geometry_passes() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (r, result) = render_light_at(&gpu, 512);
+    result.unwrap();
+    let m = r.method_gpu(registry::find("occupancy").unwrap()).unwrap();
+    // Bitmap 16 + slab counts 16 + the shared depth-range maps 8 + the null render target 1 byte per texel:
+    // 10.25 MiB at 512² (Sintorn & Assarsson §4: 10 MB for their depth-range, occupancy and slab maps).
+    assert_eq!(m.memory_bytes(), 512 * 512 * 41);
+    assert_eq!(m.geometry_passes(), 1);
+}
+
+#[test]
+fn maps_beyond_the_storage_binding_size_are_refused() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let limits = gpu.device.limits();
+    let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    // The largest map resolution hairlab allows; 256 MiB per buffer, twice lavapipe's 128 MiB binding limit.
+    let resolution = 4096u32;
+    let bytes = resolution as u64 * resolution as u64 * 16;
+    let (_r, result) = render_light_at(&gpu, resolution);
+    if bytes > limit {
+        match result {
+            Err(GpuError::TooLarge {
+                bytes: b,
+                limit: l,
+                what,
+            }) => {
+                assert_eq!((b, l), (bytes, limit));
+                assert!(what.contains("occupancy"), "{what}");
+            }
+            other => panic!("expected TooLarge, got {other:?}"),
+        }
+    } else {
+        result.unwrap();
+    }
+}
+
+/// `OccupancyUniforms` (Rust) has the fields, offsets and size of `OccupancyUniforms` in the light pass and of
+/// `OccupancyLookup` in the lookup.
+#[test]
+fn uniforms_match_wgsl_layout() {
+    use hairlab::methods::occupancy::OccupancyUniforms;
+    use hairlab::shaders::compose;
+    let rust = [
+        ("variant", std::mem::offset_of!(OccupancyUniforms, variant)),
+        ("pad0", std::mem::offset_of!(OccupancyUniforms, pad0)),
+        ("pad1", std::mem::offset_of!(OccupancyUniforms, pad1)),
+        ("pad2", std::mem::offset_of!(OccupancyUniforms, pad2)),
+    ];
+    for (pass, method, name) in [
+        ("occupancy.wgsl", None, "OccupancyUniforms"),
+        ("evaluate.wgsl", Some("methods/occupancy.wgsl"), "OccupancyLookup"),
+    ] {
+        let module = naga::front::wgsl::parse_str(&compose(pass, method).unwrap()).unwrap();
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("{name} in {pass}"));
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
+        assert_eq!(*span as usize, std::mem::size_of::<OccupancyUniforms>(), "{name}");
+        let wgsl: Vec<(&str, usize)> = members
+            .iter()
+            .map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize))
+            .collect();
+        assert_eq!(wgsl, rust, "{name}");
+    }
+}

@@ -44,6 +44,8 @@ pub struct RenderSettings {
     pub background: [f32; 3],
     /// 3x3 percentage-closer filtering of the shadow method's visibility in the eye passes.
     pub pcf: bool,
+    /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
+    pub jitter: bool,
 }
 
 impl Default for RenderSettings {
@@ -56,6 +58,7 @@ impl Default for RenderSettings {
             hair_color: [0.30, 0.18, 0.09],
             background: [0.12, 0.13, 0.15],
             pcf: false,
+            jitter: false,
         }
     }
 }

@@ -120,3 +120,32 @@ fn light_depth_maps_bound_the_strands() {
         "furthest fragment {fmax} vs furthest point {dmax}"
     );
 }
+
+#[test]
+fn pcf_and_jitter_filter_the_shadows() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut plain = common::small_settings(160, 120);
+    plain.method.name = "occupancy".into();
+    plain.render.map_resolution = 64;
+    let (_, a) = render(&gpu, &mut plain.clone());
+    let mut unshadowed = plain.clone();
+    unshadowed.method.name = "none".into();
+    let (_, lit) = render(&gpu, &mut unshadowed);
+    for (flag, set) in [("pcf", (true, false)), ("jitter", (false, true))] {
+        let mut s = plain.clone();
+        (s.render.pcf, s.render.jitter) = set;
+        let (_, b) = render(&gpu, &mut s);
+        let changed = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
+        assert!(changed > 200, "{flag} changed only {changed} pixels");
+        // Filtering moves visibility between texels' values, never above the unshadowed image.
+        let brighter = b
+            .pixels()
+            .zip(lit.pixels())
+            .filter(|(q, l)| (0..3).any(|i| q.0[i] > l.0[i].saturating_add(1)))
+            .count();
+        assert_eq!(
+            brighter, 0,
+            "{flag}: a filtered shadow brightened a pixel beyond the unshadowed image"
+        );
+    }
+}

@@ -16,8 +16,8 @@ struct FrameUniforms {
     light_color: vec4<f32>,
     // rgb: hair colour for strands without per-point colour; a: global hair alpha.
     hair_color: vec4<f32>,
-    // x: near, y: far (light-view distances of the hair frame), z: hair map resolution, w: 1 for 3x3 PCF of the
-    // method's visibility, 0 for none.
+    // x: near, y: far (light-view distances of the hair frame), z: hair map resolution, w: lookup flags
+    // (1: 3x3 PCF, 2: half-texel jitter; see common/method_lookup.wgsl).
     light_range: vec4<f32>,
     // Parameters of the selected shadow method (meaning defined by the method's lookup WGSL).
     method_params: vec4<f32>,
@@ -32,18 +32,6 @@ struct FrameUniforms {
 fn light_depth(world: vec3<f32>) -> f32 {
     let view = frame.world_to_light_view * vec4<f32>(world, 1.0);
     return (-view.z - frame.light_range.x) / (frame.light_range.y - frame.light_range.x);
-}
-
-// Texel coordinates of `world` in the hair light maps, or (-1,-1) outside the map.
-fn light_texel(world: vec3<f32>) -> vec2<i32> {
-    let clip = frame.world_to_light_clip * vec4<f32>(world, 1.0);
-    let ndc = clip.xy / clip.w;
-    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    let res = frame.light_range.z;
-    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-        return vec2<i32>(-1, -1);
-    }
-    return vec2<i32>(floor(uv * res));
 }
 
 // Unit vector from `world` towards the light.

@@ -181,6 +181,9 @@ impl HairlabApp {
                     row(ui, "PCF 3×3", egui::Checkbox::without_text(&mut r.pcf)).on_hover_text(
                         "average the method's visibility over the 3×3 light texels around each point",
                     );
+                    row(ui, "jitter", egui::Checkbox::without_text(&mut r.jitter)).on_hover_text(
+                        "move each lookup by up to half a light texel (Sintorn & Assarsson §3.3)",
+                    );
                     ui.label("hair colour");
                     ui.color_edit_button_rgb(&mut r.hair_color);
                     ui.end_row();

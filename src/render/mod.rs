@@ -337,7 +337,7 @@ impl Renderer {
                 hair.near,
                 hair.far,
                 self.light_maps.near.width() as f32,
-                if f.render.pcf { 1.0 } else { 0.0 },
+                (u32::from(f.render.pcf) | (u32::from(f.render.jitter) << 1)) as f32,
             ],
             method_params: f.method.uniform_params(f.method_params),
             viewport: [

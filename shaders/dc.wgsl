@@ -77,9 +77,9 @@ fn fs_kmeans(f: LightFragment) -> DcSums {
 // Pass 2: the nearest mean; b-weighted squared distance to it.
 @fragment
 fn fs_variance(f: LightFragment) -> DcSums {
-    let c = dc_texel(vec2<i32>(f.clip.xy));
+    var c = dc_texel(vec2<i32>(f.clip.xy));
     let z = fragment_depth(f.depth);
-    let j = dc_nearest(c, z);
+    let j = dc_nearest(&c, z);
     let b = optical_depth(f.alpha);
     let d = c.mu[j] - z;
     return dc_sums(j, b, b * d * d);
@@ -88,18 +88,18 @@ fn fs_variance(f: LightFragment) -> DcSums {
 // Pass 3: the first bin holding z, else the nearest mean.
 @fragment
 fn fs_histogram(f: LightFragment) -> DcDensities {
-    let c = dc_texel(vec2<i32>(f.clip.xy));
+    var c = dc_texel(vec2<i32>(f.clip.xy));
     let z = fragment_depth(f.depth);
     var j = dc_uniforms.clusters;
     for (var i = 0u; i < dc_uniforms.clusters; i++) {
-        let bin = dc_bin(c, i);
+        let bin = dc_bin(&c, i);
         if bin.x <= z && z <= bin.y {
             j = i;
             break;
         }
     }
     if j == dc_uniforms.clusters {
-        j = dc_nearest(c, z);
+        j = dc_nearest(&c, z);
     }
     let b = optical_depth(f.alpha);
     return DcDensities(dc_one_hot(j, 0u, b), dc_one_hot(j, 1u, b), dc_one_hot(j, 2u, b), dc_one_hot(j, 3u, b));

@@ -43,10 +43,10 @@ fn dc_texel(texel: vec2<i32>) -> DcTexel {
 }
 
 // Index of the mean nearest to z, the lowest on ties (visibility::dc::nearest).
-fn dc_nearest(c: DcTexel, z: f32) -> u32 {
+fn dc_nearest(c: ptr<function, DcTexel>, z: f32) -> u32 {
     var best = 0u;
     for (var j = 1u; j < dc_uniforms.clusters; j++) {
-        if abs(z - c.mu[j]) < abs(z - c.mu[best]) {
+        if abs(z - (*c).mu[j]) < abs(z - (*c).mu[best]) {
             best = j;
         }
     }
@@ -55,18 +55,18 @@ fn dc_nearest(c: DcTexel, z: f32) -> u32 {
 
 // The edge bins j and j+1 share when their raw extents overlap (x = 1), clamped between the two means
 // (visibility::dc::shared_edge).
-fn dc_shared_edge(c: DcTexel, j: u32) -> vec2<f32> {
-    let right = c.mu[j] + c.d[j];
-    let left = c.mu[j + 1u] - c.d[j + 1u];
-    let edge = min(max((right + left) * 0.5, c.mu[j]), c.mu[j + 1u]);
+fn dc_shared_edge(c: ptr<function, DcTexel>, j: u32) -> vec2<f32> {
+    let right = (*c).mu[j] + (*c).d[j];
+    let left = (*c).mu[j + 1u] - (*c).d[j + 1u];
+    let edge = min(max((right + left) * 0.5, (*c).mu[j]), (*c).mu[j + 1u]);
     return vec2<f32>(select(0.0, 1.0, right > left), edge);
 }
 
 // Bin j as (L_j, R_j): mu_j -+ D_j, each edge replaced by the shared edge where the bin overlaps its
 // neighbour (visibility::dc::bin).
-fn dc_bin(c: DcTexel, j: u32) -> vec2<f32> {
-    var lo = c.mu[j] - c.d[j];
-    var hi = c.mu[j] + c.d[j];
+fn dc_bin(c: ptr<function, DcTexel>, j: u32) -> vec2<f32> {
+    var lo = (*c).mu[j] - (*c).d[j];
+    var hi = (*c).mu[j] + (*c).d[j];
     if j > 0u {
         let e = dc_shared_edge(c, j - 1u);
         if e.x > 0.0 {
@@ -87,10 +87,10 @@ fn dc_density(texel: vec2<i32>, j: u32) -> f32 {
 }
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
-    let c = dc_texel(texel);
+    var c = dc_texel(texel);
     var t = 0.0;
     for (var j = 0u; j < dc_uniforms.clusters; j++) {
-        let bin = dc_bin(c, j);
+        let bin = dc_bin(&c, j);
         let lo = bin.x;
         let hi = bin.y;
         let ramp = select(select(0.0, 1.0, z > lo), clamp((z - lo) / (hi - lo), 0.0, 1.0), hi > lo);

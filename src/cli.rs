@@ -412,16 +412,29 @@ fn measure(a: &MeasureArgs) -> Result<()> {
         stats.mean_depth_complexity
     );
     println!(
-        "{:<22} {:>10} {:>10} {:>10} {:>11} {:>7}  passes",
-        "method", "map error", "worst", "GPU ms", "memory MiB", "geom"
+        "{:<22} {:>9} {:>8} {:>9} {:>9} {:>7} {:>9} {:>9} {:>10} {:>5}  passes",
+        "method",
+        "map err",
+        "worst",
+        "shading",
+        "img RMSE",
+        "PSNR",
+        "flicker",
+        "GPU ms",
+        "memory MiB",
+        "geom"
     );
     for m in &rows {
         let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
         println!(
-            "{:<22} {:>10.5} {:>10.5} {:>10.3} {:>11.2} {:>7}  {}",
+            "{:<22} {:>9.5} {:>8.4} {:>9.5} {:>9.5} {:>7.2} {:>9.5} {:>9.3} {:>10.2} {:>5}  {}",
             m.config.label(),
             m.map_error,
             m.worst_texel_error,
+            m.shading_error,
+            m.image_rmse,
+            m.image_psnr,
+            m.flicker,
             m.total_ms(),
             m.memory_bytes as f64 / (1024.0 * 1024.0),
             m.geometry_passes,

@@ -72,6 +72,8 @@ pub fn usual_configs() -> Vec<MethodConfig> {
 /// What the reference says about the scene's light view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneStats {
+    /// The adapter the measurement ran on.
+    pub device: String,
     pub strands: usize,
     pub segments: usize,
     pub map_resolution: u32,
@@ -92,7 +94,22 @@ pub struct Measurement {
     pub pass_ms: Vec<(String, f64)>,
     pub memory_bytes: u64,
     pub geometry_passes: u32,
+    /// Mean |V_m - V_ref| over the hair points the camera sees (design.md's shading error).
+    pub shading_error: f64,
+    /// RMSE (RGB in [0,1]) and PSNR (dB) of the final image against the image shaded with the reference.
+    pub image_rmse: f64,
+    pub image_psnr: f64,
+    /// Mean frame-to-frame change of V at the visible hair points while the light turns by
+    /// [`FLICKER_STEP_DEG`] per frame, minus the reference's own change (design.md's flicker).
+    pub flicker: f64,
 }
+
+/// Light rotation per frame of the flicker measurement, in degrees of azimuth.
+pub const FLICKER_STEP_DEG: f32 = 0.5;
+/// Frames of the flicker measurement.
+pub const FLICKER_FRAMES: usize = 5;
+/// Size of the images compared for the image error.
+pub const IMAGE_SIZE: (u32, u32) = (320, 240);
 
 impl Measurement {
     pub fn total_ms(&self) -> f64 {
@@ -142,6 +159,7 @@ pub fn measure(
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();
     let fragments: usize = lists.iter().map(Vec::len).sum();
     let stats = SceneStats {
+        device: crate::gpu::describe(&gpu.info),
         strands: scene.strands.strand_count(),
         segments: scene.strands.segment_count(),
         map_resolution: res,
@@ -167,6 +185,37 @@ pub fn measure(
         reference.extend(MethodParams::Reference.visibility_curve(&frags, &zs));
         spans.push(start..samples.len());
     }
+    // The hair points the camera sees, their reference visibility, the reference image, and the reference's
+    // own frame-to-frame change under the turning light.
+    let (w, h) = IMAGE_SIZE;
+    let full = |method: &'static dyn methods::ShadowMethod, params, light| FrameInput {
+        camera: &s.camera,
+        light,
+        render: &s.render,
+        method,
+        method_params: params,
+        width: w,
+        height: h,
+    };
+    let reference_method = registry::find("reference").map_err(anyhow::Error::msg)?;
+    r.render(&full(reference_method, &empty, &s.light))?;
+    let reference_image = r.read_output()?;
+    let points = visible_hair_points(&r, &scene, &s, &r.read_eye_depth()?);
+    let lights = turning_lights(&s);
+    let mut reference_frames = Vec::with_capacity(lights.len());
+    for light in &lights {
+        r.render_light(&full(reference_method, &empty, light))?;
+        let lists = r.reference_lists()?;
+        let samples = light_samples(&r, light, &points);
+        reference_frames.push(
+            samples
+                .iter()
+                .map(|x| reference_visibility(&lists, res, x))
+                .collect::<Vec<f32>>(),
+        );
+    }
+    let reference_shading = &reference_frames[0];
+    let reference_change = mean_change(&reference_frames);
     let mut out = Vec::new();
     for c in configs {
         progress(&c.label());
@@ -188,10 +237,7 @@ pub fn measure(
                 }
             }
         }
-        let mut v = Vec::with_capacity(samples.len());
-        for chunk in samples.chunks(1 << 20) {
-            v.extend(r.evaluate(method, chunk)?);
-        }
+        let v = evaluate_all(&mut r, method, &samples)?;
         let mut sum = 0.0;
         let mut worst = 0.0f64;
         for span in &spans {
@@ -204,7 +250,20 @@ pub fn measure(
             sum += e;
             worst = worst.max(e);
         }
-        let gpu_state = r.method_gpu(method);
+        let (memory_bytes, geometry_passes) = r
+            .method_gpu(method)
+            .map_or((0, 0), |g| (g.memory_bytes(), g.geometry_passes()));
+        // Flicker: the method's visibility at the visible points, frame by frame (frame 0 gives the shading
+        // error).
+        let mut frames_v = Vec::with_capacity(lights.len());
+        for light in &lights {
+            r.render_light(&full(method, &c.params, light))?;
+            let samples = light_samples(&r, light, &points);
+            frames_v.push(evaluate_all(&mut r, method, &samples)?);
+        }
+        let shading_error = mean_abs_diff(&frames_v[0], reference_shading);
+        r.render(&full(method, &c.params, &s.light))?;
+        let (image_rmse, image_psnr) = image_error(&r.read_output()?, &reference_image);
         out.push(Measurement {
             config: c.clone(),
             map_error: if spans.is_empty() {
@@ -214,9 +273,132 @@ pub fn measure(
             },
             worst_texel_error: worst,
             pass_ms: per_pass.into_iter().map(|(n, v)| (n, median(v))).collect(),
-            memory_bytes: gpu_state.map_or(0, |g| g.memory_bytes()),
-            geometry_passes: gpu_state.map_or(0, |g| g.geometry_passes()),
+            memory_bytes,
+            geometry_passes,
+            shading_error,
+            image_rmse,
+            image_psnr,
+            flicker: mean_change(&frames_v) - reference_change,
         });
     }
     Ok((stats, out))
+}
+
+fn evaluate_all(
+    r: &mut Renderer,
+    method: &dyn methods::ShadowMethod,
+    samples: &[[f32; 3]],
+) -> Result<Vec<f32>> {
+    let mut v = Vec::with_capacity(samples.len());
+    for chunk in samples.chunks(1 << 20) {
+        v.extend(r.evaluate(method, chunk)?);
+    }
+    Ok(v)
+}
+
+/// The light turned by `FLICKER_STEP_DEG` per frame, `FLICKER_FRAMES` frames from the settings' light.
+fn turning_lights(s: &Settings) -> Vec<crate::scene::Light> {
+    (0..FLICKER_FRAMES)
+        .map(|f| crate::scene::Light {
+            azimuth_deg: s.light.azimuth_deg + f as f32 * FLICKER_STEP_DEG,
+            ..s.light
+        })
+        .collect()
+}
+
+/// The hair points the camera sees: every strand point and segment midpoint inside the view of an
+/// `IMAGE_SIZE` image and in front of the opaque meshes (`eye_depth`, the mesh-only depth buffer). Hair is
+/// semi-transparent, so hair behind hair still counts: every such point is a hair fragment on screen.
+pub fn visible_hair_points(
+    r: &Renderer,
+    scene: &crate::scene::Scene,
+    s: &Settings,
+    eye_depth: &[f32],
+) -> Vec<glam::Vec3> {
+    let (w, h) = IMAGE_SIZE;
+    let clip = r.world_to_clip(&s.camera, w, h);
+    let mut out = Vec::new();
+    for (start, n) in scene.strands.ranges() {
+        let pts = &scene.strands.points[start..start + n];
+        let mids = pts.windows(2).map(|p| (p[0] + p[1]) * 0.5);
+        for p in pts.iter().copied().chain(mids) {
+            let c = clip.project_point3(p);
+            if c.x.abs() >= 1.0 || c.y.abs() >= 1.0 || !(0.0..=1.0).contains(&c.z) {
+                continue;
+            }
+            let px = (((c.x * 0.5 + 0.5) * w as f32) as usize).min(w as usize - 1);
+            let py = (((0.5 - c.y * 0.5) * h as f32) as usize).min(h as usize - 1);
+            if eye_depth.get(py * w as usize + px).is_some_and(|d| c.z <= *d) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// `(texel x, texel y, light depth)` of each point in the hair light frame of `light`. The frame is fitted to
+/// the strands, so every hair point lies inside the map (the clamp only guards the edge texel).
+fn light_samples(r: &Renderer, light: &crate::scene::Light, points: &[glam::Vec3]) -> Vec<[f32; 3]> {
+    let frame = r.hair_light_frame(light);
+    let clip = frame.world_to_clip();
+    let res = r.map_resolution() as f32;
+    points
+        .iter()
+        .map(|p| {
+            let c = clip.project_point3(*p);
+            let uv = glam::Vec2::new(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5);
+            let t = (uv * res)
+                .floor()
+                .clamp(glam::Vec2::ZERO, glam::Vec2::splat(res - 1.0));
+            [t.x, t.y, frame.depth(*p)]
+        })
+        .collect()
+}
+
+/// Exact visibility at a sample from the reference lists.
+fn reference_visibility(
+    lists: &[Vec<crate::render::passes::abuffer::RefFragment>],
+    res: u32,
+    sample: &[f32; 3],
+) -> f32 {
+    let t = sample[1] as usize * res as usize + sample[0] as usize;
+    let frags: Vec<Fragment> = lists[t].iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
+    crate::visibility::reference::visibility(&frags, sample[2])
+}
+
+fn mean_abs_diff(a: &[f32], b: &[f32]) -> f64 {
+    if a.is_empty() {
+        return 0.0;
+    }
+    a.iter().zip(b).map(|(x, y)| (x - y).abs() as f64).sum::<f64>() / a.len() as f64
+}
+
+/// Mean |V(f+1) - V(f)| over points and successive frames.
+fn mean_change(frames: &[Vec<f32>]) -> f64 {
+    let pairs: Vec<f64> = frames.windows(2).map(|f| mean_abs_diff(&f[1], &f[0])).collect();
+    if pairs.is_empty() {
+        0.0
+    } else {
+        pairs.iter().sum::<f64>() / pairs.len() as f64
+    }
+}
+
+/// RMSE over RGB in [0,1] and PSNR in dB (infinite for identical images).
+pub fn image_error(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, f64) {
+    let n = (a.width() * a.height() * 3) as f64;
+    let se: f64 = a
+        .pixels()
+        .zip(b.pixels())
+        .flat_map(|(p, q)| (0..3).map(move |i| (p.0[i] as f64 - q.0[i] as f64) / 255.0))
+        .map(|d| d * d)
+        .sum();
+    let rmse = (se / n).sqrt();
+    (
+        rmse,
+        if rmse > 0.0 {
+            -20.0 * rmse.log10()
+        } else {
+            f64::INFINITY
+        },
+    )
 }

@@ -529,6 +529,15 @@ impl Renderer {
             .ok_or_else(|| GpuError::Readback("output size mismatch".into()))
     }
 
+    /// Reads the eye depth buffer of the last frame (opaque meshes only; 1 where none), row-major.
+    pub fn read_eye_depth(&self) -> Result<Vec<f32>, GpuError> {
+        Ok(bytemuck::pod_collect_to_vec(&readback::read_texture(
+            &self.gpu,
+            &self.targets.depth,
+            4,
+        )?))
+    }
+
     /// Reads a light-depth map back (`far == false`: nearest depths).
     pub fn read_light_depth(&self, far: bool) -> Result<Vec<f32>, GpuError> {
         let t = if far {
@@ -553,6 +562,11 @@ impl Renderer {
 
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
+    }
+
+    /// Side of the hair light maps.
+    pub fn map_resolution(&self) -> u32 {
+        self.light_maps.near.width()
     }
 
     pub fn segment_count(&self) -> usize {

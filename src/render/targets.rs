@@ -6,6 +6,8 @@ pub struct EyeTargets {
     pub color_view: wgpu::TextureView,
     /// The colour image viewed as plain `Rgba8Unorm`: egui blends in gamma space and wants the sRGB-encoded bytes.
     pub display_view: wgpu::TextureView,
+    /// Depth of the opaque meshes (hair does not write depth); copyable for visibility tests of hair points.
+    pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
     pub accum_view: wgpu::TextureView,
     pub revealage_view: wgpu::TextureView,
@@ -44,6 +46,12 @@ impl EyeTargets {
             &[Self::COLOR.remove_srgb_suffix()],
         );
         let view = |t: wgpu::Texture| t.create_view(&Default::default());
+        let depth = make(
+            "hairlab.eye.depth",
+            Self::DEPTH,
+            wgpu::TextureUsages::COPY_SRC,
+            &[],
+        );
         EyeTargets {
             color_view: color.create_view(&Default::default()),
             display_view: color.create_view(&wgpu::TextureViewDescriptor {
@@ -52,12 +60,8 @@ impl EyeTargets {
                 ..Default::default()
             }),
             color,
-            depth_view: view(make(
-                "hairlab.eye.depth",
-                Self::DEPTH,
-                wgpu::TextureUsages::empty(),
-                &[],
-            )),
+            depth_view: depth.create_view(&Default::default()),
+            depth,
             accum_view: view(make("hairlab.eye.oit_accum", Self::ACCUM, sampled, &[])),
             revealage_view: view(make("hairlab.eye.oit_revealage", Self::REVEALAGE, sampled, &[])),
             width,

@@ -5,13 +5,12 @@
 
 mod common;
 
-use common::max_gpu_cpu_difference;
+use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
 use hairlab::methods::dom::DomUniforms;
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};
 use hairlab::shaders::compose;
-use hairlab::visibility::{Fragment, metrics};
 
 /// The layer of a fragment is chosen by the same f32 comparisons `dz < scale * d_k` as on the CPU, with the same
 /// `d_k` (uniform filled from `layer_ends`); additive blending sums the same f32 values in another order, and
@@ -56,65 +55,6 @@ fn dom_gpu_equals_cpu() {
     }
 }
 
-/// Renders a scene of `strands` strands at `resolution`² (light passes and a full frame), then returns the
-/// largest |V_gpu - V_cpu| over every fragment depth and a 16-point grid of every occupied texel, plus an empty
-/// texel (lit at every depth) when there is one, with the sample count. Fails on any V that is not finite or
-/// outside [0, 1].
-fn tiny_scene_difference(gpu: &Gpu, strands: u32, resolution: u32, params: &[(&str, f32)]) -> (f32, usize) {
-    let mut s = common::small_settings(8, 8);
-    s.scene.generator.strands = strands;
-    s.scene.generator.segments = 10;
-    s.render.map_resolution = resolution;
-    let scene = s.scene.build().unwrap();
-    s.camera.frame(&scene.framing_bounds());
-    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let no_params = ParamValues::new();
-    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let method = registry::find("dom").unwrap();
-    let frame = |name: &str, params| FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find(name).unwrap(),
-        method_params: params,
-        width: 8,
-        height: 8,
-    };
-    r.render_light(&frame("reference", &no_params)).unwrap();
-    let lists = r.reference_lists().unwrap();
-    r.render(&frame("dom", &values)).unwrap();
-    r.read_output().unwrap();
-    let model = method.model(&values, s.render.hair_alpha).unwrap();
-    let (mut samples, mut expected) = (Vec::new(), Vec::new());
-    let texel = |t: usize| ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
-    for (t, list) in lists.iter().enumerate() {
-        if list.is_empty() {
-            continue;
-        }
-        let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
-        let zs = metrics::sample_depths(&frags, 16);
-        let (x, y) = texel(t);
-        expected.extend(model.visibility_curve(&frags, &zs));
-        samples.extend(zs.iter().map(|&z| [x, y, z]));
-    }
-    if let Some(t) = lists.iter().position(|l| l.is_empty()) {
-        let (x, y) = texel(t);
-        samples.extend([-1.0, 0.0, 0.5, 1.0, 2.0].map(|z| [x, y, z]));
-        expected.extend([1.0; 5]);
-    }
-    let got = r.evaluate(method, &samples).unwrap();
-    assert!(
-        got.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
-        "V outside [0, 1] at {resolution}² with {params:?}"
-    );
-    let worst = got
-        .iter()
-        .zip(&expected)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
-    (worst, samples.len())
-}
-
 #[test]
 fn extreme_resolutions_and_parameters() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -127,7 +67,8 @@ fn extreme_resolutions_and_parameters() {
     ];
     for (strands, resolution) in [(300, 1), (20, 2048)] {
         for config in &extremes {
-            let (worst, n) = tiny_scene_difference(&gpu, strands, resolution, &params(config));
+            let (worst, n) =
+                gpu_cpu_difference(&gpu, "dom", &params(config), Setup::new(strands, resolution));
             eprintln!(
                 "dom {config:?}, {strands} strands at {resolution}²: max |ΔV| = {worst:e} over {n} samples"
             );

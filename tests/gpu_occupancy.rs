@@ -4,11 +4,10 @@
 
 mod common;
 
-use common::max_gpu_cpu_difference;
+use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::{Gpu, GpuError};
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};
-use hairlab::visibility::{Fragment, metrics};
 
 /// The bitmap and the counts are integers built by the same f32 expressions as the CPU's (no sum of floats):
 /// only `exp`/`log` and the final division round differently, far below this.
@@ -32,77 +31,21 @@ fn occupancy_gpu_equals_cpu() {
     }
 }
 
-/// Renders a scene of `strands` strands from the light at `resolution`² with `hair_alpha`, then returns the
-/// largest |V_gpu - V_cpu| over every fragment depth and a 16-point grid of every occupied texel, with the
-/// sample count. Fails on any V that is not finite or outside [0, 1].
-fn tiny_scene_difference(
-    gpu: &Gpu,
-    strands: u32,
-    resolution: u32,
-    hair_alpha: f32,
-    variant: f32,
-) -> (f32, usize) {
-    let mut s = common::small_settings(8, 8);
-    s.scene.generator.strands = strands;
-    s.scene.generator.segments = 10;
-    s.render.map_resolution = resolution;
-    s.render.hair_alpha = hair_alpha;
-    let scene = s.scene.build().unwrap();
-    s.camera.frame(&scene.framing_bounds());
-    let values: ParamValues = [("variant".to_string(), variant)].into();
-    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let method = registry::find("occupancy").unwrap();
-    let frame = |name: &str, params| FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find(name).unwrap(),
-        method_params: params,
-        width: 8,
-        height: 8,
-    };
-    let no_params = ParamValues::new();
-    r.render_light(&frame("reference", &no_params)).unwrap();
-    let lists = r.reference_lists().unwrap();
-    r.render_light(&frame("occupancy", &values)).unwrap();
-    let model = method.model(&values, hair_alpha).unwrap();
-    let (mut samples, mut expected) = (Vec::new(), Vec::new());
-    for (t, list) in lists.iter().enumerate() {
-        if list.is_empty() {
-            continue;
-        }
-        let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
-        let zs = metrics::sample_depths(&frags, 16);
-        let (x, y) = ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
-        expected.extend(model.visibility_curve(&frags, &zs));
-        samples.extend(zs.iter().map(|&z| [x, y, z]));
-    }
-    // An empty texel (near 1, far 0) is lit at every depth.
-    if let Some(t) = lists.iter().position(|l| l.is_empty()) {
-        let (x, y) = ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
-        samples.extend([-1.0, 0.0, 0.5, 1.0, 2.0].map(|z| [x, y, z]));
-        expected.extend([1.0; 5]);
-    }
-    let got = r.evaluate(method, &samples).unwrap();
-    assert!(
-        got.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
-        "V outside [0, 1] at {resolution}², alpha {hair_alpha}, variant {variant}"
-    );
-    let worst = got
-        .iter()
-        .zip(&expected)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
-    (worst, samples.len())
-}
-
 #[test]
 fn extreme_resolutions_and_alphas() {
     let Some(gpu) = Gpu::for_tests() else { return };
     for (strands, resolution) in [(300, 1), (20, 2048)] {
         for variant in VARIANTS {
             for hair_alpha in [0.01, 0.35, 1.0] {
-                let (worst, n) = tiny_scene_difference(&gpu, strands, resolution, hair_alpha, variant);
+                let (worst, n) = gpu_cpu_difference(
+                    &gpu,
+                    "occupancy",
+                    &[("variant", variant)],
+                    Setup {
+                        hair_alpha: Some(hair_alpha),
+                        ..Setup::new(strands, resolution)
+                    },
+                );
                 eprintln!(
                     "occupancy variant {variant}, {strands} strands at {resolution}², alpha {hair_alpha}: \
                      max |ΔV| = {worst:e} over {n} samples"

@@ -56,9 +56,10 @@ pub enum GenKind {
     Head,
     /// A block of hair (or grass): roots on a square at y = 0, growing up +Y; `gravity` does not apply.
     Patch,
-    /// Stress scene (Sintorn & Assarsson Fig. 4/5a): a dense clump of `strands` and one stray strand a clump
-    /// width in front of it towards +X, where the stress presets put the light. Breaks Deep Opacity Maps: the
-    /// stray strand sets the texels' start depth and their layers end before the clump.
+    /// Stress scene (Sintorn & Assarsson Fig. 4/5a): a dense clump of `strands` and `clumps` (at least one)
+    /// stray strands a clump width in front of it towards +X, where the stress presets put the light, spread
+    /// across the clump's width. Breaks Deep Opacity Maps: a stray strand sets its texels' start depth and
+    /// their layers end before the clump.
     StrayStrand,
     /// Stress scene (Voicu §4.1/5.5): a short wide patch (a tenth of `length`) beside a tall narrow clump, both
     /// growing up +Y, lit from above: one fixed layer depth cannot fit both. Bounding Opacity Maps fit each.
@@ -398,19 +399,29 @@ fn patch_block(p: &GenParams, n: usize, side: f32, length: f32, offset: Vec3, rn
 }
 
 fn stray_strand(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
-    let mut s = patch_block(p, n, p.length * 0.4, p.length, Vec3::ZERO, rng);
+    let side = p.length * 0.4;
+    let mut s = patch_block(p, n, side, p.length, Vec3::ZERO, rng);
     let stray = GenParams {
         style: HairStyle::Straight,
         ..p.clone()
     };
-    s.append(&patch_block(
-        &stray,
-        1,
-        0.0,
-        p.length,
-        Vec3::new(p.length * 0.6, 0.0, 0.0),
-        rng,
-    ));
+    let count = p.clumps.max(1);
+    for k in 0..count {
+        // Spread across the clump's width (towards the viewer), a clump width in front of it towards +X.
+        let z = if count == 1 {
+            0.0
+        } else {
+            (k as f32 / (count - 1) as f32 - 0.5) * side
+        };
+        s.append(&patch_block(
+            &stray,
+            1,
+            0.0,
+            p.length,
+            Vec3::new(p.length * 0.6, 0.0, z),
+            rng,
+        ));
+    }
     s
 }
 

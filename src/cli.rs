@@ -44,6 +44,9 @@ pub enum Command {
     /// Measure methods against the exact reference on a preset's scene: depth complexity, map error, GPU time
     /// per pass (median), memory, geometry passes.
     Measure(MeasureArgs),
+    /// Sweep every method's parameters on a preset's scene and chart GPU time against map error: results.csv,
+    /// results.json and speed_vs_accuracy.png (Pareto front marked); `--scaling` fits GPU time per segment.
+    Bench(crate::bench::BenchArgs),
 }
 
 #[derive(Args, Debug)]
@@ -163,6 +166,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Gen(a) => gen_hair(&a),
         Command::Curve(a) => curve(&a),
         Command::Measure(a) => measure(&a),
+        Command::Bench(a) => crate::bench::run_cli(&a),
     }
 }
 
@@ -315,6 +319,12 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
 /// Reads `depth,alpha` rows; errors name the file and line.
 pub fn read_fragments_csv(path: &Path) -> Result<Vec<crate::visibility::Fragment>> {
     let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    parse_fragments_csv(&text, &path.display().to_string())
+}
+
+/// Parses `depth,alpha` rows (blank lines, `#` comments and a header line are skipped); errors name `source`
+/// and the line.
+pub fn parse_fragments_csv(text: &str, source: &str) -> Result<Vec<crate::visibility::Fragment>> {
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -331,18 +341,14 @@ pub fn read_fragments_csv(path: &Path) -> Result<Vec<crate::visibility::Fragment
                 if !(depth.is_finite() && (0.0..=1.0).contains(&alpha)) {
                     anyhow::bail!(
                         "{}:{}: depth must be finite and alpha in [0, 1] (got {line})",
-                        path.display(),
+                        source,
                         i + 1
                     );
                 }
                 out.push(crate::visibility::Fragment::new(depth, alpha));
             }
             None if i == 0 && out.is_empty() => {}
-            None => anyhow::bail!(
-                "{}:{}: expected `depth,alpha`, got `{line}`",
-                path.display(),
-                i + 1
-            ),
+            None => anyhow::bail!("{}:{}: expected `depth,alpha`, got `{line}`", source, i + 1),
         }
     }
     Ok(out)

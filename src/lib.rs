@@ -2,6 +2,7 @@
 #![allow(clippy::too_many_arguments)]
 
 pub mod app;
+pub mod bench;
 pub mod cli;
 pub mod gpu;
 pub mod io;

@@ -92,6 +92,8 @@ pub struct Measurement {
     pub worst_texel_error: f64,
     /// Median GPU milliseconds per pass of the method's own light passes, by pass name.
     pub pass_ms: Vec<(String, f64)>,
+    /// GPU milliseconds of each timed frame, by pass name (the samples behind `pass_ms`).
+    pub pass_frames_ms: Vec<(String, Vec<f64>)>,
     pub memory_bytes: u64,
     pub geometry_passes: u32,
     /// Mean |V_m - V_ref| over the hair points the camera sees (design.md's shading error).
@@ -272,6 +274,7 @@ pub fn measure(
                 sum / spans.len() as f64
             },
             worst_texel_error: worst,
+            pass_frames_ms: per_pass.clone(),
             pass_ms: per_pass.into_iter().map(|(n, v)| (n, median(v))).collect(),
             memory_bytes,
             geometry_passes,

@@ -1,7 +1,11 @@
 //! The workbench window: an eframe app with the wgpu viewport in the centre, parameter panels on the left and a
 //! status line at the bottom. Settings persist between runs; presets load and save the same struct.
 
+mod bench_panel;
+pub mod inspector;
+mod lightmap_view;
 mod panels;
+pub mod texel_lab;
 mod viewport;
 
 use crate::gpu::{self, AdapterPreference, timing::PassTime};
@@ -53,6 +57,7 @@ enum DialogPurpose {
     SaveScreenshot,
     LoadPreset,
     SavePreset,
+    ExportCurves,
 }
 
 /// A message for the status line.
@@ -86,6 +91,10 @@ pub struct HairlabApp {
     viewport_error: Option<String>,
     /// Hides measured times (they differ run to run) so UI snapshots are reproducible.
     snapshot_mode: bool,
+    /// The texel inspector and light-map view.
+    inspector: inspector::Inspector,
+    /// The Bench window: speed against accuracy of every method's sweep.
+    bench: bench_panel::BenchPanel,
 }
 
 impl HairlabApp {
@@ -128,6 +137,8 @@ impl HairlabApp {
             snapshot_mode: false,
             viewport_error: None,
             analysis: None,
+            inspector: Default::default(),
+            bench: Default::default(),
         };
         app.rebuild_scene();
         app
@@ -264,6 +275,12 @@ impl HairlabApp {
                         .set_file_name("my-preset.toml")
                         .save_file(),
                 ),
+                DialogPurpose::ExportCurves => Box::pin(
+                    d.add_filter("CSV", &["csv"])
+                        .set_file_name("texel-curves.csv")
+                        .set_title("Export texel curves")
+                        .save_file(),
+                ),
             };
             let picked = pollster::block_on(fut).map(|h| h.path().to_path_buf());
             let _ = tx.send(picked);
@@ -303,6 +320,7 @@ impl HairlabApp {
                 Ok(()) => self.info(format!("preset saved: {}", path.display())),
                 Err(e) => self.error(format!("{e:#}")),
             },
+            DialogPurpose::ExportCurves => self.export_inspector_csv(&path),
         }
     }
 
@@ -466,6 +484,8 @@ impl eframe::App for HairlabApp {
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ui, |ui| self.viewport(ui));
+        self.inspector_windows(&ctx);
+        self.bench_window(&ctx);
         if let Some(path) = self.screenshot_request.take() {
             self.save_screenshot(path);
         }

@@ -35,6 +35,13 @@ impl HairlabApp {
             if ui.button("Frame scene").on_hover_text("F").clicked() {
                 self.frame_scene();
             }
+            if ui
+                .button("Bench")
+                .on_hover_text("sweep every method: GPU time against map error")
+                .clicked()
+            {
+                self.bench.open = !self.bench.open;
+            }
         });
         if ui
             .checkbox(&mut self.continuous, "Render continuously (measures frame time)")
@@ -43,6 +50,7 @@ impl HairlabApp {
             self.frame_ms.clear();
             self.last_frame = None;
         }
+        self.inspector_controls(ui);
         self.scene_section(ui, ctx);
         self.render_section(ui);
         self.light_section(ui);

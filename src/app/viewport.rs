@@ -16,6 +16,7 @@ impl HairlabApp {
         let ppp = ui.ctx().pixels_per_point();
         let width = ((rect.width() * ppp).round() as u32).clamp(1, 8192);
         let height = ((rect.height() * ppp).round() as u32).clamp(1, 8192);
+        self.viewport_click(&response, width, height, ppp);
         let Some(rs) = self.render_state.clone() else {
             ui.painter().text(
                 rect.center(),
@@ -126,6 +127,7 @@ impl HairlabApp {
             egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
             egui::Color32::WHITE,
         );
+        self.paint_pick(ui.painter(), rect, width, height);
     }
 
     fn camera_input(&mut self, ui: &egui::Ui, response: &egui::Response) {

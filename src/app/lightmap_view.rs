@@ -1,0 +1,327 @@
+//! The light-map view: a per-texel quantity of the light's exact fragment lists (nearest depth, furthest depth,
+//! depth range or depth complexity) as an image in a plot that zooms and pans, with a colour scale and the value
+//! under the cursor. Clicking a texel inspects it.
+
+use super::HairlabApp;
+use super::inspector::{ReferenceLists, SceneTexel};
+use egui::Color32;
+use egui_plot::{MarkerShape, Plot, PlotImage, PlotPoint, Points};
+
+/// What the view shows per texel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MapQuantity {
+    /// Fragments per texel.
+    #[default]
+    Complexity,
+    Near,
+    Far,
+    /// `far - near`.
+    Range,
+}
+
+impl MapQuantity {
+    const ALL: [MapQuantity; 4] = [Self::Complexity, Self::Near, Self::Far, Self::Range];
+
+    fn label(self) -> &'static str {
+        match self {
+            Self::Complexity => "depth complexity",
+            Self::Near => "nearest depth",
+            Self::Far => "furthest depth",
+            Self::Range => "depth range (far − near)",
+        }
+    }
+
+    /// The quantity of one texel's list (sorted by depth); NaN for an empty texel.
+    fn of(self, list: &[crate::render::passes::abuffer::RefFragment]) -> f32 {
+        let (Some(first), Some(last)) = (list.first(), list.last()) else {
+            return f32::NAN;
+        };
+        match self {
+            Self::Complexity => list.len() as f32,
+            Self::Near => first.depth,
+            Self::Far => last.depth,
+            Self::Range => last.depth - first.depth,
+        }
+    }
+}
+
+/// The image of one quantity of one read of the lists.
+struct MapImage {
+    quantity: MapQuantity,
+    generation: u64,
+    resolution: u32,
+    /// Row-major, NaN where the texel is empty.
+    values: Vec<f32>,
+    min: f32,
+    max: f32,
+    texture: egui::TextureHandle,
+}
+
+/// The view's state.
+#[derive(Default)]
+pub struct LightMapView {
+    pub quantity: MapQuantity,
+    image: Option<MapImage>,
+}
+
+/// Colour of an empty texel.
+const EMPTY: Color32 = Color32::from_rgb(24, 24, 28);
+
+/// Viridis, by linear interpolation between five of its colours; `t` in `[0, 1]`.
+fn viridis(t: f32) -> Color32 {
+    const STOPS: [[f32; 3]; 5] = [
+        [68.0, 1.0, 84.0],
+        [59.0, 82.0, 139.0],
+        [33.0, 145.0, 140.0],
+        [94.0, 201.0, 98.0],
+        [253.0, 231.0, 37.0],
+    ];
+    let x = t.clamp(0.0, 1.0) * 4.0;
+    let i = (x.floor() as usize).min(3);
+    let f = x - i as f32;
+    let c = |k: usize| (STOPS[i][k] + (STOPS[i + 1][k] - STOPS[i][k]) * f).round() as u8;
+    Color32::from_rgb(c(0), c(1), c(2))
+}
+
+impl MapImage {
+    fn new(ctx: &egui::Context, lists: &ReferenceLists, quantity: MapQuantity) -> MapImage {
+        let n = lists.resolution as usize;
+        let values: Vec<f32> = lists.lists.iter().take(n * n).map(|l| quantity.of(l)).collect();
+        let (min, max) = values
+            .iter()
+            .filter(|v| !v.is_nan())
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        let pixels = values
+            .iter()
+            .map(|&v| {
+                if v.is_nan() {
+                    EMPTY
+                } else {
+                    viridis(scale(v, min, max))
+                }
+            })
+            .collect();
+        let texture = ctx.load_texture(
+            "hairlab.light_map",
+            egui::ColorImage::new([n, n], pixels),
+            egui::TextureOptions::NEAREST,
+        );
+        MapImage {
+            quantity,
+            generation: lists.generation,
+            resolution: lists.resolution,
+            values,
+            min,
+            max,
+            texture,
+        }
+    }
+
+    fn value_text(&self, v: f32) -> String {
+        match (v.is_nan(), self.quantity) {
+            (true, _) => "empty".into(),
+            (false, MapQuantity::Complexity) if v == 1.0 => "1 fragment".into(),
+            (false, MapQuantity::Complexity) => format!("{v:.0} fragments"),
+            (false, _) => format!("{v:.5}"),
+        }
+    }
+}
+
+/// `v` in `[min, max]` mapped to `[0, 1]` (0.5 when the range is a point).
+fn scale(v: f32, min: f32, max: f32) -> f32 {
+    if max > min { (v - min) / (max - min) } else { 0.5 }
+}
+
+/// An axis label: the texel coordinate, none off the map.
+fn axis_label(v: f64, res: u32) -> String {
+    if (0.0..=f64::from(res)).contains(&v) {
+        format!("{v:.0}")
+    } else {
+        String::new()
+    }
+}
+
+/// The texel under plot point `p` (row 0 at the top of the image, which spans `[0, res]²`).
+fn texel_at(p: PlotPoint, res: u32) -> Option<[u32; 2]> {
+    let (x, y) = (p.x.floor(), (f64::from(res) - p.y).floor());
+    let inside = |v: f64| (0.0..f64::from(res)).contains(&v);
+    (inside(x) && inside(y)).then_some([x as u32, y as u32])
+}
+
+/// The plot point at the centre of texel `[x, y]`.
+fn texel_centre([x, y]: [u32; 2], res: u32) -> [f64; 2] {
+    [f64::from(x) + 0.5, f64::from(res - y) - 0.5]
+}
+
+impl HairlabApp {
+    pub(super) fn light_map_ui(&mut self, ui: &mut egui::Ui) {
+        let insp = &mut self.inspector;
+        let densest = insp.lists().and_then(ReferenceLists::densest);
+        let mut chosen = None;
+        ui.horizontal(|ui| {
+            let l = ui.label("show");
+            egui::ComboBox::from_id_salt("light_map_quantity")
+                .selected_text(insp.map.quantity.label())
+                .show_ui(ui, |ui| {
+                    for q in MapQuantity::ALL {
+                        ui.selectable_value(&mut insp.map.quantity, q, q.label());
+                    }
+                })
+                .response
+                .labelled_by(l.id);
+            if ui
+                .add_enabled(densest.is_some(), egui::Button::new("Densest texel"))
+                .on_hover_text("inspect the texel holding the most fragments")
+                .clicked()
+            {
+                chosen = densest;
+            }
+        });
+        if let Some(t) = chosen {
+            self.inspector.select_scene_texel(t);
+        }
+        let insp = &mut self.inspector;
+        let Some(lists) = insp.lists.as_ref() else {
+            ui.label("no fragment lists yet (see the status line)");
+            return;
+        };
+        let fresh = insp
+            .map
+            .image
+            .as_ref()
+            .is_some_and(|i| i.quantity == insp.map.quantity && i.generation == lists.generation);
+        if !fresh {
+            insp.map.image = Some(MapImage::new(ui.ctx(), lists, insp.map.quantity));
+        }
+        let Some(image) = insp.map.image.as_ref() else {
+            return;
+        };
+        let res = image.resolution;
+        let marks: Vec<([f64; 2], Color32)> = insp
+            .selected
+            .filter(|_| insp.source == super::inspector::Source::Scene)
+            .map(|s| (texel_centre(s.texel, res), Color32::WHITE))
+            .into_iter()
+            .chain(
+                insp.pins()
+                    .iter()
+                    .filter_map(|p| p.texel().map(|t| (texel_centre(t, res), p.color))),
+            )
+            .filter(|(c, _)| c[0] < f64::from(res) && c[1] > 0.0)
+            .collect();
+        colour_scale(ui, image);
+        let response = Plot::new("light_map_plot")
+            .data_aspect(1.0)
+            .show_grid(false)
+            .include_x(0.0)
+            .include_x(f64::from(res))
+            .include_y(0.0)
+            .include_y(f64::from(res))
+            .height(ui.available_height().max(160.0))
+            .x_axis_formatter(move |mark, _| axis_label(mark.value, res))
+            .y_axis_formatter(move |mark, _| axis_label(f64::from(res) - mark.value, res))
+            .label_formatter(|pos| {
+                let p = match pos {
+                    egui_plot::HoverPosition::NearDataPoint { position, .. } => position,
+                    egui_plot::HoverPosition::Elsewhere { position } => position,
+                };
+                let [x, y] = texel_at(*p, res)?;
+                let v = image.values[(y * res + x) as usize];
+                Some(format!(
+                    "texel ({x}, {y})\n{}: {}",
+                    image.quantity.label(),
+                    image.value_text(v)
+                ))
+            })
+            .show(ui, |p| {
+                let r = f64::from(res);
+                p.image(PlotImage::new(
+                    "light map",
+                    image.texture.id(),
+                    PlotPoint::new(r / 2.0, r / 2.0),
+                    [r as f32, r as f32],
+                ));
+                for (c, color) in &marks {
+                    p.points(
+                        Points::new("selected", vec![*c])
+                            .shape(MarkerShape::Circle)
+                            .filled(false)
+                            .radius(7.0)
+                            .color(*color),
+                    );
+                }
+                (p.response().clicked(), p.pointer_coordinate())
+            });
+        if let (true, Some(p)) = response.inner
+            && let Some(t) = texel_at(p, res)
+        {
+            self.inspector.select_scene_texel(t);
+        }
+    }
+}
+
+/// The colour scale under the map: a gradient from the smallest to the largest value, the value under the
+/// cursor on hover.
+fn colour_scale(ui: &mut egui::Ui, image: &MapImage) {
+    ui.horizontal(|ui| {
+        ui.label(image.value_text(image.min));
+        let width = (ui.available_width() - 90.0).max(60.0);
+        let (rect, response) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
+        let steps = 64;
+        for i in 0..steps {
+            let x0 = rect.left() + rect.width() * i as f32 / steps as f32;
+            let x1 = rect.left() + rect.width() * (i + 1) as f32 / steps as f32;
+            ui.painter().rect_filled(
+                egui::Rect::from_x_y_ranges(x0..=x1, rect.y_range()),
+                0.0,
+                viridis((i as f32 + 0.5) / steps as f32),
+            );
+        }
+        if let Some(p) = response.hover_pos() {
+            let t = ((p.x - rect.left()) / rect.width()).clamp(0.0, 1.0);
+            let v = image.min + (image.max - image.min) * t;
+            response.on_hover_text_at_pointer(format!("{}: {}", image.quantity.label(), image.value_text(v)));
+        }
+        ui.label(image.value_text(image.max));
+    });
+    ui.weak("click: inspect · drag: pan · Ctrl+wheel: zoom · double-click: reset");
+}
+
+impl super::inspector::Inspector {
+    /// Inspects scene texel `t` chosen in the light map.
+    fn select_scene_texel(&mut self, t: [u32; 2]) {
+        self.select(SceneTexel {
+            texel: t,
+            picked: None,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plot_points_map_to_texels_and_back() {
+        // Row 0 is the top of the image: plot y in (res - 1, res].
+        assert_eq!(texel_at(PlotPoint::new(0.5, 3.9), 4), Some([0, 0]));
+        assert_eq!(texel_at(PlotPoint::new(3.2, 0.1), 4), Some([3, 3]));
+        assert_eq!(texel_at(PlotPoint::new(-0.1, 2.0), 4), None);
+        assert_eq!(texel_at(PlotPoint::new(1.0, 4.5), 4), None);
+        for t in [[0, 0], [3, 1], [2, 3]] {
+            let [x, y] = texel_centre(t, 4);
+            assert_eq!(texel_at(PlotPoint::new(x, y), 4), Some(t));
+        }
+    }
+
+    #[test]
+    fn colour_scale_ends() {
+        assert_eq!(viridis(0.0), Color32::from_rgb(68, 1, 84));
+        assert_eq!(viridis(1.0), Color32::from_rgb(253, 231, 37));
+        assert_eq!(viridis(0.5), Color32::from_rgb(33, 145, 140));
+        assert_eq!(scale(3.0, 1.0, 5.0), 0.5);
+        assert_eq!(scale(2.0, 2.0, 2.0), 0.5);
+    }
+}

@@ -1,0 +1,220 @@
+//! The synthetic texel lab: one texel's fragments made up without a scene, to compare the methods' CPU models on
+//! the papers' texel experiments. Either a mixture of `Q` Gaussians along the light ray (Mertens et al. 2004 §5,
+//! Fig. 5: "random depth values between 0 and 1 using a mix of Q gaussian distributions with a random mean and
+//! variance", `Q = K` against `Q > K`), or fragments typed in as `depth,alpha` lines, the format of
+//! `hairlab curve --fragments`.
+
+use crate::visibility::Fragment;
+
+/// Largest number of Gaussians.
+pub const MAX_GAUSSIANS: u32 = 32;
+/// Largest number of fragments per Gaussian.
+pub const MAX_PER_GAUSSIAN: u32 = 500;
+/// Largest spread (the largest standard deviation a Gaussian may draw), in normalised light depth.
+pub const MAX_SPREAD: f32 = 0.25;
+
+/// Where the lab's fragments come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LabSource {
+    /// A mixture of Gaussians ([`gaussian_mixture`]).
+    #[default]
+    Gaussians,
+    /// `depth,alpha` lines typed into [`LabSettings::text`].
+    Typed,
+}
+
+/// The lab's inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LabSettings {
+    pub source: LabSource,
+    /// Number of Gaussians `Q` (1..=[`MAX_GAUSSIANS`]).
+    pub gaussians: u32,
+    /// Fragments drawn from each Gaussian (1..=[`MAX_PER_GAUSSIAN`]).
+    pub per_gaussian: u32,
+    /// Each Gaussian's standard deviation is drawn uniformly from `[spread / 4, spread]`.
+    pub spread: f32,
+    /// Opacity of every fragment.
+    pub alpha: f32,
+    pub seed: u64,
+    /// Typed `depth,alpha` lines.
+    pub text: String,
+}
+
+impl Default for LabSettings {
+    /// Four Gaussians of 25 fragments: the 100 fragments of Mertens et al.'s simulation, with `Q = K = 4`.
+    fn default() -> Self {
+        Self {
+            source: LabSource::Gaussians,
+            gaussians: 4,
+            per_gaussian: 25,
+            spread: 0.04,
+            alpha: 0.05,
+            seed: 1,
+            text: "# depth,alpha\n0.20,0.3\n0.22,0.3\n0.25,0.3\n0.60,0.5\n0.62,0.5\n0.90,0.2\n".to_string(),
+        }
+    }
+}
+
+impl LabSettings {
+    /// The lab's fragment list, or why the typed text cannot be read.
+    pub fn fragments(&self) -> Result<Vec<Fragment>, String> {
+        match self.source {
+            LabSource::Gaussians => Ok(gaussian_mixture(
+                self.gaussians,
+                self.per_gaussian,
+                self.spread,
+                self.alpha,
+                self.seed,
+            )),
+            LabSource::Typed => {
+                crate::cli::parse_fragments_csv(&self.text, "typed fragments").map_err(|e| format!("{e:#}"))
+            }
+        }
+    }
+
+    /// The uniform hair alpha the occupancy model assumes for these fragments: the lab's alpha for Gaussians,
+    /// the mean alpha of typed fragments (as `hairlab curve` does).
+    pub fn hair_alpha(&self, fragments: &[Fragment]) -> f32 {
+        match self.source {
+            LabSource::Gaussians => self.alpha,
+            LabSource::Typed if fragments.is_empty() => 0.5,
+            LabSource::Typed => fragments.iter().map(|f| f.alpha).sum::<f32>() / fragments.len() as f32,
+        }
+    }
+
+    /// A short description for legends and pins.
+    pub fn label(&self) -> String {
+        match self.source {
+            LabSource::Gaussians => format!(
+                "Q={} ×{} σ≤{} α={} seed {}",
+                self.gaussians, self.per_gaussian, self.spread, self.alpha, self.seed
+            ),
+            LabSource::Typed => "typed fragments".to_string(),
+        }
+    }
+}
+
+/// `gaussians` Gaussians with means uniform in `[0.1, 0.9]` and standard deviations uniform in
+/// `[spread / 4, spread]`, `per_gaussian` fragments of opacity `alpha` drawn from each, depths clamped to
+/// `[0, 1]`. Deterministic in `seed`; the counts are clamped to their maxima, spread and alpha to their ranges.
+pub fn gaussian_mixture(
+    gaussians: u32,
+    per_gaussian: u32,
+    spread: f32,
+    alpha: f32,
+    seed: u64,
+) -> Vec<Fragment> {
+    let q = gaussians.clamp(1, MAX_GAUSSIANS);
+    let n = per_gaussian.clamp(1, MAX_PER_GAUSSIAN);
+    let spread = if spread.is_finite() {
+        spread.clamp(0.0, MAX_SPREAD)
+    } else {
+        0.0
+    };
+    let alpha = if alpha.is_finite() {
+        alpha.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::with_capacity((q * n) as usize);
+    for _ in 0..q {
+        let mean = 0.1 + 0.8 * rng.f32();
+        let sigma = spread * (0.25 + 0.75 * rng.f32());
+        for _ in 0..n {
+            out.push(Fragment::new(
+                (mean + sigma * rng.normal()).clamp(0.0, 1.0),
+                alpha,
+            ));
+        }
+    }
+    out
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014), the generator of `scene::generate`: tiny and deterministic.
+struct Rng(u64);
+
+impl Rng {
+    fn new(seed: u64) -> Rng {
+        Rng(seed ^ 0x5EED_1AB0_7E8E_1000)
+    }
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (1.0 / (1u32 << 24) as f32)
+    }
+    /// Standard normal (Box-Muller).
+    fn normal(&mut self) -> f32 {
+        let u = 1.0 - self.f32();
+        let v = self.f32();
+        (-2.0 * u.ln()).sqrt() * (std::f32::consts::TAU * v).cos()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::visibility::metrics::{DEFAULT_GRID_POINTS, texel_error};
+    use crate::visibility::{DcParams, MethodParams};
+
+    #[test]
+    fn mixture_is_deterministic_and_in_range() {
+        let a = gaussian_mixture(4, 25, 0.05, 0.3, 7);
+        assert_eq!(a.len(), 100);
+        assert_eq!(a, gaussian_mixture(4, 25, 0.05, 0.3, 7));
+        assert_ne!(a, gaussian_mixture(4, 25, 0.05, 0.3, 8));
+        assert!(a.iter().all(|f| (0.0..=1.0).contains(&f.depth) && f.alpha == 0.3));
+        // Zero spread: every fragment of a Gaussian sits at its mean, so there are exactly Q distinct depths.
+        let mut d: Vec<f32> = gaussian_mixture(3, 10, 0.0, 0.5, 1)
+            .iter()
+            .map(|f| f.depth)
+            .collect();
+        d.sort_by(f32::total_cmp);
+        d.dedup();
+        assert_eq!(d.len(), 3);
+        assert!(d.iter().all(|z| (0.1..=0.9).contains(z)));
+        // Clamped inputs never panic or leave the ranges.
+        let c = gaussian_mixture(0, 10_000, f32::NAN, 7.0, 0);
+        assert_eq!(c.len(), MAX_PER_GAUSSIAN as usize);
+        assert!(c.iter().all(|f| f.alpha == 1.0));
+    }
+
+    #[test]
+    fn more_gaussians_than_clusters_break_density_clustering() {
+        // Mertens et al. Fig. 5: with Q > K the 4-means histogram breaks down. Averaged over seeds, 8 Gaussians
+        // give DC-4 a larger texel error than 2 do (same fragment count, 100).
+        let dc = MethodParams::Dc(DcParams { clusters: 4 });
+        let mean_error = |q: u32| {
+            (1..=20u64)
+                .map(|seed| {
+                    let f = gaussian_mixture(q, 100 / q, 0.03, 0.05, seed);
+                    texel_error(&dc, &f, DEFAULT_GRID_POINTS).unwrap().mean
+                })
+                .sum::<f32>()
+                / 20.0
+        };
+        let (two, eight) = (mean_error(2), mean_error(8));
+        assert!(eight > two, "Q=8: {eight}, Q=2: {two}");
+    }
+
+    #[test]
+    fn typed_fragments_use_the_curve_parser() {
+        let mut lab = LabSettings {
+            source: LabSource::Typed,
+            text: "depth,alpha\n0.5,0.25\n\n# note\n0.7,0.75\n".into(),
+            ..Default::default()
+        };
+        let f = lab.fragments().unwrap();
+        assert_eq!(f, [Fragment::new(0.5, 0.25), Fragment::new(0.7, 0.75)]);
+        assert_eq!(lab.hair_alpha(&f), 0.5);
+        lab.text = "0.5,0.25\n0.7;0.75\n".into();
+        let e = lab.fragments().unwrap_err();
+        assert!(e.contains("typed fragments:2"), "{e}");
+    }
+}

@@ -1,0 +1,260 @@
+//! The texel inspector driven headless by egui_kittest on the software adapter: picking a strand in the viewport,
+//! the light-map view, the plot data of a selected texel against the exact fragment lists, pins, the CSV export
+//! and the synthetic texel lab.
+
+mod common;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use hairlab::app::inspector::TexelPlot;
+use hairlab::app::texel_lab::{LabSettings, LabSource};
+use hairlab::app::{HairlabApp, wgpu_setup};
+use hairlab::gpu::{AdapterPreference, Gpu};
+use hairlab::settings::Settings;
+use hairlab::visibility::Fragment;
+
+fn harness(settings: Settings) -> Harness<'static, HairlabApp> {
+    Harness::builder()
+        .with_size([1100.0, 760.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| {
+            let mut app = HairlabApp::new(cc, Some(settings));
+            app.set_snapshot_mode(true);
+            app
+        })
+}
+
+/// `exp(-sum of b)` over `fragments`, in f64.
+fn transmittance_through(fragments: &[Fragment]) -> f64 {
+    let b: f64 = fragments.iter().map(|f| -(1.0 - f64::from(f.alpha)).ln()).sum();
+    (-b).exp()
+}
+
+fn current(harness: &Harness<'_, HairlabApp>) -> TexelPlot {
+    harness
+        .state()
+        .inspector()
+        .curves()
+        .and_then(|c| c.current.clone())
+        .expect("an inspected texel")
+}
+
+#[test]
+fn click_on_hair_picks_a_texel_holding_the_clicked_segment() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness = harness(common::small_settings(320, 240));
+    harness.run();
+    assert!(!harness.state().inspector().open);
+    // Click (press and release without moving) down the middle of the viewport until one lands on hair.
+    let picked = [140.0, 180.0, 220.0, 260.0, 300.0, 340.0, 380.0]
+        .into_iter()
+        .find_map(|y| {
+            let pos = egui::pos2(720.0, y);
+            harness.hover_at(pos);
+            harness.step();
+            harness.drag_at(pos);
+            harness.step();
+            harness.drop_at(pos);
+            harness.run();
+            harness.state().inspector().selected
+        })
+        .expect("no click down the middle of the viewport picked a strand");
+    let pick = picked.picked.expect("selected by a pick");
+    let app = harness.state();
+    assert!(app.inspector().open, "picking opens the inspector");
+    // The texel holds a fragment of the clicked segment (the light's rasteriser drew it there).
+    let lists = app.inspector().lists().expect("fragment lists read");
+    let [x, y] = picked.texel;
+    let list = &lists.lists[(y * lists.resolution + x) as usize];
+    assert!(
+        list.iter().any(|f| f.segment == pick.segment),
+        "texel ({x}, {y}) holds no fragment of segment {}: {list:?}",
+        pick.segment
+    );
+    let (message, error) = app.message().unwrap();
+    assert!(
+        !error && message.contains(&format!("texel ({x}, {y})")),
+        "{message}"
+    );
+    assert_eq!(current(&harness).depth_complexity(), list.len());
+}
+
+#[test]
+fn inspector_plots_pins_exports_and_compares() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut settings = common::small_settings(320, 240);
+    settings.method.name = "osm".into();
+    settings.method.params.insert("slices".into(), 4.0);
+    let mut harness = harness(settings);
+    harness.run();
+
+    // The light map from the side panel; its "Densest texel" button inspects the texel with the most fragments.
+    harness.get_by_label("Light map").click();
+    harness.run();
+    harness.get_by_label("Densest texel").click();
+    harness.run();
+    let lists = harness.state().inspector().lists().expect("fragment lists read");
+    let max = lists.lists.iter().map(Vec::len).max().unwrap();
+    let densest = lists.densest().unwrap();
+    // Another texel, chosen programmatically: the first one in row-major order holding 3 fragments or more.
+    let other = (0..lists.lists.len())
+        .find(|&i| lists.lists[i].len() >= 3 && i != (densest[1] * lists.resolution + densest[0]) as usize)
+        .map(|i| [i as u32 % lists.resolution, i as u32 / lists.resolution])
+        .unwrap();
+    let other_fragments: Vec<Fragment> = lists.lists[(other[1] * lists.resolution + other[0]) as usize]
+        .iter()
+        .map(|f| Fragment::new(f.depth, f.alpha))
+        .collect();
+    assert!(harness.state().inspector().open);
+    assert_eq!(current(&harness).depth_complexity(), max);
+    assert!(max > 3, "densest texel holds {max} fragments");
+
+    harness.state_mut().select_texel(other[0], other[1]);
+    harness.run();
+    let t = current(&harness);
+    assert_eq!(t.label, format!("texel ({}, {})", other[0], other[1]));
+    assert_eq!(t.fragments, other_fragments);
+    // The reference starts at 1 (before the nearest fragment) and ends at exp(-sum b) (beyond the furthest).
+    assert_eq!(t.reference[0], 1.0);
+    let end = transmittance_through(&t.fragments);
+    assert!(
+        (f64::from(*t.reference.last().unwrap()) - end).abs() < 1e-6,
+        "{:?} vs {end}",
+        t.reference.last()
+    );
+    assert!(t.depths[0] < t.near && *t.depths.last().unwrap() > t.far);
+    // The reference has no error; OSM-4, the selected method, has some.
+    let r = t.reference_error.unwrap();
+    assert_eq!((r.mean, r.max), (0.0, 0.0));
+    assert_eq!(t.methods.len(), 1);
+    let osm = &t.methods[0];
+    assert_eq!(osm.label, "osm-4");
+    assert!(osm.selected && osm.error.unwrap().mean > 0.0, "{:?}", osm.error);
+    assert!(
+        harness
+            .state()
+            .inspector()
+            .curves()
+            .unwrap()
+            .stored
+            .as_ref()
+            .unwrap()
+            .boundaries
+            .len()
+            == 5
+    );
+
+    // Every method at once, then pin this texel and go back to the densest one.
+    harness.get_by_label("every method").click();
+    harness.run();
+    let labels: Vec<String> = current(&harness)
+        .methods
+        .iter()
+        .map(|m| m.label.clone())
+        .collect();
+    assert_eq!(labels, ["osm-4", "dom-3", "bom-4", "occupancy", "dc-4"]);
+    harness.get_by_label("Pin").click();
+    harness.run();
+    assert_eq!(harness.state().inspector().pins().len(), 1);
+    harness.get_by_label("Densest texel").click();
+    harness.run();
+    let curves = harness.state().inspector().curves().unwrap().clone();
+    assert_eq!(curves.current.as_ref().unwrap().depth_complexity(), max);
+    assert_eq!(curves.pins.len(), 1);
+    assert_eq!(curves.pins[0].fragments, other_fragments);
+
+    // CSV: one row per plotted depth of either texel, the reference and every curve shown.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("curves.csv");
+    harness.state_mut().export_inspector_csv(&path);
+    let text = std::fs::read_to_string(&path).expect("CSV written");
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "depth,reference,osm-4,dom-3,bom-4,occupancy,dc-4,pin1 reference,pin1 osm-4"
+    );
+    let rows: Vec<Vec<f32>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let mut depths: Vec<f32> = curves
+        .current
+        .iter()
+        .chain(&curves.pins)
+        .flat_map(|t| t.depths.clone())
+        .collect();
+    depths.sort_by(f32::total_cmp);
+    depths.dedup();
+    assert_eq!(rows.len(), depths.len());
+    // The rows hold the plotted values: the densest texel's reference and OSM-4 at its own depths.
+    let cur = curves.current.as_ref().unwrap();
+    for (i, z) in cur.depths.iter().enumerate() {
+        let row = rows.iter().find(|r| r[0] == *z).expect("a row per plotted depth");
+        assert_eq!((row[1], row[2]), (cur.reference[i], cur.methods[0].values[i]));
+    }
+    assert!(
+        harness
+            .state()
+            .message()
+            .is_some_and(|(m, e)| !e && m.contains("curves exported"))
+    );
+
+    // Remove the pin through its button.
+    harness.get_by_label("remove").click();
+    harness.run();
+    assert!(harness.state().inspector().pins().is_empty());
+}
+
+#[test]
+fn synthetic_lab_shows_density_clustering_break_down_with_more_gaussians() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut settings = common::small_settings(320, 240);
+    settings.method.name = "dc".into();
+    let mut harness = harness(settings);
+    harness.run();
+    harness.get_by_label("Texel inspector").click();
+    harness.run();
+    harness.get_by_label("Synthetic texel").click();
+    harness.run();
+    // Mertens et al. Fig. 5: 100 fragments from Q Gaussians against K = 4 clusters.
+    let mut dc_error = |gaussians: u32| {
+        harness.state_mut().inspector_mut().lab = LabSettings {
+            source: LabSource::Gaussians,
+            gaussians,
+            per_gaussian: 100 / gaussians,
+            spread: 0.03,
+            alpha: 0.05,
+            seed: 5,
+            ..LabSettings::default()
+        };
+        harness.run();
+        let t = current(&harness);
+        assert_eq!(t.depth_complexity() as u32, gaussians * (100 / gaussians));
+        assert_eq!(t.methods[0].label, "dc-4");
+        assert_eq!(t.reference[0], 1.0);
+        t.methods[0].error.unwrap()
+    };
+    let two = dc_error(2);
+    let eight = dc_error(8);
+    eprintln!("DC-4 texel error, Q=2: {two:?}; Q=8: {eight:?}");
+    assert!(eight.mean > two.mean, "Q=8 {eight:?} vs Q=2 {two:?}");
+
+    // Typed fragments: a bad line is reported, a good text plotted.
+    harness.get_by_label("Typed fragments").click();
+    harness.run();
+    harness.state_mut().inspector_mut().lab.text = "0.2,0.5\n0.6;0.5\n".into();
+    harness.run();
+    let (message, error) = harness.state().message().unwrap();
+    assert!(error && message.contains("typed fragments:2"), "{message}");
+    assert!(harness.state().inspector().curves().unwrap().current.is_none());
+    harness.state_mut().inspector_mut().lab.text = "0.2,0.5\n0.6,0.5\n".into();
+    harness.run();
+    let t = current(&harness);
+    assert_eq!(t.fragments, [Fragment::new(0.2, 0.5), Fragment::new(0.6, 0.5)]);
+    assert!((t.reference.last().unwrap() - 0.25).abs() < 1e-6);
+}

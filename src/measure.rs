@@ -127,8 +127,21 @@ fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() { 0.0 } else { v[v.len() / 2] }
 }
 
-/// Measures `configs` on the scene of `settings` (`frames` timed frames each, after one warm-up).
+/// Measures `configs` on the scene of `settings` (`frames` timed frames each, after one warm-up) on a device
+/// opened by the adapter policy (hardware first, `HAIRLAB_ADAPTER` overrides).
 pub fn measure(
+    settings: &Settings,
+    configs: &[MethodConfig],
+    frames: u32,
+    progress: impl FnMut(&str),
+) -> Result<(SceneStats, Vec<Measurement>)> {
+    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    measure_on(&gpu, settings, configs, frames, progress)
+}
+
+/// [`measure`] on a given device (tests pass the software adapter).
+pub fn measure_on(
+    gpu: &Gpu,
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
@@ -139,9 +152,8 @@ pub fn measure(
     if s.camera.distance <= 0.0 {
         s.camera.frame(&scene.framing_bounds());
     }
-    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let res = s.render.map_resolution;
-    let mut r = Renderer::new(&gpu, &scene, res)?;
+    let mut r = Renderer::new(gpu, &scene, res)?;
     let input = |method: &'static dyn methods::ShadowMethod, params| FrameInput {
         camera: &s.camera,
         light: &s.light,

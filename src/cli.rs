@@ -57,8 +57,9 @@ pub struct MeasureArgs {
     /// Override any preset value, e.g. `--set render.map_resolution=512` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Method configurations `name` or `name:key=value,...` (repeatable); default: the usual settings of every
-    /// registered method (OSM 16/64/256, DOM 3/7, BOM 4/8, DC 4, occupancy).
+    /// Method configurations `name` or `name:key=value,...` (repeatable); `bom:layers=K,split_ratio=auto` uses
+    /// the automatic split ratio. Default: the usual settings of every registered method (OSM 16/64/256, DOM 3/7,
+    /// BOM 4/8, DC 4, occupancy).
     #[arg(long = "config", value_name = "METHOD[:K=V,...]")]
     pub configs: Vec<String>,
     /// Timed frames per configuration (after one warm-up frame).
@@ -395,14 +396,29 @@ fn curve(a: &CurveArgs) -> Result<()> {
 fn measure(a: &MeasureArgs) -> Result<()> {
     use crate::measure::{MethodConfig, usual_configs};
     let settings = Settings::load_preset(&a.preset, &a.set)?;
-    let configs = if a.configs.is_empty() {
-        usual_configs()
-    } else {
-        a.configs
-            .iter()
-            .map(|c| MethodConfig::parse(c))
-            .collect::<Result<Vec<_>>>()?
-    };
+    let mut configs = Vec::new();
+    for c in &a.configs {
+        // `bom:layers=K,split_ratio=auto`: Bounding Opacity Maps' automatic split ratio on this scene.
+        let text = match c.strip_suffix(",split_ratio=auto") {
+            Some(base) if base.starts_with("bom:") => {
+                let k: u32 = base
+                    .split(',')
+                    .find_map(|kv| kv.trim_start_matches("bom:").strip_prefix("layers="))
+                    .and_then(|v| v.parse().ok())
+                    .with_context(|| format!("'{c}': the automatic split ratio needs layers=K"))?;
+                let never = std::sync::atomic::AtomicBool::new(false);
+                let ratios = crate::bench::automatic_split_ratios(&settings, &[k], &never, &mut |_| {})?;
+                let r = ratios.and_then(|v| v.first().map(|(_, r)| *r)).unwrap_or(0.0);
+                eprintln!("{c}: automatic split ratio {r}");
+                format!("{base},split_ratio={r}")
+            }
+            _ => c.clone(),
+        };
+        configs.push(MethodConfig::parse(&text)?);
+    }
+    if configs.is_empty() {
+        configs = usual_configs();
+    }
     let (stats, rows) = crate::measure::measure(&settings, &configs, a.frames, |what| {
         eprintln!("measuring {what}…")
     })?;

@@ -43,7 +43,7 @@ fn fs_main(in: VertexOut) -> OitTargets {
     let t = normalize(in.tangent);
     let to_eye = normalize(frame.eye_position.xyz - in.world);
     let l = light_dir(in.world);
-    let v = hair_visibility(in.world) * mesh_visibility(in.world);
+    let v = hair_visibility(in.world) * mesh_visibility(in.world, 1);
     let shaded = kajiya_kay(t, l, to_eye, in.color.rgb) * light_radiance(in.world) * v + in.color.rgb * 0.08;
     let a = in.color.a;
     // Depth weight in the spirit of McGuire & Bavoil: nearer fragments dominate. The distance is measured in

@@ -36,7 +36,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         n = -n;
     }
     let l = light_dir(in.world);
-    let v = mesh_visibility(in.world) * hair_visibility(in.world);
+    let v = mesh_visibility(in.world, 3) * hair_visibility(in.world);
     let lit = in.color * light_radiance(in.world) * max(dot(n, l), 0.0) * v;
     return vec4<f32>(lit + in.color * 0.12, 1.0);
 }

@@ -1,9 +1,12 @@
 //! The light-map view: a per-texel quantity of the light's exact fragment lists (nearest depth, furthest depth,
-//! depth range or depth complexity) as an image in a plot that zooms and pans, with a colour scale and the value
-//! under the cursor. Clicking a texel inspects it.
+//! depth range, depth complexity, occupied occupancy-map slices) or one value the selected method stores (an
+//! opacity slice or layer, a cluster density, a slab count; built by its CPU model, which the GPU matches) as an
+//! image in a plot that zooms and pans, with a colour scale and the value under the cursor. Clicking a texel
+//! inspects it.
 
 use super::HairlabApp;
 use super::inspector::{ReferenceLists, SceneTexel};
+use crate::visibility::{Fragment, MethodParams, OccupancyParams, occupancy};
 use egui::Color32;
 use egui_plot::{MarkerShape, Plot, PlotImage, PlotPoint, Points};
 
@@ -17,10 +20,21 @@ pub enum MapQuantity {
     Far,
     /// `far - near`.
     Range,
+    /// Set bits of the texel's 128-slice occupancy bitmap (Sintorn & Assarsson).
+    OccupiedSlices,
+    /// Value `LightMapView::stored` of what the selected method stores (`MethodParams::stored_values`).
+    Stored,
 }
 
 impl MapQuantity {
-    const ALL: [MapQuantity; 4] = [Self::Complexity, Self::Near, Self::Far, Self::Range];
+    const ALL: [MapQuantity; 6] = [
+        Self::Complexity,
+        Self::Near,
+        Self::Far,
+        Self::Range,
+        Self::OccupiedSlices,
+        Self::Stored,
+    ];
 
     fn label(self) -> &'static str {
         match self {
@@ -28,19 +42,36 @@ impl MapQuantity {
             Self::Near => "nearest depth",
             Self::Far => "furthest depth",
             Self::Range => "depth range (far − near)",
+            Self::OccupiedSlices => "occupied slices (of 128)",
+            Self::Stored => "stored value of the method",
         }
     }
 
-    /// The quantity of one texel's list (sorted by depth); NaN for an empty texel.
-    fn of(self, list: &[crate::render::passes::abuffer::RefFragment]) -> f32 {
+    /// The quantity of one texel's list (sorted by depth); NaN for an empty texel. `stored`: the selected
+    /// method's model and the index of its stored value, for [`MapQuantity::Stored`].
+    fn of(
+        self,
+        list: &[crate::render::passes::abuffer::RefFragment],
+        stored: Option<(&MethodParams, usize)>,
+    ) -> f32 {
         let (Some(first), Some(last)) = (list.first(), list.last()) else {
             return f32::NAN;
         };
+        let fragments =
+            || -> Vec<Fragment> { list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect() };
         match self {
             Self::Complexity => list.len() as f32,
             Self::Near => first.depth,
             Self::Far => last.depth,
             Self::Range => last.depth - first.depth,
+            Self::OccupiedSlices => {
+                // The bitmap does not depend on alpha.
+                let texel = occupancy::build(&OccupancyParams::new(0.5), &fragments());
+                texel.occupancy.iter().map(|w| w.count_ones()).sum::<u32>() as f32
+            }
+            Self::Stored => stored
+                .and_then(|(model, k)| model.stored_values(&fragments()).get(k).copied())
+                .unwrap_or(f32::NAN),
         }
     }
 }
@@ -48,6 +79,8 @@ impl MapQuantity {
 /// The image of one quantity of one read of the lists.
 struct MapImage {
     quantity: MapQuantity,
+    /// The model and stored-value index a [`MapQuantity::Stored`] image shows.
+    stored: Option<(MethodParams, usize)>,
     generation: u64,
     resolution: u32,
     /// Row-major, NaN where the texel is empty.
@@ -61,6 +94,8 @@ struct MapImage {
 #[derive(Default)]
 pub struct LightMapView {
     pub quantity: MapQuantity,
+    /// Which stored value [`MapQuantity::Stored`] shows (slice, layer, cluster or slab index).
+    pub stored: usize,
     image: Option<MapImage>,
 }
 
@@ -84,9 +119,19 @@ fn viridis(t: f32) -> Color32 {
 }
 
 impl MapImage {
-    fn new(ctx: &egui::Context, lists: &ReferenceLists, quantity: MapQuantity) -> MapImage {
+    fn new(
+        ctx: &egui::Context,
+        lists: &ReferenceLists,
+        quantity: MapQuantity,
+        stored: Option<(MethodParams, usize)>,
+    ) -> MapImage {
         let n = lists.resolution as usize;
-        let values: Vec<f32> = lists.lists.iter().take(n * n).map(|l| quantity.of(l)).collect();
+        let values: Vec<f32> = lists
+            .lists
+            .iter()
+            .take(n * n)
+            .map(|l| quantity.of(l, stored.as_ref().map(|(m, k)| (m, *k))))
+            .collect();
         let (min, max) = values
             .iter()
             .filter(|v| !v.is_nan())
@@ -110,6 +155,7 @@ impl MapImage {
         );
         MapImage {
             quantity,
+            stored,
             generation: lists.generation,
             resolution: lists.resolution,
             values,
@@ -124,6 +170,7 @@ impl MapImage {
             (true, _) => "empty".into(),
             (false, MapQuantity::Complexity) if v == 1.0 => "1 fragment".into(),
             (false, MapQuantity::Complexity) => format!("{v:.0} fragments"),
+            (false, MapQuantity::OccupiedSlices) => format!("{v:.0} slices"),
             (false, _) => format!("{v:.5}"),
         }
     }
@@ -171,6 +218,14 @@ impl HairlabApp {
                 })
                 .response
                 .labelled_by(l.id);
+            if insp.map.quantity == MapQuantity::Stored {
+                ui.add(
+                    egui::DragValue::new(&mut insp.map.stored)
+                        .range(0..=255)
+                        .prefix("index "),
+                )
+                .on_hover_text("slice, layer, cluster or slab of the selected method");
+            }
             if ui
                 .add_enabled(densest.is_some(), egui::Button::new("Densest texel"))
                 .on_hover_text("inspect the texel holding the most fragments")
@@ -182,18 +237,26 @@ impl HairlabApp {
         if let Some(t) = chosen {
             self.inspector.select_scene_texel(t);
         }
+        let stored = match crate::methods::registry::find(&self.settings.method.name) {
+            Ok(m) if self.inspector.map.quantity == MapQuantity::Stored => m
+                .model(&self.settings.method.params, self.settings.render.hair_alpha)
+                .map(|model| (model, self.inspector.map.stored)),
+            _ => None,
+        };
         let insp = &mut self.inspector;
         let Some(lists) = insp.lists.as_ref() else {
             ui.label("no fragment lists yet (see the status line)");
             return;
         };
-        let fresh = insp
-            .map
-            .image
-            .as_ref()
-            .is_some_and(|i| i.quantity == insp.map.quantity && i.generation == lists.generation);
+        if insp.map.quantity == MapQuantity::Stored && stored.is_none() {
+            ui.label("the selected method stores no per-texel values beyond near/far");
+            return;
+        }
+        let fresh = insp.map.image.as_ref().is_some_and(|i| {
+            i.quantity == insp.map.quantity && i.generation == lists.generation && i.stored == stored
+        });
         if !fresh {
-            insp.map.image = Some(MapImage::new(ui.ctx(), lists, insp.map.quantity));
+            insp.map.image = Some(MapImage::new(ui.ctx(), lists, insp.map.quantity, stored));
         }
         let Some(image) = insp.map.image.as_ref() else {
             return;
@@ -314,6 +377,36 @@ mod tests {
             let [x, y] = texel_centre(t, 4);
             assert_eq!(texel_at(PlotPoint::new(x, y), 4), Some(t));
         }
+    }
+
+    #[test]
+    fn occupied_slices_and_stored_values() {
+        use crate::render::passes::abuffer::RefFragment;
+        use crate::visibility::OsmParams;
+        let f = |depth| RefFragment {
+            depth,
+            alpha: 0.5,
+            segment: 0,
+        };
+        // Range [0.2, 0.8] in 128 slices: 0.2 -> slice 0, 0.5 -> slice 64, 0.8 -> slice 127, 0.51 -> slice 66.
+        let list = [f(0.2), f(0.5), f(0.51), f(0.8)];
+        assert_eq!(MapQuantity::OccupiedSlices.of(&list, None), 4.0);
+        assert_eq!(MapQuantity::OccupiedSlices.of(&[f(0.3), f(0.3)], None), 1.0);
+        // OSM-4 planes: fragments in slices 0, 2, 2, 3 -> accumulated b at planes 1..4 = b, b, 3b, 4b (b = ln 2).
+        let osm = MethodParams::Osm(OsmParams { slices: 4 });
+        let b = 2f32.ln();
+        for (k, want) in [(0, b), (1, b), (2, 3.0 * b), (3, 4.0 * b)] {
+            let got = MapQuantity::Stored.of(&list, Some((&osm, k)));
+            assert!((got - want).abs() < 1e-6, "plane {k}: {got} vs {want}");
+        }
+        assert!(
+            MapQuantity::Stored.of(&list, Some((&osm, 4))).is_nan(),
+            "past the last plane"
+        );
+        assert!(
+            MapQuantity::Stored.of(&[], Some((&osm, 0))).is_nan(),
+            "empty texel"
+        );
     }
 
     #[test]

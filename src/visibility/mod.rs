@@ -165,6 +165,20 @@ impl MethodParams {
         }
     }
 
+    /// The per-texel values the method stores besides near/far, in the GPU's order: OSM's accumulated optical
+    /// depth per slice plane, DOM's and BOM's per layer, DC's density per cluster, occupancy's fragment count
+    /// per slab; nothing for the reference.
+    pub fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
+        match self {
+            Self::Reference => Vec::new(),
+            Self::Osm(p) => p.build(fragments).planes,
+            Self::Dom(p) => p.build(fragments).layers,
+            Self::Bom(p) => p.build(fragments).layers,
+            Self::Dc(p) => p.build(fragments).densities,
+            Self::Occupancy(p) => p.build(fragments).slabs.iter().map(|&c| c as f32).collect(),
+        }
+    }
+
     /// Builds the method's texel from `fragments` once and evaluates `V` at every depth of `zs`.
     pub fn visibility_curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
         match self {

@@ -1,0 +1,44 @@
+//! Every preset file in `presets/` loads, validates and builds its scene; the scalp-mesh preset grows hair on
+//! the glTF mesh in `assets/`.
+
+use hairlab::settings::Settings;
+use std::path::Path;
+
+#[test]
+fn every_preset_file_builds_its_scene() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets");
+    let mut count = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let s = Settings::load_preset(path.to_str().unwrap(), &[]).unwrap_or_else(|e| panic!("{e:#}"));
+        let scene = s
+            .scene
+            .build()
+            .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+        assert!(scene.strands.segment_count() > 0, "{}: no hair", path.display());
+        count += 1;
+    }
+    assert!(count >= 7, "only {count} presets found in {}", dir.display());
+}
+
+#[test]
+fn scalp_mesh_preset_grows_hair_on_the_asset() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/scalp-mesh.toml");
+    let s = Settings::load_preset(path.to_str().unwrap(), &[]).unwrap();
+    let scene = s.scene.build().unwrap();
+    assert_eq!(scene.strands.strand_count(), 2000);
+    // The asset: an upper half ellipsoid of 24 x 8 quads (384 triangles), radii 0.085 x 0.1 x 0.095.
+    assert_eq!(scene.meshes[0].indices.len() / 3, 384);
+    for (start, _) in scene.strands.ranges() {
+        let root = scene.strands.points[start];
+        let e = (root / glam::Vec3::new(0.085, 0.1, 0.095)).length();
+        // Roots lie on the faceted surface: between the inscribed and the circumscribed ellipsoid.
+        assert!(
+            root.y >= -1e-4 && (0.95..=1.0001).contains(&e),
+            "root {root} off the scalp ({e})"
+        );
+    }
+}

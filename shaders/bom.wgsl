@@ -5,6 +5,7 @@
 // optical depth to its layer and every later one (visibility::bom, build).
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
+#include "common/cumulative_targets.wgsl"
 
 struct BomUniforms {
     layers: u32,
@@ -23,25 +24,8 @@ fn vs_main(v: LightVertexIn) -> LightFragment {
     return light_vertex(v);
 }
 
-struct Layers {
-    @location(0) l0: vec4<f32>,
-    @location(1) l1: vec4<f32>,
-    @location(2) l2: vec4<f32>,
-    @location(3) l3: vec4<f32>,
-    @location(4) l4: vec4<f32>,
-    @location(5) l5: vec4<f32>,
-    @location(6) l6: vec4<f32>,
-    @location(7) l7: vec4<f32>,
-}
-
-// b for the four layers first..first+3 that lie at or behind the fragment's layer k, 0 for those in front.
-fn contribution(k: u32, first: u32, b: f32) -> vec4<f32> {
-    let l = vec4<u32>(first, first + 1u, first + 2u, first + 3u);
-    return select(vec4<f32>(0.0), vec4<f32>(b), l >= vec4<u32>(k));
-}
-
 @fragment
-fn fs_main(f: LightFragment) -> Layers {
+fn fs_main(f: LightFragment) -> CumulativeTargets {
     let texel = vec2<i32>(f.clip.xy);
     let near = textureLoad(bom_near, texel, 0).r;
     let far = textureLoad(bom_far, texel, 0).r;
@@ -52,14 +36,5 @@ fn fs_main(f: LightFragment) -> Layers {
     let n = bom.layers;
     let k = min(u32(max(floor(s * f32(n)), 0.0)), n - 1u);
     let b = optical_depth(f.alpha);
-    return Layers(
-        contribution(k, 0u, b),
-        contribution(k, 4u, b),
-        contribution(k, 8u, b),
-        contribution(k, 12u, b),
-        contribution(k, 16u, b),
-        contribution(k, 20u, b),
-        contribution(k, 24u, b),
-        contribution(k, 28u, b),
-    );
+    return cumulative(k, 0u, b);
 }

@@ -5,6 +5,7 @@
 // far end (visibility::dom, build).
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
+#include "common/cumulative_targets.wgsl"
 
 struct DomUniforms {
     // d_1..d_K relative to z0: layer k (0-based) ends at ends[k / 4][k % 4].
@@ -25,25 +26,12 @@ fn vs_main(v: LightVertexIn) -> LightFragment {
     return light_vertex(v);
 }
 
-struct Layers {
-    @location(0) l0: vec4<f32>,
-    @location(1) l1: vec4<f32>,
-    @location(2) l2: vec4<f32>,
-    @location(3) l3: vec4<f32>,
-}
-
 fn dom_end(k: u32) -> f32 {
     return dom.ends[k / 4u][k % 4u];
 }
 
-// b for the four layers first..first+3 that lie at or behind the fragment's layer k, 0 for those in front.
-fn contribution(k: u32, first: u32, b: f32) -> vec4<f32> {
-    let l = vec4<u32>(first, first + 1u, first + 2u, first + 3u);
-    return select(vec4<f32>(0.0), vec4<f32>(b), l >= vec4<u32>(k));
-}
-
 @fragment
-fn fs_main(f: LightFragment) -> Layers {
+fn fs_main(f: LightFragment) -> CumulativeTargets {
     let texel = vec2<i32>(f.clip.xy);
     let near = textureLoad(dom_near, texel, 0).r;
     let n = dom.layers;
@@ -69,5 +57,5 @@ fn fs_main(f: LightFragment) -> Layers {
         k = n - 1u;
     }
     let b = optical_depth(f.alpha);
-    return Layers(contribution(k, 0u, b), contribution(k, 4u, b), contribution(k, 8u, b), contribution(k, 12u, b));
+    return cumulative(k, 0u, b);
 }

@@ -15,6 +15,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/kajiya_kay.wgsl",
     "common/light_vertex.wgsl",
     "common/method_lookup.wgsl",
+    "common/cumulative_targets.wgsl",
     "methods/none.wgsl",
     "methods/opaque_shadow_map.wgsl",
     "methods/reference.wgsl",

@@ -2,6 +2,9 @@
 //! through the CLI binary (files, rows, chart, OSM's error falling with slices), bad input, and the Bench window
 //! driven headless (run, click a point, the configuration applied).
 
+mod common;
+
+use common::cli::{error_lines, hairlab, stderr};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use hairlab::app::{HairlabApp, wgpu_setup};
@@ -9,7 +12,6 @@ use hairlab::bench::{chart, pareto_front};
 use hairlab::gpu::{AdapterPreference, Gpu};
 use hairlab::settings::Settings;
 use std::path::Path;
-use std::process::{Command, Output};
 
 /// The tiny scene of the CLI runs: 200 strands, a 64² light map.
 const TINY: &[&str] = &[
@@ -18,27 +20,6 @@ const TINY: &[&str] = &[
     "--set",
     "render.map_resolution=64",
 ];
-
-fn hairlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hairlab"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("run hairlab")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// The `error:` lines hairlab printed (drivers may print their own noise on stderr).
-fn error_lines(o: &Output) -> Vec<String> {
-    stderr(o)
-        .lines()
-        .filter(|l| l.starts_with("error: ") && !l.contains("XDG_RUNTIME_DIR"))
-        .map(String::from)
-        .collect()
-}
 
 /// Splits one CSV line into fields (quoted fields may hold commas and doubled quotes).
 fn csv_fields(line: &str) -> Vec<String> {

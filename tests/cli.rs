@@ -1,38 +1,10 @@
 //! The command line as a user runs it: success paths write whole files; bad input gives one error line naming
 //! the file and the problem, a non-zero exit, and no output file.
 
+mod common;
+
+use common::cli::{assert_fails, hairlab, stderr};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn hairlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hairlab"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("run hairlab")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// The `error:` lines hairlab printed (drivers may print their own noise on stderr).
-fn error_lines(o: &Output) -> Vec<String> {
-    stderr(o)
-        .lines()
-        .filter(|l| l.starts_with("error: ") && !l.contains("XDG_RUNTIME_DIR"))
-        .map(String::from)
-        .collect()
-}
-
-fn assert_fails(o: &Output, needles: &[&str]) {
-    assert!(!o.status.success(), "expected failure, stderr: {}", stderr(o));
-    let lines = error_lines(o);
-    assert_eq!(lines.len(), 1, "exactly one error line expected: {lines:?}");
-    for n in needles {
-        assert!(lines[0].contains(n), "{:?} does not mention {n:?}", lines[0]);
-    }
-}
 
 #[test]
 fn gen_then_info_round_trip() {

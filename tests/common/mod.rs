@@ -2,6 +2,8 @@
 
 #![allow(dead_code)]
 
+pub mod cli;
+
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};

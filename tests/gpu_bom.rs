@@ -7,11 +7,10 @@ mod common;
 
 use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
-use hairlab::methods::bom::{BomUniforms, automatic_split_ratio};
+use hairlab::methods::bom::automatic_split_ratio;
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};
 use hairlab::settings::Settings;
-use hairlab::shaders::compose;
 use hairlab::visibility::SplitCriterion;
 
 /// The linear split is the same f32 expressions as on the CPU; for `r > 0` the GPU's `log2` is not correctly
@@ -116,44 +115,6 @@ fn memory_and_geometry_passes() {
         let m = r.method_gpu(method).unwrap();
         assert_eq!(m.memory_bytes(), 512 * 512 * bytes_per_texel, "{config:?}");
         assert_eq!(m.geometry_passes(), 1, "{config:?}");
-    }
-}
-
-/// `BomUniforms` mirrors the WGSL `BomUniforms` (light pass) and `BomLookup` (lookup) field by field.
-#[test]
-fn uniforms_match_wgsl() {
-    for (pass, method, name) in [
-        ("bom.wgsl", None, "BomUniforms"),
-        ("evaluate.wgsl", Some("methods/bom.wgsl"), "BomLookup"),
-    ] {
-        let src = compose(pass, method).unwrap();
-        let module = naga::front::wgsl::parse_str(&src).unwrap();
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("{name} in {pass}"));
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("{name} is not a struct")
-        };
-        assert_eq!(*span as usize, std::mem::size_of::<BomUniforms>(), "{name}");
-        let wgsl: Vec<(&str, u32)> = members
-            .iter()
-            .map(|m| (m.name.as_deref().unwrap(), m.offset))
-            .collect();
-        assert_eq!(
-            wgsl,
-            [
-                ("layers", std::mem::offset_of!(BomUniforms, layers) as u32),
-                (
-                    "split_ratio",
-                    std::mem::offset_of!(BomUniforms, split_ratio) as u32
-                ),
-                ("pad0", std::mem::offset_of!(BomUniforms, pad) as u32),
-                ("pad1", std::mem::offset_of!(BomUniforms, pad) as u32 + 4),
-            ],
-            "{name}"
-        );
     }
 }
 

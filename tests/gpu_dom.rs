@@ -7,10 +7,8 @@ mod common;
 
 use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
-use hairlab::methods::dom::DomUniforms;
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};
-use hairlab::shaders::compose;
 
 /// The layer of a fragment is chosen by the same f32 comparisons `dz < scale * d_k` as on the CPU, with the same
 /// `d_k` (uniform filled from `layer_ends`); additive blending sums the same f32 values in another order, and
@@ -111,41 +109,5 @@ fn memory_and_geometry_passes() {
         let m = r.method_gpu(method).unwrap();
         assert_eq!(m.memory_bytes(), 512 * 512 * bytes_per_texel, "{config:?}");
         assert_eq!(m.geometry_passes(), 1, "{config:?}");
-    }
-}
-
-/// `DomUniforms` mirrors the WGSL `DomUniforms` (light pass) and `DomLookup` (lookup) field by field.
-#[test]
-fn uniforms_match_wgsl() {
-    for (pass, method, name) in [
-        ("dom.wgsl", None, "DomUniforms"),
-        ("evaluate.wgsl", Some("methods/dom.wgsl"), "DomLookup"),
-    ] {
-        let src = compose(pass, method).unwrap();
-        let module = naga::front::wgsl::parse_str(&src).unwrap();
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("{name} in {pass}"));
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("{name} is not a struct")
-        };
-        assert_eq!(*span as usize, std::mem::size_of::<DomUniforms>(), "{name}");
-        let wgsl: Vec<(&str, u32)> = members
-            .iter()
-            .map(|m| (m.name.as_deref().unwrap(), m.offset))
-            .collect();
-        assert_eq!(
-            wgsl,
-            [
-                ("ends", std::mem::offset_of!(DomUniforms, ends) as u32),
-                ("layers", std::mem::offset_of!(DomUniforms, layers) as u32),
-                ("beyond", std::mem::offset_of!(DomUniforms, beyond) as u32),
-                ("pad0", std::mem::offset_of!(DomUniforms, pad) as u32),
-                ("pad1", std::mem::offset_of!(DomUniforms, pad) as u32 + 4),
-            ],
-            "{name}"
-        );
     }
 }

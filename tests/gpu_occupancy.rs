@@ -115,37 +115,3 @@ fn maps_beyond_the_storage_binding_size_are_refused() {
         result.unwrap();
     }
 }
-
-/// `OccupancyUniforms` (Rust) has the fields, offsets and size of `OccupancyUniforms` in the light pass and of
-/// `OccupancyLookup` in the lookup.
-#[test]
-fn uniforms_match_wgsl_layout() {
-    use hairlab::methods::occupancy::OccupancyUniforms;
-    use hairlab::shaders::compose;
-    let rust = [
-        ("variant", std::mem::offset_of!(OccupancyUniforms, variant)),
-        ("pad0", std::mem::offset_of!(OccupancyUniforms, pad0)),
-        ("pad1", std::mem::offset_of!(OccupancyUniforms, pad1)),
-        ("pad2", std::mem::offset_of!(OccupancyUniforms, pad2)),
-    ];
-    for (pass, method, name) in [
-        ("occupancy.wgsl", None, "OccupancyUniforms"),
-        ("evaluate.wgsl", Some("methods/occupancy.wgsl"), "OccupancyLookup"),
-    ] {
-        let module = naga::front::wgsl::parse_str(&compose(pass, method).unwrap()).unwrap();
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("{name} in {pass}"));
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("{name} is not a struct")
-        };
-        assert_eq!(*span as usize, std::mem::size_of::<OccupancyUniforms>(), "{name}");
-        let wgsl: Vec<(&str, usize)> = members
-            .iter()
-            .map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize))
-            .collect();
-        assert_eq!(wgsl, rust, "{name}");
-    }
-}

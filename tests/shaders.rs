@@ -81,32 +81,123 @@ fn method_passes_refuse_to_compose_without_a_method() {
     }
 }
 
-#[test]
-fn frame_uniforms_match_wgsl_layout() {
-    let src = compose("hair.wgsl", Some("methods/none.wgsl")).unwrap();
-    let (module, _) = validate("hair.wgsl", &src);
+/// Size and `(field name, byte offset)` of the WGSL struct `name` in the composed `pass`.
+fn wgsl_struct(pass: &str, method: Option<&str>, name: &str) -> (usize, Vec<(String, usize)>) {
+    let src = compose(pass, method).unwrap();
+    let (module, _) = validate(pass, &src);
     let (_, ty) = module
         .types
         .iter()
-        .find(|(_, t)| t.name.as_deref() == Some("FrameUniforms"))
-        .expect("FrameUniforms in WGSL");
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name} in {pass}"));
     let naga::TypeInner::Struct { members, span } = &ty.inner else {
-        panic!("FrameUniforms is not a struct")
+        panic!("{name} is not a struct")
     };
-    assert_eq!(
+    (
         *span as usize,
+        members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect(),
+    )
+}
+
+/// Checks a Rust mirror (its size and `(WGSL field name, Rust offset)` list) against every WGSL copy of it.
+fn check_mirror(rust_size: usize, rust: &[(&str, usize)], wgsl: &[(&str, Option<&str>, &str)]) {
+    let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+    for (pass, method, name) in wgsl {
+        let (size, fields) = wgsl_struct(pass, *method, name);
+        assert_eq!(size, rust_size, "{name} in {pass}: size");
+        assert_eq!(
+            fields, rust,
+            "{name} in {pass}: field names/offsets differ between Rust and WGSL"
+        );
+    }
+}
+
+#[test]
+fn frame_uniforms_match_wgsl_layout() {
+    check_mirror(
         std::mem::size_of::<FrameUniforms>(),
-        "struct size"
+        FRAME_UNIFORMS_FIELDS,
+        &[("hair.wgsl", Some("methods/none.wgsl"), "FrameUniforms")],
     );
-    let wgsl: Vec<(String, usize)> = members
-        .iter()
-        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
-        .collect();
-    let rust: Vec<(String, usize)> = FRAME_UNIFORMS_FIELDS
-        .iter()
-        .map(|(n, o)| (n.to_string(), *o))
-        .collect();
-    assert_eq!(wgsl, rust, "field names/offsets differ between Rust and WGSL");
+}
+
+/// Every method's uniform struct against its light pass's and its lookup's WGSL copies.
+#[test]
+fn method_uniforms_match_wgsl_layout() {
+    use hairlab::methods::{bom::BomUniforms, dc::DcUniforms, dom::DomUniforms};
+    use hairlab::methods::{occupancy::OccupancyUniforms, osm::OsmUniforms};
+    use std::mem::{offset_of, size_of};
+    check_mirror(
+        size_of::<OsmUniforms>(),
+        &[
+            ("slices", offset_of!(OsmUniforms, slices)),
+            ("pad0", 4),
+            ("pad1", 8),
+            ("pad2", 12),
+        ],
+        &[
+            ("osm.wgsl", None, "OsmUniforms"),
+            ("evaluate.wgsl", Some("methods/osm.wgsl"), "OsmLookup"),
+        ],
+    );
+    let pad = offset_of!(DomUniforms, pad);
+    check_mirror(
+        size_of::<DomUniforms>(),
+        &[
+            ("ends", offset_of!(DomUniforms, ends)),
+            ("layers", offset_of!(DomUniforms, layers)),
+            ("beyond", offset_of!(DomUniforms, beyond)),
+            ("pad0", pad),
+            ("pad1", pad + 4),
+        ],
+        &[
+            ("dom.wgsl", None, "DomUniforms"),
+            ("evaluate.wgsl", Some("methods/dom.wgsl"), "DomLookup"),
+        ],
+    );
+    let pad = offset_of!(BomUniforms, pad);
+    check_mirror(
+        size_of::<BomUniforms>(),
+        &[
+            ("layers", offset_of!(BomUniforms, layers)),
+            ("split_ratio", offset_of!(BomUniforms, split_ratio)),
+            ("pad0", pad),
+            ("pad1", pad + 4),
+        ],
+        &[
+            ("bom.wgsl", None, "BomUniforms"),
+            ("evaluate.wgsl", Some("methods/bom.wgsl"), "BomLookup"),
+        ],
+    );
+    check_mirror(
+        size_of::<DcUniforms>(),
+        &[
+            ("clusters", offset_of!(DcUniforms, clusters)),
+            ("pad0", offset_of!(DcUniforms, pad0)),
+            ("pad1", offset_of!(DcUniforms, pad1)),
+            ("pad2", offset_of!(DcUniforms, pad2)),
+        ],
+        &[
+            ("dc.wgsl", None, "DcUniforms"),
+            ("evaluate.wgsl", Some("methods/dc.wgsl"), "DcUniforms"),
+        ],
+    );
+    check_mirror(
+        size_of::<OccupancyUniforms>(),
+        &[
+            ("variant", offset_of!(OccupancyUniforms, variant)),
+            ("pad0", offset_of!(OccupancyUniforms, pad0)),
+            ("pad1", offset_of!(OccupancyUniforms, pad1)),
+            ("pad2", offset_of!(OccupancyUniforms, pad2)),
+        ],
+        &[
+            ("occupancy.wgsl", None, "OccupancyUniforms"),
+            ("evaluate.wgsl", Some("methods/occupancy.wgsl"), "OccupancyLookup"),
+        ],
+    );
 }
 
 /// The vertex formats Rust declares match the WGSL `vs_main` inputs location by location.

@@ -151,9 +151,14 @@ pub struct CurveArgs {
 fn curve_params_help() -> String {
     let mut out = String::from("Methods and their parameters:\n");
     for m in crate::methods::registry::all() {
-        out.push_str(&format!("  {} — {}\n", m.name(), m.source()));
+        out.push_str(&format!("  {} — {}\n", m.name(), m.info().paper));
         for p in m.params() {
-            out.push_str(&format!("      {} (default {}): {}\n", p.key, p.default, p.help));
+            out.push_str(&format!(
+                "      {} (default {}): {}\n",
+                p.key,
+                p.format(p.default),
+                p.help
+            ));
         }
     }
     out
@@ -362,13 +367,10 @@ fn curve(a: &CurveArgs) -> Result<()> {
         let (k, v) = p
             .split_once('=')
             .with_context(|| format!("--param '{p}': expected key=value"))?;
-        let v: f32 = v
-            .trim()
-            .parse()
-            .with_context(|| format!("--param '{p}': not a number"))?;
+        let v = crate::methods::parse_value(method, k.trim(), v)
+            .map_err(|e| anyhow::anyhow!("--param '{p}': {e}"))?;
         values.insert(k.trim().to_string(), v);
     }
-    crate::methods::validate(method, &values).map_err(anyhow::Error::msg)?;
     if !(2..=1_000_000).contains(&a.samples) {
         anyhow::bail!("--samples must be in 2..=1000000 (got {})", a.samples);
     }
@@ -383,11 +385,12 @@ fn curve(a: &CurveArgs) -> Result<()> {
     let zs: Vec<f32> = (0..a.samples)
         .map(|i| i as f32 / (a.samples - 1) as f32)
         .collect();
-    let reference = crate::visibility::MethodParams::Reference.visibility_curve(&frags, &zs);
+    use crate::visibility::TexelModel;
+    let reference = crate::visibility::Reference.curve(&frags, &zs);
+    let model = method.model(&values, alpha).curve(&frags, &zs);
     let mut out = format!("depth,reference,{}\n", method.name());
-    for (i, z) in zs.iter().enumerate() {
-        let v = method.visibility(&values, alpha, &frags, *z);
-        out.push_str(&format!("{z},{},{v}\n", reference[i]));
+    for ((z, r), v) in zs.iter().zip(&reference).zip(&model) {
+        out.push_str(&format!("{z},{r},{v}\n"));
     }
     print!("{out}");
     Ok(())

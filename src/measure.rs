@@ -8,7 +8,7 @@ use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::{self, ParamValues, registry};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
-use crate::visibility::{Fragment, MethodParams, metrics};
+use crate::visibility::{self, Fragment, TexelModel, metrics};
 use anyhow::{Context, Result};
 
 /// A method with parameter values, written `name` or `name:key=value,key=value`.
@@ -27,10 +27,8 @@ impl MethodConfig {
             let (k, v) = kv
                 .split_once('=')
                 .with_context(|| format!("'{text}': expected key=value in '{kv}'"))?;
-            let v: f32 = v
-                .trim()
-                .parse()
-                .with_context(|| format!("'{text}': '{v}' is not a number"))?;
+            let v =
+                methods::parse_value(method, k.trim(), v).map_err(|e| anyhow::anyhow!("'{text}': {e}"))?;
             params.insert(k.trim().to_string(), v);
         }
         methods::validate(method, &params).map_err(anyhow::Error::msg)?;
@@ -45,28 +43,28 @@ impl MethodConfig {
         if self.params.is_empty() {
             return self.name.clone();
         }
-        let kv: Vec<String> = self.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        format!("{}:{}", self.name, kv.join(","))
+        match registry::find(&self.name) {
+            Ok(m) => format!("{}:{}", self.name, methods::format_values(m, &self.params)),
+            Err(_) => {
+                let kv: Vec<String> = self.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                format!("{}:{}", self.name, kv.join(","))
+            }
+        }
     }
 }
 
-/// The configurations the methods issue reports: OSM 16/64/256, DOM 3/7, BOM 4/8, DC 4, occupancy, plus the
-/// baselines present in the registry.
+/// The configurations `measure` reports when none is given: each registered method's
+/// [`methods::ShadowMethod::usual_configs`].
 pub fn usual_configs() -> Vec<MethodConfig> {
-    [
-        "osm:slices=16",
-        "osm:slices=64",
-        "osm:slices=256",
-        "dom:layers=3",
-        "dom:layers=7",
-        "bom:layers=4",
-        "bom:layers=8",
-        "dc:clusters=4",
-        "occupancy",
-    ]
-    .iter()
-    .filter_map(|c| MethodConfig::parse(c).ok())
-    .collect()
+    registry::all()
+        .iter()
+        .flat_map(|m| {
+            m.usual_configs().into_iter().map(|params| MethodConfig {
+                name: m.name().to_string(),
+                params,
+            })
+        })
+        .collect()
 }
 
 /// What the reference says about the scene's light view.
@@ -165,10 +163,7 @@ pub fn measure_on(
     };
     progress("reference");
     let empty = ParamValues::new();
-    r.render_light(&input(
-        registry::find("reference").map_err(anyhow::Error::msg)?,
-        &empty,
-    ))?;
+    r.render_light(&input(registry::reference(), &empty))?;
     let lists = r.reference_lists()?;
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();
     let fragments: usize = lists.iter().map(Vec::len).sum();
@@ -196,7 +191,7 @@ pub fn measure_on(
         let start = samples.len();
         let (x, y) = ((t as u32 % res) as f32, (t as u32 / res) as f32);
         samples.extend(zs.iter().map(|&z| [x, y, z]));
-        reference.extend(MethodParams::Reference.visibility_curve(&frags, &zs));
+        reference.extend(visibility::Reference.curve(&frags, &zs));
         spans.push(start..samples.len());
     }
     // The hair points the camera sees, their reference visibility, the reference image, and the reference's
@@ -211,7 +206,7 @@ pub fn measure_on(
         width: w,
         height: h,
     };
-    let reference_method = registry::find("reference").map_err(anyhow::Error::msg)?;
+    let reference_method = registry::reference();
     r.render(&full(reference_method, &empty, &s.light))?;
     let reference_image = r.read_output()?;
     let points = visible_hair_points(&r, &scene, &s, &r.read_eye_depth()?);

@@ -63,12 +63,82 @@ impl Default for RenderSettings {
     }
 }
 
+/// The shadow method and its parameters. In TOML a choice parameter is its word (`spacing = "uniform"`); its
+/// index still loads, so older numeric presets keep working.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(try_from = "RawMethodSettings", into = "RawMethodSettings")]
 pub struct MethodSettings {
     pub name: String,
     /// Parameters of the selected method; missing ones take the method's defaults.
     pub params: ParamValues,
+}
+
+/// A parameter value as TOML holds it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+enum RawValue {
+    Number(f32),
+    Word(String),
+}
+
+/// [`MethodSettings`] as TOML holds it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct RawMethodSettings {
+    name: String,
+    params: std::collections::BTreeMap<String, RawValue>,
+}
+
+impl Default for RawMethodSettings {
+    fn default() -> Self {
+        MethodSettings::default().into()
+    }
+}
+
+impl TryFrom<RawMethodSettings> for MethodSettings {
+    type Error = String;
+
+    /// Numbers are kept as they are (range checks come with [`Settings::validate`]); words are looked up in the
+    /// method's choices.
+    fn try_from(raw: RawMethodSettings) -> Result<Self, String> {
+        let mut params = ParamValues::new();
+        for (k, v) in raw.params {
+            let v = match v {
+                RawValue::Number(x) => x,
+                RawValue::Word(w) => {
+                    let m = registry::find(&raw.name)?;
+                    methods::parse_value(m, &k, &w).map_err(|e| format!("method.params.{k}: {e}"))?
+                }
+            };
+            params.insert(k, v);
+        }
+        Ok(MethodSettings {
+            name: raw.name,
+            params,
+        })
+    }
+}
+
+impl From<MethodSettings> for RawMethodSettings {
+    /// Choices as their words.
+    fn from(m: MethodSettings) -> Self {
+        let method = registry::find(&m.name).ok();
+        let params = m
+            .params
+            .into_iter()
+            .map(|(k, v)| {
+                let word = method
+                    .and_then(|m| methods::spec(m, &k).ok())
+                    .and_then(|s| s.option(v));
+                let raw = match word {
+                    Some(w) => RawValue::Word(w.to_string()),
+                    None => RawValue::Number(v),
+                };
+                (k, raw)
+            })
+            .collect();
+        RawMethodSettings { name: m.name, params }
+    }
 }
 
 impl Default for MethodSettings {
@@ -314,6 +384,35 @@ mod tests {
         let e = Settings::from_toml_with("[render]\nwidht = 3\n", "x.toml", &[]).unwrap_err();
         assert!(
             format!("{e:#}").contains("x.toml") && format!("{e:#}").contains("widht"),
+            "{e:#}"
+        );
+    }
+
+    #[test]
+    fn choices_are_words_in_toml_and_old_numbers_still_load() {
+        let s = Settings::from_toml_with(
+            "[method]\nname = \"dom\"\nparams = { spacing = \"uniform\", beyond = 2 }\n",
+            "test",
+            &["method.params.layers=5".into()],
+        )
+        .unwrap();
+        assert_eq!(s.method.params["spacing"], 1.0);
+        assert_eq!(s.method.params["beyond"], 2.0);
+        let text = s.to_toml();
+        assert!(
+            text.contains("spacing = \"uniform\"") && text.contains("beyond = \"stretch\""),
+            "{text}"
+        );
+        assert_eq!(Settings::from_toml(&text, "roundtrip").unwrap(), s);
+        let e = Settings::from_toml_with(
+            "",
+            "test",
+            &["method.name=dom".into(), "method.params.spacing=wide".into()],
+        )
+        .unwrap_err();
+        assert!(
+            format!("{e:#}")
+                .contains("method.params.spacing: parameter 'spacing': 'wide' is not one of linear, uniform"),
             "{e:#}"
         );
     }

@@ -10,7 +10,7 @@ use hairlab::render::passes::abuffer::RefFragment;
 use hairlab::render::{FrameInput, Renderer};
 use hairlab::scene::{Scene, Strands};
 use hairlab::settings::Settings;
-use hairlab::visibility::{Fragment, MethodParams, metrics};
+use hairlab::visibility::{Fragment, Reference, TexelModel, metrics};
 
 fn frame<'a>(s: &'a Settings, method: &'a str) -> FrameInput<'a> {
     FrameInput {
@@ -110,14 +110,13 @@ fn light_depth_maps_hold_the_lists_extremes_and_lookup_matches_cpu() {
     s.render.map_resolution = 64;
     let scene = small_scene(&mut s);
     let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
-    let reference = registry::find("reference").unwrap();
+    let reference = registry::reference();
     r.render_light(&frame(&s, "reference")).unwrap();
     let lists = r.reference_lists().unwrap();
     let near = r.read_light_depth(false).unwrap();
     let far = r.read_light_depth(true).unwrap();
     let mut samples = Vec::new();
     let mut expected = Vec::new();
-    let model = MethodParams::Reference;
     for (t, list) in lists.iter().enumerate() {
         if list.is_empty() {
             assert_eq!(
@@ -140,7 +139,7 @@ fn light_depth_maps_hold_the_lists_extremes_and_lookup_matches_cpu() {
             .collect();
         let zs = metrics::sample_depths(&frags, 16);
         let (x, y) = ((t % 64) as f32, (t / 64) as f32);
-        expected.extend(model.visibility_curve(&frags, &zs));
+        expected.extend(Reference.curve(&frags, &zs));
         samples.extend(zs.iter().map(|&z| [x, y, z]));
     }
     assert!(samples.len() > 10_000, "{} samples", samples.len());

@@ -103,7 +103,7 @@ fn wgsl_struct(pass: &str, method: Option<&str>, name: &str) -> (usize, Vec<(Str
 }
 
 /// Checks a Rust mirror (its size and `(WGSL field name, Rust offset)` list) against every WGSL copy of it.
-fn check_mirror(rust_size: usize, rust: &[(&str, usize)], wgsl: &[(&str, Option<&str>, &str)]) {
+fn check_mirror(rust_size: usize, rust: &[(&'static str, usize)], wgsl: &[(&str, Option<&str>, &str)]) {
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
     for (pass, method, name) in wgsl {
         let (size, fields) = wgsl_struct(pass, *method, name);
@@ -124,80 +124,95 @@ fn frame_uniforms_match_wgsl_layout() {
     );
 }
 
-/// Every method's uniform struct against its light pass's and its lookup's WGSL copies.
+/// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its
+/// lookup composed into the evaluation pass).
 #[test]
 fn method_uniforms_match_wgsl_layout() {
-    use hairlab::methods::{bom::BomUniforms, dc::DcUniforms, dom::DomUniforms};
-    use hairlab::methods::{occupancy::OccupancyUniforms, osm::OsmUniforms};
-    use std::mem::{offset_of, size_of};
-    check_mirror(
-        size_of::<OsmUniforms>(),
-        &[
-            ("slices", offset_of!(OsmUniforms, slices)),
-            ("pad0", 4),
-            ("pad1", 8),
-            ("pad2", 12),
-        ],
-        &[
-            ("osm.wgsl", None, "OsmUniforms"),
-            ("evaluate.wgsl", Some("methods/osm.wgsl"), "OsmLookup"),
-        ],
-    );
-    let pad = offset_of!(DomUniforms, pad);
-    check_mirror(
-        size_of::<DomUniforms>(),
-        &[
-            ("ends", offset_of!(DomUniforms, ends)),
-            ("layers", offset_of!(DomUniforms, layers)),
-            ("beyond", offset_of!(DomUniforms, beyond)),
-            ("pad0", pad),
-            ("pad1", pad + 4),
-        ],
-        &[
-            ("dom.wgsl", None, "DomUniforms"),
-            ("evaluate.wgsl", Some("methods/dom.wgsl"), "DomLookup"),
-        ],
-    );
-    let pad = offset_of!(BomUniforms, pad);
-    check_mirror(
-        size_of::<BomUniforms>(),
-        &[
-            ("layers", offset_of!(BomUniforms, layers)),
-            ("split_ratio", offset_of!(BomUniforms, split_ratio)),
-            ("pad0", pad),
-            ("pad1", pad + 4),
-        ],
-        &[
-            ("bom.wgsl", None, "BomUniforms"),
-            ("evaluate.wgsl", Some("methods/bom.wgsl"), "BomLookup"),
-        ],
-    );
-    check_mirror(
-        size_of::<DcUniforms>(),
-        &[
-            ("clusters", offset_of!(DcUniforms, clusters)),
-            ("pad0", offset_of!(DcUniforms, pad0)),
-            ("pad1", offset_of!(DcUniforms, pad1)),
-            ("pad2", offset_of!(DcUniforms, pad2)),
-        ],
-        &[
-            ("dc.wgsl", None, "DcUniforms"),
-            ("evaluate.wgsl", Some("methods/dc.wgsl"), "DcUniforms"),
-        ],
-    );
-    check_mirror(
-        size_of::<OccupancyUniforms>(),
-        &[
-            ("variant", offset_of!(OccupancyUniforms, variant)),
-            ("pad0", offset_of!(OccupancyUniforms, pad0)),
-            ("pad1", offset_of!(OccupancyUniforms, pad1)),
-            ("pad2", offset_of!(OccupancyUniforms, pad2)),
-        ],
-        &[
-            ("occupancy.wgsl", None, "OccupancyUniforms"),
-            ("evaluate.wgsl", Some("methods/occupancy.wgsl"), "OccupancyLookup"),
-        ],
-    );
+    let mut checked = 0;
+    for m in registry::all() {
+        let Some(u) = m.uniform_mirror() else { continue };
+        let mut shaders: Vec<(&str, Option<&str>)> = m.info().light_wgsl.iter().map(|p| (*p, None)).collect();
+        shaders.push(("evaluate.wgsl", Some(m.lookup_wgsl())));
+        let wgsl: Vec<_> = shaders.iter().map(|(p, l)| (*p, *l, u.wgsl_name)).collect();
+        check_mirror(u.size, &u.fields, &wgsl);
+        checked += 1;
+    }
+    assert!(checked >= 5, "only {checked} methods have uniform mirrors");
+}
+
+/// A registered method is complete: a CPU model giving valid curves, light and lookup WGSL that validate, a
+/// uniform mirror (approximations), parameters whose defaults are valid, a sweep of valid configurations, a
+/// colour of its own. Adding a method to the registry without one of these fails here.
+#[test]
+fn every_registered_method_is_complete() {
+    use hairlab::methods::{Role, validate as validate_values};
+    use hairlab::visibility::Fragment;
+    let texel: Vec<Fragment> = [(0.1, 0.3), (0.4, 0.5), (0.45, 0.2), (0.9, 0.6)]
+        .map(Fragment::from)
+        .to_vec();
+    let zs: Vec<f32> = (0..=50).map(|i| i as f32 / 50.0).collect();
+    let mut colors = Vec::new();
+    for m in registry::all() {
+        let info = m.info();
+        let name = info.name;
+        assert!(
+            !name.is_empty() && name.chars().all(|c| c.is_ascii_lowercase() || c == '-'),
+            "{name}: names are kebab-case"
+        );
+        assert!(
+            !info.label.is_empty() && !info.paper.is_empty(),
+            "{name}: label and paper"
+        );
+        assert!(
+            !colors.contains(&info.color),
+            "{name}: colour {:?} taken",
+            info.color
+        );
+        colors.push(info.color);
+        for spec in info.params {
+            spec.check(spec.default)
+                .unwrap_or_else(|e| panic!("{name}: default of {}: {e}", spec.key));
+        }
+        let v = m.model(&Default::default(), 0.4).curve(&texel, &zs);
+        assert!(
+            v.iter().all(|v| (0.0..=1.0).contains(v)) && v.windows(2).all(|w| w[1] <= w[0] + 1e-6),
+            "{name}: CPU model curve {v:?}"
+        );
+        let embedded = |p: &str| SOURCES.iter().any(|(s, _)| *s == p);
+        assert!(
+            embedded(info.lookup_wgsl),
+            "{name}: lookup {} not embedded",
+            info.lookup_wgsl
+        );
+        for pass in info.light_wgsl {
+            assert!(embedded(pass), "{name}: light pass {pass} not embedded");
+            validate(
+                &format!("{name}: {pass}"),
+                &compose(pass, None).unwrap_or_else(|e| panic!("{name}: {pass}: {e}")),
+            );
+        }
+        let sweep = m.sweep();
+        assert!(!sweep.is_empty(), "{name}: no bench sweep");
+        for p in &sweep {
+            validate_values(*m, &p.values)
+                .unwrap_or_else(|e| panic!("{name}: sweep point {:?}: {e}", p.values));
+            assert!(
+                !p.analysed || m.analysis().is_some(),
+                "{name}: analysed point without an analysis"
+            );
+        }
+        for c in m.usual_configs() {
+            validate_values(*m, &c).unwrap_or_else(|e| panic!("{name}: usual config {c:?}: {e}"));
+        }
+        if info.role == Role::Approximation {
+            assert!(
+                !info.light_wgsl.is_empty(),
+                "{name}: an approximation has light passes"
+            );
+            assert!(m.uniform_mirror().is_some(), "{name}: no uniform mirror");
+            assert!(sweep.len() >= 2, "{name}: a sweep of one configuration");
+        }
+    }
 }
 
 /// The vertex formats Rust declares match the WGSL `vs_main` inputs location by location.

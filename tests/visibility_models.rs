@@ -1,10 +1,10 @@
 //! The CPU visibility models through their public API only, as the inspector, the bench and the GPU
-//! comparison tests use them: generic evaluation with `MethodParams`, the error metrics, and the BOM
+//! comparison tests use them: generic evaluation through `TexelModel`, the error metrics, and the BOM
 //! split-ratio search.
 
 use hairlab::visibility::{
-    BomParams, DcParams, DomParams, Fragment, MethodParams, OccupancyParams, OsmParams, SplitCriterion, bom,
-    metrics, reference,
+    BomParams, DcParams, DomParams, Fragment, OccupancyParams, OsmParams, Reference, SplitCriterion,
+    TexelModel, bom, metrics, reference,
 };
 
 /// SplitMix64, for deterministic test maps.
@@ -33,15 +33,17 @@ fn stray_then_clump(rng: &mut Rng, alpha: f32) -> Vec<Fragment> {
     f
 }
 
-fn all_methods(alpha: f32) -> Vec<MethodParams> {
+/// Every model, and whether it leaves everything up to the first fragment unshadowed (the reference, DOM, BOM
+/// and occupancy maps do).
+fn all_methods(alpha: f32) -> Vec<(Box<dyn TexelModel>, bool)> {
     vec![
-        MethodParams::Reference,
-        MethodParams::Osm(OsmParams { slices: 16 }),
-        MethodParams::Osm(OsmParams { slices: 256 }),
-        MethodParams::Dom(DomParams::default()),
-        MethodParams::Bom(BomParams::default()),
-        MethodParams::Dc(DcParams::default()),
-        MethodParams::Occupancy(OccupancyParams::new(alpha)),
+        (Box::new(Reference), true),
+        (Box::new(OsmParams { slices: 16 }), false),
+        (Box::new(OsmParams { slices: 256 }), false),
+        (Box::new(DomParams::default()), true),
+        (Box::new(BomParams::default()), true),
+        (Box::new(DcParams::default()), false),
+        (Box::new(OccupancyParams::new(alpha)), true),
     ]
 }
 
@@ -52,18 +54,16 @@ fn every_method_gives_a_valid_curve() {
     for _ in 0..50 {
         let texel = stray_then_clump(&mut rng, 0.3);
         let first = texel.iter().map(|f| f.depth).fold(f32::INFINITY, f32::min);
-        for m in all_methods(0.3) {
-            let v = m.visibility_curve(&texel, &zs);
-            assert!(v.iter().all(|v| (0.0..=1.0).contains(v)), "{}", m.name());
+        for (m, starts_lit) in all_methods(0.3) {
+            let v = m.curve(&texel, &zs);
+            assert!(v.iter().all(|v| (0.0..=1.0).contains(v)), "{}", m.label());
             assert!(
                 v.windows(2).all(|w| w[1] <= w[0]),
                 "{} not non-increasing",
-                m.name()
+                m.label()
             );
-            // The reference, DOM, BOM and occupancy maps leave everything up to the first fragment
-            // unshadowed.
-            if matches!(m.name(), "reference" | "dom" | "bom" | "occupancy") {
-                assert_eq!(m.visibility_curve(&texel, &[first])[0], 1.0, "{}", m.name());
+            if starts_lit {
+                assert_eq!(m.curve(&texel, &[first])[0], 1.0, "{}", m.label());
             }
         }
         assert_eq!(reference::visibility(&texel, first), 1.0);
@@ -74,23 +74,17 @@ fn every_method_gives_a_valid_curve() {
 fn map_errors_follow_the_papers_claims() {
     let mut rng = Rng(8);
     let map: Vec<Vec<Fragment>> = (0..100).map(|_| stray_then_clump(&mut rng, 0.3)).collect();
-    let error = |m: MethodParams| {
-        metrics::map_error(&m, &map, metrics::DEFAULT_GRID_POINTS)
+    let error = |m: &dyn TexelModel| {
+        metrics::map_error(m, &map, metrics::DEFAULT_GRID_POINTS)
             .unwrap()
             .mean
     };
-    assert_eq!(error(MethodParams::Reference), 0.0);
+    assert_eq!(error(&Reference), 0.0);
     // More OSM slices, less error (Kim & Neumann; Yuksel & Keyser Fig. 1).
-    assert!(
-        error(MethodParams::Osm(OsmParams { slices: 256 }))
-            < error(MethodParams::Osm(OsmParams { slices: 16 }))
-    );
+    assert!(error(&OsmParams { slices: 256 }) < error(&OsmParams { slices: 16 }));
     // A stray strand in front of the clump: 3 DOM layers starting at the stray strand miss the clump, the
     // occupancy map follows it (Sintorn & Assarsson §2.1, Fig. 4-5).
-    assert!(
-        error(MethodParams::Occupancy(OccupancyParams::new(0.3)))
-            < error(MethodParams::Dom(DomParams::default()))
-    );
+    assert!(error(&OccupancyParams::new(0.3)) < error(&DomParams::default()));
 }
 
 #[test]
@@ -106,10 +100,10 @@ fn bom_split_search_scores_every_ratio() {
     ] {
         let best = search.best(criterion);
         assert!(ratios.contains(&best));
-        let chosen = MethodParams::Bom(BomParams {
+        let chosen = BomParams {
             layers: 8,
             split_ratio: best,
-        });
+        };
         assert!(metrics::map_error(&chosen, &map, 16).is_some());
     }
 }

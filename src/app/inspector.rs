@@ -15,19 +15,18 @@ use super::lightmap_view::LightMapView;
 use super::texel_lab::{LabSettings, LabSource, MAX_GAUSSIANS, MAX_PER_GAUSSIAN, MAX_SPREAD};
 use super::{DialogPurpose, HairlabApp};
 use crate::methods::{ParamValues, registry};
+use crate::methods::{Role, ShadowMethod};
 use crate::render::FrameInput;
 use crate::render::light_frame::LightFrame;
 use crate::render::passes::abuffer::RefFragment;
 use crate::scene::{Light, Mesh, Strands};
 use crate::settings::SceneSettings;
-use crate::visibility::{
-    self, BeyondLastLayer, Fragment, MethodParams, OccupancyVariant, TexelError, depth_range, metrics,
-    optical_depth, transmittance,
-};
+use crate::visibility::{self, Fragment, Stored, TexelError, TexelModel, depth_range, metrics};
 use egui::Color32;
 use egui_plot::{Legend, Line, LineStyle, MarkerShape, Plot, PlotPoints, Points, Polygon, VLine};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use std::path::Path;
+use std::sync::Arc;
 
 /// How far (in points) from a strand a click may land and still pick it.
 const PICK_RADIUS: f32 = 4.0;
@@ -238,12 +237,29 @@ impl Inspector {
     }
 }
 
+/// A method's CPU model and the method's colour: what the plot needs of a method.
+#[derive(Clone, Debug)]
+pub struct PlotModel {
+    pub model: Arc<dyn TexelModel>,
+    pub color: Color32,
+}
+
+impl PlotModel {
+    /// `method`'s model with `values` and its colour.
+    pub fn of(method: &dyn ShadowMethod, values: &ParamValues, hair_alpha: f32) -> PlotModel {
+        PlotModel {
+            model: method.model(values, hair_alpha).into(),
+            color: method_color(method),
+        }
+    }
+}
+
 /// One method's reconstruction of `V` on a texel.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct MethodCurve {
     /// Short name with the parameter that matters, e.g. `osm-16`.
     pub label: String,
-    pub model: MethodParams,
+    pub model: PlotModel,
     /// `V` at [`TexelPlot::depths`].
     pub values: Vec<f32>,
     /// Texel error against the reference (`metrics::texel_error`, default grid); `None` for an empty texel.
@@ -253,7 +269,7 @@ pub struct MethodCurve {
 }
 
 /// One texel's curves.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct TexelPlot {
     pub label: String,
     pub fragments: Vec<Fragment>,
@@ -279,37 +295,8 @@ impl TexelPlot {
     }
 }
 
-/// What a method stores for the inspected texel, in absolute light depth, for the plot.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Stored {
-    pub label: String,
-    /// A description of the stored values, one line each.
-    pub summary: Vec<String>,
-    /// Slice planes, layer boundaries (near + scaled layer ends) or slab boundaries.
-    pub boundaries: Vec<f32>,
-    /// `(depth, exp(-stored optical depth))` where the method stores a value.
-    pub knots: Vec<[f32; 2]>,
-    /// Density Clustering: cluster means and bins `[L, R]`.
-    pub means: Vec<f32>,
-    pub bins: Vec<[f32; 2]>,
-    /// Occupancy maps: the occupied slices `[from, to]`.
-    pub occupied: Vec<[f32; 2]>,
-}
-
-impl Stored {
-    /// Depths where the method's curve has a kink or a step.
-    fn events(&self) -> impl Iterator<Item = f32> + '_ {
-        self.boundaries
-            .iter()
-            .copied()
-            .chain(self.means.iter().copied())
-            .chain(self.bins.iter().flatten().copied())
-            .chain(self.occupied.iter().flatten().copied())
-    }
-}
-
 /// Everything plotted.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct TexelCurves {
     /// The inspected texel, when there is one.
     pub current: Option<TexelPlot>,
@@ -346,10 +333,10 @@ impl TexelCurves {
         );
         for (prefix, t) in texels {
             header.push(format!("{prefix}reference"));
-            columns.push(MethodParams::Reference.visibility_curve(&t.fragments, &zs));
+            columns.push(visibility::Reference.curve(&t.fragments, &zs));
             for m in &t.methods {
                 header.push(format!("{prefix}{}", m.label));
-                columns.push(m.model.visibility_curve(&t.fragments, &zs));
+                columns.push(m.model.model.curve(&t.fragments, &zs));
             }
         }
         let mut out = header.join(",");
@@ -386,48 +373,36 @@ struct CurvesInput {
     show_all: bool,
 }
 
-/// Short name of a model with the parameter that matters, e.g. `osm-16`, `dc-4`.
-pub fn model_label(m: &MethodParams) -> String {
-    match m {
-        MethodParams::Reference => "reference".into(),
-        MethodParams::Osm(p) => format!("osm-{}", p.slice_count()),
-        MethodParams::Dom(p) => format!("dom-{}", p.layer_count()),
-        MethodParams::Bom(p) if p.ratio() > 0.0 => format!("bom-{} r{:.2}", p.layer_count(), p.ratio()),
-        MethodParams::Bom(p) => format!("bom-{}", p.layer_count()),
-        MethodParams::Dc(p) => format!("dc-{}", p.cluster_count()),
-        MethodParams::Occupancy(p) => match p.variant {
-            OccupancyVariant::SlabMap => "occupancy".into(),
-            OccupancyVariant::OccupancyOnly => "occupancy-only".into(),
-        },
-    }
+/// Whether the inspector plots `method` against the reference: the approximations do; the reference is the
+/// plot's own curve and the baselines are no transparency model.
+pub fn inspected(method: &dyn ShadowMethod) -> bool {
+    method.info().role == Role::Approximation
 }
 
-/// The models to plot and which of them is the selected method: the selected method's (if it has a CPU model
-/// other than the reference), or every registered method's (the others at their default parameters).
+/// The models to plot and which of them is the selected method: the selected method's (if [`inspected`]), or
+/// every inspected method's (the others at their default parameters).
 fn models(
     method: &str,
     params: &ParamValues,
     show_all: bool,
     hair_alpha: f32,
-) -> (Vec<MethodParams>, Option<usize>) {
+) -> (Vec<PlotModel>, Option<usize>) {
     let empty = ParamValues::new();
     let mut out = Vec::new();
     let mut selected = None;
-    for m in registry::all() {
+    for m in registry::all().iter().copied().filter(|m| inspected(*m)) {
         let is_selected = m.name() == method;
         if !(show_all || is_selected) {
             continue;
         }
-        let values = if is_selected { params } else { &empty };
-        if let Some(model) = m
-            .model(values, hair_alpha)
-            .filter(|x| *x != MethodParams::Reference)
-        {
-            if is_selected {
-                selected = Some(out.len());
-            }
-            out.push(model);
+        if is_selected {
+            selected = Some(out.len());
         }
+        out.push(PlotModel::of(
+            m,
+            if is_selected { params } else { &empty },
+            hair_alpha,
+        ));
     }
     (out, selected)
 }
@@ -460,151 +435,10 @@ fn plot_depths(fragments: &[Fragment], events: impl Iterator<Item = f32>) -> Vec
     zs
 }
 
-/// The relative depth `t` with `split(t, ratio) = s` (Bounding Opacity Maps' split is increasing; bisection).
-fn bom_split_inverse(s: f32, ratio: f32) -> f32 {
-    let (mut lo, mut hi) = (0.0f32, 1.0f32);
-    for _ in 0..40 {
-        let mid = 0.5 * (lo + hi);
-        if visibility::bom::split(mid, ratio) < s {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// What `model` stores for a texel of `fragments` (`None` for the reference, which stores the fragments).
-pub fn stored(model: &MethodParams, fragments: &[Fragment]) -> Option<Stored> {
-    let label = model_label(model);
-    let mut s = Stored {
-        label: label.clone(),
-        ..Stored::default()
-    };
-    match model {
-        MethodParams::Reference => return None,
-        MethodParams::Osm(p) => {
-            let t = visibility::osm::build(p, fragments);
-            let n = t.planes.len();
-            s.boundaries = (0..=n).map(|k| k as f32 / n as f32).collect();
-            s.knots.push([0.0, 1.0]);
-            s.knots.extend(
-                t.planes
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &b)| [(i + 1) as f32 / n as f32, transmittance(b)]),
-            );
-            s.summary.push(format!(
-                "{n} slice planes over the whole light range; each stores the optical depth in front of it"
-            ));
-        }
-        MethodParams::Dom(p) => {
-            let t = visibility::dom::build(p, fragments);
-            let ends = visibility::dom::layer_ends(p);
-            let scale = match (p.beyond, ends.last()) {
-                (BeyondLastLayer::Stretch, Some(&d)) => ((t.far - t.near) / d).max(1.0),
-                _ => 1.0,
-            };
-            s.boundaries.push(t.near);
-            s.knots.push([t.near, 1.0]);
-            for (e, b) in ends.iter().zip(&t.layers) {
-                s.boundaries.push(t.near + scale * e);
-                s.knots.push([t.near + scale * e, transmittance(*b)]);
-            }
-            s.summary.push(format!(
-                "start depth z0 = {:.4}; {} layers to z0 + {:.4}",
-                t.near,
-                ends.len(),
-                scale * ends.last().copied().unwrap_or(0.0)
-            ));
-            s.summary
-                .push(format!("layer optical depths {}", list(&t.layers)));
-        }
-        MethodParams::Bom(p) => {
-            let t = visibility::bom::build(p, fragments);
-            let k = t.layers.len();
-            s.boundaries.push(t.near);
-            s.knots.push([t.near, 1.0]);
-            if t.far > t.near {
-                for (i, b) in t.layers.iter().enumerate() {
-                    let z =
-                        t.near + bom_split_inverse((i + 1) as f32 / k as f32, p.ratio()) * (t.far - t.near);
-                    s.boundaries.push(z);
-                    s.knots.push([z, transmittance(*b)]);
-                }
-            }
-            s.summary.push(format!(
-                "start {:.4}, end {:.4}; {k} layers, split ratio {:.2}",
-                t.near,
-                t.far,
-                p.ratio()
-            ));
-            s.summary
-                .push(format!("layer optical depths {}", list(&t.layers)));
-        }
-        MethodParams::Dc(p) => {
-            let t = visibility::dc::build(p, fragments);
-            s.means = t.means.clone();
-            s.bins = visibility::dc::bins(&t.means, &t.half_widths)
-                .into_iter()
-                .map(|(l, r)| [l, r])
-                .collect();
-            for (j, ((m, [l, r]), d)) in t.means.iter().zip(&s.bins).zip(&t.densities).enumerate() {
-                s.summary.push(format!(
-                    "cluster {j}: mean {m:.4}, bin [{l:.4}, {r:.4}], density {d:.3}"
-                ));
-            }
-        }
-        MethodParams::Occupancy(p) => {
-            let t = visibility::occupancy::build(p, fragments);
-            let at = |x: f32| t.near + (t.far - t.near) * x;
-            let slices = visibility::occupancy::SLICES;
-            let per_slab = visibility::occupancy::SLICES_PER_SLAB;
-            s.occupied = (0..slices)
-                .filter(|&i| t.occupancy[i / per_slab] >> (i % per_slab) & 1 == 1)
-                .map(|i| [at(i as f32 / slices as f32), at((i + 1) as f32 / slices as f32)])
-                .collect();
-            let w = optical_depth(p.alpha);
-            match p.variant {
-                OccupancyVariant::SlabMap => {
-                    let slabs = visibility::occupancy::SLABS;
-                    let mut before = 0u32;
-                    for i in 0..=slabs {
-                        let z = at(i as f32 / slabs as f32);
-                        s.boundaries.push(z);
-                        s.knots.push([z, transmittance(before as f32 * w)]);
-                        if i < slabs {
-                            before += t.slabs[i];
-                        }
-                    }
-                    s.summary.push(format!("slab counts {:?}", t.slabs));
-                }
-                OccupancyVariant::OccupancyOnly => {
-                    s.boundaries = vec![t.near, t.far];
-                    s.summary.push(format!("fragment count {}", t.slabs[0]));
-                }
-            }
-            s.summary.push(format!(
-                "range [{:.4}, {:.4}], {} of {slices} slices occupied; w = b(α {:.2}) = {w:.4}",
-                t.near,
-                t.far,
-                s.occupied.len(),
-                p.alpha
-            ));
-        }
-    }
-    Some(s)
-}
-
-fn list(values: &[f32]) -> String {
-    let v: Vec<String> = values.iter().map(|x| format!("{x:.3}")).collect();
-    v.join(", ")
-}
-
 /// The curves of one texel for `models`, drawing on `stored`'s events for the samples.
 fn texel_plot(
     input: &TexelInput,
-    models: &[MethodParams],
+    models: &[PlotModel],
     selected: Option<usize>,
     stored: Option<&Stored>,
 ) -> TexelPlot {
@@ -617,16 +451,16 @@ fn texel_plot(
         fragments: f.clone(),
         near,
         far,
-        reference: MethodParams::Reference.visibility_curve(f, &depths),
-        reference_error: metrics::texel_error(&MethodParams::Reference, f, grid),
+        reference: visibility::Reference.curve(f, &depths),
+        reference_error: metrics::texel_error(&visibility::Reference, f, grid),
         methods: models
             .iter()
             .enumerate()
             .map(|(i, m)| MethodCurve {
-                label: model_label(m),
-                model: *m,
-                values: m.visibility_curve(f, &depths),
-                error: metrics::texel_error(m, f, grid),
+                label: m.model.label(),
+                model: m.clone(),
+                values: m.model.curve(f, &depths),
+                error: metrics::texel_error(m.model.as_ref(), f, grid),
                 selected: selected == Some(i),
             })
             .collect(),
@@ -639,7 +473,7 @@ fn compute_curves(input: &CurvesInput) -> TexelCurves {
     let (current, stored) = match &input.current {
         Some(t) => {
             let (ms, selected) = models(&input.method, &input.params, input.show_all, t.hair_alpha);
-            let stored = selected.and_then(|i| stored(&ms[i], &t.fragments));
+            let stored = selected.and_then(|i| ms[i].model.stored(&t.fragments));
             (Some(texel_plot(t, &ms, selected, stored.as_ref())), stored)
         }
         None => (None, None),
@@ -820,16 +654,10 @@ pub fn resolve_pick(lists: &ReferenceLists, texel: [u32; 2], segment: u32, depth
     best.map_or(texel, |(_, t)| t)
 }
 
-/// Colour of a method's curves.
-fn method_color(m: &MethodParams) -> Color32 {
-    match m {
-        MethodParams::Reference => Color32::GRAY,
-        MethodParams::Osm(_) => Color32::from_rgb(235, 140, 30),
-        MethodParams::Dom(_) => Color32::from_rgb(60, 180, 75),
-        MethodParams::Bom(_) => Color32::from_rgb(70, 140, 235),
-        MethodParams::Occupancy(_) => Color32::from_rgb(185, 95, 225),
-        MethodParams::Dc(_) => Color32::from_rgb(230, 60, 60),
-    }
+/// Colour of a method's curves: the method's own ([`crate::methods::MethodInfo::color`]).
+pub fn method_color(m: &dyn ShadowMethod) -> Color32 {
+    let [r, g, b] = m.info().color;
+    Color32::from_rgb(r, g, b)
 }
 
 fn series(depths: &[f32], values: &[f32]) -> PlotPoints<'static> {
@@ -1166,7 +994,7 @@ impl HairlabApp {
             Source::Synthetic => self.lab_ui(ui),
         }
         let method = registry::find(&self.settings.method.name).ok();
-        if let Some(m) = method.filter(|m| m.model(&ParamValues::new(), 0.5).is_none()) {
+        if let Some(m) = method.filter(|m| !inspected(*m)) {
             ui.label(format!(
                 "{} has no per-texel model: tick \"every method\" to compare the others",
                 m.label()
@@ -1339,7 +1167,7 @@ fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
                     let width = if m.selected { 2.0 } else { 1.5 };
                     p.line(
                         Line::new(m.label.clone(), series(&t.depths, &m.values))
-                            .color(method_color(&m.model))
+                            .color(m.model.color)
                             .width(width),
                     );
                 }
@@ -1371,7 +1199,7 @@ fn stored_items(p: &mut egui_plot::PlotUi<'_>, s: &Stored, t: &TexelPlot) {
     let Some(model) = t.methods.iter().find(|m| m.selected) else {
         return;
     };
-    let color = method_color(&model.model);
+    let color = model.model.color;
     let (lo, hi) = plot_range(t.near, t.far);
     let inside = |z: f32| (lo..=hi).contains(&z);
     for &z in s.boundaries.iter().filter(|z| inside(**z)) {
@@ -1459,7 +1287,7 @@ fn figures(ui: &mut egui::Ui, curves: &TexelCurves) {
             ui.end_row();
             for m in &t.methods {
                 let (mean, max) = error_text(m.error);
-                ui.colored_label(method_color(&m.model), &m.label);
+                ui.colored_label(m.model.color, &m.label);
                 ui.label(mean);
                 ui.label(max);
                 ui.end_row();
@@ -1477,6 +1305,7 @@ fn figures(ui: &mut egui::Ui, curves: &TexelCurves) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::visibility::optical_depth;
 
     /// A camera looking down -z with an orthographic projection: world (x, y) in [-1, 1]² fills the image, depth
     /// runs from z = -0.5 (NDC 0) to z = -4.5 (NDC 1).
@@ -1581,7 +1410,7 @@ mod tests {
         params.insert("slices".into(), 4.0);
         let (ms, sel) = models("osm", &params, false, 0.5);
         assert_eq!((ms.len(), sel), (1, Some(0)));
-        let s = stored(&ms[0], &f).unwrap();
+        let s = ms[0].model.stored(&f).unwrap();
         assert_eq!(s.boundaries, [0.0, 0.25, 0.5, 0.75, 1.0]);
         // Planes: 0.25 holds the first fragment (ln 2), 0.5 the second too, 0.75 all three.
         let b = [2f32.ln(), 2.0 * 2f32.ln(), 2.0 * 2f32.ln() + optical_depth(0.25)];
@@ -1597,12 +1426,12 @@ mod tests {
         assert!(plot.methods[0].error.unwrap().mean > 0.0);
 
         let all = models("dc", &ParamValues::new(), true, 0.5);
-        let names: Vec<String> = all.0.iter().map(model_label).collect();
+        let names: Vec<String> = all.0.iter().map(|m| m.model.label()).collect();
         assert_eq!(names, ["osm-16", "dom-3", "bom-4", "occupancy", "dc-4"]);
         assert_eq!(all.1, Some(4));
-        let dc = stored(&all.0[4], &f).unwrap();
+        let dc = all.0[4].model.stored(&f).unwrap();
         assert_eq!((dc.means.len(), dc.bins.len()), (4, 4));
-        let occ = stored(&all.0[3], &f).unwrap();
+        let occ = all.0[3].model.stored(&f).unwrap();
         // Relative depths 0, 0.25 and 1: slices 0, 32 and 127 (the last one, clamped); slabs 0, 1 and 3.
         assert_eq!(occ.occupied.len(), 3);
         assert!((occ.occupied[1][0] - 0.3).abs() < 1e-6);
@@ -1614,15 +1443,5 @@ mod tests {
         assert!(
             (occ.knots[1][1] - (-w).exp()).abs() < 1e-6 && (occ.knots[4][1] - (-3.0 * w).exp()).abs() < 1e-6
         );
-    }
-
-    #[test]
-    fn bom_boundaries_invert_the_split() {
-        for r in [0.0, 0.4, 1.0] {
-            for s in [0.25, 0.5, 0.75] {
-                let t = bom_split_inverse(s, r);
-                assert!((visibility::bom::split(t, r) - s).abs() < 1e-5, "r {r} s {s}");
-            }
-        }
     }
 }

@@ -6,7 +6,7 @@
 
 use super::HairlabApp;
 use super::inspector::{ReferenceLists, SceneTexel};
-use crate::visibility::{Fragment, MethodParams, OccupancyParams, occupancy};
+use crate::visibility::{Fragment, OccupancyParams, TexelModel, occupancy};
 use egui::Color32;
 use egui_plot::{MarkerShape, Plot, PlotImage, PlotPoint, Points};
 
@@ -22,7 +22,7 @@ pub enum MapQuantity {
     Range,
     /// Set bits of the texel's 128-slice occupancy bitmap (Sintorn & Assarsson).
     OccupiedSlices,
-    /// Value `LightMapView::stored` of what the selected method stores (`MethodParams::stored_values`).
+    /// Value `LightMapView::stored` of what the selected method stores (`TexelModel::stored_values`).
     Stored,
 }
 
@@ -52,7 +52,7 @@ impl MapQuantity {
     fn of(
         self,
         list: &[crate::render::passes::abuffer::RefFragment],
-        stored: Option<(&MethodParams, usize)>,
+        stored: Option<(&dyn TexelModel, usize)>,
     ) -> f32 {
         let (Some(first), Some(last)) = (list.first(), list.last()) else {
             return f32::NAN;
@@ -79,8 +79,9 @@ impl MapQuantity {
 /// The image of one quantity of one read of the lists.
 struct MapImage {
     quantity: MapQuantity,
-    /// The model and stored-value index a [`MapQuantity::Stored`] image shows.
-    stored: Option<(MethodParams, usize)>,
+    /// The model (its `Debug` text: the parameters it was built with) and stored-value index a
+    /// [`MapQuantity::Stored`] image shows.
+    stored: Option<(String, usize)>,
     generation: u64,
     resolution: u32,
     /// Row-major, NaN where the texel is empty.
@@ -123,14 +124,14 @@ impl MapImage {
         ctx: &egui::Context,
         lists: &ReferenceLists,
         quantity: MapQuantity,
-        stored: Option<(MethodParams, usize)>,
+        stored: Option<(&dyn TexelModel, usize)>,
     ) -> MapImage {
         let n = lists.resolution as usize;
         let values: Vec<f32> = lists
             .lists
             .iter()
             .take(n * n)
-            .map(|l| quantity.of(l, stored.as_ref().map(|(m, k)| (m, *k))))
+            .map(|l| quantity.of(l, stored))
             .collect();
         let (min, max) = values
             .iter()
@@ -155,7 +156,7 @@ impl MapImage {
         );
         MapImage {
             quantity,
-            stored,
+            stored: stored.map(|(m, k)| (format!("{m:?}"), k)),
             generation: lists.generation,
             resolution: lists.resolution,
             values,
@@ -238,9 +239,12 @@ impl HairlabApp {
             self.inspector.select_scene_texel(t);
         }
         let stored = match crate::methods::registry::find(&self.settings.method.name) {
-            Ok(m) if self.inspector.map.quantity == MapQuantity::Stored => m
-                .model(&self.settings.method.params, self.settings.render.hair_alpha)
-                .map(|model| (model, self.inspector.map.stored)),
+            Ok(m) if self.inspector.map.quantity == MapQuantity::Stored && super::inspector::inspected(m) => {
+                Some((
+                    m.model(&self.settings.method.params, self.settings.render.hair_alpha),
+                    self.inspector.map.stored,
+                ))
+            }
             _ => None,
         };
         let insp = &mut self.inspector;
@@ -248,14 +252,16 @@ impl HairlabApp {
             ui.label("no fragment lists yet (see the status line)");
             return;
         };
+        let stored_key = stored.as_ref().map(|(m, k)| (format!("{m:?}"), *k));
         if insp.map.quantity == MapQuantity::Stored && stored.is_none() {
             ui.label("the selected method stores no per-texel values beyond near/far");
             return;
         }
         let fresh = insp.map.image.as_ref().is_some_and(|i| {
-            i.quantity == insp.map.quantity && i.generation == lists.generation && i.stored == stored
+            i.quantity == insp.map.quantity && i.generation == lists.generation && i.stored == stored_key
         });
         if !fresh {
+            let stored = stored.as_ref().map(|(m, k)| (m.as_ref(), *k));
             insp.map.image = Some(MapImage::new(ui.ctx(), lists, insp.map.quantity, stored));
         }
         let Some(image) = insp.map.image.as_ref() else {
@@ -393,18 +399,22 @@ mod tests {
         assert_eq!(MapQuantity::OccupiedSlices.of(&list, None), 4.0);
         assert_eq!(MapQuantity::OccupiedSlices.of(&[f(0.3), f(0.3)], None), 1.0);
         // OSM-4 planes: fragments in slices 0, 2, 2, 3 -> accumulated b at planes 1..4 = b, b, 3b, 4b (b = ln 2).
-        let osm = MethodParams::Osm(OsmParams { slices: 4 });
+        let osm = OsmParams { slices: 4 };
         let b = 2f32.ln();
         for (k, want) in [(0, b), (1, b), (2, 3.0 * b), (3, 4.0 * b)] {
-            let got = MapQuantity::Stored.of(&list, Some((&osm, k)));
+            let got = MapQuantity::Stored.of(&list, Some((&osm as &dyn TexelModel, k)));
             assert!((got - want).abs() < 1e-6, "plane {k}: {got} vs {want}");
         }
         assert!(
-            MapQuantity::Stored.of(&list, Some((&osm, 4))).is_nan(),
+            MapQuantity::Stored
+                .of(&list, Some((&osm as &dyn TexelModel, 4)))
+                .is_nan(),
             "past the last plane"
         );
         assert!(
-            MapQuantity::Stored.of(&[], Some((&osm, 0))).is_nan(),
+            MapQuantity::Stored
+                .of(&[], Some((&osm as &dyn TexelModel, 0)))
+                .is_nan(),
             "empty texel"
         );
     }

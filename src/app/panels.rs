@@ -262,7 +262,7 @@ impl HairlabApp {
                 let Ok(method) = registry::find(&m.name) else {
                     return;
                 };
-                ui.label(egui::RichText::new(method.source()).italics());
+                ui.label(egui::RichText::new(method.info().paper).italics());
                 for spec in method.params() {
                     let mut v = methods::value(&m.params, spec);
                     let changed = ui
@@ -283,6 +283,21 @@ impl HairlabApp {
                                     .changed();
                                 v = i as f32;
                                 c
+                            }
+                            ParamKind::Choice { options } => {
+                                let mut i = (v as usize).min(options.len().saturating_sub(1));
+                                let before = i;
+                                egui::ComboBox::from_label(spec.label)
+                                    .selected_text(options[i])
+                                    .show_ui(ui, |ui| {
+                                        for (k, o) in options.iter().enumerate() {
+                                            ui.selectable_value(&mut i, k, *o);
+                                        }
+                                    })
+                                    .response
+                                    .on_hover_text(spec.help);
+                                v = i as f32;
+                                i != before
                             }
                         })
                         .inner;

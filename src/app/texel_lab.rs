@@ -160,8 +160,8 @@ impl Rng {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::visibility::DcParams;
     use crate::visibility::metrics::{DEFAULT_GRID_POINTS, texel_error};
-    use crate::visibility::{DcParams, MethodParams};
 
     #[test]
     fn mixture_is_deterministic_and_in_range() {
@@ -189,7 +189,7 @@ mod tests {
     fn more_gaussians_than_clusters_break_density_clustering() {
         // Mertens et al. Fig. 5: with Q > K the 4-means histogram breaks down. Averaged over seeds, 8 Gaussians
         // give DC-4 a larger texel error than 2 do (same fragment count, 100).
-        let dc = MethodParams::Dc(DcParams { clusters: 4 });
+        let dc = DcParams { clusters: 4 };
         let mean_error = |q: u32| {
             (1..=20u64)
                 .map(|seed| {

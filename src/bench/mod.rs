@@ -171,7 +171,7 @@ pub fn automatic_split_ratios(
         camera: &s.camera,
         light: &s.light,
         render: &s.render,
-        method: registry::find("reference").map_err(anyhow::Error::msg)?,
+        method: registry::reference(),
         method_params: &empty,
         width: 8,
         height: 8,

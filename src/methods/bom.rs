@@ -17,11 +17,14 @@
 //! run it every frame either).
 
 use super::dom::{LayerMapsGpu, LayerMethod, LayerSetup};
-use super::{Analysis, AnalysisResult, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use super::{
+    Analysis, AnalysisResult, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
+    SweepPoint, UniformMirror, value,
+};
 use crate::gpu::Gpu;
 use crate::render::passes::abuffer::RefFragment;
 use crate::visibility::bom::{MAX_LAYERS, search_split_ratio};
-use crate::visibility::{BomParams, Fragment, MethodParams, SplitCriterion, SplitSearch};
+use crate::visibility::{BomParams, Fragment, SplitCriterion, SplitSearch, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
 const LAYERS: ParamSpec = ParamSpec {
@@ -64,29 +67,65 @@ fn bom_setup(values: &ParamValues) -> LayerSetup<BomUniforms> {
         uniforms: BomUniforms {
             layers,
             split_ratio: p.ratio(),
-            pad: [0; 2],
+            ..Zeroable::zeroed()
         },
     }
 }
 
+static INFO: MethodInfo = MethodInfo {
+    name: "bom",
+    label: "Bounding opacity maps",
+    paper: "Voicu, MSc thesis §5",
+    role: Role::Approximation,
+    lookup_wgsl: "methods/bom.wgsl",
+    light_wgsl: &["bom.wgsl"],
+    params: PARAMS,
+    color: [44, 160, 44],
+};
+
+/// The bench's layer counts; each is swept at the fixed split ratios and at the automatic one.
+const SWEEP_LAYERS: &[u32] = &[1, 2, 3, 4, 6, 8, 12, 15];
+/// The bench's fixed split ratios.
+const SWEEP_RATIOS: &[f32] = &[0.0, 0.5, 1.0];
+
 impl ShadowMethod for Bom {
-    fn name(&self) -> &'static str {
-        "bom"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "Bounding opacity maps"
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "BomUniforms",
+            BomUniforms {
+                layers,
+                split_ratio,
+                pad0,
+                pad1
+            }
+        ))
     }
-    fn source(&self) -> &'static str {
-        "Voicu, MSc thesis §5"
+    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(bom_params(values))
     }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/bom.wgsl"
+    fn sweep(&self) -> Vec<SweepPoint> {
+        let mut out = Vec::new();
+        for &k in SWEEP_LAYERS {
+            let layers = ("layers", k as f32);
+            out.extend(
+                SWEEP_RATIOS
+                    .iter()
+                    .map(|&r| SweepPoint::fixed(&[layers, ("split_ratio", r)])),
+            );
+            out.push(SweepPoint {
+                analysed: true,
+                ..SweepPoint::fixed(&[layers])
+            });
+        }
+        out
     }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
-        Some(MethodParams::Bom(bom_params(values)))
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        [4, 8]
+            .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))
+            .to_vec()
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(LayerMapsGpu::new(
@@ -116,7 +155,8 @@ pub struct BomUniforms {
     pub layers: u32,
     /// `BomParams::ratio()`: in `[0, 1]`.
     pub split_ratio: f32,
-    pub pad: [u32; 2],
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 /// Automatic split ratio (thesis §5.2.3-5.2.4, Algorithm 5.2.3.1) for `layers` layers over a whole rendered

@@ -10,12 +10,15 @@
 //! by initial centre) → compute: means; pass 2 (sum `b`, `b (mu - z)^2` by nearest mean) → compute:
 //! half-widths; pass 3 (histogram: sum `b` per bin). Three geometry passes for any `K`; at most 8 targets.
 
-use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use super::{
+    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
+    UniformMirror, value,
+};
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes;
 use crate::visibility::dc::MAX_CLUSTERS;
-use crate::visibility::{DcParams, MethodParams};
+use crate::visibility::{DcParams, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
 /// Largest map set hairlab allocates (both textures), in bytes.
@@ -40,26 +43,48 @@ fn clusters(values: &ParamValues) -> u32 {
     (value(values, &PARAMS[0]) as u32).clamp(1, MAX_CLUSTERS)
 }
 
+static INFO: MethodInfo = MethodInfo {
+    name: "dc",
+    label: "Density clustering",
+    paper: "Mertens, Kautz, Bekaert & Van Reeth 2004 (§3.2-3.3)",
+    role: Role::Approximation,
+    lookup_wgsl: "methods/dc.wgsl",
+    light_wgsl: &["dc.wgsl"],
+    params: PARAMS,
+    color: [214, 39, 40],
+};
+
+/// The bench's cluster counts.
+const SWEEP_CLUSTERS: &[u32] = &[2, 4, 8];
+
 impl ShadowMethod for Dc {
-    fn name(&self) -> &'static str {
-        "dc"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "Density clustering"
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "DcUniforms",
+            DcUniforms {
+                clusters,
+                pad0,
+                pad1,
+                pad2
+            }
+        ))
     }
-    fn source(&self) -> &'static str {
-        "Mertens, Kautz, Bekaert & Van Reeth 2004 (§3.2-3.3)"
-    }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/dc.wgsl"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
-        Some(MethodParams::Dc(DcParams {
+    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(DcParams {
             clusters: clusters(values),
-        }))
+        })
+    }
+    fn sweep(&self) -> Vec<SweepPoint> {
+        SWEEP_CLUSTERS
+            .iter()
+            .map(|&n| SweepPoint::fixed(&[("clusters", n as f32)]))
+            .collect()
+    }
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::from([("clusters".to_string(), 4.0)])]
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(DcGpu::new(gpu))

@@ -14,12 +14,15 @@
 //! `LayerMapsGpu` is that GPU side for any method whose maps are opacity layers placed per texel between the
 //! shared depth maps; Bounding Opacity Maps (`methods::bom`) use it too.
 
-use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use super::{
+    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
+    UniformMirror, value,
+};
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes;
 use crate::visibility::dom::{MAX_LAYERS, layer_ends};
-use crate::visibility::{BeyondLastLayer, DomParams, LayerSpacing, MethodParams};
+use crate::visibility::{BeyondLastLayer, DomParams, LayerSpacing, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
 const LAYERS: ParamSpec = ParamSpec {
@@ -43,16 +46,21 @@ const DEPTH_SPAN: ParamSpec = ParamSpec {
 const SPACING: ParamSpec = ParamSpec {
     key: "spacing",
     label: "spacing",
-    help: "layer sizes: 0 = linearly increasing (size of layer k proportional to k, the paper's), 1 = uniform",
-    kind: ParamKind::Int { min: 0, max: 1 },
+    help: "layer sizes: linear = linearly increasing (size of layer k proportional to k, the paper's), \
+           uniform = all the same",
+    kind: ParamKind::Choice {
+        options: &["linear", "uniform"],
+    },
     default: 0.0,
 };
 const BEYOND: ParamSpec = ParamSpec {
     key: "beyond",
     label: "beyond last layer",
-    help: "fragments beyond the last layer: 0 = ignore them, 1 = add them to the last layer (the paper's \
-           choice), 2 = stretch each texel's layers to reach its furthest strand",
-    kind: ParamKind::Int { min: 0, max: 2 },
+    help: "fragments beyond the last layer: ignore them, add them to the last layer (the paper's choice), or \
+           stretch each texel's layers to reach its furthest strand",
+    kind: ParamKind::Choice {
+        options: &["ignore", "add-to-last", "stretch"],
+    },
     default: 1.0,
 };
 const PARAMS: &[ParamSpec] = &[LAYERS, DEPTH_SPAN, SPACING, BEYOND];
@@ -103,29 +111,57 @@ fn dom_setup(values: &ParamValues) -> LayerSetup<DomUniforms> {
             ends,
             layers,
             beyond,
-            pad: [0; 2],
+            ..Zeroable::zeroed()
         },
     }
 }
 
+static INFO: MethodInfo = MethodInfo {
+    name: "dom",
+    label: "Deep opacity maps",
+    paper: "Yuksel & Keyser 2008",
+    role: Role::Approximation,
+    lookup_wgsl: "methods/dom.wgsl",
+    light_wgsl: &["dom.wgsl"],
+    params: PARAMS,
+    color: [255, 127, 14],
+};
+
+/// The bench's layer counts; each is swept with both spacings.
+const SWEEP_LAYERS: &[u32] = &[1, 2, 3, 4, 5, 7, 10, 15];
+
 impl ShadowMethod for Dom {
-    fn name(&self) -> &'static str {
-        "dom"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "Deep opacity maps"
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "DomUniforms",
+            DomUniforms {
+                ends,
+                layers,
+                beyond,
+                pad0,
+                pad1
+            }
+        ))
     }
-    fn source(&self) -> &'static str {
-        "Yuksel & Keyser 2008"
+    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(dom_params(values))
     }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/dom.wgsl"
+    fn sweep(&self) -> Vec<SweepPoint> {
+        let spacings = SPACING.options().len();
+        SWEEP_LAYERS
+            .iter()
+            .flat_map(|&k| {
+                (0..spacings).map(move |s| SweepPoint::fixed(&[("layers", k as f32), ("spacing", s as f32)]))
+            })
+            .collect()
     }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
-        Some(MethodParams::Dom(dom_params(values)))
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        [3, 7]
+            .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))
+            .to_vec()
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(LayerMapsGpu::new(
@@ -149,7 +185,8 @@ pub struct DomUniforms {
     pub layers: u32,
     /// 0 ignore, 1 add to the last layer, 2 stretch (the `beyond` parameter).
     pub beyond: u32,
-    pub pad: [u32; 2],
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 /// What tells one layered opacity method's GPU side from another's.

@@ -1,5 +1,6 @@
-//! Shadow methods behind one trait. Each method is one file; [`registry`] lists them and is the only place that
-//! knows them all. The UI's method panel is generated from [`ShadowMethod::params`].
+//! Shadow methods behind one trait. Each method is one file here (its [`MethodInfo`], GPU state and sweep),
+//! its CPU model in `visibility/`, its WGSL in `shaders/`; [`registry`] lists them and is the only place that
+//! knows them all. The UI's method panel is generated from [`MethodInfo::params`].
 
 pub mod bom;
 pub mod dc;
@@ -15,7 +16,7 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::geometry::GeometryBuffers;
 use crate::render::passes::light_depth::LightDepthMaps;
-use crate::visibility::{Fragment, MethodParams};
+use crate::visibility::TexelModel;
 use std::collections::BTreeMap;
 
 /// The kind and range of one method parameter.
@@ -25,6 +26,9 @@ pub enum ParamKind {
     Float { min: f32, max: f32, log: bool },
     /// An integer in `[min, max]`.
     Int { min: i32, max: i32 },
+    /// One of named options, stored as its index (a combo box in the panel, the word in presets and on the
+    /// command line; the index is accepted too, so older numeric presets still load).
+    Choice { options: &'static [&'static str] },
 }
 
 /// One tunable parameter of a method.
@@ -43,6 +47,7 @@ impl ParamSpec {
         let ok = match self.kind {
             ParamKind::Float { min, max, .. } => v.is_finite() && (min..=max).contains(&v),
             ParamKind::Int { min, max } => v.fract() == 0.0 && (min as f32..=max as f32).contains(&v),
+            ParamKind::Choice { options } => v.fract() == 0.0 && v >= 0.0 && (v as usize) < options.len(),
         };
         if ok {
             Ok(())
@@ -50,6 +55,7 @@ impl ParamSpec {
             let range = match self.kind {
                 ParamKind::Float { min, max, .. } => format!("a number in [{min}, {max}]"),
                 ParamKind::Int { min, max } => format!("an integer in [{min}, {max}]"),
+                ParamKind::Choice { options } => format!("one of {}", options.join(", ")),
             };
             Err(format!(
                 "parameter '{}' = {v} is out of range: expected {range}",
@@ -57,47 +63,173 @@ impl ParamSpec {
             ))
         }
     }
+
+    /// Parses a value as written in a preset or on the command line: a number, or for a choice its word (or
+    /// its index).
+    pub fn parse(&self, text: &str) -> Result<f32, String> {
+        let text = text.trim();
+        if let ParamKind::Choice { options } = self.kind
+            && let Some(i) = options.iter().position(|o| *o == text)
+        {
+            return Ok(i as f32);
+        }
+        let v: f32 = text.parse().map_err(|_| match self.kind {
+            ParamKind::Choice { options } => format!(
+                "parameter '{}': '{text}' is not one of {}",
+                self.key,
+                options.join(", ")
+            ),
+            _ => format!("parameter '{}': '{text}' is not a number", self.key),
+        })?;
+        self.check(v)?;
+        Ok(v)
+    }
+
+    /// The value as a preset writes it: the word of a choice, the number otherwise.
+    pub fn format(&self, v: f32) -> String {
+        match self.kind {
+            ParamKind::Choice { options } if v >= 0.0 && (v as usize) < options.len() => {
+                options[v as usize].to_string()
+            }
+            _ => v.to_string(),
+        }
+    }
+
+    /// A choice's options (empty for other kinds).
+    pub fn options(&self) -> &'static [&'static str] {
+        match self.kind {
+            ParamKind::Choice { options } => options,
+            _ => &[],
+        }
+    }
+
+    /// The option chosen by `v` (a choice parameter's value), or `None` for other kinds or an invalid index.
+    pub fn option(&self, v: f32) -> Option<&'static str> {
+        match self.kind {
+            ParamKind::Choice { options } if v >= 0.0 => options.get(v as usize).copied(),
+            _ => None,
+        }
+    }
 }
 
-/// Parameter values by key; missing keys take the spec's default.
+/// Parameter values by key; missing keys take the spec's default. A choice holds its option's index.
 pub type ParamValues = BTreeMap<String, f32>;
 
-/// A hair self-shadowing method: how it turns the light-space view of the strands into visibility `V(z)`.
-pub trait ShadowMethod: Sync {
+/// What a method is for the comparisons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// A bound on the problem (no shadow, opaque shadow): measured, but not a transparency model to inspect.
+    Baseline,
+    /// The exact answer every other method is measured against.
+    Reference,
+    /// An approximation of the reference: inspected, swept and charted.
+    Approximation,
+}
+
+/// A method's constant description: the registry, the panel, the charts and the tests read it.
+#[derive(Clone, Copy, Debug)]
+pub struct MethodInfo {
     /// Stable identifier used in presets and on the command line (kebab-case).
-    fn name(&self) -> &'static str;
+    pub name: &'static str,
     /// Human-readable name for the UI.
-    fn label(&self) -> &'static str;
+    pub label: &'static str,
     /// The paper the method follows (or a one-line description of the baseline).
-    fn source(&self) -> &'static str;
+    pub paper: &'static str,
+    pub role: Role,
     /// The WGSL file under `shaders/` defining `fn visibility_at(texel: vec2<i32>, z: f32) -> f32` over the
     /// method's group-1 resources.
-    fn lookup_wgsl(&self) -> &'static str;
+    pub lookup_wgsl: &'static str,
+    /// The WGSL files under `shaders/` of the method's own light passes (none for a method that reads only
+    /// the shared maps).
+    pub light_wgsl: &'static [&'static str],
     /// Tunable parameters, shown as the method's panel.
+    pub params: &'static [ParamSpec],
+    /// The method's colour in every plot and chart (inspector, window chart, PNG/SVG), sRGB.
+    pub color: [u8; 3],
+}
+
+/// A Rust uniform struct and the WGSL struct it mirrors: its name, size and `(field, byte offset)` list, which
+/// a test checks against naga's layout of every shader that declares it. Build it with [`uniform_mirror!`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct UniformMirror {
+    pub wgsl_name: &'static str,
+    pub size: usize,
+    pub fields: Vec<(&'static str, usize)>,
+}
+
+/// `uniform_mirror!("WgslName", RustType { field, ... })`: a [`UniformMirror`] whose field names are the Rust
+/// field names (so the WGSL struct must use the same names).
+#[macro_export]
+macro_rules! uniform_mirror {
+    ($wgsl:literal, $ty:ty { $($field:ident),* $(,)? }) => {
+        $crate::methods::UniformMirror {
+            wgsl_name: $wgsl,
+            size: ::std::mem::size_of::<$ty>(),
+            fields: vec![$((stringify!($field), ::std::mem::offset_of!($ty, $field))),*],
+        }
+    };
+}
+
+/// One configuration of a method's bench sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepPoint {
+    pub values: ParamValues,
+    /// Run the method's [`Analysis`] on the scene with these values first and measure what it applies (e.g.
+    /// Bounding Opacity Maps' automatic split ratio).
+    pub analysed: bool,
+}
+
+impl SweepPoint {
+    /// A fixed configuration from `(key, value)` pairs.
+    pub fn fixed(pairs: &[(&str, f32)]) -> SweepPoint {
+        SweepPoint {
+            values: pairs.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            analysed: false,
+        }
+    }
+}
+
+/// A hair self-shadowing method: how it turns the light-space view of the strands into visibility `V(z)`.
+/// A method is its own files (this trait's implementation, its CPU model, its WGSL) plus one line in
+/// [`registry`].
+pub trait ShadowMethod: Sync {
+    /// The method's constants.
+    fn info(&self) -> &'static MethodInfo;
+    fn name(&self) -> &'static str {
+        self.info().name
+    }
+    fn label(&self) -> &'static str {
+        self.info().label
+    }
+    fn lookup_wgsl(&self) -> &'static str {
+        self.info().lookup_wgsl
+    }
     fn params(&self) -> &'static [ParamSpec] {
-        &[]
+        self.info().params
     }
     /// Values for `FrameUniforms::method_params` from the parameter values.
     fn uniform_params(&self, _values: &ParamValues) -> [f32; 4] {
         [0.0; 4]
     }
-    /// The CPU model with these parameter values (`None` for the baselines, which define
-    /// [`ShadowMethod::visibility`] directly).
-    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
+    /// The method's own uniform struct and its WGSL twin (`None` when it has none).
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
         None
     }
-    /// CPU model of the method for one texel: visibility at normalised light depth `z` given all the texel's
-    /// fragments (the specification the GPU lookup must match).
-    fn visibility(&self, values: &ParamValues, hair_alpha: f32, fragments: &[Fragment], z: f32) -> f32 {
-        match self.model(values, hair_alpha) {
-            Some(m) => m.visibility_curve(fragments, &[z])[0],
-            None => 1.0,
-        }
+    /// The CPU model with these parameter values: the specification the GPU lookup must match.
+    fn model(&self, values: &ParamValues, hair_alpha: f32) -> Box<dyn TexelModel>;
+    /// The configurations the bench sweeps (empty: measured once at its defaults).
+    fn sweep(&self) -> Vec<SweepPoint> {
+        vec![SweepPoint::fixed(&[])]
+    }
+    /// The configurations `measure` reports when none is given.
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        Vec::new()
     }
     /// Creates the method's GPU state (maps, pipelines, the group-1 bind group its lookup reads).
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu>;
     /// An on-demand analysis of the exact fragment lists that tunes the method's parameters (e.g. Bounding
-    /// Opacity Maps' automatic split ratio); run from the method panel, never per frame.
+    /// Opacity Maps' automatic split ratio); run from the method panel and by analysed sweep points, never
+    /// per frame.
     fn analysis(&self) -> Option<Analysis> {
         None
     }
@@ -221,18 +353,72 @@ pub fn value(values: &ParamValues, spec: &ParamSpec) -> f32 {
     values.get(spec.key).copied().unwrap_or(spec.default)
 }
 
+/// The parameter `key` of `method`, or an error listing the parameters it has.
+pub fn spec(method: &dyn ShadowMethod, key: &str) -> Result<&'static ParamSpec, String> {
+    method.params().iter().find(|p| p.key == key).ok_or_else(|| {
+        let known: Vec<_> = method.params().iter().map(|p| p.key).collect();
+        format!(
+            "method '{}' has no parameter '{key}' (it has: {})",
+            method.name(),
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        )
+    })
+}
+
+/// Parses `key` = `text` for `method` (a number, or a choice's word).
+pub fn parse_value(method: &dyn ShadowMethod, key: &str, text: &str) -> Result<f32, String> {
+    spec(method, key)?.parse(text)
+}
+
+/// `key=value` pairs as presets and the command line write them (choices as words), comma-separated.
+pub fn format_values(method: &dyn ShadowMethod, values: &ParamValues) -> String {
+    let kv: Vec<String> = values
+        .iter()
+        .map(|(k, v)| match spec(method, k) {
+            Ok(s) => format!("{k}={}", s.format(*v)),
+            Err(_) => format!("{k}={v}"),
+        })
+        .collect();
+    kv.join(",")
+}
+
 /// Checks that every key in `values` belongs to `method` and lies in range.
 pub fn validate(method: &dyn ShadowMethod, values: &ParamValues) -> Result<(), String> {
     for (k, v) in values {
-        let spec = method.params().iter().find(|p| p.key == k).ok_or_else(|| {
-            let known: Vec<_> = method.params().iter().map(|p| p.key).collect();
-            format!(
-                "method '{}' has no parameter '{k}' (it has: {})",
-                method.name(),
-                known.join(", ")
-            )
-        })?;
-        spec.check(*v)?;
+        spec(method, k)?.check(*v)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CHOICE: ParamSpec = ParamSpec {
+        key: "spacing",
+        label: "spacing",
+        help: "",
+        kind: ParamKind::Choice {
+            options: &["linear", "uniform"],
+        },
+        default: 0.0,
+    };
+
+    #[test]
+    fn choices_parse_words_and_indices() {
+        assert_eq!(CHOICE.parse("uniform"), Ok(1.0));
+        assert_eq!(CHOICE.parse(" linear "), Ok(0.0));
+        assert_eq!(CHOICE.parse("1"), Ok(1.0), "old numeric presets still load");
+        let e = CHOICE.parse("2").unwrap_err();
+        assert!(e.contains("expected one of linear, uniform"), "{e}");
+        let e = CHOICE.parse("wide").unwrap_err();
+        assert_eq!(e, "parameter 'spacing': 'wide' is not one of linear, uniform");
+        assert_eq!(CHOICE.format(1.0), "uniform");
+        assert_eq!(CHOICE.option(0.0), Some("linear"));
+        assert_eq!(CHOICE.option(2.0), None);
+    }
 }

@@ -1,26 +1,41 @@
 //! No hair self-shadowing: every strand is fully lit (`V = 1`). The baseline that shows what shadows add.
 
-use super::{MethodGpu, NoMaps, ParamValues, ShadowMethod};
+use super::{MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
 use crate::gpu::Gpu;
-use crate::visibility::Fragment;
+use crate::visibility::{Fragment, TexelModel};
 
 pub struct NoShadow;
 
+static INFO: MethodInfo = MethodInfo {
+    name: "none",
+    label: "None",
+    paper: "baseline: hair casts no shadow",
+    role: Role::Baseline,
+    lookup_wgsl: "methods/none.wgsl",
+    light_wgsl: &[],
+    params: &[],
+    color: [23, 190, 207],
+};
+
+/// `V = 1` everywhere.
+#[derive(Debug)]
+struct Lit;
+
+impl TexelModel for Lit {
+    fn label(&self) -> String {
+        INFO.name.to_string()
+    }
+    fn curve(&self, _fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        vec![1.0; zs.len()]
+    }
+}
+
 impl ShadowMethod for NoShadow {
-    fn name(&self) -> &'static str {
-        "none"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "None"
-    }
-    fn source(&self) -> &'static str {
-        "baseline: hair casts no shadow"
-    }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/none.wgsl"
-    }
-    fn visibility(&self, _values: &ParamValues, _alpha: f32, _fragments: &[Fragment], _z: f32) -> f32 {
-        1.0
+    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(Lit)
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(NoMaps::new(gpu, 0))

@@ -25,11 +25,14 @@
 //! §4: 10 MB for its depth-range, occupancy and slab maps at 512²). Each buffer must fit the device's storage
 //! binding size (128 MiB on lavapipe: up to 2048²); beyond, [`GpuError::TooLarge`].
 
-use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use super::{
+    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
+    UniformMirror, value,
+};
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes;
-use crate::visibility::{MethodParams, OccupancyParams, OccupancyVariant};
+use crate::visibility::{OccupancyParams, OccupancyVariant, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
 /// Bytes per texel of each of the two storage buffers (four u32).
@@ -40,9 +43,11 @@ pub const DEPTH_RANGE_BYTES_PER_TEXEL: u64 = 8;
 const PARAMS: &[ParamSpec] = &[ParamSpec {
     key: "variant",
     label: "variant",
-    help: "0: occupancy map + slab map (4 slabs of 32 slices, the paper's method); \
-           1: occupancy map only (one count for the whole range, the simpler variant of §3)",
-    kind: ParamKind::Int { min: 0, max: 1 },
+    help: "slab-map: occupancy map + slab map (4 slabs of 32 slices, the paper's method); \
+           occupancy-only: occupancy map only (one count for the whole range, the simpler variant of §3)",
+    kind: ParamKind::Choice {
+        options: &["slab-map", "occupancy-only"],
+    },
     default: 0.0,
 }];
 
@@ -56,27 +61,45 @@ fn variant(values: &ParamValues) -> OccupancyVariant {
     }
 }
 
+static INFO: MethodInfo = MethodInfo {
+    name: "occupancy",
+    label: "Occupancy maps",
+    paper: "Sintorn & Assarsson 2009 §3",
+    role: Role::Approximation,
+    lookup_wgsl: "methods/occupancy.wgsl",
+    light_wgsl: &["occupancy.wgsl"],
+    params: PARAMS,
+    color: [148, 103, 189],
+};
+
 impl ShadowMethod for Occupancy {
-    fn name(&self) -> &'static str {
-        "occupancy"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "Occupancy maps"
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "OccupancyUniforms",
+            OccupancyUniforms {
+                variant,
+                pad0,
+                pad1,
+                pad2
+            }
+        ))
     }
-    fn source(&self) -> &'static str {
-        "Sintorn & Assarsson 2009 §3"
-    }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/occupancy.wgsl"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn model(&self, values: &ParamValues, hair_alpha: f32) -> Option<MethodParams> {
-        Some(MethodParams::Occupancy(OccupancyParams {
+    fn model(&self, values: &ParamValues, hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(OccupancyParams {
             alpha: hair_alpha,
             variant: variant(values),
-        }))
+        })
+    }
+    fn sweep(&self) -> Vec<SweepPoint> {
+        (0..PARAMS[0].options().len())
+            .map(|v| SweepPoint::fixed(&[("variant", v as f32)]))
+            .collect()
+    }
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::new()]
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(OccupancyGpu::new(gpu))

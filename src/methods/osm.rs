@@ -7,11 +7,14 @@
 //! (8 colour targets × 4 channels = 32 slices) with additive blending, so `N` slices take `ceil(N / 32)`
 //! geometry passes: OSM-256 takes 8.
 
-use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, ShadowMethod, value};
+use super::{
+    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
+    UniformMirror, value,
+};
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes;
-use crate::visibility::{MethodParams, OsmParams};
+use crate::visibility::{OsmParams, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
 /// Slices one geometry pass fills (8 RGBA32F targets).
@@ -33,26 +36,50 @@ fn slices(values: &ParamValues) -> u32 {
     value(values, &PARAMS[0]) as u32
 }
 
+static INFO: MethodInfo = MethodInfo {
+    name: "osm",
+    label: "Opacity shadow maps",
+    paper: "Kim & Neumann 2001 (as in Yuksel & Keyser 2008 §2)",
+    role: Role::Approximation,
+    lookup_wgsl: "methods/osm.wgsl",
+    light_wgsl: &["osm.wgsl"],
+    params: PARAMS,
+    color: [31, 119, 180],
+};
+
+/// The bench's slice counts.
+const SWEEP_SLICES: &[u32] = &[4, 8, 16, 32, 64, 128, 256];
+
 impl ShadowMethod for Osm {
-    fn name(&self) -> &'static str {
-        "osm"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "Opacity shadow maps"
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "OsmUniforms",
+            OsmUniforms {
+                slices,
+                pad0,
+                pad1,
+                pad2
+            }
+        ))
     }
-    fn source(&self) -> &'static str {
-        "Kim & Neumann 2001 (as in Yuksel & Keyser 2008 §2)"
-    }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/osm.wgsl"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
-        Some(MethodParams::Osm(OsmParams {
+    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(OsmParams {
             slices: slices(values),
-        }))
+        })
+    }
+    fn sweep(&self) -> Vec<SweepPoint> {
+        SWEEP_SLICES
+            .iter()
+            .map(|&n| SweepPoint::fixed(&[("slices", n as f32)]))
+            .collect()
+    }
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        [16, 64, 256]
+            .map(|n| ParamValues::from([("slices".to_string(), n as f32)]))
+            .to_vec()
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(OsmGpu::new(gpu))
@@ -64,7 +91,9 @@ impl ShadowMethod for Osm {
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct OsmUniforms {
     pub slices: u32,
-    pub pad: [u32; 3],
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 pub struct OsmGpu {
@@ -268,7 +297,7 @@ impl MethodGpu for OsmGpu {
             0,
             bytemuck::bytes_of(&OsmUniforms {
                 slices: n,
-                pad: [0; 3],
+                ..Zeroable::zeroed()
             }),
         );
         let passes_needed = layers.div_ceil(8);

@@ -2,29 +2,31 @@
 //! `V(z) = exp(-sum of b over fragments with depth < z)` (design.md; Sintorn & Assarsson 2009 Fig. 2 and 5 use
 //! depth peeling as ground truth). As a shadow method, the eye passes walk the texel's list.
 
-use super::{MethodContext, MethodGpu, ShadowMethod};
+use super::{MethodContext, MethodGpu, MethodInfo, ParamValues, Role, ShadowMethod};
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes::abuffer::ABuffer;
-use crate::visibility::MethodParams;
+use crate::visibility::{self, TexelModel};
 
 pub struct Reference;
 
+static INFO: MethodInfo = MethodInfo {
+    name: "reference",
+    label: "Reference (exact)",
+    paper: "exact visibility from every fragment (A-buffer = depth peeling)",
+    role: Role::Reference,
+    lookup_wgsl: "methods/reference.wgsl",
+    light_wgsl: &["abuffer.wgsl"],
+    params: &[],
+    color: [140, 86, 75],
+};
+
 impl ShadowMethod for Reference {
-    fn name(&self) -> &'static str {
-        "reference"
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
-    fn label(&self) -> &'static str {
-        "Reference (exact)"
-    }
-    fn source(&self) -> &'static str {
-        "exact visibility from every fragment (A-buffer = depth peeling)"
-    }
-    fn lookup_wgsl(&self) -> &'static str {
-        "methods/reference.wgsl"
-    }
-    fn model(&self, _values: &super::ParamValues, _hair_alpha: f32) -> Option<MethodParams> {
-        Some(MethodParams::Reference)
+    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(visibility::Reference)
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         let _ = gpu;

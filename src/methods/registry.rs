@@ -1,4 +1,5 @@
-//! The one list of shadow methods. Everything else (UI panel, CLI, presets, pipelines) goes through it.
+//! The one list of shadow methods. Everything else (UI panel, inspector, CLI, presets, bench, tests, pipelines)
+//! goes through it: adding a method is its own files plus one line here.
 
 use super::ShadowMethod;
 use super::bom::Bom;
@@ -32,4 +33,29 @@ pub fn find(name: &str) -> Result<&'static dyn ShadowMethod, String> {
         let names: Vec<_> = METHODS.iter().map(|m| m.name()).collect();
         format!("unknown shadow method '{name}' (known: {})", names.join(", "))
     })
+}
+
+/// The exact reference every method is measured against.
+pub fn reference() -> &'static dyn ShadowMethod {
+    &Reference
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::Role;
+
+    #[test]
+    fn names_are_unique_and_one_method_is_the_reference() {
+        let mut names: Vec<_> = METHODS.iter().map(|m| m.name()).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), METHODS.len(), "duplicate method names");
+        let refs: Vec<_> = METHODS
+            .iter()
+            .filter(|m| m.info().role == Role::Reference)
+            .collect();
+        assert_eq!(refs.len(), 1);
+        assert_eq!(refs[0].name(), reference().name());
+    }
 }

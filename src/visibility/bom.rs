@@ -42,7 +42,10 @@
 //!   `f = clamp(x - f32(j), 0, 1)`, `prev = select(0.0, L[max(j, 1u) - 1u], j > 0u)`,
 //!   `omega = min(prev + (L[j] - prev) * f, L[j])`, `V = exp(-omega)`.
 
-use super::{Fragment, Model, depth_range, lerp_up, relative_depth, slice_index, transmittance, valid};
+use super::{
+    Fragment, Model, Stored, TexelModel, depth_range, lerp_up, list, relative_depth, slice_index,
+    transmittance, valid,
+};
 
 /// Largest number of layers (8 render targets of 4 channels, thesis §3.4).
 pub const MAX_LAYERS: u32 = 32;
@@ -148,6 +151,62 @@ impl Model for BomParams {
 
     fn visibility(&self, texel: &BomTexel, z: f32) -> f32 {
         visibility(self, texel, z)
+    }
+}
+
+/// The relative depth `t` with `split(t, ratio) = s` (the split is increasing; bisection to f32 precision).
+pub fn split_inverse(s: f32, ratio: f32) -> f32 {
+    let (mut lo, mut hi) = (0.0f32, 1.0f32);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if split(mid, ratio) < s {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+impl TexelModel for BomParams {
+    fn label(&self) -> String {
+        if self.ratio() > 0.0 {
+            format!("bom-{} r{:.2}", self.layer_count(), self.ratio())
+        } else {
+            format!("bom-{}", self.layer_count())
+        }
+    }
+
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        super::model_curve(self, fragments, zs)
+    }
+
+    fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
+        build(self, fragments).layers
+    }
+
+    fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
+        let t = build(self, fragments);
+        let k = t.layers.len();
+        let mut s = Stored::new(self.label());
+        s.boundaries.push(t.near);
+        s.knots.push([t.near, 1.0]);
+        if t.far > t.near {
+            for (i, b) in t.layers.iter().enumerate() {
+                let z = t.near + split_inverse((i + 1) as f32 / k as f32, self.ratio()) * (t.far - t.near);
+                s.boundaries.push(z);
+                s.knots.push([z, transmittance(*b)]);
+            }
+        }
+        s.summary.push(format!(
+            "start {:.4}, end {:.4}; {k} layers, split ratio {:.2}",
+            t.near,
+            t.far,
+            self.ratio()
+        ));
+        s.summary
+            .push(format!("layer optical depths {}", list(&t.layers)));
+        Some(s)
     }
 }
 
@@ -275,6 +334,16 @@ fn sum_abs_diff(a: &[f32], b: &[f32]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn split_inverse_inverts_the_split() {
+        for r in [0.0, 0.4, 1.0] {
+            for s in [0.25, 0.5, 0.75] {
+                let t = split_inverse(s, r);
+                assert!((split(t, r) - s).abs() < 1e-5, "r {r} s {s}");
+            }
+        }
+    }
     use crate::visibility::reference;
     use crate::visibility::test_support::{Rng, assert_valid_curve, extreme_texels, random_texel};
     use std::f32::consts::LN_2;

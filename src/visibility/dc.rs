@@ -46,7 +46,9 @@
 //! - lookup: `T = sum_j density_j * ramp_j`, `V = exp(-T)`, with
 //!   `ramp_j = select(select(0.0, 1.0, z > L_j), clamp((z - L_j) / (R_j - L_j), 0.0, 1.0), R_j > L_j)`.
 
-use super::{Fragment, Model, depth_range, relative_depth, slice_index, transmittance, valid};
+use super::{
+    Fragment, Model, Stored, TexelModel, depth_range, relative_depth, slice_index, transmittance, valid,
+};
 
 /// Largest number of clusters.
 pub const MAX_CLUSTERS: u32 = 16;
@@ -217,6 +219,36 @@ impl Model for DcParams {
 
     fn visibility(&self, texel: &DcTexel, z: f32) -> f32 {
         visibility(self, texel, z)
+    }
+}
+
+impl TexelModel for DcParams {
+    fn label(&self) -> String {
+        format!("dc-{}", self.cluster_count())
+    }
+
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        super::model_curve(self, fragments, zs)
+    }
+
+    fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
+        build(self, fragments).densities
+    }
+
+    fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
+        let t = build(self, fragments);
+        let mut s = Stored::new(self.label());
+        s.means = t.means.clone();
+        s.bins = bins(&t.means, &t.half_widths)
+            .into_iter()
+            .map(|(l, r)| [l, r])
+            .collect();
+        for (j, ((m, [l, r]), d)) in t.means.iter().zip(&s.bins).zip(&t.densities).enumerate() {
+            s.summary.push(format!(
+                "cluster {j}: mean {m:.4}, bin [{l:.4}, {r:.4}], density {d:.3}"
+            ));
+        }
+        Some(s)
     }
 }
 

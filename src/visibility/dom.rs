@@ -39,7 +39,7 @@
 //!   `prev = select(0.0, L[max(k, 1u) - 1u], k > 0u)`, `omega = min(prev + (L[k] - prev) * f, L[k])`; with no
 //!   such `k`, `omega = L[K - 1]`; `V = exp(-omega)`.
 
-use super::{Fragment, Model, depth_range, lerp_up, transmittance, valid};
+use super::{Fragment, Model, Stored, TexelModel, depth_range, lerp_up, list, transmittance, valid};
 
 /// Largest number of layers.
 pub const MAX_LAYERS: u32 = 16;
@@ -206,6 +206,45 @@ impl Model for DomParams {
 
     fn visibility(&self, texel: &DomTexel, z: f32) -> f32 {
         visibility(self, texel, z)
+    }
+}
+
+impl TexelModel for DomParams {
+    fn label(&self) -> String {
+        format!("dom-{}", self.layer_count())
+    }
+
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        super::model_curve(self, fragments, zs)
+    }
+
+    fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
+        build(self, fragments).layers
+    }
+
+    fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
+        let t = build(self, fragments);
+        let ends = layer_ends(self);
+        let scale = match (self.beyond, ends.last()) {
+            (BeyondLastLayer::Stretch, Some(&d)) => ((t.far - t.near) / d).max(1.0),
+            _ => 1.0,
+        };
+        let mut s = Stored::new(self.label());
+        s.boundaries.push(t.near);
+        s.knots.push([t.near, 1.0]);
+        for (e, b) in ends.iter().zip(&t.layers) {
+            s.boundaries.push(t.near + scale * e);
+            s.knots.push([t.near + scale * e, transmittance(*b)]);
+        }
+        s.summary.push(format!(
+            "start depth z0 = {:.4}; {} layers to z0 + {:.4}",
+            t.near,
+            ends.len(),
+            scale * ends.last().copied().unwrap_or(0.0)
+        ));
+        s.summary
+            .push(format!("layer optical depths {}", list(&t.layers)));
+        Some(s)
     }
 }
 

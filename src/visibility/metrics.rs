@@ -10,7 +10,7 @@
 //! Map error: the mean of the texel mean errors over the texels holding fragments (with the max of their max
 //! errors alongside).
 
-use super::{Fragment, MethodParams, Model, Reference, depth_range, valid};
+use super::{Fragment, Reference, TexelModel, depth_range, valid};
 
 /// Default number of grid points `M` per texel.
 pub const DEFAULT_GRID_POINTS: usize = 64;
@@ -54,12 +54,16 @@ pub fn sample_depths(fragments: &[Fragment], grid_points: usize) -> Vec<f32> {
 }
 
 /// Texel error of `method` on one texel (`None` when it holds no fragment).
-pub fn texel_error(method: &MethodParams, fragments: &[Fragment], grid_points: usize) -> Option<TexelError> {
+pub fn texel_error(
+    method: &dyn TexelModel,
+    fragments: &[Fragment],
+    grid_points: usize,
+) -> Option<TexelError> {
     let zs = sample_depths(fragments, grid_points);
     if zs.is_empty() {
         return None;
     }
-    let model = method.visibility_curve(fragments, &zs);
+    let model = method.curve(fragments, &zs);
     let exact = Reference.curve(fragments, &zs);
     let (sum, max) = model
         .iter()
@@ -78,7 +82,7 @@ pub fn texel_error(method: &MethodParams, fragments: &[Fragment], grid_points: u
 /// Map error of `method` over a map given as one fragment list per texel (`None` when no texel holds
 /// fragments).
 pub fn map_error<T: AsRef<[Fragment]>>(
-    method: &MethodParams,
+    method: &dyn TexelModel,
     map: &[T],
     grid_points: usize,
 ) -> Option<MapError> {
@@ -99,7 +103,7 @@ pub fn map_error<T: AsRef<[Fragment]>>(
 mod tests {
     use super::*;
     use crate::visibility::test_support::{Rng, random_texel};
-    use crate::visibility::{DcParams, DomParams, OccupancyParams, OsmParams};
+    use crate::visibility::{BomParams, DcParams, DomParams, OccupancyParams, OsmParams};
 
     #[test]
     fn sample_depths_hand_computed() {
@@ -124,7 +128,7 @@ mod tests {
     #[test]
     fn texel_error_hand_computed() {
         // OSM with one slice: the only plane (z = 1) holds everything, V_osm(z) = exp(-z * total b).
-        let osm = MethodParams::Osm(OsmParams { slices: 1 });
+        let osm = OsmParams { slices: 1 };
         // Fragments 0 and 1, alpha 0.5: V_osm = 4^-z; V_ref = 1 at z = 0, 1/2 on (0, 1].
         // Samples (M = 3): 0, 1 | 0, 0.5, 1. Errors 0, 1/4 | 0, 0, 1/4: mean 0.1, max 0.25.
         let two = [Fragment::new(0.0, 0.5), Fragment::new(1.0, 0.5)];
@@ -153,20 +157,21 @@ mod tests {
     fn reference_has_no_error_and_methods_stay_in_range() {
         let mut rng = Rng::new(60);
         let map: Vec<Vec<Fragment>> = (0..50).map(|_| random_texel(&mut rng, 60)).collect();
-        let r = map_error(&MethodParams::Reference, &map, DEFAULT_GRID_POINTS).unwrap();
+        let r = map_error(&Reference, &map, DEFAULT_GRID_POINTS).unwrap();
         assert_eq!((r.mean, r.max, r.texels), (0.0, 0.0, 50));
-        for m in [
-            MethodParams::Osm(OsmParams::default()),
-            MethodParams::Dom(DomParams::default()),
-            MethodParams::Bom(Default::default()),
-            MethodParams::Dc(DcParams::default()),
-            MethodParams::Occupancy(OccupancyParams::new(0.3)),
-        ] {
-            let e = map_error(&m, &map, DEFAULT_GRID_POINTS).unwrap();
+        let methods: [&dyn TexelModel; 5] = [
+            &OsmParams::default(),
+            &DomParams::default(),
+            &BomParams::default(),
+            &DcParams::default(),
+            &OccupancyParams::new(0.3),
+        ];
+        for m in methods {
+            let e = map_error(m, &map, DEFAULT_GRID_POINTS).unwrap();
             assert!(
                 e.mean > 0.0 && e.mean <= e.max && e.max <= 1.0,
                 "{}: {e:?}",
-                m.name()
+                m.label()
             );
         }
     }

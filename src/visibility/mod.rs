@@ -134,62 +134,75 @@ pub trait Model {
     fn build(&self, fragments: &[Fragment]) -> Self::Texel;
     /// Visibility at normalised light depth `z`.
     fn visibility(&self, texel: &Self::Texel, z: f32) -> f32;
-    /// Builds the texel once and evaluates `V` at every depth of `zs`.
-    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
-        let texel = self.build(fragments);
-        zs.iter().map(|&z| self.visibility(&texel, z)).collect()
+}
+
+/// Builds `model`'s texel once and evaluates `V` at every depth of `zs` (what every [`TexelModel::curve`] does).
+pub fn model_curve<M: Model>(model: &M, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+    let texel = model.build(fragments);
+    zs.iter().map(|&z| model.visibility(&texel, z)).collect()
+}
+
+/// What a method stores for one texel, in absolute light depth, as the texel inspector draws it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stored {
+    /// The model's short label (e.g. `osm-16`).
+    pub label: String,
+    /// A description of the stored values, one line each.
+    pub summary: Vec<String>,
+    /// Slice planes, layer boundaries or slab boundaries.
+    pub boundaries: Vec<f32>,
+    /// `(depth, V)` where the method stores a value (`V = exp(-stored optical depth)`).
+    pub knots: Vec<[f32; 2]>,
+    /// Cluster means and bins `[L, R]` (Density Clustering).
+    pub means: Vec<f32>,
+    pub bins: Vec<[f32; 2]>,
+    /// Occupied depth intervals `[from, to]` (occupancy maps).
+    pub occupied: Vec<[f32; 2]>,
+}
+
+impl Stored {
+    /// An empty description labelled `label`.
+    pub fn new(label: String) -> Stored {
+        Stored {
+            label,
+            ..Stored::default()
+        }
+    }
+
+    /// Depths where the method's curve has a kink or a step.
+    pub fn events(&self) -> impl Iterator<Item = f32> + '_ {
+        self.boundaries
+            .iter()
+            .copied()
+            .chain(self.means.iter().copied())
+            .chain(self.bins.iter().flatten().copied())
+            .chain(self.occupied.iter().flatten().copied())
     }
 }
 
-/// Any method with its parameters, for callers that evaluate methods generically (inspector plot, metrics).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MethodParams {
-    Reference,
-    Osm(OsmParams),
-    Dom(DomParams),
-    Bom(BomParams),
-    Dc(DcParams),
-    Occupancy(OccupancyParams),
+/// A method's CPU model with its parameters bound: the object-safe face every generic caller (inspector,
+/// light-map view, metrics, `measure`, the CLI's `curve`, the GPU = CPU harness) uses. Each method's model
+/// implements it in the method's own file.
+pub trait TexelModel: Send + Sync + std::fmt::Debug {
+    /// Short label with the parameter that matters, e.g. `osm-16`, `dc-4`.
+    fn label(&self) -> String;
+    /// Builds the texel from `fragments` once and evaluates `V` at every depth of `zs`.
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32>;
+    /// The per-texel values the method stores besides near/far, in the GPU's order (for the light-map view).
+    fn stored_values(&self, _fragments: &[Fragment]) -> Vec<f32> {
+        Vec::new()
+    }
+    /// What the method stores for a texel of `fragments`, for the inspector's plot (`None`: nothing beyond
+    /// the fragments).
+    fn stored(&self, _fragments: &[Fragment]) -> Option<Stored> {
+        None
+    }
 }
 
-impl MethodParams {
-    /// Short stable name: `reference`, `osm`, `dom`, `bom`, `dc`, `occupancy`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Reference => "reference",
-            Self::Osm(_) => "osm",
-            Self::Dom(_) => "dom",
-            Self::Bom(_) => "bom",
-            Self::Dc(_) => "dc",
-            Self::Occupancy(_) => "occupancy",
-        }
-    }
-
-    /// The per-texel values the method stores besides near/far, in the GPU's order: OSM's accumulated optical
-    /// depth per slice plane, DOM's and BOM's per layer, DC's density per cluster, occupancy's fragment count
-    /// per slab; nothing for the reference.
-    pub fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
-        match self {
-            Self::Reference => Vec::new(),
-            Self::Osm(p) => p.build(fragments).planes,
-            Self::Dom(p) => p.build(fragments).layers,
-            Self::Bom(p) => p.build(fragments).layers,
-            Self::Dc(p) => p.build(fragments).densities,
-            Self::Occupancy(p) => p.build(fragments).slabs.iter().map(|&c| c as f32).collect(),
-        }
-    }
-
-    /// Builds the method's texel from `fragments` once and evaluates `V` at every depth of `zs`.
-    pub fn visibility_curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
-        match self {
-            Self::Reference => Reference.curve(fragments, zs),
-            Self::Osm(p) => p.curve(fragments, zs),
-            Self::Dom(p) => p.curve(fragments, zs),
-            Self::Bom(p) => p.curve(fragments, zs),
-            Self::Dc(p) => p.curve(fragments, zs),
-            Self::Occupancy(p) => p.curve(fragments, zs),
-        }
-    }
+/// A list of values for [`Stored::summary`], three decimals each.
+pub(crate) fn list(values: &[f32]) -> String {
+    let v: Vec<String> = values.iter().map(|x| format!("{x:.3}")).collect();
+    v.join(", ")
 }
 
 #[cfg(test)]
@@ -258,24 +271,27 @@ mod tests {
     }
 
     #[test]
-    fn method_names_and_curves() {
+    fn method_labels_and_curves() {
         let frags = [Fragment::new(0.2, 0.5), Fragment::new(0.6, 0.5)];
-        let methods = [
-            MethodParams::Reference,
-            MethodParams::Osm(OsmParams::default()),
-            MethodParams::Dom(DomParams::default()),
-            MethodParams::Bom(BomParams::default()),
-            MethodParams::Dc(DcParams::default()),
-            MethodParams::Occupancy(OccupancyParams::new(0.5)),
+        let methods: [&dyn TexelModel; 6] = [
+            &Reference,
+            &OsmParams::default(),
+            &DomParams::default(),
+            &BomParams::default(),
+            &DcParams::default(),
+            &OccupancyParams::new(0.5),
         ];
-        let names: Vec<_> = methods.iter().map(|m| m.name()).collect();
-        assert_eq!(names, ["reference", "osm", "dom", "bom", "dc", "occupancy"]);
+        let labels: Vec<_> = methods.iter().map(|m| m.label()).collect();
+        assert_eq!(
+            labels,
+            ["reference", "osm-16", "dom-3", "bom-4", "dc-4", "occupancy"]
+        );
         for m in methods {
             // Every method is exactly 1 at depth 0 here (nothing precedes it, and 0 is the first OSM plane)
             // and exp(-2 ln 2) = 1/4 beyond the last fragment.
-            let v = m.visibility_curve(&frags, &[0.0, 2.0]);
-            assert_eq!(v[0], 1.0, "{}", m.name());
-            assert!((v[1] - 0.25).abs() < 1e-6, "{}: {}", m.name(), v[1]);
+            let v = m.curve(&frags, &[0.0, 2.0]);
+            assert_eq!(v[0], 1.0, "{}", m.label());
+            assert!((v[1] - 0.25).abs() < 1e-6, "{}: {}", m.label(), v[1]);
         }
     }
 }

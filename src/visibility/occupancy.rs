@@ -42,7 +42,10 @@
 //!   `base = 0`, `F = f32(slabs[0])`, `B` all set bits, `before` adds the set bits of the earlier words);
 //!   `V = exp(-o * (-log(1.0 - clamp(alpha, 0.0, 1.0 - 1e-6))))`.
 
-use super::{Fragment, Model, depth_range, optical_depth, relative_depth, slice_index, transmittance, valid};
+use super::{
+    Fragment, Model, Stored, TexelModel, depth_range, optical_depth, relative_depth, slice_index,
+    transmittance, valid,
+};
 
 /// Slices of the occupancy map.
 pub const SLICES: usize = 128;
@@ -163,6 +166,60 @@ impl Model for OccupancyParams {
 
     fn visibility(&self, texel: &OccupancyTexel, z: f32) -> f32 {
         visibility(self, texel, z)
+    }
+}
+
+impl TexelModel for OccupancyParams {
+    fn label(&self) -> String {
+        match self.variant {
+            OccupancyVariant::SlabMap => "occupancy".into(),
+            OccupancyVariant::OccupancyOnly => "occupancy-only".into(),
+        }
+    }
+
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        super::model_curve(self, fragments, zs)
+    }
+
+    fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
+        build(self, fragments).slabs.iter().map(|&c| c as f32).collect()
+    }
+
+    fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
+        let t = build(self, fragments);
+        let at = |x: f32| t.near + (t.far - t.near) * x;
+        let mut s = Stored::new(self.label());
+        s.occupied = (0..SLICES)
+            .filter(|&i| t.occupancy[i / SLICES_PER_SLAB] >> (i % SLICES_PER_SLAB) & 1 == 1)
+            .map(|i| [at(i as f32 / SLICES as f32), at((i + 1) as f32 / SLICES as f32)])
+            .collect();
+        let w = optical_depth(self.alpha);
+        match self.variant {
+            OccupancyVariant::SlabMap => {
+                let mut before = 0u32;
+                for i in 0..=SLABS {
+                    let z = at(i as f32 / SLABS as f32);
+                    s.boundaries.push(z);
+                    s.knots.push([z, transmittance(before as f32 * w)]);
+                    if i < SLABS {
+                        before += t.slabs[i];
+                    }
+                }
+                s.summary.push(format!("slab counts {:?}", t.slabs));
+            }
+            OccupancyVariant::OccupancyOnly => {
+                s.boundaries = vec![t.near, t.far];
+                s.summary.push(format!("fragment count {}", t.slabs[0]));
+            }
+        }
+        s.summary.push(format!(
+            "range [{:.4}, {:.4}], {} of {SLICES} slices occupied; w = b(α {:.2}) = {w:.4}",
+            t.near,
+            t.far,
+            s.occupied.len(),
+            self.alpha
+        ));
+        Some(s)
     }
 }
 

@@ -18,7 +18,7 @@
 //!   `prev = select(0.0, S[max(j, 1u) - 1u], j > 0u)`, `omega = min(prev + (S[j] - prev) * f, S[j])`,
 //!   `V = exp(-omega)`.
 
-use super::{Fragment, Model, lerp_up, slice_index, transmittance, valid};
+use super::{Fragment, Model, Stored, TexelModel, lerp_up, slice_index, transmittance, valid};
 
 /// Largest number of slices.
 pub const MAX_SLICES: u32 = 256;
@@ -89,6 +89,38 @@ impl Model for OsmParams {
 
     fn visibility(&self, texel: &OsmTexel, z: f32) -> f32 {
         visibility(self, texel, z)
+    }
+}
+
+impl TexelModel for OsmParams {
+    fn label(&self) -> String {
+        format!("osm-{}", self.slice_count())
+    }
+
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        super::model_curve(self, fragments, zs)
+    }
+
+    fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
+        build(self, fragments).planes
+    }
+
+    fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
+        let t = build(self, fragments);
+        let n = t.planes.len();
+        let mut s = Stored::new(self.label());
+        s.boundaries = (0..=n).map(|k| k as f32 / n as f32).collect();
+        s.knots.push([0.0, 1.0]);
+        s.knots.extend(
+            t.planes
+                .iter()
+                .enumerate()
+                .map(|(i, &b)| [(i + 1) as f32 / n as f32, transmittance(b)]),
+        );
+        s.summary.push(format!(
+            "{n} slice planes over the whole light range; each stores the optical depth in front of it"
+        ));
+        Some(s)
     }
 }
 

@@ -6,7 +6,7 @@
 //! shadow itself. Nothing here is approximate; sums are taken in f64. On the GPU side the reference is not a
 //! lookup but the per-texel fragment list (depth peel / A-buffer) read back and fed to this model.
 
-use super::{Fragment, Model, optical_depth, valid};
+use super::{Fragment, Model, TexelModel, optical_depth, valid};
 
 /// Exact visibility at depth `z`: `exp(-sum of b over fragments with depth < z)`, summed in f64.
 pub fn visibility(fragments: &[Fragment], z: f32) -> f32 {
@@ -68,6 +68,16 @@ impl Model for Reference {
         let n = texel.depths.partition_point(|&d| d < z);
         let omega = if n == 0 { 0.0 } else { texel.cumulative[n - 1] };
         (-omega).exp() as f32
+    }
+}
+
+impl TexelModel for Reference {
+    fn label(&self) -> String {
+        "reference".into()
+    }
+
+    fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
+        super::model_curve(self, fragments, zs)
     }
 }
 

@@ -72,7 +72,7 @@ pub fn probe_depths(fragments: &[Fragment]) -> Vec<f32> {
 /// Asserts that the model's curve over [`probe_depths`] is finite, in `[0, 1]` and non-increasing.
 pub fn assert_valid_curve<M: Model>(model: &M, fragments: &[Fragment], what: &str) {
     let zs = probe_depths(fragments);
-    let v = model.curve(fragments, &zs);
+    let v = super::model_curve(model, fragments, &zs);
     for (i, (&z, &vi)) in zs.iter().zip(&v).enumerate() {
         assert!(
             (0.0..=1.0).contains(&vi),

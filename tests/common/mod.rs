@@ -146,9 +146,7 @@ pub fn gpu_cpu_difference(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup
     // A full frame: the eye passes bind the method's maps too.
     r.render(&frame(method, &values)).unwrap();
     r.read_output().unwrap();
-    let model = m
-        .model(&values, s.render.hair_alpha)
-        .expect("method has a CPU model");
+    let model = m.model(&values, s.render.hair_alpha);
     let texel = |t: usize| ((t as u32 % resolution) as f32, (t as u32 / resolution) as f32);
     let (mut samples, mut expected) = (Vec::new(), Vec::new());
     for (t, list) in lists.iter().enumerate() {
@@ -158,7 +156,7 @@ pub fn gpu_cpu_difference(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup
         let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
         let zs = metrics::sample_depths(&frags, 16);
         let (x, y) = texel(t);
-        expected.extend(model.visibility_curve(&frags, &zs));
+        expected.extend(model.curve(&frags, &zs));
         samples.extend(zs.iter().map(|&z| [x, y, z]));
     }
     if setup.strands >= 100 {

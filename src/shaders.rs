@@ -17,6 +17,12 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/light_vertex.wgsl",
     "common/method_lookup.wgsl",
     "common/cumulative_targets.wgsl",
+    "common/visibility.wgsl",
+    "common/osm_uniforms.wgsl",
+    "common/dom_uniforms.wgsl",
+    "common/bom_uniforms.wgsl",
+    "common/dc_uniforms.wgsl",
+    "common/occupancy_uniforms.wgsl",
     "methods/none.wgsl",
     "methods/opaque_shadow_map.wgsl",
     "methods/reference.wgsl",
@@ -42,11 +48,6 @@ pub const SOURCES: &[(&str, &str)] = embed![
 
 /// Pass shaders that take a method lookup through `#include_method`.
 pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl", "evaluate.wgsl"];
-
-/// The embedded source of `path`.
-pub fn source(path: &str) -> Option<&'static str> {
-    SOURCES.iter().find(|(p, _)| *p == path).map(|(_, s)| *s)
-}
 
 /// Composes the pass shader `path`, resolving includes; `method` is the method lookup file for
 /// `#include_method` (e.g. `methods/none.wgsl`).

@@ -102,17 +102,16 @@ fn wgsl_struct(pass: &str, method: Option<&str>, name: &str) -> (usize, Vec<(Str
     )
 }
 
-/// Checks a Rust mirror (its size and `(WGSL field name, Rust offset)` list) against every WGSL copy of it.
-fn check_mirror(rust_size: usize, rust: &[(&str, usize)], wgsl: &[(&str, Option<&str>, &str)]) {
+/// Checks a Rust mirror (its size and `(WGSL field name, Rust offset)` list) against the WGSL struct `name`
+/// declared in `file`.
+fn check_mirror(rust_size: usize, rust: &[(&str, usize)], file: &str, name: &str) {
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
-    for (pass, method, name) in wgsl {
-        let (size, fields) = wgsl_struct(pass, *method, name);
-        assert_eq!(size, rust_size, "{name} in {pass}: size");
-        assert_eq!(
-            fields, rust,
-            "{name} in {pass}: field names/offsets differ between Rust and WGSL"
-        );
-    }
+    let (size, fields) = wgsl_struct(file, None, name);
+    assert_eq!(size, rust_size, "{name} in {file}: size");
+    assert_eq!(
+        fields, rust,
+        "{name} in {file}: field names/offsets differ between Rust and WGSL"
+    );
 }
 
 #[test]
@@ -120,11 +119,13 @@ fn frame_uniforms_match_wgsl_layout() {
     check_mirror(
         std::mem::size_of::<FrameUniforms>(),
         FRAME_UNIFORMS_FIELDS,
-        &[("hair.wgsl", Some("methods/none.wgsl"), "FrameUniforms")],
+        "common/frame.wgsl",
+        "FrameUniforms",
     );
 }
 
-/// Every method's uniform struct against its light pass's and its lookup's WGSL copies.
+/// Every method's uniform struct against its single WGSL declaration, which its light pass and its lookup both
+/// include.
 #[test]
 fn method_uniforms_match_wgsl_layout() {
     use hairlab::methods::{bom::BomUniforms, dc::DcUniforms, dom::DomUniforms};
@@ -138,10 +139,8 @@ fn method_uniforms_match_wgsl_layout() {
             ("pad1", 8),
             ("pad2", 12),
         ],
-        &[
-            ("osm.wgsl", None, "OsmUniforms"),
-            ("evaluate.wgsl", Some("methods/osm.wgsl"), "OsmLookup"),
-        ],
+        "common/osm_uniforms.wgsl",
+        "OsmUniforms",
     );
     let pad = offset_of!(DomUniforms, pad);
     check_mirror(
@@ -153,10 +152,8 @@ fn method_uniforms_match_wgsl_layout() {
             ("pad0", pad),
             ("pad1", pad + 4),
         ],
-        &[
-            ("dom.wgsl", None, "DomUniforms"),
-            ("evaluate.wgsl", Some("methods/dom.wgsl"), "DomLookup"),
-        ],
+        "common/dom_uniforms.wgsl",
+        "DomUniforms",
     );
     let pad = offset_of!(BomUniforms, pad);
     check_mirror(
@@ -167,10 +164,8 @@ fn method_uniforms_match_wgsl_layout() {
             ("pad0", pad),
             ("pad1", pad + 4),
         ],
-        &[
-            ("bom.wgsl", None, "BomUniforms"),
-            ("evaluate.wgsl", Some("methods/bom.wgsl"), "BomLookup"),
-        ],
+        "common/bom_uniforms.wgsl",
+        "BomUniforms",
     );
     check_mirror(
         size_of::<DcUniforms>(),
@@ -180,10 +175,8 @@ fn method_uniforms_match_wgsl_layout() {
             ("pad1", offset_of!(DcUniforms, pad1)),
             ("pad2", offset_of!(DcUniforms, pad2)),
         ],
-        &[
-            ("dc.wgsl", None, "DcUniforms"),
-            ("evaluate.wgsl", Some("methods/dc.wgsl"), "DcUniforms"),
-        ],
+        "common/dc_uniforms.wgsl",
+        "DcUniforms",
     );
     check_mirror(
         size_of::<OccupancyUniforms>(),
@@ -193,11 +186,100 @@ fn method_uniforms_match_wgsl_layout() {
             ("pad1", offset_of!(OccupancyUniforms, pad1)),
             ("pad2", offset_of!(OccupancyUniforms, pad2)),
         ],
-        &[
-            ("occupancy.wgsl", None, "OccupancyUniforms"),
-            ("evaluate.wgsl", Some("methods/occupancy.wgsl"), "OccupancyLookup"),
-        ],
+        "common/occupancy_uniforms.wgsl",
+        "OccupancyUniforms",
     );
+}
+
+/// Names declared (`struct X` or `fn x(`) in `src`.
+fn declarations(src: &str) -> Vec<String> {
+    src.lines()
+        .filter_map(|l| l.strip_prefix("struct ").or_else(|| l.strip_prefix("fn ")))
+        .map(|rest| {
+            rest.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .next()
+                .unwrap()
+                .to_string()
+        })
+        .collect()
+}
+
+/// Every struct and function of a shared file (`common/`) is declared in that one file: the others include it
+/// instead of copying it.
+#[test]
+fn shared_declarations_are_written_once() {
+    let shared = |p: &str| p.starts_with("common/");
+    let mut checked = 0;
+    for (path, src) in SOURCES.iter().filter(|(p, _)| shared(p)) {
+        for name in declarations(src) {
+            let elsewhere: Vec<&str> = SOURCES
+                .iter()
+                .filter(|(p, s)| p != path && declarations(s).contains(&name))
+                .map(|(p, _)| *p)
+                .collect();
+            assert!(
+                elsewhere.is_empty(),
+                "{name} of {path} is declared again in {elsewhere:?}"
+            );
+            checked += 1;
+        }
+    }
+    for name in [
+        "OsmUniforms",
+        "DomUniforms",
+        "BomUniforms",
+        "DcUniforms",
+        "OccupancyUniforms",
+        "relative_depth",
+    ] {
+        assert!(
+            SOURCES
+                .iter()
+                .any(|(p, s)| shared(p) && declarations(s).iter().any(|d| d == name)),
+            "{name} is not in a shared file"
+        );
+    }
+    assert!(checked > 20, "only {checked} shared declarations found");
+}
+
+/// The expressions `visibility/mod.rs` names as the GPU's (its doc comments) are written once, in
+/// `common/visibility.wgsl`; every other file calls those functions.
+#[test]
+fn shared_visibility_expressions_are_written_once() {
+    let expressions = [
+        "-log(1.0 - clamp(alpha, 0.0, 1.0 - 1e-6))",
+        "select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near)",
+        "min(u32(max(floor(x), 0.0)), n - 1u)",
+        "min(a + (b - a) * f, b)",
+        "exp(-omega)",
+    ];
+    let visibility = SOURCES
+        .iter()
+        .find(|(p, _)| *p == "common/visibility.wgsl")
+        .unwrap()
+        .1;
+    for e in expressions {
+        assert!(visibility.contains(e), "common/visibility.wgsl lacks {e}");
+    }
+    // Parts of the expressions that no other file's code (comments aside) may repeat.
+    let code = |src: &str| -> String {
+        src.lines()
+            .map(|l| l.split("//").next().unwrap())
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    for part in ["log(1.0 -", "select(select(", "max(floor(", "exp(", "(b - a) * f"] {
+        let copies: Vec<&str> = SOURCES
+            .iter()
+            .filter(|(_, s)| code(s).contains(part))
+            .map(|(p, _)| *p)
+            .collect();
+        assert_eq!(
+            copies,
+            ["common/visibility.wgsl"],
+            "'{part}' is written in {copies:?}"
+        );
+    }
 }
 
 /// The vertex formats Rust declares match the WGSL `vs_main` inputs location by location.

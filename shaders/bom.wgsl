@@ -6,14 +6,8 @@
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
 #include "common/cumulative_targets.wgsl"
-
-struct BomUniforms {
-    layers: u32,
-    // Hybrid split ratio r in [0, 1]: 0 linear, 1 logarithmic.
-    split_ratio: f32,
-    pad0: u32,
-    pad1: u32,
-}
+#include "common/visibility.wgsl"
+#include "common/bom_uniforms.wgsl"
 
 @group(1) @binding(0) var<uniform> bom: BomUniforms;
 @group(1) @binding(1) var bom_near: texture_2d<f32>;
@@ -30,11 +24,11 @@ fn fs_main(f: LightFragment) -> CumulativeTargets {
     let near = textureLoad(bom_near, texel, 0).r;
     let far = textureLoad(bom_far, texel, 0).r;
     let z = fragment_depth(f.depth);
-    let t = clamp(select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near), 0.0, 1.0);
+    let t = clamp(relative_depth(z, near, far), 0.0, 1.0);
     let r = bom.split_ratio;
     let s = clamp((1.0 - r) * t + r * (log2(1.0 + 254.0 * t) / log2(255.0)), 0.0, 1.0);
     let n = bom.layers;
-    let k = min(u32(max(floor(s * f32(n)), 0.0)), n - 1u);
+    let k = slice_index(s * f32(n), n);
     let b = optical_depth(f.alpha);
     return cumulative(k, 0u, b);
 }

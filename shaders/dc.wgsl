@@ -8,6 +8,7 @@
 //   fs_histogram  (layer 2g: sum b per bin, off-bin fragments to the nearest mean) = the densities.
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
+#include "common/visibility.wgsl"
 #include "methods/dc.wgsl"
 
 // The shared light-depth maps: nearest and furthest fragment depth per texel (fs_kmeans, cs_means).
@@ -68,8 +69,7 @@ fn fs_kmeans(f: LightFragment) -> DcSums {
     let far = textureLoad(dc_far, texel, 0).r;
     let z = fragment_depth(f.depth);
     let k = dc_uniforms.clusters;
-    let t = select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near);
-    let j = min(u32(max(floor(t * f32(k)), 0.0)), k - 1u);
+    let j = slice_index(relative_depth(z, near, far) * f32(k), k);
     let b = optical_depth(f.alpha);
     return dc_sums(j, b, b * z);
 }

@@ -6,16 +6,8 @@
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
 #include "common/cumulative_targets.wgsl"
-
-struct DomUniforms {
-    // d_1..d_K relative to z0: layer k (0-based) ends at ends[k / 4][k % 4].
-    ends: array<vec4<f32>, 4>,
-    layers: u32,
-    // 0: ignore fragments beyond the last layer, 1: add them to the last layer, 2: stretch the layers to far.
-    beyond: u32,
-    pad0: u32,
-    pad1: u32,
-}
+#include "common/visibility.wgsl"
+#include "common/dom_uniforms.wgsl"
 
 @group(1) @binding(0) var<uniform> dom: DomUniforms;
 @group(1) @binding(1) var dom_near: texture_2d<f32>;

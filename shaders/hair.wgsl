@@ -28,8 +28,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.clip = frame.world_to_clip * vec4<f32>(v.position, 1.0);
     out.world = v.position;
     out.tangent = v.tangent;
-    let rgb = mix(frame.hair_color.rgb, v.color.rgb, v.color.a);
-    out.color = vec4<f32>(rgb, clamp(v.alpha * frame.hair_color.a, 0.0, 1.0));
+    let rgb = mix(frame.hair_color, v.color.rgb, v.color.a);
+    out.color = vec4<f32>(rgb, clamp(v.alpha * frame.hair_alpha, 0.0, 1.0));
     return out;
 }
 
@@ -41,14 +41,14 @@ struct OitTargets {
 @fragment
 fn fs_main(in: VertexOut) -> OitTargets {
     let t = normalize(in.tangent);
-    let to_eye = normalize(frame.eye_position.xyz - in.world);
+    let to_eye = normalize(frame.eye_position - in.world);
     let l = light_dir(in.world);
     let v = hair_visibility(in.world) * mesh_visibility(in.world, 1);
     let shaded = kajiya_kay(t, l, to_eye, in.color.rgb) * light_radiance(in.world) * v + in.color.rgb * 0.08;
     let a = in.color.a;
     // Depth weight in the spirit of McGuire & Bavoil: nearer fragments dominate. The distance is measured in
-    // units of the camera-to-target distance (eye_position.w), so the weight does not depend on the scene's scale.
-    let d = length(frame.eye_position.xyz - in.world) / frame.eye_position.w;
+    // units of the camera-to-target distance (camera_distance), so the weight does not depend on the scene's scale.
+    let d = length(frame.eye_position - in.world) / frame.camera_distance;
     let w = a * clamp(pow(max(2.0 - d, 0.0), 8.0), 1e-2, 3e3);
     var out: OitTargets;
     out.accum = vec4<f32>(shaded * a, a) * w;

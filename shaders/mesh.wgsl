@@ -31,7 +31,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var n = normalize(in.normal);
-    let to_eye = normalize(frame.eye_position.xyz - in.world);
+    let to_eye = normalize(frame.eye_position - in.world);
     if dot(n, to_eye) < 0.0 {
         n = -n;
     }

@@ -4,14 +4,8 @@
 // count (atomicAdd; slab = slice >> 5, or slab 0 for the occupancy-only variant). visibility::occupancy::build.
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
-
-struct OccupancyUniforms {
-    // 0: slab map, 1: occupancy only.
-    variant: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-}
+#include "common/visibility.wgsl"
+#include "common/occupancy_uniforms.wgsl"
 
 @group(1) @binding(0) var occupancy_near: texture_2d<f32>;
 @group(1) @binding(1) var occupancy_far: texture_2d<f32>;
@@ -32,8 +26,7 @@ fn fs_main(f: LightFragment) {
     let near = textureLoad(occupancy_near, p, 0).r;
     let far = textureLoad(occupancy_far, p, 0).r;
     let z = fragment_depth(f.depth);
-    let d = select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near);
-    let s = min(u32(max(floor(d * 128.0), 0.0)), 127u);
+    let s = slice_index(relative_depth(z, near, far) * 128.0, 128u);
     let t = texel_index(f.clip) * 4u;
     atomicOr(&occupancy_bits[t + (s >> 5u)], 1u << (s & 31u));
     atomicAdd(&occupancy_slabs[t + select(s >> 5u, 0u, occupancy.variant == 1u)], 1u);

@@ -5,13 +5,8 @@
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
 #include "common/cumulative_targets.wgsl"
-
-struct OsmUniforms {
-    slices: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-}
+#include "common/visibility.wgsl"
+#include "common/osm_uniforms.wgsl"
 
 @group(1) @binding(0) var<uniform> osm: OsmUniforms;
 
@@ -32,6 +27,6 @@ fn vs_main(v: LightVertexIn, @builtin(instance_index) pass_index: u32) -> OsmFra
 @fragment
 fn fs_main(f: OsmFragment) -> CumulativeTargets {
     let n = osm.slices;
-    let i = min(u32(max(floor(fragment_depth(f.depth) * f32(n)), 0.0)), n - 1u);
+    let i = slice_index(fragment_depth(f.depth) * f32(n), n);
     return cumulative(i, f.first_slice, optical_depth(f.alpha));
 }

@@ -1,5 +1,6 @@
-//! WGSL sources embedded at compile time and a tiny include step: `#include "common/x.wgsl"` pastes a shared file,
-//! `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`).
+//! WGSL sources embedded at compile time and a tiny include step: `#include "common/x.wgsl"` pastes a file of
+//! `shaders/`, `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`).
+//! Included files may include others; each file is pasted once per composed shader, where it is first named.
 
 /// Embeds files of `shaders/` by their path relative to that folder.
 macro_rules! embed {
@@ -16,6 +17,12 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/light_vertex.wgsl",
     "common/method_lookup.wgsl",
     "common/cumulative_targets.wgsl",
+    "common/visibility.wgsl",
+    "common/osm_uniforms.wgsl",
+    "common/dom_uniforms.wgsl",
+    "common/bom_uniforms.wgsl",
+    "common/dc_uniforms.wgsl",
+    "common/occupancy_uniforms.wgsl",
     "methods/none.wgsl",
     "methods/opaque_shadow_map.wgsl",
     "methods/reference.wgsl",
@@ -42,30 +49,158 @@ pub const SOURCES: &[(&str, &str)] = embed![
 /// Pass shaders that take a method lookup through `#include_method`.
 pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl", "evaluate.wgsl"];
 
-/// The embedded source of `path`.
-pub fn source(path: &str) -> Option<&'static str> {
-    SOURCES.iter().find(|(p, _)| *p == path).map(|(_, s)| *s)
-}
-
 /// Composes the pass shader `path`, resolving includes; `method` is the method lookup file for
 /// `#include_method` (e.g. `methods/none.wgsl`).
 pub fn compose(path: &str, method: Option<&str>) -> Result<String, String> {
-    let src = source(path).ok_or_else(|| format!("no embedded shader '{path}'"))?;
-    let mut out = String::with_capacity(src.len() * 2);
-    for line in src.lines() {
-        let trimmed = line.trim();
-        if trimmed == "#include_method" {
-            let m = method.ok_or_else(|| format!("{path} needs a shadow method lookup"))?;
-            let body = source(m).ok_or_else(|| format!("{path}: no method lookup '{m}'"))?;
-            out.push_str(body);
-        } else if let Some(rest) = trimmed.strip_prefix("#include ") {
-            let inc = rest.trim_matches('"');
-            let body = source(inc).ok_or_else(|| format!("{path}: cannot include '{inc}'"))?;
-            out.push_str(body);
-        } else {
-            out.push_str(line);
+    compose_from(SOURCES, path, method)
+}
+
+/// [`compose`] over the files of `sources`.
+fn compose_from(sources: &[(&str, &str)], path: &str, method: Option<&str>) -> Result<String, String> {
+    let mut composer = Composer {
+        sources,
+        method,
+        chain: Vec::new(),
+        pasted: Vec::new(),
+        out: String::new(),
+    };
+    composer.paste(path)?;
+    Ok(composer.out)
+}
+
+struct Composer<'a> {
+    sources: &'a [(&'a str, &'a str)],
+    method: Option<&'a str>,
+    /// The files being pasted, outermost first (for cycles and error messages).
+    chain: Vec<&'a str>,
+    /// Every file pasted so far.
+    pasted: Vec<&'a str>,
+    out: String,
+}
+
+impl<'a> Composer<'a> {
+    /// The include chain ending in `last`, e.g. `hair.wgsl -> common/frame.wgsl -> last`.
+    fn chain_to(&self, last: &str) -> String {
+        let mut chain = self.chain.join(" -> ");
+        if !chain.is_empty() {
+            chain.push_str(" -> ");
         }
-        out.push('\n');
+        chain + last
     }
-    Ok(out)
+
+    fn paste(&mut self, path: &'a str) -> Result<(), String> {
+        if self.chain.contains(&path) {
+            return Err(format!("include cycle: {}", self.chain_to(path)));
+        }
+        if self.pasted.contains(&path) {
+            return Ok(());
+        }
+        let &(name, src) = self
+            .sources
+            .iter()
+            .find(|(p, _)| *p == path)
+            .ok_or_else(|| format!("{}: no such shader file", self.chain_to(path)))?;
+        self.chain.push(name);
+        self.pasted.push(name);
+        for line in src.lines() {
+            let trimmed = line.trim();
+            if trimmed == "#include_method" {
+                let m = self
+                    .method
+                    .ok_or_else(|| format!("{}: needs a shadow method lookup", self.chain.join(" -> ")))?;
+                self.paste(m)?;
+            } else if let Some(rest) = trimmed.strip_prefix("#include ") {
+                let inc = rest
+                    .trim()
+                    .strip_prefix('"')
+                    .and_then(|r| r.strip_suffix('"'))
+                    .ok_or_else(|| format!("{}: malformed include '{trimmed}'", self.chain.join(" -> ")))?;
+                self.paste(inc)?;
+            } else {
+                self.out.push_str(line);
+                self.out.push('\n');
+            }
+        }
+        self.chain.pop();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::compose_from;
+
+    const FILES: &[(&str, &str)] = &[
+        (
+            "pass.wgsl",
+            "#include \"a.wgsl\"\n#include \"b.wgsl\"\nfn pass() {}",
+        ),
+        ("a.wgsl", "#include \"c.wgsl\"\nfn a() {}"),
+        ("b.wgsl", "#include \"c.wgsl\"\n#include \"a.wgsl\"\nfn b() {}"),
+        ("c.wgsl", "fn c() {}"),
+        (
+            "method_pass.wgsl",
+            "#include \"c.wgsl\"\n#include_method\nfn main() {}",
+        ),
+        ("m.wgsl", "#include \"c.wgsl\"\nfn visibility_at() {}"),
+        ("cycle1.wgsl", "#include \"cycle2.wgsl\""),
+        ("cycle2.wgsl", "#include \"cycle3.wgsl\""),
+        ("cycle3.wgsl", "#include \"cycle1.wgsl\""),
+        ("self.wgsl", "#include \"self.wgsl\""),
+        ("missing.wgsl", "#include \"a.wgsl\"\n#include \"d.wgsl\""),
+        ("nested_missing.wgsl", "#include \"missing.wgsl\""),
+        ("unquoted.wgsl", "#include c.wgsl"),
+    ];
+
+    #[test]
+    fn includes_recurse_and_each_file_is_pasted_once_where_first_named() {
+        let out = compose_from(FILES, "pass.wgsl", None).unwrap();
+        assert_eq!(out, "fn c() {}\nfn a() {}\nfn b() {}\nfn pass() {}\n");
+    }
+
+    #[test]
+    fn the_method_lookup_is_pasted_once_too() {
+        let out = compose_from(FILES, "method_pass.wgsl", Some("m.wgsl")).unwrap();
+        assert_eq!(out, "fn c() {}\nfn visibility_at() {}\nfn main() {}\n");
+        assert_eq!(
+            compose_from(FILES, "method_pass.wgsl", None).unwrap_err(),
+            "method_pass.wgsl: needs a shadow method lookup"
+        );
+        assert_eq!(
+            compose_from(FILES, "method_pass.wgsl", Some("nope.wgsl")).unwrap_err(),
+            "method_pass.wgsl -> nope.wgsl: no such shader file"
+        );
+    }
+
+    #[test]
+    fn an_include_cycle_is_an_error_naming_the_chain() {
+        assert_eq!(
+            compose_from(FILES, "cycle1.wgsl", None).unwrap_err(),
+            "include cycle: cycle1.wgsl -> cycle2.wgsl -> cycle3.wgsl -> cycle1.wgsl"
+        );
+        assert_eq!(
+            compose_from(FILES, "self.wgsl", None).unwrap_err(),
+            "include cycle: self.wgsl -> self.wgsl"
+        );
+    }
+
+    #[test]
+    fn a_missing_file_is_an_error_naming_the_chain() {
+        assert_eq!(
+            compose_from(FILES, "nested_missing.wgsl", None).unwrap_err(),
+            "nested_missing.wgsl -> missing.wgsl -> d.wgsl: no such shader file"
+        );
+        assert_eq!(
+            compose_from(FILES, "none.wgsl", None).unwrap_err(),
+            "none.wgsl: no such shader file"
+        );
+    }
+
+    #[test]
+    fn an_unquoted_include_is_an_error() {
+        assert_eq!(
+            compose_from(FILES, "unquoted.wgsl", None).unwrap_err(),
+            "unquoted.wgsl: malformed include '#include c.wgsl'"
+        );
+    }
 }

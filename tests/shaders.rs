@@ -102,15 +102,16 @@ fn wgsl_struct(pass: &str, method: Option<&str>, name: &str) -> (usize, Vec<(Str
     )
 }
 
-/// Checks a Rust mirror (its size and `(WGSL field name, Rust offset)` list) against every WGSL copy of it.
+/// Checks a Rust mirror (its size and `(WGSL field name, Rust offset)` list) against the WGSL struct in every
+/// `(shader, method lookup, struct name)`: each composed shader must see the struct, with the same layout.
 fn check_mirror(rust_size: usize, rust: &[(&'static str, usize)], wgsl: &[(&str, Option<&str>, &str)]) {
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
-    for (pass, method, name) in wgsl {
-        let (size, fields) = wgsl_struct(pass, *method, name);
-        assert_eq!(size, rust_size, "{name} in {pass}: size");
+    for (file, method, name) in wgsl {
+        let (size, fields) = wgsl_struct(file, *method, name);
+        assert_eq!(size, rust_size, "{name} in {file}: size");
         assert_eq!(
             fields, rust,
-            "{name} in {pass}: field names/offsets differ between Rust and WGSL"
+            "{name} in {file}: field names/offsets differ between Rust and WGSL"
         );
     }
 }
@@ -120,7 +121,7 @@ fn frame_uniforms_match_wgsl_layout() {
     check_mirror(
         std::mem::size_of::<FrameUniforms>(),
         FRAME_UNIFORMS_FIELDS,
-        &[("hair.wgsl", Some("methods/none.wgsl"), "FrameUniforms")],
+        &[("common/frame.wgsl", None, "FrameUniforms")],
     );
 }
 
@@ -212,6 +213,97 @@ fn every_registered_method_is_complete() {
             assert!(m.uniform_mirror().is_some(), "{name}: no uniform mirror");
             assert!(sweep.len() >= 2, "{name}: a sweep of one configuration");
         }
+    }
+}
+
+/// Names declared (`struct X` or `fn x(`) in `src`.
+fn declarations(src: &str) -> Vec<String> {
+    src.lines()
+        .filter_map(|l| l.strip_prefix("struct ").or_else(|| l.strip_prefix("fn ")))
+        .map(|rest| {
+            rest.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .next()
+                .unwrap()
+                .to_string()
+        })
+        .collect()
+}
+
+/// Every struct and function of a shared file (`common/`) is declared in that one file: the others include it
+/// instead of copying it.
+#[test]
+fn shared_declarations_are_written_once() {
+    let shared = |p: &str| p.starts_with("common/");
+    let mut checked = 0;
+    for (path, src) in SOURCES.iter().filter(|(p, _)| shared(p)) {
+        for name in declarations(src) {
+            let elsewhere: Vec<&str> = SOURCES
+                .iter()
+                .filter(|(p, s)| p != path && declarations(s).contains(&name))
+                .map(|(p, _)| *p)
+                .collect();
+            assert!(
+                elsewhere.is_empty(),
+                "{name} of {path} is declared again in {elsewhere:?}"
+            );
+            checked += 1;
+        }
+    }
+    for name in [
+        "OsmUniforms",
+        "DomUniforms",
+        "BomUniforms",
+        "DcUniforms",
+        "OccupancyUniforms",
+        "relative_depth",
+    ] {
+        assert!(
+            SOURCES
+                .iter()
+                .any(|(p, s)| shared(p) && declarations(s).iter().any(|d| d == name)),
+            "{name} is not in a shared file"
+        );
+    }
+    assert!(checked > 20, "only {checked} shared declarations found");
+}
+
+/// The expressions `visibility/mod.rs` names as the GPU's (its doc comments) are written once, in
+/// `common/visibility.wgsl`; every other file calls those functions.
+#[test]
+fn shared_visibility_expressions_are_written_once() {
+    let expressions = [
+        "-log(1.0 - clamp(alpha, 0.0, 1.0 - 1e-6))",
+        "select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near)",
+        "min(u32(max(floor(x), 0.0)), n - 1u)",
+        "min(a + (b - a) * f, b)",
+        "exp(-omega)",
+    ];
+    let visibility = SOURCES
+        .iter()
+        .find(|(p, _)| *p == "common/visibility.wgsl")
+        .unwrap()
+        .1;
+    for e in expressions {
+        assert!(visibility.contains(e), "common/visibility.wgsl lacks {e}");
+    }
+    // Parts of the expressions that no other file's code (comments aside) may repeat.
+    let code = |src: &str| -> String {
+        src.lines()
+            .map(|l| l.split("//").next().unwrap())
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    for part in ["log(1.0 -", "select(select(", "max(floor(", "exp(", "(b - a) * f"] {
+        let copies: Vec<&str> = SOURCES
+            .iter()
+            .filter(|(_, s)| code(s).contains(part))
+            .map(|(p, _)| *p)
+            .collect();
+        assert_eq!(
+            copies,
+            ["common/visibility.wgsl"],
+            "'{part}' is written in {copies:?}"
+        );
     }
 }
 

@@ -1,5 +1,6 @@
 // The vertex stage every light-space pass shares, so that all of them (the light-depth pass, the reference and
 // every method) see bitwise the same fragments: same position, same interpolated depth and alpha.
+#include "common/frame.wgsl"
 
 struct LightVertexIn {
     @builtin(vertex_index) index: u32,
@@ -21,7 +22,7 @@ fn light_vertex(v: LightVertexIn) -> LightFragment {
     var out: LightFragment;
     out.clip = frame.world_to_light_clip * vec4<f32>(v.position, 1.0);
     out.depth = light_depth(v.position);
-    out.alpha = clamp(v.alpha * frame.hair_color.a, 0.0, 1.0);
+    out.alpha = clamp(v.alpha * frame.hair_alpha, 0.0, 1.0);
     out.segment = v.index;
     return out;
 }
@@ -32,9 +33,8 @@ fn fragment_depth(depth: f32) -> f32 {
     return abs(clamp(depth, 0.0, 1.0));
 }
 
-
 // Linear index of a light-map texel.
 fn texel_index(clip: vec4<f32>) -> u32 {
     let p = vec2<u32>(clip.xy);
-    return p.y * u32(frame.light_range.z) + p.x;
+    return p.y * frame.light_map_resolution + p.x;
 }

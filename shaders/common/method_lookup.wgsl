@@ -1,7 +1,8 @@
 // Visibility of a world-space point through the selected method (its `visibility_at` is pasted before this).
-// frame.light_range.w holds flags: 1 = 3x3 PCF (average of the 3x3 texels around the point's texel, at the same
+// frame.lookup_flags: 1 = 3x3 PCF (average of the 3x3 texels around the point's texel, at the same
 // depth), 2 = half-texel jitter (Sintorn & Assarsson 2009 §3.3: the light-map coordinate moved by up to half a
 // texel, differently for every point, before the lookup; blending many strands turns the aliasing into noise).
+#include "common/frame.wgsl"
 
 // A hash of a point's bits in [0,1)², stable from frame to frame.
 fn jitter_hash(world: vec3<f32>) -> vec2<f32> {
@@ -12,8 +13,8 @@ fn jitter_hash(world: vec3<f32>) -> vec2<f32> {
 }
 
 fn hair_visibility(world: vec3<f32>) -> f32 {
-    let flags = u32(frame.light_range.w);
-    let res = frame.light_range.z;
+    let flags = frame.lookup_flags;
+    let res = f32(frame.light_map_resolution);
     let clip = frame.world_to_light_clip * vec4<f32>(world, 1.0);
     let ndc = clip.xy / clip.w;
     var uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
@@ -23,7 +24,7 @@ fn hair_visibility(world: vec3<f32>) -> f32 {
     if (flags & 2u) != 0u {
         uv += (jitter_hash(world) - 0.5) / res;
     }
-    let last = i32(res) - 1;
+    let last = i32(frame.light_map_resolution) - 1;
     let texel = clamp(vec2<i32>(floor(uv * res)), vec2<i32>(0), vec2<i32>(last));
     let z = light_depth(world);
     if (flags & 1u) == 0u {

@@ -1,4 +1,6 @@
 // Light-space maps every eye pass can read (group 0, beside the frame uniforms).
+#include "common/frame.wgsl"
+
 // Nearest and furthest hair fragment depth per texel (normalised light depth), from the light-depth pass.
 @group(0) @binding(1) var hair_depth_near: texture_2d<f32>;
 @group(0) @binding(2) var hair_depth_far: texture_2d<f32>;
@@ -15,13 +17,13 @@ fn mesh_visibility(world: vec3<f32>, taps: i32) -> f32 {
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0 {
         return 1.0;
     }
-    let texel = 1.0 / frame.viewport.z;
+    let texel = 1.0 / f32(frame.shadow_map_resolution);
     let r = taps / 2;
     var sum = 0.0;
     for (var y = -r; y <= r; y++) {
         for (var x = -r; x <= r; x++) {
             let offset = vec2<f32>(f32(x), f32(y)) * texel;
-            sum += textureSampleCompareLevel(mesh_shadow_map, mesh_shadow_sampler, uv + offset, ndc.z - frame.viewport.w);
+            sum += textureSampleCompareLevel(mesh_shadow_map, mesh_shadow_sampler, uv + offset, ndc.z - frame.shadow_bias);
         }
     }
     return sum / f32((2 * r + 1) * (2 * r + 1));

@@ -7,13 +7,8 @@
 //   dc_clusters: layer 2g the means mu_j, layer 2g+1 the half-widths D_j (before the overlap rule);
 //   dc_accum:    the light passes' additive target; after the histogram pass, layer 2g holds the densities.
 
-struct DcUniforms {
-    // K, in 1..=16.
-    clusters: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-}
+#include "common/visibility.wgsl"
+#include "common/dc_uniforms.wgsl"
 
 @group(1) @binding(0) var dc_clusters: texture_2d_array<f32>;
 @group(1) @binding(1) var dc_accum: texture_2d_array<f32>;
@@ -93,8 +88,8 @@ fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
         let bin = dc_bin(&c, j);
         let lo = bin.x;
         let hi = bin.y;
-        let ramp = select(select(0.0, 1.0, z > lo), clamp((z - lo) / (hi - lo), 0.0, 1.0), hi > lo);
+        let ramp = clamp(relative_depth(z, lo, hi), 0.0, 1.0);
         t += dc_density(texel, j) * ramp;
     }
-    return exp(-t);
+    return transmittance(t);
 }

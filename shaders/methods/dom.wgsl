@@ -3,16 +3,12 @@
 // boundaries z0 + d_k (scaled to reach the far depth, hair_depth_far, by the stretch option); beyond the last
 // layer the last layer's value (visibility::dom::visibility, expression for expression).
 
-struct DomLookup {
-    ends: array<vec4<f32>, 4>,
-    layers: u32,
-    beyond: u32,
-    pad0: u32,
-    pad1: u32,
-}
+#include "common/scene_bindings.wgsl"
+#include "common/visibility.wgsl"
+#include "common/dom_uniforms.wgsl"
 
 @group(1) @binding(0) var dom_layers: texture_2d_array<f32>;
-@group(1) @binding(1) var<uniform> dom_lookup: DomLookup;
+@group(1) @binding(1) var<uniform> dom_lookup: DomUniforms;
 
 fn dom_lookup_end(k: u32) -> f32 {
     return dom_lookup.ends[k / 4u][k % 4u];
@@ -42,11 +38,11 @@ fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
         }
     }
     if k == n {
-        return exp(-dom_layer(texel, n - 1u));
+        return transmittance(dom_layer(texel, n - 1u));
     }
     let lo = select(0.0, scale * dom_lookup_end(max(k, 1u) - 1u), k > 0u);
     let f = (dz - lo) / (scale * dom_lookup_end(k) - lo);
     let prev = select(0.0, dom_layer(texel, max(k, 1u) - 1u), k > 0u);
     let l = dom_layer(texel, k);
-    return exp(-min(prev + (l - prev) * f, l));
+    return transmittance(lerp_up(prev, l, f));
 }

@@ -2,32 +2,28 @@
 // o(z) from the 128-slice bitmap and the slab counts, interpolated inside z's slice, and V = exp(-o * b) with
 // b from the global hair alpha (visibility::occupancy::order and ::visibility, expression for expression).
 
-struct OccupancyLookup {
-    // 0: slab map, 1: occupancy only.
-    variant: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-}
+#include "common/scene_bindings.wgsl"
+#include "common/visibility.wgsl"
+#include "common/occupancy_uniforms.wgsl"
 
 @group(1) @binding(0) var<storage, read> occupancy_bits: array<vec4<u32>>;
 @group(1) @binding(1) var<storage, read> occupancy_slabs: array<vec4<u32>>;
-@group(1) @binding(2) var<uniform> occupancy_lookup: OccupancyLookup;
+@group(1) @binding(2) var<uniform> occupancy_lookup: OccupancyUniforms;
 
 // Estimated number of the texel's fragments in front of depth z.
 fn occupancy_order(texel: vec2<i32>, z: f32) -> f32 {
     let near = textureLoad(hair_depth_near, texel, 0).r;
     let far = textureLoad(hair_depth_far, texel, 0).r;
-    let d = select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near);
+    let d = relative_depth(z, near, far);
     if !(d > 0.0) {
         return 0.0;
     }
     let x = d * 128.0;
-    let s = min(u32(max(floor(x), 0.0)), 127u);
+    let s = slice_index(x, 128u);
     let frac = clamp(x - f32(s), 0.0, 1.0);
     let w = s >> 5u;
     let bit = s & 31u;
-    let t = u32(texel.y) * u32(frame.light_range.z) + u32(texel.x);
+    let t = u32(texel.y) * frame.light_map_resolution + u32(texel.x);
     let occ = occupancy_bits[t];
     let slabs = occupancy_slabs[t];
     let own = (occ[w] >> bit) & 1u;
@@ -55,5 +51,5 @@ fn occupancy_order(texel: vec2<i32>, z: f32) -> f32 {
 }
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
-    return exp(-occupancy_order(texel, z) * optical_depth(frame.hair_color.a));
+    return transmittance(occupancy_order(texel, z) * optical_depth(frame.hair_alpha));
 }

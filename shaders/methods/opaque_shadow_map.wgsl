@@ -1,5 +1,6 @@
 // Shadow method "opaque shadow map": hair treated as opaque; a point is fully shadowed when it lies behind the
 // nearest hair fragment of its light texel. method_params.x: depth bias in normalised light depth.
+#include "common/scene_bindings.wgsl"
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
     let near = textureLoad(hair_depth_near, texel, 0).r;
     let far = textureLoad(hair_depth_far, texel, 0).r;

@@ -1,5 +1,7 @@
 // Shadow method "reference": exact visibility from the texel's complete fragment list,
 // V(z) = exp(-sum of b over fragments with depth < z) (design.md).
+#include "common/frame.wgsl"
+#include "common/visibility.wgsl"
 
 struct RefNode {
     depth: f32,
@@ -12,7 +14,7 @@ struct RefNode {
 @group(1) @binding(1) var<storage, read> ref_nodes: array<RefNode>;
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
-    let t = u32(texel.y) * u32(frame.light_range.z) + u32(texel.x);
+    let t = u32(texel.y) * frame.light_map_resolution + u32(texel.x);
     var i = ref_heads[t];
     var sum = 0.0;
     var steps = 0u;
@@ -25,5 +27,5 @@ fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
         i = node.next;
         steps += 1u;
     }
-    return exp(-sum);
+    return transmittance(sum);
 }

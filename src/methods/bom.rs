@@ -148,7 +148,7 @@ impl ShadowMethod for Bom {
     }
 }
 
-/// Mirrors `BomUniforms` in `shaders/bom.wgsl` and `BomLookup` in `shaders/methods/bom.wgsl`.
+/// Mirrors `BomUniforms` in `shaders/common/bom_uniforms.wgsl` (included by the light pass and the lookup).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct BomUniforms {

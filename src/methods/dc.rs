@@ -91,7 +91,7 @@ impl ShadowMethod for Dc {
     }
 }
 
-/// Mirrors `DcUniforms` in `shaders/methods/dc.wgsl` (which `shaders/dc.wgsl` includes).
+/// Mirrors `DcUniforms` in `shaders/common/dc_uniforms.wgsl` (included by the lookup, which the light passes include).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct DcUniforms {

@@ -176,7 +176,7 @@ impl ShadowMethod for Dom {
     }
 }
 
-/// Mirrors `DomUniforms` in `shaders/dom.wgsl` and `DomLookup` in `shaders/methods/dom.wgsl`.
+/// Mirrors `DomUniforms` in `shaders/common/dom_uniforms.wgsl` (included by the light pass and the lookup).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct DomUniforms {

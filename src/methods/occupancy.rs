@@ -11,12 +11,12 @@
 //!   occupancy-only variant, the texel's total count in word 0.
 //!
 //! The lookup (`shaders/methods/occupancy.wgsl`) is the order estimate of §3.2 with the interpolation inside
-//! the slice, and `V = exp(-o * b)` with `b = -ln(1 - alpha)` from the global hair alpha (`frame.hair_color.a`,
+//! the slice, and `V = exp(-o * b)` with `b = -ln(1 - alpha)` from the global hair alpha (`frame.hair_alpha`,
 //! the CPU model's `OccupancyParams::alpha` = [`MethodContext::hair_alpha`]); each fragment's own alpha is
 //! ignored, as in the paper.
 //!
 //! The half-texel jitter of §3.3 is not a parameter here: it offsets the continuous texture coordinate before
-//! the texel is chosen, which happens in the shared `light_texel` (`common/frame.wgsl`) before
+//! the texel is chosen, which happens in the shared `hair_visibility` (`common/method_lookup.wgsl`) before
 //! `visibility_at(texel, z)` is called; the lookup only receives the integer texel, and half a texel around
 //! its centre never leaves it. The per-texel CPU model cannot specify it either (its doc says so).
 //!
@@ -106,8 +106,8 @@ impl ShadowMethod for Occupancy {
     }
 }
 
-/// Mirrors `OccupancyUniforms` in `shaders/occupancy.wgsl` and `OccupancyLookup` in
-/// `shaders/methods/occupancy.wgsl`.
+/// Mirrors `OccupancyUniforms` in `shaders/common/occupancy_uniforms.wgsl` (included by the light pass and the
+/// lookup).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct OccupancyUniforms {

@@ -86,7 +86,7 @@ impl ShadowMethod for Osm {
     }
 }
 
-/// Mirrors `OsmUniforms` in `shaders/osm.wgsl` and `OsmLookup` in `shaders/methods/osm.wgsl`.
+/// Mirrors `OsmUniforms` in `shaders/common/osm_uniforms.wgsl` (included by the light pass and the lookup).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct OsmUniforms {

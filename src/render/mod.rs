@@ -307,45 +307,29 @@ impl Renderer {
         let eye = f.camera.eye();
         let spot = f.light.kind == LightKind::Spot;
         let intensity = f.light.intensity;
-        let c = f.render.hair_color;
         FrameUniforms {
             world_to_clip: self.world_to_clip(f.camera, f.width, f.height).to_cols_array_2d(),
             world_to_light_view: hair.world_to_view.to_cols_array_2d(),
             world_to_light_clip: hair.world_to_clip().to_cols_array_2d(),
             world_to_shadow_clip: shadow.world_to_clip().to_cols_array_2d(),
-            eye_position: [eye.x, eye.y, eye.z, f.camera.distance.max(1e-4)],
-            to_light: [
-                hair.to_light.x,
-                hair.to_light.y,
-                hair.to_light.z,
-                if spot { 1.0 } else { 0.0 },
-            ],
-            light_position: [
-                hair.position.x,
-                hair.position.y,
-                hair.position.z,
-                (f.light.cone_deg.to_radians() * 0.5).cos(),
-            ],
-            light_color: [
-                f.light.color[0] * intensity,
-                f.light.color[1] * intensity,
-                f.light.color[2] * intensity,
-                1.0,
-            ],
-            hair_color: [c[0], c[1], c[2], f.render.hair_alpha],
-            light_range: [
-                hair.near,
-                hair.far,
-                self.light_maps.near.width() as f32,
-                (u32::from(f.render.pcf) | (u32::from(f.render.jitter) << 1)) as f32,
-            ],
+            eye_position: eye.to_array(),
+            camera_distance: f.camera.distance.max(1e-4),
+            to_light: hair.to_light.to_array(),
+            light_is_spot: u32::from(spot),
+            light_position: hair.position.to_array(),
+            spot_cos_half_angle: (f.light.cone_deg.to_radians() * 0.5).cos(),
+            light_color: f.light.color.map(|c| c * intensity),
+            pad0: 0,
+            hair_color: f.render.hair_color,
+            hair_alpha: f.render.hair_alpha,
+            light_near: hair.near,
+            light_far: hair.far,
+            light_map_resolution: self.light_maps.near.width(),
+            lookup_flags: u32::from(f.render.pcf) | (u32::from(f.render.jitter) << 1),
             method_params: f.method.uniform_params(f.method_params),
-            viewport: [
-                f.width as f32,
-                f.height as f32,
-                self.shadow_map.texture.width() as f32,
-                1e-4,
-            ],
+            viewport_size: [f.width as f32, f.height as f32],
+            shadow_map_resolution: self.shadow_map.texture.width(),
+            shadow_bias: 1e-4,
         }
     }
 

@@ -1,4 +1,5 @@
-//! `FrameUniforms`, mirrored field for field by `shaders/common/frame.wgsl` (a test compares the layouts).
+//! `FrameUniforms`, mirrored field for field by `shaders/common/frame.wgsl` (a test compares the layouts). Every
+//! `[f32; 3]` is followed by a 4-byte field, as the WGSL `vec3<f32>` (16-byte aligned) requires.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -6,49 +7,86 @@ use bytemuck::{Pod, Zeroable};
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {
     pub world_to_clip: [[f32; 4]; 4],
+    /// Hair light frame: fitted tightly to the strand bounds.
     pub world_to_light_view: [[f32; 4]; 4],
     pub world_to_light_clip: [[f32; 4]; 4],
+    /// Opaque shadow-map frame: fitted to the whole scene (meshes and hair).
     pub world_to_shadow_clip: [[f32; 4]; 4],
-    pub eye_position: [f32; 4],
-    pub to_light: [f32; 4],
-    pub light_position: [f32; 4],
-    pub light_color: [f32; 4],
-    pub hair_color: [f32; 4],
-    pub light_range: [f32; 4],
+    pub eye_position: [f32; 3],
+    /// Camera distance to its orbit target.
+    pub camera_distance: f32,
+    /// Unit vector towards a directional light; a spot's axis.
+    pub to_light: [f32; 3],
+    /// 0: directional light, 1: spot.
+    pub light_is_spot: u32,
+    pub light_position: [f32; 3],
+    pub spot_cos_half_angle: f32,
+    /// Light colour times intensity.
+    pub light_color: [f32; 3],
+    pub pad0: u32,
+    /// Hair colour for strands without per-point colour.
+    pub hair_color: [f32; 3],
+    pub hair_alpha: f32,
+    /// Light-view distances of the hair frame's near and far planes.
+    pub light_near: f32,
+    pub light_far: f32,
+    /// Texels per side of the hair light maps.
+    pub light_map_resolution: u32,
+    /// 1: 3x3 PCF, 2: half-texel jitter (`shaders/common/method_lookup.wgsl`).
+    pub lookup_flags: u32,
+    /// The selected method's `ShadowMethod::uniform_params`.
     pub method_params: [f32; 4],
-    pub viewport: [f32; 4],
+    /// Eye image width and height in pixels.
+    pub viewport_size: [f32; 2],
+    /// Texels per side of the opaque shadow map.
+    pub shadow_map_resolution: u32,
+    /// Depth bias of the opaque shadow-map comparison.
+    pub shadow_bias: f32,
 }
 
 /// Field names and byte offsets, in declaration order, for the layout test.
-pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = &[
-    (
-        "world_to_clip",
-        std::mem::offset_of!(FrameUniforms, world_to_clip),
-    ),
-    (
-        "world_to_light_view",
-        std::mem::offset_of!(FrameUniforms, world_to_light_view),
-    ),
-    (
-        "world_to_light_clip",
-        std::mem::offset_of!(FrameUniforms, world_to_light_clip),
-    ),
-    (
-        "world_to_shadow_clip",
-        std::mem::offset_of!(FrameUniforms, world_to_shadow_clip),
-    ),
-    ("eye_position", std::mem::offset_of!(FrameUniforms, eye_position)),
-    ("to_light", std::mem::offset_of!(FrameUniforms, to_light)),
-    (
-        "light_position",
-        std::mem::offset_of!(FrameUniforms, light_position),
-    ),
-    ("light_color", std::mem::offset_of!(FrameUniforms, light_color)),
-    ("hair_color", std::mem::offset_of!(FrameUniforms, hair_color)),
-    ("light_range", std::mem::offset_of!(FrameUniforms, light_range)),
-    (
-        "method_params",
-        std::mem::offset_of!(FrameUniforms, method_params),
-    ),
-    ("viewport", std::mem::offset_of!(FrameUniforms, viewport)),
-];
+pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
+    use std::mem::offset_of;
+    &[
+        ("world_to_clip", offset_of!(FrameUniforms, world_to_clip)),
+        (
+            "world_to_light_view",
+            offset_of!(FrameUniforms, world_to_light_view),
+        ),
+        (
+            "world_to_light_clip",
+            offset_of!(FrameUniforms, world_to_light_clip),
+        ),
+        (
+            "world_to_shadow_clip",
+            offset_of!(FrameUniforms, world_to_shadow_clip),
+        ),
+        ("eye_position", offset_of!(FrameUniforms, eye_position)),
+        ("camera_distance", offset_of!(FrameUniforms, camera_distance)),
+        ("to_light", offset_of!(FrameUniforms, to_light)),
+        ("light_is_spot", offset_of!(FrameUniforms, light_is_spot)),
+        ("light_position", offset_of!(FrameUniforms, light_position)),
+        (
+            "spot_cos_half_angle",
+            offset_of!(FrameUniforms, spot_cos_half_angle),
+        ),
+        ("light_color", offset_of!(FrameUniforms, light_color)),
+        ("pad0", offset_of!(FrameUniforms, pad0)),
+        ("hair_color", offset_of!(FrameUniforms, hair_color)),
+        ("hair_alpha", offset_of!(FrameUniforms, hair_alpha)),
+        ("light_near", offset_of!(FrameUniforms, light_near)),
+        ("light_far", offset_of!(FrameUniforms, light_far)),
+        (
+            "light_map_resolution",
+            offset_of!(FrameUniforms, light_map_resolution),
+        ),
+        ("lookup_flags", offset_of!(FrameUniforms, lookup_flags)),
+        ("method_params", offset_of!(FrameUniforms, method_params)),
+        ("viewport_size", offset_of!(FrameUniforms, viewport_size)),
+        (
+            "shadow_map_resolution",
+            offset_of!(FrameUniforms, shadow_map_resolution),
+        ),
+        ("shadow_bias", offset_of!(FrameUniforms, shadow_bias)),
+    ]
+};

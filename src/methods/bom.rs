@@ -81,6 +81,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["bom.wgsl"],
     params: PARAMS,
     color: [44, 160, 44],
+    gpu_tolerance: 1e-4,
+    gpu_outliers: 0.0,
 };
 
 /// The bench's layer counts; each is swept at the fixed split ratios and at the automatic one.

@@ -52,6 +52,11 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["dc.wgsl"],
     params: PARAMS,
     color: [214, 39, 40],
+    gpu_tolerance: 1e-3,
+    // The model is discontinuous in the last bits of its inputs (cluster and bin decisions): measured 271, 377
+    // and 533 of 25,810 samples (1.0, 1.5, 2.1 %) beyond 1e-3 at K = 2, 4, 8 on the 300-strand test scene;
+    // `tests/gpu_dc.rs` classifies and bounds each of them.
+    gpu_outliers: 0.03,
 };
 
 /// The bench's cluster counts.

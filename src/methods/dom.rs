@@ -125,6 +125,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["dom.wgsl"],
     params: PARAMS,
     color: [255, 127, 14],
+    gpu_tolerance: 1e-4,
+    gpu_outliers: 0.0,
 };
 
 /// The bench's layer counts; each is swept with both spacings.

@@ -146,6 +146,12 @@ pub struct MethodInfo {
     pub params: &'static [ParamSpec],
     /// The method's colour in every plot and chart (inspector, window chart, PNG/SVG), sRGB.
     pub color: [u8; 3],
+    /// Largest |V_gpu - V_cpu| the GPU = CPU tests allow: f32 rounding of sums taken in another order, and the
+    /// method's own sensitivity to it (stated per method).
+    pub gpu_tolerance: f32,
+    /// Share of the GPU = CPU samples allowed beyond `gpu_tolerance` (0 for every method whose model is continuous
+    /// in the last bits of its inputs).
+    pub gpu_outliers: f64,
 }
 
 /// A Rust uniform struct and the WGSL struct it mirrors: its name, size and `(field, byte offset)` list, which

@@ -15,6 +15,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &[],
     params: &[],
     color: [23, 190, 207],
+    gpu_tolerance: 0.0,
+    gpu_outliers: 0.0,
 };
 
 /// `V = 1` everywhere.

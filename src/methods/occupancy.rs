@@ -70,6 +70,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["occupancy.wgsl"],
     params: PARAMS,
     color: [148, 103, 189],
+    gpu_tolerance: 1e-4,
+    gpu_outliers: 0.0,
 };
 
 impl ShadowMethod for Occupancy {

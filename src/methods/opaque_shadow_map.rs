@@ -29,6 +29,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &[],
     params: PARAMS,
     color: [127, 127, 127],
+    gpu_tolerance: 0.0,
+    gpu_outliers: 0.0,
 };
 
 /// `V = 0` behind the nearest fragment plus the bias, 1 in front of it (and in an empty texel).

@@ -45,6 +45,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["osm.wgsl"],
     params: PARAMS,
     color: [31, 119, 180],
+    gpu_tolerance: 1e-4,
+    gpu_outliers: 0.0,
 };
 
 /// The bench's slice counts.

@@ -19,6 +19,8 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["abuffer.wgsl"],
     params: &[],
     color: [140, 86, 75],
+    gpu_tolerance: 1e-5,
+    gpu_outliers: 0.0,
 };
 
 impl ShadowMethod for Reference {

@@ -118,6 +118,12 @@ pub fn max_gpu_cpu_difference(
 /// list. Returns the largest |V_gpu - V_cpu| and the sample count. Fails on any V not finite or outside [0, 1];
 /// on a scene of 100 strands or more also when no texel is deep enough to fall below V = 1/2.
 pub fn gpu_cpu_difference(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup: Setup) -> (f32, usize) {
+    let d = gpu_cpu_differences(gpu, method, params, setup);
+    (d.iter().copied().fold(0.0f32, f32::max), d.len())
+}
+
+/// Every sample's |V_gpu - V_cpu| of [`gpu_cpu_difference`] (same scene, samples and checks).
+pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup: Setup) -> Vec<f32> {
     let mut s: Settings = small_settings(8, 8);
     s.scene.generator.strands = setup.strands;
     s.scene.generator.segments = 10;
@@ -179,10 +185,5 @@ pub fn gpu_cpu_difference(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup
         got.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
         "{method}: V outside [0, 1] at {resolution}² with {params:?}"
     );
-    let worst = got
-        .iter()
-        .zip(&expected)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
-    (worst, samples.len())
+    got.iter().zip(&expected).map(|(a, b)| (a - b).abs()).collect()
 }

@@ -163,8 +163,7 @@ pub fn measure_on(
     };
     progress("reference");
     let empty = ParamValues::new();
-    r.render_light(&input(registry::reference(), &empty))?;
-    let lists = r.reference_lists()?;
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();
     let fragments: usize = lists.iter().map(Vec::len).sum();
     let stats = SceneStats {
@@ -213,8 +212,7 @@ pub fn measure_on(
     let lights = turning_lights(&s);
     let mut reference_frames = Vec::with_capacity(lights.len());
     for light in &lights {
-        r.render_light(&full(reference_method, &empty, light))?;
-        let lists = r.reference_lists()?;
+        let lists = r.reference_lists(&s.camera, light, &s.render)?;
         let samples = light_samples(&r, light, &points);
         reference_frames.push(
             samples

@@ -3,6 +3,7 @@
 //! loads a preset and applies `--set key=value` overrides on the TOML tree before validating.
 
 use crate::methods::{self, ParamValues, registry};
+pub use crate::render::RenderSettings;
 use crate::scene::generate::GenParams;
 use crate::scene::{Camera, Light};
 use anyhow::{Context, Result, bail};
@@ -27,40 +28,6 @@ pub struct SceneSettings {
     pub file: Option<PathBuf>,
     pub scalp: Option<PathBuf>,
     pub generator: GenParams,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RenderSettings {
-    /// Output size of `hairlab render` (the window uses its viewport size).
-    pub width: u32,
-    pub height: u32,
-    /// Side of the square light-space hair maps, 1..=4096.
-    pub map_resolution: u32,
-    /// Global hair opacity in (0, 1].
-    pub hair_alpha: f32,
-    /// Colour of strands without their own colour (linear RGB).
-    pub hair_color: [f32; 3],
-    pub background: [f32; 3],
-    /// 3x3 percentage-closer filtering of the shadow method's visibility in the eye passes.
-    pub pcf: bool,
-    /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
-    pub jitter: bool,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            width: 640,
-            height: 480,
-            map_resolution: 512,
-            hair_alpha: 0.35,
-            hair_color: [0.30, 0.18, 0.09],
-            background: [0.12, 0.13, 0.15],
-            pcf: false,
-            jitter: false,
-        }
-    }
 }
 
 /// The shadow method and its parameters. In TOML a choice parameter is its word (`spacing = "uniform"`); its

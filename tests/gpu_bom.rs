@@ -123,9 +123,7 @@ fn automatic_split_ratio_on_a_rendered_map() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let (s, scene) = scene_settings(300, 64);
     let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
-    r.render_light(&frame(&s, "reference", &ParamValues::new()))
-        .unwrap();
-    let lists = r.reference_lists().unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     assert_eq!(lists.len(), 64 * 64);
     for layers in [2, 4, 8, 32] {
         let search = automatic_split_ratio(&lists, layers);

@@ -165,9 +165,7 @@ fn compare(gpu: &Gpu, strands: u32, resolution: u32, hair_alpha: f32, clusters: 
     let values: ParamValues = [("clusters".to_string(), clusters)].into();
     let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
     let method = registry::find("dc").unwrap();
-    let no_params = ParamValues::new();
-    r.render_light(&frame(&s, "reference", &no_params)).unwrap();
-    let lists = r.reference_lists().unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     r.render_light(&frame(&s, "dc", &values)).unwrap();
     let params = DcParams {
         clusters: clusters as u32,

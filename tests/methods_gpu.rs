@@ -33,7 +33,12 @@ fn every_registered_method_gpu_equals_cpu() {
     let Some(gpu) = Gpu::for_tests() else { return };
     for m in registry::all() {
         let info = m.info();
-        let fixed: Vec<ParamValues> = m.sweep().into_iter().filter(|p| !p.analysed).map(|p| p.values).collect();
+        let fixed: Vec<ParamValues> = m
+            .sweep()
+            .into_iter()
+            .filter(|p| !p.analysed)
+            .map(|p| p.values)
+            .collect();
         let mut configs = vec![ParamValues::new()];
         configs.extend(fixed.first().cloned());
         configs.extend(fixed.last().cloned());

@@ -39,8 +39,7 @@ fn abuffer_equals_depth_peeling() {
     s.render.map_resolution = 48;
     let scene = small_scene(&mut s);
     let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
-    r.render_light(&frame(&s, "reference")).unwrap();
-    let lists = r.reference_lists().unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let peeled = r.depth_peel(4096).unwrap();
     let total: usize = lists.iter().map(Vec::len).sum();
     let max = lists.iter().map(Vec::len).max().unwrap();
@@ -81,9 +80,8 @@ fn depth_ties_are_kept() {
     s.render.map_resolution = 32;
     s.camera.frame(&scene.framing_bounds());
     let mut r = Renderer::new(&gpu, &scene, 32).unwrap();
-    r.render_light(&frame(&s, "reference")).unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let peeled = r.depth_peel(256).unwrap();
-    let lists = r.reference_lists().unwrap();
     let mut pairs = 0;
     for (a, p) in lists.iter().zip(&peeled.lists) {
         assert_eq!(a, p);
@@ -111,8 +109,9 @@ fn light_depth_maps_hold_the_lists_extremes_and_lookup_matches_cpu() {
     let scene = small_scene(&mut s);
     let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
     let reference = registry::reference();
+    // The reference method's own A-buffer (what `evaluate` reads) and the renderer's lists of the same view.
     r.render_light(&frame(&s, "reference")).unwrap();
-    let lists = r.reference_lists().unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let near = r.read_light_depth(false).unwrap();
     let far = r.read_light_depth(true).unwrap();
     let mut samples = Vec::new();

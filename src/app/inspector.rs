@@ -16,7 +16,6 @@ use super::texel_lab::{LabSettings, LabSource, MAX_GAUSSIANS, MAX_PER_GAUSSIAN, 
 use super::{DialogPurpose, HairlabApp};
 use crate::methods::{ParamValues, registry};
 use crate::methods::{Role, ShadowMethod};
-use crate::render::FrameInput;
 use crate::render::light_frame::LightFrame;
 use crate::render::passes::abuffer::RefFragment;
 use crate::scene::{Light, Mesh, Strands};
@@ -880,19 +879,8 @@ impl HairlabApp {
             .renderer
             .as_mut()
             .ok_or("no GPU renderer: only the synthetic texel lab works")?;
-        let reference = registry::find("reference")?;
-        let empty = ParamValues::new();
-        let input = FrameInput {
-            camera: &self.settings.camera,
-            light: &self.settings.light,
-            render: &self.settings.render,
-            method: reference,
-            method_params: &empty,
-            width: 1,
-            height: 1,
-        };
-        r.render_light(&input)
-            .and_then(|()| r.reference_lists())
+        let s = &self.settings;
+        r.reference_lists(&s.camera, &s.light, &s.render)
             .map_err(|e| e.to_string())
     }
 

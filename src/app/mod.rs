@@ -332,21 +332,8 @@ impl HairlabApp {
         a: crate::methods::Analysis,
     ) {
         let Some(r) = self.renderer.as_mut() else { return };
-        let reference = match registry::find("reference") {
-            Ok(m) => m,
-            Err(e) => return self.error(e),
-        };
-        let empty = crate::methods::ParamValues::new();
-        let input = crate::render::FrameInput {
-            camera: &self.settings.camera,
-            light: &self.settings.light,
-            render: &self.settings.render,
-            method: reference,
-            method_params: &empty,
-            width: 1,
-            height: 1,
-        };
-        let lists = r.render_light(&input).and_then(|()| r.reference_lists());
+        let s = &self.settings;
+        let lists = r.reference_lists(&s.camera, &s.light, &s.render);
         match lists {
             Ok(lists) => {
                 let result = (a.run)(&lists, &self.settings.method.params);

@@ -339,11 +339,11 @@ impl HairlabApp {
                     ));
                 }
                 if let (Some(r), Ok(m)) = (&self.renderer, registry::find(&self.settings.method.name)) {
-                    let mem = r.memory(m);
+                    let mem = r.memory();
                     let passes = r.method_gpu(m).map_or(0, |g| g.geometry_passes());
                     ui.label(format!(
                         "method maps: {} · {passes} geometry passes",
-                        mib(mem.method)
+                        mib(mem.method())
                     ));
                     ui.label(format!(
                         "light-depth maps {} · mesh shadow map {} · geometry {} · eye targets {}",

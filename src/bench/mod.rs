@@ -16,7 +16,7 @@ pub mod chart;
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::measure::{self, Measurement, MethodConfig, SceneStats};
 use crate::methods::{ParamValues, registry};
-use crate::render::{FrameInput, Renderer};
+use crate::render::Renderer;
 use crate::settings::Settings;
 use crate::visibility::SplitCriterion;
 use anyhow::{Context, Result, bail};
@@ -166,17 +166,7 @@ pub fn automatic_split_ratios(
     });
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution)?;
-    let empty = ParamValues::new();
-    r.render_light(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::reference(),
-        method_params: &empty,
-        width: 8,
-        height: 8,
-    })?;
-    let lists = r.reference_lists()?;
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
     let mut out = Vec::with_capacity(layers.len());
     for (i, &k) in layers.iter().enumerate() {
         if cancel.load(Ordering::Relaxed) {

@@ -18,8 +18,8 @@
 
 use super::dom::{LayerMapsGpu, LayerMethod, LayerSetup};
 use super::{
-    Analysis, AnalysisResult, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
-    SweepPoint, UniformMirror, value,
+    Analysis, AnalysisResult, LightMethod, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role,
+    ShadowMethod, SweepPoint, UniformMirror, value,
 };
 use crate::gpu::Gpu;
 use crate::render::passes::abuffer::RefFragment;
@@ -90,7 +90,7 @@ const SWEEP_LAYERS: &[u32] = &[1, 2, 3, 4, 6, 8, 12, 15];
 /// The bench's fixed split ratios.
 const SWEEP_RATIOS: &[f32] = &[0.0, 0.5, 1.0];
 
-impl ShadowMethod for Bom {
+impl LightMethod for Bom {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
@@ -105,6 +105,20 @@ impl ShadowMethod for Bom {
             }
         ))
     }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(LayerMapsGpu::new(
+            gpu,
+            LayerMethod {
+                name: "bom",
+                shader: "bom.wgsl",
+                max_layers: MAX_LAYERS,
+                setup: bom_setup,
+            },
+        ))
+    }
+}
+
+impl ShadowMethod for Bom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(bom_params(values))
     }
@@ -128,17 +142,6 @@ impl ShadowMethod for Bom {
         [4, 8]
             .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))
             .to_vec()
-    }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(LayerMapsGpu::new(
-            gpu,
-            LayerMethod {
-                name: "bom",
-                shader: "bom.wgsl",
-                max_layers: MAX_LAYERS,
-                setup: bom_setup,
-            },
-        ))
     }
     fn analysis(&self) -> Option<Analysis> {
         Some(Analysis {

@@ -11,8 +11,8 @@
 //! half-widths; pass 3 (histogram: sum `b` per bin). Three geometry passes for any `K`; at most 8 targets.
 
 use super::{
-    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
-    UniformMirror, value,
+    LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
+    SweepPoint, UniformMirror, value,
 };
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
@@ -62,7 +62,7 @@ static INFO: MethodInfo = MethodInfo {
 /// The bench's cluster counts.
 const SWEEP_CLUSTERS: &[u32] = &[2, 4, 8];
 
-impl ShadowMethod for Dc {
+impl LightMethod for Dc {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
@@ -77,6 +77,12 @@ impl ShadowMethod for Dc {
             }
         ))
     }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(DcGpu::new(gpu))
+    }
+}
+
+impl ShadowMethod for Dc {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(DcParams {
             clusters: clusters(values),
@@ -90,9 +96,6 @@ impl ShadowMethod for Dc {
     }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::from([("clusters".to_string(), 4.0)])]
-    }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(DcGpu::new(gpu))
     }
 }
 

@@ -15,8 +15,8 @@
 //! shared depth maps; Bounding Opacity Maps (`methods::bom`) use it too.
 
 use super::{
-    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
-    UniformMirror, value,
+    LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
+    SweepPoint, UniformMirror, value,
 };
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
@@ -132,7 +132,7 @@ static INFO: MethodInfo = MethodInfo {
 /// The bench's layer counts; each is swept with both spacings.
 const SWEEP_LAYERS: &[u32] = &[1, 2, 3, 4, 5, 7, 10, 15];
 
-impl ShadowMethod for Dom {
+impl LightMethod for Dom {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
@@ -148,6 +148,20 @@ impl ShadowMethod for Dom {
             }
         ))
     }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(LayerMapsGpu::new(
+            gpu,
+            LayerMethod {
+                name: "dom",
+                shader: "dom.wgsl",
+                max_layers: MAX_LAYERS,
+                setup: dom_setup,
+            },
+        ))
+    }
+}
+
+impl ShadowMethod for Dom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(dom_params(values))
     }
@@ -164,17 +178,6 @@ impl ShadowMethod for Dom {
         [3, 7]
             .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))
             .to_vec()
-    }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(LayerMapsGpu::new(
-            gpu,
-            LayerMethod {
-                name: "dom",
-                shader: "dom.wgsl",
-                max_layers: MAX_LAYERS,
-                setup: dom_setup,
-            },
-        ))
     }
 }
 
@@ -521,6 +524,11 @@ impl<U: Pod + Send> MethodGpu for LayerMapsGpu<U> {
         self.maps.as_ref().map_or(0, |m| {
             let texels = m.texture.width() as u64 * m.texture.height() as u64;
             texels * (m.targets as u64 * 16 + m.depth_maps as u64 * 4)
+        })
+    }
+    fn shared_bytes(&self) -> u64 {
+        self.maps.as_ref().map_or(0, |m| {
+            m.texture.width() as u64 * m.texture.height() as u64 * m.depth_maps as u64 * 4
         })
     }
     fn geometry_passes(&self) -> u32 {

@@ -1,6 +1,6 @@
 //! No hair self-shadowing: every strand is fully lit (`V = 1`). The baseline that shows what shadows add.
 
-use super::{MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
+use super::{LightMethod, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
 use crate::gpu::Gpu;
 use crate::visibility::{Fragment, TexelModel};
 
@@ -32,14 +32,17 @@ impl TexelModel for Lit {
     }
 }
 
-impl ShadowMethod for NoShadow {
+impl LightMethod for NoShadow {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
-    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
-        Box::new(Lit)
-    }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         Box::new(NoMaps::new(gpu, 0))
+    }
+}
+
+impl ShadowMethod for NoShadow {
+    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(Lit)
     }
 }

@@ -26,8 +26,8 @@
 //! binding size (128 MiB on lavapipe: up to 2048²); beyond, [`GpuError::TooLarge`].
 
 use super::{
-    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
-    UniformMirror, value,
+    LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
+    SweepPoint, UniformMirror, value,
 };
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
@@ -74,7 +74,7 @@ static INFO: MethodInfo = MethodInfo {
     gpu_outliers: 0.0,
 };
 
-impl ShadowMethod for Occupancy {
+impl LightMethod for Occupancy {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
@@ -89,6 +89,12 @@ impl ShadowMethod for Occupancy {
             }
         ))
     }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(OccupancyGpu::new(gpu))
+    }
+}
+
+impl ShadowMethod for Occupancy {
     fn model(&self, values: &ParamValues, hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(OccupancyParams {
             alpha: hair_alpha,
@@ -102,9 +108,6 @@ impl ShadowMethod for Occupancy {
     }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::new()]
-    }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(OccupancyGpu::new(gpu))
     }
 }
 
@@ -389,6 +392,11 @@ impl MethodGpu for OccupancyGpu {
         self.maps.as_ref().map_or(0, |m| {
             let texels = m.resolution as u64 * m.resolution as u64;
             m.bitmap.size() + m.slabs.size() + texels * DEPTH_RANGE_BYTES_PER_TEXEL + self.target.bytes()
+        })
+    }
+    fn shared_bytes(&self) -> u64 {
+        self.maps.as_ref().map_or(0, |m| {
+            m.resolution as u64 * m.resolution as u64 * DEPTH_RANGE_BYTES_PER_TEXEL
         })
     }
     fn geometry_passes(&self) -> u32 {

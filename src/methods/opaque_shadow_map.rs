@@ -2,7 +2,9 @@
 //! as soon as it lies behind the nearest hair fragment of its light texel. The classic failure that motivates
 //! every semi-transparent method: hair goes black one strand deep.
 
-use super::{MethodGpu, MethodInfo, NoMaps, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, value};
+use super::{
+    LightMethod, MethodGpu, MethodInfo, NoMaps, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, value,
+};
 use crate::gpu::Gpu;
 use crate::visibility::{Fragment, TexelModel};
 
@@ -51,21 +53,24 @@ impl TexelModel for NearestOccluder {
     }
 }
 
-impl ShadowMethod for OpaqueShadowMap {
+impl LightMethod for OpaqueShadowMap {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
     fn uniform_params(&self, values: &ParamValues) -> [f32; 4] {
         [value(values, &PARAMS[0]), 0.0, 0.0, 0.0]
     }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        // Reads the shared nearest- and furthest-depth maps (two R32Float).
+        Box::new(NoMaps::new(gpu, 8))
+    }
+}
+
+impl ShadowMethod for OpaqueShadowMap {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(NearestOccluder {
             bias: value(values, &PARAMS[0]),
         })
-    }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        // Reads the shared nearest- and furthest-depth maps (two R32Float).
-        Box::new(NoMaps::new(gpu, 8))
     }
 }
 

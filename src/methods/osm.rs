@@ -8,8 +8,8 @@
 //! geometry passes: OSM-256 takes 8.
 
 use super::{
-    MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, SweepPoint,
-    UniformMirror, value,
+    LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
+    SweepPoint, UniformMirror, value,
 };
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
@@ -52,7 +52,7 @@ static INFO: MethodInfo = MethodInfo {
 /// The bench's slice counts.
 const SWEEP_SLICES: &[u32] = &[4, 8, 16, 32, 64, 128, 256];
 
-impl ShadowMethod for Osm {
+impl LightMethod for Osm {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
@@ -67,6 +67,12 @@ impl ShadowMethod for Osm {
             }
         ))
     }
+    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+        Box::new(OsmGpu::new(gpu))
+    }
+}
+
+impl ShadowMethod for Osm {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(OsmParams {
             slices: slices(values),
@@ -82,9 +88,6 @@ impl ShadowMethod for Osm {
         [16, 64, 256]
             .map(|n| ParamValues::from([("slices".to_string(), n as f32)]))
             .to_vec()
-    }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(OsmGpu::new(gpu))
     }
 }
 

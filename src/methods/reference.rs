@@ -2,7 +2,7 @@
 //! `V(z) = exp(-sum of b over fragments with depth < z)` (design.md; Sintorn & Assarsson 2009 Fig. 2 and 5 use
 //! depth peeling as ground truth). As a shadow method, the eye passes walk the texel's list.
 
-use super::{MethodContext, MethodGpu, MethodInfo, ParamValues, Role, ShadowMethod};
+use super::{LightMethod, MethodContext, MethodGpu, MethodInfo, ParamValues, Role, ShadowMethod};
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes::abuffer::ABuffer;
@@ -23,16 +23,19 @@ static INFO: MethodInfo = MethodInfo {
     gpu_outliers: 0.0,
 };
 
-impl ShadowMethod for Reference {
+impl LightMethod for Reference {
     fn info(&self) -> &'static MethodInfo {
         &INFO
-    }
-    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
-        Box::new(visibility::Reference)
     }
     fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
         let _ = gpu;
         Box::new(ReferenceGpu { abuffer: None })
+    }
+}
+
+impl ShadowMethod for Reference {
+    fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(visibility::Reference)
     }
 }
 
@@ -79,8 +82,5 @@ impl MethodGpu for ReferenceGpu {
     }
     fn geometry_passes(&self) -> u32 {
         2
-    }
-    fn as_reference(&self) -> Option<&ABuffer> {
-        self.abuffer.as_ref()
     }
 }

@@ -3,18 +3,18 @@
 
 pub mod geometry;
 pub mod light_frame;
+pub mod method;
 pub mod passes;
 pub mod targets;
 pub mod uniforms;
 
 use crate::gpu::timing::{GpuTimer, PassTime};
 use crate::gpu::{Gpu, GpuError, readback};
-use crate::methods::{MethodContext, MethodGpu, ParamValues, ShadowMethod};
 use crate::scene::{Camera, Light, LightKind, Scene};
-use crate::settings::RenderSettings;
 use geometry::GeometryBuffers;
 use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
+use method::{LightMethod, MethodContext, MethodGpu, ParamValues};
 use passes::abuffer::RefFragment;
 use passes::composite::CompositePass;
 use passes::depth_peel::DepthPeel;
@@ -22,19 +22,80 @@ use passes::hair::HairPass;
 use passes::light_depth::{LightDepthMaps, LightDepthPass};
 use passes::mesh::MeshPass;
 use passes::shadow_map::{ShadowMap, ShadowMapPass};
-use std::collections::HashMap;
+use serde::{Deserialize, Serialize};
 use targets::EyeTargets;
 use uniforms::FrameUniforms;
+
+/// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RenderSettings {
+    /// Output size of `hairlab render` (the window uses its viewport size).
+    pub width: u32,
+    pub height: u32,
+    /// Side of the square light-space hair maps, 1..=4096.
+    pub map_resolution: u32,
+    /// Global hair opacity in (0, 1].
+    pub hair_alpha: f32,
+    /// Colour of strands without their own colour (linear RGB).
+    pub hair_color: [f32; 3],
+    pub background: [f32; 3],
+    /// 3x3 percentage-closer filtering of the shadow method's visibility in the eye passes.
+    pub pcf: bool,
+    /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
+    pub jitter: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            map_resolution: 512,
+            hair_alpha: 0.35,
+            hair_color: [0.30, 0.18, 0.09],
+            background: [0.12, 0.13, 0.15],
+            pcf: false,
+            jitter: false,
+        }
+    }
+}
 
 /// Everything one frame depends on besides the scene.
 pub struct FrameInput<'a> {
     pub camera: &'a Camera,
     pub light: &'a Light,
     pub render: &'a RenderSettings,
-    pub method: &'a dyn ShadowMethod,
+    pub method: &'a dyn LightMethod,
     pub method_params: &'a ParamValues,
     pub width: u32,
     pub height: u32,
+}
+
+/// The held method state if it is `method`'s, or an error saying that `method` is not the last frame's.
+fn held<'a>(
+    state: &'a Option<(&'static str, Box<dyn MethodGpu>)>,
+    method: &dyn LightMethod,
+) -> Result<&'a dyn MethodGpu, GpuError> {
+    state
+        .as_ref()
+        .filter(|(n, _)| *n == method.name())
+        .map(|(_, m)| m.as_ref())
+        .ok_or_else(|| {
+            GpuError::Readback(format!(
+                "method '{}' is not the method of the last frame rendered",
+                method.name()
+            ))
+        })
+}
+
+/// What [`Renderer::frame_uniforms`] reads of a frame.
+struct FrameParts<'a> {
+    camera: &'a Camera,
+    light: &'a Light,
+    render: &'a RenderSettings,
+    width: u32,
+    height: u32,
 }
 
 /// Side of the opaque meshes' shadow map.
@@ -47,12 +108,29 @@ pub struct MemoryReport {
     pub light_depth_maps: u64,
     pub shadow_map: u64,
     pub eye_targets: u64,
-    pub method: u64,
+    /// The method whose state is held (the last frame's), and its maps: those it owns, and the shared
+    /// light-depth maps its lookup reads (already counted in `light_depth_maps`).
+    pub method_name: &'static str,
+    pub method_owned: u64,
+    pub method_shared: u64,
+    /// The exact reference's fragment lists, when the inspector or a measurement has read them.
+    pub reference_lists: u64,
 }
 
 impl MemoryReport {
+    /// Everything the renderer holds (the shared maps once).
     pub fn total(&self) -> u64 {
-        self.geometry + self.light_depth_maps + self.shadow_map + self.eye_targets
+        self.geometry
+            + self.light_depth_maps
+            + self.shadow_map
+            + self.eye_targets
+            + self.method_owned
+            + self.reference_lists
+    }
+
+    /// What the method costs, as the papers count it: its own maps and the shared ones it reads.
+    pub fn method(&self) -> u64 {
+        self.method_owned + self.method_shared
     }
 }
 
@@ -74,7 +152,10 @@ pub struct Renderer {
     composite: CompositePass,
     composite_bind_group: wgpu::BindGroup,
     evaluate: passes::evaluate::EvaluatePass,
-    methods: HashMap<&'static str, Box<dyn MethodGpu>>,
+    /// The GPU state of the method of the last frame; another method evicts it.
+    method: Option<(&'static str, Box<dyn MethodGpu>)>,
+    /// The exact reference's fragment lists ([`Renderer::reference_lists`]), created on first use.
+    reference: Option<passes::abuffer::ABuffer>,
     peel: Option<DepthPeel>,
     targets: EyeTargets,
     targets_generation: u64,
@@ -183,7 +264,8 @@ impl Renderer {
             mesh_pass: MeshPass::new(&scene_layout),
             hair_pass: HairPass::new(&scene_layout),
             evaluate: passes::evaluate::EvaluatePass::new(device, &scene_layout),
-            methods: HashMap::new(),
+            method: None,
+            reference: None,
             peel: None,
             targets_generation: 0,
             timer: GpuTimer::new(device, &gpu.queue),
@@ -302,6 +384,30 @@ impl Renderer {
     }
 
     fn uniforms(&self, f: &FrameInput) -> FrameUniforms {
+        self.frame_uniforms(
+            f.camera,
+            f.light,
+            f.render,
+            (f.width, f.height),
+            f.method.uniform_params(f.method_params),
+        )
+    }
+
+    fn frame_uniforms(
+        &self,
+        camera: &Camera,
+        light: &Light,
+        render: &RenderSettings,
+        (width, height): (u32, u32),
+        method_params: [f32; 4],
+    ) -> FrameUniforms {
+        let f = FrameParts {
+            camera,
+            light,
+            render,
+            width,
+            height,
+        };
         let hair = self.hair_light_frame(f.light);
         let shadow = LightFrame::fit(f.light, self.scene_center, self.scene_radius, &self.scene_bounds);
         let eye = f.camera.eye();
@@ -326,7 +432,7 @@ impl Renderer {
             light_far: hair.far,
             light_map_resolution: self.light_maps.near.width(),
             lookup_flags: u32::from(f.render.pcf) | (u32::from(f.render.jitter) << 1),
-            method_params: f.method.uniform_params(f.method_params),
+            method_params,
             viewport_size: [f.width as f32, f.height as f32],
             shadow_map_resolution: self.shadow_map.texture.width(),
             shadow_bias: 1e-4,
@@ -338,12 +444,12 @@ impl Renderer {
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
-        let method_gpu = &self.methods[f.method.name()];
+        let method_gpu = held(&self.method, f.method)?;
         self.mesh_pass.record(
             &device,
             &mut enc,
             f.method,
-            method_gpu.as_ref(),
+            method_gpu,
             &self.targets,
             f.render.background,
             &self.scene_bind_group,
@@ -354,7 +460,7 @@ impl Renderer {
             &device,
             &mut enc,
             f.method,
-            method_gpu.as_ref(),
+            method_gpu,
             &self.targets,
             &self.scene_bind_group,
             &self.geometry,
@@ -413,10 +519,13 @@ impl Renderer {
             ts(&mut self.timer, "mesh shadow map"),
         );
         let gpu = self.gpu.clone();
-        let method_gpu = self
-            .methods
-            .entry(f.method.name())
-            .or_insert_with(|| f.method.create_gpu(&gpu));
+        let name = f.method.name();
+        if self.method.as_ref().is_none_or(|(n, _)| *n != name) {
+            // Evict the previous method's maps before the new method allocates its own.
+            self.method = None;
+            self.method = Some((name, f.method.create_gpu(&gpu)));
+        }
+        let (_, method_gpu) = self.method.as_mut().expect("set just above");
         let ctx = MethodContext {
             gpu: &gpu,
             frame_layout: &self.frame_layout,
@@ -432,32 +541,55 @@ impl Renderer {
 
     /// Evaluates the method's GPU lookup (`visibility_at`) at `(texel x, texel y, light depth)` samples, on the
     /// maps of the last frame rendered with `method`.
-    pub fn evaluate(
-        &mut self,
-        method: &dyn ShadowMethod,
-        samples: &[[f32; 3]],
-    ) -> Result<Vec<f32>, GpuError> {
-        let method_gpu = self.methods.get(method.name()).ok_or_else(|| {
-            GpuError::Readback(format!("method '{}' has not been rendered yet", method.name()))
-        })?;
-        self.evaluate.run(
-            &self.gpu,
-            method,
-            method_gpu.as_ref(),
-            &self.scene_bind_group,
-            samples,
-        )
+    pub fn evaluate(&mut self, method: &dyn LightMethod, samples: &[[f32; 3]]) -> Result<Vec<f32>, GpuError> {
+        let method_gpu = held(&self.method, method)?;
+        self.evaluate
+            .run(&self.gpu, method, method_gpu, &self.scene_bind_group, samples)
     }
 
-    /// The reference's per-texel fragment lists (row-major texels, each sorted by depth then segment), from the
-    /// last frame rendered with the reference method.
-    pub fn reference_lists(&self) -> Result<Vec<Vec<RefFragment>>, GpuError> {
+    /// The exact reference's per-texel fragment lists (row-major texels, each sorted by depth then segment) of
+    /// the strands' light view under `light` at `render.map_resolution`: the light-depth pass and the A-buffer's
+    /// counting and filling passes, submitted and read back in this one call.
+    pub fn reference_lists(
+        &mut self,
+        camera: &Camera,
+        light: &Light,
+        render: &RenderSettings,
+    ) -> Result<Vec<Vec<RefFragment>>, GpuError> {
+        self.ensure_map_size(render.map_resolution)?;
+        let u = self.frame_uniforms(camera, light, render, (1, 1), [0.0; 4]);
+        self.gpu
+            .queue
+            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
+        let gpu = self.gpu.clone();
+        let mut enc = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hairlab.reference_lists.encoder"),
+            });
+        self.light_depth.record(
+            &mut enc,
+            &self.light_maps,
+            &self.frame_bind_group,
+            &self.geometry,
+            ts(&mut self.timer, "light depth"),
+        );
         let abuffer = self
-            .methods
-            .get("reference")
-            .and_then(|m| m.as_reference())
-            .ok_or_else(|| GpuError::Readback("the reference has not been rendered yet".into()))?;
-        abuffer.read_lists(&self.gpu)
+            .reference
+            .get_or_insert_with(|| passes::abuffer::ABuffer::new(&gpu, &self.frame_layout));
+        abuffer.record(
+            &gpu,
+            &self.frame_bind_group,
+            &self.geometry,
+            self.light_maps.near.width(),
+            &mut enc,
+            &mut self.timer,
+        )?;
+        self.submit(enc);
+        self.reference
+            .as_ref()
+            .expect("created above")
+            .read_lists(&self.gpu)
     }
 
     /// Depth-peels the strands of the last frame's light view (the slow exact reference; see
@@ -475,9 +607,9 @@ impl Renderer {
         )
     }
 
-    /// The GPU state of `method` after it has been rendered once.
-    pub fn method_gpu(&self, method: &dyn ShadowMethod) -> Option<&dyn MethodGpu> {
-        self.methods.get(method.name()).map(|m| m.as_ref())
+    /// The GPU state of `method`, when it is the method of the last frame.
+    pub fn method_gpu(&self, method: &dyn LightMethod) -> Option<&dyn MethodGpu> {
+        held(&self.method, method).ok()
     }
 
     /// Newest per-pass GPU times (non-blocking; empty without timestamp support).
@@ -534,13 +666,21 @@ impl Renderer {
         )?))
     }
 
-    pub fn memory(&self, method: &dyn ShadowMethod) -> MemoryReport {
+    /// GPU memory by part; `method` is the last frame's method (its state is the only one held).
+    pub fn memory(&self) -> MemoryReport {
+        let (method_name, method, shared) = self
+            .method
+            .as_ref()
+            .map_or(("", 0, 0), |(n, m)| (*n, m.memory_bytes(), m.shared_bytes()));
         MemoryReport {
             geometry: self.geometry.bytes,
             light_depth_maps: self.light_maps.bytes(),
             shadow_map: self.shadow_map.bytes(),
             eye_targets: self.targets.bytes(),
-            method: self.methods.get(method.name()).map_or(0, |m| m.memory_bytes()),
+            method_name,
+            method_owned: method.saturating_sub(shared),
+            method_shared: shared,
+            reference_lists: self.reference.as_ref().map_or(0, |a| a.memory_bytes()),
         }
     }
 
@@ -566,4 +706,47 @@ impl Renderer {
 /// Timestamp writes for the next pass, when timing is on.
 fn ts<'a>(timer: &'a mut Option<GpuTimer>, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
     timer.as_mut().and_then(|t| t.pass(name))
+}
+
+#[cfg(test)]
+mod tests {
+    /// Dependencies run one way: the renderer (and the GPU, scene and CPU-model modules under it) never import
+    /// the shadow methods, the settings, the app, the bench or `measure`, which sit above it.
+    #[test]
+    fn lower_layers_import_nothing_above_them() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let above = [
+            "crate::methods",
+            "crate::settings",
+            "crate::app",
+            "crate::bench",
+            "crate::measure",
+        ];
+        let mut checked = 0;
+        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility"]
+            .iter()
+            .map(|d| root.join(d))
+            .collect();
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                    continue;
+                }
+                let text = std::fs::read_to_string(&path).unwrap();
+                for (i, line) in text.lines().enumerate() {
+                    let code = line.trim_start();
+                    if code.starts_with("//") || code.contains("\"crate::") {
+                        continue;
+                    }
+                    for a in above {
+                        assert!(!code.contains(a), "{}:{}: imports {a}", path.display(), i + 1);
+                    }
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 20, "only {checked} files checked");
+    }
 }

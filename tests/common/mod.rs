@@ -135,7 +135,6 @@ pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setu
     let scene = s.scene.build().unwrap();
     s.camera.frame(&scene.framing_bounds());
     let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let no_params = ParamValues::new();
     let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
     let frame = |m: &str, params| FrameInput {
         camera: &s.camera,
@@ -146,8 +145,7 @@ pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setu
         width: 8,
         height: 8,
     };
-    r.render_light(&frame("reference", &no_params)).unwrap();
-    let lists = r.reference_lists().unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let m = registry::find(method).unwrap();
     // A full frame: the eye passes bind the method's maps too.
     r.render(&frame(method, &values)).unwrap();

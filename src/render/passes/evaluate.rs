@@ -2,7 +2,7 @@
 //! GPU = CPU tests and the texel inspector read visibility through it, so they test the real GPU path.
 
 use crate::gpu::{Gpu, GpuError, readback};
-use crate::methods::{MethodGpu, ShadowMethod};
+use crate::render::method::{LightMethod, MethodGpu};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
@@ -38,7 +38,7 @@ impl EvaluatePass {
     pub fn run(
         &mut self,
         gpu: &Gpu,
-        method: &dyn ShadowMethod,
+        method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
         scene: &wgpu::BindGroup,
         samples: &[[f32; 3]],

@@ -1,8 +1,8 @@
 //! Eye pass for hair: strands as lines (LineList), depth-tested against the meshes without writing depth, into
 //! the weighted-blended OIT targets (accumulation: One/One; revealage: Zero/OneMinusSrc). One pipeline per method.
 
-use crate::methods::{MethodGpu, ShadowMethod};
 use crate::render::geometry::{GeometryBuffers, HairVertex};
+use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::targets::EyeTargets;
 use std::collections::HashMap;
 
@@ -22,7 +22,7 @@ impl HairPass {
     fn pipeline(
         &mut self,
         device: &wgpu::Device,
-        method: &dyn ShadowMethod,
+        method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
     ) -> &wgpu::RenderPipeline {
         let scene_layout = &self.scene_layout;
@@ -102,7 +102,7 @@ impl HairPass {
         &mut self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-        method: &dyn ShadowMethod,
+        method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
         targets: &EyeTargets,
         scene: &wgpu::BindGroup,

@@ -1,7 +1,7 @@
 //! Eye pass for opaque meshes (clears colour and depth). One pipeline per shadow method, built on first use.
 
-use crate::methods::{MethodGpu, ShadowMethod};
 use crate::render::geometry::{GeometryBuffers, MeshVertex};
+use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::targets::EyeTargets;
 use std::collections::HashMap;
 
@@ -21,7 +21,7 @@ impl MeshPass {
     fn pipeline(
         &mut self,
         device: &wgpu::Device,
-        method: &dyn ShadowMethod,
+        method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
     ) -> &wgpu::RenderPipeline {
         let scene_layout = &self.scene_layout;
@@ -71,7 +71,7 @@ impl MeshPass {
         &mut self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-        method: &dyn ShadowMethod,
+        method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
         targets: &EyeTargets,
         background: [f32; 3],

@@ -2,10 +2,12 @@
 //! depth range, depth complexity, occupied occupancy-map slices) or one value the selected method stores (an
 //! opacity slice or layer, a cluster density, a slab count; built by its CPU model, which the GPU matches) as an
 //! image in a plot that zooms and pans, with a colour scale and the value under the cursor. Clicking a texel
-//! inspects it.
+//! inspects it: [`LightMapView::ui`] reads the inspector's lists through [`LightMapDeps`] and returns the
+//! clicked texel.
 
-use super::HairlabApp;
-use super::inspector::{ReferenceLists, SceneTexel};
+use super::inspector::{ReferenceLists, inspected};
+use crate::methods::registry;
+use crate::settings::Settings;
 use crate::visibility::{Fragment, OccupancyParams, TexelModel, occupancy};
 use egui::Color32;
 use egui_plot::{MarkerShape, Plot, PlotImage, PlotPoint, Points};
@@ -94,6 +96,8 @@ struct MapImage {
 /// The view's state.
 #[derive(Default)]
 pub struct LightMapView {
+    /// The light-map window is shown.
+    pub open: bool,
     pub quantity: MapQuantity,
     /// Which stored value [`MapQuantity::Stored`] shows (slice, layer, cluster or slab index).
     pub stored: usize,
@@ -203,25 +207,38 @@ fn texel_centre([x, y]: [u32; 2], res: u32) -> [f64; 2] {
     [f64::from(x) + 0.5, f64::from(res - y) - 0.5]
 }
 
-impl HairlabApp {
-    pub(super) fn light_map_ui(&mut self, ui: &mut egui::Ui) {
-        let insp = &mut self.inspector;
-        let densest = insp.lists().and_then(ReferenceLists::densest);
+/// What the light-map view reads besides its own state.
+#[derive(Clone, Copy)]
+pub struct LightMapDeps<'a> {
+    /// The inspector's reference fragment lists, if read.
+    pub lists: Option<&'a ReferenceLists>,
+    /// The selected method, its parameters and the hair alpha (for [`MapQuantity::Stored`]).
+    pub settings: &'a Settings,
+    /// The inspected scene texel, marked in white.
+    pub selected: Option<[u32; 2]>,
+    /// The scene pins' texels, marked in their colours.
+    pub pins: &'a [([u32; 2], Color32)],
+}
+
+impl LightMapView {
+    /// The window's contents. Returns the texel to inspect when one was clicked (or "Densest texel" was).
+    pub fn ui(&mut self, ui: &mut egui::Ui, deps: LightMapDeps<'_>) -> Option<[u32; 2]> {
+        let densest = deps.lists.and_then(ReferenceLists::densest);
         let mut chosen = None;
         ui.horizontal(|ui| {
             let l = ui.label("show");
             egui::ComboBox::from_id_salt("light_map_quantity")
-                .selected_text(insp.map.quantity.label())
+                .selected_text(self.quantity.label())
                 .show_ui(ui, |ui| {
                     for q in MapQuantity::ALL {
-                        ui.selectable_value(&mut insp.map.quantity, q, q.label());
+                        ui.selectable_value(&mut self.quantity, q, q.label());
                     }
                 })
                 .response
                 .labelled_by(l.id);
-            if insp.map.quantity == MapQuantity::Stored {
+            if self.quantity == MapQuantity::Stored {
                 ui.add(
-                    egui::DragValue::new(&mut insp.map.stored)
+                    egui::DragValue::new(&mut self.stored)
                         .range(0..=255)
                         .prefix("index "),
                 )
@@ -235,49 +252,40 @@ impl HairlabApp {
                 chosen = densest;
             }
         });
-        if let Some(t) = chosen {
-            self.inspector.select_scene_texel(t);
-        }
-        let stored = match crate::methods::registry::find(&self.settings.method.name) {
-            Ok(m) if self.inspector.map.quantity == MapQuantity::Stored && super::inspector::inspected(m) => {
-                Some((
-                    m.model(&self.settings.method.params, self.settings.render.hair_alpha),
-                    self.inspector.map.stored,
-                ))
-            }
+        let method = &deps.settings.method;
+        let stored = match registry::find(&method.name) {
+            Ok(m) if self.quantity == MapQuantity::Stored && inspected(m) => Some((
+                m.model(&method.params, deps.settings.render.hair_alpha),
+                self.stored,
+            )),
             _ => None,
         };
-        let insp = &mut self.inspector;
-        let Some(lists) = insp.lists.as_ref() else {
+        let Some(lists) = deps.lists else {
             ui.label("no fragment lists yet (see the status line)");
-            return;
+            return chosen;
         };
         let stored_key = stored.as_ref().map(|(m, k)| (format!("{m:?}"), *k));
-        if insp.map.quantity == MapQuantity::Stored && stored.is_none() {
+        if self.quantity == MapQuantity::Stored && stored.is_none() {
             ui.label("the selected method stores no per-texel values beyond near/far");
-            return;
+            return chosen;
         }
-        let fresh = insp.map.image.as_ref().is_some_and(|i| {
-            i.quantity == insp.map.quantity && i.generation == lists.generation && i.stored == stored_key
+        let fresh = self.image.as_ref().is_some_and(|i| {
+            i.quantity == self.quantity && i.generation == lists.generation && i.stored == stored_key
         });
         if !fresh {
             let stored = stored.as_ref().map(|(m, k)| (m.as_ref(), *k));
-            insp.map.image = Some(MapImage::new(ui.ctx(), lists, insp.map.quantity, stored));
+            self.image = Some(MapImage::new(ui.ctx(), lists, self.quantity, stored));
         }
-        let Some(image) = insp.map.image.as_ref() else {
-            return;
+        let Some(image) = self.image.as_ref() else {
+            return chosen;
         };
         let res = image.resolution;
-        let marks: Vec<([f64; 2], Color32)> = insp
-            .selected
-            .filter(|_| insp.source == super::inspector::Source::Scene)
-            .map(|s| (texel_centre(s.texel, res), Color32::WHITE))
+        // A texel chosen this frame is the inspected one from now on.
+        let selected = chosen.or(deps.selected);
+        let marks: Vec<([f64; 2], Color32)> = selected
+            .map(|t| (texel_centre(t, res), Color32::WHITE))
             .into_iter()
-            .chain(
-                insp.pins()
-                    .iter()
-                    .filter_map(|p| p.texel().map(|t| (texel_centre(t, res), p.color))),
-            )
+            .chain(deps.pins.iter().map(|&(t, c)| (texel_centre(t, res), c)))
             .filter(|(c, _)| c[0] < f64::from(res) && c[1] > 0.0)
             .collect();
         colour_scale(ui, image);
@@ -323,10 +331,9 @@ impl HairlabApp {
                 }
                 (p.response().clicked(), p.pointer_coordinate())
             });
-        if let (true, Some(p)) = response.inner
-            && let Some(t) = texel_at(p, res)
-        {
-            self.inspector.select_scene_texel(t);
+        match response.inner {
+            (true, Some(p)) => texel_at(p, res).or(chosen),
+            _ => chosen,
         }
     }
 }
@@ -356,16 +363,6 @@ fn colour_scale(ui: &mut egui::Ui, image: &MapImage) {
         ui.label(image.value_text(image.max));
     });
     ui.weak("click: inspect · drag: pan · Ctrl+wheel: zoom · double-click: reset");
-}
-
-impl super::inspector::Inspector {
-    /// Inspects scene texel `t` chosen in the light map.
-    fn select_scene_texel(&mut self, t: [u32; 2]) {
-        self.select(SceneTexel {
-            texel: t,
-            picked: None,
-        });
-    }
 }
 
 #[cfg(test)]

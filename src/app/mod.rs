@@ -12,7 +12,10 @@ use crate::gpu::{self, AdapterPreference, timing::PassTime};
 use crate::methods::registry;
 use crate::render::Renderer;
 use crate::scene::Scene;
+use crate::settings::SceneSettings;
 use crate::settings::Settings;
+use inspector::{Inspector, InspectorAction, InspectorDeps, ListsKey, SceneTexel};
+use lightmap_view::{LightMapDeps, LightMapView};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
@@ -73,7 +76,7 @@ pub struct HairlabApp {
     renderer: Option<Renderer>,
     scene: Option<Scene>,
     /// Settings of the scene currently loaded (to notice when it must be rebuilt).
-    built_scene: Option<crate::settings::SceneSettings>,
+    built_scene: Option<SceneSettings>,
     /// The viewport texture registered with egui, and the renderer's target generation it shows.
     texture: Option<(egui::TextureId, u64)>,
     last_rendered: Option<(Settings, u32, u32)>,
@@ -91,8 +94,12 @@ pub struct HairlabApp {
     viewport_error: Option<String>,
     /// Hides measured times (they differ run to run) so UI snapshots are reproducible.
     snapshot_mode: bool,
-    /// The texel inspector and light-map view.
-    inspector: inspector::Inspector,
+    /// The texel inspector window.
+    inspector: Inspector,
+    /// The light-map window.
+    light_map: LightMapView,
+    /// Where the viewport is (the inspector windows' first placement).
+    viewport_rect: Option<egui::Rect>,
     /// The Bench window: speed against accuracy of every method's sweep.
     bench: bench_panel::BenchPanel,
 }
@@ -138,6 +145,8 @@ impl HairlabApp {
             viewport_error: None,
             analysis: None,
             inspector: Default::default(),
+            light_map: Default::default(),
+            viewport_rect: None,
             bench: Default::default(),
         };
         app.rebuild_scene();
@@ -332,9 +341,7 @@ impl HairlabApp {
         a: crate::methods::Analysis,
     ) {
         let Some(r) = self.renderer.as_mut() else { return };
-        let s = &self.settings;
-        let lists = r.reference_lists(&s.camera, &s.light, &s.render);
-        match lists {
+        match inspector::read_reference_lists(r, &self.settings) {
             Ok(lists) => {
                 let result = (a.run)(&lists, &self.settings.method.params);
                 self.settings.method.params.extend(result.apply.clone());
@@ -414,6 +421,118 @@ impl HairlabApp {
     fn frame_scene(&mut self) {
         if let Some(s) = &self.scene {
             self.settings.camera.frame(&s.framing_bounds());
+        }
+    }
+
+    /// Inspects texel `(x, y)` of the scene's light map (row 0 at the top) and opens the inspector.
+    pub fn select_texel(&mut self, x: u32, y: u32) {
+        self.inspector.select(SceneTexel {
+            texel: [x, y],
+            picked: None,
+        });
+    }
+
+    pub fn inspector(&self) -> &Inspector {
+        &self.inspector
+    }
+
+    pub fn inspector_mut(&mut self) -> &mut Inspector {
+        &mut self.inspector
+    }
+
+    /// Writes every curve shown (see [`inspector::TexelCurves::csv`]) to `path`; the outcome goes to the status
+    /// line.
+    pub fn export_inspector_csv(&mut self, path: &std::path::Path) {
+        self.refresh_lists(true);
+        self.update_curves();
+        match inspector::export(self.inspector.curves(), path) {
+            Ok(m) => self.info(m),
+            Err(e) => self.error(e),
+        }
+    }
+
+    /// The key of the reference lists the current settings need.
+    fn lists_key(&self) -> ListsKey {
+        ListsKey::new(&self.settings, self.built_scene.as_ref())
+    }
+
+    /// Reads the reference lists again when a window needs them and what they depend on changed (and `allow`,
+    /// i.e. no drag is under way); a failed read is reported once and not retried until something changes.
+    fn refresh_lists(&mut self, allow: bool) {
+        if !(self.inspector.needs_lists() || self.light_map.open) {
+            return;
+        }
+        let key = self.lists_key();
+        let (renderer, settings) = (&mut self.renderer, &self.settings);
+        let read = || {
+            let r = renderer
+                .as_mut()
+                .ok_or("no GPU renderer: only the synthetic texel lab works")?;
+            inspector::read_reference_lists(r, settings)
+        };
+        match self.inspector.refresh_lists(key, allow, read) {
+            // The light pass replaced the frame's timings: render the viewport again to show its own.
+            Some(Ok(())) => self.last_rendered = None,
+            Some(Err(e)) => self.error(format!("texel inspector: {e}")),
+            None => {}
+        }
+    }
+
+    /// Recomputes the inspector's curves when their inputs changed; reports a new error in the lab's text.
+    fn update_curves(&mut self) {
+        if let Some(e) = self.inspector.update_curves(&self.settings) {
+            self.error(e);
+        }
+    }
+
+    /// The inspector and light-map windows (each frame; they do nothing while closed).
+    fn inspector_windows(&mut self, ctx: &egui::Context) {
+        if !(self.inspector.open || self.light_map.open) {
+            return;
+        }
+        let dragging = ctx.input(|i| i.pointer.any_down());
+        self.refresh_lists(!dragging);
+        self.update_curves();
+        // First placement: the inspector along the bottom of the viewport, the light map in its top right corner,
+        // so that the hair stays in view for picking.
+        let area = self.viewport_rect.unwrap_or_else(|| ctx.content_rect());
+        let width = (area.width() - 16.0).clamp(300.0, 900.0);
+        let mut open = self.inspector.open;
+        let deps = InspectorDeps {
+            settings: &self.settings,
+            light_map_open: self.light_map.open,
+        };
+        let action = egui::Window::new("Texel inspector")
+            .open(&mut open)
+            .default_pos([area.left() + 8.0, (area.bottom() - 440.0).max(area.top())])
+            .default_size([width, 400.0])
+            .show(ctx, |ui| self.inspector.ui(ui, deps))
+            .and_then(|r| r.inner)
+            .flatten();
+        self.inspector.open = open;
+        match action {
+            Some(InspectorAction::ExportCsv) => self.open_dialog(DialogPurpose::ExportCurves, ctx),
+            Some(InspectorAction::OpenLightMap) => self.light_map.open = true,
+            None => {}
+        }
+        let mut open = self.light_map.open;
+        let pins = self.inspector.pinned_texels();
+        let deps = LightMapDeps {
+            lists: self.inspector.lists(),
+            settings: &self.settings,
+            selected: self.inspector.scene_texel(),
+            pins: &pins,
+        };
+        let clicked = egui::Window::new("Light map")
+            .open(&mut open)
+            .default_pos([(area.right() - 350.0).max(area.left()), area.top() + 8.0])
+            .default_size([340.0, (area.height() - 470.0).clamp(240.0, 420.0)])
+            .show(ctx, |ui| self.light_map.ui(ui, deps))
+            .and_then(|r| r.inner)
+            .flatten();
+        self.light_map.open = open;
+        if let Some(texel) = clicked {
+            self.inspector.select(SceneTexel { texel, picked: None });
         }
     }
 

@@ -81,6 +81,18 @@ impl HairlabApp {
         self.stats_section(ui);
     }
 
+    /// The switches of the inspector windows.
+    fn inspector_controls(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.inspector.open, "Texel inspector")
+                .on_hover_text(
+                    "V(z) of one light-map texel: click hair in the viewport or a texel in the light map",
+                );
+            ui.checkbox(&mut self.light_map.open, "Light map")
+                .on_hover_text("the light's depth maps and depth complexity; click a texel to inspect it");
+        });
+    }
+
     fn scene_section(&mut self, ui: &mut egui::Ui, ctx: &egui::Context) {
         egui::CollapsingHeader::new("Scene")
             .default_open(true)

@@ -2,7 +2,7 @@
 //! the papers' texel experiments. Either a mixture of `Q` Gaussians along the light ray (Mertens et al. 2004 §5,
 //! Fig. 5: "random depth values between 0 and 1 using a mix of Q gaussian distributions with a random mean and
 //! variance", `Q = K` against `Q > K`), or fragments typed in as `depth,alpha` lines, the format of
-//! `hairlab curve --fragments`.
+//! `hairlab curve --fragments`. [`LabSettings::ui`] draws its controls in the inspector window.
 
 use crate::visibility::Fragment;
 
@@ -92,6 +92,58 @@ impl LabSettings {
             LabSource::Typed => "typed fragments".to_string(),
         }
     }
+
+    /// The lab's controls (the window's "Synthetic texel" part); `error`: why the typed text cannot be read.
+    pub fn ui(&mut self, ui: &mut egui::Ui, error: Option<&str>) {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.source, LabSource::Gaussians, "Gaussian mixture");
+            ui.selectable_value(&mut self.source, LabSource::Typed, "Typed fragments");
+        });
+        match self.source {
+            LabSource::Gaussians => {
+                egui::Grid::new("lab").num_columns(4).show(ui, |ui| {
+                    let l = ui.label("Gaussians Q");
+                    ui.add(egui::Slider::new(&mut self.gaussians, 1..=MAX_GAUSSIANS))
+                        .labelled_by(l.id);
+                    let l = ui.label("per Gaussian");
+                    ui.add(egui::DragValue::new(&mut self.per_gaussian).range(1..=MAX_PER_GAUSSIAN))
+                        .labelled_by(l.id);
+                    ui.end_row();
+                    let l = ui.label("spread σ");
+                    ui.add(egui::Slider::new(&mut self.spread, 0.0..=MAX_SPREAD))
+                        .labelled_by(l.id)
+                        .on_hover_text("each Gaussian's standard deviation is drawn from [σ/4, σ]");
+                    let l = ui.label("alpha");
+                    ui.add(egui::Slider::new(&mut self.alpha, 0.01..=0.99).logarithmic(true))
+                        .labelled_by(l.id);
+                    ui.end_row();
+                    row(ui, "seed", egui::DragValue::new(&mut self.seed));
+                });
+                ui.weak("means uniform in [0.1, 0.9] (Mertens et al. 2004, Fig. 5: Q Gaussians against K clusters)");
+            }
+            LabSource::Typed => {
+                let l = ui.label("fragments, one `depth,alpha` per line (as `hairlab curve --fragments`)");
+                ui.add(
+                    egui::TextEdit::multiline(&mut self.text)
+                        .desired_rows(5)
+                        .code_editor()
+                        .hint_text("0.25,0.3"),
+                )
+                .labelled_by(l.id);
+            }
+        }
+        if let Some(e) = error {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+    }
+}
+
+/// One labelled grid row; the label names the widget for screen readers.
+fn row(ui: &mut egui::Ui, label: &str, widget: impl egui::Widget) -> egui::Response {
+    let l = ui.label(label);
+    let r = ui.add(widget).labelled_by(l.id);
+    ui.end_row();
+    r
 }
 
 /// `gaussians` Gaussians with means uniform in `[0.1, 0.9]` and standard deviations uniform in

@@ -1,12 +1,19 @@
 //! The central viewport: renders the scene into the renderer's colour texture at the panel's pixel size, shows it
 //! as an egui image, and turns mouse input into camera and light motion.
 //!
-//! Left drag orbits, middle drag (or shift + left) pans, right drag moves the light, the wheel zooms.
+//! Left drag orbits, middle drag (or shift + left) pans, right drag moves the light, the wheel zooms; a click
+//! picks the strand under the cursor for the texel inspector.
 
 use super::HairlabApp;
+use super::inspector::SceneTexel;
 use crate::methods::registry;
 use crate::render::FrameInput;
+use crate::scene::pick::{light_texel, mesh_depth, pick_segment, to_pixels};
+use glam::Vec2;
 use std::time::Instant;
+
+/// How far (in points) from a strand a click may land and still pick it.
+const PICK_RADIUS: f32 = 4.0;
 
 impl HairlabApp {
     pub(super) fn viewport(&mut self, ui: &mut egui::Ui) {
@@ -128,6 +135,68 @@ impl HairlabApp {
             egui::Color32::WHITE,
         );
         self.paint_pick(ui.painter(), rect, width, height);
+    }
+
+    /// Viewport input: a click without drag picks the strand under the cursor and inspects its light texel.
+    fn viewport_click(&mut self, response: &egui::Response, width: u32, height: u32, ppp: f32) {
+        self.viewport_rect = Some(response.rect);
+        if !response.clicked() {
+            return;
+        }
+        let Some(pos) = response.interact_pointer_pos() else {
+            return;
+        };
+        let (Some(r), Some(scene)) = (&self.renderer, &self.scene) else {
+            return;
+        };
+        let m = r.world_to_clip(&self.settings.camera, width, height);
+        let size = Vec2::new(width as f32, height as f32);
+        let cursor = Vec2::new(pos.x - response.rect.min.x, pos.y - response.rect.min.y) * ppp;
+        let limit = mesh_depth(&scene.meshes, m, size, cursor);
+        let Some(pick) = pick_segment(&scene.strands, m, size, cursor, PICK_RADIUS * ppp, limit) else {
+            if self.inspector.open {
+                self.info("no strand under the cursor");
+            }
+            return;
+        };
+        let frame = r.hair_light_frame(&self.settings.light);
+        let resolution = self.settings.render.map_resolution;
+        let Some(texel) = light_texel(frame.world_to_clip(), resolution, pick.world) else {
+            return self.error("the picked point lies outside the light map");
+        };
+        let depth = frame.depth(pick.world);
+        self.inspector.select(SceneTexel {
+            texel,
+            picked: Some(pick),
+        });
+        self.refresh_lists(true);
+        let texel = match self.inspector.current_lists(&self.lists_key()) {
+            Some(l) => l.resolve_pick(texel, pick.segment, depth),
+            None => texel,
+        };
+        self.inspector.select(SceneTexel {
+            texel,
+            picked: Some(pick),
+        });
+        self.info(format!(
+            "picked segment {} at light depth {depth:.4}: texel ({}, {})",
+            pick.segment, texel[0], texel[1]
+        ));
+    }
+
+    /// Marks the picked point in the viewport while its texel is inspected.
+    fn paint_pick(&self, painter: &egui::Painter, rect: egui::Rect, width: u32, height: u32) {
+        let (Some(p), Some(r)) = (self.inspector.shown_pick(), &self.renderer) else {
+            return;
+        };
+        let c = r.world_to_clip(&self.settings.camera, width, height) * p.world.extend(1.0);
+        if c.w <= 0.0 {
+            return;
+        }
+        let (px, _) = to_pixels(c, Vec2::new(rect.width(), rect.height()));
+        let at = rect.min + egui::vec2(px.x, px.y);
+        painter.circle_stroke(at, 7.0, egui::Stroke::new(2.0, egui::Color32::YELLOW));
+        painter.circle_filled(at, 1.5, egui::Color32::YELLOW);
     }
 
     fn camera_input(&mut self, ui: &egui::Ui, response: &egui::Response) {

@@ -7,6 +7,7 @@ pub mod generate;
 pub mod gltf_load;
 pub mod hair;
 pub mod load;
+pub mod pick;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

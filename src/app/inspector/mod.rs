@@ -1,0 +1,419 @@
+//! The texel inspector: one light-map texel's exact fragments, the reference visibility `V(z)` and the methods'
+//! reconstructions of it, with what each method stores drawn on the plot and the texel's error figures.
+//!
+//! A texel is chosen by clicking hair in the viewport (`scene::pick`), by clicking the light-map view
+//! (`lightmap_view.rs`), or made up in the synthetic texel lab (`texel_lab.rs`). Texels can be pinned for
+//! comparison, and every curve shown exported as CSV. Parts: the fragment-list cache (`lists`), the curves
+//! (`curves`), their drawing (`plot`) and the CSV export (`csv`); [`Inspector::ui`] draws the window from its own
+//! state and the [`InspectorDeps`] it is given.
+
+mod csv;
+mod curves;
+mod lists;
+mod plot;
+
+pub use csv::export;
+pub use curves::{MethodCurve, PlotModel, TexelCurves, TexelPlot, inspected, method_color, plot_range};
+pub use lists::{ListsKey, ReferenceLists, read_reference_lists};
+
+use super::texel_lab::LabSettings;
+use crate::methods::registry;
+use crate::render::passes::abuffer::RefFragment;
+use crate::scene::pick::Pick;
+use crate::settings::Settings;
+use crate::visibility::Fragment;
+use curves::{CurvesInput, TexelInput, compute_curves};
+use egui::Color32;
+use lists::ListsCache;
+
+/// Colours of pinned texels, in turn.
+const PIN_COLORS: [Color32; 6] = [
+    Color32::from_rgb(0, 200, 210),
+    Color32::from_rgb(240, 200, 40),
+    Color32::from_rgb(255, 120, 180),
+    Color32::from_rgb(150, 220, 90),
+    Color32::from_rgb(160, 160, 255),
+    Color32::from_rgb(255, 160, 90),
+];
+
+/// Where the inspected fragments come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Source {
+    /// A texel of the scene's light map.
+    #[default]
+    Scene,
+    /// The synthetic texel lab.
+    Synthetic,
+}
+
+/// A texel of the scene's light map and, when it was picked in the viewport, what was clicked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneTexel {
+    pub texel: [u32; 2],
+    pub picked: Option<Pick>,
+}
+
+/// A texel kept on the plot for comparison.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pin {
+    pub label: String,
+    pub color: Color32,
+    source: PinSource,
+}
+
+impl Pin {
+    /// The texel of a scene pin.
+    pub fn texel(&self) -> Option<[u32; 2]> {
+        match self.source {
+            PinSource::Scene(t) => Some(t),
+            PinSource::Synthetic { .. } => None,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum PinSource {
+    /// A scene texel: its fragments follow the scene and the light.
+    Scene([u32; 2]),
+    /// A synthetic texel, frozen when pinned.
+    Synthetic {
+        fragments: Vec<Fragment>,
+        hair_alpha: f32,
+    },
+}
+
+/// What the inspector window reads besides its own state.
+#[derive(Clone, Copy)]
+pub struct InspectorDeps<'a> {
+    /// The selected method and the map resolution.
+    pub settings: &'a Settings,
+    /// The light-map window is shown (else the window offers to open it).
+    pub light_map_open: bool,
+}
+
+/// What the inspector window asks of the app.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InspectorAction {
+    /// Choose a file and export the curves as CSV.
+    ExportCsv,
+    /// Show the light-map window.
+    OpenLightMap,
+}
+
+/// The inspector's state (the window's contents, the cached fragment lists and curves).
+#[derive(Default)]
+pub struct Inspector {
+    /// The inspector window is shown.
+    pub open: bool,
+    pub source: Source,
+    /// The inspected scene texel.
+    pub selected: Option<SceneTexel>,
+    /// Plot every method with a CPU model, not only the selected one.
+    pub show_all: bool,
+    pub lab: LabSettings,
+    pins: Vec<Pin>,
+    pins_made: usize,
+    lists: ListsCache,
+    curves: Option<(CurvesInput, TexelCurves)>,
+    lab_error: Option<String>,
+}
+
+impl Inspector {
+    /// The curves of the last frame (or of the last export).
+    pub fn curves(&self) -> Option<&TexelCurves> {
+        self.curves.as_ref().map(|(_, c)| c)
+    }
+
+    pub fn pins(&self) -> &[Pin] {
+        &self.pins
+    }
+
+    pub fn remove_pin(&mut self, index: usize) {
+        if index < self.pins.len() {
+            self.pins.remove(index);
+        }
+    }
+
+    /// The cached reference lists, if read.
+    pub fn lists(&self) -> Option<&ReferenceLists> {
+        self.lists.lists.as_ref()
+    }
+
+    /// The cached reference lists when they were read for `key` (the current settings).
+    pub fn current_lists(&self, key: &ListsKey) -> Option<&ReferenceLists> {
+        self.lists.current(key)
+    }
+
+    /// Pins the inspected texel (a scene texel, or the lab's fragments as they are now).
+    pub fn pin_current(&mut self) {
+        let source = match self.source {
+            Source::Scene => match self.selected {
+                Some(s) => PinSource::Scene(s.texel),
+                None => return,
+            },
+            Source::Synthetic => match self.lab.fragments() {
+                Ok(fragments) => PinSource::Synthetic {
+                    hair_alpha: self.lab.hair_alpha(&fragments),
+                    fragments,
+                },
+                Err(_) => return,
+            },
+        };
+        if self.pins.iter().any(|p| p.source == source) {
+            return;
+        }
+        let label = match &source {
+            PinSource::Scene([x, y]) => format!("texel ({x}, {y})"),
+            PinSource::Synthetic { .. } => self.lab.label(),
+        };
+        let color = PIN_COLORS[self.pins_made % PIN_COLORS.len()];
+        self.pins_made += 1;
+        self.pins.push(Pin { label, color, source });
+    }
+
+    /// Inspects scene texel `texel` (opens the window).
+    pub fn select(&mut self, texel: SceneTexel) {
+        self.selected = Some(texel);
+        self.source = Source::Scene;
+        self.open = true;
+    }
+
+    /// The inspected scene texel, while the inspector shows the scene's texel.
+    pub fn scene_texel(&self) -> Option<[u32; 2]> {
+        self.selected
+            .filter(|_| self.source == Source::Scene)
+            .map(|s| s.texel)
+    }
+
+    /// The point picked in the viewport, while the window is open on its texel.
+    pub fn shown_pick(&self) -> Option<Pick> {
+        match (self.open, self.source, self.selected) {
+            (true, Source::Scene, Some(SceneTexel { picked, .. })) => picked,
+            _ => None,
+        }
+    }
+
+    /// The scene pins' texels and colours.
+    pub fn pinned_texels(&self) -> Vec<([u32; 2], Color32)> {
+        self.pins
+            .iter()
+            .filter_map(|p| p.texel().map(|t| (t, p.color)))
+            .collect()
+    }
+
+    /// Whether the window needs the scene's fragment lists this frame.
+    pub fn needs_lists(&self) -> bool {
+        self.open
+            && (self.source == Source::Scene
+                || self.pins.iter().any(|p| matches!(p.source, PinSource::Scene(_))))
+    }
+
+    /// Reads the reference lists again with `read` when `key` (the current settings) differs from theirs and
+    /// `allow` (no drag is under way); a failed read is not retried until the key changes. `Some` when a read was
+    /// made: its outcome.
+    pub fn refresh_lists(
+        &mut self,
+        key: ListsKey,
+        allow: bool,
+        read: impl FnOnce() -> Result<Vec<Vec<RefFragment>>, String>,
+    ) -> Option<Result<(), String>> {
+        self.lists.refresh(key, allow, read)
+    }
+
+    /// Recomputes the curves when their inputs (this state and `settings`' method and hair alpha) changed.
+    /// Returns the lab's typed-fragment error when it is new, for the status line.
+    pub fn update_curves(&mut self, settings: &Settings) -> Option<String> {
+        let lab_error = match self.source {
+            Source::Synthetic => self.lab.fragments().err(),
+            Source::Scene => None,
+        };
+        let report = if lab_error != self.lab_error {
+            self.lab_error = lab_error;
+            self.lab_error.clone()
+        } else {
+            None
+        };
+        let input = self.curves_input(settings);
+        if !self.curves.as_ref().is_some_and(|(i, _)| *i == input) {
+            let curves = compute_curves(&input);
+            self.curves = Some((input, curves));
+        }
+        report
+    }
+
+    fn curves_input(&self, settings: &Settings) -> CurvesInput {
+        let alpha = settings.render.hair_alpha;
+        let scene_fragments = |t: [u32; 2]| self.lists().and_then(|l| l.fragments(t));
+        let current = match self.source {
+            Source::Scene => self.selected.and_then(|s| {
+                Some(TexelInput {
+                    label: format!("texel ({}, {})", s.texel[0], s.texel[1]),
+                    fragments: scene_fragments(s.texel)?,
+                    hair_alpha: alpha,
+                    color: None,
+                })
+            }),
+            Source::Synthetic => self.lab.fragments().ok().map(|fragments| TexelInput {
+                label: self.lab.label(),
+                hair_alpha: self.lab.hair_alpha(&fragments),
+                fragments,
+                color: None,
+            }),
+        };
+        // Every pin, so that the plot, the CSV and the list number them alike (a scene pin without fragment
+        // lists, or outside the map, is empty).
+        let pins = self
+            .pins
+            .iter()
+            .map(|p| {
+                let (fragments, hair_alpha) = match &p.source {
+                    PinSource::Scene(t) => (scene_fragments(*t).unwrap_or_default(), alpha),
+                    PinSource::Synthetic {
+                        fragments,
+                        hair_alpha,
+                    } => (fragments.clone(), *hair_alpha),
+                };
+                TexelInput {
+                    label: p.label.clone(),
+                    fragments,
+                    hair_alpha,
+                    color: Some(p.color),
+                }
+            })
+            .collect();
+        CurvesInput {
+            current,
+            pins,
+            method: settings.method.name.clone(),
+            params: settings.method.params.clone(),
+            show_all: self.show_all,
+        }
+    }
+
+    /// The window's contents: source, lab or scene texel, pins, the plot and its figures (the curves of the last
+    /// [`Inspector::update_curves`]). Returns what the window asks of the app.
+    pub fn ui(&mut self, ui: &mut egui::Ui, deps: InspectorDeps<'_>) -> Option<InspectorAction> {
+        let mut action = None;
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.source, Source::Scene, "Scene texel");
+            ui.selectable_value(&mut self.source, Source::Synthetic, "Synthetic texel");
+            ui.separator();
+            ui.checkbox(&mut self.show_all, "every method")
+                .on_hover_text("plot every method with a CPU model (the others at their default parameters)");
+            if ui
+                .button("Pin")
+                .on_hover_text("keep this texel's curves on the plot")
+                .clicked()
+            {
+                self.pin_current();
+            }
+            if ui
+                .button("Export CSV…")
+                .on_hover_text("depth, reference and every curve shown")
+                .clicked()
+            {
+                action = Some(InspectorAction::ExportCsv);
+            }
+        });
+        match self.source {
+            Source::Scene => {
+                if self.scene_source_ui(ui, deps) {
+                    action = Some(InspectorAction::OpenLightMap);
+                }
+            }
+            Source::Synthetic => self.lab.ui(ui, self.lab_error.as_deref()),
+        }
+        let method = registry::find(&deps.settings.method.name).ok();
+        if let Some(m) = method.filter(|m| !inspected(*m)) {
+            ui.label(format!(
+                "{} has no per-texel model: tick \"every method\" to compare the others",
+                m.label()
+            ));
+        }
+        self.pins_ui(ui);
+        ui.separator();
+        // The plot takes the height left, so that resizing the window resizes it.
+        let height = ui.available_height().max(220.0);
+        let Some((_, curves)) = &self.curves else {
+            return action;
+        };
+        ui.horizontal_top(|ui| {
+            let side = 250.0;
+            let width = (ui.available_width() - side).max(200.0);
+            ui.vertical(|ui| {
+                ui.set_width(width);
+                plot::plot(ui, curves, height);
+            });
+            ui.vertical(|ui| {
+                ui.set_width(side - 10.0);
+                plot::figures(ui, curves);
+            });
+        });
+        action
+    }
+
+    /// The scene texel's line and the lists' state; whether "Open light map" was clicked.
+    fn scene_source_ui(&self, ui: &mut egui::Ui, deps: InspectorDeps<'_>) -> bool {
+        let res = deps.settings.render.map_resolution;
+        let mut open_light_map = false;
+        ui.horizontal_wrapped(|ui| {
+            match self.selected {
+                Some(s) if s.texel[0] < res && s.texel[1] < res => {
+                    ui.label(format!(
+                        "texel ({}, {}) of the {res}² light map",
+                        s.texel[0], s.texel[1]
+                    ));
+                }
+                Some(_) => {
+                    ui.label(format!(
+                        "the selected texel lies outside the {res}² map: pick another"
+                    ));
+                }
+                None => {
+                    ui.label("no texel yet: click hair in the viewport, or a texel in the light map");
+                }
+            }
+            if !deps.light_map_open && ui.button("Open light map").clicked() {
+                open_light_map = true;
+            }
+        });
+        match self.lists() {
+            Some(l) => {
+                let fragments: usize = l.lists.iter().map(Vec::len).sum();
+                let stale = if self.lists.stale {
+                    " (from before the drag; updates on release)"
+                } else {
+                    ""
+                };
+                ui.weak(format!("exact fragment lists: {fragments} fragments{stale}"));
+            }
+            None => {
+                ui.weak("no fragment lists (see the status line)");
+            }
+        }
+        open_light_map
+    }
+
+    fn pins_ui(&mut self, ui: &mut egui::Ui) {
+        if self.pins.is_empty() {
+            return;
+        }
+        ui.separator();
+        let mut remove = None;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Pinned:");
+            for (i, p) in self.pins.iter().enumerate() {
+                let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+                ui.painter().rect_filled(rect, 2.0, p.color);
+                ui.label(format!("{} {}", i + 1, p.label));
+                if ui.small_button("remove").clicked() {
+                    remove = Some(i);
+                }
+                ui.separator();
+            }
+        });
+        if let Some(i) = remove {
+            self.remove_pin(i);
+        }
+    }
+}

@@ -1,0 +1,202 @@
+//! The inspector's drawing: the egui_plot of the reference, the methods' curves, what the selected method stores
+//! (slice planes, layer boundaries, cluster bins, occupied slices) and the pins, and the figures table beside it.
+
+use super::curves::{TexelCurves, TexelPlot, plot_range};
+use crate::visibility::{Stored, TexelError};
+use egui::Color32;
+use egui_plot::{Legend, Line, LineStyle, MarkerShape, Plot, PlotPoints, Points, Polygon, VLine};
+
+/// The plot: reference, methods, stored structure, fragments, pins.
+pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
+    let text = ui.visuals().text_color();
+    Plot::new("texel_plot")
+        .legend(
+            Legend::default()
+                .text_style(egui::TextStyle::Small)
+                .position(egui_plot::Corner::RightTop),
+        )
+        .height(height)
+        .x_axis_label("normalised light depth z")
+        .y_axis_label("V(z)")
+        .include_y(-0.12)
+        .include_y(1.05)
+        .label_formatter(|pos| {
+            let (name, p) = match pos {
+                egui_plot::HoverPosition::NearDataPoint {
+                    plot_name, position, ..
+                } => (*plot_name, position),
+                egui_plot::HoverPosition::Elsewhere { position } => ("", position),
+            };
+            Some(format!("{name}\nz = {:.5}\nV = {:.5}", p.x, p.y))
+        })
+        .show(ui, |p| {
+            if let Some(t) = &curves.current {
+                if let Some(s) = &curves.stored {
+                    stored_items(p, s, t);
+                }
+                p.line(
+                    Line::new("reference", series(&t.depths, &t.reference))
+                        .color(text)
+                        .width(2.0),
+                );
+                for m in &t.methods {
+                    let width = if m.selected { 2.0 } else { 1.5 };
+                    p.line(
+                        Line::new(m.label.clone(), series(&t.depths, &m.values))
+                            .color(m.model.color)
+                            .width(width),
+                    );
+                }
+                let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.02]).collect();
+                p.points(
+                    Points::new("fragments", ticks)
+                        .shape(MarkerShape::Up)
+                        .radius(3.0)
+                        .color(text),
+                );
+            }
+            for (i, t) in curves.pins.iter().enumerate() {
+                let color = t.color.unwrap_or(text);
+                let name = format!("pin {} {}", i + 1, t.label);
+                p.line(Line::new(format!("{name} reference"), series(&t.depths, &t.reference)).color(color));
+                for m in &t.methods {
+                    p.line(
+                        Line::new(format!("{name} {}", m.label), series(&t.depths, &m.values))
+                            .color(color)
+                            .style(LineStyle::dashed_dense()),
+                    );
+                }
+            }
+        });
+}
+
+/// What the selected method stores, over the plotted range of texel `t`.
+fn stored_items(p: &mut egui_plot::PlotUi<'_>, s: &Stored, t: &TexelPlot) {
+    let Some(model) = t.methods.iter().find(|m| m.selected) else {
+        return;
+    };
+    let color = model.model.color;
+    let (lo, hi) = plot_range(t.near, t.far);
+    let inside = |z: f32| (lo..=hi).contains(&z);
+    for &z in s.boundaries.iter().filter(|z| inside(**z)) {
+        p.vline(
+            VLine::new(format!("{} boundaries", s.label), z)
+                .color(color.gamma_multiply(0.6))
+                .style(LineStyle::dashed_loose()),
+        );
+    }
+    let knots: PlotPoints = s
+        .knots
+        .iter()
+        .filter(|k| inside(k[0]))
+        .map(|&[z, v]| [f64::from(z), f64::from(v)])
+        .collect();
+    p.points(
+        Points::new(format!("{} stored values", s.label), knots)
+            .shape(MarkerShape::Diamond)
+            .radius(4.0)
+            .color(color),
+    );
+    for &b in &s.bins {
+        p.polygon(band(&format!("{} bins", s.label), b, (-0.1, -0.06), color));
+    }
+    let means: PlotPoints = s.means.iter().map(|&m| [f64::from(m), -0.08]).collect();
+    p.points(
+        Points::new(format!("{} means", s.label), means)
+            .shape(MarkerShape::Asterisk)
+            .radius(5.0)
+            .color(color),
+    );
+    for &o in &s.occupied {
+        p.polygon(band(
+            &format!("{} occupied slices", s.label),
+            o,
+            (-0.1, -0.06),
+            color,
+        ));
+    }
+    for z in [t.near, t.far] {
+        p.vline(
+            VLine::new("near / far", z)
+                .color(Color32::GRAY)
+                .style(LineStyle::dotted_dense()),
+        );
+    }
+}
+
+/// Beside the plot: the texel's figures, error table and stored values.
+pub(super) fn figures(ui: &mut egui::Ui, curves: &TexelCurves) {
+    let Some(t) = &curves.current else {
+        ui.label("no texel");
+        return;
+    };
+    ui.strong(&t.label);
+    if t.fragments.is_empty() {
+        ui.label("this texel holds no fragment");
+        return;
+    }
+    let total: f64 = t.fragments.iter().map(|f| f64::from(f.optical_depth())).sum();
+    egui::Grid::new("texel_figures").num_columns(2).show(ui, |ui| {
+        ui.label("depth complexity");
+        ui.label(t.depth_complexity().to_string());
+        ui.end_row();
+        ui.label("near / far");
+        ui.label(format!("{:.5} / {:.5}", t.near, t.far));
+        ui.end_row();
+        ui.label("V beyond far");
+        ui.label(format!("{:.5}", (-total).exp()));
+        ui.end_row();
+    });
+    ui.add_space(4.0);
+    egui::Grid::new("texel_errors")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("|ΔV|");
+            ui.strong("mean");
+            ui.strong("max");
+            ui.end_row();
+            let (mean, max) = error_text(t.reference_error);
+            ui.label("reference");
+            ui.label(mean);
+            ui.label(max);
+            ui.end_row();
+            for m in &t.methods {
+                let (mean, max) = error_text(m.error);
+                ui.colored_label(m.model.color, &m.label);
+                ui.label(mean);
+                ui.label(max);
+                ui.end_row();
+            }
+        });
+    if let Some(s) = &curves.stored {
+        ui.add_space(4.0);
+        ui.strong(format!("{} stores", s.label));
+        for line in &s.summary {
+            ui.label(egui::RichText::new(line).small());
+        }
+    }
+}
+
+fn series(depths: &[f32], values: &[f32]) -> PlotPoints<'static> {
+    depths
+        .iter()
+        .zip(values)
+        .map(|(&z, &v)| [f64::from(z), f64::from(v)])
+        .collect()
+}
+
+/// A filled box from `x0` to `x1` between `y0` and `y1`.
+fn band(name: &str, [x0, x1]: [f32; 2], (y0, y1): (f64, f64), color: Color32) -> Polygon<'static> {
+    let (x0, x1) = (f64::from(x0), f64::from(x1));
+    Polygon::new(name, vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+        .fill_color(color.gamma_multiply(0.45))
+        .stroke(egui::Stroke::new(1.0, color))
+}
+
+fn error_text(e: Option<TexelError>) -> (String, String) {
+    match e {
+        Some(e) => (format!("{:.5}", e.mean), format!("{:.5}", e.max)),
+        None => ("–".into(), "–".into()),
+    }
+}

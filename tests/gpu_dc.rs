@@ -306,10 +306,22 @@ fn maps_beyond_the_size_limit_are_refused() {
     // The largest map resolution hairlab allows with K = 16: 4096² × 16 layers × 16 bytes = 4 GiB.
     let (_r, result) = render_light_at(&gpu, 4096, 16.0);
     match result {
-        Err(GpuError::TooLarge { bytes, limit, what }) => {
-            assert_eq!((bytes, limit), (4 << 30, hairlab::methods::dc::MAX_MAP_BYTES));
+        Err(e @ GpuError::OverBudget { .. }) => {
+            let GpuError::OverBudget {
+                bytes,
+                budget,
+                ref what,
+            } = e
+            else {
+                unreachable!()
+            };
+            assert_eq!(
+                (bytes, budget),
+                (4 << 30, hairlab::render::maps::MAP_BUDGET_BYTES)
+            );
             assert!(what.contains("density clustering"), "{what}");
+            assert!(e.to_string().contains("hairlab's light-map budget"), "{e}");
         }
-        other => panic!("expected TooLarge, got {other:?}"),
+        other => panic!("expected OverBudget, got {other:?}"),
     }
 }

@@ -33,6 +33,11 @@ pub enum GpuError {
     },
     #[error("{what} needs {bytes} bytes, more than this GPU allows in one buffer ({limit} bytes)")]
     TooLarge { what: String, bytes: u64, limit: u64 },
+    #[error(
+        "{what} needs {bytes} bytes, more than hairlab's light-map budget of {budget} bytes (a limit of this \
+         workbench, not of the GPU)"
+    )]
+    OverBudget { what: String, bytes: u64, budget: u64 },
     #[error("GPU readback failed: {0}")]
     Readback(String),
 }

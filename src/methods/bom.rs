@@ -9,21 +9,21 @@
 //! layers, all written by ONE geometry pass with `ceil(K / 4)` colour targets (8 at most, thesis §3.4) and
 //! additive blending: a fragment adds its optical depth to its layer and every later one. The split function is
 //! evaluated in the shaders (the thesis's lookup texture of §5.2.2 is not needed). The GPU side is
-//! `methods::dom`'s `LayerMapsGpu` with this method's shader and uniforms. Memory: 16 bytes per texel per 4
+//! `methods::layers` with this method's shader and uniforms. Memory: 16 bytes per texel per 4
 //! layers plus the near and far maps it reads (8 bytes): BOM-4 takes 6 MiB at 512², BOM-32 34 MiB.
 //!
 //! The automatic split ratio (§5.2.3-5.2.4) is [`automatic_split_ratio`]: an on-demand computation over the
 //! reference's fragment lists, off the per-frame path (the thesis reads the layers back for it, and does not
 //! run it every frame either).
 
-use super::dom::{LayerMapsGpu, LayerMethod, LayerSetup};
+use super::layers::{LayerMethod, LayerSetup, LayersGpu};
 use super::{
-    Analysis, AnalysisResult, LightMethod, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role,
-    ShadowMethod, SweepPoint, UniformMirror, value,
+    Analysis, AnalysisResult, LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec,
+    ParamValues, Role, ShadowMethod, SweepPoint, UniformMirror, value,
 };
-use crate::gpu::Gpu;
+use crate::gpu::GpuError;
 use crate::render::passes::abuffer::RefFragment;
-use crate::visibility::bom::{MAX_LAYERS, search_split_ratio};
+use crate::visibility::bom::search_split_ratio;
 use crate::visibility::{BomParams, Fragment, SplitCriterion, SplitSearch, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
@@ -61,7 +61,7 @@ fn bom_setup(values: &ParamValues) -> LayerSetup<BomUniforms> {
     let p = bom_params(values);
     let layers = p.layer_count() as u32;
     LayerSetup {
-        layers,
+        values: layers,
         // The start and end depths.
         depth_maps: 2,
         uniforms: BomUniforms {
@@ -105,16 +105,14 @@ impl LightMethod for Bom {
             }
         ))
     }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(LayerMapsGpu::new(
-            gpu,
-            LayerMethod {
-                name: "bom",
-                shader: "bom.wgsl",
-                max_layers: MAX_LAYERS,
-                setup: bom_setup,
-            },
-        ))
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
+        let method = LayerMethod {
+            name: INFO.name,
+            unit: "layers",
+            shader: "bom.wgsl",
+            setup: bom_setup,
+        };
+        Ok(Box::new(LayersGpu::create(ctx, method)?))
     }
 }
 

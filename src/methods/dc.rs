@@ -16,13 +16,13 @@ use super::{
 };
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
+use crate::render::caster::draw_casters;
+use crate::render::maps::check_budget;
 use crate::render::passes;
 use crate::visibility::dc::MAX_CLUSTERS;
 use crate::visibility::{DcParams, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
-/// Largest map set hairlab allocates (both textures), in bytes.
-pub const MAX_MAP_BYTES: u64 = 2 << 30;
 /// Bytes of one RGBA32F texel.
 const TEXEL_BYTES: u64 = 16;
 
@@ -77,8 +77,8 @@ impl LightMethod for Dc {
             }
         ))
     }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(DcGpu::new(gpu))
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
+        Ok(Box::new(DcGpu::create(ctx)?))
     }
 }
 
@@ -116,7 +116,8 @@ struct DcPipelines {
     histogram: wgpu::RenderPipeline,
 }
 
-pub struct DcGpu {
+/// What does not depend on the parameters: layouts, pipelines, the uniform buffer.
+struct DcResources {
     module: wgpu::ShaderModule,
     depth_layout: wgpu::BindGroupLayout,
     clusters_layout: wgpu::BindGroupLayout,
@@ -127,7 +128,12 @@ pub struct DcGpu {
     /// Render pipelines by number of groups `ceil(K / 4)` (1..=4), built on first use.
     pipelines: Vec<Option<DcPipelines>>,
     uniforms: wgpu::Buffer,
-    maps: Option<DcMaps>,
+}
+
+/// Density Clustering's GPU state, created with its maps (so they always exist).
+pub struct DcGpu {
+    res: DcResources,
+    maps: DcMaps,
 }
 
 struct DcMaps {
@@ -183,8 +189,8 @@ fn view_entry(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_
     }
 }
 
-impl DcGpu {
-    fn new(gpu: &Gpu) -> DcGpu {
+impl DcResources {
+    fn new(gpu: &Gpu) -> DcResources {
         use wgpu::ShaderStages as S;
         use wgpu::TextureViewDimension::{D2, D2Array};
         let device = &gpu.device;
@@ -261,7 +267,7 @@ impl DcGpu {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        DcGpu {
+        DcResources {
             module,
             depth_layout,
             clusters_layout,
@@ -271,33 +277,22 @@ impl DcGpu {
             half_widths,
             pipelines: (0..MAX_CLUSTERS / 4).map(|_| None).collect(),
             uniforms,
-            maps: None,
         }
     }
 
-    fn ensure_maps(&mut self, ctx: &MethodContext, groups: u32) -> Result<(), GpuError> {
+    /// The maps for `groups` cluster groups at `ctx`'s resolution, within hairlab's map budget.
+    fn make_maps(&self, ctx: &MethodContext, groups: u32) -> Result<DcMaps, GpuError> {
         let resolution = ctx.map_resolution();
         let near = &ctx.light_maps.near;
-        if self
-            .maps
-            .as_ref()
-            .is_some_and(|m| m.groups == groups && m.near == *near)
-        {
-            return Ok(());
-        }
-        let bytes = map_bytes(resolution, groups);
-        if bytes > MAX_MAP_BYTES {
-            return Err(GpuError::TooLarge {
-                what: format!(
+        check_budget(
+            || {
+                format!(
                     "density clustering maps of {} RGBA32F layers at {resolution}²",
                     4 * groups
-                ),
-                bytes,
-                limit: MAX_MAP_BYTES,
-            });
-        }
-        // Drop the old maps first so that both sets never coexist.
-        self.maps = None;
+                )
+            },
+            map_bytes(resolution, groups),
+        )?;
         let device = &ctx.gpu.device;
         let texture = |label, usage| {
             device.create_texture(&wgpu::TextureDescriptor {
@@ -383,7 +378,7 @@ impl DcGpu {
                 uniforms,
             ],
         );
-        self.maps = Some(DcMaps {
+        Ok(DcMaps {
             accum,
             accum_layers,
             clusters,
@@ -393,8 +388,7 @@ impl DcGpu {
             clusters_bind_group,
             compute_bind_group,
             lookup_bind_group,
-        });
-        Ok(())
+        })
     }
 
     fn pipelines(&mut self, device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout, groups: u32) {
@@ -492,12 +486,13 @@ fn geometry_pass(
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    passes::draw_strands(
+    draw_casters(
         &mut pass,
         pipeline,
         ctx.frame_bind_group,
         Some(resources),
-        ctx.geometry,
+        ctx.casters,
+        0..1,
     );
 }
 
@@ -519,31 +514,44 @@ fn compute_pass(
     pass.dispatch_workgroups(groups, groups, 1);
 }
 
+impl DcGpu {
+    fn create(ctx: &MethodContext) -> Result<DcGpu, GpuError> {
+        let res = DcResources::new(ctx.gpu);
+        let maps = res.make_maps(ctx, clusters(ctx.values).div_ceil(4))?;
+        Ok(DcGpu { res, maps })
+    }
+}
+
 impl MethodGpu for DcGpu {
+    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+        let k = clusters(ctx.values);
+        let groups = k.div_ceil(4);
+        if self.maps.groups != groups || self.maps.near != ctx.light_maps.near {
+            self.maps = self.res.make_maps(ctx, groups)?;
+        }
+        self.res.pipelines(&ctx.gpu.device, ctx.frame_layout, groups);
+        ctx.gpu.queue.write_buffer(
+            &self.res.uniforms,
+            0,
+            bytemuck::bytes_of(&DcUniforms {
+                clusters: k,
+                ..Zeroable::zeroed()
+            }),
+        );
+        Ok(())
+    }
+
     fn record(
         &mut self,
         ctx: &MethodContext,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
-    ) -> Result<(), GpuError> {
-        let k = clusters(ctx.values);
-        let groups = k.div_ceil(4);
-        self.ensure_maps(ctx, groups)?;
-        self.pipelines(&ctx.gpu.device, ctx.frame_layout, groups);
-        ctx.gpu.queue.write_buffer(
-            &self.uniforms,
-            0,
-            bytemuck::bytes_of(&DcUniforms {
-                clusters: k,
-                pad0: 0,
-                pad1: 0,
-                pad2: 0,
-            }),
-        );
-        let maps = self.maps.as_ref().expect("maps allocated above");
-        let pipelines = self.pipelines[groups as usize - 1]
-            .as_ref()
-            .expect("pipelines built above");
+    ) {
+        let groups = self.maps.groups;
+        let maps = &self.maps;
+        let Some(pipelines) = self.res.pipelines[groups as usize - 1].as_ref() else {
+            return;
+        };
         let resolution = ctx.map_resolution();
         let sums: Vec<_> = maps.accum_layers.iter().collect();
         let densities: Vec<_> = maps.accum_layers.iter().step_by(2).collect();
@@ -558,7 +566,7 @@ impl MethodGpu for DcGpu {
         compute_pass(
             encoder,
             timer.as_mut().and_then(|t| t.compute_pass("dc: means")),
-            &self.means,
+            &self.res.means,
             &maps.compute_bind_group,
             resolution,
         );
@@ -573,7 +581,7 @@ impl MethodGpu for DcGpu {
         compute_pass(
             encoder,
             timer.as_mut().and_then(|t| t.compute_pass("dc: half-widths")),
-            &self.half_widths,
+            &self.res.half_widths,
             &maps.compute_bind_group,
             resolution,
         );
@@ -585,25 +593,18 @@ impl MethodGpu for DcGpu {
             &pipelines.histogram,
             &maps.clusters_bind_group,
         );
-        Ok(())
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.lookup_layout
+        &self.res.lookup_layout
     }
     fn bind_group(&self) -> &wgpu::BindGroup {
-        &self
-            .maps
-            .as_ref()
-            .expect("DC maps exist after the first record()")
-            .lookup_bind_group
+        &self.maps.lookup_bind_group
     }
     fn memory_bytes(&self) -> u64 {
-        self.maps.as_ref().map_or(0, |m| {
-            let texture_bytes = |t: &wgpu::Texture| {
-                t.width() as u64 * t.height() as u64 * t.depth_or_array_layers() as u64 * TEXEL_BYTES
-            };
-            texture_bytes(&m.accum) + texture_bytes(&m.clusters)
-        })
+        let texture_bytes = |t: &wgpu::Texture| {
+            t.width() as u64 * t.height() as u64 * t.depth_or_array_layers() as u64 * TEXEL_BYTES
+        };
+        texture_bytes(&self.maps.accum) + texture_bytes(&self.maps.clusters)
     }
     fn geometry_passes(&self) -> u32 {
         3

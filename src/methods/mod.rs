@@ -5,6 +5,7 @@
 pub mod bom;
 pub mod dc;
 pub mod dom;
+pub mod layers;
 pub mod none;
 pub mod occupancy;
 pub mod opaque_shadow_map;

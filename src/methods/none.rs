@@ -1,7 +1,7 @@
 //! No hair self-shadowing: every strand is fully lit (`V = 1`). The baseline that shows what shadows add.
 
-use super::{LightMethod, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
-use crate::gpu::Gpu;
+use super::{LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
+use crate::gpu::GpuError;
 use crate::visibility::{Fragment, TexelModel};
 
 pub struct NoShadow;
@@ -36,8 +36,8 @@ impl LightMethod for NoShadow {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(NoMaps::new(gpu, 0))
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
+        NoMaps::create(ctx, 0)
     }
 }
 

@@ -29,8 +29,9 @@ use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
 };
+use crate::gpu::GpuError;
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{Gpu, GpuError};
+use crate::render::caster::draw_casters;
 use crate::render::passes;
 use crate::visibility::{OccupancyParams, OccupancyVariant, TexelModel};
 use bytemuck::{Pod, Zeroable};
@@ -89,8 +90,8 @@ impl LightMethod for Occupancy {
             }
         ))
     }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        Box::new(OccupancyGpu::new(gpu))
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
+        Ok(Box::new(OccupancyGpu::create(ctx)?))
     }
 }
 
@@ -123,15 +124,19 @@ pub struct OccupancyUniforms {
     pub pad2: u32,
 }
 
-pub struct OccupancyGpu {
-    module: wgpu::ShaderModule,
+/// What does not depend on the map resolution: layouts, the pipeline, the uniform buffer.
+struct OccupancyResources {
     pass_layout: wgpu::BindGroupLayout,
     lookup_layout: wgpu::BindGroupLayout,
-    /// Built on first use (it needs the frame layout).
-    pipeline: Option<wgpu::RenderPipeline>,
+    pipeline: wgpu::RenderPipeline,
     uniforms: wgpu::Buffer,
+}
+
+/// Occupancy maps' GPU state, created with its buffers (so they always exist).
+pub struct OccupancyGpu {
+    res: OccupancyResources,
     target: passes::NullTarget,
-    maps: Option<OccupancyMaps>,
+    maps: OccupancyMaps,
 }
 
 struct OccupancyMaps {
@@ -174,9 +179,9 @@ const DEPTH_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
     multisampled: false,
 };
 
-impl OccupancyGpu {
-    fn new(gpu: &Gpu) -> OccupancyGpu {
-        let device = &gpu.device;
+impl OccupancyResources {
+    fn new(ctx: &MethodContext) -> OccupancyResources {
+        let device = &ctx.gpu.device;
         let frag = wgpu::ShaderStages::FRAGMENT;
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.occupancy.pass_layout"),
@@ -203,29 +208,33 @@ impl OccupancyGpu {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        OccupancyGpu {
-            module: passes::shader_module(device, "hairlab.occupancy.shader", "occupancy.wgsl", None),
+        let module = passes::shader_module(device, "hairlab.occupancy.shader", "occupancy.wgsl", None);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hairlab.occupancy.layout"),
+            bind_group_layouts: &[Some(ctx.frame_layout), Some(&pass_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = passes::light_pipeline(
+            device,
+            "hairlab.occupancy.pipeline",
+            &layout,
+            &module,
+            "fs_main",
+            &[passes::NullTarget::target_state()],
+        );
+        OccupancyResources {
             pass_layout,
             lookup_layout,
-            pipeline: None,
+            pipeline,
             uniforms,
-            target: passes::NullTarget::new(device, 1),
-            maps: None,
         }
     }
 
     /// (Re)allocates the two buffers for `ctx`'s map resolution and binds them with the current light-depth
     /// maps; refuses buffers beyond the device's storage binding size.
-    fn ensure_maps(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn make_maps(&self, ctx: &MethodContext) -> Result<OccupancyMaps, GpuError> {
         let resolution = ctx.map_resolution();
         let (near, far) = (&ctx.light_maps.near, &ctx.light_maps.far);
-        if self
-            .maps
-            .as_ref()
-            .is_some_and(|m| m.resolution == resolution && m.near == *near && m.far == *far)
-        {
-            return Ok(());
-        }
         let device = &ctx.gpu.device;
         let limits = device.limits();
         let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
@@ -296,7 +305,7 @@ impl OccupancyGpu {
                 },
             ],
         });
-        self.maps = Some(OccupancyMaps {
+        Ok(OccupancyMaps {
             bitmap,
             slabs,
             near: near.clone(),
@@ -304,57 +313,51 @@ impl OccupancyGpu {
             pass_bind_group,
             lookup_bind_group,
             resolution,
-        });
-        Ok(())
+        })
     }
+}
 
-    fn ensure_pipeline(&mut self, device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) {
-        if self.pipeline.is_some() {
-            return;
-        }
-        self.pipeline = Some({
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("hairlab.occupancy.layout"),
-                bind_group_layouts: &[Some(frame_layout), Some(&self.pass_layout)],
-                immediate_size: 0,
-            });
-            passes::light_pipeline(
-                device,
-                "hairlab.occupancy.pipeline",
-                &layout,
-                &self.module,
-                "fs_main",
-                &[passes::NullTarget::target_state()],
-            )
-        });
+impl OccupancyGpu {
+    fn create(ctx: &MethodContext) -> Result<OccupancyGpu, GpuError> {
+        let res = OccupancyResources::new(ctx);
+        let maps = res.make_maps(ctx)?;
+        Ok(OccupancyGpu {
+            res,
+            target: passes::NullTarget::new(&ctx.gpu.device, ctx.map_resolution()),
+            maps,
+        })
     }
 }
 
 impl MethodGpu for OccupancyGpu {
-    fn record(
-        &mut self,
-        ctx: &MethodContext,
-        encoder: &mut wgpu::CommandEncoder,
-        timer: &mut Option<GpuTimer>,
-    ) -> Result<(), GpuError> {
-        self.ensure_maps(ctx)?;
-        let device = &ctx.gpu.device;
-        self.target.ensure(device, ctx.map_resolution());
-        self.ensure_pipeline(device, ctx.frame_layout);
+    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+        let m = &self.maps;
+        let light = ctx.light_maps;
+        if m.resolution != ctx.map_resolution() || m.near != light.near || m.far != light.far {
+            self.maps = self.res.make_maps(ctx)?;
+        }
+        self.target.ensure(&ctx.gpu.device, ctx.map_resolution());
         ctx.gpu.queue.write_buffer(
-            &self.uniforms,
+            &self.res.uniforms,
             0,
             bytemuck::bytes_of(&OccupancyUniforms {
                 variant: match variant(ctx.values) {
                     OccupancyVariant::SlabMap => 0,
                     OccupancyVariant::OccupancyOnly => 1,
                 },
-                pad0: 0,
-                pad1: 0,
-                pad2: 0,
+                ..Zeroable::zeroed()
             }),
         );
-        let maps = self.maps.as_ref().expect("maps allocated above");
+        Ok(())
+    }
+
+    fn record(
+        &mut self,
+        ctx: &MethodContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
+        let maps = &self.maps;
         encoder.clear_buffer(&maps.bitmap, 0, None);
         encoder.clear_buffer(&maps.slabs, 0, None);
         let ts = timer
@@ -368,36 +371,29 @@ impl MethodGpu for OccupancyGpu {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let pipeline = self.pipeline.as_ref().expect("pipeline built above");
-        passes::draw_strands(
+        draw_casters(
             &mut pass,
-            pipeline,
+            &self.res.pipeline,
             ctx.frame_bind_group,
             Some(&maps.pass_bind_group),
-            ctx.geometry,
+            ctx.casters,
+            0..1,
         );
-        Ok(())
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.lookup_layout
+        &self.res.lookup_layout
     }
     fn bind_group(&self) -> &wgpu::BindGroup {
-        &self
-            .maps
-            .as_ref()
-            .expect("occupancy maps exist after the first record()")
-            .lookup_bind_group
+        &self.maps.lookup_bind_group
     }
     fn memory_bytes(&self) -> u64 {
-        self.maps.as_ref().map_or(0, |m| {
-            let texels = m.resolution as u64 * m.resolution as u64;
-            m.bitmap.size() + m.slabs.size() + texels * DEPTH_RANGE_BYTES_PER_TEXEL + self.target.bytes()
-        })
+        let m = &self.maps;
+        let texels = m.resolution as u64 * m.resolution as u64;
+        m.bitmap.size() + m.slabs.size() + texels * DEPTH_RANGE_BYTES_PER_TEXEL + self.target.bytes()
     }
     fn shared_bytes(&self) -> u64 {
-        self.maps.as_ref().map_or(0, |m| {
-            m.resolution as u64 * m.resolution as u64 * DEPTH_RANGE_BYTES_PER_TEXEL
-        })
+        let r = self.maps.resolution as u64;
+        r * r * DEPTH_RANGE_BYTES_PER_TEXEL
     }
     fn geometry_passes(&self) -> u32 {
         1

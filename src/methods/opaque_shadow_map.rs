@@ -3,9 +3,10 @@
 //! every semi-transparent method: hair goes black one strand deep.
 
 use super::{
-    LightMethod, MethodGpu, MethodInfo, NoMaps, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod, value,
+    LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamKind, ParamSpec, ParamValues, Role,
+    ShadowMethod, value,
 };
-use crate::gpu::Gpu;
+use crate::gpu::GpuError;
 use crate::visibility::{Fragment, TexelModel};
 
 pub struct OpaqueShadowMap;
@@ -60,9 +61,9 @@ impl LightMethod for OpaqueShadowMap {
     fn uniform_params(&self, values: &ParamValues) -> [f32; 4] {
         [value(values, &PARAMS[0]), 0.0, 0.0, 0.0]
     }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
         // Reads the shared nearest- and furthest-depth maps (two R32Float).
-        Box::new(NoMaps::new(gpu, 8))
+        NoMaps::create(ctx, 8)
     }
 }
 

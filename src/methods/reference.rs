@@ -3,8 +3,8 @@
 //! depth peeling as ground truth). As a shadow method, the eye passes walk the texel's list.
 
 use super::{LightMethod, MethodContext, MethodGpu, MethodInfo, ParamValues, Role, ShadowMethod};
+use crate::gpu::GpuError;
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{Gpu, GpuError};
 use crate::render::passes::abuffer::ABuffer;
 use crate::visibility::{self, TexelModel};
 
@@ -27,9 +27,10 @@ impl LightMethod for Reference {
     fn info(&self) -> &'static MethodInfo {
         &INFO
     }
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu> {
-        let _ = gpu;
-        Box::new(ReferenceGpu { abuffer: None })
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
+        Ok(Box::new(ReferenceGpu {
+            abuffer: ABuffer::new(ctx.gpu, ctx.frame_layout),
+        }))
     }
 }
 
@@ -39,46 +40,33 @@ impl ShadowMethod for Reference {
     }
 }
 
-/// The reference's GPU state: the A-buffer, created on first use (it needs the frame layout).
+/// The reference's GPU state: the A-buffer.
 pub struct ReferenceGpu {
-    abuffer: Option<ABuffer>,
-}
-
-impl ReferenceGpu {
-    fn abuffer(&self) -> &ABuffer {
-        self.abuffer
-            .as_ref()
-            .expect("the reference A-buffer exists after its first record()")
-    }
+    abuffer: ABuffer,
 }
 
 impl MethodGpu for ReferenceGpu {
+    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+        self.abuffer
+            .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, ctx.map_resolution())
+    }
     fn record(
         &mut self,
         ctx: &MethodContext,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
-    ) -> Result<(), GpuError> {
-        let abuffer = self
-            .abuffer
-            .get_or_insert_with(|| ABuffer::new(ctx.gpu, ctx.frame_layout));
-        abuffer.record(
-            ctx.gpu,
-            ctx.frame_bind_group,
-            ctx.geometry,
-            ctx.map_resolution(),
-            encoder,
-            timer,
-        )
+    ) {
+        self.abuffer
+            .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.abuffer().lookup_layout
+        &self.abuffer.lookup_layout
     }
     fn bind_group(&self) -> &wgpu::BindGroup {
-        &self.abuffer().lookup_bind_group
+        &self.abuffer.lookup_bind_group
     }
     fn memory_bytes(&self) -> u64 {
-        self.abuffer.as_ref().map_or(0, |a| a.memory_bytes())
+        self.abuffer.memory_bytes()
     }
     fn geometry_passes(&self) -> u32 {
         2

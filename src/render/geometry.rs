@@ -165,3 +165,20 @@ impl GeometryBuffers {
         })
     }
 }
+
+impl crate::render::caster::LightCaster for GeometryBuffers {
+    fn label(&self) -> &'static str {
+        "strands"
+    }
+
+    fn is_empty(&self) -> bool {
+        self.hair_index_count == 0
+    }
+
+    /// Every strand segment as a line (LineList, one index pair per segment).
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>) {
+        pass.set_vertex_buffer(0, self.hair_vertices.slice(..));
+        pass.set_index_buffer(self.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.hair_index_count, 0, instances);
+    }
+}

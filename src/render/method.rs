@@ -5,7 +5,7 @@
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::GeometryBuffers;
+use crate::render::caster::LightCaster;
 use crate::render::passes::light_depth::LightDepthMaps;
 use std::collections::BTreeMap;
 
@@ -191,8 +191,9 @@ pub trait LightMethod: Sync {
     fn uniform_mirror(&self) -> Option<UniformMirror> {
         None
     }
-    /// Creates the method's GPU state (maps, pipelines, the group-1 bind group its lookup reads).
-    fn create_gpu(&self, gpu: &Gpu) -> Box<dyn MethodGpu>;
+    /// Creates the method's GPU state (maps for `ctx`'s parameters and resolution, pipelines, the group-1 bind
+    /// group its lookup reads).
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError>;
 }
 
 /// What a method's light passes can use.
@@ -201,7 +202,8 @@ pub struct MethodContext<'a> {
     /// Group 0 of every light pass: the frame uniforms.
     pub frame_layout: &'a wgpu::BindGroupLayout,
     pub frame_bind_group: &'a wgpu::BindGroup,
-    pub geometry: &'a GeometryBuffers,
+    /// What the light passes draw (see [`crate::render::caster`]).
+    pub casters: &'a [&'a dyn LightCaster],
     /// Nearest and furthest strand depth per texel, already rendered this frame.
     pub light_maps: &'a LightDepthMaps,
     pub values: &'a ParamValues,
@@ -214,15 +216,20 @@ impl MethodContext<'_> {
     }
 }
 
-/// A method's GPU side: its maps, the passes that fill them, and the bind group its lookup reads.
+/// A method's GPU side: its maps, the passes that fill them, and the bind group its lookup reads. It is created
+/// with its maps for the first frame's parameters ([`LightMethod::create_gpu`]), so its bind group always
+/// exists; each frame, the first included, [`MethodGpu::prepare`] re-allocates what the parameters or the
+/// resolution changed and uploads the uniforms, then [`MethodGpu::record`] records the light passes.
 pub trait MethodGpu: Send {
-    /// (Re)allocates the maps for the current parameters and records the method's light passes.
+    /// Re-allocates the maps when the parameters or the map resolution need other ones; uploads uniforms.
+    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError>;
+    /// Records the method's light passes (after [`MethodGpu::prepare`] with the same context).
     fn record(
         &mut self,
         ctx: &MethodContext,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
-    ) -> Result<(), GpuError>;
+    );
     /// Group 1 of the eye passes and of the evaluation pass.
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout;
     fn bind_group(&self) -> &wgpu::BindGroup;
@@ -248,8 +255,9 @@ pub struct NoMaps {
 }
 
 impl NoMaps {
-    /// `bytes_per_texel`: bytes of the shared maps the lookup reads, reported as the method's memory.
-    pub fn new(gpu: &Gpu, bytes_per_texel: u64) -> NoMaps {
+    /// `bytes_per_texel`: bytes of the shared maps the lookup reads, reported as the method's (shared) memory.
+    pub fn create(ctx: &MethodContext, bytes_per_texel: u64) -> Result<Box<dyn MethodGpu>, GpuError> {
+        let gpu = ctx.gpu;
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -261,25 +269,28 @@ impl NoMaps {
             layout: &layout,
             entries: &[],
         });
-        NoMaps {
+        let res = ctx.map_resolution() as u64;
+        Ok(Box::new(NoMaps {
             layout,
             bind_group,
             bytes_per_texel,
-            bytes: 0,
-        }
+            bytes: res * res * bytes_per_texel,
+        }))
     }
 }
 
 impl MethodGpu for NoMaps {
-    fn record(
-        &mut self,
-        ctx: &MethodContext,
-        _encoder: &mut wgpu::CommandEncoder,
-        _timer: &mut Option<GpuTimer>,
-    ) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
         let res = ctx.map_resolution() as u64;
         self.bytes = res * res * self.bytes_per_texel;
         Ok(())
+    }
+    fn record(
+        &mut self,
+        _ctx: &MethodContext,
+        _encoder: &mut wgpu::CommandEncoder,
+        _timer: &mut Option<GpuTimer>,
+    ) {
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
         &self.layout

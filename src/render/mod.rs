@@ -1,8 +1,10 @@
 //! The renderer: light passes, the selected shadow method, the eye passes and the compositor, into one colour
 //! texture that the window shows and screenshots save. The GUI and `hairlab render` use the same code path.
 
+pub mod caster;
 pub mod geometry;
 pub mod light_frame;
+pub mod maps;
 pub mod method;
 pub mod passes;
 pub mod targets;
@@ -11,6 +13,7 @@ pub mod uniforms;
 use crate::gpu::timing::{GpuTimer, PassTime};
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::scene::{Camera, Light, LightKind, Scene};
+use caster::LightCaster;
 use geometry::GeometryBuffers;
 use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
@@ -508,7 +511,7 @@ impl Renderer {
             &mut enc,
             &self.light_maps,
             &self.frame_bind_group,
-            &self.geometry,
+            &[&self.geometry as &dyn LightCaster],
             ts(&mut self.timer, "light depth"),
         );
         self.shadow_map_pass.record(
@@ -519,23 +522,26 @@ impl Renderer {
             ts(&mut self.timer, "mesh shadow map"),
         );
         let gpu = self.gpu.clone();
-        let name = f.method.name();
-        if self.method.as_ref().is_none_or(|(n, _)| *n != name) {
-            // Evict the previous method's maps before the new method allocates its own.
-            self.method = None;
-            self.method = Some((name, f.method.create_gpu(&gpu)));
-        }
-        let (_, method_gpu) = self.method.as_mut().expect("set just above");
+        let casters: [&dyn LightCaster; 1] = [&self.geometry];
         let ctx = MethodContext {
             gpu: &gpu,
             frame_layout: &self.frame_layout,
             frame_bind_group: &self.frame_bind_group,
-            geometry: &self.geometry,
+            casters: &casters,
             light_maps: &self.light_maps,
             values: f.method_params,
             hair_alpha: f.render.hair_alpha,
         };
-        method_gpu.record(&ctx, &mut enc, &mut self.timer)?;
+        let name = f.method.name();
+        if self.method.as_ref().is_none_or(|(n, _)| *n != name) {
+            // Evict the previous method's maps before the new method allocates its own.
+            self.method = None;
+            self.method = Some((name, f.method.create_gpu(&ctx)?));
+        }
+        if let Some((_, state)) = &mut self.method {
+            state.prepare(&ctx)?;
+            state.record(&ctx, &mut enc, &mut self.timer);
+        }
         Ok(enc)
     }
 
@@ -571,25 +577,23 @@ impl Renderer {
             &mut enc,
             &self.light_maps,
             &self.frame_bind_group,
-            &self.geometry,
+            &[&self.geometry as &dyn LightCaster],
             ts(&mut self.timer, "light depth"),
         );
-        let abuffer = self
-            .reference
-            .get_or_insert_with(|| passes::abuffer::ABuffer::new(&gpu, &self.frame_layout));
-        abuffer.record(
-            &gpu,
-            &self.frame_bind_group,
-            &self.geometry,
-            self.light_maps.near.width(),
-            &mut enc,
-            &mut self.timer,
-        )?;
-        self.submit(enc);
-        self.reference
-            .as_ref()
-            .expect("created above")
-            .read_lists(&self.gpu)
+        let mut abuffer = match self.reference.take() {
+            Some(a) => a,
+            None => passes::abuffer::ABuffer::new(&gpu, &self.frame_layout),
+        };
+        let casters: [&dyn LightCaster; 1] = [&self.geometry];
+        let resolution = self.light_maps.near.width();
+        let prepared = abuffer.prepare(&gpu, &self.frame_bind_group, &casters, resolution);
+        if prepared.is_ok() {
+            abuffer.record(&self.frame_bind_group, &casters, &mut enc, &mut self.timer);
+            self.submit(enc);
+        }
+        let lists = prepared.and_then(|()| abuffer.read_lists(&gpu));
+        self.reference = Some(abuffer);
+        lists
     }
 
     /// Depth-peels the strands of the last frame's light view (the slow exact reference; see
@@ -601,7 +605,7 @@ impl Renderer {
         peel.peel(
             &self.gpu,
             &self.frame_bind_group,
-            &self.geometry,
+            &[&self.geometry as &dyn LightCaster],
             self.light_maps.near.width(),
             max_layers,
         )

@@ -2,8 +2,8 @@
 //! cached: read again only when the scene, the light, the map resolution or the hair alpha change, and not while
 //! a drag is under way. [`read_reference_lists`] is the one place the app reads them from the renderer.
 
-use crate::render::passes::abuffer::RefFragment;
 use crate::render::Renderer;
+use crate::render::passes::abuffer::RefFragment;
 use crate::scene::Light;
 use crate::scene::pick;
 use crate::settings::{SceneSettings, Settings};

@@ -5,7 +5,7 @@
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
-use crate::render::geometry::GeometryBuffers;
+use crate::render::caster::{LightCaster, draw_casters};
 
 /// Bytes of one list node (depth, alpha, segment, next).
 pub const NODE_BYTES: u64 = 16;
@@ -180,7 +180,7 @@ impl ABuffer {
         encoder: &mut wgpu::CommandEncoder,
         pipeline: &wgpu::RenderPipeline,
         frame: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        casters: &[&dyn LightCaster],
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -191,19 +191,24 @@ impl ABuffer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        super::draw_strands(&mut pass, pipeline, frame, Some(&self.pass_bind_group), geometry);
+        draw_casters(
+            &mut pass,
+            pipeline,
+            frame,
+            Some(&self.pass_bind_group),
+            casters,
+            0..1,
+        );
     }
 
-    /// Counts this frame's fragments (a blocking readback), grows the node buffer to fit them, and records the
-    /// pass that fills the lists into `encoder`.
-    pub fn record(
+    /// Counts this frame's fragments (a counting pass submitted at once and read back, blocking) and grows the
+    /// node buffer to fit them; refuses lists beyond the device's storage binding size.
+    pub fn prepare(
         &mut self,
         gpu: &Gpu,
         frame: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        casters: &[&dyn LightCaster],
         resolution: u32,
-        encoder: &mut wgpu::CommandEncoder,
-        timer: &mut Option<GpuTimer>,
     ) -> Result<(), GpuError> {
         let device = &gpu.device;
         self.target.ensure(device, resolution);
@@ -211,7 +216,7 @@ impl ABuffer {
             label: Some("hairlab.abuffer.count"),
         });
         enc.clear_buffer(&self.counters, 0, None);
-        self.draw(&mut enc, &self.count_pipeline, frame, geometry, None);
+        self.draw(&mut enc, &self.count_pipeline, frame, casters, None);
         let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.abuffer.count_readback"),
             size: 16,
@@ -250,11 +255,21 @@ impl ABuffer {
                 &self.nodes,
             );
         }
+        Ok(())
+    }
+
+    /// Records the pass that fills the lists (after [`ABuffer::prepare`] for this frame).
+    pub fn record(
+        &self,
+        frame: &wgpu::BindGroup,
+        casters: &[&dyn LightCaster],
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
         encoder.clear_buffer(&self.counters, 0, None);
         encoder.clear_buffer(&self.heads, 0, None);
         let ts = timer.as_mut().and_then(|t| t.pass("reference: A-buffer"));
-        self.draw(encoder, &self.fill_pipeline, frame, geometry, ts);
-        Ok(())
+        self.draw(encoder, &self.fill_pipeline, frame, casters, ts);
     }
 
     pub fn memory_bytes(&self) -> u64 {

@@ -4,7 +4,7 @@
 
 use super::abuffer::{RefFragment, copy_out};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::GeometryBuffers;
+use crate::render::caster::{LightCaster, draw_casters};
 
 pub struct DepthPeel {
     depth_pipeline: wgpu::RenderPipeline,
@@ -77,7 +77,7 @@ impl DepthPeel {
         &self,
         gpu: &Gpu,
         frame: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        casters: &[&dyn LightCaster],
         resolution: u32,
         max_layers: u32,
     ) -> Result<Peeled, GpuError> {
@@ -140,7 +140,7 @@ impl DepthPeel {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                super::draw_strands(&mut pass, pipeline, frame, Some(&bind_group), geometry);
+                draw_casters(&mut pass, pipeline, frame, Some(&bind_group), casters, 0..1);
             }
             {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {

@@ -1,7 +1,7 @@
 //! Light-depth pass: nearest and furthest strand depth per light texel (R32Float, Min and Max blending), in the
 //! frame fitted to the strand bounds. Every shadow method starts from these maps.
 
-use crate::render::geometry::GeometryBuffers;
+use crate::render::caster::{LightCaster, draw_casters};
 
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -100,7 +100,7 @@ impl LightDepthPass {
         encoder: &mut wgpu::CommandEncoder,
         maps: &LightDepthMaps,
         frame: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        casters: &[&dyn LightCaster],
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let attach = |view, clear| {
@@ -127,6 +127,6 @@ impl LightDepthPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        super::draw_strands(&mut pass, &self.pipeline, frame, None, geometry);
+        draw_casters(&mut pass, &self.pipeline, frame, None, casters, 0..1);
     }
 }

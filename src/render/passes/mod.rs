@@ -124,24 +124,3 @@ pub fn light_pipeline(
         cache: None,
     })
 }
-
-/// Draws every strand segment with `pipeline`: group 0 the frame uniforms, group 1 the pass's own resources.
-pub fn draw_strands(
-    pass: &mut wgpu::RenderPass<'_>,
-    pipeline: &wgpu::RenderPipeline,
-    frame: &wgpu::BindGroup,
-    resources: Option<&wgpu::BindGroup>,
-    geometry: &crate::render::geometry::GeometryBuffers,
-) {
-    if geometry.hair_index_count == 0 {
-        return;
-    }
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, frame, &[]);
-    if let Some(r) = resources {
-        pass.set_bind_group(1, r, &[]);
-    }
-    pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
-    pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-    pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
-}

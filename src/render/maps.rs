@@ -1,0 +1,262 @@
+//! The light-map toolkit the shadow methods compose: array maps with one view per layer and one size budget,
+//! additive light pipelines cached by colour-target count, and the bind-group layout entries every method
+//! writes. A method's GPU file keeps only what is its own (its shader, uniforms and pass structure).
+
+use crate::gpu::{Gpu, GpuError};
+use crate::render::passes;
+
+/// hairlab's budget for one method's light maps, in bytes: a limit of this workbench (it keeps a method from
+/// taking the whole GPU by accident), not of the GPU.
+pub const MAP_BUDGET_BYTES: u64 = 2 << 30;
+
+/// Checks `bytes` of `what` against [`MAP_BUDGET_BYTES`].
+pub fn check_budget(what: impl FnOnce() -> String, bytes: u64) -> Result<(), GpuError> {
+    if bytes > MAP_BUDGET_BYTES {
+        return Err(GpuError::OverBudget {
+            what: what(),
+            bytes,
+            budget: MAP_BUDGET_BYTES,
+        });
+    }
+    Ok(())
+}
+
+/// Bytes of one RGBA32F texel.
+pub const RGBA32F_BYTES: u64 = 16;
+
+/// An RGBA32F array texture of `layers` square layers: one 2D view per layer (the colour targets of the light
+/// passes) and one array view (what the lookup reads).
+pub struct ArrayMap {
+    pub texture: wgpu::Texture,
+    pub layer_views: Vec<wgpu::TextureView>,
+    pub array_view: wgpu::TextureView,
+    pub resolution: u32,
+    pub layers: u32,
+}
+
+impl ArrayMap {
+    /// Allocates the map (`hairlab.<label>`), within [`MAP_BUDGET_BYTES`].
+    pub fn new(gpu: &Gpu, label: &str, resolution: u32, layers: u32) -> Result<ArrayMap, GpuError> {
+        let bytes = Self::bytes_for(resolution, layers);
+        check_budget(
+            || format!("{label} of {layers} RGBA32F layers at {resolution}²"),
+            bytes,
+        )?;
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(&format!("hairlab.{label}")),
+            size: wgpu::Extent3d {
+                width: resolution,
+                height: resolution,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let layer_views = (0..layers)
+            .map(|l| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(&format!("hairlab.{label}.layer")),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: l,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(&format!("hairlab.{label}.array")),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        Ok(ArrayMap {
+            texture,
+            layer_views,
+            array_view,
+            resolution,
+            layers,
+        })
+    }
+
+    /// Bytes a map of `layers` layers at `resolution`² takes.
+    pub fn bytes_for(resolution: u32, layers: u32) -> u64 {
+        resolution as u64 * resolution as u64 * layers as u64 * RGBA32F_BYTES
+    }
+
+    pub fn bytes(&self) -> u64 {
+        Self::bytes_for(self.resolution, self.layers)
+    }
+
+    /// Colour attachments for layers `first..first + count`, cleared to zero.
+    pub fn attachments(&self, first: u32, count: u32) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
+        self.layer_views[first as usize..(first + count) as usize]
+            .iter()
+            .map(|view| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect()
+    }
+}
+
+/// Light pipelines (the shared light vertex stage, LineList) whose fragment stage adds into `n` RGBA32F targets
+/// (One/One blending), built on first use for each `n` in `1..=8`.
+pub struct AdditivePipelines {
+    label: String,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    entry: &'static str,
+    pipelines: Vec<Option<wgpu::RenderPipeline>>,
+}
+
+impl AdditivePipelines {
+    /// Most colour targets a pass writes (8 on every backend hairlab supports, lavapipe included).
+    pub const MAX_TARGETS: u32 = 8;
+
+    /// Pipelines of `module`'s fragment `entry` over bind groups `layouts` (group 0 the frame uniforms).
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        layouts: &[&wgpu::BindGroupLayout],
+        module: wgpu::ShaderModule,
+        entry: &'static str,
+    ) -> AdditivePipelines {
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&format!("hairlab.{label}.layout")),
+            bind_group_layouts: &groups,
+            immediate_size: 0,
+        });
+        AdditivePipelines {
+            label: label.to_string(),
+            layout,
+            module,
+            entry,
+            pipelines: vec![None; Self::MAX_TARGETS as usize],
+        }
+    }
+
+    /// The pipeline writing `targets` (in `1..=8`) targets.
+    pub fn get(&mut self, device: &wgpu::Device, targets: u32) -> &wgpu::RenderPipeline {
+        let i = (targets.clamp(1, Self::MAX_TARGETS) - 1) as usize;
+        let (label, layout, module, entry) = (&self.label, &self.layout, &self.module, self.entry);
+        self.pipelines[i].get_or_insert_with(|| {
+            let state = Some(additive_target(wgpu::TextureFormat::Rgba32Float));
+            passes::light_pipeline(
+                device,
+                &format!("hairlab.{label}.pipeline"),
+                layout,
+                module,
+                entry,
+                &vec![state; i + 1],
+            )
+        })
+    }
+}
+
+/// A colour target of `format` that adds (One/One) colour and alpha.
+pub fn additive_target(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    wgpu::ColorTargetState {
+        format,
+        blend: Some(wgpu::BlendState {
+            color: add,
+            alpha: add,
+        }),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
+}
+
+/// Shader stages a method lookup runs in: the eye passes and the evaluation pass.
+pub const LOOKUP_STAGES: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+
+/// A uniform-buffer layout entry.
+pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A non-filterable float texture layout entry of `dimension`.
+pub fn texture_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: dimension,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A storage-buffer layout entry.
+pub fn storage_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A uniform buffer of `T` (`hairlab.<label>`), written with [`wgpu::Queue::write_buffer`].
+pub fn uniform_buffer<T>(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(&format!("hairlab.{label}")),
+        size: std::mem::size_of::<T>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_budget_says_it_is_hairlabs() {
+        assert!(check_budget(|| "x".into(), MAP_BUDGET_BYTES).is_ok());
+        let e = check_budget(|| "osm map of 256 slices at 4096²".into(), 4 << 30).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "osm map of 256 slices at 4096² needs 4294967296 bytes, more than hairlab's light-map budget of \
+             2147483648 bytes (a limit of this workbench, not of the GPU)"
+        );
+        assert_eq!(ArrayMap::bytes_for(512, 3), 512 * 512 * 3 * 16);
+    }
+}

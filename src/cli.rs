@@ -45,7 +45,7 @@ pub enum Command {
     /// per pass (median), memory, geometry passes.
     Measure(MeasureArgs),
     /// Sweep every method's parameters on a preset's scene and chart GPU time against map error: results.csv,
-    /// results.json and speed_vs_accuracy.png (Pareto front marked); `--scaling` fits GPU time per segment.
+    /// results.json and speed_vs_accuracy.png/.svg (Pareto front marked); `--scaling` fits GPU time per segment.
     Bench(crate::bench::BenchArgs),
 }
 

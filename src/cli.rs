@@ -45,7 +45,7 @@ pub enum Command {
     /// per pass (median), memory, geometry passes.
     Measure(MeasureArgs),
     /// Sweep every method's parameters on a preset's scene and chart GPU time against map error: results.csv,
-    /// results.json and speed_vs_accuracy.png (Pareto front marked); `--scaling` fits GPU time per segment.
+    /// results.json and speed_vs_accuracy.png/.svg (Pareto front marked); `--scaling` fits GPU time per segment.
     Bench(crate::bench::BenchArgs),
 }
 
@@ -396,26 +396,52 @@ fn curve(a: &CurveArgs) -> Result<()> {
     Ok(())
 }
 
+/// A `--config` with `key=auto` pairs, resolved by the method's analysis to `name:key=value,...`; `None` when
+/// it has none.
+fn auto_config(settings: &Settings, text: &str) -> Result<Option<String>> {
+    let (name, rest) = text.split_once(':').unwrap_or((text, ""));
+    let pairs: Vec<&str> = rest.split(',').filter(|kv| !kv.trim().is_empty()).collect();
+    let is_auto = |kv: &&str| kv.split_once('=').is_some_and(|(_, v)| v.trim() == "auto");
+    if !pairs.iter().any(is_auto) {
+        return Ok(None);
+    }
+    let method = registry::find(name.trim()).map_err(anyhow::Error::msg)?;
+    let tunes = method.analysis().map(|a| a.tunes);
+    for kv in pairs.iter().filter(|kv| is_auto(kv)) {
+        let key = kv.split_once('=').map_or("", |(k, _)| k.trim());
+        if Some(key) != tunes {
+            anyhow::bail!(
+                "'{text}': {} cannot choose '{key}' (its analysis chooses {})",
+                method.name(),
+                tunes.unwrap_or("nothing")
+            );
+        }
+    }
+    let fixed: Vec<&str> = pairs.iter().copied().filter(|kv| !is_auto(kv)).collect();
+    let base = crate::measure::MethodConfig::parse(&format!("{name}:{}", fixed.join(",")))?;
+    let values = crate::bench::tune(settings, method, &base.params)?;
+    Ok(Some(
+        crate::measure::MethodConfig {
+            name: base.name,
+            params: values,
+        }
+        .label(),
+    ))
+}
+
 fn measure(a: &MeasureArgs) -> Result<()> {
     use crate::measure::{MethodConfig, usual_configs};
     let settings = Settings::load_preset(&a.preset, &a.set)?;
     let mut configs = Vec::new();
     for c in &a.configs {
-        // `bom:layers=K,split_ratio=auto`: Bounding Opacity Maps' automatic split ratio on this scene.
-        let text = match c.strip_suffix(",split_ratio=auto") {
-            Some(base) if base.starts_with("bom:") => {
-                let k: u32 = base
-                    .split(',')
-                    .find_map(|kv| kv.trim_start_matches("bom:").strip_prefix("layers="))
-                    .and_then(|v| v.parse().ok())
-                    .with_context(|| format!("'{c}': the automatic split ratio needs layers=K"))?;
-                let never = std::sync::atomic::AtomicBool::new(false);
-                let ratios = crate::bench::automatic_split_ratios(&settings, &[k], &never, &mut |_| {})?;
-                let r = ratios.and_then(|v| v.first().map(|(_, r)| *r)).unwrap_or(0.0);
-                eprintln!("{c}: automatic split ratio {r}");
-                format!("{base},split_ratio={r}")
+        // `name:...,key=auto`: the method's analysis chooses `key` on this scene (e.g. Bounding Opacity Maps'
+        // automatic split ratio, `split_ratio=auto`).
+        let text = match auto_config(&settings, c)? {
+            Some(tuned) => {
+                eprintln!("{c}: {tuned}");
+                tuned
             }
-            _ => c.clone(),
+            None => c.clone(),
         };
         configs.push(MethodConfig::parse(&text)?);
     }

@@ -1,6 +1,7 @@
-//! The bench: the Pareto front on hand-made points, the chart's bitmap font, a small real bench and scaling run
-//! through the CLI binary (files, rows, chart, OSM's error falling with slices), bad input, and the Bench window
-//! driven headless (run, click a point, the configuration applied).
+//! The bench: the Pareto front on hand-made points, the PNG and SVG charts of a hand-made chart (points where the
+//! data puts them, one SVG circle per point), a small real bench and scaling run through the CLI binary (files,
+//! rows, charts, OSM's error falling with slices), bad input, and the Bench window driven headless (run, click a
+//! point, the configuration applied).
 
 mod common;
 
@@ -78,35 +79,135 @@ fn pareto_front_keeps_the_points_nothing_beats() {
     assert!(pareto_front(&[]).is_empty());
 }
 
+/// A chart with three red points on linear axes at (2, 1), (6, 3), (10, 2), and a line.
+fn three_point_chart(name: &str) -> chart::Chart {
+    let point = |x: f64, y: f64| chart::Point {
+        x,
+        y,
+        label: format!("p{x}"),
+        row: None,
+    };
+    chart::Chart {
+        title: "Three points × 2".to_string(),
+        notes: vec!["a note with Δ and σ²".to_string()],
+        x: chart::Axis {
+            label: "x".to_string(),
+            scale: chart::Scale::Linear,
+        },
+        y: chart::Axis {
+            label: "y".to_string(),
+            scale: chart::Scale::Linear,
+        },
+        series: vec![
+            chart::Series {
+                name: name.to_string(),
+                color: RED,
+                mark: chart::Mark::Points,
+                points: vec![point(2.0, 1.0), point(6.0, 3.0), point(10.0, 2.0)],
+            },
+            chart::Series {
+                name: String::new(),
+                color: [0, 0, 255],
+                mark: chart::Mark::Line,
+                points: vec![point(2.0, 0.5), point(10.0, 0.5)],
+            },
+        ],
+        front: None,
+    }
+}
+
+const RED: [u8; 3] = [214, 39, 40];
+
+/// Centroids of the 4-connected groups of pixels of exactly `color`, left to right.
+fn blobs(img: &image::RgbImage, color: [u8; 3]) -> Vec<(f64, f64, usize)> {
+    let (w, h) = img.dimensions();
+    let mut seen = vec![false; (w * h) as usize];
+    let mut out = Vec::new();
+    for start in 0..w * h {
+        if seen[start as usize] || img.get_pixel(start % w, start / w).0 != color {
+            continue;
+        }
+        let (mut sx, mut sy, mut n) = (0.0, 0.0, 0);
+        let mut stack = vec![start];
+        seen[start as usize] = true;
+        while let Some(i) = stack.pop() {
+            let (x, y) = (i % w, i / w);
+            sx += x as f64;
+            sy += y as f64;
+            n += 1;
+            let next = [
+                (x > 0).then(|| i - 1),
+                (x + 1 < w).then(|| i + 1),
+                (y > 0).then(|| i - w),
+                (y + 1 < h).then(|| i + w),
+            ];
+            for j in next.into_iter().flatten() {
+                if !seen[j as usize] && img.get_pixel(j % w, j / w).0 == color {
+                    seen[j as usize] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        out.push((sx / n as f64, sy / n as f64, n));
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}
+
 #[test]
-fn font_renders_known_glyph_pixels() {
-    // 'H': both outer columns full height, the bar on row 3, nothing else.
-    for row in 0..7 {
-        assert!(chart::glyph_pixel('H', 0, row) && chart::glyph_pixel('H', 4, row));
-        for col in 1..4 {
-            assert_eq!(chart::glyph_pixel('H', col, row), row == 3, "H ({col}, {row})");
+fn png_chart_draws_the_points_where_the_data_puts_them() {
+    let png = chart::png(&three_point_chart(""), 600, 400).unwrap();
+    let img = image::load_from_memory(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (600, 400));
+    assert_eq!(img.get_pixel(2, 2).0, [255, 255, 255], "background");
+    // Exactly three red discs (the series has no name, so no legend marker).
+    let b = blobs(&img, RED);
+    assert_eq!(b.len(), 3, "{b:?}");
+    assert!(b.iter().all(|&(_, _, n)| n >= 50), "discs of radius 5: {b:?}");
+    // x 2, 6, 10: equally spaced; y 1, 3, 2: the second highest, the first lowest, the third halfway.
+    let (dx1, dx2) = (b[1].0 - b[0].0, b[2].0 - b[1].0);
+    assert!(dx1 > 50.0 && (dx1 - dx2).abs() <= 1.5, "{b:?}");
+    let (rise1, rise2) = (b[0].1 - b[1].1, b[0].1 - b[2].1);
+    assert!(rise1 > 50.0 && (rise1 - 2.0 * rise2).abs() <= 1.5, "{b:?}");
+    // The fit line is drawn in its colour, and there is text and axes in dark ink.
+    assert!(img.pixels().filter(|p| p.0 == [0, 0, 255]).count() > 100);
+    assert!(img.pixels().filter(|p| p.0.iter().all(|c| *c < 100)).count() > 500);
+}
+
+#[test]
+fn svg_chart_is_xml_with_one_circle_per_point_and_the_names() {
+    use quick_xml::events::Event;
+    let svg = chart::svg(&three_point_chart("red series"), 600, 400).unwrap();
+    let mut reader = quick_xml::Reader::from_str(&svg);
+    let (mut root, mut red_circles, mut texts) = (None, 0, Vec::new());
+    let mut in_text = false;
+    loop {
+        match reader.read_event().unwrap() {
+            Event::Eof => break,
+            Event::Start(e) | Event::Empty(e) => {
+                let name = String::from_utf8(e.name().as_ref().to_vec()).unwrap();
+                root.get_or_insert(name.clone());
+                let fill = e
+                    .attributes()
+                    .flatten()
+                    .find(|a| a.key.as_ref() == b"fill")
+                    .map(|a| a.value.to_vec());
+                if name == "circle" && fill.as_deref() == Some(b"#D62728") {
+                    red_circles += 1;
+                }
+                in_text = name == "text";
+            }
+            Event::Text(t) if in_text => texts.push(t.decode().unwrap().trim().to_string()),
+            Event::End(_) => in_text = false,
+            _ => {}
         }
     }
-    // 'p' descends into the eighth row, 'a' does not; outside ASCII draws '?'.
-    assert!(chart::glyph_pixel('p', 0, 7) && !chart::glyph_pixel('a', 0, 7));
-    assert_eq!(chart::glyph('é'), chart::glyph('?'));
-    // 'T' drawn at scale 2 from (3, 4): the top bar is rows 4..6 over x 3..13, the stem x 7..9.
-    let mut img = image::RgbaImage::from_pixel(20, 24, image::Rgba([255, 255, 255, 255]));
-    chart::draw_text(&mut img, 3, 4, "T", 2, [0, 0, 0]);
-    let black = |x, y| img.get_pixel(x, y).0[..3] == [0, 0, 0];
-    let inked: Vec<(u32, u32)> = (0..24)
-        .flat_map(|y| (0..20).map(move |x| (x, y)))
-        .filter(|&(x, y)| black(x, y))
-        .collect();
-    let expected: Vec<(u32, u32)> = (0..24)
-        .flat_map(|y| (0..20).map(move |x| (x, y)))
-        .filter(|&(x, y)| {
-            (4..6).contains(&y) && (3..13).contains(&x) || (4..18).contains(&y) && (7..9).contains(&x)
-        })
-        .collect();
-    assert_eq!(inked, expected);
-    assert_eq!(chart::text_width("T", 2), 10);
-    assert_eq!(chart::text_width("ab", 1), 11);
+    assert_eq!(root.as_deref(), Some("svg"));
+    // Three points and the legend's marker.
+    assert_eq!(red_circles, 4);
+    for t in ["red series", "Three points × 2", "a note with Δ and σ²", "x", "y"] {
+        assert!(texts.iter().any(|s| s == t), "no text {t:?} in {texts:?}");
+    }
 }
 
 #[test]
@@ -207,6 +308,12 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
         assert!(count(hairlab::bench::method_color(m)) > 40, "{m} points missing");
     }
     assert!(count([30, 30, 30]) > 2000, "axes and text missing");
+    // The same chart as SVG: both methods named in the legend.
+    let svg = std::fs::read_to_string(out.join("speed_vs_accuracy.svg")).unwrap();
+    assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(200)]);
+    for m in ["osm", "occupancy", "Pareto front"] {
+        assert!(svg.contains(&format!("\n{m}\n</text>")), "no legend entry {m}");
+    }
 }
 
 #[test]
@@ -255,6 +362,11 @@ fn bench_scaling_fits_cost_per_segment() {
     assert_eq!(segments, ["1200", "2400", "4800", "9600", "19200"]);
     let png = image::open(out.join("scaling.png")).unwrap();
     assert_eq!((png.width(), png.height()), hairlab::bench::CHART_SIZE);
+    let svg = std::fs::read_to_string(out.join("scaling.svg")).unwrap();
+    assert!(
+        svg.starts_with("<svg") && svg.contains("osm:slices=64 ("),
+        "scaling.svg"
+    );
 }
 
 #[test]

@@ -1,11 +1,13 @@
 //! The Bench window: the sweep of `hairlab bench` on the current settings, run on a background thread with its
 //! own headless GPU device and cancellable, charted as GPU time (log scale) against map error in egui_plot —
-//! one colour per method, the Pareto front connected, the configuration named on hover. Clicking a point (or a
-//! configuration in the table) makes it the app's shadow method.
+//! the same chart model (`bench::chart`) as the PNG and SVG: one colour per method, the Pareto front connected,
+//! the configuration named on hover. Clicking a point (or a configuration in the table) makes it the app's
+//! shadow method.
 
 use super::HairlabApp;
+use crate::bench::chart::{Chart, Mark};
 use crate::bench::{self, BenchResult, BenchRow, Progress};
-use egui_plot::{GridInput, GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, Points};
+use egui_plot::{GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, Points};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 
@@ -13,8 +15,6 @@ use std::sync::{Arc, mpsc};
 const CHUNK: usize = 4;
 /// How near (points) a click must land to pick a configuration.
 const PICK_RADIUS: f32 = 12.0;
-/// The series name of the front in the plot.
-const FRONT_NAME: &str = "Pareto front";
 
 /// What the worker thread reports.
 enum Report {
@@ -51,51 +51,13 @@ impl Default for BenchPanel {
     fn default() -> Self {
         BenchPanel {
             open: false,
-            methods: bench::SWEEP_METHODS.iter().map(|m| (*m, true)).collect(),
+            methods: bench::sweep_methods().into_iter().map(|m| (m, true)).collect(),
             frames: 3,
             job: None,
             result: None,
             on_screen: Vec::new(),
         }
     }
-}
-
-/// Plot x of a GPU time: log10 of the milliseconds; 0 ms (nothing of the method's own to time) sits half a
-/// decade left of the fastest timed configuration.
-fn plot_x(ms: f64, zero_x: f64) -> f64 {
-    if ms > 0.0 { ms.log10() } else { zero_x }
-}
-
-/// `10^x` milliseconds as a tick label.
-fn ms_label(x: f64) -> String {
-    let ms = 10f64.powf(x);
-    let decimals = (-x.floor()).max(0.0) as usize;
-    format!("{ms:.decimals$} ms")
-}
-
-/// Grid lines at 1, 2 and 5 × 10^k ms (the decades stronger), and at the 0 ms column `zero_x` with a gap
-/// after it: the logarithmic scale starts a quarter decade to its right.
-fn log_grid(input: GridInput, zero_x: f64) -> Vec<GridMark> {
-    let (lo, hi) = input.bounds;
-    let mut out = Vec::new();
-    if (lo..=hi).contains(&zero_x) {
-        out.push(GridMark {
-            value: zero_x,
-            step_size: 1.0,
-        });
-    }
-    for k in lo.floor() as i32..=hi.ceil() as i32 {
-        for (m, step) in [(1.0f64, 1.0), (2.0, 0.1), (5.0, 0.1)] {
-            let value = k as f64 + m.log10();
-            if (lo..=hi).contains(&value) && value > zero_x + 0.25 {
-                out.push(GridMark {
-                    value,
-                    step_size: step,
-                });
-            }
-        }
-    }
-    out
 }
 
 fn row_text(r: &BenchRow) -> String {
@@ -287,109 +249,89 @@ impl HairlabApp {
             }
         });
         let Some(result) = &self.bench.result else { return };
-        let s = &result.stats;
-        ui.label(format!(
-            "{} strands · {} segments · {res}×{res} light map · {} frames · {}{}",
-            s.strands,
-            s.segments,
-            result.frames,
-            s.device,
-            if result.cancelled { " · cancelled" } else { "" },
-            res = s.map_resolution
-        ));
-        let picked = self.bench_plot(ui);
+        let chart = bench::speed_accuracy_chart(result);
+        ui.strong(&chart.title);
+        ui.label(chart.notes.join("\n"));
+        let picked = self.bench_plot(ui, &chart);
         let table_pick = self.bench_table(ui);
         if let Some(row) = picked.or(table_pick) {
             self.apply_bench_row(row);
         }
     }
 
-    /// The chart; returns the row whose point was clicked.
-    fn bench_plot(&mut self, ui: &mut egui::Ui) -> Option<usize> {
-        let result = self.bench.result.as_ref()?;
-        let front = result.front();
-        let min_ms = result
-            .rows
-            .iter()
-            .map(|r| r.total_ms.median)
-            .filter(|ms| *ms > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        let zero_x = if min_ms.is_finite() {
-            min_ms.log10().floor() - 0.5
-        } else {
-            -1.0
-        };
-        // Row indices of each method's series, in series order.
-        let mut series: Vec<(String, Vec<usize>)> = Vec::new();
-        for (i, r) in result.rows.iter().enumerate() {
-            match series.iter_mut().find(|(n, _)| *n == r.config.name) {
-                Some((_, v)) => v.push(i),
-                None => series.push((r.config.name.clone(), vec![i])),
-            }
-        }
-        let point = |i: usize| {
-            let r = &result.rows[i];
-            [plot_x(r.total_ms.median, zero_x), r.error()]
-        };
+    /// `chart` (of the current result) in egui_plot; returns the row whose point was clicked.
+    fn bench_plot(&mut self, ui: &mut egui::Ui, chart: &Chart) -> Option<usize> {
+        let rows = &self.bench.result.as_ref()?.rows;
         let front_color = ui.visuals().strong_text_color();
-        let rows = &result.rows;
-        let series_ref = &series;
-        let front_ref = &front;
-        let label = move |pos: &HoverPosition<'_>| -> Option<String> {
+        let front_name = chart.front.as_ref().map(|f| f.name.as_str());
+        let xy = |p: &bench::chart::Point| [chart.plot_x(p.x), p.y];
+        let label = |pos: &HoverPosition<'_>| -> Option<String> {
             let HoverPosition::NearDataPoint { plot_name, index, .. } = pos else {
                 return None;
             };
-            let row = if *plot_name == FRONT_NAME {
-                front_ref.get(*index).copied()
-            } else {
-                series_ref
-                    .iter()
-                    .find(|(n, _)| n == plot_name)
-                    .and_then(|(_, v)| v.get(*index).copied())
-            }?;
-            Some(row_text(&rows[row]))
+            let points = match &chart.front {
+                Some(f) if f.name == *plot_name => &f.points,
+                _ => &chart.series.iter().find(|s| s.name == *plot_name)?.points,
+            };
+            let row = points.get(*index)?.row?;
+            Some(row_text(rows.get(row)?))
         };
+        let ([x0, x1], [y0, y1]) = chart.bounds();
         let response = Plot::new("bench_plot")
             .height(400.0)
             .legend(Legend::default().follow_insertion_order(true))
-            .x_axis_label("GPU ms per frame, method's own light passes (log scale)")
-            .y_axis_label(bench::ACCURACY_METRIC)
-            .x_grid_spacer(move |input| log_grid(input, zero_x))
-            .x_axis_formatter(move |mark, _| {
-                if (mark.value - zero_x).abs() < 1e-9 {
-                    "0 ms".to_string()
-                } else {
-                    ms_label(mark.value)
-                }
+            .x_axis_label(chart.x.label.as_str())
+            .y_axis_label(chart.y.label.as_str())
+            .x_grid_spacer(|input| {
+                chart
+                    .x_ticks(input.bounds.0, input.bounds.1)
+                    .into_iter()
+                    .map(|t| GridMark {
+                        value: t.at,
+                        step_size: if t.label.is_some() { 1.0 } else { 0.1 },
+                    })
+                    .collect()
             })
+            .x_axis_formatter(|mark, range| chart.x_tick_label(mark.value, *range.start(), *range.end()))
             .label_formatter(label)
-            .include_y(0.0)
+            .include_x(x0)
+            .include_x(x1)
+            .include_y(y0)
+            .include_y(y1)
             .show(ui, |plot_ui| {
-                let line: Vec<[f64; 2]> = front.iter().map(|&i| point(i)).collect();
-                plot_ui.line(Line::new(FRONT_NAME, line.clone()).color(front_color).width(1.5));
-                plot_ui.points(
-                    Points::new(FRONT_NAME, line)
-                        .color(front_color)
-                        .radius(7.0)
-                        .filled(false),
-                );
-                for (name, idx) in &series {
-                    let c = bench::method_color(name);
+                if let (Some(f), Some(name)) = (&chart.front, front_name) {
+                    let line: Vec<[f64; 2]> = f.points.iter().map(xy).collect();
+                    plot_ui.line(Line::new(name, line.clone()).color(front_color).width(1.5));
                     plot_ui.points(
-                        Points::new(name.clone(), idx.iter().map(|&i| point(i)).collect::<Vec<_>>())
-                            .color(egui::Color32::from_rgb(c[0], c[1], c[2]))
-                            .radius(4.0)
-                            .filled(true),
+                        Points::new(name, line)
+                            .color(front_color)
+                            .radius(7.0)
+                            .filled(false),
                     );
                 }
+                for s in &chart.series {
+                    let pts: Vec<[f64; 2]> = s.points.iter().map(xy).collect();
+                    let color = egui::Color32::from_rgb(s.color[0], s.color[1], s.color[2]);
+                    match s.mark {
+                        Mark::Points => plot_ui.points(
+                            Points::new(s.name.as_str(), pts)
+                                .color(color)
+                                .radius(4.0)
+                                .filled(true),
+                        ),
+                        Mark::Line => plot_ui.line(Line::new(s.name.as_str(), pts).color(color).width(1.5)),
+                    }
+                }
             });
-        self.bench.on_screen = (0..result.rows.len())
-            .map(|i| {
-                let [x, y] = point(i);
-                let p = response.transform.position_from_point(&PlotPoint::new(x, y));
-                response.response.rect.contains(p).then_some(p)
-            })
-            .collect();
+        let mut on_screen = vec![None; rows.len()];
+        for p in chart.series.iter().flat_map(|s| &s.points) {
+            if let Some(slot) = p.row.and_then(|r| on_screen.get_mut(r)) {
+                let [x, y] = xy(p);
+                let at = response.transform.position_from_point(&PlotPoint::new(x, y));
+                *slot = response.response.rect.contains(at).then_some(at);
+            }
+        }
+        self.bench.on_screen = on_screen;
         if !response.response.clicked() {
             return None;
         }
@@ -446,18 +388,5 @@ impl HairlabApp {
             });
         });
         picked
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn tick_labels_read_in_milliseconds() {
-        assert_eq!(ms_label(0.0), "1 ms");
-        assert_eq!(ms_label(1.0), "10 ms");
-        assert_eq!(ms_label(-1.0), "0.1 ms");
-        assert_eq!(ms_label(2f64.log10() - 2.0), "0.02 ms");
     }
 }

@@ -144,6 +144,8 @@ impl ShadowMethod for Bom {
     fn analysis(&self) -> Option<Analysis> {
         Some(Analysis {
             label: "Find split ratio",
+            note: "automatic split ratio",
+            tunes: "split_ratio",
             help: "scores split ratios 0.0..1.0 by the correlation of successive layer images (Voicu 5.2.3) on \
                    the exact fragment lists and applies the least correlated",
             run: split_ratio_analysis,
@@ -180,7 +182,8 @@ pub fn automatic_split_ratio(lists: &[Vec<RefFragment>], layers: u32) -> SplitSe
 fn split_ratio_analysis(lists: &[Vec<RefFragment>], values: &ParamValues) -> AnalysisResult {
     let layers = value(values, &PARAMS[0]) as u32;
     let search = automatic_split_ratio(lists, layers);
-    let best = search.best(SplitCriterion::CrossCorrelation);
+    // The search steps by 0.1: keep the ratio on that grid so that it prints and compares exactly.
+    let best = (search.best(SplitCriterion::CrossCorrelation) * 10.0).round() / 10.0;
     let mut table = vec![vec![
         "ratio".to_string(),
         "correlation".to_string(),

@@ -166,6 +166,9 @@ impl ShadowMethod for Dom {
             })
             .collect()
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::from([("layers".to_string(), 3.0)])]
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         [3, 7]
             .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))

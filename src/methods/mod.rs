@@ -45,12 +45,16 @@ impl SweepPoint {
 pub trait ShadowMethod: LightMethod {
     /// The CPU model with these parameter values: the specification the GPU lookup must match.
     fn model(&self, values: &ParamValues, hair_alpha: f32) -> Box<dyn TexelModel>;
-    /// The configurations the bench sweeps (empty: measured once at its defaults).
+    /// The configurations the bench sweeps (default: once, at the defaults; empty: not benched).
     fn sweep(&self) -> Vec<SweepPoint> {
         vec![SweepPoint::fixed(&[])]
     }
     /// The configurations `measure` reports when none is given.
     fn usual_configs(&self) -> Vec<ParamValues> {
+        Vec::new()
+    }
+    /// The configurations the bench's scaling mode measures over strand density (empty: none).
+    fn scaling_configs(&self) -> Vec<ParamValues> {
         Vec::new()
     }
     /// An on-demand analysis of the exact fragment lists that tunes the method's parameters (e.g. Bounding
@@ -66,6 +70,10 @@ pub trait ShadowMethod: LightMethod {
 pub struct Analysis {
     /// Button label.
     pub label: &'static str,
+    /// How the bench and `measure` tables mark a configuration it tuned (e.g. "automatic split ratio").
+    pub note: &'static str,
+    /// The parameter a `measure --config` value of `auto` asks it to choose (e.g. `split_ratio=auto`).
+    pub tunes: &'static str,
     pub help: &'static str,
     pub run: fn(&[Vec<crate::render::passes::abuffer::RefFragment>], &ParamValues) -> AnalysisResult,
 }

@@ -1,6 +1,6 @@
 //! No hair self-shadowing: every strand is fully lit (`V = 1`). The baseline that shows what shadows add.
 
-use super::{LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
+use super::{SweepPoint, LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
 use crate::gpu::GpuError;
 use crate::visibility::{Fragment, TexelModel};
 
@@ -44,5 +44,9 @@ impl LightMethod for NoShadow {
 impl ShadowMethod for NoShadow {
     fn model(&self, _values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(Lit)
+    }
+    /// Nothing to bench: no light pass, no error bound beyond "no shadow".
+    fn sweep(&self) -> Vec<SweepPoint> {
+        Vec::new()
     }
 }

@@ -107,6 +107,9 @@ impl ShadowMethod for Occupancy {
             .map(|v| SweepPoint::fixed(&[("variant", v as f32)]))
             .collect()
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::new()]
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::new()]
     }

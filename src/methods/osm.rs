@@ -88,6 +88,9 @@ impl ShadowMethod for Osm {
             .map(|&n| SweepPoint::fixed(&[("slices", n as f32)]))
             .collect()
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        [16, 64].map(|n| ParamValues::from([("slices".to_string(), n as f32)])).to_vec()
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         [16, 64, 256]
             .map(|n| ParamValues::from([("slices".to_string(), n as f32)]))

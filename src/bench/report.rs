@@ -1,0 +1,416 @@
+//! The bench's files: `results.csv` and `results.json` (one row per configuration, the same rows), the scaling
+//! mode's `scaling.csv` and `scaling_points.csv`, and the charts as PNG and SVG, each written atomically into
+//! the output folder. CSV rows are serde structs written by the `csv` crate (a header from the first row's
+//! field names); JSON rows are serde structs too.
+
+use super::chart::{self, CHART_SIZE, Chart};
+use super::{BenchResult, ScalingResult, Spread};
+use crate::methods::ParamValues;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use serde::ser::SerializeStruct;
+use std::path::{Path, PathBuf};
+
+/// A row's error metrics as named fields: one CSV column or JSON key each, in [`super::error_metrics`] order.
+/// JSON has no infinity or NaN: those (the infinite PSNR of an exact image) are written as `null`.
+struct Metrics<'a>(&'a [(&'static str, f64)]);
+
+impl Serialize for Metrics<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut st = s.serialize_struct("Metrics", self.0.len())?;
+        for (name, v) in self.0 {
+            st.serialize_field(name, v)?;
+        }
+        st.end()
+    }
+}
+
+/// The columns of `results.csv` before the metrics.
+#[derive(Serialize)]
+struct CsvHead<'a> {
+    method: &'a str,
+    params: String,
+    label: String,
+    note: &'a str,
+    gpu_ms_median: f64,
+    gpu_ms_min: f64,
+    gpu_ms_max: f64,
+    memory_bytes: u64,
+    geometry_passes: u32,
+}
+
+/// The columns of `results.csv` after the metrics.
+#[derive(Serialize)]
+struct CsvTail<'a> {
+    pareto: bool,
+    /// `name: median [min, max]` per pass, `; `-separated.
+    passes: String,
+    device: &'a str,
+}
+
+/// `key=value;key=value`.
+fn params_text(p: &ParamValues) -> String {
+    p.iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// `rows` as CSV text: a header from the first row's field names, then one line per row (none when empty).
+fn csv_text<T: Serialize>(name: &str, rows: impl IntoIterator<Item = T>) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r).with_context(|| format!("cannot encode {name}"))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot encode {name}: {}", e.error()))?;
+    String::from_utf8(bytes).with_context(|| format!("cannot encode {name}"))
+}
+
+/// `results.csv`: a header, then one row per configuration.
+pub fn to_csv(result: &BenchResult) -> Result<String> {
+    let front = result.front();
+    csv_text(
+        "results.csv",
+        result.rows.iter().enumerate().map(|(i, r)| {
+            let head = CsvHead {
+                method: &r.config.name,
+                params: params_text(&r.config.params),
+                label: r.config.label(),
+                note: &r.note,
+                gpu_ms_median: r.total_ms.median,
+                gpu_ms_min: r.total_ms.min,
+                gpu_ms_max: r.total_ms.max,
+                memory_bytes: r.memory_bytes,
+                geometry_passes: r.geometry_passes,
+            };
+            let tail = CsvTail {
+                pareto: front.contains(&i),
+                passes: r
+                    .passes
+                    .iter()
+                    .map(|(n, s)| format!("{n}: {} [{}, {}]", s.median, s.min, s.max))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                device: &r.device,
+            };
+            (head, Metrics(&r.metrics), tail)
+        }),
+    )
+}
+
+#[derive(Serialize)]
+struct JsonResults<'a> {
+    preset: &'a str,
+    device: &'a str,
+    frames: u32,
+    cancelled: bool,
+    /// What the GPU times cover.
+    gpu_ms: &'static str,
+    scene: JsonScene,
+    rows: Vec<JsonRow<'a>>,
+}
+
+#[derive(Serialize)]
+struct JsonScene {
+    strands: usize,
+    segments: usize,
+    map_resolution: u32,
+    fragments: usize,
+    occupied_texels: usize,
+    max_depth_complexity: usize,
+    mean_depth_complexity: f64,
+}
+
+#[derive(Serialize)]
+struct JsonRow<'a> {
+    method: &'a str,
+    params: &'a ParamValues,
+    label: String,
+    note: &'a str,
+    gpu_ms: Spread,
+    passes: Vec<JsonPass<'a>>,
+    memory_bytes: u64,
+    geometry_passes: u32,
+    #[serde(flatten)]
+    metrics: Metrics<'a>,
+    pareto: bool,
+    device: &'a str,
+}
+
+#[derive(Serialize)]
+struct JsonPass<'a> {
+    name: &'a str,
+    #[serde(flatten)]
+    ms: Spread,
+}
+
+/// `results.json`: the scene, then `rows` with the same configurations as the CSV.
+pub fn to_json(result: &BenchResult) -> Result<String> {
+    let front = result.front();
+    let s = &result.stats;
+    let doc = JsonResults {
+        preset: &result.preset,
+        device: &s.device,
+        frames: result.frames,
+        cancelled: result.cancelled,
+        gpu_ms: "the method's own light passes per frame (the shared light-depth pass left out)",
+        scene: JsonScene {
+            strands: s.strands,
+            segments: s.segments,
+            map_resolution: s.map_resolution,
+            fragments: s.fragments,
+            occupied_texels: s.occupied_texels,
+            max_depth_complexity: s.max_depth_complexity,
+            mean_depth_complexity: s.mean_depth_complexity,
+        },
+        rows: result
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| JsonRow {
+                method: &r.config.name,
+                params: &r.config.params,
+                label: r.config.label(),
+                note: &r.note,
+                gpu_ms: r.total_ms,
+                passes: r
+                    .passes
+                    .iter()
+                    .map(|(name, ms)| JsonPass { name, ms: *ms })
+                    .collect(),
+                memory_bytes: r.memory_bytes,
+                geometry_passes: r.geometry_passes,
+                metrics: Metrics(&r.metrics),
+                pareto: front.contains(&i),
+                device: &r.device,
+            })
+            .collect(),
+    };
+    serde_json::to_string_pretty(&doc).context("cannot encode results.json")
+}
+
+/// One line of `scaling.csv`.
+#[derive(Serialize)]
+struct FitRow<'a> {
+    method: &'a str,
+    ms_per_segment: f64,
+    ns_per_segment: f64,
+    intercept_ms: f64,
+    r_squared: f64,
+    device: &'a str,
+}
+
+/// `scaling.csv`: the fit per configuration.
+pub fn scaling_csv(r: &ScalingResult) -> Result<String> {
+    csv_text(
+        "scaling.csv",
+        r.fits.iter().map(|f| FitRow {
+            method: &f.label,
+            ms_per_segment: f.ms_per_segment,
+            ns_per_segment: f.ms_per_segment * 1e6,
+            intercept_ms: f.intercept_ms,
+            r_squared: f.r_squared,
+            device: &r.device,
+        }),
+    )
+}
+
+/// One line of `scaling_points.csv`.
+#[derive(Serialize)]
+struct PointRow<'a> {
+    method: &'a str,
+    density: f32,
+    strands: usize,
+    segments: usize,
+    gpu_ms_median: f64,
+    gpu_ms_min: f64,
+    gpu_ms_max: f64,
+}
+
+/// `scaling_points.csv`: every measurement behind the fits.
+pub fn scaling_points_csv(r: &ScalingResult) -> Result<String> {
+    csv_text(
+        "scaling_points.csv",
+        r.points.iter().map(|p| PointRow {
+            method: &p.label,
+            density: p.density,
+            strands: p.strands,
+            segments: p.segments,
+            gpu_ms_median: p.ms.median,
+            gpu_ms_min: p.ms.min,
+            gpu_ms_max: p.ms.max,
+        }),
+    )
+}
+
+/// Creates the output folder (and its parents); fails with one line when it cannot.
+pub fn prepare_out_dir(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the output folder", dir.display()))?;
+    Ok(())
+}
+
+/// `chart` as `<stem>.png` and `<stem>.svg`.
+fn chart_files(stem: &str, chart: &Chart) -> Result<[(String, Vec<u8>); 2]> {
+    let (w, h) = CHART_SIZE;
+    Ok([
+        (format!("{stem}.png"), chart::png(chart, w, h)?),
+        (format!("{stem}.svg"), chart::svg(chart, w, h)?.into_bytes()),
+    ])
+}
+
+/// Writes `files` into `dir` (created), each atomically; returns their paths.
+fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<Vec<PathBuf>> {
+    prepare_out_dir(dir)?;
+    let mut out = Vec::new();
+    for (name, bytes) in files {
+        let path = dir.join(name);
+        crate::io::write_atomic(&path, &bytes)?;
+        out.push(path);
+    }
+    Ok(out)
+}
+
+/// Writes `results.csv`, `results.json`, `speed_vs_accuracy.png` and `speed_vs_accuracy.svg` into `dir`
+/// (created), each atomically; returns their paths.
+pub fn write_results(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
+    let mut files = vec![
+        ("results.csv".to_string(), to_csv(result)?.into_bytes()),
+        ("results.json".to_string(), to_json(result)?.into_bytes()),
+    ];
+    files.extend(chart_files(
+        "speed_vs_accuracy",
+        &chart::speed_accuracy_chart(result),
+    )?);
+    write_files(dir, files)
+}
+
+/// Writes `scaling.csv`, `scaling_points.csv`, `scaling.png` and `scaling.svg` into `dir` (created), each
+/// atomically; returns their paths.
+pub fn write_scaling(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
+    let mut files = vec![
+        ("scaling.csv".to_string(), scaling_csv(r)?.into_bytes()),
+        (
+            "scaling_points.csv".to_string(),
+            scaling_points_csv(r)?.into_bytes(),
+        ),
+    ];
+    files.extend(chart_files("scaling", &chart::scaling_chart(r))?);
+    write_files(dir, files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::{BenchRow, ScalingFit};
+    use crate::measure::{MethodConfig, SceneStats};
+
+    fn row(name: &str, params: &[(&str, f32)], ms: f64, error: f64) -> BenchRow {
+        let spread = Spread {
+            median: ms,
+            min: ms * 0.5,
+            max: ms * 2.0,
+        };
+        BenchRow {
+            config: MethodConfig {
+                name: name.to_string(),
+                params: params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            },
+            note: String::new(),
+            total_ms: spread,
+            passes: vec![("light".to_string(), spread)],
+            memory_bytes: 1024,
+            geometry_passes: 1,
+            metrics: vec![("map_error", error), ("image_psnr", f64::INFINITY)],
+            device: "test device, \"quoted\"".to_string(),
+        }
+    }
+
+    fn result() -> BenchResult {
+        BenchResult {
+            preset: "tiny".to_string(),
+            stats: SceneStats {
+                device: "test device".to_string(),
+                strands: 10,
+                segments: 240,
+                map_resolution: 64,
+                fragments: 1000,
+                occupied_texels: 100,
+                max_depth_complexity: 30,
+                mean_depth_complexity: 10.0,
+            },
+            frames: 3,
+            rows: vec![
+                row("dom", &[("layers", 3.0), ("spacing", 1.0)], 0.25, 0.5),
+                row("bom", &[("layers", 4.0), ("split_ratio", 0.3)], 0.5, 0.75),
+            ],
+            cancelled: false,
+        }
+    }
+
+    #[test]
+    fn results_csv_has_the_columns_and_quotes_commas() {
+        let text = to_csv(&result()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0],
+            "method,params,label,note,gpu_ms_median,gpu_ms_min,gpu_ms_max,memory_bytes,geometry_passes,\
+             map_error,image_psnr,pareto,passes,device"
+        );
+        assert_eq!(
+            lines[1],
+            "dom,layers=3;spacing=1,\"dom:layers=3,spacing=1\",,0.25,0.125,0.5,1024,1,0.5,inf,true,\
+             \"light: 0.25 [0.125, 0.5]\",\"test device, \"\"quoted\"\"\""
+        );
+        // Slower and less accurate than the DOM row: off the front.
+        assert!(lines[2].starts_with("bom,layers=4;split_ratio=0.3,\"bom:layers=4,split_ratio=0.3\","));
+        assert!(lines[2].contains(",0.75,inf,false,"), "{}", lines[2]);
+        assert_eq!(lines.len(), 3);
+    }
+
+    #[test]
+    fn results_json_rows_match_with_null_for_infinity() {
+        let json: serde_json::Value = serde_json::from_str(&to_json(&result()).unwrap()).unwrap();
+        assert_eq!(json["preset"], "tiny");
+        assert_eq!(json["scene"]["segments"], 240);
+        let rows = json["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0]["label"], "dom:layers=3,spacing=1");
+        assert_eq!(rows[0]["params"]["layers"], 3.0);
+        assert_eq!(rows[1]["params"]["split_ratio"], 0.3);
+        assert_eq!(rows[0]["gpu_ms"]["min"], 0.125);
+        assert_eq!(rows[0]["passes"][0]["name"], "light");
+        assert_eq!(rows[0]["passes"][0]["max"], 0.5);
+        assert_eq!(rows[0]["map_error"], 0.5);
+        assert!(rows[0]["image_psnr"].is_null());
+        assert_eq!(rows[0]["pareto"], true);
+        assert_eq!(rows[1]["pareto"], false);
+    }
+
+    #[test]
+    fn scaling_csv_has_one_line_per_fit() {
+        let r = ScalingResult {
+            preset: "tiny".to_string(),
+            device: "dev".to_string(),
+            stats: None,
+            points: Vec::new(),
+            fits: vec![ScalingFit {
+                label: "osm:slices=16".to_string(),
+                ms_per_segment: 2f64.powi(-20),
+                intercept_ms: 0.5,
+                r_squared: 1.0,
+            }],
+        };
+        let text = scaling_csv(&r).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines,
+            [
+                "method,ms_per_segment,ns_per_segment,intercept_ms,r_squared,device",
+                "osm:slices=16,9.5367431640625e-7,0.95367431640625,0.5,1.0,dev"
+            ]
+        );
+    }
+}

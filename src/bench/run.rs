@@ -1,0 +1,273 @@
+//! Running the bench: the configurations measured in chunks (cancellable between chunks), the scaling mode's
+//! densities, and progress reports (a bar on the terminal).
+
+use super::{
+    BenchConfig, BenchResult, BenchRow, SCALING_DENSITIES, ScalingFit, ScalingPoint, ScalingResult,
+    all_scaling_configs, fit_line, sweep_configs, tune_analysed,
+};
+use crate::measure::{self, MethodConfig};
+use crate::settings::Settings;
+use anyhow::{Result, bail};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Where a run is: `done` of `total` steps, what runs now, and the time since the start.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Progress {
+    pub done: usize,
+    pub total: usize,
+    pub label: String,
+    pub elapsed: Duration,
+}
+
+/// Measures `configs` on `settings`' scene, `chunk` configurations per `measure` call (each call renders the
+/// reference again; cancelling takes effect between calls). `None` when cancelled before any row.
+pub fn measure_configs(
+    settings: &Settings,
+    preset: &str,
+    configs: &[BenchConfig],
+    frames: u32,
+    chunk: usize,
+    cancel: &AtomicBool,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Option<BenchResult>> {
+    let start = Instant::now();
+    let total = configs.len();
+    let mut stats = None;
+    let mut rows = Vec::with_capacity(total);
+    for group in configs.chunks(chunk.max(1)) {
+        if cancel.load(Ordering::Relaxed) {
+            break;
+        }
+        let methods: Vec<MethodConfig> = group.iter().map(|c| c.config.clone()).collect();
+        let first = rows.len();
+        let mut next = 0;
+        let (s, measured) = measure::measure(settings, &methods, frames, |label| {
+            // `measure` names the configuration it starts, or a phase of its own (the reference).
+            if group.get(next).is_some_and(|c| c.config.label() == label) {
+                next += 1;
+            }
+            progress(Progress {
+                done: first + next.saturating_sub(1),
+                total,
+                label: label.to_string(),
+                elapsed: start.elapsed(),
+            });
+        })?;
+        rows.extend(
+            measured
+                .iter()
+                .zip(group)
+                .map(|(m, c)| BenchRow::from_measurement(m, &c.note, &s.device)),
+        );
+        stats.get_or_insert(s);
+    }
+    progress(Progress {
+        done: rows.len(),
+        total,
+        label: "done".to_string(),
+        elapsed: start.elapsed(),
+    });
+    Ok(stats.map(|stats| BenchResult {
+        preset: preset.to_string(),
+        stats,
+        frames,
+        cancelled: rows.len() < total,
+        rows,
+    }))
+}
+
+/// The whole bench of `methods` on `settings`: the analysed sweep points tuned first (e.g. Bounding Opacity
+/// Maps' automatic split ratios), then every configuration. `None` when cancelled before any row.
+pub fn run(
+    settings: &Settings,
+    preset: &str,
+    methods: &[&str],
+    frames: u32,
+    chunk: usize,
+    cancel: &AtomicBool,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Option<BenchResult>> {
+    let Some(tuned) = tune_analysed(settings, methods, cancel, progress)? else {
+        return Ok(None);
+    };
+    let configs = sweep_configs(methods, &tuned);
+    measure_configs(settings, preset, &configs, frames, chunk, cancel, progress)
+}
+
+/// Measures `configs` at the generator's strand density × [`SCALING_DENSITIES`] and fits GPU ms against
+/// segment count. `None` when cancelled.
+pub fn run_scaling(
+    settings: &Settings,
+    preset: &str,
+    configs: &[MethodConfig],
+    frames: u32,
+    cancel: &AtomicBool,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Option<ScalingResult>> {
+    if let Some(f) = &settings.scene.file {
+        bail!(
+            "--scaling varies the generator's strand density, and this preset loads {}",
+            f.display()
+        );
+    }
+    if configs.is_empty() {
+        bail!(
+            "--scaling measures {}: --methods names none of them",
+            all_scaling_configs().join(", ")
+        );
+    }
+    let start = Instant::now();
+    let total = SCALING_DENSITIES.len() * configs.len();
+    let mut points = Vec::new();
+    let mut device = String::new();
+    let mut stats = None;
+    for (d, &factor) in SCALING_DENSITIES.iter().enumerate() {
+        if cancel.load(Ordering::Relaxed) {
+            return Ok(None);
+        }
+        let mut s = settings.clone();
+        s.scene.generator.density *= factor;
+        let mut n = 0;
+        let (st, rows) = measure::measure(&s, configs, frames, |label| {
+            if configs.get(n).is_some_and(|c| c.label() == label) {
+                n += 1;
+            }
+            progress(Progress {
+                done: d * configs.len() + n.saturating_sub(1),
+                total,
+                label: format!("density x{factor}: {label}"),
+                elapsed: start.elapsed(),
+            });
+        })?;
+        for m in &rows {
+            let row = BenchRow::from_measurement(m, "", &st.device);
+            points.push(ScalingPoint {
+                label: m.config.label(),
+                density: s.scene.generator.density,
+                strands: st.strands,
+                segments: st.segments,
+                ms: row.total_ms,
+            });
+        }
+        device = st.device.clone();
+        if factor == 1.0 {
+            stats = Some(st);
+        }
+    }
+    let fits = configs
+        .iter()
+        .filter_map(|c| {
+            let label = c.label();
+            let xy: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|p| p.label == label)
+                .map(|p| (p.segments as f64, p.ms.median))
+                .collect();
+            fit_line(&xy).map(|(slope, intercept, r2)| ScalingFit {
+                label,
+                ms_per_segment: slope,
+                intercept_ms: intercept,
+                r_squared: r2,
+            })
+        })
+        .collect();
+    Ok(Some(ScalingResult {
+        preset: preset.to_string(),
+        device,
+        stats,
+        points,
+        fits,
+    }))
+}
+
+/// `text` cut to `max` characters, ending in `...` when cut.
+fn cut(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        return text.to_string();
+    }
+    let kept: String = text.chars().take(max.saturating_sub(3)).collect();
+    format!("{kept}...")
+}
+
+/// A progress bar on stderr: redrawn in place (`\r`) on a terminal, one line per step otherwise.
+pub struct TerminalProgress {
+    tty: bool,
+    drawn: bool,
+    last_line: String,
+}
+
+impl TerminalProgress {
+    pub fn new() -> TerminalProgress {
+        use std::io::IsTerminal;
+        TerminalProgress {
+            tty: std::io::stderr().is_terminal(),
+            drawn: false,
+            last_line: String::new(),
+        }
+    }
+
+    /// The line for `p`: a 24-cell bar, step i/n, the label, the elapsed time.
+    pub fn line(p: &Progress) -> String {
+        const CELLS: usize = 24;
+        let filled = (p.done * CELLS).checked_div(p.total).unwrap_or(0).min(CELLS);
+        let step = (p.done + 1).min(p.total.max(1));
+        format!(
+            "[{}{}] {step}/{} {:<32} {:>6.1} s",
+            "#".repeat(filled),
+            ".".repeat(CELLS - filled),
+            p.total,
+            cut(&p.label, 32),
+            p.elapsed.as_secs_f64()
+        )
+    }
+
+    pub fn update(&mut self, p: &Progress) {
+        if self.tty {
+            eprint!("\r{}", Self::line(p));
+            self.drawn = true;
+            return;
+        }
+        let key = format!("{} {}", p.done, p.label);
+        if key != self.last_line {
+            eprintln!("{}", Self::line(p));
+            self.last_line = key;
+        }
+    }
+}
+
+impl Default for TerminalProgress {
+    fn default() -> Self {
+        TerminalProgress::new()
+    }
+}
+
+impl Drop for TerminalProgress {
+    /// Ends the redrawn line so what follows starts on its own.
+    fn drop(&mut self) {
+        if self.drawn {
+            eprintln!();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn progress_line_has_bar_step_and_cut_label() {
+        let p = Progress {
+            done: 3,
+            total: 12,
+            label: "a label much longer than the thirty-two characters".to_string(),
+            elapsed: Duration::from_millis(2500),
+        };
+        let line = TerminalProgress::line(&p);
+        assert!(
+            line.starts_with("[######..................] 4/12 a label much longer than the ... "),
+            "{line}"
+        );
+        assert!(line.ends_with("2.5 s"), "{line}");
+    }
+}

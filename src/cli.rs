@@ -8,7 +8,8 @@ use crate::scene::generate::{GenKind, GenParams, HairStyle};
 use crate::scene::hair;
 use crate::settings::{Settings, apply_override};
 use anyhow::{Context, Result};
-use clap::{Args, Parser, Subcommand};
+use clap::builder::PossibleValuesParser;
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -94,13 +95,11 @@ pub struct InfoArgs {
 
 #[derive(Args, Debug)]
 pub struct GenArgs {
-    /// What to grow: `head` (ellipsoid scalp), `patch` (a block of hair or grass), or a stress scene:
-    /// `stray-strand`, `mixed-sizes`, `many-clumps` (see the presets of the same names).
-    #[arg(value_parser = ["head", "patch", "stray-strand", "mixed-sizes", "many-clumps"])]
-    pub kind: String,
-    /// straight, wavy or curly.
-    #[arg(long, value_parser = ["straight", "wavy", "curly"])]
-    pub style: Option<String>,
+    /// What to grow: a head, a patch, or a stress scene (see the presets of the same names).
+    pub kind: GenKind,
+    /// Shape of each strand (default: the generator's, wavy).
+    #[arg(long)]
+    pub style: Option<HairStyle>,
     /// Number of strands.
     #[arg(long)]
     pub strands: Option<u32>,
@@ -134,7 +133,7 @@ pub struct CurveArgs {
     #[arg(long)]
     pub fragments: PathBuf,
     /// Method name (see `--help` for every method's parameters).
-    #[arg(long)]
+    #[arg(long, value_parser = method_names())]
     pub method: String,
     /// Method parameter, e.g. `--param slices=64` (repeatable).
     #[arg(long = "param", value_name = "KEY=VALUE")]
@@ -145,6 +144,11 @@ pub struct CurveArgs {
     /// Global hair alpha for methods that assume one (occupancy); default: the mean alpha of the fragments.
     #[arg(long)]
     pub hair_alpha: Option<f32>,
+}
+
+/// The registered methods' names, so clap lists them and rejects any other.
+fn method_names() -> PossibleValuesParser {
+    PossibleValuesParser::new(registry::all().iter().map(|m| m.name()))
 }
 
 /// Every method's parameters, for `hairlab curve --help`.
@@ -272,20 +276,10 @@ fn info(path: &Path) -> Result<()> {
 
 fn gen_hair(a: &GenArgs) -> Result<()> {
     let mut p = GenParams {
-        kind: if a.kind == "patch" {
-            GenKind::Patch
-        } else {
-            GenKind::Head
-        },
+        kind: a.kind,
         ..GenParams::default()
     };
-    if let Some(s) = &a.style {
-        p.style = match s.as_str() {
-            "straight" => HairStyle::Straight,
-            "curly" => HairStyle::Curly,
-            _ => HairStyle::Wavy,
-        };
-    }
+    p.style = a.style.unwrap_or(p.style);
     p.strands = a.strands.unwrap_or(p.strands);
     p.segments = a.segments.unwrap_or(p.segments);
     p.length = a.length.unwrap_or(p.length);
@@ -304,7 +298,8 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
         generator: p.clone(),
     }
     .build()?;
-    let info = format!("hairlab gen {} seed {}", a.kind, p.seed);
+    let kind = a.kind.to_possible_value().map(|v| v.get_name().to_owned());
+    let info = format!("hairlab gen {} seed {}", kind.unwrap_or_default(), p.seed);
     let file = hair::HairFile::from_strands(&scene.strands, &info)?;
     hair::write_hair_file(&a.out, &file)?;
     println!(

@@ -3,8 +3,53 @@
 
 mod common;
 
+use clap::ValueEnum;
 use common::cli::{assert_fails, hairlab, stderr};
+use hairlab::scene::generate::{GenKind, GenParams, HairStyle, generate};
+use hairlab::scene::hair::read_hair_file;
 use std::path::Path;
+
+/// A generator kind's name on the command line (a match, so a new kind must be named here).
+fn kind_name(kind: GenKind) -> &'static str {
+    match kind {
+        GenKind::Head => "head",
+        GenKind::Patch => "patch",
+        GenKind::StrayStrand => "stray-strand",
+        GenKind::MixedSizes => "mixed-sizes",
+        GenKind::ManyClumps => "many-clumps",
+    }
+}
+
+fn style_name(style: HairStyle) -> &'static str {
+    match style {
+        HairStyle::Straight => "straight",
+        HairStyle::Wavy => "wavy",
+        HairStyle::Curly => "curly",
+    }
+}
+
+/// Runs `hairlab gen KIND --style STYLE` on a small scene and returns the file's bytes.
+fn gen_file(dir: &Path, kind: &str, style: &str) -> Vec<u8> {
+    let f = dir.join(format!("{kind}-{style}.hair"));
+    let o = hairlab(&[
+        "gen",
+        kind,
+        "--style",
+        style,
+        "--strands",
+        "40",
+        "--segments",
+        "4",
+        "--clumps",
+        "3",
+        "--seed",
+        "5",
+        "--out",
+        f.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "gen {kind} --style {style}: {}", stderr(&o));
+    std::fs::read(&f).unwrap()
+}
 
 #[test]
 fn gen_then_info_round_trip() {
@@ -31,6 +76,68 @@ fn gen_then_info_round_trip() {
     assert!(out.contains("points:    250"), "{out}");
     assert!(out.contains("segments:  200"), "{out}");
     assert!(out.contains("arrays:    segments, points"), "{out}");
+}
+
+#[test]
+fn gen_writes_every_generator_kind_and_style() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = gen_file(dir.path(), "head", "wavy");
+    for &kind in GenKind::value_variants() {
+        for &style in HairStyle::value_variants() {
+            let (k, s) = (kind_name(kind), style_name(style));
+            let bytes = gen_file(dir.path(), k, s);
+            if (kind, style) != (GenKind::Head, HairStyle::Wavy) {
+                assert_ne!(bytes, head, "gen {k} --style {s} wrote the default head");
+            }
+            let path = dir.path().join(format!("{k}-{s}.hair"));
+            let written = read_hair_file(&path).unwrap().to_strands().unwrap();
+            let expected = generate(&GenParams {
+                kind,
+                style,
+                strands: 40,
+                segments: 4,
+                clumps: 3,
+                seed: 5,
+                ..GenParams::default()
+            })
+            .unwrap()
+            .strands;
+            assert_eq!(
+                written.strand_count(),
+                expected.strand_count(),
+                "gen {k} --style {s}"
+            );
+            assert_eq!(written, expected, "gen {k} --style {s}");
+        }
+    }
+}
+
+#[test]
+fn gen_help_lists_every_kind_and_style_and_unknown_ones_are_refused() {
+    let o = hairlab(&["gen", "--help"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let help = String::from_utf8_lossy(&o.stdout);
+    for &kind in GenKind::value_variants() {
+        assert!(help.contains(&format!("- {}:", kind_name(kind))), "{help}");
+    }
+    for &style in HairStyle::value_variants() {
+        assert!(help.contains(style_name(style)), "{help}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("x.hair");
+    for args in [
+        ["gen", "blob", "--out", f.to_str().unwrap()].as_slice(),
+        &["gen", "head", "--style", "frizzy", "--out", f.to_str().unwrap()],
+    ] {
+        let o = hairlab(args);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        let err = stderr(&o);
+        assert!(
+            err.contains("invalid value") && err.contains("possible values"),
+            "{err}"
+        );
+        assert!(!f.exists());
+    }
 }
 
 #[test]

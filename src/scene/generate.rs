@@ -48,30 +48,35 @@ const ROOT_LIFT: f32 = 0.6;
 /// Steps landing inside this multiple of the head's radii slide along the head instead of entering it.
 const HEAD_SHELL: f32 = 1.03;
 
-/// What to grow hair on.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// What to grow hair on. The names (kebab-case) are the same in presets and on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum GenKind {
     /// An ellipsoid head, included as an opaque mesh, with hair on its upper and back part.
     #[default]
+    #[value(help = "an ellipsoid head with hair on its upper and back part")]
     Head,
     /// A block of hair (or grass): roots on a square at y = 0, growing up +Y; `gravity` does not apply.
+    #[value(help = "a block of hair (or grass) growing up from a square")]
     Patch,
     /// Stress scene (Sintorn & Assarsson Fig. 4/5a): a dense clump of `strands` and `clumps` (at least one)
     /// stray strands a clump width in front of it towards +X, where the stress presets put the light, spread
     /// across the clump's width. Breaks Deep Opacity Maps: a stray strand sets its texels' start depth and
     /// their layers end before the clump.
+    #[value(help = "a dense clump with stray strands in front of it (breaks Deep Opacity Maps)")]
     StrayStrand,
     /// Stress scene (Voicu §4.1/5.5): a short wide patch (a tenth of `length`) beside a tall narrow clump, both
     /// growing up +Y, lit from above: one fixed layer depth cannot fit both. Bounding Opacity Maps fit each.
+    #[value(help = "a short wide patch beside a tall narrow clump (one layer depth cannot fit both)")]
     MixedSizes,
     /// Stress scene (Mertens et al. Fig. 5): `clumps` (Q) thin horizontal sheets of hair stacked along +Y and
     /// lit from above, so every texel sees Q separated clusters; Density Clustering has K = 4.
+    #[value(help = "`clumps` stacked sheets of hair (more clusters than Density Clustering's four)")]
     ManyClumps,
 }
 
 /// Shape of each strand.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum HairStyle {
     Straight,

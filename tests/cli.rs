@@ -160,6 +160,30 @@ fn gen_rejects_invalid_parameters_without_writing() {
 }
 
 #[test]
+fn gen_write_failures_name_the_path_and_leave_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let listing = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    // The output is a non-empty folder: the hair is written to a temporary file that cannot replace it.
+    let taken = dir.path().join("taken.hair");
+    std::fs::create_dir(&taken).unwrap();
+    std::fs::write(taken.join("inside"), b"x").unwrap();
+    let missing = dir.path().join("no-such-folder").join("out.hair");
+    for out in [&taken, &missing] {
+        let o = hairlab(&["gen", "patch", "--strands", "10", "--out", out.to_str().unwrap()]);
+        assert_fails(&o, &[out.to_str().unwrap()]);
+        assert_eq!(listing(dir.path()), ["taken.hair"]);
+        assert_eq!(listing(&taken), ["inside"]);
+    }
+}
+
+#[test]
 fn info_reports_broken_files_by_name() {
     let dir = tempfile::tempdir().unwrap();
     let truncated = dir.path().join("truncated.hair");

@@ -7,6 +7,7 @@ use crate::render::{FrameInput, Renderer};
 use crate::scene::generate::{GenKind, GenParams, HairStyle};
 use crate::scene::hair;
 use crate::settings::{Settings, apply_override};
+use crate::visibility::Fragment;
 use anyhow::{Context, Result};
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -129,7 +130,8 @@ pub struct GenArgs {
 #[derive(Args, Debug)]
 #[command(after_long_help = curve_params_help())]
 pub struct CurveArgs {
-    /// CSV of the texel's fragments: one `depth,alpha` row each (a header row is skipped).
+    /// CSV of the texel's fragments: one `depth,alpha` row each (depth in [0, 1], alpha in [0, 1)); an optional
+    /// `depth,alpha` header, blank lines and `#` comment lines are skipped.
     #[arg(long)]
     pub fragments: PathBuf,
     /// Method name (see `--help` for every method's parameters).
@@ -312,40 +314,66 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads `depth,alpha` rows; errors name the file and line.
-pub fn read_fragments_csv(path: &Path) -> Result<Vec<crate::visibility::Fragment>> {
+/// Reads a fragment CSV ([`parse_fragments_csv`]); errors name the file.
+pub fn read_fragments_csv(path: &Path) -> Result<Vec<Fragment>> {
     let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
     parse_fragments_csv(&text, &path.display().to_string())
 }
 
-/// Parses `depth,alpha` rows (blank lines, `#` comments and a header line are skipped); errors name `source`
-/// and the line.
-pub fn parse_fragments_csv(text: &str, source: &str) -> Result<Vec<crate::visibility::Fragment>> {
+/// One fragment row; with a header its columns are matched by name.
+#[derive(Deserialize)]
+struct FragmentRow {
+    depth: f32,
+    alpha: f32,
+}
+
+/// Parses one texel's fragments: `depth,alpha` rows, depth in [0, 1] and alpha in [0, 1). Blank lines and `#`
+/// comment lines are skipped wherever they appear; the first other line may be the header `depth,alpha`
+/// (either order, any case). Every other line must be a row: errors name `source`, the line and the value,
+/// and a text without rows is an error too.
+pub fn parse_fragments_csv(text: &str, source: &str) -> Result<Vec<Fragment>> {
+    let mut header: Option<csv::StringRecord> = None;
+    let mut first = true;
     let mut out = Vec::new();
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
+    // Line by line, so that line numbers count blank and comment lines (the reader's own count skips them).
+    for (i, text_line) in text.lines().enumerate() {
+        let line = i + 1;
+        let row_text = text_line.trim();
+        if row_text.is_empty() || row_text.starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parsed = match fields.as_slice() {
-            [d, a] => d.parse::<f32>().ok().zip(a.parse::<f32>().ok()),
-            _ => None,
+        let record = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .trim(csv::Trim::All)
+            .from_reader(row_text.as_bytes())
+            .records()
+            .next();
+        let Some(Ok(record)) = record else {
+            anyhow::bail!("{source}:{line}: cannot read `{row_text}` as CSV");
         };
-        match parsed {
-            Some((depth, alpha)) => {
-                if !(depth.is_finite() && (0.0..=1.0).contains(&alpha)) {
-                    anyhow::bail!(
-                        "{}:{}: depth must be finite and alpha in [0, 1] (got {line})",
-                        source,
-                        i + 1
-                    );
-                }
-                out.push(crate::visibility::Fragment::new(depth, alpha));
+        if std::mem::replace(&mut first, false) {
+            let names: csv::StringRecord = record.iter().map(str::to_ascii_lowercase).collect();
+            let mut sorted: Vec<&str> = names.iter().collect();
+            sorted.sort_unstable();
+            if sorted == ["alpha", "depth"] {
+                header = Some(names);
+                continue;
             }
-            None if i == 0 && out.is_empty() => {}
-            None => anyhow::bail!("{}:{}: expected `depth,alpha`, got `{line}`", source, i + 1),
         }
+        let row: FragmentRow = match record.deserialize(header.as_ref()) {
+            Ok(row) if record.len() == 2 => row,
+            _ => anyhow::bail!("{source}:{line}: expected `depth,alpha` (two numbers), got `{row_text}`"),
+        };
+        if !(0.0..=1.0).contains(&row.depth) {
+            anyhow::bail!("{source}:{line}: depth {} is outside [0, 1]", row.depth);
+        }
+        if !(0.0..1.0).contains(&row.alpha) {
+            anyhow::bail!("{source}:{line}: alpha {} is outside [0, 1)", row.alpha);
+        }
+        out.push(Fragment::new(row.depth, row.alpha));
+    }
+    if out.is_empty() {
+        anyhow::bail!("{source}: no fragments (expected `depth,alpha` rows)");
     }
     Ok(out)
 }
@@ -368,23 +396,20 @@ fn curve(a: &CurveArgs) -> Result<()> {
         anyhow::bail!("--samples must be in 2..=1000000 (got {})", a.samples);
     }
     let frags = read_fragments_csv(&a.fragments)?;
-    let alpha = a.hair_alpha.unwrap_or_else(|| {
-        if frags.is_empty() {
-            0.5
-        } else {
-            frags.iter().map(|f| f.alpha).sum::<f32>() / frags.len() as f32
-        }
-    });
+    let alpha = a
+        .hair_alpha
+        .unwrap_or_else(|| frags.iter().map(|f| f.alpha).sum::<f32>() / frags.len() as f32);
     let zs: Vec<f32> = (0..a.samples)
         .map(|i| i as f32 / (a.samples - 1) as f32)
         .collect();
     let reference = crate::visibility::MethodParams::Reference.visibility_curve(&frags, &zs);
-    let mut out = format!("depth,reference,{}\n", method.name());
-    for (i, z) in zs.iter().enumerate() {
-        let v = method.visibility(&values, alpha, &frags, *z);
-        out.push_str(&format!("{z},{},{v}\n", reference[i]));
+    let mut out = csv::Writer::from_writer(Vec::new());
+    out.write_record(["depth", "reference", method.name()])?;
+    for (z, r) in zs.iter().zip(&reference) {
+        out.serialize((z, r, method.visibility(&values, alpha, &frags, *z)))?;
     }
-    print!("{out}");
+    let bytes = out.into_inner().context("fragment curve CSV")?;
+    std::io::Write::write_all(&mut std::io::stdout().lock(), &bytes).context("stdout")?;
     Ok(())
 }
 

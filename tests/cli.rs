@@ -329,3 +329,67 @@ fn curve_prints_the_cpu_model_against_the_reference() {
     ]);
     assert_fails(&o, &["slices"]);
 }
+
+/// Runs `hairlab curve --method reference` on a fragment CSV holding `text`.
+fn curve_on(dir: &Path, text: &str) -> std::process::Output {
+    let csv = dir.join("texel.csv");
+    std::fs::write(&csv, text).unwrap();
+    hairlab(&[
+        "curve",
+        "--fragments",
+        csv.to_str().unwrap(),
+        "--method",
+        "reference",
+        "--samples",
+        "5",
+    ])
+}
+
+#[test]
+fn curve_skips_comments_anywhere_and_takes_an_optional_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = curve_on(dir.path(), "0.2,0.5\n0.6,0.75\n");
+    assert!(plain.status.success(), "{}", stderr(&plain));
+    // Two fragments of alpha 1/2 and 3/4: V is 1, then 1/2 past 0.2, then 1/8 past 0.6.
+    assert_eq!(
+        String::from_utf8_lossy(&plain.stdout),
+        "depth,reference,reference\n0.0,1.0,1.0\n0.25,0.5,0.5\n0.5,0.5,0.5\n0.75,0.125,0.125\n1.0,0.125,0.125\n"
+    );
+    for text in [
+        "depth,alpha\n0.2,0.5\n0.6,0.75\n",
+        "# fragments of one texel\ndepth,alpha\n0.2,0.5\n0.6,0.75\n",
+        "\n  # indented comment\n\nDepth, Alpha\n# between rows\n0.2 , 0.5\n\n# again\n0.6,0.75\n# last\n",
+        "alpha,depth\n0.5,0.2\n0.75,0.6\n",
+        "depth,alpha\r\n\"0.2\",0.5\r\n0.6,0.75\r\n",
+    ] {
+        let o = curve_on(dir.path(), text);
+        assert!(o.status.success(), "{text:?}: {}", stderr(&o));
+        assert_eq!(o.stdout, plain.stdout, "{text:?}");
+    }
+}
+
+#[test]
+fn curve_rejects_bad_fragment_rows_by_file_line_and_value() {
+    let dir = tempfile::tempdir().unwrap();
+    for (text, needles) in [
+        // An unparsable first row is not taken for a header.
+        ("z,a\n0.2,0.5\n", ["texel.csv:1", "`z,a`"]),
+        ("0.2,0.5\n# c\n\n0.4,lots\n", ["texel.csv:4", "`0.4,lots`"]),
+        ("0.2,0.5\ndepth,alpha\n", ["texel.csv:2", "`depth,alpha`"]),
+        ("0.2,0.5,0.1\n", ["texel.csv:1", "`0.2,0.5,0.1`"]),
+        ("0.2\n", ["texel.csv:1", "`0.2`"]),
+        ("# c\n0.2,NaN\n", ["texel.csv:2", "alpha NaN"]),
+        ("0.2,0.5\ninf,0.5\n", ["texel.csv:2", "depth inf"]),
+        ("-0.25,0.5\n", ["texel.csv:1", "depth -0.25"]),
+        ("1.5,0.5\n", ["texel.csv:1", "depth 1.5"]),
+        ("0.5,1\n", ["texel.csv:1", "alpha 1 "]),
+        ("0.5,-0.5\n", ["texel.csv:1", "alpha -0.5"]),
+        ("", ["texel.csv", "no fragments"]),
+        ("depth,alpha\n", ["texel.csv", "no fragments"]),
+        ("# only a comment\n\n", ["texel.csv", "no fragments"]),
+    ] {
+        let o = curve_on(dir.path(), text);
+        assert_fails(&o, &needles);
+        assert!(o.stdout.is_empty(), "{text:?}: printed {:?}", o.stdout);
+    }
+}

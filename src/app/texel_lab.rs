@@ -193,5 +193,14 @@ mod tests {
         lab.text = "0.5,0.25\n0.7;0.75\n".into();
         let e = lab.fragments().unwrap_err();
         assert!(e.contains("typed fragments:2"), "{e}");
+        lab.text = "# depth,alpha\n".into();
+        let e = lab.fragments().unwrap_err();
+        assert!(e.contains("typed fragments: no fragments"), "{e}");
+        // The default text: a comment, then rows.
+        let default = LabSettings {
+            source: LabSource::Typed,
+            ..Default::default()
+        };
+        assert_eq!(default.fragments().unwrap().len(), 6);
     }
 }

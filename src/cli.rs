@@ -7,8 +7,10 @@ use crate::render::{FrameInput, Renderer};
 use crate::scene::generate::{GenKind, GenParams, HairStyle};
 use crate::scene::hair;
 use crate::settings::{Settings, apply_override};
+use crate::visibility::Fragment;
 use anyhow::{Context, Result};
-use clap::{Args, Parser, Subcommand};
+use clap::builder::PossibleValuesParser;
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -94,13 +96,11 @@ pub struct InfoArgs {
 
 #[derive(Args, Debug)]
 pub struct GenArgs {
-    /// What to grow: `head` (ellipsoid scalp), `patch` (a block of hair or grass), or a stress scene:
-    /// `stray-strand`, `mixed-sizes`, `many-clumps` (see the presets of the same names).
-    #[arg(value_parser = ["head", "patch", "stray-strand", "mixed-sizes", "many-clumps"])]
-    pub kind: String,
-    /// straight, wavy or curly.
-    #[arg(long, value_parser = ["straight", "wavy", "curly"])]
-    pub style: Option<String>,
+    /// What to grow: a head, a patch, or a stress scene (see the presets of the same names).
+    pub kind: GenKind,
+    /// Shape of each strand (default: the generator's, wavy).
+    #[arg(long)]
+    pub style: Option<HairStyle>,
     /// Number of strands.
     #[arg(long)]
     pub strands: Option<u32>,
@@ -130,11 +130,12 @@ pub struct GenArgs {
 #[derive(Args, Debug)]
 #[command(after_long_help = curve_params_help())]
 pub struct CurveArgs {
-    /// CSV of the texel's fragments: one `depth,alpha` row each (a header row is skipped).
+    /// CSV of the texel's fragments: one `depth,alpha` row each (depth in [0, 1], alpha in [0, 1)); an optional
+    /// `depth,alpha` header, blank lines and `#` comment lines are skipped.
     #[arg(long)]
     pub fragments: PathBuf,
     /// Method name (see `--help` for every method's parameters).
-    #[arg(long)]
+    #[arg(long, value_parser = method_names())]
     pub method: String,
     /// Method parameter, e.g. `--param slices=64` (repeatable).
     #[arg(long = "param", value_name = "KEY=VALUE")]
@@ -145,6 +146,11 @@ pub struct CurveArgs {
     /// Global hair alpha for methods that assume one (occupancy); default: the mean alpha of the fragments.
     #[arg(long)]
     pub hair_alpha: Option<f32>,
+}
+
+/// The registered methods' names, so clap lists them and rejects any other.
+fn method_names() -> PossibleValuesParser {
+    PossibleValuesParser::new(registry::all().iter().map(|m| m.name()))
 }
 
 /// Every method's parameters, for `hairlab curve --help`.
@@ -277,20 +283,10 @@ fn info(path: &Path) -> Result<()> {
 
 fn gen_hair(a: &GenArgs) -> Result<()> {
     let mut p = GenParams {
-        kind: if a.kind == "patch" {
-            GenKind::Patch
-        } else {
-            GenKind::Head
-        },
+        kind: a.kind,
         ..GenParams::default()
     };
-    if let Some(s) = &a.style {
-        p.style = match s.as_str() {
-            "straight" => HairStyle::Straight,
-            "curly" => HairStyle::Curly,
-            _ => HairStyle::Wavy,
-        };
-    }
+    p.style = a.style.unwrap_or(p.style);
     p.strands = a.strands.unwrap_or(p.strands);
     p.segments = a.segments.unwrap_or(p.segments);
     p.length = a.length.unwrap_or(p.length);
@@ -309,7 +305,8 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
         generator: p.clone(),
     }
     .build()?;
-    let info = format!("hairlab gen {} seed {}", a.kind, p.seed);
+    let kind = a.kind.to_possible_value().map(|v| v.get_name().to_owned());
+    let info = format!("hairlab gen {} seed {}", kind.unwrap_or_default(), p.seed);
     let file = hair::HairFile::from_strands(&scene.strands, &info)?;
     hair::write_hair_file(&a.out, &file)?;
     println!(
@@ -322,40 +319,66 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads `depth,alpha` rows; errors name the file and line.
-pub fn read_fragments_csv(path: &Path) -> Result<Vec<crate::visibility::Fragment>> {
+/// Reads a fragment CSV ([`parse_fragments_csv`]); errors name the file.
+pub fn read_fragments_csv(path: &Path) -> Result<Vec<Fragment>> {
     let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
     parse_fragments_csv(&text, &path.display().to_string())
 }
 
-/// Parses `depth,alpha` rows (blank lines, `#` comments and a header line are skipped); errors name `source`
-/// and the line.
-pub fn parse_fragments_csv(text: &str, source: &str) -> Result<Vec<crate::visibility::Fragment>> {
+/// One fragment row; with a header its columns are matched by name.
+#[derive(Deserialize)]
+struct FragmentRow {
+    depth: f32,
+    alpha: f32,
+}
+
+/// Parses one texel's fragments: `depth,alpha` rows, depth in [0, 1] and alpha in [0, 1). Blank lines and `#`
+/// comment lines are skipped wherever they appear; the first other line may be the header `depth,alpha`
+/// (either order, any case). Every other line must be a row: errors name `source`, the line and the value,
+/// and a text without rows is an error too.
+pub fn parse_fragments_csv(text: &str, source: &str) -> Result<Vec<Fragment>> {
+    let mut header: Option<csv::StringRecord> = None;
+    let mut first = true;
     let mut out = Vec::new();
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
+    // Line by line, so that line numbers count blank and comment lines (the reader's own count skips them).
+    for (i, text_line) in text.lines().enumerate() {
+        let line = i + 1;
+        let row_text = text_line.trim();
+        if row_text.is_empty() || row_text.starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parsed = match fields.as_slice() {
-            [d, a] => d.parse::<f32>().ok().zip(a.parse::<f32>().ok()),
-            _ => None,
+        let record = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .trim(csv::Trim::All)
+            .from_reader(row_text.as_bytes())
+            .records()
+            .next();
+        let Some(Ok(record)) = record else {
+            anyhow::bail!("{source}:{line}: cannot read `{row_text}` as CSV");
         };
-        match parsed {
-            Some((depth, alpha)) => {
-                if !(depth.is_finite() && (0.0..=1.0).contains(&alpha)) {
-                    anyhow::bail!(
-                        "{}:{}: depth must be finite and alpha in [0, 1] (got {line})",
-                        source,
-                        i + 1
-                    );
-                }
-                out.push(crate::visibility::Fragment::new(depth, alpha));
+        if std::mem::replace(&mut first, false) {
+            let names: csv::StringRecord = record.iter().map(str::to_ascii_lowercase).collect();
+            let mut sorted: Vec<&str> = names.iter().collect();
+            sorted.sort_unstable();
+            if sorted == ["alpha", "depth"] {
+                header = Some(names);
+                continue;
             }
-            None if i == 0 && out.is_empty() => {}
-            None => anyhow::bail!("{}:{}: expected `depth,alpha`, got `{line}`", source, i + 1),
         }
+        let row: FragmentRow = match record.deserialize(header.as_ref()) {
+            Ok(row) if record.len() == 2 => row,
+            _ => anyhow::bail!("{source}:{line}: expected `depth,alpha` (two numbers), got `{row_text}`"),
+        };
+        if !(0.0..=1.0).contains(&row.depth) {
+            anyhow::bail!("{source}:{line}: depth {} is outside [0, 1]", row.depth);
+        }
+        if !(0.0..1.0).contains(&row.alpha) {
+            anyhow::bail!("{source}:{line}: alpha {} is outside [0, 1)", row.alpha);
+        }
+        out.push(Fragment::new(row.depth, row.alpha));
+    }
+    if out.is_empty() {
+        anyhow::bail!("{source}: no fragments (expected `depth,alpha` rows)");
     }
     Ok(out)
 }
@@ -375,24 +398,22 @@ fn curve(a: &CurveArgs) -> Result<()> {
         anyhow::bail!("--samples must be in 2..=1000000 (got {})", a.samples);
     }
     let frags = read_fragments_csv(&a.fragments)?;
-    let alpha = a.hair_alpha.unwrap_or_else(|| {
-        if frags.is_empty() {
-            0.5
-        } else {
-            frags.iter().map(|f| f.alpha).sum::<f32>() / frags.len() as f32
-        }
-    });
+    let alpha = a
+        .hair_alpha
+        .unwrap_or_else(|| frags.iter().map(|f| f.alpha).sum::<f32>() / frags.len() as f32);
     let zs: Vec<f32> = (0..a.samples)
         .map(|i| i as f32 / (a.samples - 1) as f32)
         .collect();
     use crate::visibility::TexelModel;
     let reference = crate::visibility::Reference.curve(&frags, &zs);
     let model = method.model(&values, alpha).curve(&frags, &zs);
-    let mut out = format!("depth,reference,{}\n", method.name());
+    let mut out = csv::Writer::from_writer(Vec::new());
+    out.write_record(["depth", "reference", method.name()])?;
     for ((z, r), v) in zs.iter().zip(&reference).zip(&model) {
-        out.push_str(&format!("{z},{r},{v}\n"));
+        out.serialize((z, r, v))?;
     }
-    print!("{out}");
+    let bytes = out.into_inner().context("fragment curve CSV")?;
+    std::io::Write::write_all(&mut std::io::stdout().lock(), &bytes).context("stdout")?;
     Ok(())
 }
 

@@ -1,28 +1,102 @@
-//! Output files are written whole or not at all: to a temporary file beside the target, then renamed.
+//! Output files are written whole or not at all: to a [`tempfile`] temporary file beside the target, then
+//! persisted (renamed) over it. A failed write removes the temporary file.
 
 use anyhow::{Context, Result};
 use std::io::Write;
 use std::path::Path;
 
-/// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename).
+/// Writes `bytes` to `path` atomically; the error names `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_io(path, bytes).with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// [`write_atomic`] with the bare I/O error, for writers with their own error type. The file gets the usual
+/// permissions of a new file (read-write for all, less the umask), not the temporary file's owner-only ones.
+pub fn write_atomic_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if path.file_name().is_none() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a file path",
+        ));
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let name = path
-        .file_name()
-        .with_context(|| format!("{}: not a file path", path.display()))?;
-    let tmp = dir.join(format!(".{}.tmp{}", name.to_string_lossy(), std::process::id()));
-    let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e).with_context(|| format!("{}: cannot write", path.display()));
-    }
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    // tempfile's own error names its random file name, which never exists; name the folder instead.
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
+        std::io::Error::new(
+            e.kind(),
+            format!("cannot create a file in {}: {}", dir.display(), e.kind()),
+        )
+    })?;
+    tmp.as_file_mut().write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    // On failure the error hands the temporary file back, and dropping it deletes it.
+    tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::write_atomic;
+
+    fn names(dir: &std::path::Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn replaces_the_file_whole_and_leaves_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.txt");
+        std::fs::write(&path, "old contents, longer than the new").unwrap();
+        write_atomic(&path, b"new").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        assert_eq!(names(dir.path()), ["out.txt"]);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+            let reference = dir.path().join("plain.txt");
+            std::fs::write(&reference, b"").unwrap();
+            let plain = std::fs::metadata(&reference).unwrap().permissions().mode();
+            assert_eq!(
+                mode & 0o777,
+                plain & 0o777,
+                "permissions of a plainly created file"
+            );
+        }
+    }
+
+    #[test]
+    fn a_failed_write_names_the_path_and_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        // The target is a non-empty folder: the temporary file is written, then cannot replace it.
+        let target = dir.path().join("taken");
+        std::fs::create_dir(&target).unwrap();
+        std::fs::write(target.join("inside"), b"x").unwrap();
+        let e = format!("{:#}", write_atomic(&target, b"data").unwrap_err());
+        assert!(
+            e.starts_with(&format!("{}: cannot write", target.display())),
+            "{e}"
+        );
+        assert_eq!(names(dir.path()), ["taken"]);
+        assert_eq!(names(&target), ["inside"]);
+        // A missing folder.
+        let missing = dir.path().join("no-such-folder").join("out.txt");
+        let e = format!("{:#}", write_atomic(&missing, b"data").unwrap_err());
+        assert!(
+            e.starts_with(&format!("{}: cannot write", missing.display())),
+            "{e}"
+        );
+        assert_eq!(names(dir.path()), ["taken"]);
+    }
 }

@@ -9,6 +9,7 @@ pub mod io;
 pub mod measure;
 pub mod methods;
 pub mod render;
+pub mod rng;
 pub mod scene;
 pub mod settings;
 pub mod shaders;

@@ -3,8 +3,53 @@
 
 mod common;
 
+use clap::ValueEnum;
 use common::cli::{assert_fails, hairlab, stderr};
+use hairlab::scene::generate::{GenKind, GenParams, HairStyle, generate};
+use hairlab::scene::hair::read_hair_file;
 use std::path::Path;
+
+/// A generator kind's name on the command line (a match, so a new kind must be named here).
+fn kind_name(kind: GenKind) -> &'static str {
+    match kind {
+        GenKind::Head => "head",
+        GenKind::Patch => "patch",
+        GenKind::StrayStrand => "stray-strand",
+        GenKind::MixedSizes => "mixed-sizes",
+        GenKind::ManyClumps => "many-clumps",
+    }
+}
+
+fn style_name(style: HairStyle) -> &'static str {
+    match style {
+        HairStyle::Straight => "straight",
+        HairStyle::Wavy => "wavy",
+        HairStyle::Curly => "curly",
+    }
+}
+
+/// Runs `hairlab gen KIND --style STYLE` on a small scene and returns the file's bytes.
+fn gen_file(dir: &Path, kind: &str, style: &str) -> Vec<u8> {
+    let f = dir.join(format!("{kind}-{style}.hair"));
+    let o = hairlab(&[
+        "gen",
+        kind,
+        "--style",
+        style,
+        "--strands",
+        "40",
+        "--segments",
+        "4",
+        "--clumps",
+        "3",
+        "--seed",
+        "5",
+        "--out",
+        f.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "gen {kind} --style {style}: {}", stderr(&o));
+    std::fs::read(&f).unwrap()
+}
 
 #[test]
 fn gen_then_info_round_trip() {
@@ -34,6 +79,68 @@ fn gen_then_info_round_trip() {
 }
 
 #[test]
+fn gen_writes_every_generator_kind_and_style() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = gen_file(dir.path(), "head", "wavy");
+    for &kind in GenKind::value_variants() {
+        for &style in HairStyle::value_variants() {
+            let (k, s) = (kind_name(kind), style_name(style));
+            let bytes = gen_file(dir.path(), k, s);
+            if (kind, style) != (GenKind::Head, HairStyle::Wavy) {
+                assert_ne!(bytes, head, "gen {k} --style {s} wrote the default head");
+            }
+            let path = dir.path().join(format!("{k}-{s}.hair"));
+            let written = read_hair_file(&path).unwrap().to_strands().unwrap();
+            let expected = generate(&GenParams {
+                kind,
+                style,
+                strands: 40,
+                segments: 4,
+                clumps: 3,
+                seed: 5,
+                ..GenParams::default()
+            })
+            .unwrap()
+            .strands;
+            assert_eq!(
+                written.strand_count(),
+                expected.strand_count(),
+                "gen {k} --style {s}"
+            );
+            assert_eq!(written, expected, "gen {k} --style {s}");
+        }
+    }
+}
+
+#[test]
+fn gen_help_lists_every_kind_and_style_and_unknown_ones_are_refused() {
+    let o = hairlab(&["gen", "--help"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let help = String::from_utf8_lossy(&o.stdout);
+    for &kind in GenKind::value_variants() {
+        assert!(help.contains(&format!("- {}:", kind_name(kind))), "{help}");
+    }
+    for &style in HairStyle::value_variants() {
+        assert!(help.contains(style_name(style)), "{help}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("x.hair");
+    for args in [
+        ["gen", "blob", "--out", f.to_str().unwrap()].as_slice(),
+        &["gen", "head", "--style", "frizzy", "--out", f.to_str().unwrap()],
+    ] {
+        let o = hairlab(args);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        let err = stderr(&o);
+        assert!(
+            err.contains("invalid value") && err.contains("possible values"),
+            "{err}"
+        );
+        assert!(!f.exists());
+    }
+}
+
+#[test]
 fn gen_rejects_invalid_parameters_without_writing() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("bad.hair");
@@ -50,6 +157,30 @@ fn gen_rejects_invalid_parameters_without_writing() {
     ]);
     assert_fails(&o, &["clump_strength"]);
     assert!(!f.exists());
+}
+
+#[test]
+fn gen_write_failures_name_the_path_and_leave_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let listing = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    // The output is a non-empty folder: the hair is written to a temporary file that cannot replace it.
+    let taken = dir.path().join("taken.hair");
+    std::fs::create_dir(&taken).unwrap();
+    std::fs::write(taken.join("inside"), b"x").unwrap();
+    let missing = dir.path().join("no-such-folder").join("out.hair");
+    for out in [&taken, &missing] {
+        let o = hairlab(&["gen", "patch", "--strands", "10", "--out", out.to_str().unwrap()]);
+        assert_fails(&o, &[out.to_str().unwrap()]);
+        assert_eq!(listing(dir.path()), ["taken.hair"]);
+        assert_eq!(listing(&taken), ["inside"]);
+    }
 }
 
 #[test]
@@ -197,4 +328,68 @@ fn curve_prints_the_cpu_model_against_the_reference() {
         "slices=999",
     ]);
     assert_fails(&o, &["slices"]);
+}
+
+/// Runs `hairlab curve --method reference` on a fragment CSV holding `text`.
+fn curve_on(dir: &Path, text: &str) -> std::process::Output {
+    let csv = dir.join("texel.csv");
+    std::fs::write(&csv, text).unwrap();
+    hairlab(&[
+        "curve",
+        "--fragments",
+        csv.to_str().unwrap(),
+        "--method",
+        "reference",
+        "--samples",
+        "5",
+    ])
+}
+
+#[test]
+fn curve_skips_comments_anywhere_and_takes_an_optional_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = curve_on(dir.path(), "0.2,0.5\n0.6,0.75\n");
+    assert!(plain.status.success(), "{}", stderr(&plain));
+    // Two fragments of alpha 1/2 and 3/4: V is 1, then 1/2 past 0.2, then 1/8 past 0.6.
+    assert_eq!(
+        String::from_utf8_lossy(&plain.stdout),
+        "depth,reference,reference\n0.0,1.0,1.0\n0.25,0.5,0.5\n0.5,0.5,0.5\n0.75,0.125,0.125\n1.0,0.125,0.125\n"
+    );
+    for text in [
+        "depth,alpha\n0.2,0.5\n0.6,0.75\n",
+        "# fragments of one texel\ndepth,alpha\n0.2,0.5\n0.6,0.75\n",
+        "\n  # indented comment\n\nDepth, Alpha\n# between rows\n0.2 , 0.5\n\n# again\n0.6,0.75\n# last\n",
+        "alpha,depth\n0.5,0.2\n0.75,0.6\n",
+        "depth,alpha\r\n\"0.2\",0.5\r\n0.6,0.75\r\n",
+    ] {
+        let o = curve_on(dir.path(), text);
+        assert!(o.status.success(), "{text:?}: {}", stderr(&o));
+        assert_eq!(o.stdout, plain.stdout, "{text:?}");
+    }
+}
+
+#[test]
+fn curve_rejects_bad_fragment_rows_by_file_line_and_value() {
+    let dir = tempfile::tempdir().unwrap();
+    for (text, needles) in [
+        // An unparsable first row is not taken for a header.
+        ("z,a\n0.2,0.5\n", ["texel.csv:1", "`z,a`"]),
+        ("0.2,0.5\n# c\n\n0.4,lots\n", ["texel.csv:4", "`0.4,lots`"]),
+        ("0.2,0.5\ndepth,alpha\n", ["texel.csv:2", "`depth,alpha`"]),
+        ("0.2,0.5,0.1\n", ["texel.csv:1", "`0.2,0.5,0.1`"]),
+        ("0.2\n", ["texel.csv:1", "`0.2`"]),
+        ("# c\n0.2,NaN\n", ["texel.csv:2", "alpha NaN"]),
+        ("0.2,0.5\ninf,0.5\n", ["texel.csv:2", "depth inf"]),
+        ("-0.25,0.5\n", ["texel.csv:1", "depth -0.25"]),
+        ("1.5,0.5\n", ["texel.csv:1", "depth 1.5"]),
+        ("0.5,1\n", ["texel.csv:1", "alpha 1 "]),
+        ("0.5,-0.5\n", ["texel.csv:1", "alpha -0.5"]),
+        ("", ["texel.csv", "no fragments"]),
+        ("depth,alpha\n", ["texel.csv", "no fragments"]),
+        ("# only a comment\n\n", ["texel.csv", "no fragments"]),
+    ] {
+        let o = curve_on(dir.path(), text);
+        assert_fails(&o, &needles);
+        assert!(o.stdout.is_empty(), "{text:?}: printed {:?}", o.stdout);
+    }
 }

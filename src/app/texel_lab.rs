@@ -4,6 +4,7 @@
 //! variance", `Q = K` against `Q > K`), or fragments typed in as `depth,alpha` lines, the format of
 //! `hairlab curve --fragments`. [`LabSettings::ui`] draws its controls in the inspector window.
 
+use crate::rng::SplitMix64;
 use crate::visibility::Fragment;
 
 /// Largest number of Gaussians.
@@ -12,6 +13,8 @@ pub const MAX_GAUSSIANS: u32 = 32;
 pub const MAX_PER_GAUSSIAN: u32 = 500;
 /// Largest spread (the largest standard deviation a Gaussian may draw), in normalised light depth.
 pub const MAX_SPREAD: f32 = 0.25;
+/// XORed into the lab seed, so the lab does not share the first stream of a generator seeded alike.
+const SEED_SALT: u64 = 0x5EED_1AB0_7E8E_1000;
 
 /// Where the lab's fragments come from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -168,11 +171,11 @@ pub fn gaussian_mixture(
     } else {
         0.0
     };
-    let mut rng = Rng::new(seed);
+    let mut rng = SplitMix64::new(seed ^ SEED_SALT);
     let mut out = Vec::with_capacity((q * n) as usize);
     for _ in 0..q {
-        let mean = 0.1 + 0.8 * rng.f32();
-        let sigma = spread * (0.25 + 0.75 * rng.f32());
+        let mean = 0.1 + 0.8 * rng.unit();
+        let sigma = spread * (0.25 + 0.75 * rng.unit());
         for _ in 0..n {
             out.push(Fragment::new(
                 (mean + sigma * rng.normal()).clamp(0.0, 1.0),
@@ -181,32 +184,6 @@ pub fn gaussian_mixture(
         }
     }
     out
-}
-
-/// SplitMix64 (Steele, Lea & Flood 2014), the generator of `scene::generate`: tiny and deterministic.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Rng {
-        Rng(seed ^ 0x5EED_1AB0_7E8E_1000)
-    }
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u32 << 24) as f32)
-    }
-    /// Standard normal (Box-Muller).
-    fn normal(&mut self) -> f32 {
-        let u = 1.0 - self.f32();
-        let v = self.f32();
-        (-2.0 * u.ln()).sqrt() * (std::f32::consts::TAU * v).cos()
-    }
 }
 
 #[cfg(test)]
@@ -268,5 +245,14 @@ mod tests {
         lab.text = "0.5,0.25\n0.7;0.75\n".into();
         let e = lab.fragments().unwrap_err();
         assert!(e.contains("typed fragments:2"), "{e}");
+        lab.text = "# depth,alpha\n".into();
+        let e = lab.fragments().unwrap_err();
+        assert!(e.contains("typed fragments: no fragments"), "{e}");
+        // The default text: a comment, then rows.
+        let default = LabSettings {
+            source: LabSource::Typed,
+            ..Default::default()
+        };
+        assert_eq!(default.fragments().unwrap().len(), 6);
     }
 }

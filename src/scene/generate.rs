@@ -13,7 +13,7 @@
 //! With `strand_colors` each strand gets a slight random variation around a brown; without, the strands have
 //! no colour array and take the renderer's hair colour. No per-point alpha or thickness arrays are written.
 //!
-//! Randomness comes from SplitMix64 streams derived from `seed` (one for roots, one per strand), so the same
+//! Randomness comes from [`crate::rng::SplitMix64`] streams derived from `seed` (one for roots, one per strand), so the same
 //! parameters give bit-identical output.
 
 use glam::{Quat, Vec3};
@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::{Aabb, Mesh, Scene, Strands};
+use crate::rng::SplitMix64 as Rng;
 
 /// Most points [`generate`] produces (about 1.2 GB of positions and colours).
 pub const MAX_POINTS: u64 = 50_000_000;
@@ -47,30 +48,35 @@ const ROOT_LIFT: f32 = 0.6;
 /// Steps landing inside this multiple of the head's radii slide along the head instead of entering it.
 const HEAD_SHELL: f32 = 1.03;
 
-/// What to grow hair on.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// What to grow hair on. The names (kebab-case) are the same in presets and on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum GenKind {
     /// An ellipsoid head, included as an opaque mesh, with hair on its upper and back part.
     #[default]
+    #[value(help = "an ellipsoid head with hair on its upper and back part")]
     Head,
     /// A block of hair (or grass): roots on a square at y = 0, growing up +Y; `gravity` does not apply.
+    #[value(help = "a block of hair (or grass) growing up from a square")]
     Patch,
     /// Stress scene (Sintorn & Assarsson Fig. 4/5a): a dense clump of `strands` and `clumps` (at least one)
     /// stray strands a clump width in front of it towards +X, where the stress presets put the light, spread
     /// across the clump's width. Breaks Deep Opacity Maps: a stray strand sets its texels' start depth and
     /// their layers end before the clump.
+    #[value(help = "a dense clump with stray strands in front of it (breaks Deep Opacity Maps)")]
     StrayStrand,
     /// Stress scene (Voicu §4.1/5.5): a short wide patch (a tenth of `length`) beside a tall narrow clump, both
     /// growing up +Y, lit from above: one fixed layer depth cannot fit both. Bounding Opacity Maps fit each.
+    #[value(help = "a short wide patch beside a tall narrow clump (one layer depth cannot fit both)")]
     MixedSizes,
     /// Stress scene (Mertens et al. Fig. 5): `clumps` (Q) thin horizontal sheets of hair stacked along +Y and
     /// lit from above, so every texel sees Q separated clusters; Density Clustering has K = 4.
+    #[value(help = "`clumps` stacked sheets of hair (more clusters than Density Clustering's four)")]
     ManyClumps,
 }
 
 /// Shape of each strand.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum HairStyle {
     Straight,
@@ -166,7 +172,7 @@ pub enum GenError {
 /// Generates the scene `p` describes: hair plus the head mesh (head kind) and the floor (if `p.floor`).
 pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
     let n = validate(p)?;
-    let mut rng = Rng::new(p.seed, 0);
+    let mut rng = Rng::stream(p.seed, 0);
     let (strands, mut meshes) = match p.kind {
         GenKind::Head => {
             let roots: Vec<Root> = (0..n).map(|_| head_root(&mut rng)).collect();
@@ -204,10 +210,10 @@ pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError>
     if total <= 0.0 {
         return Err(GenError::NoScalpArea);
     }
-    let mut rng = Rng::new(p.seed, 0);
+    let mut rng = Rng::stream(p.seed, 0);
     let roots: Vec<Root> = (0..n)
         .map(|_| {
-            let target = f64::from(rng.f32()) * total;
+            let target = f64::from(rng.unit()) * total;
             let k = tris
                 .partition_point(|t| t.cum_area <= target)
                 .min(tris.len().saturating_sub(1));
@@ -288,37 +294,6 @@ fn validate(p: &GenParams) -> Result<usize, GenError> {
     Ok(n as usize)
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): tiny, fast, and good enough for jitter.
-struct Rng(u64);
-
-impl Rng {
-    /// Stream `stream` of `seed`: the stream number is scrambled before it is mixed into the seed, so the
-    /// streams of one seed start far apart.
-    fn new(seed: u64, stream: u64) -> Rng {
-        let mut s = Rng(stream);
-        let mixed = s.next_u64();
-        Rng(seed ^ mixed)
-    }
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u32 << 24) as f32)
-    }
-    /// Uniform in [a, b).
-    fn range(&mut self, a: f32, b: f32) -> f32 {
-        a + (b - a) * self.f32()
-    }
-    fn angle(&mut self) -> f32 {
-        self.range(0.0, std::f32::consts::TAU)
-    }
-}
-
 #[derive(Clone, Copy, Debug)]
 struct Root {
     pos: Vec3,
@@ -343,7 +318,7 @@ fn head_root(rng: &mut Rng) -> Root {
         let w = Vec3::new(s * phi.cos(), y, s * phi.sin());
         // The map w ↦ r·w scales area by r.x·r.y·r.z·|w / r|; accept in proportion to it.
         let accept = (w / r).length() * min_r;
-        if on_scalp(w) && rng.f32() < accept {
+        if on_scalp(w) && rng.unit() < accept {
             let normal = (w / r).normalize_or(Vec3::Y);
             // Combed back and down: lean the start direction into the scalp's tangent plane along COMB.
             let comb = COMB.reject_from_normalized(normal).normalize_or(Vec3::NEG_Z);
@@ -364,7 +339,7 @@ fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
     }
     let mut cells: Vec<usize> = (0..m * m).collect();
     for i in 0..n.min(cells.len()) {
-        let j = i + (rng.next_u64() % (cells.len() - i) as u64) as usize;
+        let j = rng.int(i, cells.len() - 1);
         cells.swap(i, j);
     }
     cells
@@ -372,8 +347,8 @@ fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
         .take(n)
         .map(|&c| {
             let (cx, cz) = ((c % m) as f32, (c / m) as f32);
-            let x = ((cx + rng.f32()) / m as f32 - 0.5) * side;
-            let z = ((cz + rng.f32()) / m as f32 - 0.5) * side;
+            let x = ((cx + rng.unit()) / m as f32 - 0.5) * side;
+            let z = ((cz + rng.unit()) / m as f32 - 0.5) * side;
             let tilt = Vec3::new(rng.range(-0.15, 0.15), 0.0, rng.range(-0.15, 0.15));
             Root {
                 pos: Vec3::new(x, 0.0, z),
@@ -462,7 +437,7 @@ fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> 
     let mut points = Vec::with_capacity(roots.len() * per);
     let mut color = Vec::with_capacity(if p.strand_colors { roots.len() * per } else { 0 });
     for (i, root) in roots.iter().enumerate() {
-        let mut rng = Rng::new(p.seed, i as u64 + 1);
+        let mut rng = Rng::stream(p.seed, i as u64 + 1);
         grow_strand(p, gravity, root, head, &mut rng, &mut points);
         if p.strand_colors {
             let tint = Vec3::new(rng.range(0.9, 1.1), rng.range(0.9, 1.1), rng.range(0.9, 1.1))
@@ -670,7 +645,7 @@ struct ScalpTri {
 impl ScalpTri {
     /// A uniform point on the triangle, with the interpolated vertex normal (or the face normal).
     fn sample(&self, mesh: &Mesh, rng: &mut Rng) -> Root {
-        let (r1, r2) = (rng.f32().sqrt(), rng.f32());
+        let (r1, r2) = (rng.unit().sqrt(), rng.unit());
         let (wb, wc) = (r1 * (1.0 - r2), r1 * r2);
         let corner = |k: usize, v: &[Vec3]| {
             self.corners

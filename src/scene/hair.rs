@@ -11,9 +11,7 @@
 //! after the last array are ignored with a `log::warn!`: some exporters pad files, and the arrays themselves
 //! are complete.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec3;
 use thiserror::Error;
@@ -513,40 +511,15 @@ fn push_vec3s(out: &mut Vec<u8>, v: &[Vec3]) {
     }
 }
 
-/// Validates `h` and writes it to `path` atomically: the bytes go to a temporary file in the same directory,
-/// which is then renamed over `path`, so a failure never leaves a half-written file behind.
+/// Validates `h` and writes it to `path` atomically ([`crate::io::write_atomic_io`]), so a failure never leaves
+/// a half-written file or a temporary file behind.
 pub fn write_hair_file(path: &Path, h: &HairFile) -> Result<(), HairError> {
     h.validate().map_err(|e| HairError::InFile {
         path: path.to_owned(),
         cause: Box::new(e),
     })?;
-    let io_err = |cause| HairError::Io {
+    crate::io::write_atomic_io(path, &write_hair(h)).map_err(|cause| HairError::Io {
         path: path.to_owned(),
         cause,
-    };
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "hair".to_owned());
-    let tmp_name = format!(
-        ".{name}.{}.{}.tmp",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    );
-    let tmp = path.with_file_name(tmp_name);
-    let result = (|| {
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)?;
-        f.write_all(&write_hair(h))?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        // Best effort: the temporary file may not exist if creating it was what failed.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(io_err)
+    })
 }

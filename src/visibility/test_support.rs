@@ -1,38 +1,9 @@
-//! Test helpers shared by the model tests: a tiny deterministic RNG, random texels, curve property checks.
+//! Test helpers shared by the model tests: the seeded RNG, random texels, curve property checks.
 
 use super::{Fragment, Model, depth_range};
 
-/// SplitMix64 (Steele, Lea & Flood 2014): tiny, deterministic, good enough for test inputs.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)` with 24 bits.
-    pub fn unit(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Uniform integer in `[lo, hi]`.
-    pub fn int(&mut self, lo: usize, hi: usize) -> usize {
-        lo + (self.next_u64() % (hi - lo + 1) as u64) as usize
-    }
-}
+/// The crate's seeded generator, under the name the model tests use.
+pub use crate::rng::SplitMix64 as Rng;
 
 /// A random texel: 1..=max_len fragments, depths in `[0, 1)` bunched in a few clumps (like hair), alphas in
 /// `[0.05, 0.6)`.

@@ -45,6 +45,8 @@ impl HairPass {
                 Some(method.lookup_wgsl()),
                 Some(technique.info().store_wgsl),
             )
+            // As `passes::shader_module`: only a shader failing naga validation panics, which
+            // `tests/shaders.rs` rules out for every method × technique.
             .unwrap_or_else(|e| panic!("{e}"));
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&key.label("shader")),

@@ -1,10 +1,11 @@
 // Eye pass for hair: strands as lines, Kajiya-Kay shading, shadowed by the selected method's visibility and by
-// opaque meshes, composited with weighted blended order-independent transparency (McGuire & Bavoil 2013).
+// opaque meshes, stored by the selected eye transparency technique (`store_hair`, its targets `HairOutput`).
 #include "common/frame.wgsl"
 #include "common/scene_bindings.wgsl"
 #include "common/kajiya_kay.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
+#include_technique
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -33,25 +34,14 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return out;
 }
 
-struct OitTargets {
-    @location(0) accum: vec4<f32>,
-    @location(1) revealage: vec4<f32>,
-}
-
 @fragment
-fn fs_main(in: VertexOut) -> OitTargets {
+fn fs_main(in: VertexOut) -> HairOutput {
     let t = normalize(in.tangent);
     let to_eye = normalize(frame.eye_position - in.world);
     let l = light_dir(in.world);
     let v = hair_visibility(in.world) * mesh_visibility(in.world, 1);
     let shaded = kajiya_kay(t, l, to_eye, in.color.rgb) * light_radiance(in.world) * v + in.color.rgb * 0.08;
-    let a = in.color.a;
-    // Depth weight in the spirit of McGuire & Bavoil: nearer fragments dominate. The distance is measured in
-    // units of the camera-to-target distance (camera_distance), so the weight does not depend on the scene's scale.
-    let d = length(frame.eye_position - in.world) / frame.camera_distance;
-    let w = a * clamp(pow(max(2.0 - d, 0.0), 8.0), 1e-2, 3e3);
-    var out: OitTargets;
-    out.accum = vec4<f32>(shaded * a, a) * w;
-    out.revealage = vec4<f32>(a, 0.0, 0.0, 0.0);
-    return out;
+    // Distance from the eye in units of the camera-to-target distance (camera_distance): scale-free.
+    let depth = length(frame.eye_position - in.world) / frame.camera_distance;
+    return store_hair(shaded, in.color.a, depth);
 }

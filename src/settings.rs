@@ -171,6 +171,8 @@ impl Settings {
                 r.map_resolution
             );
         }
+        crate::render::transparency::registry::find(&r.transparency)
+            .map_err(|e| anyhow::anyhow!("render.transparency: {e}"))?;
         if !(r.hair_alpha > 0.0 && r.hair_alpha <= 1.0) {
             bail!("render.hair_alpha must be in (0, 1] (got {})", r.hair_alpha);
         }
@@ -352,6 +354,21 @@ mod tests {
         assert!(
             format!("{e:#}").contains("x.toml") && format!("{e:#}").contains("widht"),
             "{e:#}"
+        );
+    }
+
+    #[test]
+    fn the_transparency_technique_is_validated_against_the_registry() {
+        assert_eq!(Settings::default().render.transparency, "wboit");
+        let s = Settings::from_toml_with("", "test", &["render.transparency=wboit".into()]).unwrap();
+        assert_eq!(s.render.transparency, "wboit");
+        let s = Settings::from_toml("[render]\ntransparency = \"wboit\"\n", "x.toml").unwrap();
+        assert_eq!(s, Settings::default());
+        let e = Settings::from_toml_with("", "x.toml", &["render.transparency=sorted".into()]).unwrap_err();
+        assert_eq!(
+            format!("{e:#}"),
+            "x.toml: invalid preset: render.transparency: unknown eye transparency technique 'sorted' \
+             (known: wboit)"
         );
     }
 

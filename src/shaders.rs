@@ -1,5 +1,6 @@
 //! WGSL sources embedded at compile time and a tiny include step: `#include "common/x.wgsl"` pastes a file of
-//! `shaders/`, `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`).
+//! `shaders/`, `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`),
+//! `#include_technique` the selected eye transparency technique's store function (`shaders/transparency/<name>.wgsl`).
 //! Included files may include others; each file is pasted once per composed shader, where it is first named.
 
 /// Embeds files of `shaders/` by their path relative to that folder.
@@ -23,6 +24,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/bom_uniforms.wgsl",
     "common/dc_uniforms.wgsl",
     "common/occupancy_uniforms.wgsl",
+    "common/fullscreen.wgsl",
     "methods/none.wgsl",
     "methods/opaque_shadow_map.wgsl",
     "methods/reference.wgsl",
@@ -31,6 +33,8 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "methods/dom.wgsl",
     "methods/bom.wgsl",
     "methods/occupancy.wgsl",
+    "transparency/wboit.wgsl",
+    "transparency/wboit_resolve.wgsl",
     "light_depth.wgsl",
     "shadow_map.wgsl",
     "abuffer.wgsl",
@@ -42,24 +46,37 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "occupancy.wgsl",
     "mesh.wgsl",
     "hair.wgsl",
-    "composite.wgsl",
     "evaluate.wgsl",
 ];
 
 /// Pass shaders that take a method lookup through `#include_method`.
 pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl", "evaluate.wgsl"];
 
+/// Pass shaders that take an eye transparency technique's store function through `#include_technique`.
+pub const TECHNIQUE_PASSES: &[&str] = &["hair.wgsl"];
+
 /// Composes the pass shader `path`, resolving includes; `method` is the method lookup file for
 /// `#include_method` (e.g. `methods/none.wgsl`).
 pub fn compose(path: &str, method: Option<&str>) -> Result<String, String> {
-    compose_from(SOURCES, path, method)
+    compose_from(SOURCES, path, method, None)
 }
 
-/// [`compose`] over the files of `sources`.
-fn compose_from(sources: &[(&str, &str)], path: &str, method: Option<&str>) -> Result<String, String> {
+/// [`compose`] with `technique`, the store function file for `#include_technique` (e.g. `transparency/wboit.wgsl`).
+pub fn compose_with(path: &str, method: Option<&str>, technique: Option<&str>) -> Result<String, String> {
+    compose_from(SOURCES, path, method, technique)
+}
+
+/// [`compose_with`] over the files of `sources`.
+fn compose_from(
+    sources: &[(&str, &str)],
+    path: &str,
+    method: Option<&str>,
+    technique: Option<&str>,
+) -> Result<String, String> {
     let mut composer = Composer {
         sources,
         method,
+        technique,
         chain: Vec::new(),
         pasted: Vec::new(),
         out: String::new(),
@@ -71,6 +88,7 @@ fn compose_from(sources: &[(&str, &str)], path: &str, method: Option<&str>) -> R
 struct Composer<'a> {
     sources: &'a [(&'a str, &'a str)],
     method: Option<&'a str>,
+    technique: Option<&'a str>,
     /// The files being pasted, outermost first (for cycles and error messages).
     chain: Vec<&'a str>,
     /// Every file pasted so far.
@@ -109,6 +127,11 @@ impl<'a> Composer<'a> {
                     .method
                     .ok_or_else(|| format!("{}: needs a shadow method lookup", self.chain.join(" -> ")))?;
                 self.paste(m)?;
+            } else if trimmed == "#include_technique" {
+                let t = self.technique.ok_or_else(|| {
+                    format!("{}: needs an eye transparency technique", self.chain.join(" -> "))
+                })?;
+                self.paste(t)?;
             } else if let Some(rest) = trimmed.strip_prefix("#include ") {
                 let inc = rest
                     .trim()
@@ -150,36 +173,58 @@ mod tests {
         ("missing.wgsl", "#include \"a.wgsl\"\n#include \"d.wgsl\""),
         ("nested_missing.wgsl", "#include \"missing.wgsl\""),
         ("unquoted.wgsl", "#include c.wgsl"),
+        (
+            "eye_pass.wgsl",
+            "#include_method\n#include_technique\n#include \"c.wgsl\"\nfn main() {}",
+        ),
+        ("t.wgsl", "#include \"c.wgsl\"\nfn store_hair() {}"),
     ];
 
     #[test]
     fn includes_recurse_and_each_file_is_pasted_once_where_first_named() {
-        let out = compose_from(FILES, "pass.wgsl", None).unwrap();
+        let out = compose_from(FILES, "pass.wgsl", None, None).unwrap();
         assert_eq!(out, "fn c() {}\nfn a() {}\nfn b() {}\nfn pass() {}\n");
     }
 
     #[test]
     fn the_method_lookup_is_pasted_once_too() {
-        let out = compose_from(FILES, "method_pass.wgsl", Some("m.wgsl")).unwrap();
+        let out = compose_from(FILES, "method_pass.wgsl", Some("m.wgsl"), None).unwrap();
         assert_eq!(out, "fn c() {}\nfn visibility_at() {}\nfn main() {}\n");
         assert_eq!(
-            compose_from(FILES, "method_pass.wgsl", None).unwrap_err(),
+            compose_from(FILES, "method_pass.wgsl", None, None).unwrap_err(),
             "method_pass.wgsl: needs a shadow method lookup"
         );
         assert_eq!(
-            compose_from(FILES, "method_pass.wgsl", Some("nope.wgsl")).unwrap_err(),
+            compose_from(FILES, "method_pass.wgsl", Some("nope.wgsl"), None).unwrap_err(),
             "method_pass.wgsl -> nope.wgsl: no such shader file"
+        );
+    }
+
+    #[test]
+    fn the_technique_store_function_is_pasted_after_the_method_and_once() {
+        let out = compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), Some("t.wgsl")).unwrap();
+        assert_eq!(
+            out,
+            "fn c() {}\nfn visibility_at() {}\nfn store_hair() {}\nfn main() {}\n"
+        );
+        assert_eq!(
+            compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), None).unwrap_err(),
+            "eye_pass.wgsl: needs an eye transparency technique"
+        );
+        assert_eq!(
+            compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), Some("nope.wgsl")).unwrap_err(),
+            "eye_pass.wgsl -> nope.wgsl: no such shader file"
         );
     }
 
     #[test]
     fn an_include_cycle_is_an_error_naming_the_chain() {
         assert_eq!(
-            compose_from(FILES, "cycle1.wgsl", None).unwrap_err(),
+            compose_from(FILES, "cycle1.wgsl", None, None).unwrap_err(),
             "include cycle: cycle1.wgsl -> cycle2.wgsl -> cycle3.wgsl -> cycle1.wgsl"
         );
         assert_eq!(
-            compose_from(FILES, "self.wgsl", None).unwrap_err(),
+            compose_from(FILES, "self.wgsl", None, None).unwrap_err(),
             "include cycle: self.wgsl -> self.wgsl"
         );
     }
@@ -187,11 +232,11 @@ mod tests {
     #[test]
     fn a_missing_file_is_an_error_naming_the_chain() {
         assert_eq!(
-            compose_from(FILES, "nested_missing.wgsl", None).unwrap_err(),
+            compose_from(FILES, "nested_missing.wgsl", None, None).unwrap_err(),
             "nested_missing.wgsl -> missing.wgsl -> d.wgsl: no such shader file"
         );
         assert_eq!(
-            compose_from(FILES, "none.wgsl", None).unwrap_err(),
+            compose_from(FILES, "none.wgsl", None, None).unwrap_err(),
             "none.wgsl: no such shader file"
         );
     }
@@ -199,7 +244,7 @@ mod tests {
     #[test]
     fn an_unquoted_include_is_an_error() {
         assert_eq!(
-            compose_from(FILES, "unquoted.wgsl", None).unwrap_err(),
+            compose_from(FILES, "unquoted.wgsl", None, None).unwrap_err(),
             "unquoted.wgsl: malformed include '#include c.wgsl'"
         );
     }

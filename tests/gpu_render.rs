@@ -149,3 +149,41 @@ fn pcf_and_jitter_filter_the_shadows() {
         );
     }
 }
+
+/// The eye targets are the colour and depth images (4 + 4 bytes per pixel) and weighted-blended OIT's two targets
+/// (Rgba16Float + R16Float: 8 + 2), held for the technique of the last frame and re-sized with the viewport.
+#[test]
+fn eye_targets_hold_the_technique_of_the_last_frame() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut s = common::small_settings(64, 48);
+    let (mut r, _) = render(&gpu, &mut s);
+    let m = r.memory();
+    assert_eq!(m.transparency_name, "wboit");
+    assert_eq!(m.transparency_targets, 64 * 48 * 10);
+    assert_eq!(m.eye_targets, 64 * 48 * 18);
+    let method = registry::find(&s.method.name).unwrap();
+    let frame = |render, width, height| FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render,
+        method,
+        method_params: &s.method.params,
+        width,
+        height,
+    };
+    r.render(&frame(&s.render, 32, 16)).unwrap();
+    assert_eq!(r.memory().transparency_targets, 32 * 16 * 10);
+    assert_eq!(r.memory().eye_targets, 32 * 16 * 18);
+    let mut unknown = s.render.clone();
+    unknown.transparency = "sorted".into();
+    let e = r.render(&frame(&unknown, 32, 16)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "render.transparency: unknown eye transparency technique 'sorted' (known: wboit)"
+    );
+    assert_eq!(
+        r.memory().transparency_name,
+        "wboit",
+        "a refused frame keeps the held state"
+    );
+}

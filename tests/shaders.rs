@@ -3,8 +3,9 @@
 
 use hairlab::methods::registry;
 use hairlab::render::geometry::{HairVertex, MeshVertex};
+use hairlab::render::transparency::registry as techniques;
 use hairlab::render::uniforms::{FRAME_UNIFORMS_FIELDS, FrameUniforms};
-use hairlab::shaders::{METHOD_PASSES, SOURCES, compose};
+use hairlab::shaders::{METHOD_PASSES, SOURCES, TECHNIQUE_PASSES, compose, compose_with};
 use std::path::Path;
 
 fn validate(label: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
@@ -20,17 +21,18 @@ fn validate(label: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
 }
 
 fn pass_shaders() -> impl Iterator<Item = &'static str> {
-    SOURCES
-        .iter()
-        .map(|(p, _)| *p)
-        .filter(|p| !p.starts_with("common/") && !p.starts_with("methods/"))
+    SOURCES.iter().map(|(p, _)| *p).filter(|p| {
+        !["common/", "methods/", "transparency/"]
+            .iter()
+            .any(|d| p.starts_with(d))
+    })
 }
 
 #[test]
 fn every_shader_file_is_embedded() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut on_disk = Vec::new();
-    for dir in ["", "common", "methods"] {
+    for dir in ["", "common", "methods", "transparency"] {
         for e in std::fs::read_dir(root.join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "wgsl") {
@@ -52,15 +54,27 @@ fn every_shader_file_is_embedded() {
     );
 }
 
+/// Every pass shader composes and validates: with every method's lookup where it takes one, with every eye
+/// transparency technique's store function too where it takes one (the hair pass: method × technique), and every
+/// technique's resolve pass.
 #[test]
 fn every_pass_validates_with_every_method() {
     let mut checked = 0;
     for pass in pass_shaders() {
         if METHOD_PASSES.contains(&pass) {
             for m in registry::all() {
-                let src = compose(pass, Some(m.lookup_wgsl())).unwrap();
-                validate(&format!("{pass} + {}", m.lookup_wgsl()), &src);
-                checked += 1;
+                if TECHNIQUE_PASSES.contains(&pass) {
+                    for t in techniques::all() {
+                        let store = t.info().store_wgsl;
+                        let src = compose_with(pass, Some(m.lookup_wgsl()), Some(store)).unwrap();
+                        validate(&format!("{pass} + {} + {store}", m.lookup_wgsl()), &src);
+                        checked += 1;
+                    }
+                } else {
+                    let src = compose(pass, Some(m.lookup_wgsl())).unwrap();
+                    validate(&format!("{pass} + {}", m.lookup_wgsl()), &src);
+                    checked += 1;
+                }
             }
         } else {
             let src = compose(pass, None).unwrap();
@@ -68,16 +82,105 @@ fn every_pass_validates_with_every_method() {
             checked += 1;
         }
     }
+    for t in techniques::all() {
+        let resolve = t.info().resolve_wgsl;
+        validate(
+            &format!("{}: {resolve}", t.name()),
+            &compose(resolve, None).unwrap(),
+        );
+        checked += 1;
+    }
+    let (methods, technique_count) = (registry::all().len(), techniques::all().len());
     assert_eq!(
         checked,
-        pass_shaders().count() + METHOD_PASSES.len() * (registry::all().len() - 1)
+        pass_shaders().count()
+            + METHOD_PASSES.len() * (methods - 1)
+            + TECHNIQUE_PASSES.len() * methods * (technique_count - 1)
+            + technique_count
     );
+    assert!(TECHNIQUE_PASSES.iter().all(|p| METHOD_PASSES.contains(p)));
 }
 
 #[test]
 fn method_passes_refuse_to_compose_without_a_method() {
     for pass in METHOD_PASSES {
         assert!(compose(pass, None).is_err(), "{pass}");
+    }
+}
+
+#[test]
+fn technique_passes_refuse_to_compose_without_a_technique() {
+    for pass in TECHNIQUE_PASSES {
+        assert_eq!(
+            compose(pass, Some("methods/none.wgsl")).unwrap_err(),
+            format!("{pass}: needs an eye transparency technique")
+        );
+    }
+}
+
+/// `(location, component count)` of the outputs of the entry point `entry` of `module`.
+fn fragment_outputs(module: &naga::Module, entry: &str) -> Vec<(u32, u64)> {
+    let ep = module.entry_points.iter().find(|e| e.name == entry).unwrap();
+    let result = ep.function.result.as_ref().expect("a fragment output");
+    let components = |ty: naga::Handle<naga::Type>| match &module.types[ty].inner {
+        naga::TypeInner::Scalar(_) => 1,
+        naga::TypeInner::Vector { size, .. } => *size as u64,
+        other => panic!("{entry}: output of type {other:?}"),
+    };
+    let mut out = Vec::new();
+    let mut collect = |ty, binding: &Option<naga::Binding>| {
+        if let Some(naga::Binding::Location { location, .. }) = binding {
+            out.push((*location, components(ty)));
+        }
+    };
+    match &module.types[result.ty].inner {
+        naga::TypeInner::Struct { members, .. } => members.iter().for_each(|m| collect(m.ty, &m.binding)),
+        _ => collect(result.ty, &result.binding),
+    }
+    out.sort();
+    out
+}
+
+/// A registered technique is complete: its store function and resolve are embedded, the hair pass's fragment
+/// outputs (`HairOutput`) are the technique's colour targets location by location, each with at least the
+/// target format's components, and its label and paper are written.
+#[test]
+fn every_registered_technique_is_complete() {
+    let embedded = |p: &str| SOURCES.iter().any(|(s, _)| *s == p);
+    for t in techniques::all() {
+        let info = t.info();
+        let name = info.name;
+        assert!(
+            !info.label.is_empty() && !info.paper.is_empty(),
+            "{name}: label and paper"
+        );
+        assert!(
+            embedded(info.store_wgsl),
+            "{name}: {} not embedded",
+            info.store_wgsl
+        );
+        assert!(
+            embedded(info.resolve_wgsl),
+            "{name}: {} not embedded",
+            info.resolve_wgsl
+        );
+        assert!(!info.hair_targets.is_empty(), "{name}: no hair targets");
+        let src = compose_with("hair.wgsl", Some("methods/none.wgsl"), Some(info.store_wgsl)).unwrap();
+        let (module, _) = validate(name, &src);
+        let outputs = fragment_outputs(&module, "fs_main");
+        assert_eq!(
+            outputs.len(),
+            info.hair_targets.len(),
+            "{name}: outputs vs hair targets"
+        );
+        for (i, ((location, components), target)) in outputs.iter().zip(info.hair_targets).enumerate() {
+            assert_eq!(*location, i as u32, "{name}: output locations");
+            assert!(
+                *components >= target.format.components() as u64,
+                "{name}: output {location} has {components} components for a {:?} target",
+                target.format
+            );
+        }
     }
 }
 
@@ -309,7 +412,7 @@ fn shared_visibility_expressions_are_written_once() {
 
 /// The vertex formats Rust declares match the WGSL `vs_main` inputs location by location.
 fn check_vertex_inputs(pass: &str, attrs: &[wgpu::VertexAttribute]) {
-    let src = compose(pass, Some("methods/none.wgsl")).unwrap();
+    let src = compose_with(pass, Some("methods/none.wgsl"), Some("transparency/wboit.wgsl")).unwrap();
     let (module, _) = validate(pass, &src);
     let ep = module.entry_points.iter().find(|e| e.name == "vs_main").unwrap();
     let mut found = Vec::new();

@@ -40,6 +40,9 @@ pub enum GpuError {
     OverBudget { what: String, bytes: u64, budget: u64 },
     #[error("GPU readback failed: {0}")]
     Readback(String),
+    /// A render setting the renderer cannot follow; the message names the key.
+    #[error("{0}")]
+    Setting(String),
 }
 
 /// Which kind of adapter to try first.

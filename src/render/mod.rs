@@ -1,5 +1,6 @@
-//! The renderer: light passes, the selected shadow method, the eye passes and the compositor, into one colour
-//! texture that the window shows and screenshots save. The GUI and `hairlab render` use the same code path.
+//! The renderer: light passes, the selected shadow method, the eye passes and the selected eye transparency
+//! technique's resolve, into one colour texture that the window shows and screenshots save. The GUI and
+//! `hairlab render` use the same code path.
 
 pub mod caster;
 pub mod geometry;
@@ -7,7 +8,9 @@ pub mod light_frame;
 pub mod maps;
 pub mod method;
 pub mod passes;
+pub mod pipelines;
 pub mod targets;
+pub mod transparency;
 pub mod uniforms;
 
 use crate::gpu::timing::{GpuTimer, PassTime};
@@ -19,7 +22,6 @@ use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
 use method::{LightMethod, MethodContext, MethodGpu, ParamValues};
 use passes::abuffer::RefFragment;
-use passes::composite::CompositePass;
 use passes::depth_peel::DepthPeel;
 use passes::hair::HairPass;
 use passes::light_depth::{LightDepthMaps, LightDepthPass};
@@ -27,6 +29,7 @@ use passes::mesh::MeshPass;
 use passes::shadow_map::{ShadowMap, ShadowMapPass};
 use serde::{Deserialize, Serialize};
 use targets::EyeTargets;
+use transparency::{EyeTransparency, TransparencyGpu};
 use uniforms::FrameUniforms;
 
 /// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
@@ -47,6 +50,8 @@ pub struct RenderSettings {
     pub pcf: bool,
     /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
     pub jitter: bool,
+    /// The eye transparency technique of the hair (a name in `transparency::registry`).
+    pub transparency: String,
 }
 
 impl Default for RenderSettings {
@@ -60,6 +65,7 @@ impl Default for RenderSettings {
             background: [0.12, 0.13, 0.15],
             pcf: false,
             jitter: false,
+            transparency: "wboit".into(),
         }
     }
 }
@@ -110,7 +116,11 @@ pub struct MemoryReport {
     pub geometry: u64,
     pub light_depth_maps: u64,
     pub shadow_map: u64,
+    /// The colour and depth images and the eye transparency technique's targets.
     pub eye_targets: u64,
+    /// The technique whose targets are held (the last frame's), and their part of `eye_targets`.
+    pub transparency_name: &'static str,
+    pub transparency_targets: u64,
     /// The method whose state is held (the last frame's), and its maps: those it owns, and the shared
     /// light-depth maps its lookup reads (already counted in `light_depth_maps`).
     pub method_name: &'static str,
@@ -152,11 +162,12 @@ pub struct Renderer {
     shadow_map: ShadowMap,
     mesh_pass: MeshPass,
     hair_pass: HairPass,
-    composite: CompositePass,
-    composite_bind_group: wgpu::BindGroup,
     evaluate: passes::evaluate::EvaluatePass,
     /// The GPU state of the method of the last frame; another method evicts it.
     method: Option<(&'static str, Box<dyn MethodGpu>)>,
+    /// The targets and resolve of the eye transparency technique of the last frame; another technique evicts
+    /// them.
+    transparency: Option<(&'static str, Box<dyn TransparencyGpu>)>,
     /// The exact reference's fragment lists ([`Renderer::reference_lists`]), created on first use.
     reference: Option<passes::abuffer::ABuffer>,
     peel: Option<DepthPeel>,
@@ -257,8 +268,6 @@ impl Renderer {
             &shadow_sampler,
         );
         let targets = EyeTargets::new(device, 16, 16);
-        let composite = CompositePass::new(device);
-        let composite_bind_group = composite.bind_group(device, &targets);
         let geometry = GeometryBuffers::upload(gpu, scene)?;
         Ok(Renderer {
             gpu: gpu.clone(),
@@ -268,6 +277,7 @@ impl Renderer {
             hair_pass: HairPass::new(&scene_layout),
             evaluate: passes::evaluate::EvaluatePass::new(device, &scene_layout),
             method: None,
+            transparency: None,
             reference: None,
             peel: None,
             targets_generation: 0,
@@ -286,8 +296,6 @@ impl Renderer {
             geometry,
             light_maps,
             shadow_map,
-            composite,
-            composite_bind_group,
             targets,
         })
     }
@@ -360,10 +368,23 @@ impl Renderer {
         if self.targets.width != width || self.targets.height != height {
             self.gpu.check_texture_size("viewport", width.max(height))?;
             self.targets = EyeTargets::new(&self.gpu.device, width, height);
-            self.composite_bind_group = self.composite.bind_group(&self.gpu.device, &self.targets);
             self.targets_generation += 1;
         }
         Ok(())
+    }
+
+    /// Makes the held technique state `technique`'s, sized to the eye targets.
+    fn ensure_technique(&mut self, technique: &dyn EyeTransparency) {
+        let device = &self.gpu.device;
+        let (width, height) = (self.targets.width, self.targets.height);
+        match &mut self.transparency {
+            Some((name, state)) if *name == technique.name() => state.resize(device, width, height),
+            _ => {
+                // Evict the previous technique's targets before the new technique allocates its own.
+                self.transparency = None;
+                self.transparency = Some((technique.name(), technique.create_gpu(device, width, height)));
+            }
+        }
     }
 
     /// Increases whenever the output texture is re-created (a viewer must re-register it).
@@ -444,10 +465,14 @@ impl Renderer {
 
     /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
     pub fn render(&mut self, f: &FrameInput) -> Result<(), GpuError> {
+        let technique = transparency::registry::find(&f.render.transparency)
+            .map_err(|e| GpuError::Setting(format!("render.transparency: {e}")))?;
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
+        self.ensure_technique(technique);
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
         let method_gpu = held(&self.method, f.method)?;
+        let (_, technique_gpu) = self.transparency.as_ref().expect("set by ensure_technique");
         self.mesh_pass.record(
             &device,
             &mut enc,
@@ -464,15 +489,16 @@ impl Renderer {
             &mut enc,
             f.method,
             method_gpu,
+            technique,
+            technique_gpu.as_ref(),
             &self.targets,
             &self.scene_bind_group,
             &self.geometry,
             ts(&mut self.timer, "eye: hair"),
         );
-        self.composite.record(
+        technique_gpu.resolve(
             &mut enc,
-            &self.targets,
-            &self.composite_bind_group,
+            &self.targets.color_view,
             ts(&mut self.timer, "composite"),
         );
         self.submit(enc);
@@ -670,17 +696,24 @@ impl Renderer {
         )?))
     }
 
-    /// GPU memory by part; `method` is the last frame's method (its state is the only one held).
+    /// GPU memory by part; the method and the eye transparency technique are the last frame's (their states are
+    /// the only ones held).
     pub fn memory(&self) -> MemoryReport {
         let (method_name, method, shared) = self
             .method
             .as_ref()
             .map_or(("", 0, 0), |(n, m)| (*n, m.memory_bytes(), m.shared_bytes()));
+        let (transparency_name, transparency_targets) = self
+            .transparency
+            .as_ref()
+            .map_or(("", 0), |(n, t)| (*n, t.memory_bytes()));
         MemoryReport {
             geometry: self.geometry.bytes,
             light_depth_maps: self.light_maps.bytes(),
             shadow_map: self.shadow_map.bytes(),
-            eye_targets: self.targets.bytes(),
+            eye_targets: self.targets.bytes() + transparency_targets,
+            transparency_name,
+            transparency_targets,
             method_name,
             method_owned: method.saturating_sub(shared),
             method_shared: shared,

@@ -1,5 +1,6 @@
-//! The eye-view render targets: the final colour image (what the viewport shows and screenshots save), depth,
-//! and the two weighted-blended OIT targets.
+//! The eye-view render targets every eye transparency technique shares: the final colour image (what the
+//! viewport shows and screenshots save) and the opaque meshes' depth. A technique's own targets are its own
+//! (`render::transparency`).
 
 pub struct EyeTargets {
     pub color: wgpu::Texture,
@@ -9,8 +10,6 @@ pub struct EyeTargets {
     /// Depth of the opaque meshes (hair does not write depth); copyable for visibility tests of hair points.
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
-    pub accum_view: wgpu::TextureView,
-    pub revealage_view: wgpu::TextureView,
     pub width: u32,
     pub height: u32,
 }
@@ -18,8 +17,6 @@ pub struct EyeTargets {
 impl EyeTargets {
     pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
     pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-    pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-    pub const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> EyeTargets {
         let make = |label, format, usage, view_formats: &[wgpu::TextureFormat]| {
@@ -38,14 +35,12 @@ impl EyeTargets {
                 view_formats,
             })
         };
-        let sampled = wgpu::TextureUsages::TEXTURE_BINDING;
         let color = make(
             "hairlab.eye.color",
             Self::COLOR,
-            sampled | wgpu::TextureUsages::COPY_SRC,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
             &[Self::COLOR.remove_srgb_suffix()],
         );
-        let view = |t: wgpu::Texture| t.create_view(&Default::default());
         let depth = make(
             "hairlab.eye.depth",
             Self::DEPTH,
@@ -62,8 +57,6 @@ impl EyeTargets {
             color,
             depth_view: depth.create_view(&Default::default()),
             depth,
-            accum_view: view(make("hairlab.eye.oit_accum", Self::ACCUM, sampled, &[])),
-            revealage_view: view(make("hairlab.eye.oit_revealage", Self::REVEALAGE, sampled, &[])),
             width,
             height,
         }
@@ -71,6 +64,6 @@ impl EyeTargets {
 
     /// Bytes of GPU memory the targets hold.
     pub fn bytes(&self) -> u64 {
-        self.width as u64 * self.height as u64 * (4 + 4 + 8 + 2)
+        self.width as u64 * self.height as u64 * (4 + 4)
     }
 }

@@ -1,36 +1,31 @@
-//! Composite pass: resolves the hair's weighted-blended OIT targets over the opaque image (SrcAlpha over).
+//! Composite pass: the shape of every eye transparency technique's resolve. A full-screen triangle
+//! (`common/fullscreen.wgsl`) runs the technique's resolve shader, which reads the technique's targets through
+//! group 0 and blends its result onto the opaque colour image.
 
 use crate::render::targets::EyeTargets;
 
 pub struct CompositePass {
     pipeline: wgpu::RenderPipeline,
-    layout: wgpu::BindGroupLayout,
 }
 
 impl CompositePass {
-    pub fn new(device: &wgpu::Device) -> CompositePass {
-        let tex = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.composite.bind_group_layout"),
-            entries: &[tex(0), tex(1)],
-        });
-        let module = super::shader_module(device, "hairlab.composite.shader", "composite.wgsl", None);
+    /// A resolve running the WGSL pass `resolve_wgsl` (entry points `vs_main`, `fs_main`) over `layout` (group 0),
+    /// blended onto the colour image with `blend`, colour channels only.
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        resolve_wgsl: &str,
+        layout: &wgpu::BindGroupLayout,
+        blend: wgpu::BlendState,
+    ) -> CompositePass {
+        let module = super::shader_module(device, &format!("{label}.shader"), resolve_wgsl, None);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.composite.layout"),
-            bind_group_layouts: &[Some(&layout)],
+            label: Some(&format!("{label}.layout")),
+            bind_group_layouts: &[Some(layout)],
             immediate_size: 0,
         });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hairlab.composite.pipeline"),
+            label: Some(&format!("{label}.pipeline")),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
                 module: &module,
@@ -47,44 +42,28 @@ impl CompositePass {
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: EyeTargets::COLOR,
-                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                    blend: Some(blend),
                     write_mask: wgpu::ColorWrites::COLOR,
                 })],
             }),
             multiview_mask: None,
             cache: None,
         });
-        CompositePass { pipeline, layout }
+        CompositePass { pipeline }
     }
 
-    pub fn bind_group(&self, device: &wgpu::Device, targets: &EyeTargets) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.composite.bind_group"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&targets.accum_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&targets.revealage_view),
-                },
-            ],
-        })
-    }
-
+    /// Draws the resolve onto `color` (loaded, not cleared) with `bind_group` as group 0.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        targets: &EyeTargets,
+        color: &wgpu::TextureView,
         bind_group: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.composite.pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &targets.color_view,
+                view: color,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {

@@ -3,13 +3,13 @@
 
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::method::{LightMethod, MethodGpu};
-use std::collections::HashMap;
+use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use wgpu::util::DeviceExt;
 
 pub struct EvaluatePass {
     scene_layout: wgpu::BindGroupLayout,
     io_layout: wgpu::BindGroupLayout,
-    pipelines: HashMap<&'static str, wgpu::ComputePipeline>,
+    pipelines: PipelineCache<wgpu::ComputePipeline>,
 }
 
 impl EvaluatePass {
@@ -31,7 +31,7 @@ impl EvaluatePass {
         EvaluatePass {
             scene_layout: scene_layout.clone(),
             io_layout,
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
         }
     }
 
@@ -48,15 +48,20 @@ impl EvaluatePass {
         }
         let device = &gpu.device;
         let (scene_layout, io_layout) = (&self.scene_layout, &self.io_layout);
-        let pipeline = self.pipelines.entry(method.name()).or_insert_with(|| {
+        let key = PipelineKey {
+            pass: Pass::Evaluate,
+            method: method.name(),
+            technique: None,
+        };
+        let pipeline = self.pipelines.get_or_build(key, |key| {
             let module = super::shader_module(
                 device,
-                "hairlab.evaluate.shader",
+                &key.label("shader"),
                 "evaluate.wgsl",
                 Some(method.lookup_wgsl()),
             );
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("hairlab.evaluate.layout"),
+                label: Some(&key.label("layout")),
                 bind_group_layouts: &[
                     Some(scene_layout),
                     Some(method_gpu.bind_group_layout()),
@@ -65,7 +70,7 @@ impl EvaluatePass {
                 immediate_size: 0,
             });
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("hairlab.evaluate.pipeline"),
+                label: Some(&key.label("pipeline")),
                 layout: Some(&layout),
                 module: &module,
                 entry_point: Some("cs_main"),

@@ -1,21 +1,23 @@
 //! Eye pass for hair: strands as lines (LineList), depth-tested against the meshes without writing depth, into
-//! the weighted-blended OIT targets (accumulation: One/One; revealage: Zero/OneMinusSrc). One pipeline per method.
+//! the eye transparency technique's targets (its store function and blend states). One pipeline per method and
+//! technique.
 
 use crate::render::geometry::{GeometryBuffers, HairVertex};
 use crate::render::method::{LightMethod, MethodGpu};
+use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use crate::render::targets::EyeTargets;
-use std::collections::HashMap;
+use crate::render::transparency::{EyeTransparency, TransparencyGpu};
 
 pub struct HairPass {
     scene_layout: wgpu::BindGroupLayout,
-    pipelines: HashMap<&'static str, wgpu::RenderPipeline>,
+    pipelines: PipelineCache<wgpu::RenderPipeline>,
 }
 
 impl HairPass {
     pub fn new(scene_layout: &wgpu::BindGroupLayout) -> Self {
         Self {
             scene_layout: scene_layout.clone(),
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
         }
     }
 
@@ -24,32 +26,35 @@ impl HairPass {
         device: &wgpu::Device,
         method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
+        technique: &dyn EyeTransparency,
     ) -> &wgpu::RenderPipeline {
         let scene_layout = &self.scene_layout;
-        self.pipelines.entry(method.name()).or_insert_with(|| {
+        let key = PipelineKey {
+            pass: Pass::Hair,
+            method: method.name(),
+            technique: Some(technique.name()),
+        };
+        self.pipelines.get_or_build(key, |key| {
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("hairlab.hair.layout"),
+                label: Some(&key.label("layout")),
                 bind_group_layouts: &[Some(scene_layout), Some(method_gpu.bind_group_layout())],
                 immediate_size: 0,
             });
-            let module = super::shader_module(
-                device,
-                "hairlab.hair.shader",
+            let src = crate::shaders::compose_with(
                 "hair.wgsl",
                 Some(method.lookup_wgsl()),
-            );
-            let additive = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let reveal = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::OneMinusSrc,
-                operation: wgpu::BlendOperation::Add,
-            };
+                Some(technique.info().store_wgsl),
+            )
+            // As `passes::shader_module`: only a shader failing naga validation panics, which
+            // `tests/shaders.rs` rules out for every method × technique.
+            .unwrap_or_else(|e| panic!("{e}"));
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&key.label("shader")),
+                source: wgpu::ShaderSource::Wgsl(src.into()),
+            });
+            let targets: Vec<_> = technique.info().hair_targets.iter().cloned().map(Some).collect();
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("hairlab.hair.pipeline"),
+                label: Some(&key.label("pipeline")),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module: &module,
@@ -73,24 +78,7 @@ impl HairPass {
                     module: &module,
                     entry_point: Some("fs_main"),
                     compilation_options: Default::default(),
-                    targets: &[
-                        Some(wgpu::ColorTargetState {
-                            format: EyeTargets::ACCUM,
-                            blend: Some(wgpu::BlendState {
-                                color: additive,
-                                alpha: additive,
-                            }),
-                            write_mask: wgpu::ColorWrites::ALL,
-                        }),
-                        Some(wgpu::ColorTargetState {
-                            format: EyeTargets::REVEALAGE,
-                            blend: Some(wgpu::BlendState {
-                                color: reveal,
-                                alpha: reveal,
-                            }),
-                            write_mask: wgpu::ColorWrites::RED,
-                        }),
-                    ],
+                    targets: &targets,
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -104,34 +92,17 @@ impl HairPass {
         encoder: &mut wgpu::CommandEncoder,
         method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
+        technique: &dyn EyeTransparency,
+        technique_gpu: &dyn TransparencyGpu,
         targets: &EyeTargets,
         scene: &wgpu::BindGroup,
         geometry: &GeometryBuffers,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let pipeline = self.pipeline(device, method, method_gpu);
-        let clear = |view, v: f64| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: v,
-                        g: 0.0,
-                        b: 0.0,
-                        a: 0.0,
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
+        let pipeline = self.pipeline(device, method, method_gpu, technique);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.hair.pass"),
-            color_attachments: &[
-                clear(&targets.accum_view, 0.0),
-                clear(&targets.revealage_view, 1.0),
-            ],
+            color_attachments: &technique_gpu.hair_attachments(),
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &targets.depth_view,
                 depth_ops: Some(wgpu::Operations {

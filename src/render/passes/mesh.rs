@@ -1,20 +1,21 @@
-//! Eye pass for opaque meshes (clears colour and depth). One pipeline per shadow method, built on first use.
+//! Eye pass for opaque meshes (clears colour and depth). One pipeline per shadow method, built on first use (it
+//! does not depend on the eye transparency technique).
 
 use crate::render::geometry::{GeometryBuffers, MeshVertex};
 use crate::render::method::{LightMethod, MethodGpu};
+use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use crate::render::targets::EyeTargets;
-use std::collections::HashMap;
 
 pub struct MeshPass {
     scene_layout: wgpu::BindGroupLayout,
-    pipelines: HashMap<&'static str, wgpu::RenderPipeline>,
+    pipelines: PipelineCache<wgpu::RenderPipeline>,
 }
 
 impl MeshPass {
     pub fn new(scene_layout: &wgpu::BindGroupLayout) -> Self {
         Self {
             scene_layout: scene_layout.clone(),
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
         }
     }
 
@@ -25,20 +26,25 @@ impl MeshPass {
         method_gpu: &dyn MethodGpu,
     ) -> &wgpu::RenderPipeline {
         let scene_layout = &self.scene_layout;
-        self.pipelines.entry(method.name()).or_insert_with(|| {
+        let key = PipelineKey {
+            pass: Pass::Mesh,
+            method: method.name(),
+            technique: None,
+        };
+        self.pipelines.get_or_build(key, |key| {
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("hairlab.mesh.layout"),
+                label: Some(&key.label("layout")),
                 bind_group_layouts: &[Some(scene_layout), Some(method_gpu.bind_group_layout())],
                 immediate_size: 0,
             });
             let module = super::shader_module(
                 device,
-                "hairlab.mesh.shader",
+                &key.label("shader"),
                 "mesh.wgsl",
                 Some(method.lookup_wgsl()),
             );
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("hairlab.mesh.pipeline"),
+                label: Some(&key.label("pipeline")),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module: &module,

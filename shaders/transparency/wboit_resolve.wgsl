@@ -1,11 +1,13 @@
-// Composite pass: resolves weighted blended OIT (accumulation, revealage) over the opaque image.
+// Resolve of weighted blended OIT (McGuire & Bavoil 2013): the average colour of the accumulation target over
+// the opaque image, with coverage 1 - revealage (blended SrcAlpha over).
+#include "common/fullscreen.wgsl"
+
 @group(0) @binding(0) var accum_tex: texture_2d<f32>;
 @group(0) @binding(1) var revealage_tex: texture_2d<f32>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+    return fullscreen_position(i);
 }
 
 @fragment

@@ -1,0 +1,102 @@
+//! One key type and one cache for the pipelines of the passes that paste plug-in WGSL (the mesh and hair eye
+//! passes, the evaluation pass): each pipeline is built on first use and kept for every later frame with the same
+//! key. The key names everything the pipeline is built from besides the pass itself: the shadow method (its lookup
+//! and group-1 layout) and, for the hair pass, the eye transparency technique (its store function and targets).
+
+use std::collections::HashMap;
+
+/// A pass whose pipelines are cached by [`PipelineKey`].
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+pub enum Pass {
+    Mesh,
+    Hair,
+    Evaluate,
+}
+
+impl Pass {
+    /// The pass's name in GPU labels (`hairlab.<pass>.<resource>`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Pass::Mesh => "mesh",
+            Pass::Hair => "hair",
+            Pass::Evaluate => "evaluate",
+        }
+    }
+}
+
+/// What a cached pipeline is built from.
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+pub struct PipelineKey {
+    pub pass: Pass,
+    /// The shadow method whose lookup the pass pastes.
+    pub method: &'static str,
+    /// The eye transparency technique whose store function and colour targets the pass uses; `None` for the
+    /// passes that do not depend on it (mesh, evaluate), so they build one pipeline per method, not per pair.
+    pub technique: Option<&'static str>,
+}
+
+impl PipelineKey {
+    /// `hairlab.<pass>.<resource>`.
+    pub fn label(&self, resource: &str) -> String {
+        format!("hairlab.{}.{resource}", self.pass.name())
+    }
+}
+
+/// Pipelines (render or compute) by key, each built once.
+pub struct PipelineCache<P> {
+    pipelines: HashMap<PipelineKey, P>,
+}
+
+impl<P> Default for PipelineCache<P> {
+    fn default() -> Self {
+        PipelineCache {
+            pipelines: HashMap::new(),
+        }
+    }
+}
+
+impl<P> PipelineCache<P> {
+    /// The pipeline of `key`, built by `build` when the cache does not hold it yet.
+    pub fn get_or_build(&mut self, key: PipelineKey, build: impl FnOnce(&PipelineKey) -> P) -> &P {
+        self.pipelines.entry(key).or_insert_with(|| build(&key))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(pass: Pass, method: &'static str, technique: Option<&'static str>) -> PipelineKey {
+        PipelineKey {
+            pass,
+            method,
+            technique,
+        }
+    }
+
+    #[test]
+    fn each_key_is_built_once_and_every_field_tells_keys_apart() {
+        let mut cache = PipelineCache::default();
+        let mut builds = 0;
+        let mut get = |cache: &mut PipelineCache<String>, k: PipelineKey| {
+            cache
+                .get_or_build(k, |k| {
+                    builds += 1;
+                    format!("{}:{}:{:?}", k.label("pipeline"), k.method, k.technique)
+                })
+                .clone()
+        };
+        let hair = key(Pass::Hair, "osm", Some("wboit"));
+        assert_eq!(get(&mut cache, hair), "hairlab.hair.pipeline:osm:Some(\"wboit\")");
+        assert_eq!(get(&mut cache, hair), "hairlab.hair.pipeline:osm:Some(\"wboit\")");
+        get(&mut cache, key(Pass::Mesh, "osm", None));
+        get(&mut cache, key(Pass::Hair, "dom", Some("wboit")));
+        get(&mut cache, key(Pass::Hair, "osm", Some("sorted")));
+        get(&mut cache, key(Pass::Hair, "osm", None));
+        assert_eq!(
+            get(&mut cache, key(Pass::Evaluate, "osm", None)),
+            "hairlab.evaluate.pipeline:osm:None"
+        );
+        assert_eq!(builds, 6);
+    }
+}

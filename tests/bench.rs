@@ -247,8 +247,8 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
             "osm:slices=64",
             "osm:slices=128",
             "osm:slices=256",
-            "occupancy:variant=0",
-            "occupancy:variant=1",
+            "occupancy:variant=slab-map",
+            "occupancy:variant=occupancy-only",
         ]
     );
     for name in [

@@ -1,8 +1,8 @@
 //! `hairlab bench`: the arguments, the run, and the tables printed on stdout.
 
 use super::{
-    ACCURACY_METRIC, BenchResult, Progress, ScalingResult, TerminalProgress, parse_methods,
-    prepare_out_dir, run, run_scaling, scaling_configs, write_results, write_scaling,
+    ACCURACY_METRIC, BenchResult, Progress, ScalingResult, TerminalProgress, parse_methods, prepare_out_dir,
+    run, run_scaling, scaling_configs, write_results, write_scaling,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};

@@ -361,7 +361,7 @@ mod tests {
         );
         assert_eq!(
             lines[1],
-            "dom,layers=3;spacing=1,\"dom:layers=3,spacing=1\",,0.25,0.125,0.5,1024,1,0.5,inf,true,\
+            "dom,layers=3;spacing=1,\"dom:layers=3,spacing=uniform\",,0.25,0.125,0.5,1024,1,0.5,inf,true,\
              \"light: 0.25 [0.125, 0.5]\",\"test device, \"\"quoted\"\"\""
         );
         // Slower and less accurate than the DOM row: off the front.
@@ -377,7 +377,7 @@ mod tests {
         assert_eq!(json["scene"]["segments"], 240);
         let rows = json["rows"].as_array().unwrap();
         assert_eq!(rows.len(), 2);
-        assert_eq!(rows[0]["label"], "dom:layers=3,spacing=1");
+        assert_eq!(rows[0]["label"], "dom:layers=3,spacing=uniform");
         assert_eq!(rows[0]["params"]["layers"], 3.0);
         assert_eq!(rows[1]["params"]["split_ratio"], 0.3);
         assert_eq!(rows[0]["gpu_ms"]["min"], 0.125);

@@ -25,8 +25,11 @@ pub fn sweep_methods() -> Vec<&'static str> {
         Role::Approximation => 1,
         Role::Reference => 2,
     };
-    let mut out: Vec<&'static dyn ShadowMethod> =
-        registry::all().iter().copied().filter(|m| !m.sweep().is_empty()).collect();
+    let mut out: Vec<&'static dyn ShadowMethod> = registry::all()
+        .iter()
+        .copied()
+        .filter(|m| !m.sweep().is_empty())
+        .collect();
     out.sort_by_key(|m| rank(m.info().role));
     out.into_iter().map(|m| m.name()).collect()
 }
@@ -133,7 +136,12 @@ pub fn tune_analysed(
     for name in methods {
         let m = registry::find(name).map_err(anyhow::Error::msg)?;
         if let Some(a) = m.analysis() {
-            points.extend(m.sweep().into_iter().filter(|p| p.analysed).map(|p| (m, a, p.values)));
+            points.extend(
+                m.sweep()
+                    .into_iter()
+                    .filter(|p| p.analysed)
+                    .map(|p| (m, a, p.values)),
+            );
         }
     }
     if points.is_empty() {
@@ -155,7 +163,12 @@ pub fn tune_analysed(
         progress(Progress {
             done: i,
             total: out.capacity(),
-            label: format!("{}: {} for {}", m.name(), a.note, crate::methods::format_values(m, &point)),
+            label: format!(
+                "{}: {} for {}",
+                m.name(),
+                a.note,
+                crate::methods::format_values(m, &point)
+            ),
             elapsed: start.elapsed(),
         });
         let mut values = point.clone();
@@ -172,9 +185,16 @@ pub fn tune_analysed(
 
 /// `method` with `values`, the parameter its analysis tunes chosen by that analysis on `settings`' scene (for
 /// `measure --config name:key=auto`).
-pub fn tune(settings: &Settings, method: &'static dyn ShadowMethod, values: &ParamValues) -> Result<ParamValues> {
+pub fn tune(
+    settings: &Settings,
+    method: &'static dyn ShadowMethod,
+    values: &ParamValues,
+) -> Result<ParamValues> {
     let Some(a) = method.analysis() else {
-        bail!("method '{}' has no analysis to choose a value marked 'auto'", method.name());
+        bail!(
+            "method '{}' has no analysis to choose a value marked 'auto'",
+            method.name()
+        );
     };
     let lists = reference_lists(settings)?;
     let mut out = values.clone();
@@ -213,7 +233,14 @@ mod tests {
         let methods = sweep_methods();
         let fixed: usize = methods
             .iter()
-            .map(|n| registry::find(n).unwrap().sweep().iter().filter(|p| !p.analysed).count())
+            .map(|n| {
+                registry::find(n)
+                    .unwrap()
+                    .sweep()
+                    .iter()
+                    .filter(|p| !p.analysed)
+                    .count()
+            })
             .sum();
         let m = registry::all()
             .iter()
@@ -225,7 +252,8 @@ mod tests {
         let analysed: Vec<&ParamValues> = sweep.iter().filter(|p| p.analysed).map(|p| &p.values).collect();
         assert!(analysed.len() >= 2);
         // The first analysed point tunes to a fixed point of the sweep (merged), the second to a new value.
-        let contains = |big: &ParamValues, small: &ParamValues| small.iter().all(|(k, v)| big.get(k) == Some(v));
+        let contains =
+            |big: &ParamValues, small: &ParamValues| small.iter().all(|(k, v)| big.get(k) == Some(v));
         let equal_fixed = sweep
             .iter()
             .find(|p| !p.analysed && contains(&p.values, analysed[0]))
@@ -255,12 +283,20 @@ mod tests {
             assert!(!labels[..i].contains(l), "{l} twice");
             assert!(MethodConfig::parse(l).is_ok(), "{l} does not parse");
         }
-        let noted: Vec<&ParamValues> = c.iter().filter(|c| !c.note.is_empty()).map(|c| &c.config.params).collect();
+        let noted: Vec<&ParamValues> = c
+            .iter()
+            .filter(|c| !c.note.is_empty())
+            .map(|c| &c.config.params)
+            .collect();
         assert_eq!(noted, [&equal_fixed, &new_values]);
         let role = |n: &&str| registry::find(n).unwrap().info().role;
         assert_eq!(methods.first().map(role), Some(Role::Baseline));
         assert_eq!(methods.last().map(role), Some(Role::Reference));
-        assert!(registry::all().iter().all(|m| methods.contains(&m.name()) != m.sweep().is_empty()));
+        assert!(
+            registry::all()
+                .iter()
+                .all(|m| methods.contains(&m.name()) != m.sweep().is_empty())
+        );
     }
 
     #[test]
@@ -270,7 +306,11 @@ mod tests {
         assert_eq!(parse_methods(&two).unwrap(), [methods[1], methods[2]]);
         let e = parse_methods(&["nonesuch".into()]).unwrap_err().to_string();
         assert!(e.contains("unknown shadow method 'nonesuch'"), "{e}");
-        let unswept = registry::all().iter().find(|m| m.sweep().is_empty()).unwrap().name();
+        let unswept = registry::all()
+            .iter()
+            .find(|m| m.sweep().is_empty())
+            .unwrap()
+            .name();
         let e = parse_methods(&[unswept.into()]).unwrap_err().to_string();
         assert!(e.contains(&format!("'{unswept}' has no bench sweep")), "{e}");
     }

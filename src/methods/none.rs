@@ -1,6 +1,8 @@
 //! No hair self-shadowing: every strand is fully lit (`V = 1`). The baseline that shows what shadows add.
 
-use super::{SweepPoint, LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod};
+use super::{
+    LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamValues, Role, ShadowMethod, SweepPoint,
+};
 use crate::gpu::GpuError;
 use crate::visibility::{Fragment, TexelModel};
 

@@ -89,7 +89,9 @@ impl ShadowMethod for Osm {
             .collect()
     }
     fn scaling_configs(&self) -> Vec<ParamValues> {
-        [16, 64].map(|n| ParamValues::from([("slices".to_string(), n as f32)])).to_vec()
+        [16, 64]
+            .map(|n| ParamValues::from([("slices".to_string(), n as f32)]))
+            .to_vec()
     }
     fn usual_configs(&self) -> Vec<ParamValues> {
         [16, 64, 256]

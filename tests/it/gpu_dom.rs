@@ -3,9 +3,9 @@
 //! fragments beyond the last layer, depth spans from 1e-4 to 1; map resolutions 1 and 2048; memory, geometry
 //! passes and the uniform layout.
 
-mod common;
+use crate::common;
 
-use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
+use crate::common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};

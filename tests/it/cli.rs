@@ -1,10 +1,8 @@
 //! The command line as a user runs it: success paths write whole files; bad input gives one error line naming
 //! the file and the problem, a non-zero exit, and no output file.
 
-mod common;
-
+use crate::common::cli::{assert_fails, hairlab, stderr};
 use clap::ValueEnum;
-use common::cli::{assert_fails, hairlab, stderr};
 use hairlab::scene::generate::{GenKind, GenParams, HairStyle, generate};
 use hairlab::scene::hair::read_hair_file;
 use std::path::Path;

@@ -4,10 +4,8 @@
 //! (every method at its defaults and at the ends of its sweep, against the tolerance its descriptor states);
 //! the per-method files (`gpu_*.rs`) go further into each method's parameter space.
 
-mod common;
-
-use common::max_gpu_cpu_difference as max_difference;
-use common::{Setup, gpu_cpu_differences};
+use crate::common::max_gpu_cpu_difference as max_difference;
+use crate::common::{Setup, gpu_cpu_differences};
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
 

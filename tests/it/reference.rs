@@ -2,7 +2,7 @@
 //! depth ties survive, the light-depth maps hold exactly the lists' extremes, and the reference lookup equals the
 //! CPU definition `V = exp(-sum of b over fragments in front)`.
 
-mod common;
+use crate::common;
 
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;

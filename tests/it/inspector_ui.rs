@@ -2,7 +2,7 @@
 //! the light-map view, the plot data of a selected texel against the exact fragment lists, pins, the CSV export
 //! and the synthetic texel lab.
 
-mod common;
+use crate::common;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;

@@ -2,7 +2,7 @@
 //! light-depth pass against the strands it was drawn from. With no adapter these fail with what to install,
 //! unless HAIRLAB_SKIP_GPU_TESTS=1 is set.
 
-mod common;
+use crate::common;
 
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;

@@ -1,7 +1,7 @@
 //! The real workbench app driven headless by egui_kittest on the software adapter: it shows the scene, reacts to
 //! a parameter change through the UI, saves a screenshot without a dialog, and matches a UI snapshot.
 
-mod common;
+use crate::common;
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};

@@ -15,7 +15,7 @@
 //!   27 %; a wrong step convention would put nearly all of them there);
 //! - everywhere else: `|ΔV| <= TOLERANCE` (measured: at most 6.7e-4, mostly below 6e-5).
 
-mod common;
+use crate::common;
 
 use hairlab::gpu::{Gpu, GpuError};
 use hairlab::methods::{ParamValues, registry};

@@ -2,9 +2,9 @@
 //! each texel's exact fragment list from the reference A-buffer: both variants, map resolutions 1 to 2048,
 //! hair alphas from nearly clear to opaque; memory and the storage-size limit.
 
-mod common;
+use crate::common;
 
-use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
+use crate::common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::{Gpu, GpuError};
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::{FrameInput, Renderer};

@@ -3,9 +3,9 @@
 //! logarithmic; map resolutions 1 and 2048; memory, geometry passes, the uniform layout; and the automatic split
 //! ratio (thesis §5.2.3-5.2.4) on a rendered map.
 
-mod common;
+use crate::common;
 
-use common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
+use crate::common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
 use hairlab::methods::bom::automatic_split_ratio;
 use hairlab::methods::{ParamValues, registry};

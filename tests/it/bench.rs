@@ -3,9 +3,7 @@
 //! rows, charts, OSM's error falling with slices), bad input, and the Bench window driven headless (run, click a
 //! point, the configuration applied).
 
-mod common;
-
-use common::cli::{error_lines, hairlab, stderr};
+use crate::common::cli::{error_lines, hairlab, stderr};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use hairlab::app::{HairlabApp, wgpu_setup};

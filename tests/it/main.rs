@@ -1,0 +1,26 @@
+//! hairlab's integration tests, as one test crate (one link of wgpu and egui instead of one per file). Each
+//! module is one concern: the CLI, the file formats, the shaders, the GPU = CPU comparisons of every method,
+//! the renderer's images, the window, the bench and the papers' stability claims. GPU tests run on Mesa
+//! lavapipe when there is no GPU; with no adapter they fail saying what to install, unless
+//! `HAIRLAB_SKIP_GPU_TESTS=1` is set. Run one module with `cargo test --test it <module>::`.
+
+mod common;
+
+mod app_ui;
+mod bench;
+mod cli;
+mod generate;
+mod gltf_load;
+mod gpu_bom;
+mod gpu_dc;
+mod gpu_dom;
+mod gpu_occupancy;
+mod gpu_render;
+mod hair_format;
+mod inspector_ui;
+mod methods_gpu;
+mod presets;
+mod reference;
+mod shaders;
+mod stability;
+mod visibility_models;

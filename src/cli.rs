@@ -408,7 +408,7 @@ fn curve(a: &CurveArgs) -> Result<()> {
     let reference = crate::visibility::Reference.curve(&frags, &zs);
     let model = method.model(&values, alpha).curve(&frags, &zs);
     let mut out = csv::Writer::from_writer(Vec::new());
-    out.write_record(["depth", "reference", method.name()])?;
+    out.write_record(["depth", registry::reference().name(), method.name()])?;
     for ((z, r), v) in zs.iter().zip(&reference).zip(&model) {
         out.serialize((z, r, v))?;
     }

@@ -161,7 +161,7 @@ pub fn measure_on(
         width: 8,
         height: 8,
     };
-    progress("reference");
+    progress(registry::reference().name());
     let empty = ParamValues::new();
     let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();

@@ -111,7 +111,7 @@ impl From<MethodSettings> for RawMethodSettings {
 impl Default for MethodSettings {
     fn default() -> Self {
         MethodSettings {
-            name: "opaque-shadow-map".into(),
+            name: registry::default_method().name().into(),
             params: ParamValues::new(),
         }
     }

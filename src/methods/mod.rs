@@ -94,7 +94,7 @@ pub fn spec(method: &dyn ShadowMethod, key: &str) -> Result<&'static ParamSpec, 
             "method '{}' has no parameter '{key}' (it has: {})",
             method.name(),
             if known.is_empty() {
-                "none".to_string()
+                "no parameters".to_string()
             } else {
                 known.join(", ")
             }

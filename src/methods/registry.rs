@@ -35,6 +35,12 @@ pub fn find(name: &str) -> Result<&'static dyn ShadowMethod, String> {
     })
 }
 
+/// The method a new workbench (and a preset that names none) starts with: the opaque shadow map, the classic
+/// baseline every semi-transparent method improves on.
+pub fn default_method() -> &'static dyn ShadowMethod {
+    &OpaqueShadowMap
+}
+
 /// The exact reference every method is measured against.
 pub fn reference() -> &'static dyn ShadowMethod {
     &Reference

@@ -86,15 +86,15 @@ mod tests {
                 })
                 .clone()
         };
-        let hair = key(Pass::Hair, "osm", Some("wboit"));
+        let hair = key(Pass::Hair, "method-a", Some("technique-a"));
         assert_eq!(get(&mut cache, hair), "hairlab.hair.pipeline:osm:Some(\"wboit\")");
         assert_eq!(get(&mut cache, hair), "hairlab.hair.pipeline:osm:Some(\"wboit\")");
-        get(&mut cache, key(Pass::Mesh, "osm", None));
-        get(&mut cache, key(Pass::Hair, "dom", Some("wboit")));
-        get(&mut cache, key(Pass::Hair, "osm", Some("sorted")));
-        get(&mut cache, key(Pass::Hair, "osm", None));
+        get(&mut cache, key(Pass::Mesh, "method-a", None));
+        get(&mut cache, key(Pass::Hair, "method-b", Some("technique-a")));
+        get(&mut cache, key(Pass::Hair, "method-a", Some("technique-b")));
+        get(&mut cache, key(Pass::Hair, "method-a", None));
         assert_eq!(
-            get(&mut cache, key(Pass::Evaluate, "osm", None)),
+            get(&mut cache, key(Pass::Evaluate, "method-a", None)),
             "hairlab.evaluate.pipeline:osm:None"
         );
         assert_eq!(builds, 6);

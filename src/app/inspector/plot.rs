@@ -2,6 +2,7 @@
 //! (slice planes, layer boundaries, cluster bins, occupied slices) and the pins, and the figures table beside it.
 
 use super::curves::{TexelCurves, TexelPlot, plot_range};
+use crate::methods::registry;
 use crate::visibility::{Stored, TexelError};
 use egui::Color32;
 use egui_plot::{Legend, Line, LineStyle, MarkerShape, Plot, PlotPoints, Points, Polygon, VLine};
@@ -35,7 +36,7 @@ pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
                     stored_items(p, s, t);
                 }
                 p.line(
-                    Line::new("reference", series(&t.depths, &t.reference))
+                    Line::new(registry::reference().name(), series(&t.depths, &t.reference))
                         .color(text)
                         .width(2.0),
                 );
@@ -157,7 +158,7 @@ pub(super) fn figures(ui: &mut egui::Ui, curves: &TexelCurves) {
             ui.strong("max");
             ui.end_row();
             let (mean, max) = error_text(t.reference_error);
-            ui.label("reference");
+            ui.label(registry::reference().name());
             ui.label(mean);
             ui.label(max);
             ui.end_row();

@@ -87,15 +87,21 @@ mod tests {
                 .clone()
         };
         let hair = key(Pass::Hair, "method-a", Some("technique-a"));
-        assert_eq!(get(&mut cache, hair), "hairlab.hair.pipeline:osm:Some(\"wboit\")");
-        assert_eq!(get(&mut cache, hair), "hairlab.hair.pipeline:osm:Some(\"wboit\")");
+        assert_eq!(
+            get(&mut cache, hair),
+            "hairlab.hair.pipeline:method-a:Some(\"technique-a\")"
+        );
+        assert_eq!(
+            get(&mut cache, hair),
+            "hairlab.hair.pipeline:method-a:Some(\"technique-a\")"
+        );
         get(&mut cache, key(Pass::Mesh, "method-a", None));
         get(&mut cache, key(Pass::Hair, "method-b", Some("technique-a")));
         get(&mut cache, key(Pass::Hair, "method-a", Some("technique-b")));
         get(&mut cache, key(Pass::Hair, "method-a", None));
         assert_eq!(
             get(&mut cache, key(Pass::Evaluate, "method-a", None)),
-            "hairlab.evaluate.pipeline:osm:None"
+            "hairlab.evaluate.pipeline:method-a:None"
         );
         assert_eq!(builds, 6);
     }

@@ -264,11 +264,21 @@ mod tests {
 
         let all = models("dc", &ParamValues::new(), true, 0.5);
         let names: Vec<String> = all.0.iter().map(|m| m.model.label()).collect();
-        assert_eq!(names, ["osm-16", "dom-3", "bom-4", "occupancy", "dc-4"]);
-        assert_eq!(all.1, Some(4));
-        let dc = all.0[4].model.stored(&f).unwrap();
+        let count = registry::all().iter().filter(|m| inspected(**m)).count();
+        assert_eq!(names.len(), count, "every inspected method once: {names:?}");
+        let at = |label: &str| {
+            names
+                .iter()
+                .position(|n| n == label)
+                .unwrap_or_else(|| panic!("{label}"))
+        };
+        for label in ["osm-16", "dom-3", "bom-4", "occupancy"] {
+            at(label);
+        }
+        assert_eq!(all.1, Some(at("dc-4")), "the selected method");
+        let dc = all.0[at("dc-4")].model.stored(&f).unwrap();
         assert_eq!((dc.means.len(), dc.bins.len()), (4, 4));
-        let occ = all.0[3].model.stored(&f).unwrap();
+        let occ = all.0[at("occupancy")].model.stored(&f).unwrap();
         // Relative depths 0, 0.25 and 1: slices 0, 32 and 127 (the last one, clamped); slabs 0, 1 and 3.
         assert_eq!(occ.occupied.len(), 3);
         assert!((occ.occupied[1][0] - 0.3).abs() < 1e-6);

@@ -26,6 +26,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/occupancy_uniforms.wgsl",
     "common/fullscreen.wgsl",
     "methods/none.wgsl",
+    "methods/adsm.wgsl",
     "methods/opaque_shadow_map.wgsl",
     "methods/reference.wgsl",
     "methods/osm.wgsl",

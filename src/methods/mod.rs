@@ -2,6 +2,7 @@
 //! its CPU model in `visibility/`, its WGSL in `shaders/`; [`registry`] lists them and is the only place that
 //! knows them all. The UI's method panel is generated from [`MethodInfo::params`].
 
+pub mod adsm;
 pub mod bom;
 pub mod dc;
 pub mod dom;

@@ -2,6 +2,7 @@
 //! goes through it: adding a method is its own files plus one line here.
 
 use super::ShadowMethod;
+use super::adsm::Adsm;
 use super::bom::Bom;
 use super::dc::Dc;
 use super::dom::Dom;
@@ -20,6 +21,7 @@ static METHODS: &[&dyn ShadowMethod] = &[
     &Bom,
     &Occupancy,
     &Dc,
+    &Adsm,
 ];
 
 /// Every registered method, in UI order.

@@ -21,6 +21,7 @@
 //! - Shared f32 expressions the GPU must use: [`optical_depth`], [`relative_depth`], [`slice_index`],
 //!   [`lerp_up`].
 
+pub mod adsm;
 pub mod bom;
 pub mod dc;
 pub mod dom;

@@ -17,7 +17,7 @@ use super::{
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::caster::draw_casters;
-use crate::render::maps::check_budget;
+use crate::render::maps::{check_budget, texture_entry, uniform_entry};
 use crate::render::passes;
 use crate::visibility::dc::MAX_CLUSTERS;
 use crate::visibility::{DcParams, TexelModel};
@@ -152,35 +152,8 @@ struct DcMaps {
     lookup_bind_group: wgpu::BindGroup,
 }
 
-fn texture_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    dimension: wgpu::TextureViewDimension,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: dimension,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn uniform_entry(visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding: 2,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
+/// Binding of DC's uniform in every group that has it.
+const UNIFORM_BINDING: u32 = 2;
 
 fn view_entry(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
@@ -205,20 +178,23 @@ impl DcResources {
         let depth_layout = layout(
             "hairlab.dc.depth_layout",
             &[
-                uniform_entry(S::FRAGMENT),
+                uniform_entry(UNIFORM_BINDING, S::FRAGMENT),
                 texture_entry(3, S::FRAGMENT, D2),
                 texture_entry(4, S::FRAGMENT, D2),
             ],
         );
         let clusters_layout = layout(
             "hairlab.dc.clusters_layout",
-            &[texture_entry(0, S::FRAGMENT, D2Array), uniform_entry(S::FRAGMENT)],
+            &[
+                texture_entry(0, S::FRAGMENT, D2Array),
+                uniform_entry(UNIFORM_BINDING, S::FRAGMENT),
+            ],
         );
         let compute_layout = layout(
             "hairlab.dc.compute_layout",
             &[
                 texture_entry(1, S::COMPUTE, D2Array),
-                uniform_entry(S::COMPUTE),
+                uniform_entry(UNIFORM_BINDING, S::COMPUTE),
                 texture_entry(3, S::COMPUTE, D2),
                 texture_entry(4, S::COMPUTE, D2),
                 wgpu::BindGroupLayoutEntry {
@@ -239,7 +215,7 @@ impl DcResources {
             &[
                 texture_entry(0, look, D2Array),
                 texture_entry(1, look, D2Array),
-                uniform_entry(look),
+                uniform_entry(UNIFORM_BINDING, look),
             ],
         );
         let module = passes::shader_module(device, "hairlab.dc.shader", "dc.wgsl", None);

@@ -6,6 +6,7 @@
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, draw_casters};
+use crate::render::maps::storage_entry;
 
 /// Bytes of one list node (depth, alpha, segment, next).
 pub const NODE_BYTES: u64 = 16;
@@ -39,23 +40,6 @@ pub struct ABuffer {
     target: super::NullTarget,
     /// Fragments of the last frame.
     pub fragment_count: u64,
-}
-
-fn storage_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    read_only: bool,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl ABuffer {

@@ -472,7 +472,12 @@ impl Renderer {
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
         let method_gpu = held(&self.method, f.method)?;
-        let (_, technique_gpu) = self.transparency.as_ref().expect("set by ensure_technique");
+        let Some((_, technique_gpu)) = self.transparency.as_ref() else {
+            return Err(GpuError::Setting(format!(
+                "render.transparency: no state for '{}'",
+                technique.name()
+            )));
+        };
         self.mesh_pass.record(
             &device,
             &mut enc,

@@ -338,13 +338,19 @@ mod tests {
             "test",
             &[
                 "render.hair_alpha=0.5".into(),
-                "method.name=none".into(),
+                format!(
+                    "method.name={}",
+                    crate::methods::LightMethod::name(&crate::methods::none::NoShadow)
+                ),
                 "scene.generator.seed=7".into(),
             ],
         )
         .unwrap();
         assert_eq!(s.render.hair_alpha, 0.5);
-        assert_eq!(s.method.name, "none");
+        assert_eq!(
+            s.method.name,
+            crate::methods::LightMethod::name(&crate::methods::none::NoShadow)
+        );
         assert_eq!(s.scene.generator.seed, 7);
         let e = Settings::from_toml_with("", "test", &["render.hair_alpha=2".into()]).unwrap_err();
         assert!(format!("{e:#}").contains("hair_alpha"), "{e:#}");

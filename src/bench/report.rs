@@ -343,8 +343,8 @@ mod tests {
             },
             frames: 3,
             rows: vec![
-                row("dom", &[("layers", 3.0), ("spacing", 1.0)], 0.25, 0.5),
-                row("bom", &[("layers", 4.0), ("split_ratio", 0.3)], 0.5, 0.75),
+                row("method-a", &[("layers", 3.0), ("spacing", 1.0)], 0.25, 0.5),
+                row("method-b", &[("layers", 4.0), ("split_ratio", 0.3)], 0.5, 0.75),
             ],
             cancelled: false,
         }
@@ -361,11 +361,13 @@ mod tests {
         );
         assert_eq!(
             lines[1],
-            "dom,layers=3;spacing=1,\"dom:layers=3,spacing=uniform\",,0.25,0.125,0.5,1024,1,0.5,inf,true,\
+            "method-a,layers=3;spacing=1,\"method-a:layers=3,spacing=1\",,0.25,0.125,0.5,1024,1,0.5,inf,true,\
              \"light: 0.25 [0.125, 0.5]\",\"test device, \"\"quoted\"\"\""
         );
         // Slower and less accurate than the DOM row: off the front.
-        assert!(lines[2].starts_with("bom,layers=4;split_ratio=0.3,\"bom:layers=4,split_ratio=0.3\","));
+        assert!(
+            lines[2].starts_with("method-b,layers=4;split_ratio=0.3,\"method-b:layers=4,split_ratio=0.3\",")
+        );
         assert!(lines[2].contains(",0.75,inf,false,"), "{}", lines[2]);
         assert_eq!(lines.len(), 3);
     }
@@ -377,7 +379,7 @@ mod tests {
         assert_eq!(json["scene"]["segments"], 240);
         let rows = json["rows"].as_array().unwrap();
         assert_eq!(rows.len(), 2);
-        assert_eq!(rows[0]["label"], "dom:layers=3,spacing=uniform");
+        assert_eq!(rows[0]["label"], "method-a:layers=3,spacing=1");
         assert_eq!(rows[0]["params"]["layers"], 3.0);
         assert_eq!(rows[1]["params"]["split_ratio"], 0.3);
         assert_eq!(rows[0]["gpu_ms"]["min"], 0.125);

@@ -9,14 +9,14 @@
 //! layers, all written by ONE geometry pass with `ceil(K / 4)` colour targets (8 at most, thesis §3.4) and
 //! additive blending: a fragment adds its optical depth to its layer and every later one. The split function is
 //! evaluated in the shaders (the thesis's lookup texture of §5.2.2 is not needed). The GPU side is
-//! `methods::layers` with this method's shader and uniforms. Memory: 16 bytes per texel per 4
+//! `methods::opacity_layers` with this method's shader and uniforms. Memory: 16 bytes per texel per 4
 //! layers plus the near and far maps it reads (8 bytes): BOM-4 takes 6 MiB at 512², BOM-32 34 MiB.
 //!
 //! The automatic split ratio (§5.2.3-5.2.4) is [`automatic_split_ratio`]: an on-demand computation over the
 //! reference's fragment lists, off the per-frame path (the thesis reads the layers back for it, and does not
 //! run it every frame either).
 
-use super::layers::{LayerMethod, LayerSetup, LayersGpu};
+use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu};
 use super::{
     Analysis, AnalysisResult, LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec,
     ParamValues, Role, ShadowMethod, SweepPoint, UniformMirror, value,

@@ -10,9 +10,9 @@
 //! paper's second pass): a fragment adds its optical depth to its layer and every later one. The ends `d_k`
 //! are a uniform filled from `visibility::dom::layer_ends`. Memory: 16 bytes per texel per 4 layers, plus the
 //! near map it reads (4 bytes) and, for the stretch, the far map (4 bytes): DOM-3 takes 5 MiB at 512².
-//! The GPU side is `methods::layers` with this method's shader and uniforms.
+//! The GPU side is `methods::opacity_layers` with this method's shader and uniforms.
 
-use super::layers::{LayerMethod, LayerSetup, LayersGpu, VALUES_PER_LAYER};
+use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu, VALUES_PER_LAYER};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,

@@ -5,9 +5,9 @@
 //!
 //! GPU: the slices live in an RGBA32F array texture (4 slices per layer). One geometry pass fills 8 layers
 //! (8 colour targets × 4 channels = 32 slices) with additive blending, so `N` slices take `ceil(N / 32)`
-//! geometry passes: OSM-256 takes 8. The GPU side is `methods::layers` with this method's shader and uniforms.
+//! geometry passes: OSM-256 takes 8. The GPU side is `methods::opacity_layers` with this method's shader and uniforms.
 
-use super::layers::{LayerMethod, LayerSetup, LayersGpu};
+use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,

@@ -270,29 +270,4 @@ mod tests {
         assert_eq!(lerp_up(1.0, 3.0, 2.0), 3.0);
         assert_eq!(lerp_up(1.0, 3.0, 0.0), 1.0);
     }
-
-    #[test]
-    fn method_labels_and_curves() {
-        let frags = [Fragment::new(0.2, 0.5), Fragment::new(0.6, 0.5)];
-        let methods: [&dyn TexelModel; 6] = [
-            &Reference,
-            &OsmParams::default(),
-            &DomParams::default(),
-            &BomParams::default(),
-            &DcParams::default(),
-            &OccupancyParams::new(0.5),
-        ];
-        let labels: Vec<_> = methods.iter().map(|m| m.label()).collect();
-        assert_eq!(
-            labels,
-            ["reference", "osm-16", "dom-3", "bom-4", "dc-4", "occupancy"]
-        );
-        for m in methods {
-            // Every method is exactly 1 at depth 0 here (nothing precedes it, and 0 is the first OSM plane)
-            // and exp(-2 ln 2) = 1/4 beyond the last fragment.
-            let v = m.curve(&frags, &[0.0, 2.0]);
-            assert_eq!(v[0], 1.0, "{}", m.label());
-            assert!((v[1] - 0.25).abs() < 1e-6, "{}: {}", m.label(), v[1]);
-        }
-    }
 }

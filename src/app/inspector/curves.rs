@@ -245,7 +245,8 @@ mod tests {
         };
         let mut params = ParamValues::new();
         params.insert("slices".into(), 4.0);
-        let (ms, sel) = models("osm", &params, false, 0.5);
+        use crate::methods::{LightMethod, bom::Bom, dc::Dc, dom::Dom, occupancy::Occupancy, osm::Osm};
+        let (ms, sel) = models(Osm.name(), &params, false, 0.5);
         assert_eq!((ms.len(), sel), (1, Some(0)));
         let s = ms[0].model.stored(&f).unwrap();
         assert_eq!(s.boundaries, [0.0, 0.25, 0.5, 0.75, 1.0]);
@@ -262,7 +263,8 @@ mod tests {
         assert_eq!(plot.reference_error.unwrap().max, 0.0);
         assert!(plot.methods[0].error.unwrap().mean > 0.0);
 
-        let all = models("dc", &ParamValues::new(), true, 0.5);
+        let empty = ParamValues::new();
+        let all = models(Dc.name(), &empty, true, 0.5);
         let names: Vec<String> = all.0.iter().map(|m| m.model.label()).collect();
         let count = registry::all().iter().filter(|m| inspected(**m)).count();
         assert_eq!(names.len(), count, "every inspected method once: {names:?}");
@@ -272,13 +274,14 @@ mod tests {
                 .position(|n| n == label)
                 .unwrap_or_else(|| panic!("{label}"))
         };
-        for label in ["osm-16", "dom-3", "bom-4", "occupancy"] {
-            at(label);
+        let label = |m: &dyn ShadowMethod| m.model(&empty, 0.5).label();
+        for m in [&Osm as &dyn ShadowMethod, &Dom, &Bom, &Occupancy] {
+            at(&label(m));
         }
-        assert_eq!(all.1, Some(at("dc-4")), "the selected method");
-        let dc = all.0[at("dc-4")].model.stored(&f).unwrap();
+        assert_eq!(all.1, Some(at(&label(&Dc))), "the selected method");
+        let dc = all.0[at(&label(&Dc))].model.stored(&f).unwrap();
         assert_eq!((dc.means.len(), dc.bins.len()), (4, 4));
-        let occ = all.0[at("occupancy")].model.stored(&f).unwrap();
+        let occ = all.0[at(&label(&Occupancy))].model.stored(&f).unwrap();
         // Relative depths 0, 0.25 and 1: slices 0, 32 and 127 (the last one, clamped); slabs 0, 1 and 3.
         assert_eq!(occ.occupied.len(), 3);
         assert!((occ.occupied[1][0] - 0.3).abs() < 1e-6);

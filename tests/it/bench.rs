@@ -427,7 +427,10 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
     harness.get_by_label("Bench").click();
     harness.run();
     // Sweep only OSM: uncheck the others.
-    for m in ["opaque-shadow-map", "dom", "bom", "dc", "occupancy", "reference"] {
+    for m in hairlab::bench::sweep_methods()
+        .into_iter()
+        .filter(|m| *m != "osm")
+    {
         harness.get_by_label(m).click();
     }
     harness.run();
@@ -444,7 +447,8 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
     let result = harness.state().bench_result().expect("a result").clone();
     assert!(!result.cancelled);
     let labels: Vec<String> = result.rows.iter().map(|r| r.config.label()).collect();
-    assert_eq!(labels.len(), 7);
+    let osm = hairlab::methods::registry::find("osm").unwrap();
+    assert_eq!(labels.len(), osm.sweep().len(), "{labels:?}");
     assert!(labels.iter().all(|l| l.starts_with("osm:slices=")), "{labels:?}");
     assert!(
         harness

@@ -17,7 +17,7 @@ use super::{
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::caster::draw_casters;
-use crate::render::maps::{check_budget, texture_entry, uniform_entry};
+use crate::render::maps::{check_budget, cleared_attachments, texture_entry, uniform_entry};
 use crate::render::passes;
 use crate::visibility::dc::MAX_CLUSTERS;
 use crate::visibility::{DcParams, TexelModel};
@@ -440,20 +440,7 @@ fn geometry_pass(
     pipeline: &wgpu::RenderPipeline,
     resources: &wgpu::BindGroup,
 ) {
-    let attachments: Vec<_> = views
-        .iter()
-        .map(|view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        })
-        .collect();
+    let attachments = cleared_attachments(views);
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("hairlab.dc.pass"),
         color_attachments: &attachments,

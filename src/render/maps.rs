@@ -92,21 +92,28 @@ impl ArrayMap {
 
     /// Colour attachments for layers `first..first + count`, cleared to zero.
     pub fn attachments(&self, first: u32, count: u32) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
-        self.layer_views[first as usize..(first + count) as usize]
-            .iter()
-            .map(|view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
-            .collect()
+        cleared_attachments(&self.layer_views[first as usize..(first + count) as usize])
     }
+}
+
+/// Colour attachments of `views`, each cleared to zero and stored: the targets of an additive light pass.
+pub fn cleared_attachments<'a, V: std::borrow::Borrow<wgpu::TextureView>>(
+    views: &'a [V],
+) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
+    views
+        .iter()
+        .map(|view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view: view.borrow(),
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        })
+        .collect()
 }
 
 /// Light pipelines (the shared light vertex stage, LineList) whose fragment stage adds into `n` RGBA32F targets

@@ -20,20 +20,7 @@ impl EyeTargets {
 
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> EyeTargets {
         let make = |label, format, usage, view_formats: &[wgpu::TextureFormat]| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | usage,
-                view_formats,
-            })
+            eye_texture(device, label, (width, height), format, usage, view_formats)
         };
         let color = make(
             "hairlab.eye.color",
@@ -62,8 +49,34 @@ impl EyeTargets {
         }
     }
 
-    /// Bytes of GPU memory the targets hold.
+    /// Bytes of GPU memory the targets hold (colour and depth).
     pub fn bytes(&self) -> u64 {
         self.width as u64 * self.height as u64 * (4 + 4)
     }
+}
+
+/// A viewport-sized 2D render target `hairlab.<…>` (`label`) of `format`, usable as `usage` too: the eye targets and
+/// every transparency technique's targets.
+pub fn eye_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    view_formats: &[wgpu::TextureFormat],
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | usage,
+        view_formats,
+    })
 }

@@ -6,6 +6,7 @@
 
 use super::{EyeTransparency, TechniqueInfo, TransparencyGpu};
 use crate::render::passes::composite::CompositePass;
+use crate::render::targets::eye_texture;
 
 pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
@@ -98,22 +99,15 @@ struct WboitTargets {
 impl WboitTargets {
     fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, width: u32, height: u32) -> WboitTargets {
         let view = |label, format| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
+            eye_texture(
+                device,
+                label,
+                (width, height),
+                format,
+                wgpu::TextureUsages::TEXTURE_BINDING,
+                &[],
+            )
+            .create_view(&Default::default())
         };
         let accum = view("hairlab.wboit.accum", ACCUM);
         let revealage = view("hairlab.wboit.revealage", REVEALAGE);

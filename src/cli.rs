@@ -483,11 +483,22 @@ fn measure(a: &MeasureArgs) -> Result<()> {
         stats.max_depth_complexity,
         stats.mean_depth_complexity
     );
+    let width = rows
+        .iter()
+        .map(|m| m.config.label().chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(6);
     println!(
-        "{:<22} {:>9} {:>8} {:>9} {:>9} {:>7} {:>9} {:>9} {:>10} {:>5}  passes",
+        "{:<width$} {:>9} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>10} {:>5}  passes",
         "method",
         "map err",
+        "p50",
+        "p95",
+        "p99",
         "worst",
+        ">0.05",
+        ">0.1",
         "shading",
         "img RMSE",
         "PSNR",
@@ -498,11 +509,17 @@ fn measure(a: &MeasureArgs) -> Result<()> {
     );
     for m in &rows {
         let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
+        let e = &m.texel_errors;
         println!(
-            "{:<22} {:>9.5} {:>8.4} {:>9.5} {:>9.5} {:>7.2} {:>9.5} {:>9.3} {:>10.2} {:>5}  {}",
+            "{:<width$} {:>9.5} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>6.1}% {:>6.1}% {:>9.5} {:>9.5} {:>7.2} {:>9.5} {:>9.3} {:>10.2} {:>5}  {}",
             m.config.label(),
             m.map_error,
-            m.worst_texel_error,
+            e.p50,
+            e.p95,
+            e.p99,
+            e.worst,
+            100.0 * e.share_over[0],
+            100.0 * e.share_over[1],
             m.shading_error,
             m.image_rmse,
             m.image_psnr,
@@ -513,5 +530,9 @@ fn measure(a: &MeasureArgs) -> Result<()> {
             passes.join(" · ")
         );
     }
+    println!(
+        "texel error = mean |V - V_ref| over a texel's samples; p50/p95/p99/worst over the occupied texels; \
+         >0.05, >0.1: share of occupied texels above"
+    );
     Ok(())
 }

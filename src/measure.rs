@@ -8,7 +8,7 @@ use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::{self, ParamValues, registry};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
-use crate::visibility::{self, Fragment, TexelModel, metrics};
+use crate::visibility::{self, ErrorDistribution, Fragment, TexelModel, metrics};
 use anyhow::{Context, Result};
 
 /// A method with parameter values, written `name` or `name:key=value,key=value`.
@@ -85,9 +85,11 @@ pub struct SceneStats {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measurement {
     pub config: MethodConfig,
-    /// Mean texel error over occupied texels, and the largest texel mean error.
+    /// Mean texel error over occupied texels.
     pub map_error: f64,
-    pub worst_texel_error: f64,
+    /// How the texel (mean) errors are spread over the occupied texels: percentiles, the worst texel, the
+    /// shares above 0.05 and 0.1.
+    pub texel_errors: ErrorDistribution,
     /// Median GPU milliseconds per pass of the method's own light passes, by pass name.
     pub pass_ms: Vec<(String, f64)>,
     /// GPU milliseconds of each timed frame, by pass name (the samples behind `pass_ms`).
@@ -227,36 +229,17 @@ pub fn measure_on(
     for c in configs {
         progress(&c.label());
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
-        let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
-        for frame in 0..=frames {
-            r.render_light(&input(method, &c.params))?;
-            let times = r.wait_timings();
-            if frame == 0 {
-                continue;
-            }
-            for t in times
-                .into_iter()
-                .filter(|t| t.name != "light depth" && t.name != "mesh shadow map")
-            {
-                match per_pass.iter_mut().find(|(n, _)| *n == t.name) {
-                    Some((_, v)) => v.push(t.ms),
-                    None => per_pass.push((t.name, vec![t.ms])),
-                }
-            }
-        }
+        let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames)?;
         let v = evaluate_all(&mut r, method, &samples)?;
-        let mut sum = 0.0;
-        let mut worst = 0.0f64;
-        for span in &spans {
-            let n = span.len() as f64;
-            let e: f64 = span
-                .clone()
-                .map(|i| (v[i] - reference[i]).abs() as f64)
-                .sum::<f64>()
-                / n;
-            sum += e;
-            worst = worst.max(e);
-        }
+        let texel_errors: Vec<f64> = spans
+            .iter()
+            .map(|span| {
+                span.clone()
+                    .map(|i| (v[i] - reference[i]).abs() as f64)
+                    .sum::<f64>()
+                    / span.len() as f64
+            })
+            .collect();
         let (memory_bytes, geometry_passes) = r
             .method_gpu(method)
             .map_or((0, 0), |g| (g.memory_bytes(), g.geometry_passes()));
@@ -273,14 +256,17 @@ pub fn measure_on(
         let (image_rmse, image_psnr) = image_error(&r.read_output()?, &reference_image);
         out.push(Measurement {
             config: c.clone(),
-            map_error: if spans.is_empty() {
+            map_error: if texel_errors.is_empty() {
                 0.0
             } else {
-                sum / spans.len() as f64
+                texel_errors.iter().sum::<f64>() / texel_errors.len() as f64
             },
-            worst_texel_error: worst,
-            pass_frames_ms: per_pass.clone(),
-            pass_ms: per_pass.into_iter().map(|(n, v)| (n, median(v))).collect(),
+            texel_errors: ErrorDistribution::of(&texel_errors),
+            pass_ms: per_pass
+                .iter()
+                .map(|(n, v)| (n.clone(), median(v.clone())))
+                .collect(),
+            pass_frames_ms: per_pass,
             memory_bytes,
             geometry_passes,
             shading_error,
@@ -290,6 +276,91 @@ pub fn measure_on(
         });
     }
     Ok((stats, out))
+}
+
+/// GPU milliseconds of each of the method's own light passes (the shared light-depth and mesh shadow passes
+/// left out), frame by frame over `frames` timed frames after one warm-up frame.
+fn time_light_passes(r: &mut Renderer, input: &FrameInput, frames: u32) -> Result<Vec<(String, Vec<f64>)>> {
+    let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
+    for frame in 0..=frames {
+        r.render_light(input)?;
+        let times = r.wait_timings();
+        if frame == 0 {
+            continue;
+        }
+        for t in times
+            .into_iter()
+            .filter(|t| t.name != "light depth" && t.name != "mesh shadow map")
+        {
+            match per_pass.iter_mut().find(|(n, _)| *n == t.name) {
+                Some((_, v)) => v.push(t.ms),
+                None => per_pass.push((t.name, vec![t.ms])),
+            }
+        }
+    }
+    Ok(per_pass)
+}
+
+/// The GPU cost of one configuration, without its error (what the bench's scaling mode fits).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Timing {
+    pub config: MethodConfig,
+    /// GPU milliseconds of each timed frame, by pass name.
+    pub pass_frames_ms: Vec<(String, Vec<f64>)>,
+    pub memory_bytes: u64,
+}
+
+/// What [`time_configs`] measured, and on what.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Timings {
+    pub device: String,
+    pub strands: usize,
+    pub segments: usize,
+    pub rows: Vec<Timing>,
+}
+
+/// Times `configs` on the scene of `settings` (`frames` timed frames each, after one warm-up) on a device
+/// opened by the adapter policy: the light passes only, no reference and no error, so that it scales to
+/// millions of segments.
+pub fn time_configs(
+    settings: &Settings,
+    configs: &[MethodConfig],
+    frames: u32,
+    mut progress: impl FnMut(&str),
+) -> Result<Timings> {
+    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    let mut s = settings.clone();
+    let scene = s.scene.build()?;
+    if s.camera.distance <= 0.0 {
+        s.camera.frame(&scene.framing_bounds());
+    }
+    let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution)?;
+    let mut out = Vec::with_capacity(configs.len());
+    for c in configs {
+        progress(&c.label());
+        let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
+        let input = FrameInput {
+            camera: &s.camera,
+            light: &s.light,
+            render: &s.render,
+            method,
+            method_params: &c.params,
+            width: 8,
+            height: 8,
+        };
+        let pass_frames_ms = time_light_passes(&mut r, &input, frames)?;
+        out.push(Timing {
+            config: c.clone(),
+            pass_frames_ms,
+            memory_bytes: r.method_gpu(method).map_or(0, |g| g.memory_bytes()),
+        });
+    }
+    Ok(Timings {
+        device: crate::gpu::describe(&gpu.info),
+        strands: scene.strands.strand_count(),
+        segments: scene.strands.segment_count(),
+        rows: out,
+    })
 }
 
 fn evaluate_all(

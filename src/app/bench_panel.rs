@@ -1,5 +1,6 @@
 //! The Bench window: the sweep of `hairlab bench` on the current settings, run on a background thread with its
-//! own headless GPU device and cancellable, charted as GPU time (log scale) against map error in egui_plot —
+//! own headless GPU device and cancellable, charted as GPU time (log scale) against the chosen accuracy metric
+//! (map error, a texel-error percentile, the share of bad texels, ...) in egui_plot —
 //! the same chart model (`bench::chart`) as the PNG and SVG: one colour per method, the Pareto front connected,
 //! the configuration named on hover. Clicking a point (or a configuration in the table) makes it the app's
 //! shadow method.
@@ -60,7 +61,7 @@ impl Default for BenchPanel {
     }
 }
 
-fn row_text(r: &BenchRow) -> String {
+fn row_text(result: &BenchResult, r: &BenchRow) -> String {
     let note = if r.note.is_empty() {
         String::new()
     } else {
@@ -72,8 +73,8 @@ fn row_text(r: &BenchRow) -> String {
         r.total_ms.median,
         r.total_ms.min,
         r.total_ms.max,
-        bench::ACCURACY_METRIC,
-        r.error(),
+        result.metric,
+        result.accuracy(r),
         r.memory_bytes as f64 / (1024.0 * 1024.0)
     )
 }
@@ -204,7 +205,8 @@ impl HairlabApp {
     fn bench_ui(&mut self, ui: &mut egui::Ui, ctx: &egui::Context) {
         ui.label(
             "Sweeps each method's parameters on the current scene and settings (on its own GPU device, in the \
-             background) and charts GPU time against map error. Click a point to use that configuration.",
+             background) and charts GPU time against an accuracy metric (map error unless chosen otherwise). Click a point to use that \
+             configuration.",
         );
         let running = self.bench.job.is_some();
         ui.add_enabled_ui(!running, |ui| {
@@ -248,7 +250,22 @@ impl HairlabApp {
                 ui.spinner();
             }
         });
-        let Some(result) = &self.bench.result else { return };
+        let Some(result) = &mut self.bench.result else {
+            return;
+        };
+        ui.horizontal(|ui| {
+            let l = ui.label("accuracy axis");
+            egui::ComboBox::from_id_salt("bench_metric")
+                .selected_text(result.metric)
+                .show_ui(ui, |ui| {
+                    for (name, axis) in bench::ACCURACY_METRICS {
+                        ui.selectable_value(&mut result.metric, *name, *name)
+                            .on_hover_text(*axis);
+                    }
+                })
+                .response
+                .labelled_by(l.id);
+        });
         let chart = bench::speed_accuracy_chart(result);
         ui.strong(&chart.title);
         ui.label(chart.notes.join("\n"));
@@ -261,7 +278,8 @@ impl HairlabApp {
 
     /// `chart` (of the current result) in egui_plot; returns the row whose point was clicked.
     fn bench_plot(&mut self, ui: &mut egui::Ui, chart: &Chart) -> Option<usize> {
-        let rows = &self.bench.result.as_ref()?.rows;
+        let result = self.bench.result.as_ref()?;
+        let rows = &result.rows;
         let front_color = ui.visuals().strong_text_color();
         let front_name = chart.front.as_ref().map(|f| f.name.as_str());
         let xy = |p: &bench::chart::Point| [chart.plot_x(p.x), p.y];
@@ -274,7 +292,7 @@ impl HairlabApp {
                 _ => &chart.series.iter().find(|s| s.name == *plot_name)?.points,
             };
             let row = points.get(*index)?.row?;
-            Some(row_text(rows.get(row)?))
+            Some(row_text(result, rows.get(row)?))
         };
         let ([x0, x1], [y0, y1]) = chart.bounds();
         let response = Plot::new("bench_plot")
@@ -358,7 +376,7 @@ impl HairlabApp {
                         "configuration",
                         "GPU ms",
                         "min..max",
-                        bench::ACCURACY_METRIC,
+                        result.metric,
                         "MiB",
                         "front",
                     ] {
@@ -379,7 +397,7 @@ impl HairlabApp {
                         }
                         ui.label(format!("{:.3}", r.total_ms.median));
                         ui.label(format!("{:.3}..{:.3}", r.total_ms.min, r.total_ms.max));
-                        ui.label(format!("{:.5}", r.error()));
+                        ui.label(format!("{:.5}", result.accuracy(r)));
                         ui.label(format!("{:.2}", r.memory_bytes as f64 / (1024.0 * 1024.0)));
                         ui.label(if front.contains(&i) { "●" } else { "" });
                         ui.end_row();

@@ -10,7 +10,7 @@
 //! shadow map reuses the shared light-depth pass) has 0 ms: such points sit in a "0" column left of the
 //! logarithmic axis, behind an axis break.
 
-use super::{BenchResult, ScalingResult};
+use super::{BenchResult, ScalingResult, metric_axis};
 use crate::measure::SceneStats;
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
@@ -315,7 +315,7 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
         let r = &result.rows[i];
         Point {
             x: r.total_ms.median,
-            y: r.error(),
+            y: result.accuracy(r),
             label: r.short_label(),
             row: Some(i),
         }
@@ -351,7 +351,7 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
             scale: Scale::Log,
         },
         y: Axis {
-            label: "map error: mean |ΔV| per occupied texel".to_string(),
+            label: metric_axis(result.metric).to_string(),
             scale: Scale::Linear,
         },
         series,
@@ -400,15 +400,24 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
             points: ends.to_vec(),
         });
     }
-    let notes = match &r.stats {
-        Some(s) => scene_notes(&r.preset, s, " at density ×1"),
-        None => vec![format!("preset {}", r.preset), r.device.clone()],
-    };
+    let segments = r.points.iter().map(|p| p.segments).max().unwrap_or(0);
+    let notes = vec![
+        format!(
+            "preset {}: {res}×{res} light map, up to {segments} segments",
+            r.preset,
+            res = r.map_resolution
+        ),
+        r.device.clone(),
+    ];
+    let (first, last) = (
+        r.densities.first().copied().unwrap_or(0.0),
+        r.densities.last().copied().unwrap_or(0.0),
+    );
     Chart {
         title: "GPU time against segment count".to_string(),
         notes,
         x: Axis {
-            label: "segments (strand density × 0.25 .. 4)".to_string(),
+            label: format!("segments (strand density × {first} .. {last})"),
             scale: Scale::Linear,
         },
         y: Axis {

@@ -1,8 +1,9 @@
 //! `hairlab bench`: the arguments, the run, and the tables printed on stdout.
 
 use super::{
-    ACCURACY_METRIC, BenchResult, Progress, ScalingResult, TerminalProgress, parse_methods, prepare_out_dir,
-    run, run_scaling, scaling_configs, write_results, write_scaling,
+    ACCURACY_METRICS, BenchResult, DEFAULT_SCALING_SEGMENTS, Progress, ScalingResult, TerminalProgress,
+    parse_methods, parse_metric, prepare_out_dir, run, run_scaling, scaling_configs, write_results,
+    write_scaling,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
@@ -18,17 +19,26 @@ pub struct BenchArgs {
     /// Override any preset value, e.g. `--set render.map_resolution=256` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Methods to sweep, comma-separated (default: all): opaque-shadow-map, osm, dom, bom, dc, occupancy,
-    /// reference.
+    /// Methods to sweep, comma-separated (default: every registered method with a sweep; an unknown name is
+    /// answered with the list).
     #[arg(long, value_delimiter = ',', value_name = "METHOD,...")]
     pub methods: Vec<String>,
+    /// The accuracy metric of the chart, the table and the Pareto front (every metric is in the CSV and the
+    /// JSON whichever is chosen).
+    #[arg(long, default_value = super::DEFAULT_ACCURACY_METRIC,
+          value_parser = clap::builder::PossibleValuesParser::new(ACCURACY_METRICS.iter().map(|(n, _)| *n)))]
+    pub metric: String,
     /// Timed frames per configuration (after one warm-up frame).
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
-    /// Scaling mode: OSM-16, OSM-64, DOM-3 and occupancy over the strand density × 0.25..4, fitted GPU ms per
-    /// segment (writes scaling.csv, scaling_points.csv, scaling.png, scaling.svg).
+    /// Scaling mode: each method's scaling configurations timed (light passes only) over the strand density
+    /// from × 0.25, doubled until the scene has --max-segments segments (and at least to × 4); fitted GPU ms
+    /// per segment with R² (writes scaling.csv, scaling_points.csv, scaling.png, scaling.svg).
     #[arg(long)]
     pub scaling: bool,
+    /// The segment count the scaling mode reaches.
+    #[arg(long, default_value_t = DEFAULT_SCALING_SEGMENTS)]
+    pub max_segments: usize,
     /// Output folder (created): results.csv, results.json, speed_vs_accuracy.png, speed_vs_accuracy.svg.
     #[arg(long)]
     pub out: PathBuf,
@@ -37,6 +47,7 @@ pub struct BenchArgs {
 /// `hairlab bench`.
 pub fn run_cli(a: &BenchArgs) -> Result<()> {
     let methods = parse_methods(&a.methods)?;
+    let metric = parse_metric(&a.metric).map_err(|e| anyhow::anyhow!("--metric: {e}"))?;
     if !(1..=1000).contains(&a.frames) {
         bail!("--frames must be in 1..=1000 (got {})", a.frames);
     }
@@ -47,8 +58,16 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
     let mut progress = |p: Progress| bar.update(&p);
     if a.scaling {
         let configs = scaling_configs(&methods);
-        let r = run_scaling(&settings, &a.preset, &configs, a.frames, &never, &mut progress)?
-            .context("the scaling run was cancelled")?;
+        let r = run_scaling(
+            &settings,
+            &a.preset,
+            &configs,
+            a.frames,
+            a.max_segments,
+            &never,
+            &mut progress,
+        )?
+        .context("the scaling run was cancelled")?;
         drop(bar);
         print_scaling(&r);
         for f in write_scaling(&a.out, &r)? {
@@ -56,7 +75,7 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
         }
         return Ok(());
     }
-    let result = run(
+    let mut result = run(
         &settings,
         &a.preset,
         &methods,
@@ -66,6 +85,7 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
         &mut progress,
     )?
     .context("the bench was cancelled")?;
+    result.metric = metric;
     drop(bar);
     print_table(&result);
     for f in write_results(&a.out, &result)? {
@@ -83,7 +103,7 @@ fn print_table(result: &BenchResult) {
     let front = result.front();
     println!(
         "{:<42} {:>10} {:>19} {:>10} {:>11}  pareto",
-        "configuration", "GPU ms", "min..max", ACCURACY_METRIC, "memory MiB"
+        "configuration", "GPU ms", "min..max", result.metric, "memory MiB"
     );
     for (i, r) in result.rows.iter().enumerate() {
         let note = match r.note.as_str() {
@@ -95,7 +115,7 @@ fn print_table(result: &BenchResult) {
             format!("{}{note}", r.config.label()),
             r.total_ms.median,
             format!("{:.3}..{:.3}", r.total_ms.min, r.total_ms.max),
-            r.error(),
+            result.accuracy(r),
             r.memory_bytes as f64 / (1024.0 * 1024.0),
             if front.contains(&i) { "*" } else { "" }
         );

@@ -1,10 +1,12 @@
 //! The bench: speed charted against accuracy. It sweeps each method's parameters on one scene, as each method
 //! gives them ([`crate::methods::ShadowMethod::sweep`]), measures every configuration with
 //! [`crate::measure::measure`], and writes `results.csv`, `results.json` and the chart
-//! `speed_vs_accuracy.png`/`.svg` (GPU time against map error, the Pareto front marked).
+//! `speed_vs_accuracy.png`/`.svg` (GPU time against an accuracy metric, map error unless `--metric` says
+//! otherwise, the Pareto front marked).
 //!
-//! The scaling mode measures a few configurations over the generator's strand density × 0.25..4 and fits GPU
-//! time against segment count by least squares: the cost per segment and the fixed cost.
+//! The scaling mode times a few configurations (light passes only) over the generator's strand density from
+//! × 0.25, doubling until the scene has a million segments (`--max-segments`), and fits GPU time against
+//! segment count by least squares: the cost per segment, the fixed cost and R².
 //!
 //! GPU time is that of the method's own light passes per frame (the shared light-depth pass every method uses
 //! is left out, so the opaque shadow map, which reads only that pass, costs 0 ms).
@@ -26,11 +28,13 @@ pub use report::{
     prepare_out_dir, scaling_csv, scaling_points_csv, to_csv, to_json, write_results, write_scaling,
 };
 pub use result::{
-    ACCURACY_METRIC, BenchResult, BenchRow, ScalingFit, ScalingPoint, ScalingResult, error_metrics,
+    ACCURACY_METRICS, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, ScalingFit, ScalingPoint,
+    ScalingResult, error_metrics, frame_totals, metric_axis, parse_metric,
 };
 pub use run::{Progress, TerminalProgress, measure_configs, run, run_scaling};
 pub use stats::{Spread, fit_line, pareto_front};
 pub use sweep::{
-    BenchConfig, SCALING_DENSITIES, Tuned, all_scaling_configs, parse_methods, scaling_configs,
-    sweep_configs, sweep_methods, tune, tune_analysed,
+    BenchConfig, DEFAULT_SCALING_SEGMENTS, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,
+    MIN_LAST_SCALING_DENSITY, Tuned, all_scaling_configs, parse_methods, scaling_configs, sweep_configs,
+    sweep_methods, tune, tune_analysed,
 };

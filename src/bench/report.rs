@@ -347,6 +347,7 @@ mod tests {
                 row("method-b", &[("layers", 4.0), ("split_ratio", 0.3)], 0.5, 0.75),
             ],
             cancelled: false,
+            metric: crate::bench::DEFAULT_ACCURACY_METRIC,
         }
     }
 
@@ -396,7 +397,8 @@ mod tests {
         let r = ScalingResult {
             preset: "tiny".to_string(),
             device: "dev".to_string(),
-            stats: None,
+            map_resolution: 64,
+            densities: vec![0.25, 0.5],
             points: Vec::new(),
             fits: vec![ScalingFit {
                 label: "osm:slices=16".to_string(),

@@ -10,7 +10,12 @@ use std::fmt::Write as _;
 pub fn error_metrics(m: &Measurement) -> Vec<(&'static str, f64)> {
     vec![
         ("map_error", m.map_error),
-        ("worst_texel_error", m.worst_texel_error),
+        ("texel_error_p50", m.texel_errors.p50),
+        ("texel_error_p95", m.texel_errors.p95),
+        ("texel_error_p99", m.texel_errors.p99),
+        ("worst_texel_error", m.texel_errors.worst),
+        ("share_texels_over_0.05", m.texel_errors.share_over[0]),
+        ("share_texels_over_0.1", m.texel_errors.share_over[1]),
         ("shading_error", m.shading_error),
         ("image_rmse", m.image_rmse),
         ("image_psnr", m.image_psnr),
@@ -18,8 +23,62 @@ pub fn error_metrics(m: &Measurement) -> Vec<(&'static str, f64)> {
     ]
 }
 
-/// The metric the chart and the Pareto front use as accuracy.
-pub const ACCURACY_METRIC: &str = "map_error";
+/// The metrics a chart's accuracy axis and the Pareto front can use (lower is better), with the axis label.
+pub const ACCURACY_METRICS: &[(&str, &str)] = &[
+    ("map_error", "map error: mean |ΔV| per occupied texel"),
+    ("texel_error_p50", "median texel error (texel mean |ΔV|)"),
+    ("texel_error_p95", "95th-percentile texel error (texel mean |ΔV|)"),
+    ("texel_error_p99", "99th-percentile texel error (texel mean |ΔV|)"),
+    ("worst_texel_error", "worst texel error (texel mean |ΔV|)"),
+    (
+        "share_texels_over_0.05",
+        "share of occupied texels with error > 0.05",
+    ),
+    (
+        "share_texels_over_0.1",
+        "share of occupied texels with error > 0.1",
+    ),
+    (
+        "shading_error",
+        "shading error: mean |ΔV| at the visible hair points",
+    ),
+    ("image_rmse", "image RMSE against the reference image"),
+    (
+        "flicker",
+        "flicker: frame-to-frame change of V beyond the reference's",
+    ),
+];
+
+/// The accuracy metric a new result shows.
+pub const DEFAULT_ACCURACY_METRIC: &str = "map_error";
+
+/// `name` as one of [`ACCURACY_METRICS`], or an error listing them.
+pub fn parse_metric(name: &str) -> Result<&'static str, String> {
+    ACCURACY_METRICS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(n, _)| *n)
+        .ok_or_else(|| {
+            let names: Vec<_> = ACCURACY_METRICS.iter().map(|(n, _)| *n).collect();
+            format!("unknown metric '{name}' (known: {})", names.join(", "))
+        })
+}
+
+/// The axis label of an [`ACCURACY_METRICS`] name.
+pub fn metric_axis(name: &str) -> &'static str {
+    ACCURACY_METRICS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or("error", |(_, axis)| *axis)
+}
+
+/// The GPU milliseconds of each timed frame, all passes summed, from per-pass frame times.
+pub fn frame_totals(pass_frames_ms: &[(String, Vec<f64>)]) -> Vec<f64> {
+    let frames = pass_frames_ms.iter().map(|(_, v)| v.len()).max().unwrap_or(0);
+    (0..frames)
+        .map(|f| pass_frames_ms.iter().filter_map(|(_, v)| v.get(f)).sum())
+        .collect()
+}
 
 /// One measured configuration, as the bench reports it.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,14 +98,10 @@ pub struct BenchRow {
 
 impl BenchRow {
     pub fn from_measurement(m: &Measurement, note: &str, device: &str) -> BenchRow {
-        let frames = m.pass_frames_ms.iter().map(|(_, v)| v.len()).max().unwrap_or(0);
-        let totals: Vec<f64> = (0..frames)
-            .map(|f| m.pass_frames_ms.iter().filter_map(|(_, v)| v.get(f)).sum())
-            .collect();
         BenchRow {
             config: m.config.clone(),
             note: note.to_string(),
-            total_ms: Spread::of(&totals),
+            total_ms: Spread::of(&frame_totals(&m.pass_frames_ms)),
             passes: m
                 .pass_frames_ms
                 .iter()
@@ -61,11 +116,6 @@ impl BenchRow {
 
     pub fn metric(&self, name: &str) -> Option<f64> {
         self.metrics.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
-    }
-
-    /// The accuracy the chart shows ([`ACCURACY_METRIC`]).
-    pub fn error(&self) -> f64 {
-        self.metric(ACCURACY_METRIC).unwrap_or(f64::NAN)
     }
 
     /// `osm 64`, `dom 3 s1`, `bom 4 r0.5 auto`: short enough for a chart label.
@@ -98,12 +148,22 @@ pub struct BenchResult {
     pub rows: Vec<BenchRow>,
     /// Stopped before every configuration was measured.
     pub cancelled: bool,
+    /// The [`ACCURACY_METRICS`] name the chart, the tables and the Pareto front use.
+    pub metric: &'static str,
 }
 
 impl BenchResult {
+    /// `row`'s value of the result's accuracy metric.
+    pub fn accuracy(&self, row: &BenchRow) -> f64 {
+        row.metric(self.metric).unwrap_or(f64::NAN)
+    }
+
     /// (median GPU ms, accuracy) of every row.
     pub fn points(&self) -> Vec<[f64; 2]> {
-        self.rows.iter().map(|r| [r.total_ms.median, r.error()]).collect()
+        self.rows
+            .iter()
+            .map(|r| [r.total_ms.median, self.accuracy(r)])
+            .collect()
     }
 
     /// Row indices of the Pareto front, fastest first.
@@ -135,8 +195,9 @@ pub struct ScalingFit {
 pub struct ScalingResult {
     pub preset: String,
     pub device: String,
-    /// Stats of the scene at density factor 1.
-    pub stats: Option<SceneStats>,
+    pub map_resolution: u32,
+    /// The strand density factors measured, smallest first.
+    pub densities: Vec<f32>,
     pub points: Vec<ScalingPoint>,
     pub fits: Vec<ScalingFit>,
 }

@@ -2,8 +2,9 @@
 //! densities, and progress reports (a bar on the terminal).
 
 use super::{
-    BenchConfig, BenchResult, BenchRow, SCALING_DENSITIES, ScalingFit, ScalingPoint, ScalingResult,
-    all_scaling_configs, fit_line, sweep_configs, tune_analysed,
+    BenchConfig, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,
+    MIN_LAST_SCALING_DENSITY, ScalingFit, ScalingPoint, ScalingResult, Spread, all_scaling_configs, fit_line,
+    frame_totals, sweep_configs, tune_analysed,
 };
 use crate::measure::{self, MethodConfig};
 use crate::settings::Settings;
@@ -74,6 +75,7 @@ pub fn measure_configs(
         frames,
         cancelled: rows.len() < total,
         rows,
+        metric: DEFAULT_ACCURACY_METRIC,
     }))
 }
 
@@ -95,13 +97,16 @@ pub fn run(
     measure_configs(settings, preset, &configs, frames, chunk, cancel, progress)
 }
 
-/// Measures `configs` at the generator's strand density × [`SCALING_DENSITIES`] and fits GPU ms against
-/// segment count. `None` when cancelled.
+/// Times `configs` (light passes only: no reference, no error) at the generator's strand density ×
+/// [`FIRST_SCALING_DENSITY`], doubled until the scene has at least `max_segments` segments (and the factor is
+/// at least [`MIN_LAST_SCALING_DENSITY`], at most [`MAX_SCALING_DENSITY`]), and fits GPU ms against segment
+/// count. `None` when cancelled.
 pub fn run_scaling(
     settings: &Settings,
     preset: &str,
     configs: &[MethodConfig],
     frames: u32,
+    max_segments: usize,
     cancel: &AtomicBool,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Option<ScalingResult>> {
@@ -118,42 +123,43 @@ pub fn run_scaling(
         );
     }
     let start = Instant::now();
-    let total = SCALING_DENSITIES.len() * configs.len();
     let mut points = Vec::new();
-    let mut device = String::new();
-    let mut stats = None;
-    for (d, &factor) in SCALING_DENSITIES.iter().enumerate() {
+    let mut device: String;
+    let mut densities = Vec::new();
+    let mut factor = FIRST_SCALING_DENSITY;
+    loop {
         if cancel.load(Ordering::Relaxed) {
             return Ok(None);
         }
         let mut s = settings.clone();
         s.scene.generator.density *= factor;
+        let done = densities.len() * configs.len();
         let mut n = 0;
-        let (st, rows) = measure::measure(&s, configs, frames, |label| {
-            if configs.get(n).is_some_and(|c| c.label() == label) {
-                n += 1;
-            }
+        let t = measure::time_configs(&s, configs, frames, |label| {
             progress(Progress {
-                done: d * configs.len() + n.saturating_sub(1),
-                total,
+                done: done + n,
+                total: done + configs.len(),
                 label: format!("density x{factor}: {label}"),
                 elapsed: start.elapsed(),
             });
+            n += 1;
         })?;
-        for m in &rows {
-            let row = BenchRow::from_measurement(m, "", &st.device);
+        for row in &t.rows {
             points.push(ScalingPoint {
-                label: m.config.label(),
+                label: row.config.label(),
                 density: s.scene.generator.density,
-                strands: st.strands,
-                segments: st.segments,
-                ms: row.total_ms,
+                strands: t.strands,
+                segments: t.segments,
+                ms: Spread::of(&frame_totals(&row.pass_frames_ms)),
             });
         }
-        device = st.device.clone();
-        if factor == 1.0 {
-            stats = Some(st);
+        device = t.device;
+        densities.push(factor);
+        if (t.segments >= max_segments && factor >= MIN_LAST_SCALING_DENSITY) || factor >= MAX_SCALING_DENSITY
+        {
+            break;
         }
+        factor *= 2.0;
     }
     let fits = configs
         .iter()
@@ -175,7 +181,8 @@ pub fn run_scaling(
     Ok(Some(ScalingResult {
         preset: preset.to_string(),
         device,
-        stats,
+        map_resolution: settings.render.map_resolution,
+        densities,
         points,
         fits,
     }))

@@ -14,8 +14,14 @@ use anyhow::{Result, bail};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-/// Strand density factors of the scaling mode.
-pub const SCALING_DENSITIES: &[f32] = &[0.25, 0.5, 1.0, 2.0, 4.0];
+/// The scaling mode's first strand density factor; each next one doubles it.
+pub const FIRST_SCALING_DENSITY: f32 = 0.25;
+/// The scaling mode measures at least up to this density factor (five points from ×0.25)...
+pub const MIN_LAST_SCALING_DENSITY: f32 = 4.0;
+/// ... and at most up to this one, whatever `--max-segments` asks.
+pub const MAX_SCALING_DENSITY: f32 = 1024.0;
+/// The segment count the scaling mode reaches by default.
+pub const DEFAULT_SCALING_SEGMENTS: usize = 1_000_000;
 
 /// The methods the bench sweeps (every registered method with a sweep), in chart and table order: the
 /// baselines, then the approximations, then the reference.

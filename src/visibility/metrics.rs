@@ -9,6 +9,11 @@
 //!
 //! Map error: the mean of the texel mean errors over the texels holding fragments (with the max of their max
 //! errors alongside).
+//!
+//! Error distribution ([`ErrorDistribution`]): a method that fails on a stray strand fails in a band of texels
+//! that a whole-map mean dilutes, so the texel mean errors are also reported as the 50th/95th/99th
+//! percentiles (nearest rank: the `ceil(p/100 · n)`-th smallest of the `n` occupied texels), the worst texel,
+//! and the share of occupied texels whose mean error exceeds 0.05 and 0.1 ([`SHARE_THRESHOLDS`]).
 
 use super::{Fragment, Reference, TexelModel, depth_range, valid};
 
@@ -33,6 +38,48 @@ pub struct MapError {
     pub max: f32,
     /// Number of texels holding fragments.
     pub texels: usize,
+    /// How the texel mean errors spread over those texels.
+    pub distribution: ErrorDistribution,
+}
+
+/// Texel-error thresholds whose exceeding share [`ErrorDistribution`] reports.
+pub const SHARE_THRESHOLDS: [f64; 2] = [0.05, 0.1];
+
+/// How the texel (mean) errors of a map are distributed over its occupied texels.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ErrorDistribution {
+    pub p50: f64,
+    pub p95: f64,
+    pub p99: f64,
+    /// The largest texel error.
+    pub worst: f64,
+    /// Share of the texels whose error exceeds each of [`SHARE_THRESHOLDS`], in `[0, 1]`.
+    pub share_over: [f64; 2],
+}
+
+impl ErrorDistribution {
+    /// The distribution of `texel_errors` (one per occupied texel; NaN counts as the worst). All zero when
+    /// there are none.
+    pub fn of(texel_errors: &[f64]) -> ErrorDistribution {
+        if texel_errors.is_empty() {
+            return ErrorDistribution::default();
+        }
+        let mut sorted: Vec<f64> = texel_errors
+            .iter()
+            .map(|&e| if e.is_nan() { f64::INFINITY } else { e })
+            .collect();
+        sorted.sort_by(f64::total_cmp);
+        let n = sorted.len();
+        let rank = |p: f64| sorted[((p / 100.0 * n as f64).ceil() as usize).clamp(1, n) - 1];
+        let share = |t: f64| sorted.iter().filter(|&&e| e > t).count() as f64 / n as f64;
+        ErrorDistribution {
+            p50: rank(50.0),
+            p95: rank(95.0),
+            p99: rank(99.0),
+            worst: sorted[n - 1],
+            share_over: SHARE_THRESHOLDS.map(share),
+        }
+    }
 }
 
 /// The depths the texel error samples: the fragment depths (input order), then the `grid_points` grid over
@@ -79,6 +126,17 @@ pub fn texel_error(
     })
 }
 
+/// The texel mean errors of `method` over the texels of `map` holding fragments, in map order.
+pub fn texel_errors<T: AsRef<[Fragment]>>(
+    method: &dyn TexelModel,
+    map: &[T],
+    grid_points: usize,
+) -> Vec<TexelError> {
+    map.iter()
+        .filter_map(|t| texel_error(method, t.as_ref(), grid_points))
+        .collect()
+}
+
 /// Map error of `method` over a map given as one fragment list per texel (`None` when no texel holds
 /// fragments).
 pub fn map_error<T: AsRef<[Fragment]>>(
@@ -86,16 +144,13 @@ pub fn map_error<T: AsRef<[Fragment]>>(
     map: &[T],
     grid_points: usize,
 ) -> Option<MapError> {
-    let (sum, max, texels) = map
-        .iter()
-        .filter_map(|t| texel_error(method, t.as_ref(), grid_points))
-        .fold((0.0f64, 0.0f32, 0usize), |(sum, max, n), e| {
-            (sum + f64::from(e.mean), max.max(e.max), n + 1)
-        });
-    (texels > 0).then(|| MapError {
-        mean: (sum / texels as f64) as f32,
-        max,
-        texels,
+    let errors = texel_errors(method, map, grid_points);
+    let means: Vec<f64> = errors.iter().map(|e| f64::from(e.mean)).collect();
+    (!errors.is_empty()).then(|| MapError {
+        mean: (means.iter().sum::<f64>() / means.len() as f64) as f32,
+        max: errors.iter().map(|e| e.max).fold(0.0, f32::max),
+        texels: errors.len(),
+        distribution: ErrorDistribution::of(&means),
     })
 }
 
@@ -149,8 +204,33 @@ mod tests {
         assert_eq!(m.texels, 2);
         assert!((m.mean - (0.1 + want) / 2.0).abs() < 1e-6);
         assert!((m.max - want).abs() < 1e-6);
+        assert!((m.distribution.worst - f64::from(want)).abs() < 1e-6);
+        assert!((m.distribution.p50 - 0.1).abs() < 1e-6, "nearest rank: 1st of 2");
+        assert_eq!(m.distribution.share_over[0], 1.0, "both texels above 0.05");
         let empty: Vec<Vec<Fragment>> = vec![vec![], vec![]];
         assert!(map_error(&osm, &empty, 3).is_none());
+    }
+
+    #[test]
+    fn error_distribution_hand_computed() {
+        // 20 texels: errors 0.00, 0.01, ..., 0.19. Nearest rank: p50 = 10th smallest = 0.09, p95 = 19th = 0.18,
+        // p99 = 20th = 0.19; above 0.05: 0.06..0.19 = 14 of 20; above 0.1: 0.11..0.19 = 9 of 20.
+        let e: Vec<f64> = (0..20).rev().map(|i| i as f64 / 100.0).collect();
+        let d = ErrorDistribution::of(&e);
+        assert!((d.p50 - 0.09).abs() < 1e-12, "{d:?}");
+        assert!((d.p95 - 0.18).abs() < 1e-12, "{d:?}");
+        assert!((d.p99 - 0.19).abs() < 1e-12 && d.worst == d.p99, "{d:?}");
+        assert_eq!(d.share_over, [14.0 / 20.0, 9.0 / 20.0]);
+        // One bad texel among 1000: invisible in p50..p99, the worst and a 0.1 % share say it.
+        let mut band = vec![0.001; 999];
+        band.push(0.4);
+        let d = ErrorDistribution::of(&band);
+        assert_eq!((d.p50, d.p95, d.p99, d.worst), (0.001, 0.001, 0.001, 0.4));
+        assert_eq!(d.share_over, [0.001, 0.001]);
+        // NaN is the worst; nothing is all zero.
+        assert_eq!(ErrorDistribution::of(&[0.2, f64::NAN]).worst, f64::INFINITY);
+        assert_eq!(ErrorDistribution::of(&[]), ErrorDistribution::default());
+        assert_eq!(ErrorDistribution::of(&[0.3]).p50, 0.3);
     }
 
     #[test]
@@ -159,6 +239,7 @@ mod tests {
         let map: Vec<Vec<Fragment>> = (0..50).map(|_| random_texel(&mut rng, 60)).collect();
         let r = map_error(&Reference, &map, DEFAULT_GRID_POINTS).unwrap();
         assert_eq!((r.mean, r.max, r.texels), (0.0, 0.0, 50));
+        assert_eq!(r.distribution, ErrorDistribution::default());
         let methods: [&dyn TexelModel; 5] = [
             &OsmParams::default(),
             &DomParams::default(),

@@ -36,7 +36,7 @@ mod test_support;
 pub use bom::{BomParams, BomTexel, SplitCriterion, SplitScore, SplitSearch};
 pub use dc::{DcParams, DcTexel};
 pub use dom::{BeyondLastLayer, DomParams, DomTexel, LayerSpacing};
-pub use metrics::{MapError, TexelError};
+pub use metrics::{ErrorDistribution, MapError, TexelError};
 pub use occupancy::{OccupancyParams, OccupancyTexel, OccupancyVariant};
 pub use osm::{OsmParams, OsmTexel};
 pub use reference::{Reference, ReferenceTexel};

@@ -222,12 +222,22 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
         "osm,occupancy",
         "--frames",
         "1",
+        "--metric",
+        "texel_error_p95",
         "--out",
         out.to_str().unwrap(),
     ]);
     let o = hairlab(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("9/9"), "no progress: {}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout
+            .lines()
+            .nth(1)
+            .is_some_and(|h| h.contains("texel_error_p95")),
+        "--metric names the table's accuracy column: {stdout}"
+    );
 
     // CSV: a header and one row per configuration, in sweep order.
     let (header, rows) = read_csv(&out.join("results.csv"));
@@ -278,6 +288,22 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
         errors.windows(2).all(|e| e[1] < e[0]),
         "OSM map error by slices 4..256: {errors:?}"
     );
+    // The texel-error distribution: ordered percentiles up to the worst texel, nested shares; OSM-4's band of
+    // bad texels is real (some texel above 0.05) and the map error lies between the median and the worst.
+    for r in &rows {
+        let p = [
+            "texel_error_p50",
+            "texel_error_p95",
+            "texel_error_p99",
+            "worst_texel_error",
+        ]
+        .map(|c| num(r, c));
+        assert!(p.windows(2).all(|w| w[0] <= w[1]), "{r:?}");
+        let (s5, s10) = (num(r, "share_texels_over_0.05"), num(r, "share_texels_over_0.1"));
+        assert!((0.0..=1.0).contains(&s5) && s10 <= s5, "{r:?}");
+        assert!(num(r, "map_error") <= p[3], "{r:?}");
+    }
+    assert!(num(osm[0], "share_texels_over_0.05") > 0.0, "{:?}", osm[0]);
 
     // JSON: the same rows.
     let json: serde_json::Value =
@@ -328,6 +354,8 @@ fn bench_scaling_fits_cost_per_segment() {
         "osm,occupancy",
         "--frames",
         "1",
+        "--max-segments",
+        "30000",
         "--out",
         out.to_str().unwrap(),
     ]);
@@ -343,21 +371,24 @@ fn bench_scaling_fits_cost_per_segment() {
             slope.is_finite() && (ns - slope * 1e6).abs() <= 1e-9 * ns.abs().max(1.0),
             "{r:?}"
         );
+        let r2: f64 = r[column(&header, "r_squared")].parse().unwrap();
+        assert!(r2.is_finite() && r2 <= 1.0, "{r:?}");
     }
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
         stdout.contains("ns per segment") && stdout.contains("osm:slices=64"),
         "{stdout}"
     );
-    // The points: 5 densities × 3 configurations; 24 segments per strand, 200 strands × 0.25..4.
+    // The points: densities doubled from × 0.25 until the scene has 30000 segments (× 8: 38400), 3
+    // configurations each; 24 segments per strand, 200 strands.
     let (header, points) = read_csv(&out.join("scaling_points.csv"));
-    assert_eq!(points.len(), 15);
+    assert_eq!(points.len(), 18);
     let segments: Vec<&str> = points
         .iter()
         .filter(|r| r[0] == "occupancy")
         .map(|r| r[column(&header, "segments")].as_str())
         .collect();
-    assert_eq!(segments, ["1200", "2400", "4800", "9600", "19200"]);
+    assert_eq!(segments, ["1200", "2400", "4800", "9600", "19200", "38400"]);
     let png = image::open(out.join("scaling.png")).unwrap();
     assert_eq!((png.width(), png.height()), hairlab::bench::CHART_SIZE);
     let svg = std::fs::read_to_string(out.join("scaling.svg")).unwrap();
@@ -397,6 +428,15 @@ fn bench_rejects_bad_input_with_one_error_line() {
     let o = hairlab(&["bench", "--frames", "0", "--out", out.to_str().unwrap()]);
     assert_eq!(error_lines(&o).len(), 1);
     assert!(error_lines(&o)[0].contains("--frames"));
+    let o = hairlab(&["bench", "--metric", "speed", "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let lines = error_lines(&o);
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert!(
+        lines[0].contains("'speed'") && stderr(&o).contains("texel_error_p99"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

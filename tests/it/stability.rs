@@ -18,7 +18,7 @@ fn run(gpu: &Gpu, preset: &str, overrides: &[&str], configs: &[&str]) -> Vec<Mea
             "{preset} {overrides:?} {}: map error {:.5}, worst texel {:.4}, shading error {:.5}, flicker {:.5}",
             m.config.label(),
             m.map_error,
-            m.worst_texel_error,
+            m.texel_errors.worst,
             m.shading_error,
             m.flicker
         );
@@ -139,13 +139,13 @@ fn more_clumps_than_clusters_break_density_clustering() {
     };
     let (q2, q4, q8) = (dc(2), dc(4), dc(8));
     let few = q2.map_error.max(q4.map_error);
-    let few_worst = q2.worst_texel_error.max(q4.worst_texel_error);
+    let few_worst = q2.texel_errors.worst.max(q4.texel_errors.worst);
     // Measured map error: Q=2 0.0279, Q=4 0.0223, Q=8 0.0352 (1.26x the larger); worst texel 0.071, 0.057, 0.134
     // (1.89x).
     assert!(q8.map_error > 1.15 * few, "Q=8 {} vs Q<=4 {few}", q8.map_error);
     assert!(
-        q8.worst_texel_error > 1.6 * few_worst,
+        q8.texel_errors.worst > 1.6 * few_worst,
         "Q=8 worst {} vs Q<=4 {few_worst}",
-        q8.worst_texel_error
+        q8.texel_errors.worst
     );
 }

@@ -3,18 +3,21 @@
 //!
 //! A texel is chosen by clicking hair in the viewport (`scene::pick`), by clicking the light-map view
 //! (`lightmap_view.rs`), or made up in the synthetic texel lab (`texel_lab.rs`). Texels can be pinned for
-//! comparison, and every curve shown exported as CSV. Parts: the fragment-list cache (`lists`), the curves
-//! (`curves`), their drawing (`plot`) and the CSV export (`csv`); [`Inspector::ui`] draws the window from its own
+//! comparison, and every curve shown exported as CSV; the plotted methods' error over the whole map (its
+//! distribution over the texels) is computed on demand. Parts: the fragment-list cache (`lists`), the curves
+//! (`curves`), their drawing (`plot`), the whole-map statistics (`map_stats`) and the CSV export (`csv`); [`Inspector::ui`] draws the window from its own
 //! state and the [`InspectorDeps`] it is given.
 
 mod csv;
 mod curves;
 mod lists;
+mod map_stats;
 mod plot;
 
 pub use csv::export;
 pub use curves::{MethodCurve, PlotModel, TexelCurves, TexelPlot, inspected, method_color, plot_range};
 pub use lists::{ListsKey, ReferenceLists, read_reference_lists};
+pub use map_stats::{MapStats, MethodMapError};
 
 use super::texel_lab::LabSettings;
 use crate::methods::registry;
@@ -116,6 +119,7 @@ pub struct Inspector {
     lists: ListsCache,
     curves: Option<(CurvesInput, TexelCurves)>,
     lab_error: Option<String>,
+    map_stats: Option<MapStats>,
 }
 
 impl Inspector {
@@ -132,6 +136,33 @@ impl Inspector {
         if index < self.pins.len() {
             self.pins.remove(index);
         }
+    }
+
+    /// The plotted methods' error over the whole map, when computed for the current lists and plot.
+    pub fn map_stats(&self) -> Option<&MapStats> {
+        let (lists, models) = (self.lists()?, self.plotted_models());
+        self.map_stats.as_ref().filter(|s| s.is_of(lists, &models))
+    }
+
+    /// Computes [`Inspector::map_stats`] (the CPU models of the plotted methods over every texel of the lists);
+    /// `false` when there are no lists or no method on the plot.
+    pub fn compute_map_stats(&mut self) -> bool {
+        let models = self.plotted_models();
+        match self.lists() {
+            Some(lists) if !models.is_empty() => {
+                self.map_stats = Some(MapStats::compute(lists, &models));
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// The models of the methods on the plot.
+    fn plotted_models(&self) -> Vec<curves::PlotModel> {
+        self.curves()
+            .and_then(|c| c.current.as_ref())
+            .map(|t| t.methods.iter().map(|m| m.model.clone()).collect())
+            .unwrap_or_default()
     }
 
     /// The cached reference lists, if read.
@@ -349,7 +380,36 @@ impl Inspector {
                 plot::figures(ui, curves);
             });
         });
+        if self.source == Source::Scene {
+            self.map_stats_ui(ui);
+        }
         action
+    }
+
+    /// The whole-map error of the plotted methods, computed on request.
+    fn map_stats_ui(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Whole map").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                if ui
+                    .button("Compute")
+                    .on_hover_text(
+                        "texel error (mean |V - V_ref| over each texel's samples) of the plotted methods over \
+                         every occupied texel, from their CPU models: mean, percentiles, worst, share above \
+                         0.05 and 0.1",
+                    )
+                    .clicked()
+                    && !self.compute_map_stats()
+                {
+                    ui.label("no fragment lists or no method on the plot");
+                }
+            });
+            match self.map_stats() {
+                Some(stats) => map_stats::table(ui, stats),
+                None => {
+                    ui.weak("not computed for these lists and methods");
+                }
+            }
+        });
     }
 
     /// The scene texel's line and the lists' state; whether "Open light map" was clicked.

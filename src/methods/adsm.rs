@@ -18,7 +18,7 @@ const SPACING: ParamSpec = ParamSpec {
     key: "fiber_spacing",
     label: "fibre spacing",
     help: "depth between fibres s, in normalised light depth (TressFX's fiber spacing × fiber radius over the \
-           strands' light range)",
+           strands' light range; default 1/64 of the range)",
     kind: ParamKind::Float {
         min: 1e-4,
         max: 1.0,
@@ -29,7 +29,7 @@ const SPACING: ParamSpec = ParamSpec {
 const SHADOW_ALPHA: ParamSpec = ParamSpec {
     key: "shadow_alpha",
     label: "shadow alpha",
-    help: "opacity of one fibre in front (TressFX's hair shadow alpha)",
+    help: "opacity of one fibre in front (TressFX's hair shadow alpha, 0.35)",
     kind: ParamKind::Float {
         min: 0.0,
         max: 0.99,
@@ -40,13 +40,13 @@ const SHADOW_ALPHA: ParamSpec = ParamSpec {
 const MAX_FIBRES: ParamSpec = ParamSpec {
     key: "max_fibers",
     label: "max fibres",
-    help: "most fibres counted in front of a point (the shadow's floor)",
+    help: "most fibres counted in front of a point, the shadow's floor (TressFX's max shadow fibers, 50)",
     kind: ParamKind::Float {
         min: 1.0,
         max: 1024.0,
         log: true,
     },
-    default: 64.0,
+    default: 50.0,
 };
 const PARAMS: &[ParamSpec] = &[SPACING, SHADOW_ALPHA, MAX_FIBRES];
 

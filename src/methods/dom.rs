@@ -44,9 +44,10 @@ const SPACING: ParamSpec = ParamSpec {
     key: "spacing",
     label: "spacing",
     help: "layer sizes: linear = linearly increasing (size of layer k proportional to k, the paper's), \
-           uniform = all the same",
+           uniform = all the same, unreal = Unreal Engine's 4 groom deep shadow layers (ends at 2%, 10%, 40% and \
+           100% of the depth span; K = 4)",
     kind: ParamKind::Choice {
-        options: &["linear", "uniform"],
+        options: &["linear", "uniform", "unreal"],
     },
     default: 0.0,
 };
@@ -70,6 +71,7 @@ fn dom_params(values: &ParamValues) -> DomParams {
         depth_span: value(values, &DEPTH_SPAN),
         spacing: match value(values, &SPACING) as i32 {
             1 => LayerSpacing::Uniform,
+            2 => LayerSpacing::Unreal,
             _ => LayerSpacing::LinearlyIncreasing,
         },
         beyond: match value(values, &BEYOND) as i32 {
@@ -123,8 +125,21 @@ static INFO: MethodInfo = MethodInfo {
     gpu_outliers: 0.0,
 };
 
-/// The bench's layer counts; each is swept with both spacings.
+/// The bench's layer counts; each is swept with the linear and uniform spacings.
 const SWEEP_LAYERS: &[u32] = &[1, 2, 3, 4, 5, 7, 10, 15];
+
+/// Unreal Engine's groom deep shadow as a DOM configuration (`visibility::dom`, [`LayerSpacing::Unreal`]): its
+/// four layers at 0.01, 0.05, 0.2 and 0.5 of the light range, fragments beyond ignored.
+pub fn unreal_config() -> ParamValues {
+    [
+        (LAYERS.key, 4.0),
+        (DEPTH_SPAN.key, 0.5),
+        (SPACING.key, 2.0),
+        (BEYOND.key, 0.0),
+    ]
+    .map(|(k, v)| (k.to_string(), v))
+    .into()
+}
 
 impl LightMethod for Dom {
     fn info(&self) -> &'static MethodInfo {
@@ -157,22 +172,29 @@ impl ShadowMethod for Dom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
         Box::new(dom_params(values))
     }
+    /// Each of [`SWEEP_LAYERS`] with the linear and the uniform spacing, then Unreal's configuration.
     fn sweep(&self) -> Vec<SweepPoint> {
-        let spacings = SPACING.options().len();
-        SWEEP_LAYERS
+        let mut points: Vec<SweepPoint> = SWEEP_LAYERS
             .iter()
             .flat_map(|&k| {
-                (0..spacings).map(move |s| SweepPoint::fixed(&[("layers", k as f32), ("spacing", s as f32)]))
+                (0..2).map(move |s| SweepPoint::fixed(&[("layers", k as f32), ("spacing", s as f32)]))
             })
-            .collect()
+            .collect();
+        points.push(SweepPoint {
+            values: unreal_config(),
+            analysed: false,
+        });
+        points
     }
     fn scaling_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::from([("layers".to_string(), 3.0)])]
     }
     fn usual_configs(&self) -> Vec<ParamValues> {
-        [3, 7]
+        let mut configs: Vec<ParamValues> = [3, 7]
             .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))
-            .to_vec()
+            .to_vec();
+        configs.push(unreal_config());
+        configs
     }
 }
 

@@ -6,7 +6,8 @@
 //! `n(z) = min(n_max, (z - z0) / s)`, raised to at least one fibre when `z - z0 > 1e-5` (TressFX: "if occluded
 //! by hair, there is at least one fiber"), and `V(z) = (1 - alpha_s)^n = exp(-n * b(alpha_s))`.
 //!
-//! Units: TressFX divides a world-space depth by `fiber spacing × fiber radius`; hairlab's depths are normalised
+//! `n_max` caps the count as TressFX 4.x's `MaxShadowFibers` does. Units: TressFX divides a world-space depth
+//! by `fiber spacing × fiber radius`; hairlab's depths are normalised
 //! over the strands' fitted light range, so `s` here is that product divided by the range (a fraction of the
 //! range). An empty texel (`near > far`, the light-depth pass's clear values) is lit.
 //!
@@ -30,13 +31,15 @@ pub struct AdsmParams {
 }
 
 impl Default for AdsmParams {
-    /// Workbench defaults: 64 fibres across the whole light range (`s = 1/64`), the default hair alpha 0.35 as
-    /// the shadow alpha, at most 64 fibres.
+    /// TressFX 4.1's shadow alpha 0.35 and max shadow fibres 50 (`ShadowAlpha`, `MaxShadowFibers` in
+    /// `TressFXConstantBuffers.h`, as O3DE's AtomTressFX gem ships them). Its fibre spacing, 0.4 × the fibre
+    /// radius (0.4 × 0.0021 scene units), is in the units of TressFX's assets, which hairlab's scenes do not
+    /// share: the workbench default is 64 fibres across the whole light range (`s = 1/64`).
     fn default() -> Self {
         Self {
             spacing: 1.0 / 64.0,
             shadow_alpha: 0.35,
-            max_fibres: 64.0,
+            max_fibres: 50.0,
         }
     }
 }

@@ -8,8 +8,12 @@
 //!
 //! Layer sizes ([`LayerSpacing`]): the paper's examples use linearly increasing layer sizes (§5): size of
 //! layer `k` proportional to `k`, so `d_k = d * k (k + 1) / (K (K + 1))`; uniform sizes `d_k = d * k / K` are
-//! offered too. `d` = [`DomParams::depth_span`] is the total depth of the `K` layers in normalised light
-//! depth. The paper gives no value (its `d_k` are in scene units per model); the default 0.25 (a quarter of
+//! offered too, and Unreal Engine's groom deep shadow layers ([`LayerSpacing::Unreal`]): `K = 4` layers ending
+//! at `d × (0.02, 0.1, 0.4, 1)` — `HairStrandsDeepShadowCommon.ush`'s `LAYER_DEPTH0..3` = 0.01, 0.05, 0.2,
+//! 0.5 of the light's clip depth, which Unreal fits to the groom's bounds as hairlab fits its light range, so
+//! Unreal's own configuration is `d = 0.5` with fragments beyond the last layer ignored (its
+//! `ComputeDOMWeights` gives them no layer) and the same interpolated lookup (`ComputeHairCount`). `d` =
+//! [`DomParams::depth_span`] is the total depth of the `K` layers in normalised light depth. The paper gives no value (its `d_k` are in scene units per model); the default 0.25 (a quarter of
 //! the fitted light range) is this workbench's choice, to be tuned per scene.
 //!
 //! Fragments beyond the last layer (`z >= z0 + d_K`, §3, [`BeyondLastLayer`]): ignore them (they cast no
@@ -54,7 +58,14 @@ pub enum LayerSpacing {
     LinearlyIncreasing,
     /// All layers have size `d / K`.
     Uniform,
+    /// Unreal Engine's four groom deep shadow layers, ending at `d ×` [`UNREAL_LAYER_FRACTIONS`] (the layer
+    /// count is 4 whatever [`DomParams::layers`] says).
+    Unreal,
 }
+
+/// Unreal Engine's deep shadow layer ends as fractions of the last: `LAYER_DEPTH0..3` = 0.01, 0.05, 0.2, 0.5
+/// (`Engine/Shaders/Private/HairStrands/HairStrandsDeepShadowCommon.ush`) divided by 0.5.
+pub const UNREAL_LAYER_FRACTIONS: [f32; 4] = [0.02, 0.1, 0.4, 1.0];
 
 /// What happens to fragments beyond the last layer (Yuksel & Keyser §3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -94,9 +105,12 @@ impl Default for DomParams {
 }
 
 impl DomParams {
-    /// The layer count actually used: `layers` clamped to `1..=16`.
+    /// The layer count actually used: `layers` clamped to `1..=16`; 4 with [`LayerSpacing::Unreal`].
     pub fn layer_count(&self) -> usize {
-        self.layers.clamp(1, MAX_LAYERS) as usize
+        match self.spacing {
+            LayerSpacing::Unreal => UNREAL_LAYER_FRACTIONS.len(),
+            _ => self.layers.clamp(1, MAX_LAYERS) as usize,
+        }
     }
 
     /// The depth span actually used: `depth_span` clamped to `[1e-4, 1]`, the default 0.25 when NaN.
@@ -111,7 +125,7 @@ impl DomParams {
 
 /// Layer far ends `[d_1, ..., d_K]` relative to `z0` (`d_0 = 0` is implicit), in f32 exactly as the GPU must
 /// use them: linearly increasing `d * (k (k + 1)) as f32 / (K (K + 1)) as f32`, uniform
-/// `d * k as f32 / K as f32`. `d_K = d` exactly in both.
+/// `d * k as f32 / K as f32`, Unreal `d * UNREAL_LAYER_FRACTIONS[k - 1]`. `d_K = d` exactly in all three.
 pub fn layer_ends(params: &DomParams) -> Vec<f32> {
     let (ends, k_count) = ends_array(params);
     ends[..k_count].to_vec()
@@ -127,6 +141,7 @@ fn ends_array(params: &DomParams) -> ([f32; MAX_LAYERS as usize], usize) {
         *e = match params.spacing {
             LayerSpacing::LinearlyIncreasing => d * ((k * (k + 1)) as f32 / (k_count * (k_count + 1)) as f32),
             LayerSpacing::Uniform => d * (k as f32 / k_count as f32),
+            LayerSpacing::Unreal => d * UNREAL_LAYER_FRACTIONS[i],
         };
     }
     (ends, k_count)
@@ -282,6 +297,9 @@ mod tests {
         // Uniform, K = 4, d = 1: 0.25, 0.5, 0.75, 1.
         let e = layer_ends(&p(4, 1.0, LayerSpacing::Uniform, BeyondLastLayer::AddToLast));
         assert_eq!(e, [0.25, 0.5, 0.75, 1.0]);
+        // Unreal: four layers at 0.01, 0.05, 0.2 and 0.5 of the range with d = 0.5, whatever the layer count.
+        let e = layer_ends(&p(9, 0.5, LayerSpacing::Unreal, BeyondLastLayer::Ignore));
+        assert_eq!(e, [0.01, 0.05, 0.2, 0.5]);
         // K = 1: one layer of size d in both spacings.
         assert_eq!(
             layer_ends(&p(

@@ -165,6 +165,29 @@ fn inspector_plots_pins_exports_and_compares() {
     for want in ["osm-4", "dom-3", "bom-4", "occupancy", "dc-4"] {
         assert!(labels.iter().any(|l| l == want), "{want} missing from {labels:?}");
     }
+    // The whole map: every plotted method's texel-error distribution over the occupied texels, on request.
+    assert!(harness.state().inspector().map_stats().is_none());
+    harness.get_by_label("Whole map").click();
+    harness.run();
+    harness.get_by_label("Compute").click();
+    harness.run();
+    let stats = harness.state().inspector().map_stats().expect("computed").clone();
+    let occupied = lists_occupied(&harness);
+    assert_eq!(stats.rows.len(), inspected);
+    for (row, curve) in stats.rows.iter().zip(&current(&harness).methods) {
+        let e = row.error.as_ref().expect("occupied texels");
+        let d = &e.distribution;
+        assert_eq!((row.label.as_str(), e.texels), (curve.label.as_str(), occupied));
+        assert!(d.p50 <= d.p95 && d.p95 <= d.p99 && d.p99 <= d.worst, "{row:?}");
+        assert!(
+            f64::from(e.mean) <= d.worst && d.share_over[1] <= d.share_over[0],
+            "{row:?}"
+        );
+        assert!(
+            d.worst <= f64::from(e.max) + 1e-6,
+            "a texel's mean is at most its max: {row:?}"
+        );
+    }
     harness.get_by_label("Pin").click();
     harness.run();
     assert_eq!(harness.state().inspector().pins().len(), 1);
@@ -266,4 +289,10 @@ fn synthetic_lab_shows_density_clustering_break_down_with_more_gaussians() {
     let t = current(&harness);
     assert_eq!(t.fragments, [Fragment::new(0.2, 0.5), Fragment::new(0.6, 0.5)]);
     assert!((t.reference.last().unwrap() - 0.25).abs() < 1e-6);
+}
+
+/// Texels of the inspector's lists holding fragments.
+fn lists_occupied(harness: &Harness<'_, HairlabApp>) -> usize {
+    let lists = harness.state().inspector().lists().expect("fragment lists");
+    lists.lists.iter().filter(|l| !l.is_empty()).count()
 }

@@ -61,8 +61,30 @@ impl MapStats {
     }
 }
 
+/// The "Whole map" section: `stats` (when computed for the current lists and plot) and a button to compute
+/// them; whether it was clicked.
+pub(super) fn section(ui: &mut egui::Ui, stats: Option<&MapStats>) -> bool {
+    let mut clicked = false;
+    egui::CollapsingHeader::new("Whole map").show(ui, |ui| {
+        clicked = ui
+            .button("Compute")
+            .on_hover_text(
+                "texel error (mean |V - V_ref| over each texel's samples) of the plotted methods over every \
+                 occupied texel, from their CPU models: mean, percentiles, worst, share above 0.05 and 0.1",
+            )
+            .clicked();
+        match stats {
+            Some(stats) => table(ui, stats),
+            None => {
+                ui.weak("not computed for these fragment lists and methods");
+            }
+        }
+    });
+    clicked
+}
+
 /// The statistics as a table: one row per method.
-pub(super) fn table(ui: &mut egui::Ui, stats: &MapStats) {
+fn table(ui: &mut egui::Ui, stats: &MapStats) {
     egui::Grid::new("map_stats").striped(true).show(ui, |ui| {
         for h in ["method", "mean", "p50", "p95", "p99", "worst", ">0.05", ">0.1"] {
             ui.strong(h);

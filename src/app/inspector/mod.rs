@@ -368,6 +368,9 @@ impl Inspector {
         let Some((_, curves)) = &self.curves else {
             return action;
         };
+        let stats = self.map_stats();
+        let scene = self.source == Source::Scene;
+        let mut compute = false;
         ui.horizontal_top(|ui| {
             let side = 250.0;
             let width = (ui.available_width() - side).max(200.0);
@@ -378,38 +381,15 @@ impl Inspector {
             ui.vertical(|ui| {
                 ui.set_width(side - 10.0);
                 plot::figures(ui, curves);
+                if scene {
+                    compute = map_stats::section(ui, stats);
+                }
             });
         });
-        if self.source == Source::Scene {
-            self.map_stats_ui(ui);
+        if compute {
+            self.compute_map_stats();
         }
         action
-    }
-
-    /// The whole-map error of the plotted methods, computed on request.
-    fn map_stats_ui(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Whole map").show(ui, |ui| {
-            ui.horizontal(|ui| {
-                if ui
-                    .button("Compute")
-                    .on_hover_text(
-                        "texel error (mean |V - V_ref| over each texel's samples) of the plotted methods over \
-                         every occupied texel, from their CPU models: mean, percentiles, worst, share above \
-                         0.05 and 0.1",
-                    )
-                    .clicked()
-                    && !self.compute_map_stats()
-                {
-                    ui.label("no fragment lists or no method on the plot");
-                }
-            });
-            match self.map_stats() {
-                Some(stats) => map_stats::table(ui, stats),
-                None => {
-                    ui.weak("not computed for these lists and methods");
-                }
-            }
-        });
     }
 
     /// The scene texel's line and the lists' state; whether "Open light map" was clicked.

@@ -128,6 +128,10 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
         "straight-grazing",
         include_str!("../presets/straight-grazing.toml"),
     ),
+    (
+        "unreal-deep-shadow",
+        include_str!("../presets/unreal-deep-shadow.toml"),
+    ),
 ];
 
 impl SceneSettings {

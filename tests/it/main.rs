@@ -24,4 +24,5 @@ mod presets;
 mod reference;
 mod shaders;
 mod stability;
+mod stability_fom;
 mod visibility_models;

@@ -5,6 +5,7 @@
 // the pass (visibility::fom::build).
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
+#include "common/cumulative_targets.wgsl"
 #include "common/visibility.wgsl"
 #include "common/fom_uniforms.wgsl"
 
@@ -16,17 +17,6 @@ struct FomFragment {
     @location(1) alpha: f32,
     // First coefficient this geometry pass writes.
     @location(2) @interpolate(flat) first: u32,
-}
-
-struct FomTargets {
-    @location(0) t0: vec4<f32>,
-    @location(1) t1: vec4<f32>,
-    @location(2) t2: vec4<f32>,
-    @location(3) t3: vec4<f32>,
-    @location(4) t4: vec4<f32>,
-    @location(5) t5: vec4<f32>,
-    @location(6) t6: vec4<f32>,
-    @location(7) t7: vec4<f32>,
 }
 
 @vertex
@@ -52,11 +42,12 @@ fn fom4(first: u32, d: f32, b2: f32) -> vec4<f32> {
 }
 
 @fragment
-fn fs_main(f: FomFragment) -> FomTargets {
+// The 8 targets of CumulativeTargets, filled with this pass's coefficients (not cumulative sums).
+fn fs_main(f: FomFragment) -> CumulativeTargets {
     let d = fragment_depth(f.depth);
     let b2 = 2.0 * optical_depth(f.alpha);
     let c = f.first;
-    return FomTargets(
+    return CumulativeTargets(
         fom4(c, d, b2),
         fom4(c + 4u, d, b2),
         fom4(c + 8u, d, b2),

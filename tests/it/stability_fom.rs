@@ -162,7 +162,7 @@ fn straight_grazing_rings_fourier_opacity_maps_less_with_more_terms() {
             "straight-grazing {}: map error {:.5}, worst texel {:.4}, shading error {:.5}",
             m.config.label(),
             m.map_error,
-            m.worst_texel_error,
+            m.texel_errors.worst,
             m.shading_error
         );
     }
@@ -170,12 +170,12 @@ fn straight_grazing_rings_fourier_opacity_maps_less_with_more_terms() {
     // map error 0.1217, 0.0958, 0.0723, 0.0587 (0.79, 0.75, 0.81).
     for w in rows[..4].windows(2) {
         assert!(
-            w[1].worst_texel_error < 0.97 * w[0].worst_texel_error,
+            w[1].texel_errors.worst < 0.97 * w[0].texel_errors.worst,
             "worst texel: {} {} then {} {}",
             w[0].config.label(),
-            w[0].worst_texel_error,
+            w[0].texel_errors.worst,
             w[1].config.label(),
-            w[1].worst_texel_error
+            w[1].texel_errors.worst
         );
         assert!(
             w[1].map_error < 0.88 * w[0].map_error,

@@ -6,12 +6,15 @@
 //! geometry passes per frame) whose lists a compute pass (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per
 //! texel) walks in depth order (select-next over the linked list: no private array, so no bound on the list
 //! length) and compresses. Per texel it allocates `2n` vertices (`n` its fragments, the compressor's bound) from
-//! an atomic counter and writes a header `(offset, count)`. Memory (`memory_bytes`, what the lookup reads): the
-//! headers, 8 bytes per texel, and the vertex buffer, 8 bytes (`z`, `V` as f32) per vertex, sized for `2 ×` the
-//! frame's fragment count that the A-buffer's counting pass read back, so 16 bytes per fragment; both within the
-//! device's storage binding size (else `GpuError::TooLarge` naming the map) and hairlab's map budget. The
-//! A-buffer it builds from (16 bytes per fragment, 4 per texel, plus the 1-byte null target) is build memory,
-//! [`DsmGpu::build_bytes`], not counted in `memory_bytes`.
+//! an atomic counter and writes a header `(offset, count)`; a texel that would not fit (impossible with the buffer
+//! sized from this frame's count) is marked, and the lookup answers -1 there, which every GPU test rejects.
+//!
+//! Memory (`memory_bytes`, what the lookup reads): the headers, 8 bytes per texel, and the vertex buffer, 8 bytes
+//! (`z`, `V` as f32) per vertex, sized for `2 ×` the frame's fragment count that the A-buffer's counting pass read
+//! back, so 16 bytes per fragment (the bound, whatever `epsilon`); both within the device's storage binding size
+//! (else `GpuError::TooLarge` naming the map) and hairlab's map budget. The
+//! A-buffer it builds from (16 bytes per fragment, 4 bytes per texel and the 1-byte null target) and the 8-byte
+//! allocator are build memory, not counted in `memory_bytes` (the contract has no field for it).
 
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
@@ -212,11 +215,6 @@ impl DsmGpu {
             pass_bind_group,
             lookup_bind_group,
         }
-    }
-
-    /// GPU memory of the A-buffer the map is built from (held with the method, not read by its lookup).
-    pub fn build_bytes(&self) -> u64 {
-        self.abuffer.memory_bytes() + self.alloc.size()
     }
 }
 

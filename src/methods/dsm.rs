@@ -2,19 +2,22 @@
 //! visibility compressed by the paper's greedy algorithm into a piecewise-linear function within `epsilon` of it
 //! at every depth. The CPU model (and the vertex layout, the vertical steps and the lookup) is `visibility::dsm`.
 //!
-//! GPU: the method owns an A-buffer (`render::passes::abuffer`: a counting and a filling geometry pass, so two
-//! geometry passes per frame) whose lists a compute pass (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per
-//! texel) walks in depth order (select-next over the linked list: no private array, so no bound on the list
-//! length) and compresses. Per texel it allocates `2n` vertices (`n` its fragments, the compressor's bound) from
-//! an atomic counter and writes a header `(offset, count)`; a texel that would not fit (impossible with the buffer
-//! sized from this frame's count) is marked, and the lookup answers -1 there, which every GPU test rejects.
+//! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists a compute pipeline
+//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — select-next
+//! over the linked list, no private array, so no bound on the list length — and compresses. `prepare` runs the
+//! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
+//! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
+//! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
+//! `(offset, count)`. The walk order makes the count the same both times (the same fragments, whatever the
+//! list order); a texel whose vertices would not match its allocation is marked, and the lookup answers -1 there,
+//! which every GPU test rejects (never seen). Three geometry passes per frame.
 //!
-//! Memory (`memory_bytes`, what the lookup reads): the headers, 8 bytes per texel, and the vertex buffer, 8 bytes
-//! (`z`, `V` as f32) per vertex, sized for `2 ×` the frame's fragment count that the A-buffer's counting pass read
-//! back, so 16 bytes per fragment (the bound, whatever `epsilon`); both within the device's storage binding size
-//! (else `GpuError::TooLarge` naming the map) and hairlab's map budget. The
-//! A-buffer it builds from (16 bytes per fragment, 4 bytes per texel and the 1-byte null target) and the 8-byte
-//! allocator are build memory, not counted in `memory_bytes` (the contract has no field for it).
+//! Memory (`memory_bytes`, what the lookup reads): the headers, 8 bytes per texel, and the vertices, 8 bytes
+//! (`z`, `V` as f32) each, as many as the compressor keeps (at most 2 per fragment: 16 bytes per fragment at
+//! `epsilon = 0`); both within the device's storage binding size (else `GpuError::TooLarge` naming the map) and
+//! hairlab's map budget. The A-buffer it builds from (16 bytes per fragment, 4 bytes per texel and the 1-byte
+//! null target) and the 8-byte allocator are build memory, not counted in `memory_bytes` (the contract has no
+//! field for it).
 
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
@@ -23,7 +26,7 @@ use super::{
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, check_budget, storage_entry, uniform_buffer, uniform_entry};
-use crate::render::passes::{self, abuffer::ABuffer};
+use crate::render::passes::{self, abuffer::ABuffer, abuffer::copy_out};
 use crate::visibility::TexelModel;
 use crate::visibility::dsm::DsmParams;
 use bytemuck::{Pod, Zeroable};
@@ -61,9 +64,10 @@ static INFO: MethodInfo = MethodInfo {
     light_wgsl: &["dsm.wgsl"],
     params: PARAMS,
     color: [106, 61, 154],
-    // The compressor and the lookup are the CPU model's f32 expressions in the same order (but for the optical
-    // depths at one depth, summed in list order); measured GPU = CPU max |ΔV| 7.7e-7 over 55,049 samples (ε 0.1,
-    // tests/it/gpu_dsm.rs), 6.0e-8 at ε 0. No greedy decision flipped on the test scene.
+    // The compressor and the lookup are the CPU model's f32 expressions in the same order (fragments in (depth,
+    // segment) order, as the reference's sorted lists); only `log`, `exp` and division round differently.
+    // Measured GPU = CPU max |ΔV| 7.7e-7 over 55,049 samples (ε 0.1, tests/it/gpu_dsm.rs), 6.0e-8 at ε 0; no
+    // greedy decision flipped on the test scene (the GPU's vertex count equals the CPU model's).
     gpu_tolerance: 1e-5,
     gpu_outliers: 0.0,
 };
@@ -122,7 +126,8 @@ pub struct DsmUniforms {
 /// The compressed deep shadow map's GPU state: its A-buffer, the compressor and the compressed map.
 pub struct DsmGpu {
     abuffer: ABuffer,
-    pipeline: wgpu::ComputePipeline,
+    count_pipeline: wgpu::ComputePipeline,
+    compress_pipeline: wgpu::ComputePipeline,
     pass_layout: wgpu::BindGroupLayout,
     lookup_layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
@@ -130,7 +135,7 @@ pub struct DsmGpu {
     alloc: wgpu::Buffer,
     headers: wgpu::Buffer,
     vertices: wgpu::Buffer,
-    /// Vertices the vertex buffer holds, and the resolution the headers are for.
+    /// Vertices the vertex buffer holds (this frame's count), and the resolution the headers are for.
     capacity: u64,
     resolution: u32,
     pass_bind_group: wgpu::BindGroup,
@@ -183,14 +188,17 @@ impl DsmGpu {
             bind_group_layouts: &[Some(&abuffer.lookup_layout), Some(&pass_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("hairlab.dsm.compress_pipeline"),
-            layout: Some(&layout),
-            module: &module,
-            entry_point: Some("cs_compress"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("hairlab.dsm.compress_pipeline"),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let (count_pipeline, compress_pipeline) = (pipeline("cs_count"), pipeline("cs_compress"));
         let uniforms = uniform_buffer::<DsmUniforms>(device, "dsm.uniforms");
         let alloc = storage_buffer(gpu, "hairlab.dsm.alloc", 8);
         let headers = storage_buffer(gpu, "hairlab.dsm.headers", HEADER_BYTES);
@@ -203,7 +211,8 @@ impl DsmGpu {
         );
         DsmGpu {
             abuffer,
-            pipeline,
+            count_pipeline,
+            compress_pipeline,
             pass_layout,
             lookup_layout,
             uniforms,
@@ -247,42 +256,59 @@ fn bind_groups(
     (pass, lookup)
 }
 
+impl DsmGpu {
+    /// Records `pipeline` over every texel.
+    fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("hairlab.dsm.compress"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.abuffer.lookup_bind_group, &[]);
+        pass.set_bind_group(1, &self.pass_bind_group, &[]);
+        let groups = self.resolution.div_ceil(8);
+        pass.dispatch_workgroups(groups, groups, 1);
+    }
+
+    fn rebind(&mut self, gpu: &Gpu) {
+        (self.pass_bind_group, self.lookup_bind_group) = bind_groups(
+            gpu,
+            &self.pass_layout,
+            &self.lookup_layout,
+            [&self.headers, &self.vertices, &self.uniforms, &self.alloc],
+        );
+    }
+}
+
 impl MethodGpu for DsmGpu {
+    /// Counts the frame's fragments (the A-buffer's counting pass), fills the lists and counts each texel's
+    /// vertices (submitted at once and read back, blocking), and sizes the vertex buffer to that count.
     fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
         let gpu = ctx.gpu;
         let resolution = ctx.map_resolution();
         self.abuffer
             .prepare(gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
         let fragments = self.abuffer.fragment_count;
-        let need = (2 * fragments).max(1);
-        let texels = resolution as u64 * resolution as u64;
-        let (vertex_bytes, header_bytes) = (need * VERTEX_BYTES, texels * HEADER_BYTES);
-        let what = || {
+        let what = |vertices: Option<u64>| {
+            let vertices = vertices.map_or(String::new(), |v| format!("{v} vertices, "));
             format!(
-                "the compressed deep shadow map ({fragments} light-space fragments at {resolution}² texels; lower \
-                 the map resolution or the strand count)"
+                "the compressed deep shadow map ({vertices}{fragments} light-space fragments at {resolution}² \
+                 texels; lower the map resolution or the strand count)"
             )
         };
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if vertex_bytes > limit || header_bytes > limit {
+        let header_bytes = resolution as u64 * resolution as u64 * HEADER_BYTES;
+        if header_bytes > limit {
             return Err(GpuError::TooLarge {
-                what: what(),
-                bytes: vertex_bytes.max(header_bytes),
+                what: what(None),
+                bytes: header_bytes,
                 limit,
             });
-        }
-        check_budget(what, vertex_bytes + header_bytes)?;
-        if need > self.capacity || resolution != self.resolution {
-            self.capacity = need;
-            self.resolution = resolution;
-            self.headers = storage_buffer(gpu, "hairlab.dsm.headers", header_bytes);
-            self.vertices = storage_buffer(gpu, "hairlab.dsm.vertices", self.capacity * VERTEX_BYTES);
-            (self.pass_bind_group, self.lookup_bind_group) = bind_groups(
-                gpu,
-                &self.pass_layout,
-                &self.lookup_layout,
-                [&self.headers, &self.vertices, &self.uniforms, &self.alloc],
-            );
         }
         gpu.queue.write_buffer(
             &self.uniforms,
@@ -293,6 +319,37 @@ impl MethodGpu for DsmGpu {
                 ..Zeroable::zeroed()
             }),
         );
+        if resolution != self.resolution {
+            self.resolution = resolution;
+            self.headers = storage_buffer(gpu, "hairlab.dsm.headers", header_bytes);
+            self.rebind(gpu);
+        }
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hairlab.dsm.count"),
+            });
+        self.abuffer
+            .record(ctx.frame_bind_group, ctx.casters, &mut encoder, &mut None);
+        encoder.clear_buffer(&self.alloc, 0, None);
+        self.dispatch(&mut encoder, &self.count_pipeline, None);
+        gpu.queue.submit([encoder.finish()]);
+        let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.alloc)?);
+        let vertices = u64::from(counts[0]);
+        let vertex_bytes = vertices.max(1) * VERTEX_BYTES;
+        if vertex_bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: what(Some(vertices)),
+                bytes: vertex_bytes,
+                limit,
+            });
+        }
+        check_budget(|| what(Some(vertices)), vertex_bytes + header_bytes)?;
+        if vertices.max(1) != self.capacity {
+            self.capacity = vertices.max(1);
+            self.vertices = storage_buffer(gpu, "hairlab.dsm.vertices", vertex_bytes);
+            self.rebind(gpu);
+        }
         Ok(())
     }
 
@@ -305,15 +362,8 @@ impl MethodGpu for DsmGpu {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("hairlab.dsm.compress"),
-            timestamp_writes: timer.as_mut().and_then(|t| t.compute_pass("dsm: compress")),
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.abuffer.lookup_bind_group, &[]);
-        pass.set_bind_group(1, &self.pass_bind_group, &[]);
-        let groups = self.resolution.div_ceil(8);
-        pass.dispatch_workgroups(groups, groups, 1);
+        let timestamps = timer.as_mut().and_then(|t| t.compute_pass("dsm: compress"));
+        self.dispatch(encoder, &self.compress_pipeline, timestamps);
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
         &self.lookup_layout
@@ -324,7 +374,8 @@ impl MethodGpu for DsmGpu {
     fn memory_bytes(&self) -> u64 {
         self.headers.size() + self.vertices.size()
     }
+    /// The A-buffer's counting pass, its filling pass for the vertex count, and again for the compressor.
     fn geometry_passes(&self) -> u32 {
-        2
+        3
     }
 }

@@ -28,7 +28,8 @@
 //!
 //! Every quantity is f32 and computed by the same expressions, in the same order, in `shaders/dsm.wgsl` (the
 //! compressor) and `shaders/methods/dsm.wgsl` (the lookup); optical depths at one depth are summed in the
-//! order the fragments come (sorted by depth here, list order on the GPU), then added to the running sum.
+//! order the fragments come (a stable sort by depth here, of lists the reference sorts by (depth, segment); the
+//! GPU walks its lists in (depth, segment) order), then added to the running sum.
 
 use super::{Fragment, Model, Stored, TexelModel, optical_depth, transmittance, valid};
 

@@ -1,7 +1,7 @@
 //! Compressed deep shadow maps on the GPU (`hairlab::methods::dsm`): the exact property `|V - V_ref| <= ε` read
 //! through the WGSL lookup at every fragment depth, just before and after each and a 16-point grid of every
 //! occupied texel, for each ε of the sweep (0, 0.01, 0.05, 0.1) and 0.5; GPU = CPU model on the same samples;
-//! memory (headers and vertices sized from the frame's fragment count) and geometry passes.
+//! memory (headers and exactly the vertices the compressor keeps, as many as the CPU model's) and geometry passes.
 
 use crate::common::small_settings;
 use hairlab::gpu::Gpu;
@@ -103,34 +103,43 @@ fn extreme_resolutions() {
 }
 
 #[test]
-fn memory_is_sized_from_the_fragment_count() {
+fn memory_is_the_vertex_count() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let mut s = small_settings(8, 8);
-    s.scene.generator.strands = 50;
+    s.scene.generator.strands = 300;
     s.render.map_resolution = 128;
     let scene = s.scene.build().unwrap();
     let mut r = Renderer::new(&gpu, &scene, 128).unwrap();
-    let fragments: usize = r
+    let lists: Vec<Vec<Fragment>> = r
         .reference_lists(&s.camera, &s.light, &s.render)
         .unwrap()
         .iter()
-        .map(Vec::len)
-        .sum();
-    assert!(fragments > 100, "only {fragments} fragments");
+        .map(|l| l.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect())
+        .collect();
     let method = registry::find("dsm").unwrap();
-    r.render_light(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method,
-        method_params: &ParamValues::new(),
-        width: 8,
-        height: 8,
-    })
-    .unwrap();
-    let m = r.method_gpu(method).unwrap();
-    // Headers (offset, count) 8 bytes per texel, vertices (z, V) 8 bytes, two per fragment.
-    assert_eq!(m.memory_bytes(), 128 * 128 * 8 + 2 * fragments as u64 * 8);
-    assert_eq!(m.shared_bytes(), 0);
-    assert_eq!(m.geometry_passes(), 2);
+    for epsilon in [0.0, 0.01, 0.1] {
+        let values = ParamValues::from([("epsilon".to_string(), epsilon)]);
+        let model = method.model(&values, s.render.hair_alpha);
+        let vertices: u64 = lists.iter().map(|l| model.stored_values(l)[0] as u64).sum();
+        r.render_light(&FrameInput {
+            camera: &s.camera,
+            light: &s.light,
+            render: &s.render,
+            method,
+            method_params: &values,
+            width: 8,
+            height: 8,
+        })
+        .unwrap();
+        let m = r.method_gpu(method).unwrap();
+        eprintln!(
+            "dsm ε {epsilon}: {} bytes for {vertices} vertices of the CPU model at 128²",
+            m.memory_bytes()
+        );
+        assert!(vertices > 1000, "only {vertices} vertices");
+        // Headers (offset, count) 8 bytes per texel, vertices (z, V) 8 bytes each, as many as the CPU model keeps.
+        assert_eq!(m.memory_bytes(), 128 * 128 * 8 + vertices * 8, "ε {epsilon}");
+        assert_eq!(m.shared_bytes(), 0);
+        assert_eq!(m.geometry_passes(), 3);
+    }
 }

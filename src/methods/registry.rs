@@ -6,6 +6,7 @@ use super::adsm::Adsm;
 use super::bom::Bom;
 use super::dc::Dc;
 use super::dom::Dom;
+use super::dsm::Dsm;
 use super::fom::Fom;
 use super::none::NoShadow;
 use super::occupancy::Occupancy;
@@ -24,6 +25,7 @@ static METHODS: &[&dyn ShadowMethod] = &[
     &Dc,
     &Adsm,
     &Fom,
+    &Dsm,
 ];
 
 /// Every registered method, in UI order.

@@ -25,6 +25,7 @@ pub mod adsm;
 pub mod bom;
 pub mod dc;
 pub mod dom;
+pub mod dsm;
 pub mod fom;
 pub mod metrics;
 pub mod occupancy;

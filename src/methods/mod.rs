@@ -6,6 +6,7 @@ pub mod adsm;
 pub mod bom;
 pub mod dc;
 pub mod dom;
+pub mod msm;
 pub mod none;
 pub mod occupancy;
 pub mod opacity_layers;

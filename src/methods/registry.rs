@@ -6,6 +6,7 @@ use super::adsm::Adsm;
 use super::bom::Bom;
 use super::dc::Dc;
 use super::dom::Dom;
+use super::msm::Msm;
 use super::none::NoShadow;
 use super::occupancy::Occupancy;
 use super::opaque_shadow_map::OpaqueShadowMap;
@@ -22,6 +23,7 @@ static METHODS: &[&dyn ShadowMethod] = &[
     &Occupancy,
     &Dc,
     &Adsm,
+    &Msm,
 ];
 
 /// Every registered method, in UI order.

@@ -26,6 +26,7 @@ pub mod bom;
 pub mod dc;
 pub mod dom;
 pub mod metrics;
+pub mod msm;
 pub mod occupancy;
 pub mod osm;
 pub mod reference;

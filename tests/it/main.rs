@@ -14,6 +14,7 @@ mod gltf_load;
 mod gpu_bom;
 mod gpu_dc;
 mod gpu_dom;
+mod gpu_msm;
 mod gpu_occupancy;
 mod gpu_render;
 mod hair_format;

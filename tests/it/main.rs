@@ -24,4 +24,5 @@ mod presets;
 mod reference;
 mod shaders;
 mod stability;
+mod stability_msm;
 mod visibility_models;

@@ -171,7 +171,8 @@ fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
     if !msm_finite(f) {
         // Singular in f32: all absorbance at the mean, weighted w within one standard deviation of it.
         let d = x - m[0];
-        fraction = select(select(0.0, 1.0, x > m[0]), w, d * d <= m[1] - m[0] * m[0]);
+        let step = select(0.0, 1.0, x > m[0]);
+        fraction = select(step, w, d * d <= m[1] - m[0] * m[0]);
     }
     return transmittance(b0 * fraction);
 }

@@ -8,6 +8,7 @@ pub mod dc;
 pub mod dom;
 pub mod dsm;
 pub mod fom;
+pub mod msm;
 pub mod none;
 pub mod occupancy;
 pub mod opacity_layers;

@@ -8,6 +8,7 @@ use super::dc::Dc;
 use super::dom::Dom;
 use super::dsm::Dsm;
 use super::fom::Fom;
+use super::msm::Msm;
 use super::none::NoShadow;
 use super::occupancy::Occupancy;
 use super::opaque_shadow_map::OpaqueShadowMap;
@@ -26,6 +27,7 @@ static METHODS: &[&dyn ShadowMethod] = &[
     &Adsm,
     &Fom,
     &Dsm,
+    &Msm,
 ];
 
 /// Every registered method, in UI order.

@@ -28,6 +28,7 @@ pub mod dom;
 pub mod dsm;
 pub mod fom;
 pub mod metrics;
+pub mod msm;
 pub mod occupancy;
 pub mod osm;
 pub mod reference;

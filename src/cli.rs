@@ -490,7 +490,7 @@ fn measure(a: &MeasureArgs) -> Result<()> {
         .unwrap_or(0)
         .max(6);
     println!(
-        "{:<width$} {:>9} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>10} {:>5}  passes",
+        "{:<width$} {:>9} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>10} {:>9} {:>5}  passes",
         "method",
         "map err",
         "p50",
@@ -505,13 +505,14 @@ fn measure(a: &MeasureArgs) -> Result<()> {
         "flicker",
         "GPU ms",
         "memory MiB",
+        "build MiB",
         "geom"
     );
     for m in &rows {
         let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
         let e = &m.texel_errors;
         println!(
-            "{:<width$} {:>9.5} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>6.1}% {:>6.1}% {:>9.5} {:>9.5} {:>7.2} {:>9.5} {:>9.3} {:>10.2} {:>5}  {}",
+            "{:<width$} {:>9.5} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>6.1}% {:>6.1}% {:>9.5} {:>9.5} {:>7.2} {:>9.5} {:>9.3} {:>10.2} {:>9.2} {:>5}  {}",
             m.config.label(),
             m.map_error,
             e.p50,
@@ -526,13 +527,15 @@ fn measure(a: &MeasureArgs) -> Result<()> {
             m.flicker,
             m.total_ms(),
             m.memory_bytes as f64 / (1024.0 * 1024.0),
+            m.build_memory_bytes as f64 / (1024.0 * 1024.0),
             m.geometry_passes,
             passes.join(" · ")
         );
     }
     println!(
         "texel error = mean |V - V_ref| over a texel's samples; p50/p95/p99/worst over the occupied texels; \
-         >0.05, >0.1: share of occupied texels above"
+         >0.05, >0.1: share of occupied texels above; \
+         build: what the method builds its maps from each frame"
     );
     Ok(())
 }

@@ -94,7 +94,10 @@ pub struct Measurement {
     pub pass_ms: Vec<(String, f64)>,
     /// GPU milliseconds of each timed frame, by pass name (the samples behind `pass_ms`).
     pub pass_frames_ms: Vec<(String, Vec<f64>)>,
+    /// The method's maps (what its lookup reads, the shared light-depth maps included).
     pub memory_bytes: u64,
+    /// What the method builds its maps from each frame and its lookup does not read (`MethodGpu::build_bytes`).
+    pub build_memory_bytes: u64,
     pub geometry_passes: u32,
     /// Mean |V_m - V_ref| over the hair points the camera sees (design.md's shading error).
     pub shading_error: f64,
@@ -240,9 +243,10 @@ pub fn measure_on(
                     / span.len() as f64
             })
             .collect();
-        let (memory_bytes, geometry_passes) = r
-            .method_gpu(method)
-            .map_or((0, 0), |g| (g.memory_bytes(), g.geometry_passes()));
+        let (memory_bytes, build_memory_bytes, geometry_passes) =
+            r.method_gpu(method).map_or((0, 0, 0), |g| {
+                (g.memory_bytes(), g.build_bytes(), g.geometry_passes())
+            });
         // Flicker: the method's visibility at the visible points, frame by frame (frame 0 gives the shading
         // error).
         let mut frames_v = Vec::with_capacity(lights.len());
@@ -268,6 +272,7 @@ pub fn measure_on(
                 .collect(),
             pass_frames_ms: per_pass,
             memory_bytes,
+            build_memory_bytes,
             geometry_passes,
             shading_error,
             image_rmse,

@@ -353,9 +353,16 @@ impl HairlabApp {
                 if let (Some(r), Ok(m)) = (&self.renderer, registry::find(&self.settings.method.name)) {
                     let mem = r.memory();
                     let passes = r.method_gpu(m).map_or(0, |g| g.geometry_passes());
+                    let texels = u64::from(r.map_resolution()).pow(2).max(1);
+                    let build = if mem.method_build > 0 {
+                        format!(" · built from {}", mib(mem.method_build))
+                    } else {
+                        String::new()
+                    };
                     ui.label(format!(
-                        "method maps: {} · {passes} geometry passes",
-                        mib(mem.method())
+                        "method maps: {} ({:.1} B per texel){build} · {passes} geometry passes",
+                        mib(mem.method()),
+                        mem.method() as f64 / texels as f64
                     ));
                     ui.label(format!(
                         "light-depth maps {} · mesh shadow map {} · geometry {} · eye targets {}",

@@ -36,6 +36,7 @@ struct CsvHead<'a> {
     gpu_ms_min: f64,
     gpu_ms_max: f64,
     memory_bytes: u64,
+    build_memory_bytes: u64,
     geometry_passes: u32,
 }
 
@@ -83,6 +84,7 @@ pub fn to_csv(result: &BenchResult) -> Result<String> {
                 gpu_ms_min: r.total_ms.min,
                 gpu_ms_max: r.total_ms.max,
                 memory_bytes: r.memory_bytes,
+                build_memory_bytes: r.build_memory_bytes,
                 geometry_passes: r.geometry_passes,
             };
             let tail = CsvTail {
@@ -132,6 +134,7 @@ struct JsonRow<'a> {
     gpu_ms: Spread,
     passes: Vec<JsonPass<'a>>,
     memory_bytes: u64,
+    build_memory_bytes: u64,
     geometry_passes: u32,
     #[serde(flatten)]
     metrics: Metrics<'a>,
@@ -181,6 +184,7 @@ pub fn to_json(result: &BenchResult) -> Result<String> {
                     .map(|(name, ms)| JsonPass { name, ms: *ms })
                     .collect(),
                 memory_bytes: r.memory_bytes,
+                build_memory_bytes: r.build_memory_bytes,
                 geometry_passes: r.geometry_passes,
                 metrics: Metrics(&r.metrics),
                 pareto: front.contains(&i),
@@ -322,6 +326,7 @@ mod tests {
             total_ms: spread,
             passes: vec![("light".to_string(), spread)],
             memory_bytes: 1024,
+            build_memory_bytes: 0,
             geometry_passes: 1,
             metrics: vec![("map_error", error), ("image_psnr", f64::INFINITY)],
             device: "test device, \"quoted\"".to_string(),
@@ -357,12 +362,12 @@ mod tests {
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(
             lines[0],
-            "method,params,label,note,gpu_ms_median,gpu_ms_min,gpu_ms_max,memory_bytes,geometry_passes,\
-             map_error,image_psnr,pareto,passes,device"
+            "method,params,label,note,gpu_ms_median,gpu_ms_min,gpu_ms_max,memory_bytes,build_memory_bytes,\
+             geometry_passes,map_error,image_psnr,pareto,passes,device"
         );
         assert_eq!(
             lines[1],
-            "method-a,layers=3;spacing=1,\"method-a:layers=3,spacing=1\",,0.25,0.125,0.5,1024,1,0.5,inf,true,\
+            "method-a,layers=3;spacing=1,\"method-a:layers=3,spacing=1\",,0.25,0.125,0.5,1024,0,1,0.5,inf,true,\
              \"light: 0.25 [0.125, 0.5]\",\"test device, \"\"quoted\"\"\""
         );
         // Slower and less accurate than the DOM row: off the front.

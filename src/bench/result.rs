@@ -90,6 +90,8 @@ pub struct BenchRow {
     /// Each of the method's light passes.
     pub passes: Vec<(String, Spread)>,
     pub memory_bytes: u64,
+    /// What the method builds its maps from each frame (e.g. the fragment lists AVSM and DSM compress).
+    pub build_memory_bytes: u64,
     pub geometry_passes: u32,
     /// [`error_metrics`].
     pub metrics: Vec<(&'static str, f64)>,
@@ -108,6 +110,7 @@ impl BenchRow {
                 .map(|(n, v)| (n.clone(), Spread::of(v)))
                 .collect(),
             memory_bytes: m.memory_bytes,
+            build_memory_bytes: m.build_memory_bytes,
             geometry_passes: m.geometry_passes,
             metrics: error_metrics(m),
             device: device.to_string(),

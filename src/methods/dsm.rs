@@ -374,6 +374,10 @@ impl MethodGpu for DsmGpu {
     fn memory_bytes(&self) -> u64 {
         self.headers.size() + self.vertices.size()
     }
+    /// The A-buffer the compressor reads.
+    fn build_bytes(&self) -> u64 {
+        self.abuffer.memory_bytes()
+    }
     /// The A-buffer's counting pass, its filling pass for the vertex count, and again for the compressor.
     fn geometry_passes(&self) -> u32 {
         3

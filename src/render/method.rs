@@ -240,6 +240,12 @@ pub trait MethodGpu: Send {
     fn shared_bytes(&self) -> u64 {
         0
     }
+    /// GPU memory the method builds its maps from each frame but its lookup does not read (e.g. the exact
+    /// fragment lists that adaptive volumetric and compressed deep shadow maps compress): not part of
+    /// [`MethodGpu::memory_bytes`], counted in the renderer's total.
+    fn build_bytes(&self) -> u64 {
+        0
+    }
     /// Geometry passes one frame of the method takes (besides the shared light-depth pass).
     fn geometry_passes(&self) -> u32 {
         0

@@ -126,6 +126,8 @@ pub struct MemoryReport {
     pub method_name: &'static str,
     pub method_owned: u64,
     pub method_shared: u64,
+    /// What the method builds its maps from each frame (`MethodGpu::build_bytes`).
+    pub method_build: u64,
     /// The exact reference's fragment lists, when the inspector or a measurement has read them.
     pub reference_lists: u64,
 }
@@ -138,6 +140,7 @@ impl MemoryReport {
             + self.shadow_map
             + self.eye_targets
             + self.method_owned
+            + self.method_build
             + self.reference_lists
     }
 
@@ -704,10 +707,9 @@ impl Renderer {
     /// GPU memory by part; the method and the eye transparency technique are the last frame's (their states are
     /// the only ones held).
     pub fn memory(&self) -> MemoryReport {
-        let (method_name, method, shared) = self
-            .method
-            .as_ref()
-            .map_or(("", 0, 0), |(n, m)| (*n, m.memory_bytes(), m.shared_bytes()));
+        let (method_name, method, shared, build) = self.method.as_ref().map_or(("", 0, 0, 0), |(n, m)| {
+            (*n, m.memory_bytes(), m.shared_bytes(), m.build_bytes())
+        });
         let (transparency_name, transparency_targets) = self
             .transparency
             .as_ref()
@@ -722,6 +724,7 @@ impl Renderer {
             method_name,
             method_owned: method.saturating_sub(shared),
             method_shared: shared,
+            method_build: build,
             reference_lists: self.reference.as_ref().map_or(0, |a| a.memory_bytes()),
         }
     }

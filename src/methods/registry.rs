@@ -3,6 +3,7 @@
 
 use super::ShadowMethod;
 use super::adsm::Adsm;
+use super::avsm::Avsm;
 use super::bom::Bom;
 use super::dc::Dc;
 use super::dom::Dom;
@@ -22,6 +23,7 @@ static METHODS: &[&dyn ShadowMethod] = &[
     &Occupancy,
     &Dc,
     &Adsm,
+    &Avsm,
 ];
 
 /// Every registered method, in UI order.

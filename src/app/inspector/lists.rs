@@ -77,7 +77,7 @@ impl ReferenceLists {
     /// The fragments of texel `[x, y]` (`None` outside the map).
     pub fn fragments(&self, texel: [u32; 2]) -> Option<Vec<Fragment>> {
         let list = self.list(texel)?;
-        Some(list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect())
+        Some(list.iter().map(|f| f.fragment()).collect())
     }
 
     /// The texel holding the most fragments (the first in row-major order on ties), if any holds one.

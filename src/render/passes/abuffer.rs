@@ -7,6 +7,7 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, draw_casters};
 use crate::render::maps::storage_entry;
+use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
 pub const NODE_BYTES: u64 = 16;
@@ -18,6 +19,16 @@ pub struct RefFragment {
     pub alpha: f32,
     /// Index of the segment's first point: with the depth, it orders fragments totally.
     pub segment: u32,
+}
+
+impl RefFragment {
+    /// The fragment as the CPU models take it (depth, alpha and segment).
+    pub fn fragment(&self) -> Fragment {
+        Fragment {
+            segment: self.segment,
+            ..Fragment::new(self.depth, self.alpha)
+        }
+    }
 }
 
 /// Sorts a texel's fragments by (depth, segment), the order the depth peel produces.
@@ -40,6 +51,9 @@ pub struct ABuffer {
     target: super::NullTarget,
     /// Fragments of the last frame.
     pub fragment_count: u64,
+    /// The fill pass's name in GPU timings, and the A-buffer's in errors (the owner's).
+    pass_label: &'static str,
+    what: &'static str,
 }
 
 impl ABuffer {
@@ -104,6 +118,18 @@ impl ABuffer {
             lookup_bind_group,
             target: super::NullTarget::new(device, 1),
             fragment_count: 0,
+            pass_label: "reference: A-buffer",
+            what: "reference A-buffer",
+        }
+    }
+
+    /// The A-buffer with its owner's names: `pass_label` for the fill pass in GPU timings, `what` in errors
+    /// (default: the reference's).
+    pub fn named(self, pass_label: &'static str, what: &'static str) -> ABuffer {
+        ABuffer {
+            pass_label,
+            what,
+            ..self
         }
     }
 
@@ -218,8 +244,9 @@ impl ABuffer {
         if node_bytes > max_binding || texels * 4 > max_binding {
             return Err(GpuError::TooLarge {
                 what: format!(
-                    "the reference A-buffer ({count} light-space fragments at {resolution}² texels; lower the map \
-                     resolution or the strand count)"
+                    "the {} ({count} light-space fragments at {resolution}² texels; lower the map \
+                     resolution or the strand count)",
+                    self.what
                 ),
                 bytes: node_bytes.max(texels * 4),
                 limit: max_binding,
@@ -252,7 +279,7 @@ impl ABuffer {
     ) {
         encoder.clear_buffer(&self.counters, 0, None);
         encoder.clear_buffer(&self.heads, 0, None);
-        let ts = timer.as_mut().and_then(|t| t.pass("reference: A-buffer"));
+        let ts = timer.as_mut().and_then(|t| t.pass(self.pass_label));
         self.draw(encoder, &self.fill_pipeline, frame, casters, ts);
     }
 
@@ -266,8 +293,8 @@ impl ABuffer {
         let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.counters)?);
         if counters[2] > 0 {
             return Err(GpuError::Readback(format!(
-                "reference A-buffer overflow: {} fragments did not fit in {} nodes",
-                counters[2], self.capacity
+                "{} overflow: {} fragments did not fit in {} nodes",
+                self.what, counters[2], self.capacity
             )));
         }
         let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.heads)?);

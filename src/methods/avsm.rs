@@ -10,10 +10,12 @@
 //! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk is an O(n²) select-next over the
 //! linked list (each step takes the smallest key after the last one: (depth, segment, alpha, node index) or
 //! (segment, depth, alpha, node index)), so it has no bound on the list length and equals the CPU model's sort
-//! for every list. Known defect, open: on lavapipe, lists longer than a few hundred fragments come out wrong
-//! (measured: a texel of 139 fragments equals the CPU model, one of 301 does not: every fragment after the first
-//! is lost), consistent with llvmpipe's limit of 65,535 iterations per shader loop reached by the O(n²) walk; the
-//! presets stay far below (stray-strand: at most 24 fragments per texel at 256²). `N` is any count in 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA
+//! for every list. One bound, of CPU adapters only: llvmpipe (lavapipe) stops a shader's loops after 65,535
+//! iterations in all, which the walk reaches near 240 fragments in one texel (measured at N = 8: 220 fragments
+//! equal the CPU model, 244 do not), so on a CPU adapter a frame whose longest list (counted by the A-buffer's
+//! counting pass) exceeds [`MAX_LIST_ON_CPU_ADAPTER`] fragments is refused with an error naming the settings
+//! to change, rather than compressed wrongly; the presets stay far below it (stray-strand: 24 at 256²). `N` is
+//! any count in 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA
 //! targets; a storage buffer needs no packing).
 //!
 //! Memory: [`MethodGpu::memory_bytes`] is the node buffer alone (`N × 8` B per texel), what the lookup reads.
@@ -36,6 +38,9 @@ use bytemuck::{Pod, Zeroable};
 
 /// Bytes of one node (depth, transmittance: two f32).
 pub const NODE_BYTES: u64 = 8;
+
+/// Longest texel list the compression pass takes on a CPU adapter (llvmpipe's loop limit; see the module doc).
+pub const MAX_LIST_ON_CPU_ADAPTER: u64 = 180;
 
 const NODES: ParamSpec = ParamSpec {
     key: "nodes",
@@ -279,6 +284,14 @@ impl MethodGpu for AvsmGpu {
         }
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
+        let longest = self.abuffer.longest_list;
+        if ctx.gpu.info.device_type == wgpu::DeviceType::Cpu && longest > MAX_LIST_ON_CPU_ADAPTER {
+            return Err(GpuError::Setting(format!(
+                "AVSM on a CPU adapter compresses at most {MAX_LIST_ON_CPU_ADAPTER} fragments per texel (llvmpipe \
+                 stops shader loops after 65,535 iterations) and a texel holds {longest}: raise \
+                 render.map_resolution or lower scene.generator.strands"
+            )));
+        }
         ctx.gpu.queue.write_buffer(
             &self.uniforms,
             0,

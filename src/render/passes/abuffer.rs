@@ -51,6 +51,8 @@ pub struct ABuffer {
     target: super::NullTarget,
     /// Fragments of the last frame.
     pub fragment_count: u64,
+    /// Fragments in the longest texel list of the last frame.
+    pub longest_list: u64,
     /// The fill pass's name in GPU timings, and the A-buffer's in errors (the owner's).
     pass_label: &'static str,
     what: &'static str,
@@ -118,6 +120,7 @@ impl ABuffer {
             lookup_bind_group,
             target: super::NullTarget::new(device, 1),
             fragment_count: 0,
+            longest_list: 0,
             pass_label: "reference: A-buffer",
             what: "reference A-buffer",
         }
@@ -211,8 +214,8 @@ impl ABuffer {
         );
     }
 
-    /// Counts this frame's fragments (a counting pass submitted at once and read back, blocking) and grows the
-    /// node buffer to fit them; refuses lists beyond the device's storage binding size.
+    /// Counts this frame's fragments and the longest texel list (a counting pass submitted at once and read back,
+    /// blocking) and grows the node buffer to fit them; refuses lists beyond the device's storage binding size.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -222,10 +225,30 @@ impl ABuffer {
     ) -> Result<(), GpuError> {
         let device = &gpu.device;
         self.target.ensure(device, resolution);
+        let texels = resolution as u64 * resolution as u64;
+        let max_binding = device.limits().max_storage_buffer_binding_size;
+        let too_large = |what: &str, count: u64, bytes: u64| GpuError::TooLarge {
+            what: format!(
+                "the {what} ({count} light-space fragments at {resolution}² texels; lower the map resolution or the \
+                 strand count)"
+            ),
+            bytes,
+            limit: max_binding,
+        };
+        if texels * 4 > max_binding {
+            return Err(too_large(self.what, self.fragment_count, texels * 4));
+        }
+        // The counting pass counts each texel's list in the heads (cleared again before the fill).
+        if resolution != self.resolution {
+            self.resolution = resolution;
+            self.heads = Self::buffer(gpu, "hairlab.abuffer.heads", texels * 4);
+            self.rebuild_bind_groups(gpu);
+        }
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.abuffer.count"),
         });
         enc.clear_buffer(&self.counters, 0, None);
+        enc.clear_buffer(&self.heads, 0, None);
         self.draw(&mut enc, &self.count_pipeline, frame, casters, None);
         let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.abuffer.count_readback"),
@@ -238,35 +261,28 @@ impl ABuffer {
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::read_buffer(gpu, &readback_buffer)?);
         let count = counts[0] as u64;
         self.fragment_count = count;
-        let texels = resolution as u64 * resolution as u64;
-        let max_binding = device.limits().max_storage_buffer_binding_size;
+        self.longest_list = counts[3] as u64;
         let node_bytes = count.max(1) * NODE_BYTES;
-        if node_bytes > max_binding || texels * 4 > max_binding {
-            return Err(GpuError::TooLarge {
-                what: format!(
-                    "the {} ({count} light-space fragments at {resolution}² texels; lower the map \
-                     resolution or the strand count)",
-                    self.what
-                ),
-                bytes: node_bytes.max(texels * 4),
-                limit: max_binding,
-            });
+        if node_bytes > max_binding {
+            return Err(too_large(self.what, count, node_bytes));
         }
-        if count > self.capacity || resolution != self.resolution {
-            self.capacity = self.capacity.max(count).max(1);
-            self.resolution = resolution;
-            self.heads = Self::buffer(gpu, "hairlab.abuffer.heads", texels * 4);
+        if count > self.capacity {
+            self.capacity = count;
             self.nodes = Self::buffer(gpu, "hairlab.abuffer.nodes", self.capacity * NODE_BYTES);
-            (self.pass_bind_group, self.lookup_bind_group) = Self::bind_groups(
-                gpu,
-                &self.pass_layout,
-                &self.lookup_layout,
-                &self.counters,
-                &self.heads,
-                &self.nodes,
-            );
+            self.rebuild_bind_groups(gpu);
         }
         Ok(())
+    }
+
+    fn rebuild_bind_groups(&mut self, gpu: &Gpu) {
+        (self.pass_bind_group, self.lookup_bind_group) = Self::bind_groups(
+            gpu,
+            &self.pass_layout,
+            &self.lookup_layout,
+            &self.counters,
+            &self.heads,
+            &self.nodes,
+        );
     }
 
     /// Records the pass that fills the lists (after [`ABuffer::prepare`] for this frame).

@@ -12,9 +12,10 @@ struct Node {
     next: u32,
 }
 
-// [0]: fragments counted, [1]: nodes allocated, [2]: fragments dropped (node buffer full).
+// [0]: fragments counted, [1]: nodes allocated, [2]: fragments dropped (node buffer full), [3]: the longest texel
+// list (counting pass).
 @group(1) @binding(0) var<storage, read_write> counters: array<atomic<u32>, 4>;
-// Index + 1 of each texel's first node; 0 = empty texel.
+// Index + 1 of each texel's first node; 0 = empty texel. The counting pass counts each texel's fragments here.
 @group(1) @binding(1) var<storage, read_write> heads: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read_write> nodes: array<Node>;
 
@@ -26,6 +27,7 @@ fn vs_main(v: LightVertexIn) -> LightFragment {
 @fragment
 fn fs_count(f: LightFragment) {
     atomicAdd(&counters[0], 1u);
+    atomicMax(&counters[3], atomicAdd(&heads[texel_index(f.clip)], 1u) + 1u);
 }
 
 @fragment

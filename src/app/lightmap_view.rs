@@ -59,8 +59,7 @@ impl MapQuantity {
         let (Some(first), Some(last)) = (list.first(), list.last()) else {
             return f32::NAN;
         };
-        let fragments =
-            || -> Vec<Fragment> { list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect() };
+        let fragments = || -> Vec<Fragment> { list.iter().map(|f| f.fragment()).collect() };
         match self {
             Self::Complexity => list.len() as f32,
             Self::Near => first.depth,

@@ -3,6 +3,7 @@
 //! knows them all. The UI's method panel is generated from [`MethodInfo::params`].
 
 pub mod adsm;
+pub mod avsm;
 pub mod bom;
 pub mod dc;
 pub mod dom;

@@ -3,6 +3,7 @@
 
 use super::ShadowMethod;
 use super::adsm::Adsm;
+use super::avsm::Avsm;
 use super::bom::Bom;
 use super::dc::Dc;
 use super::dom::Dom;
@@ -28,6 +29,7 @@ static METHODS: &[&dyn ShadowMethod] = &[
     &Fom,
     &Dsm,
     &Msm,
+    &Avsm,
 ];
 
 /// Every registered method, in UI order.

@@ -16,12 +16,15 @@
 //!   `far = 0`.
 //! - Fragments whose depth is not finite are ignored by every model (the light-depth pass clamps depth, so
 //!   the GPU never produces them).
-//! - Fragment order never matters: all models are sums over fragments (GPU additive blending or atomics),
-//!   apart from f32 rounding of those sums, which depends on the order on the GPU too.
+//! - Fragment order never matters to a model that sums over fragments (GPU additive blending or atomics),
+//!   apart from f32 rounding of those sums, which depends on the order on the GPU too. A model whose result
+//!   depends on the insertion order orders the fragments itself, by depth or by [`Fragment::segment`] (the
+//!   primitive order a rasteriser-ordered implementation would see), never by the input order.
 //! - Shared f32 expressions the GPU must use: [`optical_depth`], [`relative_depth`], [`slice_index`],
 //!   [`lerp_up`].
 
 pub mod adsm;
+pub mod avsm;
 pub mod bom;
 pub mod dc;
 pub mod dom;
@@ -51,11 +54,19 @@ pub struct Fragment {
     pub depth: f32,
     /// Opacity in `[0, 1)`.
     pub alpha: f32,
+    /// Index of the strand segment (the primitive) that produced the fragment, as the A-buffer records it; 0
+    /// where unknown (hand-made texels, CSV files).
+    pub segment: u32,
 }
 
 impl Fragment {
+    /// A fragment of segment 0.
     pub fn new(depth: f32, alpha: f32) -> Self {
-        Self { depth, alpha }
+        Self {
+            depth,
+            alpha,
+            segment: 0,
+        }
     }
 
     /// The fragment's optical depth `b` ([`optical_depth`] of its alpha).
@@ -65,9 +76,9 @@ impl Fragment {
 }
 
 impl From<(f32, f32)> for Fragment {
-    /// From `(depth, alpha)`.
+    /// From `(depth, alpha)`, segment 0.
     fn from((depth, alpha): (f32, f32)) -> Self {
-        Self { depth, alpha }
+        Self::new(depth, alpha)
     }
 }
 

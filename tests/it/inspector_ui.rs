@@ -107,7 +107,7 @@ fn inspector_plots_pins_exports_and_compares() {
         .unwrap();
     let other_fragments: Vec<Fragment> = lists.lists[(other[1] * lists.resolution + other[0]) as usize]
         .iter()
-        .map(|f| Fragment::new(f.depth, f.alpha))
+        .map(|f| f.fragment())
         .collect();
     assert!(harness.state().inspector().open);
     assert_eq!(current(&harness).depth_complexity(), max);

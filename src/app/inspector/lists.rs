@@ -77,7 +77,7 @@ impl ReferenceLists {
     /// The fragments of texel `[x, y]` (`None` outside the map).
     pub fn fragments(&self, texel: [u32; 2]) -> Option<Vec<Fragment>> {
         let list = self.list(texel)?;
-        Some(list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect())
+        Some(list.iter().map(|f| f.fragment()).collect())
     }
 
     /// The texel holding the most fragments (the first in row-major order on ties), if any holds one.
@@ -188,7 +188,16 @@ mod tests {
         assert_eq!(l.resolution, 2);
         assert_eq!(
             l.fragments([0, 1]),
-            Some(vec![Fragment::new(0.2, 0.5), Fragment::new(0.7, 0.5)])
+            Some(vec![
+                Fragment {
+                    segment: 4,
+                    ..Fragment::new(0.2, 0.5)
+                },
+                Fragment {
+                    segment: 9,
+                    ..Fragment::new(0.7, 0.5)
+                }
+            ])
         );
         assert_eq!(l.fragments([1, 0]), Some(vec![]));
         assert_eq!(l.fragments([2, 0]), None);

@@ -7,6 +7,7 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, draw_casters};
 use crate::render::maps::storage_entry;
+use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
 pub const NODE_BYTES: u64 = 16;
@@ -18,6 +19,16 @@ pub struct RefFragment {
     pub alpha: f32,
     /// Index of the segment's first point: with the depth, it orders fragments totally.
     pub segment: u32,
+}
+
+impl RefFragment {
+    /// The fragment as the CPU models take it (depth, alpha and segment).
+    pub fn fragment(&self) -> Fragment {
+        Fragment {
+            segment: self.segment,
+            ..Fragment::new(self.depth, self.alpha)
+        }
+    }
 }
 
 /// Sorts a texel's fragments by (depth, segment), the order the depth peel produces.
@@ -40,6 +51,11 @@ pub struct ABuffer {
     target: super::NullTarget,
     /// Fragments of the last frame.
     pub fragment_count: u64,
+    /// Fragments in the longest texel list of the last frame.
+    pub longest_list: u64,
+    /// The fill pass's name in GPU timings, and the A-buffer's in errors (the owner's).
+    pass_label: &'static str,
+    what: &'static str,
 }
 
 impl ABuffer {
@@ -104,6 +120,19 @@ impl ABuffer {
             lookup_bind_group,
             target: super::NullTarget::new(device, 1),
             fragment_count: 0,
+            longest_list: 0,
+            pass_label: "reference: A-buffer",
+            what: "reference A-buffer",
+        }
+    }
+
+    /// The A-buffer with its owner's names: `pass_label` for the fill pass in GPU timings, `what` in errors
+    /// (default: the reference's).
+    pub fn named(self, pass_label: &'static str, what: &'static str) -> ABuffer {
+        ABuffer {
+            pass_label,
+            what,
+            ..self
         }
     }
 
@@ -185,8 +214,8 @@ impl ABuffer {
         );
     }
 
-    /// Counts this frame's fragments (a counting pass submitted at once and read back, blocking) and grows the
-    /// node buffer to fit them; refuses lists beyond the device's storage binding size.
+    /// Counts this frame's fragments and the longest texel list (a counting pass submitted at once and read back,
+    /// blocking) and grows the node buffer to fit them; refuses lists beyond the device's storage binding size.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -196,10 +225,30 @@ impl ABuffer {
     ) -> Result<(), GpuError> {
         let device = &gpu.device;
         self.target.ensure(device, resolution);
+        let texels = resolution as u64 * resolution as u64;
+        let max_binding = device.limits().max_storage_buffer_binding_size;
+        let too_large = |what: &str, count: u64, bytes: u64| GpuError::TooLarge {
+            what: format!(
+                "the {what} ({count} light-space fragments at {resolution}² texels; lower the map resolution or the \
+                 strand count)"
+            ),
+            bytes,
+            limit: max_binding,
+        };
+        if texels * 4 > max_binding {
+            return Err(too_large(self.what, self.fragment_count, texels * 4));
+        }
+        // The counting pass counts each texel's list in the heads (cleared again before the fill).
+        if resolution != self.resolution {
+            self.resolution = resolution;
+            self.heads = Self::buffer(gpu, "hairlab.abuffer.heads", texels * 4);
+            self.rebuild_bind_groups(gpu);
+        }
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.abuffer.count"),
         });
         enc.clear_buffer(&self.counters, 0, None);
+        enc.clear_buffer(&self.heads, 0, None);
         self.draw(&mut enc, &self.count_pipeline, frame, casters, None);
         let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.abuffer.count_readback"),
@@ -212,34 +261,28 @@ impl ABuffer {
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::read_buffer(gpu, &readback_buffer)?);
         let count = counts[0] as u64;
         self.fragment_count = count;
-        let texels = resolution as u64 * resolution as u64;
-        let max_binding = device.limits().max_storage_buffer_binding_size;
+        self.longest_list = counts[3] as u64;
         let node_bytes = count.max(1) * NODE_BYTES;
-        if node_bytes > max_binding || texels * 4 > max_binding {
-            return Err(GpuError::TooLarge {
-                what: format!(
-                    "the reference A-buffer ({count} light-space fragments at {resolution}² texels; lower the map \
-                     resolution or the strand count)"
-                ),
-                bytes: node_bytes.max(texels * 4),
-                limit: max_binding,
-            });
+        if node_bytes > max_binding {
+            return Err(too_large(self.what, count, node_bytes));
         }
-        if count > self.capacity || resolution != self.resolution {
-            self.capacity = self.capacity.max(count).max(1);
-            self.resolution = resolution;
-            self.heads = Self::buffer(gpu, "hairlab.abuffer.heads", texels * 4);
+        if count > self.capacity {
+            self.capacity = count;
             self.nodes = Self::buffer(gpu, "hairlab.abuffer.nodes", self.capacity * NODE_BYTES);
-            (self.pass_bind_group, self.lookup_bind_group) = Self::bind_groups(
-                gpu,
-                &self.pass_layout,
-                &self.lookup_layout,
-                &self.counters,
-                &self.heads,
-                &self.nodes,
-            );
+            self.rebuild_bind_groups(gpu);
         }
         Ok(())
+    }
+
+    fn rebuild_bind_groups(&mut self, gpu: &Gpu) {
+        (self.pass_bind_group, self.lookup_bind_group) = Self::bind_groups(
+            gpu,
+            &self.pass_layout,
+            &self.lookup_layout,
+            &self.counters,
+            &self.heads,
+            &self.nodes,
+        );
     }
 
     /// Records the pass that fills the lists (after [`ABuffer::prepare`] for this frame).
@@ -252,7 +295,7 @@ impl ABuffer {
     ) {
         encoder.clear_buffer(&self.counters, 0, None);
         encoder.clear_buffer(&self.heads, 0, None);
-        let ts = timer.as_mut().and_then(|t| t.pass("reference: A-buffer"));
+        let ts = timer.as_mut().and_then(|t| t.pass(self.pass_label));
         self.draw(encoder, &self.fill_pipeline, frame, casters, ts);
     }
 
@@ -266,8 +309,8 @@ impl ABuffer {
         let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.counters)?);
         if counters[2] > 0 {
             return Err(GpuError::Readback(format!(
-                "reference A-buffer overflow: {} fragments did not fit in {} nodes",
-                counters[2], self.capacity
+                "{} overflow: {} fragments did not fit in {} nodes",
+                self.what, counters[2], self.capacity
             )));
         }
         let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.heads)?);

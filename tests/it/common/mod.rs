@@ -157,7 +157,7 @@ pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setu
         if list.is_empty() {
             continue;
         }
-        let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
+        let frags: Vec<Fragment> = list.iter().map(|f| f.fragment()).collect();
         let zs = metrics::sample_depths(&frags, 16);
         let (x, y) = texel(t);
         expected.extend(model.curve(&frags, &zs));

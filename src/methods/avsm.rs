@@ -1,0 +1,338 @@
+//! Adaptive volumetric shadow maps (Salvi, Vidimče, Lauritzen & Lefohn, EGSR 2010): `N` nodes
+//! `(depth, transmittance)` per texel, built by inserting every fragment as a step and removing the node of least
+//! area on overflow. The CPU model (the specification, with the curve and the insertion rules) is
+//! `visibility::avsm`.
+//!
+//! GPU: wgpu has no rasteriser-ordered views, so this is the paper's first implementation — per-texel fragment
+//! lists, then compression: the method owns an A-buffer (`render::passes::abuffer`: a counting pass sizes it, one
+//! geometry pass fills it), and a compute pass (`shaders/avsm.wgsl`, one invocation per texel) walks each list in
+//! the model's insertion order and writes the texel's `N` nodes to `hairlab.avsm.nodes`, `N × 8` bytes per texel
+//! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk is an O(n²) select-next over the
+//! linked list (each step takes the smallest key after the last one: (depth, segment, alpha, node index) or
+//! (segment, depth, alpha, node index)), so it has no bound on the list length and equals the CPU model's sort
+//! for every list. One bound, of CPU adapters only: llvmpipe (lavapipe) stops a shader's loops after 65,535
+//! iterations in all, which the walk reaches near 240 fragments in one texel (measured at N = 8: 220 fragments
+//! equal the CPU model, 244 do not), so on a CPU adapter a frame whose longest list (counted by the A-buffer's
+//! counting pass) exceeds [`MAX_LIST_ON_CPU_ADAPTER`] fragments is refused with an error naming the settings
+//! to change, rather than compressed wrongly; the presets stay far below it (stray-strand: 24 at 256²). `N` is
+//! any count in 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA
+//! targets; a storage buffer needs no packing).
+//!
+//! Memory: [`MethodGpu::memory_bytes`] is the node buffer alone (`N × 8` B per texel), what the lookup reads.
+//! The A-buffer is build memory, held only to build the nodes each frame: 4 B per texel (heads) + 16 B per
+//! light-space fragment + 16 B of counters + the 1 B per texel null target; it is not in `memory_bytes`
+//! (`shared_bytes` is 0: nothing is shared with the renderer). Both storage buffers are checked against the
+//! device's storage binding size (a `GpuError::TooLarge` naming the map). Geometry passes: 2 (count, fill).
+
+use super::{
+    LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
+    SweepPoint, UniformMirror, value,
+};
+use crate::gpu::timing::GpuTimer;
+use crate::gpu::{Gpu, GpuError};
+use crate::render::maps::{LOOKUP_STAGES, storage_entry, uniform_buffer, uniform_entry};
+use crate::render::passes::{self, abuffer::ABuffer};
+use crate::visibility::TexelModel;
+use crate::visibility::avsm::{AvsmParams, InsertionOrder, MAX_NODES, MIN_NODES};
+use bytemuck::{Pod, Zeroable};
+
+/// Bytes of one node (depth, transmittance: two f32).
+pub const NODE_BYTES: u64 = 8;
+
+/// Longest texel list the compression pass takes on a CPU adapter (llvmpipe's loop limit; see the module doc).
+pub const MAX_LIST_ON_CPU_ADAPTER: u64 = 180;
+
+const NODES: ParamSpec = ParamSpec {
+    key: "nodes",
+    label: "nodes",
+    help: "nodes (depth, transmittance) per texel, N (4..=16; the paper's sample uses 4, 8, 12, 16)",
+    kind: ParamKind::Int {
+        min: MIN_NODES as i32,
+        max: MAX_NODES as i32,
+    },
+    default: 8.0,
+};
+const ORDER: ParamSpec = ParamSpec {
+    key: "order",
+    label: "insertion order",
+    help: "order the fragments are inserted in: depth (front to back, deterministic) or submission (primitive \
+           order, as a rasteriser-ordered implementation inserts)",
+    kind: ParamKind::Choice {
+        options: &["depth", "submission"],
+    },
+    default: 0.0,
+};
+const PARAMS: &[ParamSpec] = &[NODES, ORDER];
+
+pub struct Avsm;
+
+static INFO: MethodInfo = MethodInfo {
+    name: "avsm",
+    label: "Adaptive volumetric shadow maps",
+    paper: "Salvi, Vidimče, Lauritzen & Lefohn 2010 (EGSR; Intel's AVSM sample)",
+    role: Role::Approximation,
+    lookup_wgsl: "methods/avsm.wgsl",
+    light_wgsl: &["avsm.wgsl"],
+    params: PARAMS,
+    color: [227, 119, 194],
+    // Measured on lavapipe: max |ΔV| 0 (bit-identical) over 25,810 samples at N = 4, 5, 8, 12, 16 in both orders;
+    // the tolerance leaves room for another device's division rounding in `interpolate`.
+    gpu_tolerance: 1e-5,
+    gpu_outliers: 0.0,
+};
+
+fn avsm_params(values: &ParamValues) -> AvsmParams {
+    AvsmParams {
+        nodes: (value(values, &NODES) as usize).clamp(MIN_NODES, MAX_NODES),
+        order: if value(values, &ORDER) == 1.0 {
+            InsertionOrder::Submission
+        } else {
+            InsertionOrder::Depth
+        },
+    }
+}
+
+/// Mirrors `AvsmUniforms` in `shaders/common/avsm_uniforms.wgsl` (included by the compute pass and the lookup).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct AvsmUniforms {
+    /// Texels per side of the map.
+    pub resolution: u32,
+    /// Nodes per texel `N`.
+    pub nodes: u32,
+    /// 0: depth order, 1: submission order.
+    pub order: u32,
+    pub pad0: u32,
+}
+
+impl LightMethod for Avsm {
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
+    }
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "AvsmUniforms",
+            AvsmUniforms {
+                resolution,
+                nodes,
+                order,
+                pad0
+            }
+        ))
+    }
+    fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
+        Ok(Box::new(AvsmGpu::create(ctx)?))
+    }
+}
+
+impl ShadowMethod for Avsm {
+    fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        Box::new(avsm_params(values))
+    }
+    /// 4, 8, 12 and 16 nodes, depth order.
+    fn sweep(&self) -> Vec<SweepPoint> {
+        [4.0, 8.0, 12.0, 16.0]
+            .map(|n| SweepPoint::fixed(&[(NODES.key, n)]))
+            .to_vec()
+    }
+    fn usual_configs(&self) -> Vec<ParamValues> {
+        [4.0, 8.0, 16.0]
+            .map(|n| ParamValues::from([(NODES.key.to_string(), n)]))
+            .to_vec()
+    }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::new()]
+    }
+}
+
+/// The node buffer and the bind groups that name it.
+struct NodeMap {
+    buffer: wgpu::Buffer,
+    resolution: u32,
+    nodes: u32,
+    compute_bind_group: wgpu::BindGroup,
+    lookup_bind_group: wgpu::BindGroup,
+}
+
+/// AVSM's GPU state: its A-buffer, the compression pipeline, the node buffer.
+pub struct AvsmGpu {
+    abuffer: ABuffer,
+    compute_layout: wgpu::BindGroupLayout,
+    lookup_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    uniforms: wgpu::Buffer,
+    map: NodeMap,
+}
+
+impl AvsmGpu {
+    fn create(ctx: &MethodContext) -> Result<AvsmGpu, GpuError> {
+        let device = &ctx.gpu.device;
+        let abuffer = ABuffer::new(ctx.gpu, ctx.frame_layout).named("avsm: A-buffer", "AVSM A-buffer");
+        // Binding numbers are those of shaders/avsm.wgsl and shaders/methods/avsm.wgsl: 0 nodes, 1 uniforms.
+        let layout = |label, read_only, stages| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &[storage_entry(0, stages, read_only), uniform_entry(1, stages)],
+            })
+        };
+        let compute_layout = layout("hairlab.avsm.compute_layout", false, wgpu::ShaderStages::COMPUTE);
+        let lookup_layout = layout("hairlab.avsm.lookup_layout", true, LOOKUP_STAGES);
+        let module = passes::shader_module(device, "hairlab.avsm.shader", "avsm.wgsl", None);
+        // Group 0: the A-buffer's lists (heads, nodes); group 1: the node buffer and the uniforms.
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hairlab.avsm.compute_pipeline_layout"),
+            bind_group_layouts: &[Some(&abuffer.lookup_layout), Some(&compute_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("hairlab.avsm.compress_pipeline"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_compress"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let uniforms = uniform_buffer::<AvsmUniforms>(device, "avsm.uniforms");
+        let p = avsm_params(ctx.values);
+        let map = Self::make_map(
+            ctx.gpu,
+            &compute_layout,
+            &lookup_layout,
+            &uniforms,
+            ctx.map_resolution(),
+            p.nodes as u32,
+        )?;
+        Ok(AvsmGpu {
+            abuffer,
+            compute_layout,
+            lookup_layout,
+            pipeline,
+            uniforms,
+            map,
+        })
+    }
+
+    fn make_map(
+        gpu: &Gpu,
+        compute_layout: &wgpu::BindGroupLayout,
+        lookup_layout: &wgpu::BindGroupLayout,
+        uniforms: &wgpu::Buffer,
+        resolution: u32,
+        nodes: u32,
+    ) -> Result<NodeMap, GpuError> {
+        let device = &gpu.device;
+        let bytes = resolution as u64 * resolution as u64 * nodes as u64 * NODE_BYTES;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the AVSM node buffer hairlab.avsm.nodes ({nodes} nodes of {NODE_BYTES} B at {resolution}² \
+                     texels; lower the map resolution or the node count)"
+                ),
+                bytes,
+                limit,
+            });
+        }
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.avsm.nodes"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind_group = |label, layout| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: uniforms.as_entire_binding(),
+                    },
+                ],
+            })
+        };
+        let compute_bind_group = bind_group("hairlab.avsm.compute_bind_group", compute_layout);
+        let lookup_bind_group = bind_group("hairlab.avsm.lookup_bind_group", lookup_layout);
+        Ok(NodeMap {
+            buffer,
+            resolution,
+            nodes,
+            compute_bind_group,
+            lookup_bind_group,
+        })
+    }
+}
+
+impl MethodGpu for AvsmGpu {
+    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+        let resolution = ctx.map_resolution();
+        let p = avsm_params(ctx.values);
+        let nodes = p.nodes as u32;
+        if self.map.resolution != resolution || self.map.nodes != nodes {
+            self.map = Self::make_map(
+                ctx.gpu,
+                &self.compute_layout,
+                &self.lookup_layout,
+                &self.uniforms,
+                resolution,
+                nodes,
+            )?;
+        }
+        self.abuffer
+            .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
+        let longest = self.abuffer.longest_list;
+        if ctx.gpu.info.device_type == wgpu::DeviceType::Cpu && longest > MAX_LIST_ON_CPU_ADAPTER {
+            return Err(GpuError::Setting(format!(
+                "AVSM on a CPU adapter compresses at most {MAX_LIST_ON_CPU_ADAPTER} fragments per texel (llvmpipe \
+                 stops shader loops after 65,535 iterations) and a texel holds {longest}: raise \
+                 render.map_resolution or lower scene.generator.strands"
+            )));
+        }
+        ctx.gpu.queue.write_buffer(
+            &self.uniforms,
+            0,
+            bytemuck::bytes_of(&AvsmUniforms {
+                resolution,
+                nodes,
+                order: (p.order == InsertionOrder::Submission) as u32,
+                pad0: 0,
+            }),
+        );
+        Ok(())
+    }
+
+    fn record(
+        &mut self,
+        ctx: &MethodContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
+        self.abuffer
+            .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("hairlab.avsm.compress"),
+            timestamp_writes: timer.as_mut().and_then(|t| t.compute_pass("avsm: compress")),
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.abuffer.lookup_bind_group, &[]);
+        pass.set_bind_group(1, &self.map.compute_bind_group, &[]);
+        let groups = self.map.resolution.div_ceil(8);
+        pass.dispatch_workgroups(groups, groups, 1);
+    }
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.lookup_layout
+    }
+    fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.map.lookup_bind_group
+    }
+    fn memory_bytes(&self) -> u64 {
+        self.map.buffer.size()
+    }
+    fn geometry_passes(&self) -> u32 {
+        2
+    }
+}

@@ -1,0 +1,162 @@
+//! Adaptive volumetric shadow maps on the GPU (`hairlab::methods::avsm`: its own A-buffer, then the compression
+//! pass) against the CPU model `visibility::avsm`, fed each texel's exact fragment list (with segments) from the
+//! reference A-buffer: N from 4 to 16, both insertion orders, map resolutions 1 (179 fragments in one list) to
+//! 512, hair alphas from nearly clear to opaque; memory, geometry passes and the storage-size limit.
+
+use crate::common;
+
+use crate::common::{Setup, gpu_cpu_differences};
+use hairlab::gpu::{Gpu, GpuError};
+use hairlab::methods::{ParamValues, registry};
+use hairlab::render::{FrameInput, Renderer};
+
+const ORDERS: [f32; 2] = [0.0, 1.0];
+
+/// |ΔV| of every sample and the method's stated tolerance and outlier share.
+fn check(gpu: &Gpu, nodes: f32, order: f32, setup: Setup) -> (f32, usize) {
+    let info = registry::find("avsm").unwrap().info();
+    let d = gpu_cpu_differences(gpu, "avsm", &[("nodes", nodes), ("order", order)], setup);
+    let worst = d.iter().copied().fold(0.0f32, f32::max);
+    let beyond = d.iter().filter(|&&x| x > info.gpu_tolerance).count();
+    eprintln!(
+        "avsm N={nodes} order={order} {setup:?}: {} samples, max |ΔV| {worst:.3e}, {beyond} beyond {:.0e}",
+        d.len(),
+        info.gpu_tolerance
+    );
+    assert!(
+        beyond as f64 <= info.gpu_outliers * d.len() as f64,
+        "N={nodes} order={order} {setup:?}: {beyond} of {} samples beyond {} (max {worst})",
+        d.len(),
+        info.gpu_tolerance
+    );
+    (worst, d.len())
+}
+
+#[test]
+fn avsm_gpu_equals_cpu() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for order in ORDERS {
+        for nodes in [4.0, 5.0, 8.0, 12.0, 16.0] {
+            let (_, n) = check(&gpu, nodes, order, Setup::new(300, 64));
+            assert!(n > 5000, "only {n} samples");
+        }
+    }
+}
+
+#[test]
+fn extreme_resolutions_and_alphas() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for order in ORDERS {
+        // One texel: the 179 fragments of 250 strands crossing its centre in one list, just within the bound of
+        // CPU adapters.
+        for nodes in [8.0, 16.0] {
+            let (_, n) = check(&gpu, nodes, order, Setup::new(250, 1));
+            assert!(n > 150, "only {n} samples");
+        }
+        for hair_alpha in [0.01, 1.0] {
+            // Under 100 strands: the harness asks no texel to fall below V = 1/2 (none does at alpha 0.01).
+            let setup = Setup {
+                hair_alpha: Some(hair_alpha),
+                ..Setup::new(60, 64)
+            };
+            for nodes in [4.0, 16.0] {
+                let (_, n) = check(&gpu, nodes, order, setup);
+                assert!(n > 1000, "only {n} samples");
+            }
+        }
+        let (_, n) = check(&gpu, 16.0, order, Setup::new(40, 512));
+        assert!(n > 5000, "only {n} samples");
+    }
+}
+
+fn render_light_at(gpu: &Gpu, resolution: u32, nodes: f32) -> (Renderer, Result<(), GpuError>) {
+    render_light_with(gpu, 20, resolution, nodes)
+}
+
+fn render_light_with(
+    gpu: &Gpu,
+    strands: u32,
+    resolution: u32,
+    nodes: f32,
+) -> (Renderer, Result<(), GpuError>) {
+    let mut s = common::small_settings(8, 8);
+    s.scene.generator.strands = strands;
+    s.render.map_resolution = resolution;
+    let scene = s.scene.build().unwrap();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let values = ParamValues::from([("nodes".to_string(), nodes)]);
+    let result = r.render_light(&FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find("avsm").unwrap(),
+        method_params: &values,
+        width: 8,
+        height: 8,
+    });
+    (r, result)
+}
+
+#[test]
+fn memory_and_geometry_passes() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for nodes in [4u64, 16] {
+        let (r, result) = render_light_at(&gpu, 512, nodes as f32);
+        result.unwrap();
+        let m = r.method_gpu(registry::find("avsm").unwrap()).unwrap();
+        // The node buffer alone: N nodes of two f32 per texel (the A-buffer is build memory, not counted).
+        assert_eq!(m.memory_bytes(), 512 * 512 * nodes * 8);
+        assert_eq!(m.shared_bytes(), 0);
+        // The A-buffer's counting and filling passes.
+        assert_eq!(m.geometry_passes(), 2);
+    }
+}
+
+#[test]
+fn node_buffers_beyond_the_storage_binding_size_are_refused() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let limits = gpu.device.limits();
+    let limit = limits.max_storage_buffer_binding_size;
+    // 16 nodes at 2048²: 512 MiB, four times lavapipe's 128 MiB binding limit.
+    let resolution = 2048u32;
+    let bytes = resolution as u64 * resolution as u64 * 16 * 8;
+    let (_r, result) = render_light_at(&gpu, resolution, 16.0);
+    if bytes > limit {
+        match result {
+            Err(GpuError::TooLarge {
+                bytes: b,
+                limit: l,
+                what,
+            }) => {
+                assert_eq!((b, l), (bytes, limit));
+                assert!(what.contains("hairlab.avsm.nodes"), "{what}");
+            }
+            other => panic!("expected TooLarge, got {other:?}"),
+        }
+    } else {
+        result.unwrap();
+    }
+}
+
+/// On a CPU adapter (lavapipe) a texel list beyond `MAX_LIST_ON_CPU_ADAPTER` fragments is refused, naming the
+/// settings to change; another adapter compresses it.
+#[test]
+fn long_lists_on_a_cpu_adapter_are_refused() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    // One texel holding the fragments of 3000 strands: 2262 when this test was written.
+    let (r, result) = render_light_with(&gpu, 3000, 1, 8.0);
+    if gpu.info.device_type == wgpu::DeviceType::Cpu {
+        match result {
+            Err(GpuError::Setting(e)) => {
+                assert!(
+                    e.contains("at most 180 fragments per texel") && e.contains("render.map_resolution"),
+                    "{e}"
+                );
+            }
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+    } else {
+        result.unwrap();
+        assert!(r.method_gpu(registry::find("avsm").unwrap()).is_some());
+    }
+}

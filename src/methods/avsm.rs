@@ -13,15 +13,15 @@
 //! for every list. One bound, of CPU adapters only: llvmpipe (lavapipe) stops a shader's loops after 65,535
 //! iterations in all, which the walk reaches near 240 fragments in one texel (measured at N = 8: 220 fragments
 //! equal the CPU model, 244 do not), so on a CPU adapter a frame whose longest list (counted by the A-buffer's
-//! counting pass) exceeds [`MAX_LIST_ON_CPU_ADAPTER`] fragments is refused with an error naming the settings
+//! counting pass) exceeds `abuffer::MAX_WALKED_LIST_ON_CPU_ADAPTER` fragments is refused with an error naming the settings
 //! to change, rather than compressed wrongly; the presets stay far below it (stray-strand: 24 at 256²). `N` is
 //! any count in 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA
 //! targets; a storage buffer needs no packing).
 //!
 //! Memory: [`MethodGpu::memory_bytes`] is the node buffer alone (`N × 8` B per texel), what the lookup reads.
 //! The A-buffer is build memory, held only to build the nodes each frame: 4 B per texel (heads) + 16 B per
-//! light-space fragment + 16 B of counters + the 1 B per texel null target; it is not in `memory_bytes`
-//! (`shared_bytes` is 0: nothing is shared with the renderer). Both storage buffers are checked against the
+//! light-space fragment + 16 B of counters + the 1 B per texel null target, reported as
+//! [`MethodGpu::build_bytes`] (`shared_bytes` is 0: nothing is shared with the renderer). Both storage buffers are checked against the
 //! device's storage binding size (a `GpuError::TooLarge` naming the map). Geometry passes: 2 (count, fill).
 
 use super::{
@@ -38,9 +38,6 @@ use bytemuck::{Pod, Zeroable};
 
 /// Bytes of one node (depth, transmittance: two f32).
 pub const NODE_BYTES: u64 = 8;
-
-/// Longest texel list the compression pass takes on a CPU adapter (llvmpipe's loop limit; see the module doc).
-pub const MAX_LIST_ON_CPU_ADAPTER: u64 = 180;
 
 const NODES: ParamSpec = ParamSpec {
     key: "nodes",
@@ -284,14 +281,7 @@ impl MethodGpu for AvsmGpu {
         }
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
-        let longest = self.abuffer.longest_list;
-        if ctx.gpu.info.device_type == wgpu::DeviceType::Cpu && longest > MAX_LIST_ON_CPU_ADAPTER {
-            return Err(GpuError::Setting(format!(
-                "AVSM on a CPU adapter compresses at most {MAX_LIST_ON_CPU_ADAPTER} fragments per texel (llvmpipe \
-                 stops shader loops after 65,535 iterations) and a texel holds {longest}: raise \
-                 render.map_resolution or lower scene.generator.strands"
-            )));
-        }
+        self.abuffer.check_walk(ctx.gpu, "AVSM")?;
         ctx.gpu.queue.write_buffer(
             &self.uniforms,
             0,
@@ -331,6 +321,10 @@ impl MethodGpu for AvsmGpu {
     }
     fn memory_bytes(&self) -> u64 {
         self.map.buffer.size()
+    }
+    /// The A-buffer the compression pass reads.
+    fn build_bytes(&self) -> u64 {
+        self.abuffer.memory_bytes()
     }
     fn geometry_passes(&self) -> u32 {
         2

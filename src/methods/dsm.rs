@@ -4,7 +4,7 @@
 //!
 //! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists a compute pipeline
 //! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — select-next
-//! over the linked list, no private array, so no bound on the list length — and compresses. `prepare` runs the
+//! over the linked list, no private array — and compresses (on a CPU adapter lists are bounded by llvmpipe's loop limit, `abuffer::check_walk`). `prepare` runs the
 //! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
 //! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
 //! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
@@ -16,8 +16,7 @@
 //! (`z`, `V` as f32) each, as many as the compressor keeps (at most 2 per fragment: 16 bytes per fragment at
 //! `epsilon = 0`); both within the device's storage binding size (else `GpuError::TooLarge` naming the map) and
 //! hairlab's map budget. The A-buffer it builds from (16 bytes per fragment, 4 bytes per texel and the 1-byte
-//! null target) and the 8-byte allocator are build memory, not counted in `memory_bytes` (the contract has no
-//! field for it).
+//! null target) is build memory (`MethodGpu::build_bytes`), as is the 8-byte allocator (not counted).
 
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
@@ -293,6 +292,7 @@ impl MethodGpu for DsmGpu {
         let resolution = ctx.map_resolution();
         self.abuffer
             .prepare(gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
+        self.abuffer.check_walk(gpu, "The compressed deep shadow map")?;
         let fragments = self.abuffer.fragment_count;
         let what = |vertices: Option<u64>| {
             let vertices = vertices.map_or(String::new(), |v| format!("{v} vertices, "));

@@ -7,8 +7,8 @@ use crate::common;
 
 use crate::common::{Setup, gpu_cpu_differences};
 use hairlab::gpu::{Gpu, GpuError};
-use hairlab::methods::{ParamValues, registry};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::methods::registry;
+use hairlab::render::Renderer;
 
 const ORDERS: [f32; 2] = [0.0, 1.0];
 
@@ -79,22 +79,7 @@ fn render_light_with(
     resolution: u32,
     nodes: f32,
 ) -> (Renderer, Result<(), GpuError>) {
-    let mut s = common::small_settings(8, 8);
-    s.scene.generator.strands = strands;
-    s.render.map_resolution = resolution;
-    let scene = s.scene.build().unwrap();
-    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let values = ParamValues::from([("nodes".to_string(), nodes)]);
-    let result = r.render_light(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find("avsm").unwrap(),
-        method_params: &values,
-        width: 8,
-        height: 8,
-    });
-    (r, result)
+    common::render_method_light(gpu, "avsm", &[("nodes", nodes)], strands, resolution)
 }
 
 #[test]
@@ -104,8 +89,10 @@ fn memory_and_geometry_passes() {
         let (r, result) = render_light_at(&gpu, 512, nodes as f32);
         result.unwrap();
         let m = r.method_gpu(registry::find("avsm").unwrap()).unwrap();
-        // The node buffer alone: N nodes of two f32 per texel (the A-buffer is build memory, not counted).
+        // The node buffer alone: N nodes of two f32 per texel; the A-buffer (at least its 4-byte heads per
+        // texel) is build memory.
         assert_eq!(m.memory_bytes(), 512 * 512 * nodes * 8);
+        assert!(m.build_bytes() >= 512 * 512 * 4, "{}", m.build_bytes());
         assert_eq!(m.shared_bytes(), 0);
         // The A-buffer's counting and filling passes.
         assert_eq!(m.geometry_passes(), 2);
@@ -138,7 +125,7 @@ fn node_buffers_beyond_the_storage_binding_size_are_refused() {
     }
 }
 
-/// On a CPU adapter (lavapipe) a texel list beyond `MAX_LIST_ON_CPU_ADAPTER` fragments is refused, naming the
+/// On a CPU adapter (lavapipe) a texel list beyond `MAX_WALKED_LIST_ON_CPU_ADAPTER` fragments is refused, naming the
 /// settings to change; another adapter compresses it.
 #[test]
 fn long_lists_on_a_cpu_adapter_are_refused() {

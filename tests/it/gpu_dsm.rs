@@ -92,7 +92,8 @@ fn gpu_is_within_epsilon_of_the_reference() {
 #[test]
 fn extreme_resolutions() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    for (strands, resolution) in [(300, 1), (20, 1024)] {
+    // 250 strands in one texel: 179 fragments, under the CPU adapter's bound on walked lists (180).
+    for (strands, resolution) in [(250, 1), (20, 1024)] {
         for epsilon in [0.0, 0.1] {
             let d = differences(&gpu, epsilon, strands, resolution);
             let beyond = d.iter().map(|(e, _)| e - epsilon).fold(f32::MIN, f32::max);
@@ -142,4 +143,34 @@ fn memory_is_the_vertex_count() {
         assert_eq!(m.shared_bytes(), 0);
         assert_eq!(m.geometry_passes(), 3);
     }
+}
+
+/// The compressor walks each list as AVSM's does: on a CPU adapter (lavapipe) a texel list beyond
+/// `MAX_WALKED_LIST_ON_CPU_ADAPTER` fragments is refused, naming the settings to change; another adapter
+/// compresses it. The A-buffer it compresses is its build memory.
+#[test]
+fn long_lists_on_a_cpu_adapter_are_refused() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    // One texel holding the fragments of 3000 strands.
+    let (r, result) = crate::common::render_method_light(&gpu, "dsm", &[], 3000, 1);
+    if gpu.info.device_type == wgpu::DeviceType::Cpu {
+        match result {
+            Err(hairlab::gpu::GpuError::Setting(e)) => {
+                assert!(e.contains("at most 180 fragments per texel"), "{e}");
+            }
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+    } else {
+        result.unwrap();
+        assert!(
+            r.method_gpu(registry::find("dsm").unwrap())
+                .unwrap()
+                .build_bytes()
+                > 0
+        );
+    }
+    let (r, result) = crate::common::render_method_light(&gpu, "dsm", &[], 60, 64);
+    result.unwrap();
+    let m = r.method_gpu(registry::find("dsm").unwrap()).unwrap();
+    assert!(m.build_bytes() >= 64 * 64 * 4, "{}", m.build_bytes());
 }

@@ -185,3 +185,30 @@ pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setu
     );
     got.iter().zip(&expected).map(|(a, b)| (a - b).abs()).collect()
 }
+
+/// One light frame of `method` with `params` on the small test head of `strands` strands at `resolution`²: the
+/// renderer and what the frame returned (methods that refuse a scene refuse it here).
+pub fn render_method_light(
+    gpu: &Gpu,
+    method: &str,
+    params: &[(&str, f32)],
+    strands: u32,
+    resolution: u32,
+) -> (Renderer, Result<(), hairlab::gpu::GpuError>) {
+    let mut s = small_settings(8, 8);
+    s.scene.generator.strands = strands;
+    s.render.map_resolution = resolution;
+    let scene = s.scene.build().unwrap();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let result = r.render_light(&FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: registry::find(method).unwrap(),
+        method_params: &values,
+        width: 8,
+        height: 8,
+    });
+    (r, result)
+}

@@ -310,8 +310,9 @@ fn time_light_passes(r: &mut Renderer, input: &FrameInput, frames: u32) -> Resul
 #[derive(Clone, Debug, PartialEq)]
 pub struct Timing {
     pub config: MethodConfig,
-    /// GPU milliseconds of each timed frame, by pass name.
-    pub pass_frames_ms: Vec<(String, Vec<f64>)>,
+    /// GPU milliseconds of each timed frame, by pass name; or why the method refused the scene (e.g. a list
+    /// longer than a CPU adapter's compressor takes), one line.
+    pub pass_frames_ms: Result<Vec<(String, Vec<f64>)>, String>,
     pub memory_bytes: u64,
 }
 
@@ -326,7 +327,7 @@ pub struct Timings {
 
 /// Times `configs` on the scene of `settings` (`frames` timed frames each, after one warm-up) on a device
 /// opened by the adapter policy: the light passes only, no reference and no error, so that it scales to
-/// millions of segments.
+/// millions of segments. A configuration the renderer refuses is recorded with its error and the others go on.
 pub fn time_configs(
     settings: &Settings,
     configs: &[MethodConfig],
@@ -353,7 +354,7 @@ pub fn time_configs(
             width: 8,
             height: 8,
         };
-        let pass_frames_ms = time_light_passes(&mut r, &input, frames)?;
+        let pass_frames_ms = time_light_passes(&mut r, &input, frames).map_err(|e| format!("{e:#}"));
         out.push(Timing {
             config: c.clone(),
             pass_frames_ms,

@@ -401,7 +401,7 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
         });
     }
     let segments = r.points.iter().map(|p| p.segments).max().unwrap_or(0);
-    let notes = vec![
+    let mut notes = vec![
         format!(
             "preset {}: {res}×{res} light map, up to {segments} segments",
             r.preset,
@@ -409,6 +409,18 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
         ),
         r.device.clone(),
     ];
+    let mut refused: Vec<(&str, usize)> = Vec::new();
+    for x in &r.refused {
+        match refused.iter_mut().find(|(l, _)| *l == x.label) {
+            Some((_, s)) => *s = (*s).min(x.segments),
+            None => refused.push((&x.label, x.segments)),
+        }
+    }
+    notes.extend(
+        refused
+            .iter()
+            .map(|(l, s)| format!("{l}: refused from {s} segments (see the table)")),
+    );
     let (first, last) = (
         r.densities.first().copied().unwrap_or(0.0),
         r.densities.last().copied().unwrap_or(0.0),

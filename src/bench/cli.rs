@@ -142,4 +142,7 @@ fn print_scaling(r: &ScalingResult) {
             f.r_squared
         );
     }
+    for r in &r.refused {
+        println!("{} refused at {} segments: {}", r.label, r.segments, r.reason);
+    }
 }

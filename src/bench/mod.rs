@@ -29,7 +29,7 @@ pub use report::{
 };
 pub use result::{
     ACCURACY_METRICS, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, ScalingFit, ScalingPoint,
-    ScalingResult, error_metrics, frame_totals, metric_axis, parse_metric,
+    ScalingRefusal, ScalingResult, error_metrics, frame_totals, metric_axis, parse_metric,
 };
 pub use run::{Progress, TerminalProgress, measure_configs, run, run_scaling};
 pub use stats::{Spread, fit_line, pareto_front};

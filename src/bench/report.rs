@@ -405,6 +405,7 @@ mod tests {
             map_resolution: 64,
             densities: vec![0.25, 0.5],
             points: Vec::new(),
+            refused: Vec::new(),
             fits: vec![ScalingFit {
                 label: "osm:slices=16".to_string(),
                 ms_per_segment: 2f64.powi(-20),

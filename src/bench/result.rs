@@ -185,6 +185,14 @@ pub struct ScalingPoint {
     pub ms: Spread,
 }
 
+/// A configuration the renderer refused at one density (e.g. lists too long for a CPU adapter's compressor).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalingRefusal {
+    pub label: String,
+    pub segments: usize,
+    pub reason: String,
+}
+
 /// GPU ms ≈ `ms_per_segment` · segments + `intercept_ms`, fitted over the densities.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalingFit {
@@ -202,5 +210,7 @@ pub struct ScalingResult {
     /// The strand density factors measured, smallest first.
     pub densities: Vec<f32>,
     pub points: Vec<ScalingPoint>,
+    /// Configurations refused at some densities (left out of the points and the fits there).
+    pub refused: Vec<ScalingRefusal>,
     pub fits: Vec<ScalingFit>,
 }

@@ -3,8 +3,8 @@
 
 use super::{
     BenchConfig, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,
-    MIN_LAST_SCALING_DENSITY, ScalingFit, ScalingPoint, ScalingResult, Spread, all_scaling_configs, fit_line,
-    frame_totals, sweep_configs, tune_analysed,
+    MIN_LAST_SCALING_DENSITY, ScalingFit, ScalingPoint, ScalingRefusal, ScalingResult, Spread,
+    all_scaling_configs, fit_line, frame_totals, sweep_configs, tune_analysed,
 };
 use crate::measure::{self, MethodConfig};
 use crate::settings::Settings;
@@ -126,6 +126,7 @@ pub fn run_scaling(
     let mut points = Vec::new();
     let mut device: String;
     let mut densities = Vec::new();
+    let mut refused = Vec::new();
     let mut factor = FIRST_SCALING_DENSITY;
     loop {
         if cancel.load(Ordering::Relaxed) {
@@ -145,13 +146,20 @@ pub fn run_scaling(
             n += 1;
         })?;
         for row in &t.rows {
-            points.push(ScalingPoint {
-                label: row.config.label(),
-                density: s.scene.generator.density,
-                strands: t.strands,
-                segments: t.segments,
-                ms: Spread::of(&frame_totals(&row.pass_frames_ms)),
-            });
+            match &row.pass_frames_ms {
+                Ok(passes) => points.push(ScalingPoint {
+                    label: row.config.label(),
+                    density: s.scene.generator.density,
+                    strands: t.strands,
+                    segments: t.segments,
+                    ms: Spread::of(&frame_totals(passes)),
+                }),
+                Err(e) => refused.push(ScalingRefusal {
+                    label: row.config.label(),
+                    segments: t.segments,
+                    reason: e.clone(),
+                }),
+            }
         }
         device = t.device;
         densities.push(factor);
@@ -184,6 +192,7 @@ pub fn run_scaling(
         map_resolution: settings.render.map_resolution,
         densities,
         points,
+        refused,
         fits,
     }))
 }

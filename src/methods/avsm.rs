@@ -71,7 +71,7 @@ static INFO: MethodInfo = MethodInfo {
     lookup_wgsl: "methods/avsm.wgsl",
     light_wgsl: &["avsm.wgsl"],
     params: PARAMS,
-    color: [227, 119, 194],
+    color: [0, 128, 128],
     // Measured on lavapipe: max |ΔV| 0 (bit-identical) over 25,810 samples at N = 4, 5, 8, 12, 16 in both orders;
     // the tolerance leaves room for another device's division rounding in `interpolate`.
     gpu_tolerance: 1e-5,

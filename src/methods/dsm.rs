@@ -107,6 +107,9 @@ impl ShadowMethod for Dsm {
             .map(|&e| SweepPoint::fixed(&[(EPSILON.key, e)]))
             .collect()
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::new()]
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::new()]
     }

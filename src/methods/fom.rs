@@ -118,6 +118,9 @@ impl ShadowMethod for Fom {
             })
             .collect()
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::new()]
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![
             config(DEFAULT_TERMS, FomWindow::Fejer),

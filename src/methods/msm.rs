@@ -129,6 +129,9 @@ impl ShadowMethod for Msm {
             },
         ]
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::new()]
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::new(), six_moments()]
     }

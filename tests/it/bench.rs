@@ -398,6 +398,65 @@ fn bench_scaling_fits_cost_per_segment() {
     );
 }
 
+/// A configuration the renderer refuses at some density (AVSM's compressor on a CPU adapter, with every fragment
+/// in one texel) is reported and left out of the points there; the others are still measured.
+#[test]
+fn bench_scaling_reports_refused_configurations_and_goes_on() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+    let o = hairlab(&[
+        "bench",
+        "--scaling",
+        "--preset",
+        "default",
+        "--set",
+        "scene.generator.strands=100",
+        "--set",
+        "render.map_resolution=1",
+        "--methods",
+        "avsm,occupancy",
+        "--frames",
+        "1",
+        "--max-segments",
+        "20000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let (_, fits) = read_csv(&out.join("scaling.csv"));
+    assert!(fits.iter().any(|r| r[0] == "occupancy"), "{stdout}");
+    let (header, points) = read_csv(&out.join("scaling_points.csv"));
+    let segments = |label: &str| -> Vec<usize> {
+        points
+            .iter()
+            .filter(|r| r[0] == label)
+            .map(|r| r[column(&header, "segments")].parse().unwrap())
+            .collect()
+    };
+    let occupancy = segments("occupancy");
+    assert!(*occupancy.last().unwrap() >= 20000, "{occupancy:?}");
+    if gpu.info.device_type == wgpu::DeviceType::Cpu {
+        // Every fragment lands in the one texel: from some density on its list is beyond the compressor's bound,
+        // and only the smaller scenes are AVSM points.
+        let refused: Vec<usize> = stdout
+            .lines()
+            .filter_map(|l| l.strip_prefix("avsm refused at "))
+            .map(|l| l.split(' ').next().unwrap().parse().unwrap())
+            .collect();
+        assert!(!refused.is_empty(), "{stdout}");
+        assert!(
+            stdout.contains("compresses at most 180 fragments per texel"),
+            "{stdout}"
+        );
+        assert!(segments("avsm").iter().all(|s| s < &refused[0]), "{stdout}");
+        assert_eq!(segments("avsm").len() + refused.len(), occupancy.len());
+    } else {
+        assert_eq!(segments("avsm"), occupancy);
+    }
+}
+
 #[test]
 fn bench_rejects_bad_input_with_one_error_line() {
     let dir = tempfile::tempdir().unwrap();

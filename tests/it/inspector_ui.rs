@@ -14,8 +14,10 @@ use hairlab::settings::Settings;
 use hairlab::visibility::Fragment;
 
 fn harness(settings: Settings) -> Harness<'static, HairlabApp> {
+    // Plotting every method resizes the window over a few frames.
     Harness::builder()
         .with_size([1100.0, 760.0])
+        .with_max_steps(8)
         .wgpu_setup(wgpu_setup(AdapterPreference::Software))
         .build_eframe(move |cc| {
             let mut app = HairlabApp::new(cc, Some(settings));
@@ -188,6 +190,9 @@ fn inspector_plots_pins_exports_and_compares() {
             "a texel's mean is at most its max: {row:?}"
         );
     }
+    // Folded again, so that the rest of the window keeps its layout.
+    harness.get_by_label("Whole map").click();
+    harness.run();
     harness.get_by_label("Pin").click();
     harness.run();
     assert_eq!(harness.state().inspector().pins().len(), 1);

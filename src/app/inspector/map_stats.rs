@@ -74,7 +74,9 @@ pub(super) fn section(ui: &mut egui::Ui, stats: Option<&MapStats>) -> bool {
             )
             .clicked();
         match stats {
-            Some(stats) => table(ui, stats),
+            Some(stats) => {
+                egui::ScrollArea::horizontal().show(ui, |ui| table(ui, stats));
+            }
             None => {
                 ui.weak("not computed for these fragment lists and methods");
             }

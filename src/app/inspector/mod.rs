@@ -380,10 +380,13 @@ impl Inspector {
             });
             ui.vertical(|ui| {
                 ui.set_width(side - 10.0);
-                plot::figures(ui, curves);
+                // As tall as the plot: many methods scroll rather than grow the window.
                 if scene {
                     compute = map_stats::section(ui, stats);
                 }
+                egui::ScrollArea::both().max_height(height).show(ui, |ui| {
+                    plot::figures(ui, curves);
+                });
             });
         });
         if compute {

@@ -1,7 +1,8 @@
-//! The GPU side shared by every method that stores `K` accumulated optical depths per texel in RGBA32F layers
-//! filled by additive light passes: Opacity Shadow Maps (`K` slices over the whole light range), Deep Opacity
-//! Maps and Bounding Opacity Maps (`K` layers placed per texel from the shared near/far maps). Each keeps only
-//! its shader, its uniforms and its setup; the map, the pipelines and the passes are here.
+//! The GPU side shared by every method that stores `K` values per texel in RGBA32F layers filled by additive
+//! light passes: Opacity Shadow Maps (`K` slices over the whole light range), Deep Opacity Maps and Bounding
+//! Opacity Maps (`K` layers placed per texel from the shared near/far maps), Fourier opacity maps (`2K + 1`
+//! Fourier coefficients) and moment shadow maps (the power moments). Each keeps only its shader, its uniforms
+//! and its setup; the map, the pipelines and the passes are here.
 //!
 //! Layout: an [`ArrayMap`] of `ceil(K / 4)` layers (4 values per RGBA texel), written by `ceil(layers / 8)`
 //! geometry passes of at most 8 colour targets; pass `p` draws with instance index `p` so that the shader knows

@@ -130,7 +130,7 @@ fn node_buffers_beyond_the_storage_binding_size_are_refused() {
 #[test]
 fn long_lists_on_a_cpu_adapter_are_refused() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    // One texel holding the fragments of 3000 strands: 2262 when this test was written.
+    // One texel holding the fragments of 3000 strands, far beyond the bound.
     let (r, result) = render_light_with(&gpu, 3000, 1, 8.0);
     if gpu.info.device_type == wgpu::DeviceType::Cpu {
         match result {

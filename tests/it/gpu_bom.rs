@@ -56,32 +56,18 @@ fn bom_gpu_equals_cpu() {
 
 /// The test scene with `strands` strands and its camera framed.
 fn scene_settings(strands: u32, resolution: u32) -> (Settings, hairlab::scene::Scene) {
-    let mut s = common::small_settings(8, 8);
-    s.scene.generator.strands = strands;
-    s.scene.generator.segments = 10;
-    s.render.map_resolution = resolution;
-    let scene = s.scene.build().unwrap();
-    s.camera.frame(&scene.framing_bounds());
-    (s, scene)
+    common::setup_scene(common::Setup::new(strands, resolution))
 }
 
 fn frame<'a>(s: &'a Settings, method: &str, params: &'a ParamValues) -> FrameInput<'a> {
-    FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find(method).unwrap(),
-        method_params: params,
-        width: 8,
-        height: 8,
-    }
+    crate::common::light_frame(s, registry::find(method).unwrap(), params)
 }
 
 #[test]
 fn extreme_resolutions_and_parameters() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let extremes = [(1.0, 0.0), (1.0, 1.0), (32.0, 0.0), (32.0, 1.0)];
-    for (strands, resolution) in [(300, 1), (20, 2048)] {
+    for (strands, resolution) in common::EXTREME_SETUPS {
         for config in &extremes {
             let (worst, n) =
                 gpu_cpu_difference(&gpu, "bom", &params(config), Setup::new(strands, resolution));

@@ -144,15 +144,7 @@ fn settings(strands: u32, resolution: u32, hair_alpha: f32) -> Settings {
 }
 
 fn frame<'a>(s: &'a Settings, name: &str, params: &'a ParamValues) -> FrameInput<'a> {
-    FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find(name).unwrap(),
-        method_params: params,
-        width: 8,
-        height: 8,
-    }
+    crate::common::light_frame(s, registry::find(name).unwrap(), params)
 }
 
 /// Renders `strands` strands from the light at `resolution`² with `hair_alpha` and `clusters`, and compares
@@ -241,7 +233,7 @@ fn dc_gpu_equals_cpu() {
 #[test]
 fn extreme_resolutions_alphas_and_cluster_counts() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    for (strands, resolution) in [(300, 1), (20, 2048)] {
+    for (strands, resolution) in common::EXTREME_SETUPS {
         for clusters in [1.0, 16.0] {
             for hair_alpha in [0.01, 0.35, 1.0] {
                 let c = compare(&gpu, strands, resolution, hair_alpha, clusters);

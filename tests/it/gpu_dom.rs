@@ -8,7 +8,7 @@ use crate::common;
 use crate::common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 
 /// The layer of a fragment is chosen by the same f32 comparisons `dz < scale * d_k` as on the CPU, with the same
 /// `d_k` (uniform filled from `layer_ends`); additive blending sums the same f32 values in another order, and
@@ -63,7 +63,7 @@ fn extreme_resolutions_and_parameters() {
         (16.0, 1.0, 0.0, 1.0),
         (16.0, 0.25, 0.0, 0.0),
     ];
-    for (strands, resolution) in [(300, 1), (20, 2048)] {
+    for (strands, resolution) in common::EXTREME_SETUPS {
         for config in &extremes {
             let (worst, n) =
                 gpu_cpu_difference(&gpu, "dom", &params(config), Setup::new(strands, resolution));
@@ -96,16 +96,8 @@ fn memory_and_geometry_passes() {
         ((16.0, 0.25, 1.0, 2.0), 64 + 8),
     ] {
         let values: ParamValues = params(&config).iter().map(|(k, v)| (k.to_string(), *v)).collect();
-        r.render_light(&FrameInput {
-            camera: &s.camera,
-            light: &s.light,
-            render: &s.render,
-            method,
-            method_params: &values,
-            width: 8,
-            height: 8,
-        })
-        .unwrap();
+        r.render_light(&crate::common::light_frame(&s, method, &values))
+            .unwrap();
         let m = r.method_gpu(method).unwrap();
         assert_eq!(m.memory_bytes(), 512 * 512 * bytes_per_texel, "{config:?}");
         assert_eq!(m.geometry_passes(), 1, "{config:?}");

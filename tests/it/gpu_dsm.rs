@@ -6,7 +6,7 @@
 use crate::common::small_settings;
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 use hairlab::visibility::{Fragment, metrics, reference};
 
 /// f32 rounding on top of ε: the GPU sums, divides and takes `exp`/`log` in f32 (Vulkan allows 2.5 ulp for a
@@ -20,26 +20,13 @@ const GPU_CPU: f32 = 1e-5;
 
 /// Per sample: (|V_gpu - V_ref|, |V_gpu - V_cpu|) on the 300-strand test scene at `resolution`² with `epsilon`.
 fn differences(gpu: &Gpu, epsilon: f32, strands: u32, resolution: u32) -> Vec<(f32, f32)> {
-    let mut s = small_settings(8, 8);
-    s.scene.generator.strands = strands;
-    s.scene.generator.segments = 10;
-    s.render.map_resolution = resolution;
-    let scene = s.scene.build().unwrap();
-    s.camera.frame(&scene.framing_bounds());
+    let (s, scene) = crate::common::setup_scene(crate::common::Setup::new(strands, resolution));
     let method = registry::find("dsm").unwrap();
     let values = ParamValues::from([("epsilon".to_string(), epsilon)]);
     let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
     let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
-    r.render(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method,
-        method_params: &values,
-        width: 8,
-        height: 8,
-    })
-    .unwrap();
+    r.render(&crate::common::light_frame(&s, method, &values))
+        .unwrap();
     r.read_output().unwrap();
     let model = method.model(&values, s.render.hair_alpha);
     let (mut samples, mut exact, mut cpu) = (Vec::new(), Vec::new(), Vec::new());
@@ -122,16 +109,8 @@ fn memory_is_the_vertex_count() {
         let values = ParamValues::from([("epsilon".to_string(), epsilon)]);
         let model = method.model(&values, s.render.hair_alpha);
         let vertices: u64 = lists.iter().map(|l| model.stored_values(l)[0] as u64).sum();
-        r.render_light(&FrameInput {
-            camera: &s.camera,
-            light: &s.light,
-            render: &s.render,
-            method,
-            method_params: &values,
-            width: 8,
-            height: 8,
-        })
-        .unwrap();
+        r.render_light(&crate::common::light_frame(&s, method, &values))
+            .unwrap();
         let m = r.method_gpu(method).unwrap();
         eprintln!(
             "dsm ε {epsilon}: {} bytes for {vertices} vertices of the CPU model at 128²",

@@ -8,7 +8,7 @@ use crate::common;
 use crate::common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 
 /// The GPU's sin/cos differ from Rust's in the last bits, and additive blending sums the coefficients in
 /// another order; each coefficient sums `2b cos(2πkd)` over every fragment of the texel, so both errors grow
@@ -65,7 +65,7 @@ fn dense_hair() {
 #[test]
 fn extreme_resolutions_and_parameters() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    for (strands, resolution) in [(300, 1), (20, 2048)] {
+    for (strands, resolution) in common::EXTREME_SETUPS {
         for config in [(1.0, 0.0), (16.0, 0.0), (16.0, 1.0)] {
             let (worst, n) =
                 gpu_cpu_difference(&gpu, "fom", &params(&config), Setup::new(strands, resolution));
@@ -103,16 +103,8 @@ fn memory_and_geometry_passes() {
             .iter()
             .map(|(k, v)| (k.to_string(), *v))
             .collect();
-        r.render_light(&FrameInput {
-            camera: &s.camera,
-            light: &s.light,
-            render: &s.render,
-            method,
-            method_params: &values,
-            width: 8,
-            height: 8,
-        })
-        .unwrap();
+        r.render_light(&crate::common::light_frame(&s, method, &values))
+            .unwrap();
         let m = r.method_gpu(method).unwrap();
         assert_eq!(m.memory_bytes(), 512 * 512 * bytes_per_texel, "K = {terms}");
         assert_eq!(m.shared_bytes(), 0, "K = {terms}");

@@ -116,15 +116,7 @@ fn settings(strands: u32, resolution: u32, hair_alpha: f32) -> Settings {
 }
 
 fn frame<'a>(s: &'a Settings, params: &'a ParamValues) -> FrameInput<'a> {
-    FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find("msm").unwrap(),
-        method_params: params,
-        width: 8,
-        height: 8,
-    }
+    crate::common::light_frame(s, registry::find("msm").unwrap(), params)
 }
 
 fn values(moments: u32, bias: f32, overestimation: f32) -> ParamValues {
@@ -234,7 +226,7 @@ fn msm_gpu_equals_cpu() {
 #[test]
 fn extreme_resolutions_and_alphas() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    for (strands, resolution) in [(300, 1), (20, 2048)] {
+    for (strands, resolution) in common::EXTREME_SETUPS {
         for (moments, bias) in [(4, 5e-7), (6, 5e-6)] {
             for hair_alpha in [0.01, 0.35, 1.0] {
                 let params = MsmParams {

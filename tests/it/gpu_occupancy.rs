@@ -7,7 +7,7 @@ use crate::common;
 use crate::common::{Setup, gpu_cpu_difference, max_gpu_cpu_difference};
 use hairlab::gpu::{Gpu, GpuError};
 use hairlab::methods::{ParamValues, registry};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 
 /// The bitmap and the counts are integers built by the same f32 expressions as the CPU's (no sum of floats):
 /// only `exp`/`log` and the final division round differently, far below this.
@@ -34,7 +34,7 @@ fn occupancy_gpu_equals_cpu() {
 #[test]
 fn extreme_resolutions_and_alphas() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    for (strands, resolution) in [(300, 1), (20, 2048)] {
+    for (strands, resolution) in common::EXTREME_SETUPS {
         for variant in VARIANTS {
             for hair_alpha in [0.01, 0.35, 1.0] {
                 let (worst, n) = gpu_cpu_difference(
@@ -66,15 +66,11 @@ fn render_light_at(gpu: &Gpu, resolution: u32) -> (Renderer, Result<(), GpuError
     s.render.map_resolution = resolution;
     let scene = s.scene.build().unwrap();
     let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let result = r.render_light(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find("occupancy").unwrap(),
-        method_params: &ParamValues::new(),
-        width: 8,
-        height: 8,
-    });
+    let result = r.render_light(&crate::common::light_frame(
+        &s,
+        registry::find("occupancy").unwrap(),
+        &ParamValues::new(),
+    ));
     (r, result)
 }
 

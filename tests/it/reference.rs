@@ -13,15 +13,7 @@ use hairlab::settings::Settings;
 use hairlab::visibility::{Fragment, Reference, TexelModel, metrics};
 
 fn frame<'a>(s: &'a Settings, method: &'a str) -> FrameInput<'a> {
-    FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find(method).unwrap(),
-        method_params: &s.method.params,
-        width: 8,
-        height: 8,
-    }
+    crate::common::light_frame(s, registry::find(method).unwrap(), &s.method.params)
 }
 
 fn small_scene(s: &mut Settings) -> Scene {

@@ -7,7 +7,7 @@
 use hairlab::gpu::Gpu;
 use hairlab::measure::{Measurement, MethodConfig, measure_on};
 use hairlab::methods::{ParamValues, registry};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 use hairlab::settings::Settings;
 use hairlab::visibility::optical_depth;
 
@@ -68,16 +68,8 @@ fn bound_violations(gpu: &Gpu, params: &[(&str, f32)]) -> (f32, f32, f32, usize)
     let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let method = registry::find("msm").unwrap();
     let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    r.render_light(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method,
-        method_params: &values,
-        width: 8,
-        height: 8,
-    })
-    .unwrap();
+    r.render_light(&crate::common::light_frame(&s, method, &values))
+        .unwrap();
     const DEPTHS: usize = 64;
     let (mut samples, mut floors) = (Vec::new(), Vec::new());
     for (t, list) in lists.iter().enumerate().filter(|(_, l)| !l.is_empty()).step_by(4) {

@@ -5,7 +5,7 @@
 pub mod cli;
 
 use hairlab::gpu::Gpu;
-use hairlab::methods::{ParamValues, registry};
+use hairlab::methods::{ParamValues, ShadowMethod, registry};
 use hairlab::render::{FrameInput, Renderer};
 use hairlab::settings::Settings;
 use hairlab::visibility::{Fragment, metrics, optical_depth};
@@ -122,8 +122,13 @@ pub fn gpu_cpu_difference(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup
     (d.iter().copied().fold(0.0f32, f32::max), d.len())
 }
 
-/// Every sample's |V_gpu - V_cpu| of [`gpu_cpu_difference`] (same scene, samples and checks).
-pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup: Setup) -> Vec<f32> {
+/// The scenes at the light-map resolution extremes every per-method GPU test covers: (strands, resolution) —
+/// every fragment of 300 strands in one texel, and 20 strands over 2048².
+pub const EXTREME_SETUPS: [(u32, u32); 2] = [(300, 1), (20, 2048)];
+
+/// The settings of `setup`'s test scene: the small head, 10 segments per strand, and the scene itself, with the
+/// camera framed on it.
+pub fn setup_scene(setup: Setup) -> (Settings, hairlab::scene::Scene) {
     let mut s: Settings = small_settings(8, 8);
     s.scene.generator.strands = setup.strands;
     s.scene.generator.segments = 10;
@@ -131,20 +136,40 @@ pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setu
     if let Some(a) = setup.hair_alpha {
         s.render.hair_alpha = a;
     }
-    let resolution = setup.resolution;
     let scene = s.scene.build().unwrap();
     s.camera.frame(&scene.framing_bounds());
-    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let frame = |m: &str, params| FrameInput {
+    (s, scene)
+}
+
+/// A frame (8×8 eye image) of `method` with `values` under `s`.
+pub fn light_frame<'a>(
+    s: &'a Settings,
+    method: &'static dyn ShadowMethod,
+    values: &'a ParamValues,
+) -> FrameInput<'a> {
+    FrameInput {
         camera: &s.camera,
         light: &s.light,
         render: &s.render,
-        method: registry::find(m).unwrap(),
-        method_params: params,
+        method,
+        method_params: values,
         width: 8,
         height: 8,
-    };
+    }
+}
+
+/// `(key, value)` pairs as parameter values.
+pub fn values(params: &[(&str, f32)]) -> ParamValues {
+    params.iter().map(|(k, v)| (k.to_string(), *v)).collect()
+}
+
+/// Every sample's |V_gpu - V_cpu| of [`gpu_cpu_difference`] (same scene, samples and checks).
+pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup: Setup) -> Vec<f32> {
+    let (s, scene) = setup_scene(setup);
+    let resolution = setup.resolution;
+    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
+    let frame = |m: &str, params| light_frame(&s, registry::find(m).unwrap(), params);
     let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let m = registry::find(method).unwrap();
     // A full frame: the eye passes bind the method's maps too.
@@ -195,20 +220,9 @@ pub fn render_method_light(
     strands: u32,
     resolution: u32,
 ) -> (Renderer, Result<(), hairlab::gpu::GpuError>) {
-    let mut s = small_settings(8, 8);
-    s.scene.generator.strands = strands;
-    s.render.map_resolution = resolution;
-    let scene = s.scene.build().unwrap();
+    let (s, scene) = setup_scene(Setup::new(strands, resolution));
     let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let result = r.render_light(&FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method: registry::find(method).unwrap(),
-        method_params: &values,
-        width: 8,
-        height: 8,
-    });
+    let values = values(params);
+    let result = r.render_light(&light_frame(&s, registry::find(method).unwrap(), &values));
     (r, result)
 }

@@ -3,21 +3,14 @@
 // reference the methods are measured against; a test shows they equal the depth peel layer for layer.
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
-
-struct Node {
-    depth: f32,
-    alpha: f32,
-    segment: u32,
-    // Index + 1 of the next node of the texel's list; 0 ends the list.
-    next: u32,
-}
+#include "common/list_node.wgsl"
 
 // [0]: fragments counted, [1]: nodes allocated, [2]: fragments dropped (node buffer full), [3]: the longest texel
 // list (counting pass).
 @group(1) @binding(0) var<storage, read_write> counters: array<atomic<u32>, 4>;
 // Index + 1 of each texel's first node; 0 = empty texel. The counting pass counts each texel's fragments here.
 @group(1) @binding(1) var<storage, read_write> heads: array<atomic<u32>>;
-@group(1) @binding(2) var<storage, read_write> nodes: array<Node>;
+@group(1) @binding(2) var<storage, read_write> nodes: array<ListNode>;
 
 @vertex
 fn vs_main(v: LightVertexIn) -> LightFragment {
@@ -39,5 +32,5 @@ fn fs_fill(f: LightFragment) {
     }
     let t = texel_index(f.clip);
     let next = atomicExchange(&heads[t], i + 1u);
-    nodes[i] = Node(fragment_depth(f.depth), f.alpha, f.segment, next);
+    nodes[i] = ListNode(fragment_depth(f.depth), f.alpha, f.segment, next);
 }

@@ -7,14 +7,7 @@
 // removal area goes (ties: the lowest index). Output: N slots per texel, the nodes then copies of the last;
 // (1, 1) in every slot of an empty texel.
 #include "common/avsm_uniforms.wgsl"
-
-struct ListNode {
-    depth: f32,
-    alpha: f32,
-    segment: u32,
-    // Index + 1 of the next node of the texel's list; 0 ends the list.
-    next: u32,
-}
+#include "common/list_node.wgsl"
 
 // The A-buffer's lists (render::passes::abuffer).
 @group(0) @binding(0) var<storage, read> list_heads: array<u32>;

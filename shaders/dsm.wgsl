@@ -7,17 +7,11 @@
 // it); cs_compress, on the same fragments, allocates that many and writes them.
 #include "common/visibility.wgsl"
 #include "common/dsm_uniforms.wgsl"
-
-struct AbNode {
-    depth: f32,
-    alpha: f32,
-    segment: u32,
-    next: u32,
-}
+#include "common/list_node.wgsl"
 
 // The A-buffer's lookup group: index + 1 of each texel's first node (0 = empty), the nodes.
 @group(0) @binding(0) var<storage, read> ab_heads: array<u32>;
-@group(0) @binding(1) var<storage, read> ab_nodes: array<AbNode>;
+@group(0) @binding(1) var<storage, read> ab_nodes: array<ListNode>;
 // Per texel: (offset of its first vertex, vertex count); the vertices (z, V).
 @group(1) @binding(0) var<storage, read_write> out_headers: array<vec2<u32>>;
 @group(1) @binding(1) var<storage, read_write> out_vertices: array<vec2<f32>>;

@@ -29,6 +29,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/msm_uniforms.wgsl",
     "common/avsm_uniforms.wgsl",
     "common/fullscreen.wgsl",
+    "common/list_node.wgsl",
     "methods/none.wgsl",
     "methods/adsm.wgsl",
     "methods/opaque_shadow_map.wgsl",

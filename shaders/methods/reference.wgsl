@@ -2,16 +2,10 @@
 // V(z) = exp(-sum of b over fragments with depth < z) (design.md).
 #include "common/frame.wgsl"
 #include "common/visibility.wgsl"
-
-struct RefNode {
-    depth: f32,
-    alpha: f32,
-    segment: u32,
-    next: u32,
-}
+#include "common/list_node.wgsl"
 
 @group(1) @binding(0) var<storage, read> ref_heads: array<u32>;
-@group(1) @binding(1) var<storage, read> ref_nodes: array<RefNode>;
+@group(1) @binding(1) var<storage, read> ref_nodes: array<ListNode>;
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
     let t = u32(texel.y) * frame.light_map_resolution + u32(texel.x);

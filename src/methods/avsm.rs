@@ -265,7 +265,7 @@ impl AvsmGpu {
 }
 
 impl MethodGpu for AvsmGpu {
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext, timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
         let resolution = ctx.map_resolution();
         let p = avsm_params(ctx.values);
         let nodes = p.nodes as u32;
@@ -280,7 +280,7 @@ impl MethodGpu for AvsmGpu {
             )?;
         }
         self.abuffer
-            .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
+            .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
         self.abuffer.check_walk(ctx.gpu, "AVSM")?;
         ctx.gpu.queue.write_buffer(
             &self.uniforms,

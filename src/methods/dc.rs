@@ -486,7 +486,7 @@ impl DcGpu {
 }
 
 impl MethodGpu for DcGpu {
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext, _timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
         let k = clusters(ctx.values);
         let groups = k.div_ceil(4);
         if self.maps.groups != groups || self.maps.near != ctx.light_maps.near {

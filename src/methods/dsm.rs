@@ -291,11 +291,11 @@ impl DsmGpu {
 impl MethodGpu for DsmGpu {
     /// Counts the frame's fragments (the A-buffer's counting pass), fills the lists and counts each texel's
     /// vertices (submitted at once and read back, blocking), and sizes the vertex buffer to that count.
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext, timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
         let gpu = ctx.gpu;
         let resolution = ctx.map_resolution();
         self.abuffer
-            .prepare(gpu, ctx.frame_bind_group, ctx.casters, resolution)?;
+            .prepare(gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
         self.abuffer.check_walk(gpu, "The compressed deep shadow map")?;
         let fragments = self.abuffer.fragment_count;
         let what = |vertices: Option<u64>| {
@@ -333,10 +333,16 @@ impl MethodGpu for DsmGpu {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("hairlab.dsm.count"),
             });
-        self.abuffer
-            .record(ctx.frame_bind_group, ctx.casters, &mut encoder, &mut None);
+        self.abuffer.record_as(
+            "dsm: A-buffer (sizing)",
+            ctx.frame_bind_group,
+            ctx.casters,
+            &mut encoder,
+            timer,
+        );
         encoder.clear_buffer(&self.alloc, 0, None);
-        self.dispatch(&mut encoder, &self.count_pipeline, None);
+        let timestamps = timer.as_mut().and_then(|t| t.compute_pass("dsm: count vertices"));
+        self.dispatch(&mut encoder, &self.count_pipeline, timestamps);
         gpu.queue.submit([encoder.finish()]);
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.alloc)?);
         let vertices = u64::from(counts[0]);

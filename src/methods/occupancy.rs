@@ -333,7 +333,7 @@ impl OccupancyGpu {
 }
 
 impl MethodGpu for OccupancyGpu {
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext, _timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
         let m = &self.maps;
         let light = ctx.light_maps;
         if m.resolution != ctx.map_resolution() || m.near != light.near || m.far != light.far {

@@ -176,7 +176,7 @@ fn pass_bind_group(
 }
 
 impl<U: Pod + Send> MethodGpu for LayersGpu<U> {
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext, _timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
         let name = self.method.name;
         self.setup = (self.method.setup)(ctx.values);
         let layers = layers_for(self.setup.values);

@@ -46,9 +46,14 @@ pub struct ReferenceGpu {
 }
 
 impl MethodGpu for ReferenceGpu {
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
-        self.abuffer
-            .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, ctx.map_resolution())
+    fn prepare(&mut self, ctx: &MethodContext, timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
+        self.abuffer.prepare(
+            ctx.gpu,
+            ctx.frame_bind_group,
+            ctx.casters,
+            ctx.map_resolution(),
+            timer,
+        )
     }
     fn record(
         &mut self,

@@ -221,8 +221,9 @@ impl MethodContext<'_> {
 /// exists; each frame, the first included, [`MethodGpu::prepare`] re-allocates what the parameters or the
 /// resolution changed and uploads the uniforms, then [`MethodGpu::record`] records the light passes.
 pub trait MethodGpu: Send {
-    /// Re-allocates the maps when the parameters or the map resolution need other ones; uploads uniforms.
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError>;
+    /// Re-allocates the maps when the parameters or the map resolution need other ones; uploads uniforms. A
+    /// method that sizes its buffers from the scene runs (and times, in `timer`) its counting passes here.
+    fn prepare(&mut self, ctx: &MethodContext, timer: &mut Option<GpuTimer>) -> Result<(), GpuError>;
     /// Records the method's light passes (after [`MethodGpu::prepare`] with the same context).
     fn record(
         &mut self,
@@ -286,7 +287,7 @@ impl NoMaps {
 }
 
 impl MethodGpu for NoMaps {
-    fn prepare(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+    fn prepare(&mut self, ctx: &MethodContext, _timer: &mut Option<GpuTimer>) -> Result<(), GpuError> {
         let res = ctx.map_resolution() as u64;
         self.bytes = res * res * self.bytes_per_texel;
         Ok(())

@@ -573,7 +573,7 @@ impl Renderer {
             self.method = Some((name, f.method.create_gpu(&ctx)?));
         }
         if let Some((_, state)) = &mut self.method {
-            state.prepare(&ctx)?;
+            state.prepare(&ctx, &mut self.timer)?;
             state.record(&ctx, &mut enc, &mut self.timer);
         }
         Ok(enc)
@@ -620,7 +620,7 @@ impl Renderer {
         };
         let casters: [&dyn LightCaster; 1] = [&self.geometry];
         let resolution = self.light_maps.near.width();
-        let prepared = abuffer.prepare(&gpu, &self.frame_bind_group, &casters, resolution);
+        let prepared = abuffer.prepare(&gpu, &self.frame_bind_group, &casters, resolution, &mut None);
         if prepared.is_ok() {
             abuffer.record(&self.frame_bind_group, &casters, &mut enc, &mut self.timer);
             self.submit(enc);

@@ -220,7 +220,8 @@ impl ABuffer {
         );
     }
 
-    /// Counts this frame's fragments and the longest texel list (a counting pass submitted at once and read back,
+    /// Counts this frame's fragments and the longest texel list (a counting pass, timed as `<pass label> count`,
+    /// submitted at once and read back,
     /// blocking) and grows the node buffer to fit them; refuses lists beyond the device's storage binding size.
     pub fn prepare(
         &mut self,
@@ -228,6 +229,7 @@ impl ABuffer {
         frame: &wgpu::BindGroup,
         casters: &[&dyn LightCaster],
         resolution: u32,
+        timer: &mut Option<GpuTimer>,
     ) -> Result<(), GpuError> {
         let device = &gpu.device;
         self.target.ensure(device, resolution);
@@ -255,7 +257,9 @@ impl ABuffer {
         });
         enc.clear_buffer(&self.counters, 0, None);
         enc.clear_buffer(&self.heads, 0, None);
-        self.draw(&mut enc, &self.count_pipeline, frame, casters, None);
+        let label = format!("{} count", self.pass_label);
+        let ts = timer.as_mut().and_then(|t| t.pass(label));
+        self.draw(&mut enc, &self.count_pipeline, frame, casters, ts);
         let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.abuffer.count_readback"),
             size: 16,
@@ -299,9 +303,21 @@ impl ABuffer {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) {
+        self.record_as(self.pass_label, frame, casters, encoder, timer);
+    }
+
+    /// [`ABuffer::record`] timed as `label` (a second fill in one frame needs a name of its own).
+    pub fn record_as(
+        &self,
+        label: &str,
+        frame: &wgpu::BindGroup,
+        casters: &[&dyn LightCaster],
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
         encoder.clear_buffer(&self.counters, 0, None);
         encoder.clear_buffer(&self.heads, 0, None);
-        let ts = timer.as_mut().and_then(|t| t.pass(self.pass_label));
+        let ts = timer.as_mut().and_then(|t| t.pass(label));
         self.draw(encoder, &self.fill_pipeline, frame, casters, ts);
     }
 

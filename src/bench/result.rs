@@ -121,18 +121,22 @@ impl BenchRow {
         self.metrics.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
     }
 
-    /// `osm 64`, `dom 3 s1`, `bom 4 r0.5 auto`: short enough for a chart label.
+    /// `osm 64`, `dom 3 spacing=uniform`, `bom 4 split_ratio=0.5 auto`, `fom 16 window=none`: short enough for
+    /// a chart label. The method's first parameter (its main one: slices, layers, terms, nodes, ...) shows as
+    /// its value alone, the others as `key=value`, choices by their word; `auto` marks an analysed point.
     pub fn short_label(&self) -> String {
+        let method = crate::methods::registry::find(&self.config.name).ok();
+        let first = method.and_then(|m| m.params().first()).map(|p| p.key);
         let mut out = self.config.name.clone();
         for (k, v) in &self.config.params {
-            let key = match k.as_str() {
-                "slices" | "layers" | "clusters" => "",
-                "spacing" => "s",
-                "split_ratio" => "r",
-                "variant" => "v",
-                other => other,
-            };
-            let _ = write!(out, " {key}{v}");
+            let value = method
+                .and_then(|m| crate::methods::spec(m, k).ok())
+                .map_or_else(|| v.to_string(), |p| p.format(*v));
+            if Some(k.as_str()) == first {
+                let _ = write!(out, " {value}");
+            } else {
+                let _ = write!(out, " {k}={value}");
+            }
         }
         if !self.note.is_empty() {
             out.push_str(" auto");
@@ -213,4 +217,54 @@ pub struct ScalingResult {
     /// Configurations refused at some densities (left out of the points and the fits there).
     pub refused: Vec<ScalingRefusal>,
     pub fits: Vec<ScalingFit>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::LightMethod;
+    use crate::methods::dom::Dom;
+    use crate::methods::osm::Osm;
+
+    fn row(name: &str, params: &[(&str, f32)], note: &str) -> BenchRow {
+        let spread = Spread {
+            median: 1.0,
+            min: 1.0,
+            max: 1.0,
+        };
+        BenchRow {
+            config: MethodConfig {
+                name: name.to_string(),
+                params: params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            },
+            note: note.to_string(),
+            total_ms: spread,
+            passes: Vec::new(),
+            memory_bytes: 0,
+            build_memory_bytes: 0,
+            geometry_passes: 1,
+            metrics: Vec::new(),
+            device: String::new(),
+        }
+    }
+
+    #[test]
+    fn short_labels_show_the_main_parameter_bare_and_choices_as_words() {
+        assert_eq!(
+            row(Osm.name(), &[("slices", 64.0)], "").short_label(),
+            format!("{} 64", Osm.name())
+        );
+        assert_eq!(
+            row(Dom.name(), &[("layers", 3.0), ("spacing", 1.0)], "").short_label(),
+            format!("{} 3 spacing=uniform", Dom.name())
+        );
+        assert_eq!(
+            row(Dom.name(), &[("layers", 4.0)], "tuned").short_label(),
+            format!("{} 4 auto", Dom.name())
+        );
+        assert_eq!(
+            row("unregistered", &[("k", 0.5)], "").short_label(),
+            "unregistered k=0.5"
+        );
+    }
 }

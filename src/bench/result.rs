@@ -128,7 +128,11 @@ impl BenchRow {
         let method = crate::methods::registry::find(&self.config.name).ok();
         let first = method.and_then(|m| m.params().first()).map(|p| p.key);
         let mut out = self.config.name.clone();
-        for (k, v) in &self.config.params {
+        // In the method's parameter order (then any key it does not have).
+        let rank = |k: &str| method.and_then(|m| m.params().iter().position(|p| p.key == k));
+        let mut params: Vec<(&String, &f32)> = self.config.params.iter().collect();
+        params.sort_by_key(|(k, _)| rank(k).unwrap_or(usize::MAX));
+        for (k, v) in params {
             let value = method
                 .and_then(|m| crate::methods::spec(m, k).ok())
                 .map_or_else(|| v.to_string(), |p| p.format(*v));

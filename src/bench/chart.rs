@@ -33,8 +33,14 @@ pub fn method_color(name: &str) -> Color {
     crate::methods::registry::find(name).map_or([127, 127, 127], |m| m.info().color)
 }
 
-/// Colours of the scaling chart's configurations.
-const SCALING_COLORS: [Color; 4] = [[31, 119, 180], [23, 190, 207], [255, 127, 14], [148, 103, 189]];
+/// The colour of the scaling chart's configuration `i`: its method's, darker for each earlier configuration of
+/// the same method (OSM-16, then OSM-64 darker).
+fn scaling_color(fits: &[super::ScalingFit], i: usize) -> Color {
+    let method = |label: &str| label.split(':').next().unwrap_or(label).to_string();
+    let name = method(&fits[i].label);
+    let earlier = fits[..i].iter().filter(|f| method(&f.label) == name).count();
+    method_color(&name).map(|c| (f32::from(c) * 0.6f32.powi(earlier as i32)) as u8)
+}
 
 /// How an axis maps its values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -363,7 +369,7 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
 pub fn scaling_chart(r: &ScalingResult) -> Chart {
     let mut series = Vec::new();
     for (i, f) in r.fits.iter().enumerate() {
-        let color = SCALING_COLORS[i % SCALING_COLORS.len()];
+        let color = scaling_color(&r.fits, i);
         let pts: Vec<Point> = r
             .points
             .iter()

@@ -397,6 +397,11 @@ fn curve(a: &CurveArgs) -> Result<()> {
     if !(2..=1_000_000).contains(&a.samples) {
         anyhow::bail!("--samples must be in 2..=1000000 (got {})", a.samples);
     }
+    if let Some(alpha) = a.hair_alpha
+        && !(alpha > 0.0 && alpha <= 1.0)
+    {
+        anyhow::bail!("--hair-alpha must be in (0, 1] (got {alpha})");
+    }
     let frags = read_fragments_csv(&a.fragments)?;
     let alpha = a
         .hair_alpha

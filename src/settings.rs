@@ -158,6 +158,9 @@ impl SceneSettings {
     }
 }
 
+/// The largest turning angle (light azimuth, camera yaw) a setting may hold, in degrees: 100 turns.
+pub const MAX_TURN_DEG: f32 = 36000.0;
+
 impl Settings {
     /// Range checks with messages naming the key.
     pub fn validate(&self) -> Result<()> {
@@ -189,17 +192,36 @@ impl Settings {
             }
         }
         let l = &self.light;
-        if ![
-            l.azimuth_deg,
-            l.elevation_deg,
-            l.distance,
-            l.cone_deg,
-            l.intensity,
+        let c = &self.camera;
+        for (key, v) in [
+            ("light.azimuth_deg", l.azimuth_deg),
+            ("light.elevation_deg", l.elevation_deg),
+            ("light.distance", l.distance),
+            ("light.cone_deg", l.cone_deg),
+            ("light.intensity", l.intensity),
+            ("camera.yaw_deg", c.yaw_deg),
+            ("camera.pitch_deg", c.pitch_deg),
+            ("camera.distance", c.distance),
+            ("camera.fov_y_deg", c.fov_y_deg),
         ]
-        .iter()
-        .all(|v| v.is_finite())
+        .into_iter()
+        .chain(c.target.iter().map(|&v| ("camera.target", v)))
         {
-            bail!("light values must be finite");
+            if !v.is_finite() {
+                bail!("{key} must be a finite number (got {v})");
+            }
+        }
+        // Turning angles wrap, but far from 0 an f32 angle loses its precision (at 1e30 every sine is noise).
+        for (key, v) in [
+            ("light.azimuth_deg", l.azimuth_deg),
+            ("camera.yaw_deg", c.yaw_deg),
+        ] {
+            if v.abs() > MAX_TURN_DEG {
+                bail!("{key} must be within ±{MAX_TURN_DEG} degrees (got {v})");
+            }
+        }
+        if !(-90.0..=90.0).contains(&c.pitch_deg) {
+            bail!("camera.pitch_deg must be in [-90, 90] (got {})", c.pitch_deg);
         }
         if !(-90.0..=90.0).contains(&l.elevation_deg) {
             bail!(
@@ -210,7 +232,6 @@ impl Settings {
         if !(1.0..=170.0).contains(&l.cone_deg) || l.distance < 1.01 || l.intensity < 0.0 {
             bail!("light: cone_deg in [1, 170], distance >= 1.01 scene radii, intensity >= 0");
         }
-        let c = &self.camera;
         if !(5.0..=120.0).contains(&c.fov_y_deg) || !c.distance.is_finite() || c.distance < 0.0 {
             bail!("camera: fov_y_deg in [5, 120] and distance >= 0 (0 frames the scene)");
         }
@@ -333,6 +354,40 @@ mod tests {
         for (name, _) in BUILTIN_PRESETS {
             Settings::load_preset(name, &[]).unwrap_or_else(|e| panic!("preset {name}: {e:#}"));
         }
+    }
+
+    #[test]
+    fn angles_and_positions_must_be_meaningful_numbers() {
+        for (set, key) in [
+            (
+                "camera.yaw_deg=nan",
+                "camera.yaw_deg must be a finite number (got NaN)",
+            ),
+            ("camera.pitch_deg=nan", "camera.pitch_deg must be a finite number"),
+            (
+                "camera.pitch_deg=1e30",
+                "camera.pitch_deg must be in [-90, 90] (got 1000000000000000000000000000000)",
+            ),
+            (
+                "light.azimuth_deg=1e30",
+                "light.azimuth_deg must be within ±36000 degrees",
+            ),
+            (
+                "camera.yaw_deg=-inf",
+                "camera.yaw_deg must be a finite number (got -inf)",
+            ),
+            ("light.intensity=nan", "light.intensity must be a finite number"),
+            (
+                "camera.target=[0.0, nan, 0.0]",
+                "camera.target must be a finite number",
+            ),
+        ] {
+            let e = Settings::load_preset("default", &[set.to_string()]).unwrap_err();
+            let text = format!("{e:#}");
+            assert!(text.contains(key), "{set}: {text}");
+        }
+        let turned = Settings::load_preset("default", &["light.azimuth_deg=720".into()]).unwrap();
+        assert_eq!(turned.light.azimuth_deg, 720.0);
     }
 
     #[test]

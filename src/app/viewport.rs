@@ -204,7 +204,7 @@ impl HairlabApp {
         let delta = response.drag_delta();
         let shift = ui.input(|i| i.modifiers.shift);
         if response.dragged_by(egui::PointerButton::Primary) && !shift {
-            cam.yaw_deg -= delta.x * 0.4;
+            cam.yaw_deg = (cam.yaw_deg - delta.x * 0.4).rem_euclid(360.0);
             cam.pitch_deg = (cam.pitch_deg + delta.y * 0.4).clamp(-89.0, 89.0);
         }
         if response.dragged_by(egui::PointerButton::Middle)

@@ -390,4 +390,19 @@ fn curve_rejects_bad_fragment_rows_by_file_line_and_value() {
         assert_fails(&o, &needles);
         assert!(o.stdout.is_empty(), "{text:?}: printed {:?}", o.stdout);
     }
+    // A global hair alpha that means nothing (NaN would mean no shadow at all).
+    let csv = dir.path().join("texel.csv");
+    std::fs::write(&csv, "0.2,0.5\n").unwrap();
+    for bad in ["nan", "0", "1.5", "-0.2"] {
+        let o = hairlab(&[
+            "curve",
+            "--fragments",
+            csv.to_str().unwrap(),
+            "--method",
+            "occupancy",
+            &format!("--hair-alpha={bad}"),
+        ]);
+        assert_fails(&o, &["--hair-alpha must be in (0, 1]"]);
+        assert!(o.stdout.is_empty(), "--hair-alpha {bad}: printed output");
+    }
 }

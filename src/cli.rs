@@ -183,17 +183,12 @@ pub fn run(cmd: Command) -> Result<()> {
 }
 
 fn render(a: &RenderArgs) -> Result<()> {
-    let mut overrides = a.set.clone();
-    if let Some(w) = a.width {
-        overrides.push(format!("render.width={w}"));
-    }
-    if let Some(h) = a.height {
-        overrides.push(format!("render.height={h}"));
-    }
-    let mut settings = Settings::load_preset(&a.preset, &overrides)?;
-    if a.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
-        anyhow::bail!("{}: the output must be a .png file", a.out.display());
-    }
+    crate::io::check_output(&a.out, "png")?;
+    let mut settings = Settings::load_preset(&a.preset, &a.set)?;
+    // The image size flags apply after the preset and its overrides, and are checked as themselves.
+    settings.render.width = a.width.unwrap_or(settings.render.width);
+    settings.render.height = a.height.unwrap_or(settings.render.height);
+    settings.validate().context("--width/--height")?;
     let image = render_image(&mut settings)?;
     let mut png = Vec::new();
     image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
@@ -282,6 +277,7 @@ fn info(path: &Path) -> Result<()> {
 }
 
 fn gen_hair(a: &GenArgs) -> Result<()> {
+    crate::io::check_output(&a.out, "hair")?;
     let mut p = GenParams {
         kind: a.kind,
         ..GenParams::default()

@@ -5,6 +5,28 @@ use anyhow::{Context, Result};
 use std::io::Write;
 use std::path::Path;
 
+/// Checks, before any work, that `path` can take an output file of type `extension` (e.g. `png`, any case): a file
+/// name with that extension in an existing folder. The error names `path`.
+pub fn check_output(path: &Path, extension: &str) -> Result<()> {
+    if path
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case(extension))
+    {
+        anyhow::bail!("{}: the output must be a .{extension} file", path.display());
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        anyhow::bail!("{}: the folder {} does not exist", path.display(), dir.display());
+    }
+    if path.is_dir() {
+        anyhow::bail!("{}: is a folder, not a file", path.display());
+    }
+    Ok(())
+}
+
 /// Writes `bytes` to `path` atomically; the error names `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_io(path, bytes).with_context(|| format!("{}: cannot write", path.display()))
@@ -42,7 +64,7 @@ pub fn write_atomic_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::write_atomic;
+    use super::{check_output, write_atomic};
 
     fn names(dir: &std::path::Path) -> Vec<String> {
         let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -98,5 +120,27 @@ mod tests {
             "{e}"
         );
         assert_eq!(names(dir.path()), ["taken"]);
+    }
+
+    #[test]
+    fn outputs_are_checked_before_the_work() {
+        let dir = tempfile::tempdir().unwrap();
+        let ok = dir.path().join("shot.PNG");
+        check_output(&ok, "png").unwrap();
+        let e = format!(
+            "{:#}",
+            check_output(&dir.path().join("a.txt"), "hair").unwrap_err()
+        );
+        assert!(e.ends_with("a.txt: the output must be a .hair file"), "{e}");
+        let missing = dir.path().join("nowhere/shot.png");
+        let e = format!("{:#}", check_output(&missing, "png").unwrap_err());
+        assert!(
+            e.contains("nowhere/shot.png: the folder") && e.ends_with("does not exist"),
+            "{e}"
+        );
+        let folder = dir.path().join("x.png");
+        std::fs::create_dir(&folder).unwrap();
+        let e = format!("{:#}", check_output(&folder, "png").unwrap_err());
+        assert!(e.ends_with("x.png: is a folder, not a file"), "{e}");
     }
 }

@@ -406,3 +406,38 @@ fn curve_rejects_bad_fragment_rows_by_file_line_and_value() {
         assert!(o.stdout.is_empty(), "--hair-alpha {bad}: printed output");
     }
 }
+
+/// The output path is checked before any work, and the image size flags are named as the user typed them.
+#[test]
+fn outputs_are_checked_first_and_size_flags_name_themselves() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("nowhere/shot.png");
+    let o = hairlab(&["render", "--out", missing.to_str().unwrap()]);
+    assert_fails(&o, &["nowhere/shot.png: the folder", "does not exist"]);
+    let txt = dir.path().join("a.txt");
+    let o = hairlab(&["gen", "head", "--out", txt.to_str().unwrap()]);
+    assert_fails(&o, &["a.txt: the output must be a .hair file"]);
+    assert!(!txt.exists());
+    let png = dir.path().join("shot.png");
+    let o = hairlab(&["render", "--width", "0", "--out", png.to_str().unwrap()]);
+    assert_fails(
+        &o,
+        &["--width/--height", "render.width/height must be in 1..=8192"],
+    );
+    let o = hairlab(&[
+        "render",
+        "--width",
+        "64",
+        "--set",
+        "render=1",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        !stderr(&o).contains("render.width=64"),
+        "blames an override the user never typed: {}",
+        stderr(&o)
+    );
+    assert!(!png.exists());
+}

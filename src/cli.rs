@@ -317,7 +317,8 @@ fn gen_hair(a: &GenArgs) -> Result<()> {
 
 /// Reads a fragment CSV ([`parse_fragments_csv`]); errors name the file.
 pub fn read_fragments_csv(path: &Path) -> Result<Vec<Fragment>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let text =
+        crate::io::read_regular_text(path).with_context(|| format!("{}: cannot read", path.display()))?;
     parse_fragments_csv(&text, &path.display().to_string())
 }
 

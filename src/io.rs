@@ -1,9 +1,43 @@
-//! Output files are written whole or not at all: to a [`tempfile`] temporary file beside the target, then
-//! persisted (renamed) over it. A failed write removes the temporary file.
+//! Input files are read bounded ([`read_regular_file`]: regular files only, at most a stated size). Output files
+//! are written whole or not at all: to a [`tempfile`] temporary file beside the target, then persisted (renamed)
+//! over it. A failed write removes the temporary file.
 
 use anyhow::{Context, Result};
 use std::io::Write;
 use std::path::Path;
+
+/// Largest input file hairlab reads (a `.hair`, glTF or glb file, a buffer, a preset, a fragment CSV): 1 GiB.
+pub const MAX_INPUT_BYTES: u64 = 1 << 30;
+
+/// Reads `path` when it is a regular file (not a device, FIFO or folder, also through a symlink) of at most
+/// [`MAX_INPUT_BYTES`], and no more than the size it had when opened.
+pub fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::{Error, ErrorKind, Read};
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(Error::new(ErrorKind::InvalidInput, "not a regular file"));
+    }
+    if meta.len() > MAX_INPUT_BYTES {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "{} bytes, more than the {MAX_INPUT_BYTES} bytes hairlab reads",
+                meta.len()
+            ),
+        ));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::fs::File::open(path)?
+        .take(meta.len())
+        .read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// [`read_regular_file`] as UTF-8 text.
+pub fn read_regular_text(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_regular_file(path)?)
+        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
+}
 
 /// Checks, before any work, that `path` can take an output file of type `extension` (e.g. `png`, any case): a file
 /// name with that extension in an existing folder. The error names `path`.
@@ -64,7 +98,7 @@ pub fn write_atomic_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::{check_output, write_atomic};
+    use super::{check_output, read_regular_file, write_atomic};
 
     fn names(dir: &std::path::Path) -> Vec<String> {
         let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -142,5 +176,27 @@ mod tests {
         std::fs::create_dir(&folder).unwrap();
         let e = format!("{:#}", check_output(&folder, "png").unwrap_err());
         assert!(e.ends_with("x.png: is a folder, not a file"), "{e}");
+    }
+
+    #[test]
+    fn reads_are_bounded_to_regular_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let e = read_regular_file(dir.path()).unwrap_err();
+        assert_eq!(e.to_string(), "not a regular file");
+        let f = dir.path().join("a.bin");
+        std::fs::write(&f, [1, 2, 3]).unwrap();
+        assert_eq!(read_regular_file(&f).unwrap(), [1, 2, 3]);
+        #[cfg(unix)]
+        {
+            let e = read_regular_file(std::path::Path::new("/dev/zero")).unwrap_err();
+            assert_eq!(e.to_string(), "not a regular file");
+            let link = dir.path().join("zero.hair");
+            std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+            assert_eq!(
+                read_regular_file(&link).unwrap_err().to_string(),
+                "not a regular file"
+            );
+        }
+        assert!(read_regular_file(&dir.path().join("none")).is_err());
     }
 }

@@ -277,8 +277,8 @@ impl Settings {
         };
         match file {
             Some(f) => {
-                let text =
-                    std::fs::read_to_string(&f).with_context(|| format!("{}: cannot read", f.display()))?;
+                let text = crate::io::read_regular_text(&f)
+                    .with_context(|| format!("{}: cannot read", f.display()))?;
                 let mut s = Settings::from_toml_with(&text, &f.display().to_string(), overrides)?;
                 s.resolve_paths(f.parent().unwrap_or(Path::new(".")));
                 Ok(s)

@@ -8,10 +8,11 @@
 //! has four components). `POINTS` and `LINE_LOOP` primitives are skipped with a warning. Only buffers are
 //! loaded: images are not decoded, so a missing or broken texture does not stop a scene from loading.
 //!
-//! The `gltf` crate panics on some malformed files (an attribute naming an accessor that does not exist, for
-//! one); [`load_gltf`] turns such a panic into [`GltfError::Malformed`] instead of taking the application
-//! down.
+//! Before the `gltf` crate sees the file, `gltf_check` reads it bounded and checks the glb header, the buffer
+//! URIs and every accessor the loader reads, so that the crate neither over-allocates nor panics on our input.
+//! A panic it still raises is caught without its text ([`load_gltf`]) and becomes [`GltfError::Malformed`].
 
+use std::cell::Cell;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -20,7 +21,27 @@ use gltf::mesh::Mode;
 use gltf::mesh::util::ReadColors;
 use thiserror::Error;
 
+use super::gltf_check;
 use super::{Mesh, Scene, Strands};
+
+thread_local! {
+    /// Set while [`load_gltf`] runs the parser on this thread: its panics are caught and reported as errors.
+    static QUIET: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Installs (once) a panic hook that stays silent for the panics [`load_gltf`] catches and hands every other panic
+/// to the hook it replaced.
+fn install_quiet_hook() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+}
 
 /// Everything that can go wrong loading a glTF file; every message names the file.
 #[derive(Debug, Error)]
@@ -53,16 +74,20 @@ pub enum GltfError {
 
 /// Loads the triangles and lines of a glTF file into a [`Scene`].
 pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
+    install_quiet_hook();
+    QUIET.with(|q| q.set(true));
     // Everything the closure touches is created inside it, so nothing is left half-updated by a panic.
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| load(path))).unwrap_or_else(|payload| {
-        let message = payload
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| load(path)));
+    QUIET.with(|q| q.set(false));
+    result.unwrap_or_else(|payload| {
+        let detail = payload
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
             .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "the glTF parser failed".to_owned());
+            .unwrap_or_default();
         Err(GltfError::Malformed {
             path: path.to_owned(),
-            message,
+            message: format!("the glTF reader gave up on it ({detail})"),
         })
     })
 }
@@ -72,8 +97,24 @@ fn load(path: &Path) -> Result<Scene, GltfError> {
         path: path.to_owned(),
         cause,
     };
-    let gltf::Gltf { document, blob } = gltf::Gltf::open(path).map_err(gltf_err)?;
-    let buffers = gltf::import_buffers(&document, path.parent(), blob).map_err(gltf_err)?;
+    let malformed = |message| GltfError::Malformed {
+        path: path.to_owned(),
+        message,
+    };
+    let bytes = crate::io::read_regular_file(path).map_err(|e| malformed(format!("cannot read: {e}")))?;
+    gltf_check::check_glb(&bytes).map_err(malformed)?;
+    // The crate's own validation indexes without checking: our index checks come first.
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_err)?;
+    gltf_check::check_indices(&document).map_err(malformed)?;
+    let document = gltf::Document::from_json(document.into_json()).map_err(gltf_err)?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    gltf_check::check_buffer_uris(&document, dir).map_err(malformed)?;
+    let buffers = gltf::import_buffers(&document, Some(dir), blob).map_err(gltf_err)?;
+    gltf_check::check_accessors(&document, &buffers).map_err(malformed)?;
     let mut loader = Loader {
         path,
         buffers: &buffers,

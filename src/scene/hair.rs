@@ -441,7 +441,7 @@ pub fn read_hair(bytes: &[u8]) -> Result<HairFile, HairError> {
 
 /// Reads and validates a `.hair` file; every error names the file.
 pub fn read_hair_file(path: &Path) -> Result<HairFile, HairError> {
-    let bytes = std::fs::read(path).map_err(|cause| HairError::Io {
+    let bytes = crate::io::read_regular_file(path).map_err(|cause| HairError::Io {
         path: path.to_owned(),
         cause,
     })?;

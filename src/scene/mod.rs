@@ -4,6 +4,7 @@
 //! Loaders (`.hair`, glTF) and the procedural generators all produce a [`Scene`].
 
 pub mod generate;
+pub mod gltf_check;
 pub mod gltf_load;
 pub mod hair;
 pub mod load;

@@ -297,7 +297,11 @@ fn dangling_accessor_is_an_error_not_a_panic() {
     let path = write(dir.path(), "dangling.gltf", text);
     let err = load_gltf(&path).expect_err("malformed");
     assert!(matches!(err, GltfError::Malformed { .. }), "{err:?}");
-    assert!(err.to_string().contains("dangling.gltf"), "{err}");
+    assert!(
+        err.to_string()
+            .ends_with("dangling.gltf: malformed glTF: mesh 0 primitive 0: an attribute names accessor 99, and there are 0"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -317,5 +321,209 @@ fn unknown_extension_is_rejected_by_load_scene() {
     assert!(
         msg.contains("model.obj") && msg.contains(".hair") && msg.contains(".glb"),
         "{msg}"
+    );
+}
+
+/// A file with one triangle and the given extra JSON for its primitive, accessors and views (positions: accessor 0,
+/// 36 bytes at byte 0 of a 36-byte buffer, as a data URI).
+fn triangle_with(dir: &Path, name: &str, more: &str, extra_accessor: &str, view: &str) -> PathBuf {
+    let mut b = Builder::default();
+    let pos = b.vec3(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    assert_eq!(pos, 0);
+    let (attribute, indices) = split_more(more);
+    let text = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0{attribute}}}{indices}}}]}}],
+        "buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}],
+        "bufferViews":[{}{view}],"accessors":[{}{extra_accessor}]}}"#,
+        b.bytes.len(),
+        base64(&b.bytes),
+        b.views.join(","),
+        b.accessors.join(",")
+    );
+    write(dir, name, &text)
+}
+
+/// `more` is either `,"indices":N` (after the attributes) or `,"NAME":N` (a further attribute).
+fn split_more(more: &str) -> (&str, &str) {
+    if more.contains("indices") {
+        ("", more)
+    } else {
+        (more, "")
+    }
+}
+
+/// The mutation run's reproducers (issue 11): each is one error naming the file and what is wrong, never a
+/// panic, never an allocation the header made up.
+#[test]
+fn malformed_files_are_refused_before_the_gltf_crate_sees_them() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    // A glb whose header length lies (near 2³², and below 12).
+    for (length, name) in [(4_294_967_284u32, "huge.glb"), (8, "tiny.glb")] {
+        let json = br#"{"asset":{"version":"2.0"}}  "#;
+        let mut glb = b"glTF".to_vec();
+        glb.extend_from_slice(&2u32.to_le_bytes());
+        glb.extend_from_slice(&length.to_le_bytes());
+        glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        glb.extend_from_slice(b"JSON");
+        glb.extend_from_slice(json);
+        let path = d.join(name);
+        std::fs::write(&path, &glb).unwrap();
+        let msg = load_gltf(&path).expect_err("lying header").to_string();
+        assert!(
+            msg.contains(name)
+                && msg.contains(&format!("declares {length} bytes, the file holds {}", glb.len())),
+            "{msg}"
+        );
+    }
+    // Indices pointing at a float accessor; a byteStride smaller than the element; an accessor beyond its view.
+    let cases = [
+        (
+            triangle_with(d, "float_indices.gltf", r#","indices":0"#, "", ""),
+            "indices (accessor 0): Vec3 F32 is not a type this attribute can have",
+        ),
+        (
+            triangle_with(
+                d,
+                "stride.gltf",
+                r#","NORMAL":1"#,
+                r#",{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}"#,
+                r#",{"buffer":0,"byteOffset":0,"byteLength":36,"byteStride":4}"#,
+            ),
+            "Normals (accessor 1): byteStride 4 is smaller than its 12-byte element",
+        ),
+        (
+            triangle_with(
+                d,
+                "beyond.gltf",
+                r#","indices":1"#,
+                r#",{"bufferView":0,"componentType":5125,"count":10,"type":"SCALAR","byteOffset":8}"#,
+                "",
+            ),
+            "10 elements of 4 bytes every 4 from byte 8 do not fit its buffer view of 36 bytes",
+        ),
+    ];
+    for (path, needle) in cases {
+        let msg = load_gltf(&path).expect_err("malformed").to_string();
+        let name = path.file_name().unwrap().to_str().unwrap();
+        assert!(msg.contains(name) && msg.contains(needle), "{msg}");
+    }
+    // Buffer URIs: absolute, leaving the folder, a special file.
+    for (uri, needle) in [
+        ("/etc/hostname", "only relative buffer paths are read"),
+        ("../outside.bin", "leaves the file's folder"),
+        ("sub/../../x.bin", "leaves the file's folder"),
+    ] {
+        let text = format!(r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":4,"uri":"{uri}"}}]}}"#);
+        let path = write(d, "uri.gltf", &text);
+        let msg = load_gltf(&path).expect_err("bad uri").to_string();
+        assert!(msg.contains("uri.gltf") && msg.contains(needle), "{uri}: {msg}");
+    }
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/dev/zero", d.join("zero.bin")).unwrap();
+        let text = r#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"zero.bin"}]}"#;
+        let path = write(d, "device.gltf", text);
+        let msg = load_gltf(&path).expect_err("device").to_string();
+        assert!(msg.contains("buffer 0 ('zero.bin'): not a regular file"), "{msg}");
+        let link = d.join("zero.glb");
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        let msg = load_gltf(&link).expect_err("device").to_string();
+        assert!(
+            msg.contains("zero.glb") && msg.contains("not a regular file"),
+            "{msg}"
+        );
+    }
+}
+
+/// A bounded mutation run over a glTF and a glb built from it (2000 cases, under a second; a long run sets
+/// `HAIRLAB_FUZZ_CASES` and `HAIRLAB_FUZZ_SEED`): every case loads or fails with one error naming the file, and
+/// none gets as far as a panic inside the glTF crate (which `load_gltf` would catch and report as "the glTF reader
+/// gave up").
+#[test]
+fn mutated_gltf_and_glb_files_fail_cleanly() {
+    use hairlab::rng::SplitMix64;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read(sample(dir.path())).unwrap();
+    // The same document as a glb: the JSON chunk padded to 4 bytes.
+    let mut json = text.clone();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut glb = b"glTF".to_vec();
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&((12 + 8 + json.len()) as u32).to_le_bytes());
+    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    const NUMBERS: [&str; 9] = ["0", "1", "3", "7", "99", "65536", "4294967295", "-1", "1e30"];
+    let env = |k: &str, default: u64| {
+        std::env::var(k)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let mut rng = SplitMix64::new(env("HAIRLAB_FUZZ_SEED", 11));
+    let (mut loaded, mut refused, mut gave_up) = (0, 0, Vec::new());
+    for case in 0..env("HAIRLAB_FUZZ_CASES", 2000) {
+        let (seed, ext) = if case % 2 == 0 {
+            (&text, "gltf")
+        } else {
+            (&glb, "glb")
+        };
+        let mut bytes = seed.clone();
+        for _ in 0..rng.int(1, 3) {
+            match rng.int(0, 3) {
+                // A number token of the JSON replaced by another (indices, counts, offsets, lengths, strides).
+                0 | 1 => {
+                    let starts: Vec<usize> = (1..bytes.len())
+                        .filter(|&i| bytes[i].is_ascii_digit() && !bytes[i - 1].is_ascii_alphanumeric())
+                        .collect();
+                    if !starts.is_empty() {
+                        let at = starts[rng.int(0, starts.len() - 1)];
+                        let end = (at..bytes.len())
+                            .find(|&i| !bytes[i].is_ascii_digit())
+                            .unwrap_or(bytes.len());
+                        let n = NUMBERS[rng.int(0, NUMBERS.len() - 1)];
+                        bytes.splice(at..end, n.bytes());
+                    }
+                }
+                // A byte overwritten.
+                2 if !bytes.is_empty() => {
+                    let at = rng.int(0, bytes.len() - 1);
+                    bytes[at] = rng.next_u64() as u8;
+                }
+                // Cut short.
+                _ => {
+                    let keep = rng.int(0, bytes.len().saturating_sub(1));
+                    bytes.truncate(keep);
+                }
+            }
+        }
+        let path = dir.path().join(format!("case{case}.{ext}"));
+        std::fs::write(&path, &bytes).unwrap();
+        match load_gltf(&path) {
+            Ok(_) => loaded += 1,
+            Err(e) => {
+                let msg = e.to_string();
+                assert!(msg.contains(&format!("case{case}.{ext}")), "{msg}");
+                if msg.contains("the glTF reader gave up") {
+                    gave_up.push(msg);
+                }
+                refused += 1;
+            }
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+    eprintln!(
+        "mutated glTF/glb: {loaded} loaded, {refused} refused, {} crate panics caught",
+        gave_up.len()
+    );
+    assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
+    assert!(
+        gave_up.is_empty(),
+        "{} panics inside the glTF crate: {gave_up:#?}",
+        gave_up.len()
     );
 }

@@ -101,7 +101,7 @@ fn assert_close(a: Vec3, b: Vec3) {
 
 /// Quad (rotated 90° about X), indexed LINES (2 chained segments + 1 separate), an unindexed LINES pair
 /// joined by position, a LINE_STRIP of 4 points with rgba colours, and a POINTS primitive that is skipped.
-fn sample(dir: &Path) -> PathBuf {
+pub(crate) fn sample(dir: &Path) -> PathBuf {
     let mut b = Builder::default();
     let quad_pos = b.vec3(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
     let quad_nrm = b.vec3(&[[0.0, 1.0, 0.0]; 4]);
@@ -435,95 +435,4 @@ fn malformed_files_are_refused_before_the_gltf_crate_sees_them() {
             "{msg}"
         );
     }
-}
-
-/// A bounded mutation run over a glTF and a glb built from it (2000 cases, under a second; a long run sets
-/// `HAIRLAB_FUZZ_CASES` and `HAIRLAB_FUZZ_SEED`): every case loads or fails with one error naming the file, and
-/// none gets as far as a panic inside the glTF crate (which `load_gltf` would catch and report as "the glTF reader
-/// gave up").
-#[test]
-fn mutated_gltf_and_glb_files_fail_cleanly() {
-    use hairlab::rng::SplitMix64;
-    let dir = tempfile::tempdir().expect("tempdir");
-    let text = std::fs::read(sample(dir.path())).unwrap();
-    // The same document as a glb: the JSON chunk padded to 4 bytes.
-    let mut json = text.clone();
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let mut glb = b"glTF".to_vec();
-    glb.extend_from_slice(&2u32.to_le_bytes());
-    glb.extend_from_slice(&((12 + 8 + json.len()) as u32).to_le_bytes());
-    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"JSON");
-    glb.extend_from_slice(&json);
-    const NUMBERS: [&str; 9] = ["0", "1", "3", "7", "99", "65536", "4294967295", "-1", "1e30"];
-    let env = |k: &str, default: u64| {
-        std::env::var(k)
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(default)
-    };
-    let mut rng = SplitMix64::new(env("HAIRLAB_FUZZ_SEED", 11));
-    let (mut loaded, mut refused, mut gave_up) = (0, 0, Vec::new());
-    for case in 0..env("HAIRLAB_FUZZ_CASES", 2000) {
-        let (seed, ext) = if case % 2 == 0 {
-            (&text, "gltf")
-        } else {
-            (&glb, "glb")
-        };
-        let mut bytes = seed.clone();
-        for _ in 0..rng.int(1, 3) {
-            match rng.int(0, 3) {
-                // A number token of the JSON replaced by another (indices, counts, offsets, lengths, strides).
-                0 | 1 => {
-                    let starts: Vec<usize> = (1..bytes.len())
-                        .filter(|&i| bytes[i].is_ascii_digit() && !bytes[i - 1].is_ascii_alphanumeric())
-                        .collect();
-                    if !starts.is_empty() {
-                        let at = starts[rng.int(0, starts.len() - 1)];
-                        let end = (at..bytes.len())
-                            .find(|&i| !bytes[i].is_ascii_digit())
-                            .unwrap_or(bytes.len());
-                        let n = NUMBERS[rng.int(0, NUMBERS.len() - 1)];
-                        bytes.splice(at..end, n.bytes());
-                    }
-                }
-                // A byte overwritten.
-                2 if !bytes.is_empty() => {
-                    let at = rng.int(0, bytes.len() - 1);
-                    bytes[at] = rng.next_u64() as u8;
-                }
-                // Cut short.
-                _ => {
-                    let keep = rng.int(0, bytes.len().saturating_sub(1));
-                    bytes.truncate(keep);
-                }
-            }
-        }
-        let path = dir.path().join(format!("case{case}.{ext}"));
-        std::fs::write(&path, &bytes).unwrap();
-        match load_gltf(&path) {
-            Ok(_) => loaded += 1,
-            Err(e) => {
-                let msg = e.to_string();
-                assert!(msg.contains(&format!("case{case}.{ext}")), "{msg}");
-                if msg.contains("the glTF reader gave up") {
-                    gave_up.push(msg);
-                }
-                refused += 1;
-            }
-        }
-        std::fs::remove_file(&path).unwrap();
-    }
-    eprintln!(
-        "mutated glTF/glb: {loaded} loaded, {refused} refused, {} crate panics caught",
-        gave_up.len()
-    );
-    assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
-    assert!(
-        gave_up.is_empty(),
-        "{} panics inside the glTF crate: {gave_up:#?}",
-        gave_up.len()
-    );
 }

@@ -7,7 +7,7 @@ use hairlab::scene::Strands;
 use hairlab::scene::hair::{HairError, HairFile, read_hair, read_hair_file, write_hair, write_hair_file};
 
 /// Two strands (3 and 2 points) with every optional array; alpha values are exact under `1 - (1 - a)`.
-fn full_strands() -> Strands {
+pub(crate) fn full_strands() -> Strands {
     Strands {
         points: vec![
             Vec3::new(0.0, 0.0, 0.0),

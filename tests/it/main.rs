@@ -9,6 +9,7 @@ mod common;
 mod app_ui;
 mod bench;
 mod cli;
+mod fuzz;
 mod generate;
 mod gltf_load;
 mod gpu_avsm;

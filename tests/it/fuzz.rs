@@ -1,0 +1,219 @@
+//! Bounded mutation runs over every input format hairlab reads (issue 11's "fuzzing as a habit"): glTF and glb,
+//! `.hair`, the fragment CSV of `hairlab curve`, and preset TOML with `--set` overrides. Each seed is a file the
+//! tests write; each case mutates it a few times (a number token replaced by an extreme, a byte overwritten, the
+//! text cut short) and must load or fail with an error naming its source — never panic (a panic fails the test)
+//! and, for glTF, never get as far as a panic inside the `gltf` crate. 2000 cases per format run in about a second;
+//! a long run sets `HAIRLAB_FUZZ_CASES` (cases per format) and `HAIRLAB_FUZZ_SEED`.
+
+use hairlab::rng::SplitMix64;
+use hairlab::scene::gltf_load::load_gltf;
+use hairlab::scene::hair::{HairFile, read_hair_file, write_hair};
+use hairlab::settings::Settings;
+
+/// Number tokens a mutation puts in place of another.
+const NUMBERS: [&str; 10] = [
+    "0",
+    "1",
+    "3",
+    "7",
+    "99",
+    "65536",
+    "4294967295",
+    "-1",
+    "1e30",
+    "nan",
+];
+
+fn env(key: &str, default: u64) -> u64 {
+    std::env::var(key)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// Cases per format and the generator of the run.
+fn run() -> (u64, SplitMix64) {
+    (
+        env("HAIRLAB_FUZZ_CASES", 2000),
+        SplitMix64::new(env("HAIRLAB_FUZZ_SEED", 11)),
+    )
+}
+
+/// `seed` mutated one to three times.
+fn mutate(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
+    let mut bytes = seed.to_vec();
+    for _ in 0..rng.int(1, 3) {
+        match rng.int(0, 3) {
+            // A number token replaced (indices, counts, offsets, lengths, strides, depths, alphas, keys' values).
+            0 | 1 => {
+                let starts: Vec<usize> = (1..bytes.len())
+                    .filter(|&i| bytes[i].is_ascii_digit() && !bytes[i - 1].is_ascii_alphanumeric())
+                    .collect();
+                if !starts.is_empty() {
+                    let at = starts[rng.int(0, starts.len() - 1)];
+                    let end = (at..bytes.len()).find(|&i| !bytes[i].is_ascii_digit() && bytes[i] != b'.');
+                    let n = NUMBERS[rng.int(0, NUMBERS.len() - 1)];
+                    bytes.splice(at..end.unwrap_or(bytes.len()), n.bytes());
+                }
+            }
+            2 if !bytes.is_empty() => {
+                let at = rng.int(0, bytes.len() - 1);
+                bytes[at] = rng.next_u64() as u8;
+            }
+            _ => {
+                let keep = rng.int(0, bytes.len().saturating_sub(1));
+                bytes.truncate(keep);
+            }
+        }
+    }
+    bytes
+}
+
+/// The glb form of a text glTF: its JSON as the one chunk.
+fn glb_of(text: &[u8]) -> Vec<u8> {
+    let mut json = text.to_vec();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut glb = b"glTF".to_vec();
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&((12 + 8 + json.len()) as u32).to_le_bytes());
+    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    glb
+}
+
+#[test]
+fn mutated_gltf_and_glb_files_fail_cleanly() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read(crate::gltf_load::sample(dir.path())).unwrap();
+    let glb = glb_of(&text);
+    let (cases, mut rng) = run();
+    let (mut loaded, mut refused, mut gave_up) = (0, 0, Vec::new());
+    for case in 0..cases {
+        let (seed, ext) = if case % 2 == 0 {
+            (&text, "gltf")
+        } else {
+            (&glb, "glb")
+        };
+        let path = dir.path().join(format!("case{case}.{ext}"));
+        std::fs::write(&path, mutate(&mut rng, seed)).unwrap();
+        match load_gltf(&path) {
+            Ok(_) => loaded += 1,
+            Err(e) => {
+                let msg = e.to_string();
+                assert!(msg.contains(&format!("case{case}.{ext}")), "{msg}");
+                if msg.contains("the glTF reader gave up") {
+                    gave_up.push(msg);
+                }
+                refused += 1;
+            }
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+    eprintln!(
+        "glTF/glb: {cases} cases, {loaded} load, {refused} refused, {} crate panics",
+        gave_up.len()
+    );
+    assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
+    assert!(
+        gave_up.is_empty(),
+        "{} panics inside the glTF crate: {gave_up:#?}",
+        gave_up.len()
+    );
+}
+
+#[test]
+fn mutated_hair_files_fail_cleanly() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = HairFile::from_strands(&crate::hair_format::full_strands(), "fuzz seed").unwrap();
+    let seed = write_hair(&file);
+    let (cases, mut rng) = run();
+    let (mut loaded, mut refused) = (0, 0);
+    for case in 0..cases {
+        let path = dir.path().join(format!("case{case}.hair"));
+        std::fs::write(&path, mutate(&mut rng, &seed)).unwrap();
+        match read_hair_file(&path).and_then(|h| h.to_strands().map(|_| ())) {
+            Ok(()) => loaded += 1,
+            Err(e) => {
+                assert!(e.to_string().contains(&format!("case{case}.hair")), "{e}");
+                refused += 1;
+            }
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+    eprintln!(".hair: {cases} cases, {loaded} load, {refused} refused");
+    assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
+}
+
+#[test]
+fn mutated_fragment_csv_fails_cleanly() {
+    let seed = b"# a texel\ndepth,alpha\n0.10,0.35\n0.25,0.5\n\n0.5,0.2\n0.75,0.9\n1.0,0.05\n";
+    let (cases, mut rng) = run();
+    let (mut parsed, mut refused) = (0, 0);
+    for case in 0..cases {
+        let text = String::from_utf8_lossy(&mutate(&mut rng, seed)).into_owned();
+        let source = format!("case{case}.csv");
+        match hairlab::cli::parse_fragments_csv(&text, &source) {
+            Ok(frags) => {
+                assert!(
+                    frags
+                        .iter()
+                        .all(|f| (0.0..=1.0).contains(&f.depth) && (0.0..1.0).contains(&f.alpha)),
+                    "{text:?}: {frags:?}"
+                );
+                parsed += 1;
+            }
+            Err(e) => {
+                assert!(e.to_string().starts_with(&source), "{e}");
+                refused += 1;
+            }
+        }
+    }
+    eprintln!("fragment CSV: {cases} cases, {parsed} parse, {refused} refused");
+    assert!(parsed > 0 && refused > 0, "{parsed} parsed, {refused} refused");
+}
+
+#[test]
+fn mutated_presets_and_overrides_fail_cleanly() {
+    let seeds: Vec<&str> = hairlab::settings::BUILTIN_PRESETS
+        .iter()
+        .map(|(_, t)| *t)
+        .collect();
+    let keys = [
+        "camera.yaw_deg",
+        "light.azimuth_deg",
+        "render.map_resolution",
+        "render.hair_alpha",
+        "scene.generator.strands",
+        "method.name",
+        "render",
+    ];
+    let (cases, mut rng) = run();
+    let (mut loaded, mut refused) = (0, 0);
+    for case in 0..cases {
+        let seed = seeds[rng.int(0, seeds.len() - 1)];
+        let text = String::from_utf8_lossy(&mutate(&mut rng, seed.as_bytes())).into_owned();
+        let overrides: Vec<String> = (0..rng.int(0, 2))
+            .map(|_| {
+                let key = keys[rng.int(0, keys.len() - 1)];
+                format!("{key}={}", NUMBERS[rng.int(0, NUMBERS.len() - 1)])
+            })
+            .collect();
+        let origin = format!("case{case}.toml");
+        match Settings::from_toml_with(&text, &origin, &overrides) {
+            Ok(s) => {
+                s.validate().expect("a loaded preset is valid");
+                loaded += 1;
+            }
+            Err(e) => {
+                let msg = format!("{e:#}");
+                assert!(msg.contains(&origin) || msg.contains("--set"), "{msg}");
+                refused += 1;
+            }
+        }
+    }
+    eprintln!("presets: {cases} cases, {loaded} load, {refused} refused");
+    assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
+}

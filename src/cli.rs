@@ -234,10 +234,21 @@ pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
 
 fn info(path: &Path) -> Result<()> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let scene = crate::scene::load::load_scene(path)?;
+    // A .hair file is read once (its warnings print once), for its arrays and its strands.
+    let hair_file = match ext.as_deref() {
+        Some("hair") => Some(hair::read_hair_file(path)?),
+        _ => None,
+    };
+    let scene = match &hair_file {
+        Some(h) => crate::scene::Scene::new(
+            h.to_strands()
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
+            Vec::new(),
+        ),
+        None => crate::scene::load::load_scene(path)?,
+    };
     println!("file:      {}", path.display());
-    if ext.as_deref() == Some("hair") {
-        let h = hair::read_hair_file(path)?;
+    if let Some(h) = &hair_file {
         let present: Vec<&str> = [
             ("segments", h.segments.is_some()),
             ("points", h.points.is_some()),

@@ -317,6 +317,11 @@ fn vec3s(bytes: &[u8]) -> Vec<Vec3> {
 
 /// Decodes and validates a `.hair` file held in memory.
 pub fn read_hair(bytes: &[u8]) -> Result<HairFile, HairError> {
+    read_hair_from(bytes, ".hair file")
+}
+
+/// [`read_hair`] with its warnings naming `source` (the file).
+fn read_hair_from(bytes: &[u8], source: &str) -> Result<HairFile, HairError> {
     if let Some(found) = bytes.first_chunk::<4>()
         && found != MAGIC
     {
@@ -340,7 +345,7 @@ pub fn read_hair(bytes: &[u8]) -> Result<HairFile, HairError> {
     let info = String::from_utf8_lossy(info_bytes.get(..info_len).unwrap_or_default()).into_owned();
     if flags & !KNOWN_FLAGS != 0 {
         log::warn!(
-            ".hair header has unknown array flags {:#x}; ignoring them",
+            "{source}: the header has unknown array flags {:#x}; ignoring them",
             flags & !KNOWN_FLAGS
         );
     }
@@ -393,7 +398,7 @@ pub fn read_hair(bytes: &[u8]) -> Result<HairFile, HairError> {
     }
     if needed < available {
         log::warn!(
-            ".hair file has {} bytes after its last array; ignoring them",
+            "{source}: {} bytes after the last array; ignoring them",
             available - needed
         );
     }
@@ -445,7 +450,7 @@ pub fn read_hair_file(path: &Path) -> Result<HairFile, HairError> {
         path: path.to_owned(),
         cause,
     })?;
-    read_hair(&bytes).map_err(|e| HairError::InFile {
+    read_hair_from(&bytes, &path.display().to_string()).map_err(|e| HairError::InFile {
         path: path.to_owned(),
         cause: Box::new(e),
     })

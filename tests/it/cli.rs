@@ -441,3 +441,27 @@ fn outputs_are_checked_first_and_size_flags_name_themselves() {
     );
     assert!(!png.exists());
 }
+
+/// A `.hair` warning (bytes after the last array) is printed once and names the file.
+#[test]
+fn hair_warnings_print_once_and_name_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("padded.hair");
+    let o = hairlab(&["gen", "patch", "--strands", "3", "--out", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut bytes = std::fs::read(&path).unwrap();
+    bytes.extend_from_slice(b"pad!");
+    std::fs::write(&path, bytes).unwrap();
+    let o = hairlab(&["info", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    let warnings: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("after the last array"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(
+        warnings[0].contains("padded.hair: 4 bytes after the last array"),
+        "{err}"
+    );
+}

@@ -14,6 +14,13 @@ fn main() -> ExitCode {
         .filter_module("eframe", log::LevelFilter::Warn)
         .init();
     let cli = Cli::parse();
+    if cli.command.is_some()
+        && std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+        && let Some(code) = rerun_without_device_select()
+    {
+        return code;
+    }
     let result = match cli.command {
         Some(cmd) => run(cmd),
         None => open_window(cli.preset, &cli.set),
@@ -39,4 +46,23 @@ fn open_window(preset: Option<String>, overrides: &[String]) -> anyhow::Result<(
         Box::new(move |cc| Ok(Box::new(hairlab::app::HairlabApp::new(cc, settings)))),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
+}
+
+/// Headless, with no session: Mesa's Vulkan device-select layer would try a Wayland display only to have libwayland
+/// print "XDG_RUNTIME_DIR is invalid or not set" (twice) on every GPU run. Choosing the GPU that drives a display
+/// means nothing without one, so the command runs again with the layer switched off (`NODEVICE_SELECT=1`; the
+/// environment cannot be changed safely inside a running process). Returns its exit code, or `None` when it could
+/// not be started (the command then runs here, noise and all).
+fn rerun_without_device_select() -> Option<ExitCode> {
+    let exe = std::env::current_exe().ok()?;
+    let status = std::process::Command::new(exe)
+        .args(std::env::args_os().skip(1))
+        .env("NODEVICE_SELECT", "1")
+        .status()
+        .ok()?;
+    Some(match status.code() {
+        Some(0) => ExitCode::SUCCESS,
+        Some(c) => ExitCode::from(u8::try_from(c).unwrap_or(1)),
+        None => ExitCode::FAILURE,
+    })
 }

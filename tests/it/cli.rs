@@ -465,3 +465,31 @@ fn hair_warnings_print_once_and_name_the_file() {
         "{err}"
     );
 }
+
+/// A headless GPU run with no session (no `XDG_RUNTIME_DIR`) prints no driver noise about it.
+#[test]
+fn headless_runs_print_nothing_about_a_missing_session() {
+    if hairlab::gpu::Gpu::for_tests().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("small.png");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args([
+            "render",
+            "--set",
+            "scene.generator.strands=50",
+            "--width",
+            "32",
+            "--height",
+            "24",
+        ])
+        .args(["--out", out.to_str().unwrap()])
+        .env("RUST_LOG", "warn")
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .expect("run hairlab");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("XDG_RUNTIME_DIR"), "{}", stderr(&o));
+}

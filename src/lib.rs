@@ -13,4 +13,5 @@ pub mod rng;
 pub mod scene;
 pub mod settings;
 pub mod shaders;
+pub mod soak;
 pub mod visibility;

@@ -493,3 +493,39 @@ fn headless_runs_print_nothing_about_a_missing_session() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("XDG_RUNTIME_DIR"), "{}", stderr(&o));
 }
+
+/// `hairlab soak`, short: four cycles of every method on a tiny scene, one memory sample per cycle, and the growth
+/// from the first cycle's end to the last's within the 5 % it allows.
+#[test]
+fn soak_samples_memory_per_cycle_and_reports_its_growth() {
+    if hairlab::gpu::Gpu::for_tests().is_none() {
+        return;
+    }
+    let methods = hairlab::methods::registry::all().len();
+    let frames = (4 * 2 * methods).to_string();
+    let mut args = vec!["soak", "--frames", &frames, "--switch-every", "2"];
+    for s in [
+        "scene.generator.strands=50",
+        "render.map_resolution=64",
+        "render.width=32",
+        "render.height=24",
+    ] {
+        args.extend(["--set", s]);
+    }
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let samples: Vec<u64> = out
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split_whitespace().next()?.parse().ok())
+        .collect();
+    let cycle = 2 * methods as u64;
+    assert_eq!(samples, [cycle, 2 * cycle, 3 * cycle, 4 * cycle], "{out}");
+    assert!(
+        out.contains("growth from the first cycle's end to the last's: resident"),
+        "{out}"
+    );
+    let o = hairlab(&["soak", "--frames", "10", "--switch-every", "2"]);
+    assert_fails(&o, &["--frames 10 holds fewer than two cycles"]);
+}

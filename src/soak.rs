@@ -107,10 +107,10 @@ pub fn soak(
             width: s.render.width,
             height: s.render.height,
         };
-        if let Err(e) = r.render(&input) {
-            if !out.refused.iter().any(|(n, _)| n == method.name()) {
-                out.refused.push((method.name().to_string(), format!("{e:#}")));
-            }
+        if let Err(e) = r.render(&input)
+            && !out.refused.iter().any(|(n, _)| n == method.name())
+        {
+            out.refused.push((method.name().to_string(), format!("{e:#}")));
         }
         // One frame in flight at most: a soak measures what the renderer holds, not a queue.
         let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());

@@ -63,3 +63,23 @@ fn every_registered_method_gpu_equals_cpu() {
         }
     }
 }
+
+/// A method's maps beyond hairlab's map budget are refused before anything is allocated, with one error naming
+/// the map, its resolution and the budget (OSM-256 at 4096²: 256 slices of 4 bytes × 16.8 M texels = 16 GiB).
+#[test]
+fn maps_beyond_the_budget_are_refused_naming_the_map_and_resolution() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (r, result) = crate::common::render_method_light(&gpu, "osm", &[("slices", 256.0)], 20, 4096);
+    match result {
+        Err(hairlab::gpu::GpuError::OverBudget { what, bytes, budget }) => {
+            assert!(what.contains("64 RGBA32F layers at 4096²"), "{what}");
+            assert_eq!(bytes, 4096 * 4096 * 16 * 64);
+            assert_eq!(budget, hairlab::render::maps::MAP_BUDGET_BYTES);
+        }
+        other => panic!("expected OverBudget, got {other:?}"),
+    }
+    assert!(
+        r.method_gpu(registry::find("osm").unwrap()).is_none(),
+        "no maps held"
+    );
+}

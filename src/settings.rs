@@ -208,7 +208,7 @@ impl Settings {
         .chain(c.target.iter().map(|&v| ("camera.target", v)))
         {
             if !v.is_finite() {
-                bail!("{key} must be a finite number (got {v})");
+                bail!("{key} must be a finite number (got {v:?})");
             }
         }
         // Turning angles wrap, but far from 0 an f32 angle loses its precision (at 1e30 every sine is noise).
@@ -217,11 +217,11 @@ impl Settings {
             ("camera.yaw_deg", c.yaw_deg),
         ] {
             if v.abs() > MAX_TURN_DEG {
-                bail!("{key} must be within ±{MAX_TURN_DEG} degrees (got {v})");
+                bail!("{key} must be within ±{MAX_TURN_DEG} degrees (got {v:?})");
             }
         }
         if !(-90.0..=90.0).contains(&c.pitch_deg) {
-            bail!("camera.pitch_deg must be in [-90, 90] (got {})", c.pitch_deg);
+            bail!("camera.pitch_deg must be in [-90, 90] (got {:?})", c.pitch_deg);
         }
         if !(-90.0..=90.0).contains(&l.elevation_deg) {
             bail!(
@@ -248,13 +248,16 @@ impl Settings {
     /// Parses TOML, applies `key=value` overrides (dotted keys, TOML values; bare words are taken as strings),
     /// then validates.
     pub fn from_toml_with(text: &str, origin: &str, overrides: &[String]) -> Result<Settings> {
+        // The TOML crate's messages span lines (a snippet and a caret): one line each here.
+        let one_line =
+            |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
         let mut tree: toml::Table =
-            toml::from_str(text).with_context(|| format!("{origin}: invalid TOML"))?;
+            toml::from_str(text).map_err(|e| anyhow::anyhow!("{origin}: invalid TOML: {}", one_line(&e)))?;
         for o in overrides {
             apply_override(&mut tree, o)?;
         }
         let s: Settings = Settings::deserialize(toml::Value::Table(tree))
-            .with_context(|| format!("{origin}: invalid preset"))?;
+            .map_err(|e| anyhow::anyhow!("{origin}: invalid preset: {}", one_line(&e)))?;
         s.validate()
             .with_context(|| format!("{origin}: invalid preset"))?;
         Ok(s)
@@ -366,7 +369,7 @@ mod tests {
             ("camera.pitch_deg=nan", "camera.pitch_deg must be a finite number"),
             (
                 "camera.pitch_deg=1e30",
-                "camera.pitch_deg must be in [-90, 90] (got 1000000000000000000000000000000)",
+                "camera.pitch_deg must be in [-90, 90] (got 1e30)",
             ),
             (
                 "light.azimuth_deg=1e30",

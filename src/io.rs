@@ -197,6 +197,6 @@ mod tests {
                 "not a regular file"
             );
         }
-        assert!(read_regular_file(&dir.path().join("none")).is_err());
+        assert!(read_regular_file(&dir.path().join("missing")).is_err());
     }
 }

@@ -32,10 +32,10 @@ const TERMS: ParamSpec = ParamSpec {
 const WINDOW: ParamSpec = ParamSpec {
     key: "window",
     label: "window",
-    help: "none: the paper's plain truncation (rings around sharp absorbers); fejer: weights 1 - k/(K+1), a \
+    help: "plain: the paper's plain truncation (rings around sharp absorbers); fejer: weights 1 - k/(K+1), a \
            monotone but blurrier reconstruction",
     kind: ParamKind::Choice {
-        options: &["none", "fejer"],
+        options: &["plain", "fejer"],
     },
     default: 1.0,
 };
@@ -136,7 +136,7 @@ impl ShadowMethod for Fom {
 pub struct FomUniforms {
     /// `K`, in `1..=16`.
     pub terms: u32,
-    /// 0 none, 1 Fejér ([`FomWindow::index`]).
+    /// 0 plain, 1 Fejér ([`FomWindow::index`]).
     pub window: u32,
     pub pad0: u32,
     pub pad1: u32,

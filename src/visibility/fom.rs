@@ -7,7 +7,7 @@
 //! sums over fragments: `a_0 = 2 Σ b`, `a_k = 2 Σ b cos(2πk d)`, `b_k = 2 Σ b sin(2πk d)`. The optical depth in
 //! front of `z` is the series integrated from 0 to `z`:
 //! `T(z) = a_0 z / 2 + Σ_k w_k [a_k sin(2πk z) + b_k (1 - cos(2πk z))] / (2πk)`, and `V = exp(-T)` clamped to
-//! `[0, 1]` (the series can leave it). `w_k` is the window: 1 for the paper's plain truncation (`none`),
+//! `[0, 1]` (the series can leave it). `w_k` is the window: 1 for the paper's plain truncation (`plain`),
 //! `1 - k / (K + 1)` for the Fejér (Cesàro) window (`fejer`, hairlab's addition: its kernel is non-negative,
 //! so `T` never decreases, at the price of a blurrier density; it is the default because every method's
 //! default curve must be non-increasing). Both use the same stored coefficients.
@@ -75,7 +75,7 @@ pub struct FomParams {
 }
 
 impl Default for FomParams {
-    /// The paper's 7 coefficients, with the Fejér window (the plain truncation is the `none` choice).
+    /// The paper's 7 coefficients, with the Fejér window (the plain truncation is the `plain` choice).
     fn default() -> Self {
         Self {
             terms: DEFAULT_TERMS,
@@ -364,7 +364,7 @@ mod tests {
                 .iter()
                 .map(|&k| texels.iter().map(|f| grid_error(&p(k, w), f)).sum::<f64>() / 100.0)
                 .collect();
-            // Measured (seed 42), K = 1, 2, 4, 8, 16: none 0.123, 0.096, 0.064, 0.041, 0.033 (3.7x in all);
+            // Measured (seed 42), K = 1, 2, 4, 8, 16: plain 0.123, 0.096, 0.064, 0.041, 0.033 (3.7x in all);
             // Fejér 0.174, 0.153, 0.124, 0.095, 0.069 (2.5x: the window's blur costs accuracy).
             assert!(
                 means.windows(2).all(|m| m[1] < 0.9 * m[0]),

@@ -152,7 +152,7 @@ fn straight_grazing_rings_fourier_opacity_maps_less_with_more_terms() {
     let settings = Settings::load_preset("straight-grazing", &[]).unwrap();
     let mut labels: Vec<String> = TERMS
         .iter()
-        .map(|k| format!("fom:terms={k},window=none"))
+        .map(|k| format!("fom:terms={k},window=plain"))
         .collect();
     labels.push("osm:slices=16".into());
     let configs: Vec<MethodConfig> = labels.iter().map(|c| MethodConfig::parse(c).unwrap()).collect();

@@ -403,6 +403,17 @@ fn malformed_files_are_refused_before_the_gltf_crate_sees_them() {
             ),
             "10 elements of 4 bytes every 4 from byte 8 do not fit its buffer view of 36 bytes",
         ),
+        // Found by the mutation run (tests/it/fuzz.rs): a count of 0 made the crate's reader panic.
+        (
+            triangle_with(
+                d,
+                "empty_colors.gltf",
+                r#","COLOR_0":1"#,
+                r#",{"bufferView":0,"componentType":5126,"count":0,"type":"VEC3"}"#,
+                "",
+            ),
+            "Colors(0) (accessor 1): has count 0 (glTF requires at least 1)",
+        ),
     ];
     for (path, needle) in cases {
         let msg = load_gltf(&path).expect_err("malformed").to_string();

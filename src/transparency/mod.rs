@@ -1,6 +1,7 @@
 //! CPU models of the eye transparency techniques: the specification every technique's GPU output must equal,
 //! as `crate::visibility` is for the shadow methods.
 
+pub mod exact;
 pub mod wboit;
 
 /// One eye fragment of a pixel, as the GPU's per-pixel lists record it.

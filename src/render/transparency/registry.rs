@@ -2,10 +2,11 @@
 //! shader tests go through it, so adding a technique is its own files plus one line here.
 
 use super::EyeTransparency;
+use super::sorted::Sorted;
 use super::wboit::Wboit;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {
@@ -15,6 +16,11 @@ pub fn all() -> &'static [&'static dyn EyeTransparency] {
 /// The technique of new settings (it keeps every existing preset's image).
 pub fn default_technique() -> &'static dyn EyeTransparency {
     &Wboit
+}
+
+/// The exact reference every technique is measured against.
+pub fn reference() -> &'static dyn EyeTransparency {
+    &Sorted
 }
 
 /// The technique called `name`, or an error listing the known names.

@@ -451,7 +451,7 @@ impl TransparencyGpu for SortedGpu {
         };
         // Size the nodes from the count: bands when the frame's fragments exceed one binding.
         let limit = frame.gpu.device.limits();
-        let binding = (limit.max_storage_buffer_binding_size as u64).min(limit.max_buffer_size);
+        let binding = limit.max_storage_buffer_binding_size.min(limit.max_buffer_size);
         let row_counts: Vec<u64> = counts[..pixels]
             .chunks(width as usize)
             .map(|r| r.iter().map(|&c| c as u64).sum())

@@ -14,4 +14,5 @@ pub mod scene;
 pub mod settings;
 pub mod shaders;
 pub mod soak;
+pub mod transparency;
 pub mod visibility;

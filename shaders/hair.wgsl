@@ -1,6 +1,7 @@
 // Eye pass for hair: strands as lines, Kajiya-Kay shading, shadowed by the selected method's visibility and by
-// opaque meshes, stored by the selected eye transparency technique (`store_hair`, its targets `HairOutput`).
-#include "common/frame.wgsl"
+// opaque meshes; the eye transparency technique's entry points (pasted at #include_technique) store what
+// `shade_hair` returns.
+#include "common/eye_vertex.wgsl"
 #include "common/scene_bindings.wgsl"
 #include "common/kajiya_kay.wgsl"
 #include_method
@@ -8,6 +9,7 @@
 #include_technique
 
 struct VertexIn {
+    @builtin(vertex_index) index: u32,
     @location(0) position: vec3<f32>,
     @location(1) alpha: f32,
     @location(2) tangent: vec3<f32>,
@@ -16,32 +18,49 @@ struct VertexIn {
     @location(4) color: vec4<f32>,
 }
 
+// EyePoint's fields (WGSL has no nested stage structs) and the shading inputs.
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
-    @location(1) tangent: vec3<f32>,
-    @location(2) color: vec4<f32>,
+    @location(1) alpha: f32,
+    @location(2) @interpolate(flat) segment: u32,
+    @location(3) tangent: vec3<f32>,
+    @location(4) color: vec3<f32>,
 }
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
+    let p = eye_point(v.index, v.position, v.alpha);
     var out: VertexOut;
-    out.clip = frame.world_to_clip * vec4<f32>(v.position, 1.0);
-    out.world = v.position;
+    out.clip = p.clip;
+    out.world = p.world;
+    out.alpha = p.alpha;
+    out.segment = p.segment;
     out.tangent = v.tangent;
-    let rgb = mix(frame.hair_color, v.color.rgb, v.color.a);
-    out.color = vec4<f32>(rgb, clamp(v.alpha * frame.hair_alpha, 0.0, 1.0));
+    out.color = mix(frame.hair_color, v.color.rgb, v.color.a);
     return out;
 }
 
-@fragment
-fn fs_main(in: VertexOut) -> HairOutput {
+// One shaded hair fragment, as every technique's entry point receives it (see render/transparency/mod.rs).
+struct ShadedHair {
+    color: vec3<f32>,
+    alpha: f32,
+    depth: f32,
+    segment: u32,
+    pixel: vec2<u32>,
+}
+
+fn shade_hair(in: VertexOut) -> ShadedHair {
+    let world = in.world;
     let t = normalize(in.tangent);
-    let to_eye = normalize(frame.eye_position - in.world);
-    let l = light_dir(in.world);
-    let v = hair_visibility(in.world) * mesh_visibility(in.world, 1);
-    let shaded = kajiya_kay(t, l, to_eye, in.color.rgb) * light_radiance(in.world) * v + in.color.rgb * 0.08;
-    // Distance from the eye in units of the camera-to-target distance (camera_distance): scale-free.
-    let depth = length(frame.eye_position - in.world) / frame.camera_distance;
-    return store_hair(shaded, in.color.a, depth);
+    let to_eye = normalize(frame.eye_position - world);
+    let l = light_dir(world);
+    let v = hair_visibility(world) * mesh_visibility(world, 1);
+    var out: ShadedHair;
+    out.color = kajiya_kay(t, l, to_eye, in.color) * light_radiance(world) * v + in.color * 0.08;
+    out.alpha = in.alpha;
+    out.depth = eye_depth(world);
+    out.segment = in.segment;
+    out.pixel = vec2<u32>(in.clip.xy);
+    return out;
 }

@@ -233,6 +233,8 @@ pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
         render: &settings.render,
         method,
         method_params: &settings.method.params,
+        technique: settings.transparency.technique()?,
+        technique_params: &settings.transparency.params,
         width: settings.render.width,
         height: settings.render.height,
     };

@@ -157,12 +157,15 @@ pub fn measure_on(
     }
     let res = s.render.map_resolution;
     let mut r = Renderer::new(gpu, &scene, res)?;
+    let technique = s.transparency.technique()?;
     let input = |method: &'static dyn methods::ShadowMethod, params| FrameInput {
         camera: &s.camera,
         light: &s.light,
         render: &s.render,
         method,
         method_params: params,
+        technique,
+        technique_params: &s.transparency.params,
         width: 8,
         height: 8,
     };
@@ -207,6 +210,8 @@ pub fn measure_on(
         render: &s.render,
         method,
         method_params: params,
+        technique,
+        technique_params: &s.transparency.params,
         width: w,
         height: h,
     };
@@ -341,6 +346,7 @@ pub fn time_configs(
         s.camera.frame(&scene.framing_bounds());
     }
     let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution)?;
+    let technique = s.transparency.technique()?;
     let mut out = Vec::with_capacity(configs.len());
     for c in configs {
         progress(&c.label());
@@ -351,6 +357,8 @@ pub fn time_configs(
             render: &s.render,
             method,
             method_params: &c.params,
+            technique,
+            technique_params: &s.transparency.params,
             width: 8,
             height: 8,
         };

@@ -4,6 +4,7 @@
 
 use crate::methods::{self, ParamValues, registry};
 pub use crate::render::RenderSettings;
+use crate::render::transparency::{EyeTransparency, registry as techniques};
 use crate::scene::generate::GenParams;
 use crate::scene::{Camera, Light};
 use anyhow::{Context, Result, bail};
@@ -18,6 +19,7 @@ pub struct Settings {
     pub light: Light,
     pub camera: Camera,
     pub method: MethodSettings,
+    pub transparency: TransparencySettings,
 }
 
 /// Where the strands come from: a file when `file` is set, the generator otherwise (on `scalp`'s triangles when
@@ -62,23 +64,48 @@ impl Default for RawMethodSettings {
     }
 }
 
+/// Raw TOML parameters as values: numbers kept as they are (range checks come with [`Settings::validate`]), words
+/// looked up by `word` (a choice's options); errors name the key under `section`.
+fn params_from_raw(
+    raw: std::collections::BTreeMap<String, RawValue>,
+    section: &str,
+    word: impl Fn(&str, &str) -> Result<f32, String>,
+) -> Result<ParamValues, String> {
+    let mut params = ParamValues::new();
+    for (k, v) in raw {
+        let v = match v {
+            RawValue::Number(x) => x,
+            RawValue::Word(w) => word(&k, &w).map_err(|e| format!("{section}.params.{k}: {e}"))?,
+        };
+        params.insert(k, v);
+    }
+    Ok(params)
+}
+
+/// Values as TOML holds them: choices as their words (`spec` finds a key's parameter).
+fn params_to_raw(
+    params: ParamValues,
+    spec: impl Fn(&str) -> Option<&'static crate::render::method::ParamSpec>,
+) -> std::collections::BTreeMap<String, RawValue> {
+    params
+        .into_iter()
+        .map(|(k, v)| {
+            let raw = match spec(&k).and_then(|s| s.option(v)) {
+                Some(w) => RawValue::Word(w.to_string()),
+                None => RawValue::Number(v),
+            };
+            (k, raw)
+        })
+        .collect()
+}
+
 impl TryFrom<RawMethodSettings> for MethodSettings {
     type Error = String;
 
-    /// Numbers are kept as they are (range checks come with [`Settings::validate`]); words are looked up in the
-    /// method's choices.
     fn try_from(raw: RawMethodSettings) -> Result<Self, String> {
-        let mut params = ParamValues::new();
-        for (k, v) in raw.params {
-            let v = match v {
-                RawValue::Number(x) => x,
-                RawValue::Word(w) => {
-                    let m = registry::find(&raw.name)?;
-                    methods::parse_value(m, &k, &w).map_err(|e| format!("method.params.{k}: {e}"))?
-                }
-            };
-            params.insert(k, v);
-        }
+        let params = params_from_raw(raw.params, "method", |k, w| {
+            methods::parse_value(registry::find(&raw.name)?, k, w)
+        })?;
         Ok(MethodSettings {
             name: raw.name,
             params,
@@ -87,24 +114,72 @@ impl TryFrom<RawMethodSettings> for MethodSettings {
 }
 
 impl From<MethodSettings> for RawMethodSettings {
-    /// Choices as their words.
     fn from(m: MethodSettings) -> Self {
         let method = registry::find(&m.name).ok();
-        let params = m
-            .params
-            .into_iter()
-            .map(|(k, v)| {
-                let word = method
-                    .and_then(|m| methods::spec(m, &k).ok())
-                    .and_then(|s| s.option(v));
-                let raw = match word {
-                    Some(w) => RawValue::Word(w.to_string()),
-                    None => RawValue::Number(v),
-                };
-                (k, raw)
-            })
-            .collect();
+        let params = params_to_raw(m.params, |k| method.and_then(|m| methods::spec(m, k).ok()));
         RawMethodSettings { name: m.name, params }
+    }
+}
+
+/// The eye transparency technique and its parameters (`[transparency]`, `--set transparency.name=…`); choices as
+/// words, as for the method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "RawTransparencySettings", into = "RawTransparencySettings")]
+pub struct TransparencySettings {
+    pub name: String,
+    /// Parameters of the selected technique; missing ones take the technique's defaults.
+    pub params: ParamValues,
+}
+
+impl Default for TransparencySettings {
+    fn default() -> Self {
+        TransparencySettings {
+            name: techniques::default_technique().name().into(),
+            params: ParamValues::new(),
+        }
+    }
+}
+
+/// [`TransparencySettings`] as TOML holds it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct RawTransparencySettings {
+    name: String,
+    params: std::collections::BTreeMap<String, RawValue>,
+}
+
+impl Default for RawTransparencySettings {
+    fn default() -> Self {
+        TransparencySettings::default().into()
+    }
+}
+
+impl TryFrom<RawTransparencySettings> for TransparencySettings {
+    type Error = String;
+
+    fn try_from(raw: RawTransparencySettings) -> Result<Self, String> {
+        let params = params_from_raw(raw.params, "transparency", |k, w| {
+            techniques::spec(techniques::find(&raw.name)?, k)?.parse(w)
+        })?;
+        Ok(TransparencySettings {
+            name: raw.name,
+            params,
+        })
+    }
+}
+
+impl From<TransparencySettings> for RawTransparencySettings {
+    fn from(t: TransparencySettings) -> Self {
+        let technique = techniques::find(&t.name).ok();
+        let params = params_to_raw(t.params, |k| technique.and_then(|t| techniques::spec(t, k).ok()));
+        RawTransparencySettings { name: t.name, params }
+    }
+}
+
+impl TransparencySettings {
+    /// The registered technique (validated settings always have one).
+    pub fn technique(&self) -> Result<&'static dyn EyeTransparency> {
+        techniques::find(&self.name).map_err(|e| anyhow::anyhow!("transparency.name: {e}"))
     }
 }
 
@@ -178,8 +253,6 @@ impl Settings {
                 r.map_resolution
             );
         }
-        crate::render::transparency::registry::find(&r.transparency)
-            .map_err(|e| anyhow::anyhow!("render.transparency: {e}"))?;
         if !(r.hair_alpha > 0.0 && r.hair_alpha <= 1.0) {
             bail!("render.hair_alpha must be in (0, 1] (got {})", r.hair_alpha);
         }
@@ -237,6 +310,12 @@ impl Settings {
         }
         let m = registry::find(&self.method.name).map_err(anyhow::Error::msg)?;
         methods::validate(m, &self.method.params).map_err(anyhow::Error::msg)?;
+        let t = self.transparency.technique()?;
+        for (k, v) in &self.transparency.params {
+            techniques::spec(t, k)
+                .and_then(|s| s.check(*v))
+                .map_err(|e| anyhow::anyhow!("transparency.params.{k}: {e}"))?;
+        }
         Ok(())
     }
 
@@ -427,17 +506,24 @@ mod tests {
 
     #[test]
     fn the_transparency_technique_is_validated_against_the_registry() {
-        assert_eq!(Settings::default().render.transparency, "wboit");
-        let s = Settings::from_toml_with("", "test", &["render.transparency=wboit".into()]).unwrap();
-        assert_eq!(s.render.transparency, "wboit");
-        let s = Settings::from_toml("[render]\ntransparency = \"wboit\"\n", "x.toml").unwrap();
+        let default = techniques::default_technique().name();
+        assert_eq!(Settings::default().transparency.name, default);
+        let s = Settings::from_toml_with("", "test", &[format!("transparency.name={default}")]).unwrap();
         assert_eq!(s, Settings::default());
-        let e = Settings::from_toml_with("", "x.toml", &["render.transparency=sorted".into()]).unwrap_err();
-        assert_eq!(
-            format!("{e:#}"),
-            "x.toml: invalid preset: render.transparency: unknown eye transparency technique 'sorted' \
-             (known: wboit)"
+        let e = Settings::from_toml_with("", "x.toml", &["transparency.name=none-such".into()]).unwrap_err();
+        assert!(
+            format!("{e:#}").starts_with(
+                "x.toml: invalid preset: transparency.name: unknown eye transparency technique 'none-such' (known: "
+            ),
+            "{e:#}"
         );
+        let e = Settings::from_toml_with("", "x.toml", &["transparency.params.nope=1".into()]).unwrap_err();
+        assert!(
+            format!("{e:#}").starts_with("x.toml: invalid preset: transparency.params.nope: technique '"),
+            "{e:#}"
+        );
+        let e = Settings::from_toml_with("[render]\ntransparency = \"x\"\n", "x.toml", &[]).unwrap_err();
+        assert!(format!("{e:#}").contains("transparency"), "{e:#}");
     }
 
     #[test]

@@ -43,6 +43,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "methods/dsm.wgsl",
     "methods/msm.wgsl",
     "methods/avsm.wgsl",
+    "common/eye_vertex.wgsl",
     "transparency/wboit.wgsl",
     "transparency/wboit_resolve.wgsl",
     "light_depth.wgsl",

@@ -83,6 +83,7 @@ pub fn soak(
     }
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution)?;
+    let technique = s.transparency.technique()?;
     let defaults = crate::methods::ParamValues::new();
     let mut out = Soak {
         frames,
@@ -104,6 +105,8 @@ pub fn soak(
             render: &s.render,
             method,
             method_params: params,
+            technique,
+            technique_params: &s.transparency.params,
             width: s.render.width,
             height: s.render.height,
         };

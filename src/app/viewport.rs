@@ -54,6 +54,14 @@ impl HairlabApp {
                     return;
                 }
             };
+            let technique = match self.settings.transparency.technique() {
+                Ok(t) => t,
+                Err(e) => {
+                    self.error(format!("{e:#}"));
+                    self.settings.transparency = Default::default();
+                    return;
+                }
+            };
             let start = Instant::now();
             let input = FrameInput {
                 camera: &self.settings.camera,
@@ -61,6 +69,8 @@ impl HairlabApp {
                 render: &self.settings.render,
                 method,
                 method_params: &self.settings.method.params,
+                technique,
+                technique_params: &self.settings.transparency.params,
                 width,
                 height,
             };

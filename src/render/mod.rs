@@ -50,8 +50,6 @@ pub struct RenderSettings {
     pub pcf: bool,
     /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
     pub jitter: bool,
-    /// The eye transparency technique of the hair (a name in `transparency::registry`).
-    pub transparency: String,
 }
 
 impl Default for RenderSettings {
@@ -65,7 +63,6 @@ impl Default for RenderSettings {
             background: [0.12, 0.13, 0.15],
             pcf: false,
             jitter: false,
-            transparency: "wboit".into(),
         }
     }
 }
@@ -77,6 +74,9 @@ pub struct FrameInput<'a> {
     pub render: &'a RenderSettings,
     pub method: &'a dyn LightMethod,
     pub method_params: &'a ParamValues,
+    /// The eye transparency technique and its parameters.
+    pub technique: &'a dyn EyeTransparency,
+    pub technique_params: &'a ParamValues,
     pub width: u32,
     pub height: u32,
 }
@@ -377,17 +377,45 @@ impl Renderer {
     }
 
     /// Makes the held technique state `technique`'s, sized to the eye targets.
-    fn ensure_technique(&mut self, technique: &dyn EyeTransparency) {
-        let device = &self.gpu.device;
+    fn ensure_technique(&mut self, technique: &dyn EyeTransparency) -> Result<(), GpuError> {
         let (width, height) = (self.targets.width, self.targets.height);
         match &mut self.transparency {
-            Some((name, state)) if *name == technique.name() => state.resize(device, width, height),
+            Some((name, state)) if *name == technique.name() => state.resize(&self.gpu, width, height),
             _ => {
-                // Evict the previous technique's targets before the new technique allocates its own.
+                // Evict the previous technique's state before the new technique allocates its own.
                 self.transparency = None;
-                self.transparency = Some((technique.name(), technique.create_gpu(device, width, height)));
+                let setup = transparency::EyeSetup {
+                    gpu: &self.gpu,
+                    frame_layout: &self.frame_layout,
+                    width,
+                    height,
+                };
+                self.transparency = Some((technique.name(), technique.create_gpu(&setup)?));
+                self.hair_pass.forget_technique(technique.name());
+                Ok(())
             }
         }
+    }
+
+    /// `[near, far]` of the strands' distances from `camera`'s eye, in units of the camera distance (the depth
+    /// the eye techniques store): the distance to the strands' bounding box and to its farthest corner.
+    pub fn eye_depth_range(&self, camera: &Camera) -> [f32; 2] {
+        let eye = camera.eye();
+        let b = &self.strand_bounds;
+        let d = camera.distance.max(1e-4);
+        let nearest = eye.clamp(b.min, b.max).distance(eye);
+        let farthest = (0..8)
+            .map(|i| {
+                let pick = |bit: usize, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
+                Vec3::new(
+                    pick(1, b.min.x, b.max.x),
+                    pick(2, b.min.y, b.max.y),
+                    pick(4, b.min.z, b.max.z),
+                )
+                .distance(eye)
+            })
+            .fold(0.0f32, f32::max);
+        [nearest / d, farthest / d]
     }
 
     /// Increases whenever the output texture is re-created (a viewer must re-register it).
@@ -468,19 +496,11 @@ impl Renderer {
 
     /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
     pub fn render(&mut self, f: &FrameInput) -> Result<(), GpuError> {
-        let technique = transparency::registry::find(&f.render.transparency)
-            .map_err(|e| GpuError::Setting(format!("render.transparency: {e}")))?;
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
-        self.ensure_technique(technique);
+        self.ensure_technique(f.technique)?;
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
         let method_gpu = held(&self.method, f.method)?;
-        let Some((_, technique_gpu)) = self.transparency.as_ref() else {
-            return Err(GpuError::Setting(format!(
-                "render.transparency: no state for '{}'",
-                technique.name()
-            )));
-        };
         self.mesh_pass.record(
             &device,
             &mut enc,
@@ -492,25 +512,42 @@ impl Renderer {
             &self.geometry,
             ts(&mut self.timer, "eye: meshes"),
         );
-        self.hair_pass.record(
-            &device,
-            &mut enc,
-            f.method,
-            method_gpu,
-            technique,
-            technique_gpu.as_ref(),
-            &self.targets,
-            &self.scene_bind_group,
-            &self.geometry,
-            ts(&mut self.timer, "eye: hair"),
-        );
-        technique_gpu.resolve(
-            &mut enc,
-            &self.targets.color_view,
-            ts(&mut self.timer, "composite"),
-        );
+        let model = crate::transparency::ModelContext {
+            hair_alpha: f.render.hair_alpha,
+            depth_range: self.eye_depth_range(f.camera),
+        };
+        let Some((_, technique_gpu)) = self.transparency.as_mut() else {
+            return Err(GpuError::Setting(format!(
+                "transparency.name: no state for '{}'",
+                f.technique.name()
+            )));
+        };
+        let mut frame = transparency::EyeFrame {
+            gpu: &self.gpu,
+            encoder: enc,
+            timer: &mut self.timer,
+            frame_bind_group: &self.frame_bind_group,
+            geometry: &self.geometry,
+            targets: &self.targets,
+            values: f.technique_params,
+            model,
+            hair: transparency::HairDraw {
+                pass: &mut self.hair_pass,
+                scene: passes::hair::HairScene {
+                    device: &device,
+                    method: f.method,
+                    method_gpu,
+                    technique: f.technique,
+                    scene: &self.scene_bind_group,
+                    geometry: &self.geometry,
+                    targets: &self.targets,
+                },
+            },
+        };
+        let recorded = technique_gpu.record(&mut frame);
+        let enc = frame.encoder;
         self.submit(enc);
-        Ok(())
+        recorded
     }
 
     /// Renders only the light-space side of a frame (light depth, mesh shadow map, the method's maps) and
@@ -768,7 +805,7 @@ mod tests {
             "crate::measure",
         ];
         let mut checked = 0;
-        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility"]
+        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility", "transparency"]
             .iter()
             .map(|d| root.join(d))
             .collect();

@@ -30,9 +30,10 @@ pub struct PipelineKey {
     pub pass: Pass,
     /// The shadow method whose lookup the pass pastes.
     pub method: &'static str,
-    /// The eye transparency technique whose store function and colour targets the pass uses; `None` for the
-    /// passes that do not depend on it (mesh, evaluate), so they build one pipeline per method, not per pair.
-    pub technique: Option<&'static str>,
+    /// The eye transparency technique and its hair fragment entry point whose colour targets the pass uses;
+    /// `None` for the passes that do not depend on it (mesh, evaluate), so they build one pipeline per method,
+    /// not per pair.
+    pub technique: Option<(&'static str, &'static str)>,
 }
 
 impl PipelineKey {
@@ -60,13 +61,19 @@ impl<P> PipelineCache<P> {
     pub fn get_or_build(&mut self, key: PipelineKey, build: impl FnOnce(&PipelineKey) -> P) -> &P {
         self.pipelines.entry(key).or_insert_with(|| build(&key))
     }
+
+    /// Drops the pipelines of `technique` (its GPU state, whose group-2 layout they were built with, is new).
+    pub fn forget_technique(&mut self, technique: &str) {
+        self.pipelines
+            .retain(|k, _| k.technique.is_none_or(|(t, _)| t != technique));
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn key(pass: Pass, method: &'static str, technique: Option<&'static str>) -> PipelineKey {
+    fn key(pass: Pass, method: &'static str, technique: Option<(&'static str, &'static str)>) -> PipelineKey {
         PipelineKey {
             pass,
             method,
@@ -77,32 +84,49 @@ mod tests {
     #[test]
     fn each_key_is_built_once_and_every_field_tells_keys_apart() {
         let mut cache = PipelineCache::default();
-        let mut builds = 0;
-        let mut get = |cache: &mut PipelineCache<String>, k: PipelineKey| {
+        let builds = std::cell::Cell::new(0);
+        let get = |cache: &mut PipelineCache<String>, k: PipelineKey| {
             cache
                 .get_or_build(k, |k| {
-                    builds += 1;
+                    builds.set(builds.get() + 1);
                     format!("{}:{}:{:?}", k.label("pipeline"), k.method, k.technique)
                 })
                 .clone()
         };
-        let hair = key(Pass::Hair, "method-a", Some("technique-a"));
+        let hair = key(Pass::Hair, "method-a", Some(("technique-a", "fs_main")));
         assert_eq!(
             get(&mut cache, hair),
-            "hairlab.hair.pipeline:method-a:Some(\"technique-a\")"
+            "hairlab.hair.pipeline:method-a:Some((\"technique-a\", \"fs_main\"))"
         );
         assert_eq!(
             get(&mut cache, hair),
-            "hairlab.hair.pipeline:method-a:Some(\"technique-a\")"
+            "hairlab.hair.pipeline:method-a:Some((\"technique-a\", \"fs_main\"))"
         );
         get(&mut cache, key(Pass::Mesh, "method-a", None));
-        get(&mut cache, key(Pass::Hair, "method-b", Some("technique-a")));
-        get(&mut cache, key(Pass::Hair, "method-a", Some("technique-b")));
+        get(
+            &mut cache,
+            key(Pass::Hair, "method-b", Some(("technique-a", "fs_main"))),
+        );
+        get(
+            &mut cache,
+            key(Pass::Hair, "method-a", Some(("technique-b", "fs_main"))),
+        );
+        get(
+            &mut cache,
+            key(Pass::Hair, "method-a", Some(("technique-a", "fs_other"))),
+        );
         get(&mut cache, key(Pass::Hair, "method-a", None));
         assert_eq!(
             get(&mut cache, key(Pass::Evaluate, "method-a", None)),
             "hairlab.evaluate.pipeline:method-a:None"
         );
-        assert_eq!(builds, 6);
+        assert_eq!(builds.get(), 7);
+        cache.forget_technique("technique-a");
+        get(&mut cache, hair);
+        get(
+            &mut cache,
+            key(Pass::Hair, "method-a", Some(("technique-b", "fs_main"))),
+        );
+        assert_eq!(builds.get(), 8, "only technique-a's pipelines were dropped");
     }
 }

@@ -14,7 +14,7 @@
 //! - Inputs are what the GPU produces: finite depths `>= 0`, alphas in `[0, 1]`, finite colours. The models do
 //!   not police them (the `composite` command refuses anything else before it reaches a model).
 //! - f16 render targets are modelled by [`round_f16`] after every blend (round to nearest, ties to even, the
-//!   conversion of IEEE 754 binary16 render targets).
+//!   conversion of IEEE 754 binary16 render targets, by the `half` crate).
 
 pub mod classic_peel;
 pub mod exact;
@@ -108,31 +108,11 @@ pub(crate) fn add_scaled(c: [f32; 3], t: f32, b: [f32; 3]) -> [f32; 3] {
     [c[0] + t * b[0], c[1] + t * b[1], c[2] + t * b[2]]
 }
 
-/// Smallest positive normal binary16 value, 2^-14.
-const F16_MIN_NORMAL: f32 = 6.103_515_6e-5;
-/// Largest finite binary16 value.
-const F16_MAX: f32 = 65504.0;
-
 /// `x` rounded to the nearest IEEE 754 binary16 value (ties to even), returned as f32: what an f16 render
-/// target stores. Magnitudes that round beyond 65504 become infinite; NaN and infinities pass through;
-/// subnormals keep their 2^-24 spacing.
+/// target stores (the `half` crate's conversion). Magnitudes that round beyond 65504 become infinite; NaN and
+/// infinities pass through; subnormals keep their 2^-24 spacing.
 pub fn round_f16(x: f32) -> f32 {
-    if !x.is_finite() {
-        return x;
-    }
-    let magnitude = x.abs();
-    let rounded = if magnitude < F16_MIN_NORMAL {
-        // Subnormal binary16: multiples of 2^-24 (the scaling by a power of two is exact).
-        (magnitude * 16_777_216.0).round_ties_even() / 16_777_216.0
-    } else {
-        // Keep 10 of the 23 mantissa bits, rounding the 13 dropped ones to nearest, ties to even (a carry
-        // runs into the exponent, which is the correct result).
-        let bits = magnitude.to_bits();
-        let lsb = (bits >> 13) & 1;
-        f32::from_bits((bits + 0x0FFF + lsb) & !0x1FFF)
-    };
-    let rounded = if rounded > F16_MAX { f32::INFINITY } else { rounded };
-    rounded.copysign(x)
+    half::f16::from_f32(x).to_f32()
 }
 
 #[cfg(test)]
@@ -205,12 +185,14 @@ mod tests {
         assert_eq!(round_f16(-1e9), f32::NEG_INFINITY);
         // Subnormals: spacing 2^-24; 2^-25 is a tie to even (0), 1.5 · 2^-24 a tie to even (2^-23).
         let tiny = 1.0 / 16_777_216.0;
+        // Smallest positive normal binary16 value, 2^-14.
+        let min_normal = 6.103_515_6e-5;
         assert_eq!(round_f16(tiny), tiny);
         assert_eq!(round_f16(tiny / 2.0), 0.0);
         assert_eq!(round_f16(1.5 * tiny), 2.0 * tiny);
-        assert_eq!(round_f16(F16_MIN_NORMAL), F16_MIN_NORMAL);
+        assert_eq!(round_f16(min_normal), min_normal);
         // 2^-14 + 2^-25 is a tie (the spacing there is 2^-24): to even, 2^-14.
-        assert_eq!(round_f16(F16_MIN_NORMAL + tiny / 2.0), F16_MIN_NORMAL);
+        assert_eq!(round_f16(min_normal + tiny / 2.0), min_normal);
         assert_eq!(round_f16(0.0), 0.0);
         assert!(round_f16(f32::NAN).is_nan());
         assert_eq!(round_f16(f32::INFINITY), f32::INFINITY);

@@ -1,16 +1,28 @@
-//! Eye pass for hair: strands as lines (LineList), depth-tested against the meshes without writing depth, into
-//! the eye transparency technique's targets (its store function and blend states). One pipeline per method and
-//! technique.
+//! Eye pass for hair: strands as lines (LineList) through the shared eye vertex stage, shaded with the shadow
+//! method's visibility, into what the eye transparency technique's entry point writes (its colour targets, its
+//! storage). Depth-tested against the meshes without writing, or against a technique's own depth target. One
+//! pipeline per method, technique and entry point.
 
 use crate::render::geometry::{GeometryBuffers, HairVertex};
 use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use crate::render::targets::EyeTargets;
-use crate::render::transparency::{EyeTransparency, TransparencyGpu};
+use crate::render::transparency::{EyeTransparency, HairDrawPass};
 
 pub struct HairPass {
     scene_layout: wgpu::BindGroupLayout,
     pipelines: PipelineCache<wgpu::RenderPipeline>,
+}
+
+/// What one hair draw reads besides the technique's [`HairDrawPass`].
+pub struct HairScene<'a> {
+    pub device: &'a wgpu::Device,
+    pub method: &'a dyn LightMethod,
+    pub method_gpu: &'a dyn MethodGpu,
+    pub technique: &'a dyn EyeTransparency,
+    pub scene: &'a wgpu::BindGroup,
+    pub geometry: &'a GeometryBuffers,
+    pub targets: &'a EyeTargets,
 }
 
 impl HairPass {
@@ -21,39 +33,42 @@ impl HairPass {
         }
     }
 
-    fn pipeline(
-        &mut self,
-        device: &wgpu::Device,
-        method: &dyn LightMethod,
-        method_gpu: &dyn MethodGpu,
-        technique: &dyn EyeTransparency,
-    ) -> &wgpu::RenderPipeline {
+    /// Drops `technique`'s pipelines: its GPU state (and group-2 layout) was re-created.
+    pub fn forget_technique(&mut self, technique: &str) {
+        self.pipelines.forget_technique(technique);
+    }
+
+    fn pipeline(&mut self, s: &HairScene, draw: &HairDrawPass) -> &wgpu::RenderPipeline {
         let scene_layout = &self.scene_layout;
         let key = PipelineKey {
             pass: Pass::Hair,
-            method: method.name(),
-            technique: Some(technique.name()),
+            method: s.method.name(),
+            technique: Some((s.technique.name(), draw.entry.entry)),
         };
         self.pipelines.get_or_build(key, |key| {
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            let mut layouts = vec![Some(scene_layout), Some(s.method_gpu.bind_group_layout())];
+            if let Some((layout, _)) = draw.group {
+                layouts.push(Some(layout));
+            }
+            let layout = s.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(&key.label("layout")),
-                bind_group_layouts: &[Some(scene_layout), Some(method_gpu.bind_group_layout())],
+                bind_group_layouts: &layouts,
                 immediate_size: 0,
             });
             let src = crate::shaders::compose_with(
                 "hair.wgsl",
-                Some(method.lookup_wgsl()),
-                Some(technique.info().store_wgsl),
+                Some(s.method.lookup_wgsl()),
+                Some(s.technique.info().hair_wgsl),
             )
             // As `passes::shader_module`: only a shader failing naga validation panics, which
             // `tests/shaders.rs` rules out for every method × technique.
             .unwrap_or_else(|e| panic!("{e}"));
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            let module = s.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&key.label("shader")),
                 source: wgpu::ShaderSource::Wgsl(src.into()),
             });
-            let targets: Vec<_> = technique.info().hair_targets.iter().cloned().map(Some).collect();
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            let targets: Vec<_> = draw.entry.targets.iter().cloned().map(Some).collect();
+            s.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&key.label("pipeline")),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
@@ -68,7 +83,7 @@ impl HairPass {
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: EyeTargets::DEPTH,
-                    depth_write_enabled: Some(false),
+                    depth_write_enabled: Some(draw.entry.depth_write),
                     depth_compare: Some(wgpu::CompareFunction::Less),
                     stencil: Default::default(),
                     bias: Default::default(),
@@ -76,7 +91,7 @@ impl HairPass {
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(draw.entry.entry),
                     compilation_options: Default::default(),
                     targets: &targets,
                 }),
@@ -88,25 +103,24 @@ impl HairPass {
 
     pub fn record(
         &mut self,
-        device: &wgpu::Device,
+        s: &HairScene,
         encoder: &mut wgpu::CommandEncoder,
-        method: &dyn LightMethod,
-        method_gpu: &dyn MethodGpu,
-        technique: &dyn EyeTransparency,
-        technique_gpu: &dyn TransparencyGpu,
-        targets: &EyeTargets,
-        scene: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        draw: HairDrawPass,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let pipeline = self.pipeline(device, method, method_gpu, technique);
+        let pipeline = self.pipeline(s, &draw);
+        let depth_view = draw.depth.map_or(&s.targets.depth_view, |(v, _)| v);
+        let load = match draw.depth {
+            Some((_, Some(clear))) => wgpu::LoadOp::Clear(clear),
+            _ => wgpu::LoadOp::Load,
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.hair.pass"),
-            color_attachments: &technique_gpu.hair_attachments(),
+            color_attachments: draw.attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &targets.depth_view,
+                view: depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
+                    load,
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
@@ -115,14 +129,23 @@ impl HairPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if geometry.hair_index_count == 0 {
+        if s.geometry.hair_index_count == 0 {
             return;
         }
+        if let Some((y0, y1)) = draw.rows {
+            if y1 <= y0 {
+                return;
+            }
+            pass.set_scissor_rect(0, y0, s.targets.width, y1 - y0);
+        }
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, scene, &[]);
-        pass.set_bind_group(1, method_gpu.bind_group(), &[]);
-        pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
-        pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
+        pass.set_bind_group(0, s.scene, &[]);
+        pass.set_bind_group(1, s.method_gpu.bind_group(), &[]);
+        if let Some((_, group)) = draw.group {
+            pass.set_bind_group(2, group, &[]);
+        }
+        pass.set_vertex_buffer(0, s.geometry.hair_vertices.slice(..));
+        pass.set_index_buffer(s.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..s.geometry.hair_index_count, 0, 0..1);
     }
 }

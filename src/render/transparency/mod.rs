@@ -1,37 +1,69 @@
-//! The eye transparency contract: how the hair pass stores its shaded fragments and how they are resolved onto
-//! the opaque colour image. A technique is a constant description ([`TechniqueInfo`]: its store function, its
-//! resolve shader, the hair pass's colour targets) and a GPU state ([`TransparencyGpu`]: its targets, sized to
-//! the viewport, and its resolve pass). The renderer defines the contract and holds one technique's state at a
-//! time; `registry.rs` is the one list of techniques.
+//! The eye transparency contract: how a technique turns the shaded hair fragments of the eye view into the final
+//! image over the opaque meshes. A technique is a constant description ([`TechniqueInfo`]), a CPU model (its
+//! [`Compositor`], the specification in `crate::transparency`) and a GPU state ([`TransparencyGpu`]) that records
+//! the technique's passes into an [`EyeFrame`]: its own geometry passes over the strands (depth ranges, counts,
+//! occupancy), shaded hair passes drawn through [`HairDraw`] and its resolve onto the colour image. The renderer
+//! defines the contract and holds one technique's state at a time; `registry.rs` is the one list of techniques.
 //!
-//! The store function, pasted into `hair.wgsl` at `#include_technique` (as a method's lookup is pasted at
-//! `#include_method`), defines the hair pass's fragment outputs and fills them from one shaded fragment:
+//! A technique's hair file (`TechniqueInfo::hair_wgsl`) is pasted into `hair.wgsl` at `#include_technique` and
+//! defines the hair pass's fragment entry points. Each calls `shade_hair(in)` (hair.wgsl) for the shaded
+//! fragment:
 //!
 //! ```wgsl
-//! struct HairOutput { @location(0) ..., }
-//! // color: shaded linear radiance (not premultiplied); alpha: coverage in [0, 1]; depth: distance from the eye
-//! // in units of the camera-to-target distance (scale-free, 1 at the orbit target).
-//! fn store_hair(color: vec3<f32>, alpha: f32, depth: f32) -> HairOutput
+//! struct ShadedHair {
+//!     color: vec3<f32>,   // shaded linear radiance (not premultiplied)
+//!     alpha: f32,         // coverage in [0, 1]
+//!     depth: f32,         // distance from the eye in units of the camera-to-target distance
+//!     segment: u32,       // the segment id (index of its first point)
+//!     pixel: vec2<u32>,
+//! }
 //! ```
+//!
+//! The technique's own geometry passes use `common/eye_vertex.wgsl`, the vertex stage the hair pass shares, so
+//! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
 pub mod registry;
 pub mod wboit;
 
-/// A technique's constants: the registry, the pipelines and the tests read them.
+use crate::gpu::timing::GpuTimer;
+use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::GeometryBuffers;
+use crate::render::method::{ParamSpec, ParamValues, Role};
+use crate::render::passes::hair::{HairPass, HairScene};
+use crate::render::targets::EyeTargets;
+use crate::transparency::{Compositor, ModelContext};
+
+/// A technique's constants: the registry, the panel, the pipelines and the tests read them.
 #[derive(Debug)]
 pub struct TechniqueInfo {
-    /// Stable identifier used in `render.transparency` (kebab-case).
+    /// Stable identifier used in `transparency.name` (kebab-case).
     pub name: &'static str,
     /// Human-readable name for the UI.
     pub label: &'static str,
     /// The paper the technique follows.
     pub paper: &'static str,
-    /// The WGSL file under `shaders/` defining `struct HairOutput` and `fn store_hair` (see the module docs).
-    pub store_wgsl: &'static str,
-    /// The WGSL pass under `shaders/` of the resolve onto the colour image.
-    pub resolve_wgsl: &'static str,
-    /// Colour target states (formats, blending, write masks) of the hair pass, in `HairOutput`'s location order.
-    pub hair_targets: &'static [wgpu::ColorTargetState],
+    pub role: Role,
+    /// The WGSL file under `shaders/` pasted into `hair.wgsl` at `#include_technique`: its hair fragment entries.
+    pub hair_wgsl: &'static str,
+    /// The technique's hair fragment entry points and the colour targets of each (in location order).
+    pub hair_entries: &'static [HairEntry],
+    /// The WGSL passes under `shaders/` of its own passes (geometry passes over the strands, the resolve).
+    pub pass_wgsl: &'static [&'static str],
+    pub params: &'static [ParamSpec],
+    /// Colour in the charts (sRGB).
+    pub color: [u8; 3],
+    /// Largest per-channel |C_gpu - C_cpu| (linear) the GPU = CPU test allows, stated per technique.
+    pub gpu_tolerance: f32,
+}
+
+/// One fragment entry point of the hair pass and what it writes.
+#[derive(Debug)]
+pub struct HairEntry {
+    pub entry: &'static str,
+    pub targets: &'static [wgpu::ColorTargetState],
+    /// Depth state: test `Less` against the meshes without writing (the shared hair state), or a technique's
+    /// own depth target written with `Less`.
+    pub depth_write: bool,
 }
 
 /// What the renderer asks of an eye transparency technique.
@@ -40,23 +72,137 @@ pub trait EyeTransparency: Sync {
     fn name(&self) -> &'static str {
         self.info().name
     }
-    /// Creates the technique's targets for a `width`×`height` viewport and its resolve pass.
-    fn create_gpu(&self, device: &wgpu::Device, width: u32, height: u32) -> Box<dyn TransparencyGpu>;
+    /// Creates the technique's GPU state for a `width`×`height` viewport.
+    fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError>;
+    /// The CPU model with `values` (missing keys take their defaults).
+    fn model(&self, values: &ParamValues, ctx: &ModelContext) -> Box<dyn Compositor>;
 }
 
-/// A technique's GPU side: its eye targets and its resolve.
-pub trait TransparencyGpu: Send {
-    /// Re-creates the targets for a `width`×`height` viewport (nothing when the size is unchanged).
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32);
-    /// The hair pass's colour attachments, cleared for a new frame, in [`TechniqueInfo::hair_targets`] order.
-    fn hair_attachments(&self) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>>;
-    /// Records the resolve of the hair pass's targets onto `color` (the opaque image of the mesh pass).
-    fn resolve(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        color: &wgpu::TextureView,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
-    );
-    /// GPU memory held by the targets, in bytes.
-    fn memory_bytes(&self) -> u64;
+/// What a technique's GPU state is created from.
+pub struct EyeSetup<'a> {
+    pub gpu: &'a Gpu,
+    /// Group 0 of the technique's own geometry passes (the frame uniforms).
+    pub frame_layout: &'a wgpu::BindGroupLayout,
+    pub width: u32,
+    pub height: u32,
 }
+
+/// A technique's GPU side.
+pub trait TransparencyGpu: Send {
+    /// Re-creates the viewport-sized resources for `width`×`height` (nothing when the size is unchanged).
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError>;
+    /// Records the technique's passes of one frame: after the meshes, before the frame is submitted.
+    fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError>;
+    /// GPU memory held, in bytes (viewport-sized targets and per-fragment buffers).
+    fn memory_bytes(&self) -> u64;
+    /// Geometry passes over the strands in the last frame recorded.
+    fn geometry_passes(&self) -> u32;
+}
+
+/// One frame of the eye view as a technique records it.
+pub struct EyeFrame<'a> {
+    pub gpu: &'a Gpu,
+    /// The frame's encoder (light passes and meshes already recorded); [`EyeFrame::flush`] submits it.
+    pub encoder: wgpu::CommandEncoder,
+    pub timer: &'a mut Option<GpuTimer>,
+    /// Group 0 of the technique's geometry passes.
+    pub frame_bind_group: &'a wgpu::BindGroup,
+    pub geometry: &'a GeometryBuffers,
+    /// The colour image (the opaque meshes, to resolve onto) and the meshes' depth.
+    pub targets: &'a EyeTargets,
+    pub values: &'a ParamValues,
+    pub model: ModelContext,
+    pub hair: HairDraw<'a>,
+}
+
+impl EyeFrame<'_> {
+    /// Timestamp writes for the next render pass, named `name`.
+    pub fn timestamps(&mut self, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        self.timer.as_mut().and_then(|t| t.pass(name))
+    }
+
+    /// Submits what is recorded so far and starts a new encoder: for a technique that reads back a count
+    /// before sizing its buffers. The frame's timestamps are resolved with the last encoder.
+    pub fn flush(&mut self) {
+        let next = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hairlab.frame.encoder"),
+            });
+        let done = std::mem::replace(&mut self.encoder, next);
+        self.gpu.queue.submit([done.finish()]);
+    }
+
+    /// Records a shaded hair draw of entry `entry` (one of the technique's [`HairEntry`]s).
+    pub fn draw_hair(&mut self, draw: HairDrawPass<'_>, timestamp: &str) {
+        let timestamps = self.timer.as_mut().and_then(|t| t.pass(timestamp));
+        self.hair.record(&mut self.encoder, draw, timestamps);
+    }
+}
+
+/// A shaded hair pass as a technique asks for it.
+pub struct HairDrawPass<'a> {
+    pub entry: &'static HairEntry,
+    pub attachments: &'a [Option<wgpu::RenderPassColorAttachment<'a>>],
+    /// The technique's own depth target (entries with `depth_write`), cleared to `clear` or loaded; `None`: the
+    /// meshes' depth, tested only.
+    pub depth: Option<(&'a wgpu::TextureView, Option<f32>)>,
+    /// Group 2 of the hair pass: the technique's own resources.
+    pub group: Option<(&'a wgpu::BindGroupLayout, &'a wgpu::BindGroup)>,
+    /// Rows `[y0, y1)` only (a scissor rect), for techniques that render in bands.
+    pub rows: Option<(u32, u32)>,
+}
+
+/// What the renderer lends a technique to draw shaded hair: the shadow method, the scene and the hair pass.
+pub struct HairDraw<'a> {
+    pub(crate) pass: &'a mut HairPass,
+    pub(crate) scene: HairScene<'a>,
+}
+
+impl HairDraw<'_> {
+    fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        draw: HairDrawPass<'_>,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        self.pass.record(&self.scene, encoder, draw, timestamps)
+    }
+}
+
+/// A colour attachment cleared to `clear` and stored.
+pub fn cleared(view: &wgpu::TextureView, clear: [f64; 4]) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color {
+                r: clear[0],
+                g: clear[1],
+                b: clear[2],
+                a: clear[3],
+            }),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+/// Blend of the additive float targets (One/One on colour and alpha).
+pub const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// Blend of a resolve that outputs `(H, 1 - T)`, premultiplied hair colour `H` and transmittance `T`:
+/// `C = H + T · B` over the opaque image `B`.
+pub const PREMULTIPLIED_OVER: wgpu::BlendState = wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING;

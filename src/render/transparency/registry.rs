@@ -1,14 +1,20 @@
-//! The one list of eye transparency techniques: settings validation, the renderer, the pipelines and the shader
-//! tests go through it, so adding a technique is its own files plus one line here.
+//! The one list of eye transparency techniques: settings validation, the renderer, the pipelines, the CLI and the
+//! shader tests go through it, so adding a technique is its own files plus one line here.
 
 use super::EyeTransparency;
 use super::wboit::Wboit;
+use crate::render::method::ParamSpec;
 
 static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {
     TECHNIQUES
+}
+
+/// The technique of new settings (it keeps every existing preset's image).
+pub fn default_technique() -> &'static dyn EyeTransparency {
+    &Wboit
 }
 
 /// The technique called `name`, or an error listing the known names.
@@ -26,20 +32,38 @@ pub fn find(name: &str) -> Result<&'static dyn EyeTransparency, String> {
         })
 }
 
+/// The parameter `key` of `technique`, or an error listing its parameters.
+pub fn spec(technique: &dyn EyeTransparency, key: &str) -> Result<&'static ParamSpec, String> {
+    let params = technique.info().params;
+    params.iter().find(|p| p.key == key).ok_or_else(|| {
+        let known: Vec<_> = params.iter().map(|p| p.key).collect();
+        format!(
+            "technique '{}' has no parameter '{key}' (it has: {})",
+            technique.name(),
+            if known.is_empty() {
+                "no parameters".to_string()
+            } else {
+                known.join(", ")
+            }
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn an_unknown_name_is_an_error_listing_the_known_names() {
+        let known: Vec<_> = all().iter().map(|t| t.name()).collect();
         assert_eq!(
-            find("sorted").err().as_deref(),
-            Some("unknown eye transparency technique 'sorted' (known: wboit)")
+            find("no-such-technique").err(),
+            Some(format!(
+                "unknown eye transparency technique 'no-such-technique' (known: {})",
+                known.join(", ")
+            ))
         );
-        assert_eq!(
-            find("").err().as_deref(),
-            Some("unknown eye transparency technique '' (known: wboit)")
-        );
+        assert!(find("").is_err());
     }
 
     #[test]
@@ -53,15 +77,15 @@ mod tests {
             );
             assert!(!names.contains(&name), "{name}: registered twice");
             assert_eq!(find(name).map(|f| f.name()), Ok(name));
+            for p in t.info().params {
+                assert!(
+                    p.check(p.default).is_ok(),
+                    "{name}.{}: default out of range",
+                    p.key
+                );
+                assert_eq!(spec(*t, p.key).map(|s| s.key), Ok(p.key));
+            }
             names.push(name);
         }
-        assert_eq!(names, ["wboit"]);
-    }
-
-    #[test]
-    fn the_default_setting_is_registered() {
-        let default = crate::render::RenderSettings::default().transparency;
-        assert_eq!(default, "wboit");
-        assert!(find(&default).is_ok());
     }
 }

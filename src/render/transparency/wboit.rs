@@ -2,20 +2,20 @@
 //! an accumulation of weighted premultiplied colour (Rgba16Float, One/One) and the revealage, the product of
 //! `1 - alpha` (R16Float, Zero/OneMinusSrc), resolved as their weighted average colour over the opaque image with
 //! coverage `1 - revealage`. Order-independent and one pass, at the price of an approximate colour where
-//! fragments of different colours overlap (the depth weight favours the nearer ones).
+//! fragments of different colours overlap (the depth weight favours the nearer ones). 10 B per pixel.
 
-use super::{EyeTransparency, TechniqueInfo, TransparencyGpu};
-use crate::render::passes::composite::CompositePass;
+use super::{
+    ADDITIVE, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, TechniqueInfo, TransparencyGpu,
+    cleared,
+};
+use crate::gpu::{Gpu, GpuError};
+use crate::render::method::{ParamValues, Role};
+use crate::render::passes::composite::{CompositePass, texture_layout};
 use crate::render::targets::eye_texture;
+use crate::transparency::{Compositor, ModelContext};
 
 pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
-
-const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
-    src_factor: wgpu::BlendFactor::One,
-    dst_factor: wgpu::BlendFactor::One,
-    operation: wgpu::BlendOperation::Add,
-};
 
 const REVEAL: wgpu::BlendComponent = wgpu::BlendComponent {
     src_factor: wgpu::BlendFactor::Zero,
@@ -23,19 +23,12 @@ const REVEAL: wgpu::BlendComponent = wgpu::BlendComponent {
     operation: wgpu::BlendOperation::Add,
 };
 
-static INFO: TechniqueInfo = TechniqueInfo {
-    name: "wboit",
-    label: "Weighted blended OIT",
-    paper: "McGuire & Bavoil 2013, Weighted Blended Order-Independent Transparency",
-    store_wgsl: "transparency/wboit.wgsl",
-    resolve_wgsl: "transparency/wboit_resolve.wgsl",
-    hair_targets: &[
+static HAIR: HairEntry = HairEntry {
+    entry: "fs_main",
+    targets: &[
         wgpu::ColorTargetState {
             format: ACCUM,
-            blend: Some(wgpu::BlendState {
-                color: ADDITIVE,
-                alpha: ADDITIVE,
-            }),
+            blend: Some(ADDITIVE),
             write_mask: wgpu::ColorWrites::ALL,
         },
         wgpu::ColorTargetState {
@@ -47,6 +40,21 @@ static INFO: TechniqueInfo = TechniqueInfo {
             write_mask: wgpu::ColorWrites::RED,
         },
     ],
+    depth_write: false,
+};
+
+static INFO: TechniqueInfo = TechniqueInfo {
+    name: "wboit",
+    label: "Weighted blended OIT",
+    paper: "McGuire & Bavoil 2013, Weighted Blended Order-Independent Transparency",
+    role: Role::Approximation,
+    hair_wgsl: "transparency/wboit.wgsl",
+    hair_entries: std::slice::from_ref(&HAIR),
+    pass_wgsl: &["transparency/wboit_resolve.wgsl"],
+    params: &[],
+    color: [230, 159, 0],
+    // f16 targets rounded after every blend: the model rounds the same way in the same (submission) order.
+    gpu_tolerance: 2e-3,
 };
 
 pub struct Wboit;
@@ -56,34 +64,26 @@ impl EyeTransparency for Wboit {
         &INFO
     }
 
-    fn create_gpu(&self, device: &wgpu::Device, width: u32, height: u32) -> Box<dyn TransparencyGpu> {
-        let tex = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.wboit.resolve_bind_group_layout"),
-            entries: &[tex(0), tex(1)],
-        });
+    fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
+        let device = &setup.gpu.device;
+        let layout = texture_layout(device, "hairlab.wboit.resolve_bind_group_layout", 2);
         let resolve = CompositePass::new(
             device,
             "hairlab.wboit.resolve",
-            INFO.resolve_wgsl,
+            INFO.pass_wgsl[0],
             &layout,
             wgpu::BlendState::ALPHA_BLENDING,
         );
-        let targets = WboitTargets::new(device, &layout, width, height);
-        Box::new(WboitGpu {
+        let targets = WboitTargets::new(device, &layout, setup.width, setup.height);
+        Ok(Box::new(WboitGpu {
             layout,
             resolve,
             targets,
-        })
+        }))
+    }
+
+    fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
+        Box::new(crate::transparency::WboitParams::default())
     }
 }
 
@@ -111,20 +111,12 @@ impl WboitTargets {
         };
         let accum = view("hairlab.wboit.accum", ACCUM);
         let revealage = view("hairlab.wboit.revealage", REVEALAGE);
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.wboit.resolve_bind_group"),
+        let bind_group = crate::render::passes::composite::texture_bind_group(
+            device,
+            "hairlab.wboit.resolve_bind_group",
             layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&accum),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&revealage),
-                },
-            ],
-        });
+            &[&accum, &revealage],
+        );
         WboitTargets {
             accum,
             revealage,
@@ -142,53 +134,50 @@ struct WboitGpu {
 }
 
 impl TransparencyGpu for WboitGpu {
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
         if (self.targets.width, self.targets.height) != (width, height) {
-            self.targets = WboitTargets::new(device, &self.layout, width, height);
+            self.targets = WboitTargets::new(&gpu.device, &self.layout, width, height);
         }
+        Ok(())
     }
 
-    fn hair_attachments(&self) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
-        let clear = |view, r: f64| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r,
-                        g: 0.0,
-                        b: 0.0,
-                        a: 0.0,
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
+    fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         // Nothing accumulated, everything revealed.
-        vec![
-            clear(&self.targets.accum, 0.0),
-            clear(&self.targets.revealage, 1.0),
-        ]
-    }
-
-    fn resolve(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        color: &wgpu::TextureView,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
-    ) {
-        self.resolve
-            .record(encoder, color, &self.targets.bind_group, timestamps);
+        let attachments = [
+            cleared(&self.targets.accum, [0.0; 4]),
+            cleared(&self.targets.revealage, [1.0, 0.0, 0.0, 0.0]),
+        ];
+        frame.draw_hair(
+            HairDrawPass {
+                entry: &HAIR,
+                attachments: &attachments,
+                depth: None,
+                group: None,
+                rows: None,
+            },
+            "eye: hair",
+        );
+        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("composite"));
+        self.resolve.record(
+            &mut frame.encoder,
+            &frame.targets.color_view,
+            &self.targets.bind_group,
+            timestamps,
+        );
+        Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
-        let texel: u64 = INFO
-            .hair_targets
+        let texel: u64 = HAIR
+            .targets
             .iter()
             .filter_map(|t| t.format.block_copy_size(None))
             .map(u64::from)
             .sum();
         self.targets.width as u64 * self.targets.height as u64 * texel
+    }
+
+    fn geometry_passes(&self) -> u32 {
+        1
     }
 }

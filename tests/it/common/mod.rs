@@ -153,6 +153,8 @@ pub fn light_frame<'a>(
         render: &s.render,
         method,
         method_params: values,
+        technique: s.transparency.technique().unwrap(),
+        technique_params: &s.transparency.params,
         width: 8,
         height: 8,
     }

@@ -476,22 +476,5 @@ fn mean_change(frames: &[Vec<f32>]) -> f64 {
     }
 }
 
-/// RMSE over RGB in [0,1] and PSNR in dB (infinite for identical images).
-pub fn image_error(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, f64) {
-    let n = (a.width() * a.height() * 3) as f64;
-    let se: f64 = a
-        .pixels()
-        .zip(b.pixels())
-        .flat_map(|(p, q)| (0..3).map(move |i| (p.0[i] as f64 - q.0[i] as f64) / 255.0))
-        .map(|d| d * d)
-        .sum();
-    let rmse = (se / n).sqrt();
-    (
-        rmse,
-        if rmse > 0.0 {
-            -20.0 * rmse.log10()
-        } else {
-            f64::INFINITY
-        },
-    )
-}
+/// The image error, defined once with the other image metrics.
+pub use crate::transparency::metrics::image_error;

@@ -60,7 +60,7 @@ impl EyeTransparency for Sorted {
     }
 
     fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
-        Box::new(crate::transparency::exact::Exact)
+        Box::new(crate::transparency::exact::ExactParams)
     }
 }
 

@@ -84,7 +84,7 @@ impl EyeTransparency for Wboit {
     }
 
     fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
-        Box::new(crate::transparency::wboit::Wboit { half_precision: true })
+        Box::new(crate::transparency::WboitParams::default())
     }
 }
 

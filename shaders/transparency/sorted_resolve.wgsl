@@ -1,12 +1,12 @@
-// Exact eye transparency, pass 3: each pixel's list gathered (at most OIT_MAX nodes, substituted when the
-// pipeline is built from the frame's deepest pixel), merge-sorted on (depth bits, segment) — ties kept in a total
-// order — and composited front to back: H = Σ T_j a_j c_j, T = Π (1 - a_j); output (H, 1 - T), blended
-// premultiplied over the opaque image (C = H + T·B).
+// Exact eye transparency, pass 3: each pixel's list gathered into private arrays, merge-sorted on (depth bits,
+// segment) — ties kept in a total order — and composited front to back: H = Σ T_j a_j c_j, T = Π (1 - a_j); output
+// (H, 1 - T), blended premultiplied over the opaque image (C = H + T·B). The sort between `template begin` and
+// `template end` is written for 64 nodes; the pipeline instantiates it for each size up to the frame's deepest
+// pixel (src/render/transparency/sorted.rs replaces `_64` and `64u`) and the `dispatch` line picks the smallest
+// that holds the pixel's list, so a pixel pays for the arrays its own depth needs.
 #include "common/frame.wgsl"
 #include "common/fullscreen.wgsl"
 #include "common/eye_node.wgsl"
-
-const OIT_MAX: u32 = 64u;
 
 @group(1) @binding(0) var<storage, read> heads: array<u32>;
 @group(1) @binding(1) var<storage, read> nodes: array<EyeNode>;
@@ -21,8 +21,9 @@ fn before(a: Key, b: Key) -> bool {
     return a.depth < b.depth || (a.depth == b.depth && a.segment < b.segment);
 }
 
+// template begin
 // One bottom-up merge pass of runs of `width` from `src` into `dst`.
-fn merge_pass(src: ptr<function, array<Key, OIT_MAX>>, dst: ptr<function, array<Key, OIT_MAX>>, n: u32, width: u32) {
+fn merge_pass_64(src: ptr<function, array<Key, 64u>>, dst: ptr<function, array<Key, 64u>>, n: u32, width: u32) {
     var start = 0u;
     loop {
         if start >= n {
@@ -50,29 +51,15 @@ fn merge_pass(src: ptr<function, array<Key, OIT_MAX>>, dst: ptr<function, array<
     }
 }
 
-@vertex
-fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    return fullscreen_position(i);
-}
-
-@fragment
-fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = u32(pos.y) * u32(frame.viewport_size.x) + u32(pos.x);
-    var a: array<Key, OIT_MAX>;
-    var b: array<Key, OIT_MAX>;
-    var n = 0u;
-    var i = heads[p];
-    loop {
-        if i == 0u || n >= OIT_MAX {
-            break;
-        }
+// The composite of the `n` nodes of the list starting at `head`, sorted.
+fn resolve_64(head: u32, n: u32) -> vec4<f32> {
+    var a: array<Key, 64u>;
+    var b: array<Key, 64u>;
+    var i = head;
+    for (var k = 0u; k < n; k += 1u) {
         let node = nodes[i - 1u];
-        a[n] = Key(bitcast<u32>(node.depth), node.segment, i - 1u);
-        n += 1u;
+        a[k] = Key(bitcast<u32>(node.depth), node.segment, i - 1u);
         i = node.next;
-    }
-    if n == 0u {
-        discard;
     }
     var width = 1u;
     var in_a = true;
@@ -81,9 +68,9 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             break;
         }
         if in_a {
-            merge_pass(&a, &b, n, width);
+            merge_pass_64(&a, &b, n, width);
         } else {
-            merge_pass(&b, &a, n, width);
+            merge_pass_64(&b, &a, n, width);
         }
         in_a = !in_a;
         width *= 2u;
@@ -102,4 +89,29 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         t *= 1.0 - node.alpha;
     }
     return vec4<f32>(h, 1.0 - t);
+}
+// template end
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(i);
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = u32(pos.y) * u32(frame.viewport_size.x) + u32(pos.x);
+    let head = heads[p];
+    var n = 0u;
+    var i = head;
+    loop {
+        if i == 0u {
+            break;
+        }
+        n += 1u;
+        i = nodes[i - 1u].next;
+    }
+    if n == 0u {
+        discard;
+    }
+    return resolve_64(head, min(n, 64u)); // dispatch
 }

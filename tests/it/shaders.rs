@@ -148,6 +148,18 @@ fn fragment_outputs(module: &naga::Module, entry: &str) -> Vec<(u32, u64)> {
 /// A registered technique is complete: its store function and resolve are embedded, the hair pass's fragment
 /// outputs (`HairOutput`) are the technique's colour targets location by location, each with at least the
 /// target format's components, and its label and paper are written.
+/// The exact reference's resolve validates with its sort instantiated for every size.
+#[test]
+fn the_sorted_resolve_validates_at_every_sort_size() {
+    use hairlab::render::transparency::sorted::{SORT_SIZES, resolve_source};
+    for max in SORT_SIZES {
+        validate(
+            &format!("sorted resolve up to {max}"),
+            &resolve_source(max).unwrap(),
+        );
+    }
+}
+
 #[test]
 fn every_registered_technique_is_complete() {
     let embedded = |p: &str| SOURCES.iter().any(|(s, _)| *s == p);

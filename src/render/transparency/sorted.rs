@@ -2,8 +2,8 @@
 //! linked lists of Yang et al. 2010), sorted on (depth, segment) so that depth ties keep a total order, and
 //! composited back to front onto the opaque image. Three passes: a count pass (the fragments per pixel, read
 //! back so the node buffer holds exactly the frame's fragments), the shaded fill pass, and the resolve, which
-//! gathers at most `OIT_MAX` nodes into private arrays (the smallest of [`SORT_SIZES`] that holds the deepest
-//! pixel, substituted into the WGSL) and merge-sorts them. When the nodes exceed the storage binding limit the
+//! gathers each pixel's nodes into private arrays of the smallest of [`SORT_SIZES`] that holds its list (the sort
+//! instantiated for every size up to the frame's deepest pixel, [`resolve_source`]) and merge-sorts them. When the nodes exceed the storage binding limit the
 //! frame is filled and resolved in horizontal bands of rows; a single row over the limit is an error naming the
 //! viewport. Memory: 4 B/px heads + 4 B/px counts + 32 B per fragment of the largest band.
 
@@ -62,6 +62,50 @@ impl EyeTransparency for Sorted {
     fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
         Box::new(crate::transparency::exact::ExactParams)
     }
+}
+
+/// The resolve's WGSL with its sort instantiated for each of [`SORT_SIZES`] up to `max`, each pixel dispatched
+/// to the smallest that holds its list.
+pub fn resolve_source(max: u32) -> Result<String, String> {
+    let src = crate::shaders::compose(INFO.pass_wgsl[1], None)?;
+    let part = |a: &str, b: &str| -> Result<(usize, usize), String> {
+        let start = src
+            .find(a)
+            .ok_or_else(|| format!("{}: no '{a}'", INFO.pass_wgsl[1]))?;
+        let end = src[start..]
+            .find(b)
+            .ok_or_else(|| format!("{}: no '{b}'", INFO.pass_wgsl[1]))?
+            + start;
+        Ok((start, end))
+    };
+    let (t0, t1) = part("// template begin", "// template end")?;
+    let template = &src[t0 + "// template begin".len()..t1];
+    let sizes: Vec<u32> = SORT_SIZES
+        .iter()
+        .copied()
+        .filter(|&s| s <= max.max(SORT_SIZES[0]))
+        .collect();
+    let sorts: String = sizes
+        .iter()
+        .map(|s| {
+            template
+                .replace("_64", &format!("_{s}"))
+                .replace("64u", &format!("{s}u"))
+        })
+        .collect();
+    let (d0, d1) = part("return resolve_64(", "// dispatch")?;
+    let largest = sizes[sizes.len() - 1];
+    let mut dispatch: String = sizes[..sizes.len() - 1]
+        .iter()
+        .map(|s| format!("if n <= {s}u {{ return resolve_{s}(head, n); }}\n    "))
+        .collect();
+    dispatch.push_str(&format!("return resolve_{largest}(head, min(n, {largest}u));"));
+    Ok(format!(
+        "{}{sorts}{}{dispatch}{}",
+        &src[..t0],
+        &src[t1 + "// template end".len()..d0],
+        &src[d1 + "// dispatch".len()..]
+    ))
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
@@ -549,6 +593,21 @@ impl TransparencyGpu for SortedGpu {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_resolve_instantiates_one_sort_per_size_up_to_the_deepest_pixel() {
+        let src = resolve_source(256).unwrap();
+        for s in [16, 64, 128, 256] {
+            assert!(src.contains(&format!("fn resolve_{s}(")), "{s}");
+            assert!(src.contains(&format!("array<Key, {s}u>")), "{s}");
+        }
+        assert!(!src.contains("fn resolve_512("));
+        assert!(src.contains("if n <= 128u { return resolve_128(head, n); }"));
+        assert!(src.contains("return resolve_256(head, min(n, 256u));"));
+        assert!(!src.contains("template begin"));
+        let small = resolve_source(1).unwrap();
+        assert!(small.contains("return resolve_16(head, min(n, 16u));") && !small.contains("fn resolve_64("));
+    }
 
     #[test]
     fn bands_fill_rows_greedily_and_refuse_a_row_over_capacity() {

@@ -89,6 +89,18 @@ pub struct MeasureArgs {
     /// Timed frames per configuration (after one warm-up frame).
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
+    /// Measure the eye transparency techniques against the exact reference (`sorted`) instead of the shadow
+    /// methods: image metrics over all and hair pixels, GPU ms, memory, geometry passes.
+    #[arg(long)]
+    pub transparency: bool,
+    /// Technique configurations `name` or `name:key=value,...` for `--transparency` (repeatable); default: every
+    /// registered technique.
+    #[arg(
+        long = "technique",
+        value_name = "TECHNIQUE[:K=V,...]",
+        requires = "transparency"
+    )]
+    pub techniques: Vec<String>,
 }
 
 #[derive(Args, Debug)]
@@ -694,9 +706,93 @@ fn soak(a: &SoakArgs) -> Result<()> {
     Ok(())
 }
 
+fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Result<()> {
+    use crate::measure::transparency::{TechniqueConfig, all_configs, measure};
+    let configs = if a.techniques.is_empty() {
+        all_configs()
+    } else {
+        a.techniques
+            .iter()
+            .map(|t| TechniqueConfig::parse(t))
+            .collect::<Result<_>>()?
+    };
+    let (stats, rows) = measure(settings, &configs, a.frames, |what| {
+        eprintln!("measuring {what}…")
+    })?;
+    println!(
+        "preset {}: {} strands, {} segments; view {}x{} (shadows: {}): {} hair pixels, {} fragments, eye depth \
+         complexity max {} mean {:.1}",
+        a.preset,
+        stats.strands,
+        stats.segments,
+        stats.width,
+        stats.height,
+        settings.method.name,
+        stats.hair_pixels,
+        stats.fragments,
+        stats.max_depth_complexity,
+        stats.mean_depth_complexity
+    );
+    let width = rows
+        .iter()
+        .map(|m| m.config.label().chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(9);
+    println!(
+        "{:<width$} {:>9} {:>7} {:>9} {:>7} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>6} {:>9} {:>8} {:>5}  passes",
+        "technique",
+        "hair RMSE",
+        "PSNR",
+        "all RMSE",
+        "SSIM",
+        "max",
+        "p99",
+        ">1",
+        ">4",
+        ">8",
+        "κ",
+        "lum",
+        "GPU ms",
+        "MiB",
+        "geom"
+    );
+    for m in &rows {
+        let e = &m.metrics;
+        let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
+        println!(
+            "{:<width$} {:>9.5} {:>7.2} {:>9.5} {:>7.4} {:>6.0} {:>6.0} {:>4.1}% {:>5.1}% {:>5.1}% {:>6.3} {:>6.3} {:>9.3} \
+             {:>8.2} {:>5}  {}",
+            m.config.label(),
+            e.rmse_hair,
+            e.psnr_hair,
+            e.rmse,
+            e.ssim_hair,
+            e.max_error,
+            e.p99,
+            100.0 * e.share_over[0],
+            100.0 * e.share_over[1],
+            100.0 * e.share_over[2],
+            e.contrast_retention,
+            e.mean_luminance_ratio,
+            m.total_ms(),
+            m.memory_bytes as f64 / (1024.0 * 1024.0),
+            m.geometry_passes,
+            passes.join(", ")
+        );
+    }
+    Ok(())
+}
+
 fn measure(a: &MeasureArgs) -> Result<()> {
     use crate::measure::{MethodConfig, usual_configs};
     let settings = Settings::load_preset(&a.preset, &a.set)?;
+    if a.transparency {
+        if !a.configs.is_empty() {
+            anyhow::bail!("--config names shadow methods; with --transparency use --technique");
+        }
+        return measure_transparency(a, &settings);
+    }
     let mut configs = Vec::new();
     for c in &a.configs {
         // `name:...,key=auto`: the method's analysis chooses `key` on this scene (e.g. Bounding Opacity Maps'

@@ -4,6 +4,8 @@
 //! pass (median over frames) and memory. The method side is read through its GPU lookup (the evaluation
 //! pass), so what is measured is what the GPU computes.
 
+pub mod transparency;
+
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::{self, ParamValues, registry};
 use crate::render::{FrameInput, Renderer};
@@ -157,7 +159,9 @@ pub fn measure_on(
     }
     let res = s.render.map_resolution;
     let mut r = Renderer::new(gpu, &scene, res)?;
-    let technique = s.transparency.technique()?;
+    // Every image is composited exactly, so the image error is the shadows' alone: against exact shadows and
+    // exact transparency.
+    let technique = crate::render::transparency::registry::reference();
     let input = |method: &'static dyn methods::ShadowMethod, params| FrameInput {
         camera: &s.camera,
         light: &s.light,

@@ -46,6 +46,8 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/eye_vertex.wgsl",
     "transparency/wboit.wgsl",
     "transparency/wboit_resolve.wgsl",
+    "transparency/weighted_average.wgsl",
+    "transparency/weighted_average_resolve.wgsl",
     "light_depth.wgsl",
     "shadow_map.wgsl",
     "abuffer.wgsl",

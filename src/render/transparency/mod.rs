@@ -24,6 +24,7 @@
 
 pub mod registry;
 pub mod wboit;
+pub mod weighted_average;
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};

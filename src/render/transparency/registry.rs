@@ -3,9 +3,10 @@
 
 use super::EyeTransparency;
 use super::wboit::Wboit;
+use super::weighted_average::WeightedAverage;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit, &WeightedAverage];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {

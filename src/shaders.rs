@@ -48,6 +48,8 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "transparency/wboit_resolve.wgsl",
     "transparency/weighted_average.wgsl",
     "transparency/weighted_average_resolve.wgsl",
+    "transparency/opaque.wgsl",
+    "transparency/opaque_resolve.wgsl",
     "light_depth.wgsl",
     "shadow_map.wgsl",
     "abuffer.wgsl",

@@ -22,6 +22,7 @@
 //! The technique's own geometry passes use `common/eye_vertex.wgsl`, the vertex stage the hair pass shares, so
 //! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
+pub mod opaque;
 pub mod registry;
 pub mod wboit;
 pub mod weighted_average;

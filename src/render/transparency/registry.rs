@@ -2,11 +2,12 @@
 //! shader tests go through it, so adding a technique is its own files plus one line here.
 
 use super::EyeTransparency;
+use super::opaque::Opaque;
 use super::wboit::Wboit;
 use super::weighted_average::WeightedAverage;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit, &WeightedAverage];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit, &WeightedAverage, &Opaque];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {

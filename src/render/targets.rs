@@ -7,7 +7,8 @@ pub struct EyeTargets {
     pub color_view: wgpu::TextureView,
     /// The colour image viewed as plain `Rgba8Unorm`: egui blends in gamma space and wants the sRGB-encoded bytes.
     pub display_view: wgpu::TextureView,
-    /// Depth of the opaque meshes (hair does not write depth); copyable for visibility tests of hair points.
+    /// Depth of the opaque meshes (hair does not write depth); copyable for visibility tests of hair points and
+    /// the techniques' own depth targets, and readable by their shaders.
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
     pub width: u32,
@@ -31,7 +32,7 @@ impl EyeTargets {
         let depth = make(
             "hairlab.eye.depth",
             Self::DEPTH,
-            wgpu::TextureUsages::COPY_SRC,
+            wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
             &[],
         );
         EyeTargets {

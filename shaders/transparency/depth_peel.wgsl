@@ -3,6 +3,7 @@
 // frag_depth = depth / S, S a power of two above the frame's far eye depth (the division is exact, so the test
 // orders exactly as the stored depth does). The meshes are tested by hand (their depth is not in the technique's
 // target). Outputs the layer's (c, a) and its depth; transparency/depth_peel_under.wgsl blends the layer.
+#include "common/mesh_depth.wgsl"
 
 // Depth of the opaque meshes (the clip z the shared hair state tests `Less`).
 @group(2) @binding(0) var peel_mesh_depth: texture_depth_2d;
@@ -19,10 +20,10 @@ struct PeelOutput {
 
 @fragment
 fn fs_peel(in: VertexOut) -> PeelOutput {
-    let p = vec2<i32>(in.clip.xy);
-    if in.clip.z >= textureLoad(peel_mesh_depth, p, 0) {
+    if hidden_by_mesh(peel_mesh_depth, in.clip) {
         discard;
     }
+    let p = vec2<i32>(in.clip.xy);
     let depth = eye_depth(in.world);
     if depth <= textureLoad(peel_previous, p, 0).r {
         discard;

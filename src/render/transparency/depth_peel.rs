@@ -18,8 +18,8 @@
 //! + 16 (accumulation) = 48 B per pixel.
 
 use super::{
-    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER, TechniqueInfo,
-    TransparencyGpu, cleared,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::geometry::HairVertex;
@@ -58,7 +58,7 @@ static HAIR: HairEntry = HairEntry {
             write_mask: wgpu::ColorWrites::RED,
         },
     ],
-    depth_write: true,
+    depth: EntryDepth::Own,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {
@@ -75,7 +75,9 @@ static INFO: TechniqueInfo = TechniqueInfo {
     ],
     params: &[MAX_LAYERS],
     color: [0, 114, 178],
-    gpu_tolerance: 1e-4,
+    // f32 under blends front to back; measured 6.0e-8 on lavapipe (tests/it/transparency_gpu.rs, 160×120,
+    // deepest 50).
+    gpu_tolerance: 1e-5,
 };
 
 /// The "under" blend of a layer onto the accumulation `(C, T)`: `C += T (a c)`, `T *= 1 − a`.
@@ -94,7 +96,7 @@ const UNDER: wgpu::BlendState = wgpu::BlendState {
 
 /// The smallest power of two strictly above `far` (with a margin for rounding): `depth / S < 1` for every
 /// fragment, and dividing by it is exact.
-fn depth_scale(far: f32) -> f32 {
+pub(super) fn depth_scale(far: f32) -> f32 {
     let far = if far.is_finite() { far.max(1e-6) } else { 1.0 };
     2f32.powi((far * 1.001).log2().floor() as i32 + 1)
 }
@@ -108,19 +110,6 @@ impl EyeTransparency for DepthPeel {
 
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
-        let count_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.depth-peel.count_layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: false },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
         let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::FRAGMENT,
@@ -131,6 +120,22 @@ impl EyeTransparency for DepthPeel {
             },
             count: None,
         };
+        let count_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.depth-peel.count_layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture(1, wgpu::TextureSampleType::Depth),
+            ],
+        });
         let peel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.depth-peel.peel_layout"),
             entries: &[
@@ -166,17 +171,11 @@ impl EyeTransparency for DepthPeel {
         });
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.depth-peel.readback"),
-            size: 4,
+            size: 8,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let targets = Targets::new(
-            setup.gpu,
-            &count_layout,
-            &texture_layout,
-            setup.width,
-            setup.height,
-        )?;
+        let targets = Targets::new(setup.gpu, &texture_layout, setup.width, setup.height)?;
         Ok(Box::new(DepthPeelGpu {
             count_layout,
             peel_layout,
@@ -188,6 +187,7 @@ impl EyeTransparency for DepthPeel {
             readback,
             targets,
             layers: 0,
+            complexity: (0, 0),
         }))
     }
 
@@ -196,8 +196,8 @@ impl EyeTransparency for DepthPeel {
     }
 }
 
-/// The count pass: the strands through the shared eye vertex stage, tested `Less` against the meshes' depth
-/// without writing it, no colour target.
+/// The count pass: the strands through the shared eye vertex stage, the meshes' depth tested by hand before the
+/// atomics (a fixed-function test after the shader would not undo them), into the never-written null target.
 fn count_pipeline(
     device: &wgpu::Device,
     frame_layout: &wgpu::BindGroupLayout,
@@ -227,19 +227,13 @@ fn count_pipeline(
             topology: wgpu::PrimitiveTopology::LineList,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: EyeTargets::DEPTH,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: None,
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module: &module,
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
-            targets: &[],
+            targets: &[Some(EyeTargets::NULL)],
         }),
         multiview_mask: None,
         cache: None,
@@ -288,8 +282,8 @@ fn under_pipeline(device: &wgpu::Device, texture_layout: &wgpu::BindGroupLayout)
 
 /// Everything sized to the viewport.
 struct Targets {
+    /// The deepest pixel's count, the total, then every pixel's count.
     counts: wgpu::Buffer,
-    count_bind_group: wgpu::BindGroup,
     depth_view: wgpu::TextureView,
     layer: wgpu::TextureView,
     layer_bind_group: wgpu::BindGroup,
@@ -304,7 +298,6 @@ struct Targets {
 impl Targets {
     fn new(
         gpu: &Gpu,
-        count_layout: &wgpu::BindGroupLayout,
         texture_layout: &wgpu::BindGroupLayout,
         width: u32,
         height: u32,
@@ -312,7 +305,7 @@ impl Targets {
         let device = &gpu.device;
         let limits = device.limits();
         let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        let bytes = (width as u64 * height as u64 + 1) * 4;
+        let bytes = (width as u64 * height as u64 + 2) * 4;
         if bytes > limit {
             return Err(GpuError::TooLarge {
                 what: format!("depth peeling's per-pixel fragment counts at a {width}×{height} viewport"),
@@ -325,14 +318,6 @@ impl Targets {
             size: bytes,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
-        });
-        let count_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.depth-peel.count_bind_group"),
-            layout: count_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: counts.as_entire_binding(),
-            }],
         });
         let view = |label, format| {
             eye_texture(
@@ -373,7 +358,6 @@ impl Targets {
             &[&accum],
         );
         Ok(Targets {
-            count_bind_group,
             counts,
             depth_view,
             layer_bind_group,
@@ -399,12 +383,29 @@ struct DepthPeelGpu {
     targets: Targets,
     /// Layers peeled in the last frame.
     layers: u32,
+    /// The last frame's deepest pixel and total fragment count.
+    complexity: (u32, u64),
 }
 
 impl DepthPeelGpu {
-    /// Records the count pass, submits the frame so far and reads back the deepest pixel's fragment count.
-    fn count_layers(&self, frame: &mut EyeFrame<'_>) -> Result<u32, GpuError> {
+    /// Records the count pass, submits the frame so far and reads back the deepest pixel's fragment count and
+    /// the total.
+    fn count(&self, frame: &mut EyeFrame<'_>) -> Result<(u32, u32), GpuError> {
         let t = &self.targets;
+        let count_bind_group = frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.depth-peel.count_bind_group"),
+            layout: &self.count_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: t.counts.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                },
+            ],
+        });
         frame.encoder.clear_buffer(&t.counts, 0, None);
         {
             let timestamps = frame
@@ -413,15 +414,8 @@ impl DepthPeelGpu {
                 .and_then(|timer| timer.pass("eye: depth complexity"));
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hairlab.depth-peel.count.pass"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &frame.targets.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                color_attachments: &[frame.targets.null_attachment()],
+                depth_stencil_attachment: None,
                 timestamp_writes: timestamps,
                 occlusion_query_set: None,
                 multiview_mask: None,
@@ -430,7 +424,7 @@ impl DepthPeelGpu {
             if g.hair_index_count > 0 {
                 pass.set_pipeline(&self.count);
                 pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &t.count_bind_group, &[]);
+                pass.set_bind_group(1, &count_bind_group, &[]);
                 pass.set_vertex_buffer(0, g.hair_vertices.slice(..));
                 pass.set_index_buffer(g.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..g.hair_index_count, 0, 0..1);
@@ -438,10 +432,11 @@ impl DepthPeelGpu {
         }
         frame
             .encoder
-            .copy_buffer_to_buffer(&t.counts, 0, &self.readback, 0, 4);
+            .copy_buffer_to_buffer(&t.counts, 0, &self.readback, 0, 8);
         frame.flush();
         let bytes = crate::gpu::readback::read_buffer(frame.gpu, &self.readback)?;
-        Ok(bytemuck::pod_read_unaligned(&bytes[..4]))
+        let [deepest, total]: [u32; 2] = bytemuck::pod_read_unaligned(&bytes[..8]);
+        Ok((deepest, total))
     }
 
     /// Group 2 of the layer reading the previous layer's depth from `previous`.
@@ -470,14 +465,15 @@ impl DepthPeelGpu {
 impl TransparencyGpu for DepthPeelGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
         if (self.targets.width, self.targets.height) != (width, height) {
-            self.targets = Targets::new(gpu, &self.count_layout, &self.texture_layout, width, height)?;
+            self.targets = Targets::new(gpu, &self.texture_layout, width, height)?;
         }
         Ok(())
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         self.layers = 0;
-        let layers = self.count_layers(frame)?;
+        let (layers, total) = self.count(frame)?;
+        self.complexity = (layers, u64::from(total));
         let max_layers = value(frame.values, &MAX_LAYERS) as u32;
         if layers > max_layers {
             return Err(GpuError::Setting(format!(
@@ -549,12 +545,8 @@ impl TransparencyGpu for DepthPeelGpu {
         }
         self.layers = layers;
         let timestamps = frame.timer.as_mut().and_then(|timer| timer.pass("eye: resolve"));
-        self.resolve.record(
-            &mut frame.encoder,
-            &frame.targets.color_view,
-            &t.accum_bind_group,
-            timestamps,
-        );
+        self.resolve
+            .record(&mut frame.encoder, frame.output, &t.accum_bind_group, timestamps);
         Ok(())
     }
 
@@ -564,6 +556,10 @@ impl TransparencyGpu for DepthPeelGpu {
 
     fn geometry_passes(&self) -> u32 {
         self.layers + 1
+    }
+
+    fn depth_complexity(&self) -> Option<(u32, u64)> {
+        Some(self.complexity)
     }
 }
 

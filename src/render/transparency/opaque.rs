@@ -1,12 +1,15 @@
-//! No transparency (S&A 2009 Fig. 2's "no transparency", their fastest): one hair pass with depth writes. The
-//! technique's own Depth32Float target starts each frame as a copy of the meshes' depth; the hair entry tests it
-//! `Less` and writes it, so the nearest fragment's colour `(c, 1)` stays in an Rgba32Float target, which the
-//! resolve copies onto the image where a fragment was written. Exact-depth ties keep the first rasterised
-//! fragment (the lowest segment), as the model does. 20 B per pixel.
+//! No transparency (S&A 2009 Fig. 2's "no transparency", their fastest): one hair pass with depth writes into
+//! the technique's own Depth32Float target, cleared each frame, keeping the nearest fragment's colour `(c, 1)` in
+//! an Rgba32Float target, which the resolve copies onto the image where a fragment was written. The hair entry
+//! writes `frag_depth = depth / S` (S a power of two above the frame's far eye depth, as depth peeling does) and
+//! tests the meshes by hand: a copy of the meshes' depth would order the hair by clip z, which differs from the
+//! stored eye depth the model orders by (measured: 9e-2 off the model on the GPU = CPU test). Exact-depth ties
+//! keep the first rasterised fragment (the lowest segment), as the model does. 20 B per pixel.
 
+use super::depth_peel::depth_scale;
 use super::{
-    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER, TechniqueInfo,
-    TransparencyGpu, cleared,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::method::{ParamValues, Role};
@@ -24,7 +27,7 @@ static HAIR: HairEntry = HairEntry {
         blend: None,
         write_mask: wgpu::ColorWrites::ALL,
     }],
-    depth_write: true,
+    depth: EntryDepth::Own,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {
@@ -38,7 +41,8 @@ static INFO: TechniqueInfo = TechniqueInfo {
     pass_wgsl: &["transparency/opaque_resolve.wgsl"],
     params: &[],
     color: [120, 120, 120],
-    gpu_tolerance: 1e-5,
+    // The nearest fragment's colour copied; measured 0 on lavapipe (tests/it/transparency_gpu.rs, 160×120).
+    gpu_tolerance: 1e-6,
 };
 
 pub struct Opaque;
@@ -51,6 +55,37 @@ impl EyeTransparency for Opaque {
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
         let layout = texture_layout(device, "hairlab.opaque.resolve_bind_group_layout", 1);
+        let hair_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.opaque.hair_layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let scale = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.opaque.scale"),
+            size: 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let resolve = CompositePass::new(
             device,
             "hairlab.opaque.resolve",
@@ -61,6 +96,8 @@ impl EyeTransparency for Opaque {
         let targets = Targets::new(device, &layout, setup.width, setup.height);
         Ok(Box::new(OpaqueGpu {
             layout,
+            hair_layout,
+            scale,
             resolve,
             targets,
         }))
@@ -74,7 +111,6 @@ impl EyeTransparency for Opaque {
 /// The nearest colour and the depth target at one viewport size, and the resolve's bind group.
 struct Targets {
     nearest: wgpu::TextureView,
-    depth: wgpu::Texture,
     depth_view: wgpu::TextureView,
     bind_group: wgpu::BindGroup,
     width: u32,
@@ -92,19 +128,19 @@ impl Targets {
             &[],
         )
         .create_view(&Default::default());
-        let depth = eye_texture(
+        let depth_view = eye_texture(
             device,
             "hairlab.opaque.depth",
             (width, height),
             EyeTargets::DEPTH,
-            wgpu::TextureUsages::COPY_DST,
+            wgpu::TextureUsages::empty(),
             &[],
-        );
+        )
+        .create_view(&Default::default());
         let bind_group = texture_bind_group(device, "hairlab.opaque.resolve_bind_group", layout, &[&nearest]);
         Targets {
             nearest,
-            depth_view: depth.create_view(&Default::default()),
-            depth,
+            depth_view,
             bind_group,
             width,
             height,
@@ -114,6 +150,9 @@ impl Targets {
 
 struct OpaqueGpu {
     layout: wgpu::BindGroupLayout,
+    /// Group 2 of the hair entry: the meshes' depth and `1 / S`.
+    hair_layout: wgpu::BindGroupLayout,
+    scale: wgpu::Buffer,
     resolve: CompositePass,
     targets: Targets,
 }
@@ -127,30 +166,40 @@ impl TransparencyGpu for OpaqueGpu {
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
+        let scale = [1.0 / depth_scale(frame.model.depth_range[1]), 0.0, 0.0, 0.0];
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.scale, 0, bytemuck::cast_slice(&scale));
+        let group = frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.opaque.hair_bind_group"),
+            layout: &self.hair_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.scale.as_entire_binding(),
+                },
+            ],
+        });
         let t = &self.targets;
-        frame.encoder.copy_texture_to_texture(
-            frame.targets.depth.as_image_copy(),
-            t.depth.as_image_copy(),
-            t.depth.size(),
-        );
         let attachments = [cleared(&t.nearest, [0.0; 4])];
         frame.draw_hair(
             HairDrawPass {
                 entry: &HAIR,
                 attachments: &attachments,
-                depth: Some((&t.depth_view, None)),
-                group: None,
+                depth: Some((&t.depth_view, Some(1.0))),
+                group: Some((&self.hair_layout, &group)),
                 rows: None,
             },
             "eye: hair",
         );
         let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
-        self.resolve.record(
-            &mut frame.encoder,
-            &frame.targets.color_view,
-            &t.bind_group,
-            timestamps,
-        );
+        self.resolve
+            .record(&mut frame.encoder, frame.output, &t.bind_group, timestamps);
         Ok(())
     }
 

@@ -4,11 +4,12 @@
 use super::EyeTransparency;
 use super::depth_peel::DepthPeel;
 use super::opaque::Opaque;
+use super::sorted::Sorted;
 use super::wboit::Wboit;
 use super::weighted_average::WeightedAverage;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit, &WeightedAverage, &Opaque, &DepthPeel];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit, &WeightedAverage, &Opaque, &DepthPeel];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {
@@ -18,6 +19,11 @@ pub fn all() -> &'static [&'static dyn EyeTransparency] {
 /// The technique of new settings (it keeps every existing preset's image).
 pub fn default_technique() -> &'static dyn EyeTransparency {
     &Wboit
+}
+
+/// The exact reference every technique is measured against.
+pub fn reference() -> &'static dyn EyeTransparency {
+    &Sorted
 }
 
 /// The technique called `name`, or an error listing the known names.

@@ -25,6 +25,32 @@ struct Slot {
     in_flight: bool,
 }
 
+/// One timer entry spanning several render passes (see [`GpuTimer::span`]).
+pub struct TimerSpan {
+    queries: wgpu::QuerySet,
+    index: u32,
+}
+
+impl TimerSpan {
+    /// Timestamp writes of the span's first pass: its beginning.
+    pub fn first(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(2 * self.index),
+            end_of_pass_write_index: None,
+        }
+    }
+
+    /// Timestamp writes of the span's last pass: its end.
+    pub fn last(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: None,
+            end_of_pass_write_index: Some(2 * self.index + 1),
+        }
+    }
+}
+
 pub struct GpuTimer {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
@@ -95,6 +121,16 @@ impl GpuTimer {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(2 * i),
             end_of_pass_write_index: Some(2 * i + 1),
+        })
+    }
+
+    /// One entry named `name` timing several passes as one, from the beginning of the first (`TimerSpan::first`)
+    /// to the end of the last (`TimerSpan::last`): for more passes than [`MAX_PASSES`] (a depth peel's layers).
+    pub fn span(&mut self, name: impl Into<String>) -> Option<TimerSpan> {
+        let index = self.next(name)?;
+        Some(TimerSpan {
+            queries: self.queries.clone(),
+            index,
         })
     }
 

@@ -120,3 +120,31 @@ fn the_reference_lists_are_complete_and_totally_ordered() {
         }
     }
 }
+
+/// Depth peeling (TC-2): a count pass that counts what the reference counts, then one layer per fragment of the
+/// deepest pixel; a frame deeper than `max_layers` is refused, naming the key, and exactly as deep is peeled.
+#[test]
+fn depth_peel_peels_the_deepest_pixels_layers_and_refuses_more_than_max_layers() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (s, mut r, lists) = eye_scene(&gpu, 96, 72);
+    let reference = r.eye_depth_complexity().unwrap();
+    let deepest = reference.0;
+    assert_eq!(deepest as usize, lists.iter().map(Vec::len).max().unwrap());
+    let peel = registry::find("depth-peel").unwrap();
+    let mut params = ParamValues::new();
+    r.render(&eye_frame(&s, peel, &params)).unwrap();
+    assert_eq!(r.eye_depth_complexity(), Some(reference));
+    assert_eq!(r.eye_geometry_passes(), deepest + 1);
+    params.insert("max_layers".into(), (deepest - 1) as f32);
+    assert_eq!(
+        r.render(&eye_frame(&s, peel, &params)).unwrap_err().to_string(),
+        format!(
+            "transparency.max_layers: depth peel did not finish within {} layers (the deepest pixel has {deepest} \
+             fragments)",
+            deepest - 1
+        )
+    );
+    params.insert("max_layers".into(), deepest as f32);
+    r.render(&eye_frame(&s, peel, &params)).unwrap();
+    assert_eq!(r.eye_geometry_passes(), deepest + 1);
+}

@@ -22,9 +22,12 @@
 //! The technique's own geometry passes use `common/eye_vertex.wgsl`, the vertex stage the hair pass shares, so
 //! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
+pub mod depth_peel;
+pub mod opaque;
 pub mod registry;
 pub mod sorted;
 pub mod wboit;
+pub mod weighted_average;
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
@@ -155,6 +158,12 @@ impl EyeFrame<'_> {
             });
         let done = std::mem::replace(&mut self.encoder, next);
         self.gpu.queue.submit([done.finish()]);
+    }
+
+    /// Records a shaded hair draw without a timer entry of its own (a technique timing many passes as one
+    /// `GpuTimer::span`).
+    pub fn draw_hair_untimed(&mut self, draw: HairDrawPass<'_>) {
+        self.hair.record(&mut self.encoder, draw, None);
     }
 
     /// Records a shaded hair draw of entry `entry` (one of the technique's [`HairEntry`]s).

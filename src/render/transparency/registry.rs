@@ -2,11 +2,14 @@
 //! shader tests go through it, so adding a technique is its own files plus one line here.
 
 use super::EyeTransparency;
+use super::depth_peel::DepthPeel;
+use super::opaque::Opaque;
 use super::sorted::Sorted;
 use super::wboit::Wboit;
+use super::weighted_average::WeightedAverage;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit, &WeightedAverage, &Opaque, &DepthPeel];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {

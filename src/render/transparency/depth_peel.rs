@@ -1,0 +1,579 @@
+//! Classic depth peeling (Everitt 2001; S&A 2009's ground truth and cost baseline): one geometry pass of shaded
+//! hair per layer, each keeping the nearest fragment strictly behind the previous layer's depth in the
+//! technique's own depth target, then a full-screen "under" blend of the layer, `C += T a c, T *= 1 − a`, into an
+//! Rgba32Float accumulation; the resolve puts `(C, 1 − T)` over the opaque image.
+//!
+//! The depth test orders `frag_depth = depth / S`, S a power of two above the frame's far eye depth: the
+//! division is exact, so the test orders exactly as the stored depth. The meshes' depth is a different quantity
+//! (clip z), so the hair entry tests it by hand. The previous layer's depth is an R32Float second output,
+//! ping-ponged between two targets.
+//!
+//! Layer count: a count pass first (one more geometry pass, the shared eye vertex stage, `atomicAdd` per pixel
+//! and `atomicMax` over the frame) gives the deepest pixel's fragment count L, read back once per frame; the peel
+//! then runs exactly L layers. Against an occlusion query or a written-pixel counter per layer this costs one
+//! geometry pass and one readback instead of a readback (a stall) every layer or every few layers, and no layer
+//! peels nothing. Exact-depth ties: a layer keeps the first rasterised fragment and the strict test drops the
+//! others, so with ties the last layers are empty. More than `max_layers` layers is an error. Timed as one entry,
+//! `depth peel (L layers)`; geometry passes L + 1. 4 (counts) + 4 (depth) + 16 (layer) + 2 × 4 (layer depths)
+//! + 16 (accumulation) = 48 B per pixel.
+
+use super::{
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    TechniqueInfo, TransparencyGpu, cleared,
+};
+use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::HairVertex;
+use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
+use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
+use crate::render::targets::{EyeTargets, eye_texture};
+use crate::transparency::classic_peel::ClassicPeelParams;
+use crate::transparency::{Compositor, ModelContext};
+
+pub const LAYER: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub const LAYER_DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Bytes per pixel of everything the technique holds (see the module doc).
+const BYTES_PER_PIXEL: u64 = 4 + 4 + 16 + 2 * 4 + 16;
+
+const MAX_LAYERS: ParamSpec = ParamSpec {
+    key: "max_layers",
+    label: "max layers",
+    help: "most layers a frame may peel (the deepest pixel's fragment count); beyond it the frame is an error",
+    kind: ParamKind::Int { min: 1, max: 65536 },
+    default: 4096.0,
+};
+
+static HAIR: HairEntry = HairEntry {
+    entry: "fs_peel",
+    targets: &[
+        wgpu::ColorTargetState {
+            format: LAYER,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        },
+        wgpu::ColorTargetState {
+            format: LAYER_DEPTH,
+            blend: None,
+            write_mask: wgpu::ColorWrites::RED,
+        },
+    ],
+    depth: EntryDepth::Own,
+};
+
+static INFO: TechniqueInfo = TechniqueInfo {
+    name: "depth-peel",
+    label: "Depth peeling",
+    paper: "Everitt 2001, Interactive Order-Independent Transparency (S&A 2009's ground truth)",
+    role: Role::Approximation,
+    hair_wgsl: "transparency/depth_peel.wgsl",
+    hair_entries: std::slice::from_ref(&HAIR),
+    pass_wgsl: &[
+        "transparency/depth_peel_count.wgsl",
+        "transparency/depth_peel_under.wgsl",
+        "transparency/depth_peel_resolve.wgsl",
+    ],
+    params: &[MAX_LAYERS],
+    color: [0, 114, 178],
+    // f32 under blends front to back; measured 6.0e-8 on lavapipe (tests/it/transparency_gpu.rs, 160×120,
+    // deepest 50).
+    gpu_tolerance: 1e-5,
+};
+
+/// The "under" blend of a layer onto the accumulation `(C, T)`: `C += T (a c)`, `T *= 1 − a`.
+const UNDER: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::DstAlpha,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// The smallest power of two strictly above `far` (with a margin for rounding): `depth / S < 1` for every
+/// fragment, and dividing by it is exact.
+pub(super) fn depth_scale(far: f32) -> f32 {
+    let far = if far.is_finite() { far.max(1e-6) } else { 1.0 };
+    2f32.powi((far * 1.001).log2().floor() as i32 + 1)
+}
+
+pub struct DepthPeel;
+
+impl EyeTransparency for DepthPeel {
+    fn info(&self) -> &'static TechniqueInfo {
+        &INFO
+    }
+
+    fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
+        let device = &setup.gpu.device;
+        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let count_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.depth-peel.count_layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture(1, wgpu::TextureSampleType::Depth),
+            ],
+        });
+        let peel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.depth-peel.peel_layout"),
+            entries: &[
+                texture(0, wgpu::TextureSampleType::Depth),
+                texture(1, wgpu::TextureSampleType::Float { filterable: false }),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let texture_layout = texture_layout(device, "hairlab.depth-peel.texture_layout", 1);
+        let count = count_pipeline(device, setup.frame_layout, &count_layout);
+        let under = under_pipeline(device, &texture_layout);
+        let resolve = CompositePass::new(
+            device,
+            "hairlab.depth-peel.resolve",
+            INFO.pass_wgsl[2],
+            &texture_layout,
+            PREMULTIPLIED_OVER,
+        );
+        let scale = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.depth-peel.scale"),
+            size: 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.depth-peel.readback"),
+            size: 8,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let targets = Targets::new(setup.gpu, &texture_layout, setup.width, setup.height)?;
+        Ok(Box::new(DepthPeelGpu {
+            count_layout,
+            peel_layout,
+            texture_layout,
+            count,
+            under,
+            resolve,
+            scale,
+            readback,
+            targets,
+            layers: 0,
+            complexity: (0, 0),
+        }))
+    }
+
+    fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
+        Box::new(ClassicPeelParams)
+    }
+}
+
+/// The count pass: the strands through the shared eye vertex stage, the meshes' depth tested by hand before the
+/// atomics (a fixed-function test after the shader would not undo them), into the never-written null target.
+fn count_pipeline(
+    device: &wgpu::Device,
+    frame_layout: &wgpu::BindGroupLayout,
+    count_layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let module = crate::render::passes::shader_module(
+        device,
+        "hairlab.depth-peel.count.shader",
+        INFO.pass_wgsl[0],
+        None,
+    );
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("hairlab.depth-peel.count.layout"),
+        bind_group_layouts: &[Some(frame_layout), Some(count_layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("hairlab.depth-peel.count.pipeline"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(HairVertex::layout())],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::LineList,
+            ..Default::default()
+        },
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(EyeTargets::NULL)],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The full-screen "under" blend of a layer into the accumulation.
+fn under_pipeline(device: &wgpu::Device, texture_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
+    let module = crate::render::passes::shader_module(
+        device,
+        "hairlab.depth-peel.under.shader",
+        INFO.pass_wgsl[1],
+        None,
+    );
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("hairlab.depth-peel.under.layout"),
+        bind_group_layouts: &[Some(texture_layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("hairlab.depth-peel.under.pipeline"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: ACCUM,
+                blend: Some(UNDER),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Everything sized to the viewport.
+struct Targets {
+    /// The deepest pixel's count, the total, then every pixel's count.
+    counts: wgpu::Buffer,
+    depth_view: wgpu::TextureView,
+    layer: wgpu::TextureView,
+    layer_bind_group: wgpu::BindGroup,
+    /// The two layer-depth targets, written alternately.
+    layer_depths: [wgpu::TextureView; 2],
+    accum: wgpu::TextureView,
+    accum_bind_group: wgpu::BindGroup,
+    width: u32,
+    height: u32,
+}
+
+impl Targets {
+    fn new(
+        gpu: &Gpu,
+        texture_layout: &wgpu::BindGroupLayout,
+        width: u32,
+        height: u32,
+    ) -> Result<Targets, GpuError> {
+        let device = &gpu.device;
+        let limits = device.limits();
+        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let bytes = (width as u64 * height as u64 + 2) * 4;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: format!("depth peeling's per-pixel fragment counts at a {width}×{height} viewport"),
+                bytes,
+                limit,
+            });
+        }
+        let counts = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.depth-peel.counts"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let view = |label, format| {
+            eye_texture(
+                device,
+                label,
+                (width, height),
+                format,
+                wgpu::TextureUsages::TEXTURE_BINDING,
+                &[],
+            )
+            .create_view(&Default::default())
+        };
+        let depth_view = eye_texture(
+            device,
+            "hairlab.depth-peel.depth",
+            (width, height),
+            EyeTargets::DEPTH,
+            wgpu::TextureUsages::empty(),
+            &[],
+        )
+        .create_view(&Default::default());
+        let layer = view("hairlab.depth-peel.layer", LAYER);
+        let layer_depths = [
+            view("hairlab.depth-peel.layer_depth0", LAYER_DEPTH),
+            view("hairlab.depth-peel.layer_depth1", LAYER_DEPTH),
+        ];
+        let accum = view("hairlab.depth-peel.accum", ACCUM);
+        let layer_bind_group = texture_bind_group(
+            device,
+            "hairlab.depth-peel.layer_bind_group",
+            texture_layout,
+            &[&layer],
+        );
+        let accum_bind_group = texture_bind_group(
+            device,
+            "hairlab.depth-peel.accum_bind_group",
+            texture_layout,
+            &[&accum],
+        );
+        Ok(Targets {
+            counts,
+            depth_view,
+            layer_bind_group,
+            layer,
+            layer_depths,
+            accum_bind_group,
+            accum,
+            width,
+            height,
+        })
+    }
+}
+
+struct DepthPeelGpu {
+    count_layout: wgpu::BindGroupLayout,
+    peel_layout: wgpu::BindGroupLayout,
+    texture_layout: wgpu::BindGroupLayout,
+    count: wgpu::RenderPipeline,
+    under: wgpu::RenderPipeline,
+    resolve: CompositePass,
+    scale: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    targets: Targets,
+    /// Layers peeled in the last frame.
+    layers: u32,
+    /// The last frame's deepest pixel and total fragment count.
+    complexity: (u32, u64),
+}
+
+impl DepthPeelGpu {
+    /// Records the count pass, submits the frame so far and reads back the deepest pixel's fragment count and
+    /// the total.
+    fn count(&self, frame: &mut EyeFrame<'_>) -> Result<(u32, u32), GpuError> {
+        let t = &self.targets;
+        let count_bind_group = frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.depth-peel.count_bind_group"),
+            layout: &self.count_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: t.counts.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                },
+            ],
+        });
+        frame.encoder.clear_buffer(&t.counts, 0, None);
+        {
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|timer| timer.pass("eye: depth complexity"));
+            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hairlab.depth-peel.count.pass"),
+                color_attachments: &[frame.targets.null_attachment()],
+                depth_stencil_attachment: None,
+                timestamp_writes: timestamps,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            let g = frame.geometry;
+            if g.hair_index_count > 0 {
+                pass.set_pipeline(&self.count);
+                pass.set_bind_group(0, frame.frame_bind_group, &[]);
+                pass.set_bind_group(1, &count_bind_group, &[]);
+                pass.set_vertex_buffer(0, g.hair_vertices.slice(..));
+                pass.set_index_buffer(g.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..g.hair_index_count, 0, 0..1);
+            }
+        }
+        frame
+            .encoder
+            .copy_buffer_to_buffer(&t.counts, 0, &self.readback, 0, 8);
+        frame.flush();
+        let bytes = crate::gpu::readback::read_buffer(frame.gpu, &self.readback)?;
+        let [deepest, total]: [u32; 2] = bytemuck::pod_read_unaligned(&bytes[..8]);
+        Ok((deepest, total))
+    }
+
+    /// Group 2 of the layer reading the previous layer's depth from `previous`.
+    fn peel_group(&self, frame: &EyeFrame<'_>, previous: &wgpu::TextureView) -> wgpu::BindGroup {
+        frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.depth-peel.peel_bind_group"),
+            layout: &self.peel_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(previous),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.scale.as_entire_binding(),
+                },
+            ],
+        })
+    }
+}
+
+impl TransparencyGpu for DepthPeelGpu {
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+        if (self.targets.width, self.targets.height) != (width, height) {
+            self.targets = Targets::new(gpu, &self.texture_layout, width, height)?;
+        }
+        Ok(())
+    }
+
+    fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
+        self.layers = 0;
+        let (layers, total) = self.count(frame)?;
+        self.complexity = (layers, u64::from(total));
+        let max_layers = value(frame.values, &MAX_LAYERS) as u32;
+        if layers > max_layers {
+            return Err(GpuError::Setting(format!(
+                "transparency.max_layers: depth peel did not finish within {max_layers} layers (the deepest pixel \
+                 has {layers} fragments)"
+            )));
+        }
+        if layers == 0 {
+            return Ok(());
+        }
+        let scale = [1.0 / depth_scale(frame.model.depth_range[1]), 0.0, 0.0, 0.0];
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.scale, 0, bytemuck::cast_slice(&scale));
+        let t = &self.targets;
+        let groups = [
+            self.peel_group(frame, &t.layer_depths[1]),
+            self.peel_group(frame, &t.layer_depths[0]),
+        ];
+        let span = frame
+            .timer
+            .as_mut()
+            .and_then(|timer| timer.span(format!("depth peel ({layers} layers)")));
+        // Nothing accumulated, everything transmitted; no layer before the first.
+        frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("hairlab.depth-peel.clear.pass"),
+            color_attachments: &[
+                cleared(&t.accum, [0.0, 0.0, 0.0, 1.0]),
+                cleared(&t.layer_depths[1], [0.0; 4]),
+            ],
+            depth_stencil_attachment: None,
+            timestamp_writes: span.as_ref().map(|s| s.first()),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for k in 0..layers as usize {
+            let attachments = [
+                cleared(&t.layer, [0.0; 4]),
+                cleared(&t.layer_depths[k % 2], [f32::MAX as f64, 0.0, 0.0, 0.0]),
+            ];
+            frame.draw_hair_untimed(HairDrawPass {
+                entry: &HAIR,
+                attachments: &attachments,
+                depth: Some((&t.depth_view, Some(1.0))),
+                group: Some((&self.peel_layout, &groups[k % 2])),
+                rows: None,
+            });
+            let last = k + 1 == layers as usize;
+            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hairlab.depth-peel.under.pass"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &t.accum,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: span.as_ref().filter(|_| last).map(|s| s.last()),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.under);
+            pass.set_bind_group(0, &t.layer_bind_group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        self.layers = layers;
+        let timestamps = frame.timer.as_mut().and_then(|timer| timer.pass("eye: resolve"));
+        self.resolve
+            .record(&mut frame.encoder, frame.output, &t.accum_bind_group, timestamps);
+        Ok(())
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        self.targets.width as u64 * self.targets.height as u64 * BYTES_PER_PIXEL
+    }
+
+    fn geometry_passes(&self) -> u32 {
+        self.layers + 1
+    }
+
+    fn depth_complexity(&self) -> Option<(u32, u64)> {
+        Some(self.complexity)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::depth_scale;
+
+    #[test]
+    fn the_depth_scale_is_the_power_of_two_above_the_far_depth() {
+        assert_eq!(depth_scale(1.3), 2.0);
+        assert_eq!(depth_scale(2.0), 4.0);
+        assert_eq!(depth_scale(0.3), 0.5);
+        assert_eq!(depth_scale(3.99), 4.0);
+        assert_eq!(depth_scale(3.999), 8.0);
+        assert_eq!(depth_scale(f32::NAN), 2.0);
+    }
+}

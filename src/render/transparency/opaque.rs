@@ -1,0 +1,214 @@
+//! No transparency (S&A 2009 Fig. 2's "no transparency", their fastest): one hair pass with depth writes into
+//! the technique's own Depth32Float target, cleared each frame, keeping the nearest fragment's colour `(c, 1)` in
+//! an Rgba32Float target, which the resolve copies onto the image where a fragment was written. The hair entry
+//! writes `frag_depth = depth / S` (S a power of two above the frame's far eye depth, as depth peeling does) and
+//! tests the meshes by hand: a copy of the meshes' depth would order the hair by clip z, which differs from the
+//! stored eye depth the model orders by (measured: 9e-2 off the model on the GPU = CPU test). Exact-depth ties
+//! keep the first rasterised fragment (the lowest segment), as the model does. 20 B per pixel.
+
+use super::depth_peel::depth_scale;
+use super::{
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    TechniqueInfo, TransparencyGpu, cleared,
+};
+use crate::gpu::{Gpu, GpuError};
+use crate::render::method::{ParamValues, Role};
+use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
+use crate::render::targets::{EyeTargets, eye_texture};
+use crate::transparency::opaque::OpaqueParams;
+use crate::transparency::{Compositor, ModelContext};
+
+pub const NEAREST: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+static HAIR: HairEntry = HairEntry {
+    entry: "fs_main",
+    targets: &[wgpu::ColorTargetState {
+        format: NEAREST,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    }],
+    depth: EntryDepth::Own,
+};
+
+static INFO: TechniqueInfo = TechniqueInfo {
+    name: "opaque",
+    label: "No transparency",
+    paper: "Sintorn & Assarsson 2009, Hair Self Shadowing and Transparency Depth Ordering Using Occupancy Maps \
+            (Fig. 2, no transparency)",
+    role: Role::Approximation,
+    hair_wgsl: "transparency/opaque.wgsl",
+    hair_entries: std::slice::from_ref(&HAIR),
+    pass_wgsl: &["transparency/opaque_resolve.wgsl"],
+    params: &[],
+    color: [120, 120, 120],
+    // The nearest fragment's colour copied; measured 0 on lavapipe (tests/it/transparency_gpu.rs, 160×120).
+    gpu_tolerance: 1e-6,
+};
+
+pub struct Opaque;
+
+impl EyeTransparency for Opaque {
+    fn info(&self) -> &'static TechniqueInfo {
+        &INFO
+    }
+
+    fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
+        let device = &setup.gpu.device;
+        let layout = texture_layout(device, "hairlab.opaque.resolve_bind_group_layout", 1);
+        let hair_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.opaque.hair_layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let scale = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.opaque.scale"),
+            size: 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let resolve = CompositePass::new(
+            device,
+            "hairlab.opaque.resolve",
+            INFO.pass_wgsl[0],
+            &layout,
+            PREMULTIPLIED_OVER,
+        );
+        let targets = Targets::new(device, &layout, setup.width, setup.height);
+        Ok(Box::new(OpaqueGpu {
+            layout,
+            hair_layout,
+            scale,
+            resolve,
+            targets,
+        }))
+    }
+
+    fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
+        Box::new(OpaqueParams)
+    }
+}
+
+/// The nearest colour and the depth target at one viewport size, and the resolve's bind group.
+struct Targets {
+    nearest: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+    bind_group: wgpu::BindGroup,
+    width: u32,
+    height: u32,
+}
+
+impl Targets {
+    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, width: u32, height: u32) -> Targets {
+        let nearest = eye_texture(
+            device,
+            "hairlab.opaque.nearest",
+            (width, height),
+            NEAREST,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+            &[],
+        )
+        .create_view(&Default::default());
+        let depth_view = eye_texture(
+            device,
+            "hairlab.opaque.depth",
+            (width, height),
+            EyeTargets::DEPTH,
+            wgpu::TextureUsages::empty(),
+            &[],
+        )
+        .create_view(&Default::default());
+        let bind_group = texture_bind_group(device, "hairlab.opaque.resolve_bind_group", layout, &[&nearest]);
+        Targets {
+            nearest,
+            depth_view,
+            bind_group,
+            width,
+            height,
+        }
+    }
+}
+
+struct OpaqueGpu {
+    layout: wgpu::BindGroupLayout,
+    /// Group 2 of the hair entry: the meshes' depth and `1 / S`.
+    hair_layout: wgpu::BindGroupLayout,
+    scale: wgpu::Buffer,
+    resolve: CompositePass,
+    targets: Targets,
+}
+
+impl TransparencyGpu for OpaqueGpu {
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+        if (self.targets.width, self.targets.height) != (width, height) {
+            self.targets = Targets::new(&gpu.device, &self.layout, width, height);
+        }
+        Ok(())
+    }
+
+    fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
+        let scale = [1.0 / depth_scale(frame.model.depth_range[1]), 0.0, 0.0, 0.0];
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.scale, 0, bytemuck::cast_slice(&scale));
+        let group = frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.opaque.hair_bind_group"),
+            layout: &self.hair_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.scale.as_entire_binding(),
+                },
+            ],
+        });
+        let t = &self.targets;
+        let attachments = [cleared(&t.nearest, [0.0; 4])];
+        frame.draw_hair(
+            HairDrawPass {
+                entry: &HAIR,
+                attachments: &attachments,
+                depth: Some((&t.depth_view, Some(1.0))),
+                group: Some((&self.hair_layout, &group)),
+                rows: None,
+            },
+            "eye: hair",
+        );
+        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        self.resolve
+            .record(&mut frame.encoder, frame.output, &t.bind_group, timestamps);
+        Ok(())
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        let texel = NEAREST.block_copy_size(None).unwrap_or(0) + 4;
+        self.targets.width as u64 * self.targets.height as u64 * u64::from(texel)
+    }
+
+    fn geometry_passes(&self) -> u32 {
+        1
+    }
+}

@@ -22,6 +22,7 @@
 //! The technique's own geometry passes use `common/eye_vertex.wgsl`, the vertex stage the hair pass shares, so
 //! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
+pub mod occupancy_order;
 pub mod registry;
 pub mod wboit;
 
@@ -88,7 +89,7 @@ pub struct EyeSetup<'a> {
 }
 
 /// A technique's GPU side.
-pub trait TransparencyGpu: Send {
+pub trait TransparencyGpu: Send + std::any::Any {
     /// Re-creates the viewport-sized resources for `width`×`height` (nothing when the size is unchanged).
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError>;
     /// Records the technique's passes of one frame: after the meshes, before the frame is submitted.

@@ -2,10 +2,11 @@
 //! shader tests go through it, so adding a technique is its own files plus one line here.
 
 use super::EyeTransparency;
+use super::occupancy_order::OccupancyOrder;
 use super::wboit::Wboit;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit, &OccupancyOrder];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {

@@ -32,4 +32,5 @@ mod stability_avsm;
 mod stability_dsm;
 mod stability_fom;
 mod stability_msm;
+mod transparency_occupancy;
 mod visibility_models;

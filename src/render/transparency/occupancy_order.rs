@@ -641,3 +641,59 @@ pub fn read_slabs(renderer: &crate::render::Renderer) -> Result<Vec<[u32; 4]>, G
         })?
         .read_slabs(renderer.gpu())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parsed(pairs: &[(&str, &str)]) -> OccupancyOrderParams {
+        let values: ParamValues = pairs
+            .iter()
+            .map(|(k, v)| {
+                let spec = PARAMS.iter().find(|p| p.key == *k).unwrap();
+                (k.to_string(), spec.parse(v).unwrap())
+            })
+            .collect();
+        params(&values)
+    }
+
+    #[test]
+    fn defaults_are_the_papers_method() {
+        assert_eq!(parsed(&[]), OccupancyOrderParams::default());
+        let u = OccupancyOrderUniforms::new(&parsed(&[]), 0.35);
+        assert_eq!(
+            u,
+            OccupancyOrderUniforms {
+                variant: 0,
+                correction: 1,
+                order_bias: 0.0,
+                hair_alpha: 0.35
+            }
+        );
+    }
+
+    #[test]
+    fn every_word_reaches_the_model_and_the_uniforms() {
+        let p = parsed(&[
+            ("variant", "occupancy-only"),
+            ("correction", "off"),
+            ("order_bias", "half"),
+            ("precision", "f16"),
+        ]);
+        assert_eq!(
+            p,
+            OccupancyOrderParams {
+                variant: OccupancyVariant::OccupancyOnly,
+                lambda_correction: false,
+                order_bias: -0.5,
+                half_precision: true,
+            }
+        );
+        let u = OccupancyOrderUniforms::new(&p, 0.2);
+        assert_eq!((u.variant, u.correction, u.order_bias), (1, 0, -0.5));
+        assert_eq!(
+            HAIR[usize::from(p.half_precision)].targets[0].format,
+            wgpu::TextureFormat::Rgba16Float
+        );
+    }
+}

@@ -174,6 +174,8 @@ pub struct Renderer {
     /// The exact reference's fragment lists ([`Renderer::reference_lists`]), created on first use.
     reference: Option<passes::abuffer::ABuffer>,
     peel: Option<DepthPeel>,
+    /// The float target of [`Renderer::render_capture`], created on first use.
+    capture: Option<wgpu::Texture>,
     targets: EyeTargets,
     targets_generation: u64,
     timer: Option<GpuTimer>,
@@ -281,6 +283,7 @@ impl Renderer {
             evaluate: passes::evaluate::EvaluatePass::new(device, &scene_layout),
             method: None,
             transparency: None,
+            capture: None,
             reference: None,
             peel: None,
             targets_generation: 0,
@@ -496,6 +499,58 @@ impl Renderer {
 
     /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
     pub fn render(&mut self, f: &FrameInput) -> Result<(), GpuError> {
+        self.render_frame(f, false)
+    }
+
+    /// Renders `f` with the technique's resolve drawn onto a float target cleared to zero instead of the colour
+    /// image, and reads it back: per pixel the hair's premultiplied colour `H` and coverage `1 - T` (row-major),
+    /// what the technique's CPU model gives over black (`H`) and white (`H + T`). The colour image holds the
+    /// opaque meshes alone afterwards ([`Renderer::read_output`]: the background each pixel's hair is over).
+    pub fn render_capture(&mut self, f: &FrameInput) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.render_frame(f, true)?;
+        let Some(capture) = &self.capture else {
+            return Err(GpuError::Readback("no capture target".into()));
+        };
+        let bytes = readback::read_texture(&self.gpu, capture, 16)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// The exact eye reference's per-pixel fragment lists of `f`'s view (row-major pixels, each front to back
+    /// on (depth, segment)): `f` rendered with the reference technique, its lists read back.
+    pub fn eye_lists(
+        &mut self,
+        f: &FrameInput,
+    ) -> Result<Vec<Vec<crate::transparency::EyeFragment>>, GpuError> {
+        let empty = ParamValues::new();
+        let reference = FrameInput {
+            technique: transparency::registry::reference(),
+            technique_params: &empty,
+            ..*f
+        };
+        self.render(&reference)?;
+        match self
+            .transparency
+            .as_ref()
+            .and_then(|(_, t)| t.read_lists(&self.gpu))
+        {
+            Some(lists) => lists,
+            None => Err(GpuError::Readback(
+                "the reference technique keeps no lists".into(),
+            )),
+        }
+    }
+
+    /// The eye depth complexity (deepest pixel, total fragments) of the last frame, when its technique counts it.
+    pub fn eye_depth_complexity(&self) -> Option<(u32, u64)> {
+        self.transparency.as_ref().and_then(|(_, t)| t.depth_complexity())
+    }
+
+    /// Geometry passes the last frame's technique drew.
+    pub fn eye_geometry_passes(&self) -> u32 {
+        self.transparency.as_ref().map_or(0, |(_, t)| t.geometry_passes())
+    }
+
+    fn render_frame(&mut self, f: &FrameInput, capture: bool) -> Result<(), GpuError> {
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
         self.ensure_technique(f.technique)?;
         let mut enc = self.record_light_passes(f)?;
@@ -516,6 +571,42 @@ impl Renderer {
             hair_alpha: f.render.hair_alpha,
             depth_range: self.eye_depth_range(f.camera),
         };
+        if capture {
+            let size = (self.targets.width, self.targets.height);
+            if self
+                .capture
+                .as_ref()
+                .is_none_or(|c| (c.width(), c.height()) != size)
+            {
+                self.capture = Some(targets::eye_texture(
+                    &device,
+                    "hairlab.eye.capture",
+                    size,
+                    targets::CAPTURE_FORMAT,
+                    wgpu::TextureUsages::COPY_SRC,
+                    &[],
+                ));
+            }
+        }
+        let capture_view = self
+            .capture
+            .as_ref()
+            .filter(|_| capture)
+            .map(|c| c.create_view(&Default::default()));
+        if let Some(view) = &capture_view {
+            enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hairlab.eye.capture_clear"),
+                color_attachments: &[transparency::cleared(view, [0.0; 4])],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+        }
+        let output = match &capture_view {
+            Some(v) => (v, targets::CAPTURE_FORMAT),
+            None => (&self.targets.color_view, EyeTargets::COLOR),
+        };
         let Some((_, technique_gpu)) = self.transparency.as_mut() else {
             return Err(GpuError::Setting(format!(
                 "transparency.name: no state for '{}'",
@@ -529,6 +620,7 @@ impl Renderer {
             frame_bind_group: &self.frame_bind_group,
             geometry: &self.geometry,
             targets: &self.targets,
+            output,
             values: f.technique_params,
             model,
             hair: transparency::HairDraw {

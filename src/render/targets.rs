@@ -10,6 +10,9 @@ pub struct EyeTargets {
     /// Depth of the opaque meshes (hair does not write depth); copyable for visibility tests of hair points.
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
+    /// A never-written colour target ([`EyeTargets::NULL`]) that sets the render area of the eye passes that
+    /// only write storage and test the meshes by hand (a pass needs an attachment).
+    pub null_view: wgpu::TextureView,
     pub width: u32,
     pub height: u32,
 }
@@ -17,6 +20,12 @@ pub struct EyeTargets {
 impl EyeTargets {
     pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
     pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+    /// The pipeline target state of `null_view`: nothing written.
+    pub const NULL: wgpu::ColorTargetState = wgpu::ColorTargetState {
+        format: crate::render::passes::NULL_TARGET_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::empty(),
+    };
 
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> EyeTargets {
         let make = |label, format, usage, view_formats: &[wgpu::TextureFormat]| {
@@ -31,10 +40,18 @@ impl EyeTargets {
         let depth = make(
             "hairlab.eye.depth",
             Self::DEPTH,
-            wgpu::TextureUsages::COPY_SRC,
+            // Bound as a texture by the passes that test it by hand (`common/mesh_depth.wgsl`).
+            wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
+            &[],
+        );
+        let null = make(
+            "hairlab.eye.null_target",
+            crate::render::passes::NULL_TARGET_FORMAT,
+            wgpu::TextureUsages::empty(),
             &[],
         );
         EyeTargets {
+            null_view: null.create_view(&Default::default()),
             color_view: color.create_view(&Default::default()),
             display_view: color.create_view(&wgpu::TextureViewDescriptor {
                 label: Some("hairlab.eye.color_display"),
@@ -49,11 +66,29 @@ impl EyeTargets {
         }
     }
 
-    /// Bytes of GPU memory the targets hold (colour and depth).
+    /// Bytes of GPU memory the targets hold (colour, depth and the null target).
     pub fn bytes(&self) -> u64 {
-        self.width as u64 * self.height as u64 * (4 + 4)
+        self.width as u64 * self.height as u64 * (4 + 4 + 1)
+    }
+
+    /// `null_view` as an attachment: loaded, discarded.
+    pub fn null_attachment(&self) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+        Some(wgpu::RenderPassColorAttachment {
+            view: &self.null_view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Discard,
+            },
+        })
     }
 }
+
+/// Format of the capture target: a technique's resolve drawn onto it (cleared to zero) instead of the colour
+/// image records the hair's premultiplied colour `H` and coverage `1 - T` in f32, what the GPU = CPU tests
+/// compare with the CPU models.
+pub const CAPTURE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// A viewport-sized 2D render target `hairlab.<…>` (`label`) of `format`, usable as `usage` too: the eye targets and
 /// every transparency technique's targets.

@@ -155,8 +155,9 @@ mod tests {
 
     #[test]
     fn two_fragments_keep_their_order() {
-        // Red in front of green, α 0.5, over black: exact (0.5, 0.25, 0). The moments put red's transmittance
-        // near 1 and green's near 0.5, so red dominates; the weight sum is normalised to the exact 0.75.
+        // Red in front of green, α 0.5, over black: exact (0.5, 0.25, 0). Four moments determine two points,
+        // so the reconstruction is nearly exact (measured: within 1.8e-7 with 4 and 6 moments); the colour sum
+        // is normalised to the exact coverage 0.75.
         let f = [
             frag(1.2, 1, [0.0, 1.0, 0.0], 0.5),
             frag(0.8, 0, [1.0, 0.0, 0.0], 0.5),
@@ -164,7 +165,10 @@ mod tests {
         for moments in [4, 6] {
             let c = model(moments).composite(&f, [0.0; 3]);
             assert!((c[0] + c[1] - 0.75).abs() < 1e-6, "{moments}: {c:?}");
-            assert!(c[0] > 0.45 && c[1] < 0.3, "{moments}: {c:?}");
+            assert!(
+                (c[0] - 0.5).abs() < 1e-4 && (c[1] - 0.25).abs() < 1e-4,
+                "{moments}: {c:?}"
+            );
         }
     }
 

@@ -56,26 +56,28 @@ impl ShortcutParams {
     }
 }
 
+/// `(Σ a c, Σ a, Π (1 − a))` of `fragments`, in their order.
+fn sums<'a>(fragments: impl Iterator<Item = &'a EyeFragment>) -> ([f32; 3], f32, f32) {
+    fragments.fold(([0.0f32; 3], 0.0f32, 1.0f32), |(mut s, a, p), f| {
+        for (si, ci) in s.iter_mut().zip(f.color) {
+            *si += f.alpha * ci;
+        }
+        (s, a + f.alpha, p * (1.0 - f.alpha))
+    })
+}
+
 impl Compositor for ShortcutParams {
     fn composite(&self, fragments: &[EyeFragment], background: [f32; 3]) -> [f32; 3] {
         let k = self.k();
-        let transmittance_all = fragments.iter().fold(1.0f32, |t, f| t * (1.0 - f.alpha));
-        let sum = |fs: &mut dyn Iterator<Item = &EyeFragment>| {
-            fs.fold(([0.0f32; 3], 0.0f32, 1.0f32), |(mut s, a, p), f| {
-                for (si, ci) in s.iter_mut().zip(f.color) {
-                    *si += f.alpha * ci;
-                }
-                (s, a + f.alpha, p * (1.0 - f.alpha))
-            })
-        };
+        let (_, _, transmittance_all) = sums(fragments.iter());
         let rank = ranks(fragments);
-        let is_front = |i: usize| rank[i] < k;
+        let (front, tail): (Vec<_>, Vec<_>) = fragments.iter().zip(&rank).partition(|(_, r)| **r < k);
+        let (front, tail) = (
+            front.into_iter().map(|(f, _)| f),
+            tail.into_iter().map(|(f, _)| f),
+        );
         let c = if self.average_front {
-            let (s, a, _) = sum(&mut fragments
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| is_front(*i))
-                .map(|(_, f)| f));
+            let (s, a, _) = sums(front);
             if a > 0.0 {
                 let coverage = 1.0 - transmittance_all;
                 std::array::from_fn(|i| s[i] / a * coverage)
@@ -84,11 +86,7 @@ impl Compositor for ShortcutParams {
             }
         } else {
             let (mut c, t) = under(front_to_back(fragments).into_iter().take(k));
-            let (s, a, p) = sum(&mut fragments
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| !is_front(*i))
-                .map(|(_, f)| f));
+            let (s, a, p) = sums(tail);
             if a > 0.0 {
                 let cover = t * (1.0 - p);
                 for (ci, si) in c.iter_mut().zip(s) {

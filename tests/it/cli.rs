@@ -407,6 +407,99 @@ fn curve_rejects_bad_fragment_rows_by_file_line_and_value() {
     }
 }
 
+/// Runs `hairlab composite --method wboit` on a pixel CSV holding `text`, with `extra` arguments.
+fn composite_on(dir: &Path, text: &str, extra: &[&str]) -> std::process::Output {
+    let csv = dir.join("pixel.csv");
+    std::fs::write(&csv, text).unwrap();
+    let mut args = vec![
+        "composite",
+        "--fragments",
+        csv.to_str().unwrap(),
+        "--method",
+        "wboit",
+    ];
+    args.extend_from_slice(extra);
+    hairlab(&args)
+}
+
+/// The printed `r,g,b`.
+fn rgb(o: &std::process::Output) -> Vec<f32> {
+    String::from_utf8_lossy(&o.stdout)
+        .trim()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn composite_prints_a_hand_computed_pixel() {
+    // Through WBOIT's model (f16 targets): red at depth 0 (weight α · 2^8 = 128), green and blue at depth 1
+    // (weight α = 0.5), α 0.5 each. accum = (64, 0.25, 0.25; 64.5), revealage 0.125 — all exact in f16 — so
+    // C = accum.rgb / 64.5 · 0.875 + 0.125 · B, with B = (0.2, 0.4, 0.8).
+    let dir = tempfile::tempdir().unwrap();
+    let text = "# one pixel\ndepth,r,g,b,alpha\n1,0,1,0,0.5\n0,1,0,0,0.5\n\n1,0,0,1,0.5\n";
+    let o = composite_on(dir.path(), text, &["--background", "0.2,0.4,0.8"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let expected = [
+        64.0 / 64.5 * 0.875 + 0.025,
+        0.25 / 64.5 * 0.875 + 0.05,
+        0.25 / 64.5 * 0.875 + 0.1,
+    ];
+    let c = rgb(&o);
+    assert_eq!(c.len(), 3);
+    for (c, e) in c.iter().zip(expected) {
+        assert!((c - e).abs() < 1e-6, "{c} vs {e}");
+    }
+    // Without a header, columns in order; the default background is black.
+    let o = composite_on(dir.path(), "1,0,1,0,0.5\n0,1,0,0,0.5\n1,0,0,1,0.5\n", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for (c, e) in rgb(&o)
+        .iter()
+        .zip([64.0 / 64.5 * 0.875, 0.25 / 64.5 * 0.875, 0.25 / 64.5 * 0.875])
+    {
+        assert!((c - e).abs() < 1e-6, "{c} vs {e}");
+    }
+}
+
+#[test]
+fn composite_help_lists_the_techniques_and_bad_input_names_file_and_line() {
+    let o = hairlab(&["composite", "--help"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(help.contains("Techniques and their parameters"), "{help}");
+    for t in hairlab::render::transparency::registry::all() {
+        assert!(help.contains(t.name()), "{} missing from {help}", t.name());
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for (text, needles) in [
+        ("1,0,1,0,0.5\n0.5,1,1\n", ["pixel.csv:2", "`0.5,1,1`"]),
+        ("# c\n1,0,1,0,lots\n", ["pixel.csv:2", "`1,0,1,0,lots`"]),
+        (
+            "1,0,1,0,0.5\ndepth,r,g,b,alpha\n",
+            ["pixel.csv:2", "five numbers"],
+        ),
+        ("1,NaN,1,0,0.5\n", ["pixel.csv:1", "r NaN"]),
+        ("inf,0,1,0,0.5\n", ["pixel.csv:1", "depth inf"]),
+        ("-1,0,1,0,0.5\n", ["pixel.csv:1", "depth -1"]),
+        ("1,0,-0.5,0,0.5\n", ["pixel.csv:1", "g -0.5"]),
+        ("1,0,1,0,1.5\n", ["pixel.csv:1", "alpha 1.5"]),
+        ("\n# nothing\n", ["pixel.csv", "no fragments"]),
+    ] {
+        let o = composite_on(dir.path(), text, &[]);
+        assert_fails(&o, &needles);
+        assert!(o.stdout.is_empty(), "{text:?}: printed {:?}", o.stdout);
+    }
+    for (extra, needle) in [
+        (["--background", "1,2"], "--background '1,2'"),
+        (["--background", "0,0,-1"], "--background '0,0,-1'"),
+        (["--hair-alpha", "nan"], "--hair-alpha must be in [0, 1]"),
+        (["--param", "k=4"], "has no parameter 'k'"),
+    ] {
+        let o = composite_on(dir.path(), "1,0,1,0,0.5\n", &extra);
+        assert_fails(&o, &[needle]);
+    }
+}
+
 /// The output path is checked before any work, and the image size flags are named as the user typed them.
 #[test]
 fn outputs_are_checked_first_and_size_flags_name_themselves() {

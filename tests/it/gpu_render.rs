@@ -162,7 +162,7 @@ fn eye_targets_hold_the_technique_of_the_last_frame() {
     let m = r.memory();
     assert_eq!(m.transparency_name, "wboit");
     assert_eq!(m.transparency_targets, 64 * 48 * 10);
-    assert_eq!(m.eye_targets, 64 * 48 * 18);
+    assert_eq!(m.eye_targets, 64 * 48 * 19);
     let method = registry::find(&s.method.name).unwrap();
     let frame = |render, width, height| FrameInput {
         camera: &s.camera,
@@ -177,5 +177,5 @@ fn eye_targets_hold_the_technique_of_the_last_frame() {
     };
     r.render(&frame(&s.render, 32, 16)).unwrap();
     assert_eq!(r.memory().transparency_targets, 32 * 16 * 10);
-    assert_eq!(r.memory().eye_targets, 32 * 16 * 18);
+    assert_eq!(r.memory().eye_targets, 32 * 16 * 19);
 }

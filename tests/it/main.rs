@@ -32,5 +32,6 @@ mod stability_avsm;
 mod stability_dsm;
 mod stability_fom;
 mod stability_msm;
+mod transparency_gpu;
 mod transparency_occupancy;
 mod visibility_models;

@@ -2,10 +2,12 @@
 //! (`common/fullscreen.wgsl`) runs the technique's resolve shader, which reads the technique's targets through
 //! group 0 and blends its result onto the opaque colour image.
 
-use crate::render::targets::EyeTargets;
+use crate::render::targets::{CAPTURE_FORMAT, EyeTargets};
 
 pub struct CompositePass {
-    pipeline: wgpu::RenderPipeline,
+    /// One pipeline per output format: the colour image, and the float capture target of the GPU = CPU tests
+    /// ([`crate::render::targets::CAPTURE_FORMAT`]).
+    pipelines: [(wgpu::TextureFormat, wgpu::RenderPipeline); 2],
 }
 
 impl CompositePass {
@@ -24,39 +26,48 @@ impl CompositePass {
             bind_group_layouts: &[Some(layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&format!("{label}.pipeline")),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: EyeTargets::COLOR,
-                    blend: Some(blend),
-                    write_mask: wgpu::ColorWrites::COLOR,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        CompositePass { pipeline }
+        let pipeline = |format| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&format!("{label}.pipeline")),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: Some(blend),
+                        // The colour image keeps its alpha; the capture records coverage 1 - T in it.
+                        write_mask: if format == CAPTURE_FORMAT {
+                            wgpu::ColorWrites::ALL
+                        } else {
+                            wgpu::ColorWrites::COLOR
+                        },
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        CompositePass {
+            pipelines: [EyeTargets::COLOR, CAPTURE_FORMAT].map(|f| (f, pipeline(f))),
+        }
     }
 
-    /// Draws the resolve onto `color` (loaded, not cleared) with `bind_group` as group 0.
+    /// Draws the resolve onto `color` of `format` (loaded, not cleared) with `bind_group` as group 0.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        color: &wgpu::TextureView,
+        (color, format): (&wgpu::TextureView, wgpu::TextureFormat),
         bind_group: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
@@ -76,7 +87,8 @@ impl CompositePass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        let pipeline = self.pipelines.iter().find(|(f, _)| *f == format);
+        pass.set_pipeline(&pipeline.unwrap_or(&self.pipelines[0]).1);
         pass.set_bind_group(0, bind_group, &[]);
         pass.draw(0..3, 0..1);
     }

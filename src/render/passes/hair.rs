@@ -7,7 +7,7 @@ use crate::render::geometry::{GeometryBuffers, HairVertex};
 use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use crate::render::targets::EyeTargets;
-use crate::render::transparency::{EyeTransparency, HairDrawPass};
+use crate::render::transparency::{EntryDepth, EyeTransparency, HairDrawPass};
 
 pub struct HairPass {
     scene_layout: wgpu::BindGroupLayout,
@@ -81,9 +81,9 @@ impl HairPass {
                     topology: wgpu::PrimitiveTopology::LineList,
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
+                depth_stencil: (draw.entry.depth != EntryDepth::Manual).then(|| wgpu::DepthStencilState {
                     format: EyeTargets::DEPTH,
-                    depth_write_enabled: Some(draw.entry.depth_write),
+                    depth_write_enabled: Some(draw.entry.depth == EntryDepth::Own),
                     depth_compare: Some(wgpu::CompareFunction::Less),
                     stencil: Default::default(),
                     bias: Default::default(),
@@ -117,14 +117,16 @@ impl HairPass {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.hair.pass"),
             color_attachments: draw.attachments,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: (draw.entry.depth != EntryDepth::Manual).then_some(
+                wgpu::RenderPassDepthStencilAttachment {
+                    view: depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                },
+            ),
             timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,

@@ -24,6 +24,7 @@
 
 pub mod occupancy_order;
 pub mod registry;
+pub mod sorted;
 pub mod wboit;
 
 use crate::gpu::timing::GpuTimer;
@@ -32,7 +33,7 @@ use crate::render::geometry::GeometryBuffers;
 use crate::render::method::{ParamSpec, ParamValues, Role};
 use crate::render::passes::hair::{HairPass, HairScene};
 use crate::render::targets::EyeTargets;
-use crate::transparency::{Compositor, ModelContext};
+use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
 /// A technique's constants: the registry, the panel, the pipelines and the tests read them.
 #[derive(Debug)]
@@ -62,9 +63,19 @@ pub struct TechniqueInfo {
 pub struct HairEntry {
     pub entry: &'static str,
     pub targets: &'static [wgpu::ColorTargetState],
-    /// Depth state: test `Less` against the meshes without writing (the shared hair state), or a technique's
-    /// own depth target written with `Less`.
-    pub depth_write: bool,
+    pub depth: EntryDepth,
+}
+
+/// How a hair entry is depth-tested.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EntryDepth {
+    /// `Less` against the meshes' depth, not written (the shared hair state).
+    Meshes,
+    /// `Less` against the technique's own depth target, written.
+    Own,
+    /// No depth attachment: the entry tests the meshes' depth by hand (`common/mesh_depth.wgsl`) before its
+    /// storage writes, which a fixed-function test after the shader would not undo.
+    Manual,
 }
 
 /// What the renderer asks of an eye transparency technique.
@@ -98,6 +109,15 @@ pub trait TransparencyGpu: Send + std::any::Any {
     fn memory_bytes(&self) -> u64;
     /// Geometry passes over the strands in the last frame recorded.
     fn geometry_passes(&self) -> u32;
+    /// The last frame's per-pixel fragment lists (row-major, each front to back on (depth, segment)), for a
+    /// technique that keeps them (the exact reference); an error when they cannot be read whole.
+    fn read_lists(&self, _gpu: &Gpu) -> Option<Result<Vec<Vec<EyeFragment>>, GpuError>> {
+        None
+    }
+    /// The last frame's eye depth complexity (deepest pixel, total fragments), for a technique that counts it.
+    fn depth_complexity(&self) -> Option<(u32, u64)> {
+        None
+    }
 }
 
 /// One frame of the eye view as a technique records it.
@@ -109,8 +129,11 @@ pub struct EyeFrame<'a> {
     /// Group 0 of the technique's geometry passes.
     pub frame_bind_group: &'a wgpu::BindGroup,
     pub geometry: &'a GeometryBuffers,
-    /// The colour image (the opaque meshes, to resolve onto) and the meshes' depth.
+    /// The colour image (the opaque meshes) and the meshes' depth.
     pub targets: &'a EyeTargets,
+    /// Where the resolve draws, and its format: the colour image, or the capture target
+    /// ([`crate::render::targets::CAPTURE_FORMAT`], cleared to zero) when the frame is captured.
+    pub output: (&'a wgpu::TextureView, wgpu::TextureFormat),
     pub values: &'a ParamValues,
     pub model: ModelContext,
     pub hair: HairDraw<'a>,
@@ -146,8 +169,7 @@ impl EyeFrame<'_> {
 pub struct HairDrawPass<'a> {
     pub entry: &'static HairEntry,
     pub attachments: &'a [Option<wgpu::RenderPassColorAttachment<'a>>],
-    /// The technique's own depth target (entries with `depth_write`), cleared to `clear` or loaded; `None`: the
-    /// meshes' depth, tested only.
+    /// The technique's own depth target (entries with [`EntryDepth::Own`]), cleared to `clear` or loaded.
     pub depth: Option<(&'a wgpu::TextureView, Option<f32>)>,
     /// Group 2 of the hair pass: the technique's own resources.
     pub group: Option<(&'a wgpu::BindGroupLayout, &'a wgpu::BindGroup)>,

@@ -3,8 +3,9 @@
 //! unsorted fragments can be blended additively with their back-to-front weights. The CPU model is
 //! `transparency::occupancy_order`.
 //!
-//! Three geometry passes over the strands, all with the shared eye vertex stage and depth-tested `Less` against
-//! the meshes without writing (the hair pass's depth state, so every pass sees the same fragments):
+//! Three geometry passes over the strands, all with the shared eye vertex stage and tested `Less` against the
+//! meshes' depth without writing (the hair pass's depth state, so every pass sees the same fragments; the
+//! occupancy pass tests by hand, `common/mesh_depth.wgsl`, before its atomics):
 //! 1. `eye: depth range`: the pixel's nearest and furthest eye depth, two R32Float targets cleared to (big, 0)
 //!    with Min / Max blending (spec A.3 #7: the paper's two depth-test passes in one);
 //! 2. `eye: occupancy + slabs`: the 128-slice occupancy bitmap and the 4 slab counts of the pixel, `atomicOr` /
@@ -24,7 +25,7 @@
 //! f16. The buffers must fit the device's storage binding size (128 MiB on lavapipe: 8,388,608 pixels).
 
 use super::{
-    ADDITIVE, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
     TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
@@ -42,6 +43,9 @@ use bytemuck::{Pod, Zeroable};
 pub const RANGE: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Bytes per pixel of each of the two storage buffers (four u32).
 pub const BUFFER_BYTES_PER_PIXEL: u64 = 16;
+/// Largest per-channel |C_gpu - C_cpu| with `precision = f16`: the model rounds to f16 after every blend in
+/// submission order, the GPU's blend order differs; measured 5.4e-4 on lavapipe (tests/it/transparency_occupancy.rs).
+pub const F16_GPU_TOLERANCE: f32 = 1e-3;
 /// The depth-range targets' clear value of `near` (beyond any eye depth; `far` clears to 0).
 const NEAR_CLEAR: f64 = 1e30;
 
@@ -116,12 +120,12 @@ static HAIR: [HairEntry; 2] = [
     HairEntry {
         entry: "fs_main",
         targets: &ACCUM_F32,
-        depth_write: false,
+        depth: EntryDepth::Meshes,
     },
     HairEntry {
         entry: "fs_half",
         targets: &ACCUM_F16,
-        depth_write: false,
+        depth: EntryDepth::Meshes,
     },
 ];
 
@@ -138,7 +142,9 @@ static INFO: TechniqueInfo = TechniqueInfo {
     ],
     params: PARAMS,
     color: [86, 180, 233],
-    gpu_tolerance: 2e-3,
+    // f32 sums of the same f32 weights in another order: measured 8.9e-8 on lavapipe (tests/it/transparency_gpu.rs,
+    // 160×120, deepest pixel 50). The f16 accumulation has its own bound, F16_GPU_TOLERANCE.
+    gpu_tolerance: 1e-6,
 };
 
 pub struct OccupancyOrder;
@@ -224,23 +230,34 @@ const fn storage(read_only: bool) -> wgpu::BindingType {
     }
 }
 
-/// Layout of the maps: the two depth ranges, the bitmap, the slab counts and the uniforms (group 1 of the
-/// occupancy pass with writable buffers, group 2 of the hair pass read-only).
-fn maps_layout(device: &wgpu::Device, label: &str, read_only: bool) -> wgpu::BindGroupLayout {
+const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Depth,
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+
+/// Layout of the maps: the two depth ranges, the bitmap, the slab counts and the uniforms; group 2 of the hair
+/// pass (read-only), or group 1 of the occupancy pass (writable, and the meshes' depth it tests by hand).
+fn maps_layout(device: &wgpu::Device, label: &str, occupancy_pass: bool) -> wgpu::BindGroupLayout {
+    let mut entries = vec![
+        entry(0, TEXTURE),
+        entry(1, TEXTURE),
+        entry(2, storage(!occupancy_pass)),
+        entry(3, storage(!occupancy_pass)),
+        entry(4, UNIFORM),
+    ];
+    if occupancy_pass {
+        entries.push(entry(5, MESH_DEPTH));
+    }
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label),
-        entries: &[
-            entry(0, TEXTURE),
-            entry(1, TEXTURE),
-            entry(2, storage(read_only)),
-            entry(3, storage(read_only)),
-            entry(4, UNIFORM),
-        ],
+        entries: &entries,
     })
 }
 
-/// A pipeline of the maps shader drawing the strands from the eye (LineList, the eye vertex stage), depth-tested
-/// `Less` against the meshes without writing, fragment entry `fragment` writing `targets`.
+/// A pipeline of the maps shader drawing the strands from the eye (LineList, the eye vertex stage), fragment entry
+/// `fragment` writing `targets`; with `depth_tested`, tested `Less` against the meshes' depth without writing
+/// (else the entry tests it by hand).
 fn eye_pipeline(
     device: &wgpu::Device,
     label: &str,
@@ -248,6 +265,7 @@ fn eye_pipeline(
     module: &wgpu::ShaderModule,
     fragment: &str,
     targets: &[Option<wgpu::ColorTargetState>],
+    depth_tested: bool,
 ) -> wgpu::RenderPipeline {
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(&format!("{label}_layout")),
@@ -267,7 +285,7 @@ fn eye_pipeline(
             topology: wgpu::PrimitiveTopology::LineList,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
+        depth_stencil: depth_tested.then(|| wgpu::DepthStencilState {
             format: EyeTargets::DEPTH,
             depth_write_enabled: Some(false),
             depth_compare: Some(wgpu::CompareFunction::Less),
@@ -286,6 +304,36 @@ fn eye_pipeline(
     })
 }
 
+/// A bind group of [`maps_layout`]: the depth-range `textures`, the bitmap, slab and uniform `buffers`, and for the
+/// occupancy pass the meshes' depth.
+fn maps_bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    textures: [&wgpu::TextureView; 2],
+    buffers: [&wgpu::Buffer; 3],
+    mesh_depth: Option<&wgpu::TextureView>,
+) -> wgpu::BindGroup {
+    let views = textures.into_iter().chain(mesh_depth);
+    let mut entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: 2 + i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    entries.extend(views.zip([0, 1, 5]).map(|(v, binding)| wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::TextureView(v),
+    }));
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
 /// The viewport-sized maps, the accumulation target and the bind groups over them.
 struct OccupancyOrderMaps {
     near: wgpu::TextureView,
@@ -294,7 +342,6 @@ struct OccupancyOrderMaps {
     slabs: wgpu::Buffer,
     accum: wgpu::TextureView,
     accum_format: wgpu::TextureFormat,
-    pass_bind_group: wgpu::BindGroup,
     hair_bind_group: wgpu::BindGroup,
     resolve_bind_group: wgpu::BindGroup,
     width: u32,
@@ -321,8 +368,8 @@ pub struct OccupancyOrderGpu {
 impl Resources {
     fn new(setup: &EyeSetup) -> Resources {
         let device = &setup.gpu.device;
-        let pass_layout = maps_layout(device, "hairlab.occupancy-order.pass_layout", false);
-        let hair_layout = maps_layout(device, "hairlab.occupancy-order.hair_layout", true);
+        let pass_layout = maps_layout(device, "hairlab.occupancy-order.pass_layout", true);
+        let hair_layout = maps_layout(device, "hairlab.occupancy-order.hair_layout", false);
         let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.occupancy-order.resolve_layout"),
             entries: &[entry(0, TEXTURE), entry(1, storage(true)), entry(2, UNIFORM)],
@@ -357,6 +404,7 @@ impl Resources {
                 range_target(wgpu::BlendOperation::Min),
                 range_target(wgpu::BlendOperation::Max),
             ],
+            true,
         );
         let slabs_pipeline = eye_pipeline(
             device,
@@ -364,7 +412,8 @@ impl Resources {
             &[Some(setup.frame_layout), Some(&pass_layout)],
             &module,
             "fs_slabs",
-            &[],
+            &[Some(EyeTargets::NULL)],
+            false,
         );
         let resolve = CompositePass::new(
             device,
@@ -439,36 +488,14 @@ impl Resources {
         };
         let bits = buffer("hairlab.occupancy-order.bitmap");
         let slabs = buffer("hairlab.occupancy-order.slabs");
-        let maps_group = |label, layout| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&near),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&far),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: bits.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: slabs.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: self.uniforms.as_entire_binding(),
-                    },
-                ],
-            })
-        };
-        let pass_bind_group = maps_group("hairlab.occupancy-order.pass_bind_group", &self.pass_layout);
-        let hair_bind_group = maps_group("hairlab.occupancy-order.hair_bind_group", &self.hair_layout);
+        let hair_bind_group = maps_bind_group(
+            device,
+            "hairlab.occupancy-order.hair_bind_group",
+            &self.hair_layout,
+            [&near, &far],
+            [&bits, &slabs, &self.uniforms],
+            None,
+        );
         let resolve_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hairlab.occupancy-order.resolve_bind_group"),
             layout: &self.resolve_layout,
@@ -494,7 +521,6 @@ impl Resources {
             slabs,
             accum,
             accum_format,
-            pass_bind_group,
             hair_bind_group,
             resolve_bind_group,
             width,
@@ -516,8 +542,8 @@ impl OccupancyOrderGpu {
         Ok(bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.maps.slabs)?))
     }
 
-    /// Records one of the two map passes: `pipeline` over every strand segment into `attachments`, tested
-    /// against the meshes' depth.
+    /// Records one of the two map passes: `pipeline` over every strand segment into `attachments`, with the
+    /// meshes' depth attached for a pipeline that tests it (`group`: none, else the occupancy pass's).
     fn record_map_pass(
         frame: &mut EyeFrame<'_>,
         pipeline: &wgpu::RenderPipeline,
@@ -525,12 +551,13 @@ impl OccupancyOrderGpu {
         attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
         name: &str,
     ) {
+        let depth_view = &frame.targets.depth_view;
         let timestamps = frame.timer.as_mut().and_then(|t| t.pass(name));
         let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.occupancy-order.map_pass"),
             color_attachments: attachments,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &frame.targets.depth_view,
+            depth_stencil_attachment: group.is_none().then_some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth_view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
@@ -591,11 +618,22 @@ impl TransparencyGpu for OccupancyOrderGpu {
         );
         frame.encoder.clear_buffer(&maps.bits, 0, None);
         frame.encoder.clear_buffer(&maps.slabs, 0, None);
+        // The meshes' depth is tested by hand before the atomics (a fixed-function test after the shader would
+        // not undo them); the depth view is the frame's, so the group is too.
+        let pass_group = maps_bind_group(
+            &frame.gpu.device,
+            "hairlab.occupancy-order.pass_bind_group",
+            &res.pass_layout,
+            [&maps.near, &maps.far],
+            [&maps.bits, &maps.slabs, &res.uniforms],
+            Some(&frame.targets.depth_view),
+        );
+        let null = [frame.targets.null_attachment()];
         Self::record_map_pass(
             frame,
             &res.slabs_pipeline,
-            Some(&maps.pass_bind_group),
-            &[],
+            Some(&pass_group),
+            &null,
             "eye: occupancy + slabs",
         );
         let attachments = [cleared(&maps.accum, [0.0; 4])];
@@ -612,7 +650,7 @@ impl TransparencyGpu for OccupancyOrderGpu {
         let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
         res.resolve.record(
             &mut frame.encoder,
-            &frame.targets.color_view,
+            frame.output,
             &maps.resolve_bind_group,
             timestamps,
         );

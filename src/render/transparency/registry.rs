@@ -3,10 +3,11 @@
 
 use super::EyeTransparency;
 use super::occupancy_order::OccupancyOrder;
+use super::sorted::Sorted;
 use super::wboit::Wboit;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Wboit, &OccupancyOrder];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit, &OccupancyOrder];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {
@@ -16,6 +17,11 @@ pub fn all() -> &'static [&'static dyn EyeTransparency] {
 /// The technique of new settings (it keeps every existing preset's image).
 pub fn default_technique() -> &'static dyn EyeTransparency {
     &Wboit
+}
+
+/// The exact reference every technique is measured against.
+pub fn reference() -> &'static dyn EyeTransparency {
+    &Sorted
 }
 
 /// The technique called `name`, or an error listing the known names.

@@ -1,0 +1,122 @@
+//! GPU = CPU for every eye transparency technique: each technique's resolve captured in f32 (the hair's
+//! premultiplied colour H and coverage 1 - T per pixel) against its CPU model fed that pixel's exact fragment
+//! list, read back from the reference's per-pixel lists.
+
+use crate::common::small_settings;
+use hairlab::gpu::Gpu;
+use hairlab::render::method::ParamValues;
+use hairlab::render::transparency::{EyeTransparency, registry};
+use hairlab::render::{FrameInput, Renderer};
+use hairlab::settings::Settings;
+use hairlab::transparency::{EyeFragment, ModelContext};
+
+pub fn eye_frame<'a>(
+    s: &'a Settings,
+    technique: &'static dyn EyeTransparency,
+    params: &'a ParamValues,
+) -> FrameInput<'a> {
+    FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method: hairlab::methods::registry::find(&s.method.name).unwrap(),
+        method_params: &s.method.params,
+        technique,
+        technique_params: params,
+        width: s.render.width,
+        height: s.render.height,
+    }
+}
+
+/// The small head at `width`×`height` with its camera framed, its renderer and the exact lists.
+pub fn eye_scene(gpu: &Gpu, width: u32, height: u32) -> (Settings, Renderer, Vec<Vec<EyeFragment>>) {
+    let mut s = small_settings(width, height);
+    let scene = s.scene.build().unwrap();
+    s.camera.frame(&scene.framing_bounds());
+    let mut r = Renderer::new(gpu, &scene, s.render.map_resolution).unwrap();
+    let empty = ParamValues::new();
+    let lists = r
+        .eye_lists(&eye_frame(&s, registry::reference(), &empty))
+        .unwrap();
+    (s, r, lists)
+}
+
+/// Largest per-channel |GPU - CPU| of `technique` with `params` on the captured frame, and the hair pixels.
+pub fn gpu_cpu_difference(
+    s: &Settings,
+    r: &mut Renderer,
+    lists: &[Vec<EyeFragment>],
+    technique: &'static dyn EyeTransparency,
+    params: &ParamValues,
+) -> (f32, usize) {
+    let captured = r.render_capture(&eye_frame(s, technique, params)).unwrap();
+    assert_eq!(captured.len(), lists.len());
+    let ctx = ModelContext {
+        hair_alpha: s.render.hair_alpha,
+        depth_range: r.eye_depth_range(&s.camera),
+    };
+    let model = technique.model(params, &ctx);
+    let mut worst = 0.0f32;
+    for (p, (gpu, list)) in captured.iter().zip(lists).enumerate() {
+        let h = model.composite(list, [0.0; 3]);
+        let white = model.composite(list, [1.0; 3]);
+        let coverage = 1.0 - (white[0] - h[0]);
+        for (c, (g, m)) in gpu.iter().zip(h.iter().chain([&coverage])).enumerate() {
+            assert!(
+                g.is_finite(),
+                "{}: pixel {p} channel {c} is {g}",
+                technique.name()
+            );
+            worst = worst.max((g - m).abs());
+        }
+    }
+    (worst, lists.iter().filter(|l| !l.is_empty()).count())
+}
+
+#[test]
+fn every_registered_technique_gpu_equals_its_model() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (s, mut r, lists) = eye_scene(&gpu, 160, 120);
+    let hair = lists.iter().filter(|l| !l.is_empty()).count();
+    let deepest = lists.iter().map(Vec::len).max().unwrap_or(0);
+    assert!(
+        hair > 2000 && deepest >= 8,
+        "a non-trivial view: {hair} hair pixels, deepest {deepest}"
+    );
+    let defaults = ParamValues::new();
+    for t in registry::all() {
+        let (worst, _) = gpu_cpu_difference(&s, &mut r, &lists, *t, &defaults);
+        println!(
+            "{}: max |C_gpu - C_cpu| = {worst:.2e} over {hair} hair pixels (deepest {deepest})",
+            t.name()
+        );
+        assert!(
+            worst <= t.info().gpu_tolerance,
+            "{}: {worst} > {}",
+            t.name(),
+            t.info().gpu_tolerance
+        );
+    }
+}
+
+/// The lists hold every fragment the count pass counted, each pixel's front to back on (depth, segment) with
+/// no repeated key, and no fragment is shaded to a non-finite colour or an alpha outside [0, 1].
+#[test]
+fn the_reference_lists_are_complete_and_totally_ordered() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (_, r, lists) = eye_scene(&gpu, 96, 72);
+    let (deepest, total) = r.eye_depth_complexity().unwrap();
+    assert_eq!(lists.iter().map(Vec::len).sum::<usize>() as u64, total);
+    assert_eq!(lists.iter().map(Vec::len).max().unwrap() as u32, deepest);
+    for l in &lists {
+        for w in l.windows(2) {
+            assert!(
+                (w[0].depth.to_bits(), w[0].segment) < (w[1].depth.to_bits(), w[1].segment),
+                "{w:?}"
+            );
+        }
+        for f in l {
+            assert!(f.color.iter().all(|c| c.is_finite() && *c >= 0.0) && (0.0..=1.0).contains(&f.alpha));
+        }
+    }
+}

@@ -862,6 +862,12 @@ impl Renderer {
         &self.gpu
     }
 
+    /// The GPU state of the eye transparency technique of the last frame, for a technique's own readbacks in
+    /// tests (downcast to its type).
+    pub fn transparency_gpu(&self) -> Option<&dyn TransparencyGpu> {
+        self.transparency.as_ref().map(|(_, t)| t.as_ref())
+    }
+
     /// Side of the hair light maps.
     pub fn map_resolution(&self) -> u32 {
         self.light_maps.near.width()

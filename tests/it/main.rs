@@ -33,4 +33,5 @@ mod stability_dsm;
 mod stability_fom;
 mod stability_msm;
 mod transparency_gpu;
+mod transparency_occupancy;
 mod visibility_models;

@@ -262,6 +262,17 @@ fn method_uniforms_match_wgsl_layout() {
     assert!(checked >= 5, "only {checked} methods have uniform mirrors");
 }
 
+/// The occupancy-order technique's uniform mirror against its passes (the hair entry includes the same file).
+#[test]
+fn occupancy_order_uniforms_match_wgsl_layout() {
+    let u = hairlab::render::transparency::occupancy_order::uniform_mirror();
+    let wgsl = [
+        ("transparency/occupancy_order_maps.wgsl", None, u.wgsl_name),
+        ("transparency/occupancy_order_resolve.wgsl", None, u.wgsl_name),
+    ];
+    check_mirror(u.size, &u.fields, &wgsl);
+}
+
 /// A registered method is complete: a CPU model giving valid curves, light and lookup WGSL that validate, a
 /// uniform mirror (approximations), parameters whose defaults are valid, a sweep of valid configurations (a
 /// baseline may have none), a colour of its own. Adding a method to the registry without one of these fails here.

@@ -23,6 +23,7 @@
 //! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
 pub mod depth_peel;
+pub mod occupancy_order;
 pub mod opaque;
 pub mod registry;
 pub mod sorted;
@@ -102,7 +103,7 @@ pub struct EyeSetup<'a> {
 }
 
 /// A technique's GPU side.
-pub trait TransparencyGpu: Send {
+pub trait TransparencyGpu: Send + std::any::Any {
     /// Re-creates the viewport-sized resources for `width`×`height` (nothing when the size is unchanged).
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError>;
     /// Records the technique's passes of one frame: after the meshes, before the frame is submitted.

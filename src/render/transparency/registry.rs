@@ -3,13 +3,21 @@
 
 use super::EyeTransparency;
 use super::depth_peel::DepthPeel;
+use super::occupancy_order::OccupancyOrder;
 use super::opaque::Opaque;
 use super::sorted::Sorted;
 use super::wboit::Wboit;
 use super::weighted_average::WeightedAverage;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit, &WeightedAverage, &Opaque, &DepthPeel];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[
+    &Sorted,
+    &OccupancyOrder,
+    &DepthPeel,
+    &WeightedAverage,
+    &Wboit,
+    &Opaque,
+];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {

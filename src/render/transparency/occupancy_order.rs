@@ -1,0 +1,737 @@
+//! Occupancy-ordered blending (Sintorn & Assarsson 2009 §3.4): the Occupancy Maps of the light-space method
+//! built from the camera give each hair fragment an approximate number `o` of fragments in front of it, so
+//! unsorted fragments can be blended additively with their back-to-front weights. The CPU model is
+//! `transparency::occupancy_order`.
+//!
+//! Three geometry passes over the strands, all with the shared eye vertex stage and tested `Less` against the
+//! meshes' depth without writing (the hair pass's depth state, so every pass sees the same fragments; the
+//! occupancy pass tests by hand, `common/mesh_depth.wgsl`, before its atomics):
+//! 1. `eye: depth range`: the pixel's nearest and furthest eye depth, two R32Float targets cleared to (big, 0)
+//!    with Min / Max blending (spec A.3 #7: the paper's two depth-test passes in one);
+//! 2. `eye: occupancy + slabs`: the 128-slice occupancy bitmap and the 4 slab counts of the pixel, `atomicOr` /
+//!    `atomicAdd` into two storage buffers of four u32 per pixel, exactly the light-space pass on eye pixels
+//!    (relative depth `(depth - near_p) / (far_p - near_p)` with the step convention of a zero range);
+//! 3. `eye: hair`: each shaded fragment adds `(w c, w)`, `w = exp(-o b̄) ᾱ`, into an Rgba32Float (or, to show
+//!    why the paper needs 32 bits, Rgba16Float) One/One target; `ᾱ` is the global hair alpha
+//!    (`frame.hair_alpha`) and `b̄ = -ln(1 - min(ᾱ, 1 - 1e-6))`: each fragment's own alpha is not used (the paper
+//!    assumes one alpha, spec A.3 #4).
+//!
+//! The resolve (`eye: resolve`) sums the four slab counts to `n`, puts `T = exp(-n b̄)` on the background and
+//! `Λ = 1 - T` of hair over it; with the correction on the colour is rescaled to `rgb · Λ / acc.a` (the reading
+//! of A.3 #1 that makes the total weight Λ), output `(rgb, Λ)` with [`PREMULTIPLIED_OVER`]. Pixels without
+//! fragments are left untouched.
+//!
+//! Memory: 4 + 4 (depth range) + 16 (bitmap) + 16 (slabs) + 16 (accumulation) = 56 bytes per pixel at f32, 48 at
+//! f16. The buffers must fit the device's storage binding size (128 MiB on lavapipe: 8,388,608 pixels).
+
+use super::{
+    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    TechniqueInfo, TransparencyGpu, cleared,
+};
+use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::HairVertex;
+use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, UniformMirror, value};
+use crate::render::passes::composite::CompositePass;
+use crate::render::passes::{abuffer::copy_out, shader_module};
+use crate::render::targets::{EyeTargets, eye_texture};
+use crate::transparency::occupancy_order::OccupancyOrderParams;
+use crate::transparency::{Compositor, ModelContext};
+use crate::visibility::OccupancyVariant;
+use bytemuck::{Pod, Zeroable};
+
+/// Format of the two depth-range targets.
+pub const RANGE: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Bytes per pixel of each of the two storage buffers (four u32).
+pub const BUFFER_BYTES_PER_PIXEL: u64 = 16;
+/// Largest per-channel |C_gpu - C_cpu| with `precision = f16`: the model rounds to f16 after every blend in
+/// submission order, the GPU's blend order differs; measured 5.4e-4 on lavapipe (tests/it/transparency_occupancy.rs).
+pub const F16_GPU_TOLERANCE: f32 = 1e-3;
+/// The depth-range targets' clear value of `near` (beyond any eye depth; `far` clears to 0).
+const NEAR_CLEAR: f64 = 1e30;
+
+const PARAMS: &[ParamSpec] = &[
+    ParamSpec {
+        key: "variant",
+        label: "variant",
+        help: "slab-map: occupancy map + slab map (4 slabs of 32 slices, the paper's method); occupancy-only: the \
+               occupancy map with one count for the whole range",
+        kind: ParamKind::Choice {
+            options: &["slab-map", "occupancy-only"],
+        },
+        default: 0.0,
+    },
+    ParamSpec {
+        key: "correction",
+        label: "Λ correction",
+        help: "on: rescale the hair colour so its total weight is Λ = 1 - (1 - α)^n (S&A §3.4); off: the plain sum",
+        kind: ParamKind::Choice {
+            options: &["on", "off"],
+        },
+        default: 0.0,
+    },
+    ParamSpec {
+        key: "order_bias",
+        label: "order bias",
+        help: "none: the paper's estimate; half: subtract ½ from every order estimate (clamped at 0), the \
+               estimate's mean bias",
+        kind: ParamKind::Choice {
+            options: &["none", "half"],
+        },
+        default: 0.0,
+    },
+    ParamSpec {
+        key: "precision",
+        label: "accumulation",
+        help: "f32: Rgba32Float accumulation (the paper's 32-bit target); f16: Rgba16Float, to show why it is needed",
+        kind: ParamKind::Choice {
+            options: &["f32", "f16"],
+        },
+        default: 0.0,
+    },
+];
+
+/// The technique's parameters from `values` (missing keys take their defaults).
+fn params(values: &ParamValues) -> OccupancyOrderParams {
+    let on = |i: usize| value(values, &PARAMS[i]) >= 0.5;
+    OccupancyOrderParams {
+        variant: if on(0) {
+            OccupancyVariant::OccupancyOnly
+        } else {
+            OccupancyVariant::SlabMap
+        },
+        lambda_correction: !on(1),
+        order_bias: if on(2) { -0.5 } else { 0.0 },
+        half_precision: on(3),
+    }
+}
+
+const fn accumulation(format: wgpu::TextureFormat) -> [wgpu::ColorTargetState; 1] {
+    [wgpu::ColorTargetState {
+        format,
+        blend: Some(ADDITIVE),
+        write_mask: wgpu::ColorWrites::ALL,
+    }]
+}
+
+static ACCUM_F32: [wgpu::ColorTargetState; 1] = accumulation(wgpu::TextureFormat::Rgba32Float);
+static ACCUM_F16: [wgpu::ColorTargetState; 1] = accumulation(wgpu::TextureFormat::Rgba16Float);
+
+static HAIR: [HairEntry; 2] = [
+    HairEntry {
+        entry: "fs_main",
+        targets: &ACCUM_F32,
+        depth: EntryDepth::Meshes,
+    },
+    HairEntry {
+        entry: "fs_half",
+        targets: &ACCUM_F16,
+        depth: EntryDepth::Meshes,
+    },
+];
+
+static INFO: TechniqueInfo = TechniqueInfo {
+    name: "occupancy-order",
+    label: "Occupancy-ordered blending",
+    paper: "Sintorn & Assarsson 2009, Hair Self Shadowing and Transparency Depth Ordering Using Occupancy Maps, §3.4",
+    role: Role::Approximation,
+    hair_wgsl: "transparency/occupancy_order.wgsl",
+    hair_entries: &HAIR,
+    pass_wgsl: &[
+        "transparency/occupancy_order_maps.wgsl",
+        "transparency/occupancy_order_resolve.wgsl",
+    ],
+    params: PARAMS,
+    color: [86, 180, 233],
+    // f32 sums of the same f32 weights in another order: measured 8.9e-8 on lavapipe (tests/it/transparency_gpu.rs,
+    // 160×120, deepest pixel 50). The f16 accumulation has its own bound, F16_GPU_TOLERANCE.
+    gpu_tolerance: 1e-6,
+};
+
+pub struct OccupancyOrder;
+
+/// The WGSL mirror of [`OccupancyOrderUniforms`] (`common/occupancy_order_uniforms.wgsl`), for the layout test.
+pub fn uniform_mirror() -> UniformMirror {
+    crate::uniform_mirror!(
+        "OccupancyOrderUniforms",
+        OccupancyOrderUniforms {
+            variant,
+            correction,
+            order_bias,
+            hair_alpha
+        }
+    )
+}
+
+/// Mirrors `OccupancyOrderUniforms` in `shaders/common/occupancy_order_uniforms.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct OccupancyOrderUniforms {
+    /// 0: slab map, 1: occupancy only.
+    pub variant: u32,
+    /// 1: the Λ correction on.
+    pub correction: u32,
+    /// Added to every order estimate before clamping at 0.
+    pub order_bias: f32,
+    /// The global hair alpha.
+    pub hair_alpha: f32,
+}
+
+impl OccupancyOrderUniforms {
+    fn new(p: &OccupancyOrderParams, hair_alpha: f32) -> Self {
+        Self {
+            variant: u32::from(p.variant == OccupancyVariant::OccupancyOnly),
+            correction: u32::from(p.lambda_correction),
+            order_bias: p.order_bias,
+            hair_alpha,
+        }
+    }
+}
+
+impl EyeTransparency for OccupancyOrder {
+    fn info(&self) -> &'static TechniqueInfo {
+        &INFO
+    }
+
+    fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
+        Ok(Box::new(OccupancyOrderGpu::new(setup)?))
+    }
+
+    fn model(&self, values: &ParamValues, ctx: &ModelContext) -> Box<dyn Compositor> {
+        Box::new(params(values).model(ctx))
+    }
+}
+
+fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty,
+        count: None,
+    }
+}
+
+const TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+
+const UNIFORM: wgpu::BindingType = wgpu::BindingType::Buffer {
+    ty: wgpu::BufferBindingType::Uniform,
+    has_dynamic_offset: false,
+    min_binding_size: None,
+};
+
+const fn storage(read_only: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Depth,
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+
+/// Layout of the maps: the two depth ranges, the bitmap, the slab counts and the uniforms; group 2 of the hair
+/// pass (read-only), or group 1 of the occupancy pass (writable, and the meshes' depth it tests by hand).
+fn maps_layout(device: &wgpu::Device, label: &str, occupancy_pass: bool) -> wgpu::BindGroupLayout {
+    let mut entries = vec![
+        entry(0, TEXTURE),
+        entry(1, TEXTURE),
+        entry(2, storage(!occupancy_pass)),
+        entry(3, storage(!occupancy_pass)),
+        entry(4, UNIFORM),
+    ];
+    if occupancy_pass {
+        entries.push(entry(5, MESH_DEPTH));
+    }
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
+/// A pipeline of the maps shader drawing the strands from the eye (LineList, the eye vertex stage), fragment entry
+/// `fragment` writing `targets`; with `depth_tested`, tested `Less` against the meshes' depth without writing
+/// (else the entry tests it by hand).
+fn eye_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layouts: &[Option<&wgpu::BindGroupLayout>],
+    module: &wgpu::ShaderModule,
+    fragment: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth_tested: bool,
+) -> wgpu::RenderPipeline {
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("{label}_layout")),
+        bind_group_layouts: layouts,
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(HairVertex::layout())],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::LineList,
+            ..Default::default()
+        },
+        depth_stencil: depth_tested.then(|| wgpu::DepthStencilState {
+            format: EyeTargets::DEPTH,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A bind group of [`maps_layout`]: the depth-range `textures`, the bitmap, slab and uniform `buffers`, and for the
+/// occupancy pass the meshes' depth.
+fn maps_bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    textures: [&wgpu::TextureView; 2],
+    buffers: [&wgpu::Buffer; 3],
+    mesh_depth: Option<&wgpu::TextureView>,
+) -> wgpu::BindGroup {
+    let views = textures.into_iter().chain(mesh_depth);
+    let mut entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: 2 + i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    entries.extend(views.zip([0, 1, 5]).map(|(v, binding)| wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::TextureView(v),
+    }));
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// The viewport-sized maps, the accumulation target and the bind groups over them.
+struct OccupancyOrderMaps {
+    near: wgpu::TextureView,
+    far: wgpu::TextureView,
+    bits: wgpu::Buffer,
+    slabs: wgpu::Buffer,
+    accum: wgpu::TextureView,
+    accum_format: wgpu::TextureFormat,
+    hair_bind_group: wgpu::BindGroup,
+    resolve_bind_group: wgpu::BindGroup,
+    width: u32,
+    height: u32,
+}
+
+/// What does not depend on the viewport: pipelines, layouts, the resolve, the uniform buffer.
+struct Resources {
+    range_pipeline: wgpu::RenderPipeline,
+    slabs_pipeline: wgpu::RenderPipeline,
+    pass_layout: wgpu::BindGroupLayout,
+    hair_layout: wgpu::BindGroupLayout,
+    resolve_layout: wgpu::BindGroupLayout,
+    resolve: CompositePass,
+    uniforms: wgpu::Buffer,
+}
+
+/// Occupancy-ordered blending's GPU state, created with its maps (so they always exist).
+pub struct OccupancyOrderGpu {
+    res: Resources,
+    maps: OccupancyOrderMaps,
+}
+
+impl Resources {
+    fn new(setup: &EyeSetup) -> Resources {
+        let device = &setup.gpu.device;
+        let pass_layout = maps_layout(device, "hairlab.occupancy-order.pass_layout", true);
+        let hair_layout = maps_layout(device, "hairlab.occupancy-order.hair_layout", false);
+        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.occupancy-order.resolve_layout"),
+            entries: &[entry(0, TEXTURE), entry(1, storage(true)), entry(2, UNIFORM)],
+        });
+        let module = shader_module(
+            device,
+            "hairlab.occupancy-order.maps_shader",
+            INFO.pass_wgsl[0],
+            None,
+        );
+        let range_target = |op| {
+            Some(wgpu::ColorTargetState {
+                format: RANGE,
+                blend: Some(wgpu::BlendState {
+                    color: wgpu::BlendComponent {
+                        src_factor: wgpu::BlendFactor::One,
+                        dst_factor: wgpu::BlendFactor::One,
+                        operation: op,
+                    },
+                    alpha: wgpu::BlendComponent::REPLACE,
+                }),
+                write_mask: wgpu::ColorWrites::RED,
+            })
+        };
+        let range_pipeline = eye_pipeline(
+            device,
+            "hairlab.occupancy-order.range_pipeline",
+            &[Some(setup.frame_layout)],
+            &module,
+            "fs_range",
+            &[
+                range_target(wgpu::BlendOperation::Min),
+                range_target(wgpu::BlendOperation::Max),
+            ],
+            true,
+        );
+        let slabs_pipeline = eye_pipeline(
+            device,
+            "hairlab.occupancy-order.slabs_pipeline",
+            &[Some(setup.frame_layout), Some(&pass_layout)],
+            &module,
+            "fs_slabs",
+            &[Some(EyeTargets::NULL)],
+            false,
+        );
+        let resolve = CompositePass::new(
+            device,
+            "hairlab.occupancy-order.resolve",
+            INFO.pass_wgsl[1],
+            &resolve_layout,
+            PREMULTIPLIED_OVER,
+        );
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.occupancy-order.uniforms"),
+            size: std::mem::size_of::<OccupancyOrderUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Resources {
+            range_pipeline,
+            slabs_pipeline,
+            pass_layout,
+            hair_layout,
+            resolve_layout,
+            resolve,
+            uniforms,
+        }
+    }
+
+    /// Allocates the maps for a `width`×`height` viewport with an accumulation target of `accum_format`;
+    /// refuses buffers beyond the device's storage binding size.
+    fn make_maps(
+        &self,
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        accum_format: wgpu::TextureFormat,
+    ) -> Result<OccupancyOrderMaps, GpuError> {
+        let device = &gpu.device;
+        let limits = device.limits();
+        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let bytes = width as u64 * height as u64 * BUFFER_BYTES_PER_PIXEL;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "occupancy-order's occupancy bitmap and slab map at the {width}×{height} viewport \
+                     ({BUFFER_BYTES_PER_PIXEL} bytes per pixel each; make the viewport smaller)"
+                ),
+                bytes,
+                limit,
+            });
+        }
+        let texture = |label, format| {
+            eye_texture(
+                device,
+                label,
+                (width, height),
+                format,
+                wgpu::TextureUsages::TEXTURE_BINDING,
+                &[],
+            )
+            .create_view(&Default::default())
+        };
+        let near = texture("hairlab.occupancy-order.near", RANGE);
+        let far = texture("hairlab.occupancy-order.far", RANGE);
+        let accum = texture("hairlab.occupancy-order.accum", accum_format);
+        let buffer = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let bits = buffer("hairlab.occupancy-order.bitmap");
+        let slabs = buffer("hairlab.occupancy-order.slabs");
+        let hair_bind_group = maps_bind_group(
+            device,
+            "hairlab.occupancy-order.hair_bind_group",
+            &self.hair_layout,
+            [&near, &far],
+            [&bits, &slabs, &self.uniforms],
+            None,
+        );
+        let resolve_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.occupancy-order.resolve_bind_group"),
+            layout: &self.resolve_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&accum),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: slabs.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+            ],
+        });
+        Ok(OccupancyOrderMaps {
+            near,
+            far,
+            bits,
+            slabs,
+            accum,
+            accum_format,
+            hair_bind_group,
+            resolve_bind_group,
+            width,
+            height,
+        })
+    }
+}
+
+impl OccupancyOrderGpu {
+    fn new(setup: &EyeSetup) -> Result<OccupancyOrderGpu, GpuError> {
+        let res = Resources::new(setup);
+        let maps = res.make_maps(setup.gpu, setup.width, setup.height, HAIR[0].targets[0].format)?;
+        Ok(OccupancyOrderGpu { res, maps })
+    }
+
+    /// The slab counts of the last frame, four u32 per pixel, row-major (occupancy-only: the total in the first):
+    /// `n` of a pixel is their sum.
+    pub fn read_slabs(&self, gpu: &Gpu) -> Result<Vec<[u32; 4]>, GpuError> {
+        Ok(bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.maps.slabs)?))
+    }
+
+    /// Records one of the two map passes: `pipeline` over every strand segment into `attachments`, with the
+    /// meshes' depth attached for a pipeline that tests it (`group`: none, else the occupancy pass's).
+    fn record_map_pass(
+        frame: &mut EyeFrame<'_>,
+        pipeline: &wgpu::RenderPipeline,
+        group: Option<&wgpu::BindGroup>,
+        attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+        name: &str,
+    ) {
+        let depth_view = &frame.targets.depth_view;
+        let timestamps = frame.timer.as_mut().and_then(|t| t.pass(name));
+        let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("hairlab.occupancy-order.map_pass"),
+            color_attachments: attachments,
+            depth_stencil_attachment: group.is_none().then_some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let geometry = frame.geometry;
+        if geometry.hair_index_count == 0 {
+            return;
+        }
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        if let Some(group) = group {
+            pass.set_bind_group(1, group, &[]);
+        }
+        pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
+        pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
+    }
+}
+
+impl TransparencyGpu for OccupancyOrderGpu {
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+        let m = &self.maps;
+        if (m.width, m.height) != (width, height) {
+            self.maps = self.res.make_maps(gpu, width, height, m.accum_format)?;
+        }
+        Ok(())
+    }
+
+    fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
+        let p = params(frame.values);
+        let hair = &HAIR[usize::from(p.half_precision)];
+        let format = hair.targets[0].format;
+        if self.maps.accum_format != format {
+            let (width, height) = (self.maps.width, self.maps.height);
+            self.maps = self.res.make_maps(frame.gpu, width, height, format)?;
+        }
+        frame.gpu.queue.write_buffer(
+            &self.res.uniforms,
+            0,
+            bytemuck::bytes_of(&OccupancyOrderUniforms::new(&p, frame.model.hair_alpha)),
+        );
+        let (res, maps) = (&self.res, &self.maps);
+        Self::record_map_pass(
+            frame,
+            &res.range_pipeline,
+            None,
+            &[
+                cleared(&maps.near, [NEAR_CLEAR, 0.0, 0.0, 0.0]),
+                cleared(&maps.far, [0.0; 4]),
+            ],
+            "eye: depth range",
+        );
+        frame.encoder.clear_buffer(&maps.bits, 0, None);
+        frame.encoder.clear_buffer(&maps.slabs, 0, None);
+        // The meshes' depth is tested by hand before the atomics (a fixed-function test after the shader would
+        // not undo them); the depth view is the frame's, so the group is too.
+        let pass_group = maps_bind_group(
+            &frame.gpu.device,
+            "hairlab.occupancy-order.pass_bind_group",
+            &res.pass_layout,
+            [&maps.near, &maps.far],
+            [&maps.bits, &maps.slabs, &res.uniforms],
+            Some(&frame.targets.depth_view),
+        );
+        let null = [frame.targets.null_attachment()];
+        Self::record_map_pass(
+            frame,
+            &res.slabs_pipeline,
+            Some(&pass_group),
+            &null,
+            "eye: occupancy + slabs",
+        );
+        let attachments = [cleared(&maps.accum, [0.0; 4])];
+        frame.draw_hair(
+            HairDrawPass {
+                entry: hair,
+                attachments: &attachments,
+                depth: None,
+                group: Some((&res.hair_layout, &maps.hair_bind_group)),
+                rows: None,
+            },
+            "eye: hair",
+        );
+        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        res.resolve.record(
+            &mut frame.encoder,
+            frame.output,
+            &maps.resolve_bind_group,
+            timestamps,
+        );
+        Ok(())
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        let m = &self.maps;
+        let texel =
+            2 * RANGE.block_copy_size(None).unwrap_or(4) + m.accum_format.block_copy_size(None).unwrap_or(16);
+        m.width as u64 * m.height as u64 * u64::from(texel) + m.bits.size() + m.slabs.size()
+    }
+
+    fn geometry_passes(&self) -> u32 {
+        3
+    }
+}
+
+/// The slab counts of the last frame `renderer` drew with occupancy-order (see [`OccupancyOrderGpu::read_slabs`]).
+pub fn read_slabs(renderer: &crate::render::Renderer) -> Result<Vec<[u32; 4]>, GpuError> {
+    let state = renderer.transparency_gpu().map(|t| t as &dyn std::any::Any);
+    state
+        .and_then(|t| t.downcast_ref::<OccupancyOrderGpu>())
+        .ok_or_else(|| {
+            GpuError::Setting("transparency.name: the last frame was not drawn with occupancy-order".into())
+        })?
+        .read_slabs(renderer.gpu())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parsed(pairs: &[(&str, &str)]) -> OccupancyOrderParams {
+        let values: ParamValues = pairs
+            .iter()
+            .map(|(k, v)| {
+                let spec = PARAMS.iter().find(|p| p.key == *k).unwrap();
+                (k.to_string(), spec.parse(v).unwrap())
+            })
+            .collect();
+        params(&values)
+    }
+
+    #[test]
+    fn defaults_are_the_papers_method() {
+        assert_eq!(parsed(&[]), OccupancyOrderParams::default());
+        let u = OccupancyOrderUniforms::new(&parsed(&[]), 0.35);
+        assert_eq!(
+            u,
+            OccupancyOrderUniforms {
+                variant: 0,
+                correction: 1,
+                order_bias: 0.0,
+                hair_alpha: 0.35
+            }
+        );
+    }
+
+    #[test]
+    fn every_word_reaches_the_model_and_the_uniforms() {
+        let p = parsed(&[
+            ("variant", "occupancy-only"),
+            ("correction", "off"),
+            ("order_bias", "half"),
+            ("precision", "f16"),
+        ]);
+        assert_eq!(
+            p,
+            OccupancyOrderParams {
+                variant: OccupancyVariant::OccupancyOnly,
+                lambda_correction: false,
+                order_bias: -0.5,
+                half_precision: true,
+            }
+        );
+        let u = OccupancyOrderUniforms::new(&p, 0.2);
+        assert_eq!((u.variant, u.correction, u.order_bias), (1, 0, -0.5));
+        assert_eq!(
+            HAIR[usize::from(p.half_precision)].targets[0].format,
+            wgpu::TextureFormat::Rgba16Float
+        );
+    }
+}

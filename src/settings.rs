@@ -207,6 +207,14 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
         "unreal-deep-shadow",
         include_str!("../presets/unreal-deep-shadow.toml"),
     ),
+    (
+        "transparency-head",
+        include_str!("../presets/transparency-head.toml"),
+    ),
+    (
+        "transparency-dense",
+        include_str!("../presets/transparency-dense.toml"),
+    ),
 ];
 
 impl SceneSettings {

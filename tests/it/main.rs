@@ -32,6 +32,7 @@ mod stability_avsm;
 mod stability_dsm;
 mod stability_fom;
 mod stability_msm;
+mod transparency_claims;
 mod transparency_gpu;
 mod transparency_occupancy;
 mod visibility_models;

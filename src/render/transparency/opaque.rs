@@ -35,7 +35,7 @@ static INFO: TechniqueInfo = TechniqueInfo {
     label: "No transparency",
     paper: "Sintorn & Assarsson 2009, Hair Self Shadowing and Transparency Depth Ordering Using Occupancy Maps \
             (Fig. 2, no transparency)",
-    role: Role::Approximation,
+    role: Role::Baseline,
     hair_wgsl: "transparency/opaque.wgsl",
     hair_entries: std::slice::from_ref(&HAIR),
     pass_wgsl: &["transparency/opaque_resolve.wgsl"],

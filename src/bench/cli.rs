@@ -36,6 +36,11 @@ pub struct BenchArgs {
     /// per segment with R² (writes scaling.csv, scaling_points.csv, scaling.png, scaling.svg).
     #[arg(long)]
     pub scaling: bool,
+    /// Eye transparency mode: every technique's sweep against the exact sorted composite on the preset's view
+    /// (GPU ms of its own passes against hair-pixel RMSE; writes transparency.csv, transparency.json,
+    /// transparency_speed_vs_accuracy.png/.svg) and the speed ratio of depth peeling to occupancy ordering.
+    #[arg(long, conflicts_with = "scaling")]
+    pub transparency: bool,
     /// The segment count the scaling mode reaches.
     #[arg(long, default_value_t = DEFAULT_SCALING_SEGMENTS)]
     pub max_segments: usize,
@@ -56,6 +61,16 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
     let never = AtomicBool::new(false);
     let mut bar = TerminalProgress::new();
     let mut progress = |p: Progress| bar.update(&p);
+    if a.transparency {
+        let b = super::transparency::TransparencyBench::run(&settings, &a.preset, a.frames, |what| {
+            eprintln!("measuring {what}…")
+        })?;
+        print_transparency(&b);
+        for f in b.write(&a.out)? {
+            println!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
     if a.scaling {
         let configs = scaling_configs(&methods);
         let r = run_scaling(
@@ -122,6 +137,51 @@ fn print_table(result: &BenchResult) {
     }
     let names: Vec<String> = front.iter().map(|&i| result.rows[i].config.label()).collect();
     println!("Pareto front (fastest first): {}", names.join(" -> "));
+}
+
+fn print_transparency(b: &super::transparency::TransparencyBench) {
+    let s = &b.stats;
+    println!(
+        "preset {}: {} strands, {} segments, view {}x{}, eye depth complexity max {} mean {:.1}, {} frames, on {}",
+        b.preset,
+        s.strands,
+        s.segments,
+        s.width,
+        s.height,
+        s.max_depth_complexity,
+        s.mean_depth_complexity,
+        b.frames,
+        b.device
+    );
+    let front = b.front();
+    println!(
+        "{:<40} {:>10} {:>10} {:>8} {:>10} {:>5}  pareto",
+        "configuration", "GPU ms", "hair RMSE", "SSIM", "memory MiB", "geom"
+    );
+    for (i, r) in b.rows.iter().enumerate() {
+        println!(
+            "{:<40} {:>10.3} {:>10.5} {:>8.4} {:>10.2} {:>5}  {}",
+            r.config.label(),
+            r.total_ms(),
+            r.metrics.rmse_hair,
+            r.metrics.ssim_hair,
+            r.memory_bytes as f64 / (1024.0 * 1024.0),
+            r.geometry_passes,
+            if front.contains(&i) { "*" } else { "" }
+        );
+    }
+    let names: Vec<String> = front.iter().map(|&i| b.rows[i].config.label()).collect();
+    println!("Pareto front (fastest first): {}", names.join(" -> "));
+    match b.peel_ratio() {
+        Some(ratio) => println!(
+            "t(depth peel) / t(occupancy order) = {ratio:.2} at {} layers (the deepest pixel); the paper: {:.2} at {} \
+             layers (Fig. 2, 51 / 4.01 fps)",
+            s.max_depth_complexity,
+            super::transparency::PAPER_PEEL_RATIO,
+            super::transparency::PAPER_PEEL_LAYERS
+        ),
+        None => println!("t(depth peel) / t(occupancy order): not measured (no timestamps on this device?)"),
+    }
 }
 
 fn print_scaling(r: &ScalingResult) {

@@ -21,6 +21,7 @@ pub mod result;
 pub mod run;
 pub mod stats;
 pub mod sweep;
+pub mod transparency;
 
 pub use chart::{CHART_SIZE, method_color, scaling_chart, speed_accuracy_chart};
 pub use cli::{BenchArgs, run_cli};

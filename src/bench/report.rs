@@ -58,7 +58,7 @@ fn params_text(p: &ParamValues) -> String {
 }
 
 /// `rows` as CSV text: a header from the first row's field names, then one line per row (none when empty).
-fn csv_text<T: Serialize>(name: &str, rows: impl IntoIterator<Item = T>) -> Result<String> {
+pub(crate) fn csv_text<T: Serialize>(name: &str, rows: impl IntoIterator<Item = T>) -> Result<String> {
     let mut w = csv::Writer::from_writer(Vec::new());
     for r in rows {
         w.serialize(r).with_context(|| format!("cannot encode {name}"))?;
@@ -257,7 +257,7 @@ pub fn prepare_out_dir(dir: &Path) -> Result<()> {
 }
 
 /// `chart` as `<stem>.png` and `<stem>.svg`.
-fn chart_files(stem: &str, chart: &Chart) -> Result<[(String, Vec<u8>); 2]> {
+pub(crate) fn chart_files(stem: &str, chart: &Chart) -> Result<[(String, Vec<u8>); 2]> {
     let (w, h) = CHART_SIZE;
     Ok([
         (format!("{stem}.png"), chart::png(chart, w, h)?),
@@ -266,7 +266,7 @@ fn chart_files(stem: &str, chart: &Chart) -> Result<[(String, Vec<u8>); 2]> {
 }
 
 /// Writes `files` into `dir` (created), each atomically; returns their paths.
-fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<Vec<PathBuf>> {
+pub(crate) fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<Vec<PathBuf>> {
     prepare_out_dir(dir)?;
     let mut out = Vec::new();
     for (name, bytes) in files {

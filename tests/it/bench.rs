@@ -578,3 +578,50 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
         harness.state().message()
     );
 }
+
+/// `bench --transparency`: one CSV row per configuration of every technique's sweep, the chart, the JSON with
+/// the depth peel / occupancy ratio, and the exact reference measured against itself at zero error.
+#[test]
+fn bench_transparency_writes_every_techniques_sweep_and_the_peel_ratio() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("eye");
+    let mut args = vec!["bench", "--transparency", "--preset", "default"];
+    args.extend_from_slice(TINY);
+    args.extend(["--frames", "1", "--out", out.to_str().unwrap()]);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("t(depth peel) / t(occupancy order) = "),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(out.join("transparency.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines.len() - 1,
+        hairlab::bench::transparency::sweep_configs().len()
+    );
+    let head = csv_fields(lines[0]);
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let reference = lines
+        .iter()
+        .map(|l| csv_fields(l))
+        .find(|f| f[col("configuration")] == "sorted")
+        .expect("the reference row");
+    assert_eq!(reference[col("rmse_hair")].parse::<f64>().unwrap(), 0.0);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("transparency.json")).unwrap()).unwrap();
+    assert!(
+        json["peel_over_occupancy"].as_f64().is_some_and(|r| r > 0.0),
+        "{json}"
+    );
+    for f in [
+        "transparency_speed_vs_accuracy.png",
+        "transparency_speed_vs_accuracy.svg",
+    ] {
+        assert!(std::fs::metadata(out.join(f)).unwrap().len() > 1000, "{f}");
+    }
+}

@@ -199,6 +199,18 @@ impl EyeTransparency for OccupancyOrder {
     fn model(&self, values: &ParamValues, ctx: &ModelContext) -> Box<dyn Compositor> {
         Box::new(params(values).model(ctx))
     }
+
+    /// The paper's method and each option on its own: occupancy only, no Λ correction, the −½ bias, f16.
+    fn sweep(&self) -> Vec<ParamValues> {
+        let one = |key: &str| ParamValues::from([(key.to_string(), 1.0)]);
+        vec![
+            ParamValues::new(),
+            one("variant"),
+            one("correction"),
+            one("order_bias"),
+            one("precision"),
+        ]
+    }
 }
 
 fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {

@@ -34,6 +34,11 @@ pub fn reference() -> &'static dyn EyeTransparency {
     &Sorted
 }
 
+/// Sintorn & Assarsson 2009's method and its cost baseline, depth peeling (the speed ratio of Fig. 2).
+pub fn paper_and_baseline() -> (&'static dyn EyeTransparency, &'static dyn EyeTransparency) {
+    (&OccupancyOrder, &DepthPeel)
+}
+
 /// The technique called `name`, or an error listing the known names.
 pub fn find(name: &str) -> Result<&'static dyn EyeTransparency, String> {
     TECHNIQUES

@@ -148,3 +148,54 @@ fn depth_peel_peels_the_deepest_pixels_layers_and_refuses_more_than_max_layers()
     r.render(&eye_frame(&s, peel, &params)).unwrap();
     assert_eq!(r.eye_geometry_passes(), deepest + 1);
 }
+
+/// Bands: with a list budget far below the frame's fragments the reference renders in several bands of rows,
+/// to the same image, bit for bit.
+#[test]
+fn the_reference_in_bands_equals_the_reference_in_one() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (s, mut r, lists) = eye_scene(&gpu, 160, 120);
+    let fragments: usize = lists.iter().map(Vec::len).sum();
+    let empty = ParamValues::new();
+    let one = r
+        .render_capture(&eye_frame(&s, registry::reference(), &empty))
+        .unwrap();
+    assert_eq!(r.eye_geometry_passes(), 2, "count + one fill");
+    let banded = ParamValues::from([("band_kib".to_string(), 64.0)]);
+    let many = r
+        .render_capture(&eye_frame(&s, registry::reference(), &banded))
+        .unwrap();
+    let bands = r.eye_geometry_passes() - 1;
+    let expected = (fragments as u64 * 32).div_ceil(64 << 10) as u32;
+    println!("{fragments} fragments: {bands} bands of at most 64 KiB");
+    assert!(
+        bands >= expected.max(2),
+        "{bands} bands for {fragments} fragments"
+    );
+    assert!(one == many, "banded and single-band images differ");
+}
+
+/// TC-9: depth peeling is exact except where two fragments of a pixel share a depth (its strict test keeps one):
+/// on every pixel without a tie it equals the sorted composite to f32 rounding.
+#[test]
+fn depth_peeling_equals_the_sorted_composite_except_at_depth_ties() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (s, mut r, lists) = eye_scene(&gpu, 96, 72);
+    let empty = ParamValues::new();
+    let sorted = r
+        .render_capture(&eye_frame(&s, registry::reference(), &empty))
+        .unwrap();
+    let peel = registry::find("depth-peel").unwrap();
+    let peeled = r.render_capture(&eye_frame(&s, peel, &empty)).unwrap();
+    let tied = |l: &Vec<EyeFragment>| l.windows(2).any(|w| w[0].depth == w[1].depth);
+    let (mut ties, mut worst) = (0, 0.0f32);
+    for ((a, b), l) in sorted.iter().zip(&peeled).zip(&lists) {
+        if tied(l) {
+            ties += 1;
+            continue;
+        }
+        worst = (0..4).map(|c| (a[c] - b[c]).abs()).fold(worst, f32::max);
+    }
+    println!("depth peel vs sorted: max |Δ| {worst:.2e} off ties; {ties} pixels with a depth tie");
+    assert!(worst <= 1e-5, "{worst}");
+}

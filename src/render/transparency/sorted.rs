@@ -13,7 +13,7 @@ use super::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::geometry::HairVertex;
-use crate::render::method::{ParamValues, Role};
+use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role};
 use crate::render::passes::abuffer::copy_out;
 use crate::render::targets::EyeTargets;
 use crate::transparency::{Compositor, EyeFragment, ModelContext};
@@ -42,7 +42,14 @@ static INFO: TechniqueInfo = TechniqueInfo {
         "transparency/sorted_count.wgsl",
         "transparency/sorted_resolve.wgsl",
     ],
-    params: &[],
+    params: &[ParamSpec {
+        key: "band_kib",
+        label: "band budget KiB",
+        help: "most KiB of list nodes per band of rows (0: the device's storage binding limit); a smaller budget \
+               renders the same image in more bands",
+        kind: ParamKind::Int { min: 0, max: 4 << 20 },
+        default: 0.0,
+    }],
     color: [0, 0, 0],
     // f32 front-to-back sums against the model's back-to-front ones; measured 1.2e-7 on lavapipe.
     gpu_tolerance: 1e-5,
@@ -495,7 +502,13 @@ impl TransparencyGpu for SortedGpu {
         };
         // Size the nodes from the count: bands when the frame's fragments exceed one binding.
         let limit = frame.gpu.device.limits();
-        let binding = limit.max_storage_buffer_binding_size.min(limit.max_buffer_size);
+        let device_limit = limit.max_storage_buffer_binding_size.min(limit.max_buffer_size);
+        let budget = crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024;
+        let binding = if budget == 0 {
+            device_limit
+        } else {
+            budget.min(device_limit)
+        };
         let row_counts: Vec<u64> = counts[..pixels]
             .chunks(width as usize)
             .map(|r| r.iter().map(|&c| c as u64).sum())

@@ -462,6 +462,33 @@ fn composite_prints_a_hand_computed_pixel() {
 }
 
 #[test]
+fn composite_through_the_exact_technique_matches_the_papers_three_fragment_expansion() {
+    // S&A §3.4: f = α2c2 + (1 − α2)(α1c1 + (1 − α1)(α0c0 + (1 − α0)b)) back to front. Front to back here: red at
+    // depth 0.1 (α 0.5), green at 0.2 (α 0.5), blue at 0.3 (α 0.25), background (0.2, 0.4, 0.8):
+    // r = 0.5, g = 0.5 · 0.5 = 0.25, b = 0.25 · 0.25 = 0.0625, then the background through 0.5 · 0.5 · 0.75.
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("pixel.csv");
+    std::fs::write(&csv, "0.3,0,0,1,0.25\n0.1,1,0,0,0.5\n0.2,0,1,0,0.5\n").unwrap();
+    let o = hairlab(&[
+        "composite",
+        "--fragments",
+        csv.to_str().unwrap(),
+        "--method",
+        "sorted",
+        "--background",
+        "0.2,0.4,0.8",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = 0.5 * 0.5 * 0.75;
+    for (c, e) in rgb(&o)
+        .iter()
+        .zip([0.5 + t * 0.2, 0.25 + t * 0.4, 0.0625 + t * 0.8])
+    {
+        assert!((c - e).abs() < 1e-6, "{c} vs {e}");
+    }
+}
+
+#[test]
 fn composite_help_lists_the_techniques_and_bad_input_names_file_and_line() {
     let o = hairlab(&["composite", "--help"]);
     assert!(o.status.success(), "{}", stderr(&o));

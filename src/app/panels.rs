@@ -204,14 +204,19 @@ impl HairlabApp {
                 };
                 let r = &mut self.settings.render;
                 egui::Grid::new("render").num_columns(2).show(ui, |ui| {
-                    // The alpha mode hides behind the slider's context menu while constant, so the default
-                    // panel keeps its layout; coverage shows its mode and the strand width as rows.
-                    row(ui, "hair alpha", egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0))
+                    // The alpha mode is the hair-alpha label's context menu, so the default panel keeps its
+                    // layout; coverage mode shows the mode and the strand width as rows.
+                    let label = ui
+                        .add(egui::Label::new("hair alpha").sense(egui::Sense::click()))
+                        .on_hover_text("right-click: constant or coverage alpha");
+                    label.context_menu(|ui| alpha_modes(ui, &mut r.alpha));
+                    ui.add(egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0))
+                        .labelled_by(label.id)
                         .on_hover_text(
                             "every fragment's alpha (constant mode) or the strands' material opacity \
-                             (coverage mode); right-click for the mode",
-                        )
-                        .context_menu(|ui| alpha_modes(ui, &mut r.alpha));
+                             (coverage mode)",
+                        );
+                    ui.end_row();
                     if r.alpha == AlphaMode::Coverage {
                         let label = ui.label("alpha mode");
                         egui::ComboBox::from_id_salt("alpha_mode")

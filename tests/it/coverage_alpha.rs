@@ -162,3 +162,56 @@ fn directional_coverage_alpha_is_width_over_texel_side() {
     );
     eprintln!("texel {texel:.3e}, alpha {expected:.4}, largest relative error {worst:.1e}");
 }
+
+/// The panel: the alpha mode from the hair-alpha label's context menu (the slider keeps its value); in coverage mode an "alpha mode" combo
+/// box and a "strand width" slider, which set the settings; back to constant, both rows go.
+#[test]
+fn the_render_panel_sets_the_alpha_mode_and_the_strand_width() {
+    use egui::accesskit::Role;
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::{By, Queryable};
+    use hairlab::app::{HairlabApp, wgpu_setup};
+    use hairlab::gpu::AdapterPreference;
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = small_settings(160, 120);
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 640.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| {
+            let mut app = HairlabApp::new(cc, Some(settings));
+            app.set_snapshot_mode(true);
+            app
+        });
+    harness.run();
+    let width_slider =
+        |h: &Harness<'_, HairlabApp>| h.query_by_role_and_label(Role::Slider, "strand width").is_some();
+    assert!(!width_slider(&harness), "strand width shown in constant mode");
+
+    harness
+        .get(By::new().role(Role::Label).value("hair alpha"))
+        .click_secondary();
+    harness.run();
+    harness.get_by_label("coverage").click();
+    harness.run();
+    assert_eq!(harness.state().settings().render.alpha, AlphaMode::Coverage);
+    assert_eq!(harness.state().settings().render.hair_alpha, 0.35);
+    harness
+        .get_by_role_and_label(Role::Slider, "strand width")
+        .set_value_accesskit(2e-3);
+    harness.run();
+    assert_eq!(harness.state().settings().render.strand_width, 2e-3);
+
+    harness
+        .get_by_role_and_label(Role::ComboBox, "alpha mode")
+        .click();
+    harness.run();
+    harness.get_by_label("constant").click();
+    harness.run();
+    assert_eq!(harness.state().settings().render.alpha, AlphaMode::Constant);
+    assert!(
+        !width_slider(&harness),
+        "strand width shown after going back to constant"
+    );
+}

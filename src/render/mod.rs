@@ -46,10 +46,11 @@ pub struct RenderSettings {
     pub hair_alpha: f32,
     /// How a fragment's alpha is found ([`AlphaMode`]).
     pub alpha: AlphaMode,
-    /// World width of a strand of thickness 1 (`coverage` mode): the width of the generated strands, which carry
-    /// no thickness, and the scale on a `.hair` file's thickness array (1 takes it in the file's units). The
-    /// default, 1.2 mm, is about one pixel at the default head's distance at 640×480, so the default head in
-    /// `coverage` mode looks much as in `constant` mode, at the same `hair_alpha`.
+    /// World width of a strand of thickness 1 (`coverage` mode): the width of strands without a thickness array
+    /// (the generated ones; a `.hair` header's default thickness is not applied) and the scale on a `.hair`
+    /// file's thickness array (1 takes it in the file's units). The default, 1.2 mm, is about one pixel at the
+    /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
+    /// mode, at the same `hair_alpha`.
     pub strand_width: f32,
     /// Colour of strands without their own colour (linear RGB).
     pub hair_color: [f32; 3],

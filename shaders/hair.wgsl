@@ -30,7 +30,7 @@ struct VertexOut {
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    let p = eye_point(v.index, v.position, v.alpha);
+    let p = eye_point(v.index, v.position, v.alpha, v.thickness);
     var out: VertexOut;
     out.clip = p.clip;
     out.world = p.world;

@@ -215,6 +215,7 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
         "transparency-dense",
         include_str!("../presets/transparency-dense.toml"),
     ),
+    ("dense-coverage", include_str!("../presets/dense-coverage.toml")),
 ];
 
 impl SceneSettings {
@@ -241,6 +242,9 @@ impl SceneSettings {
     }
 }
 
+/// The widest strand `render.strand_width` may give, in world units (the longest generated strand).
+pub const MAX_STRAND_WIDTH: f32 = crate::scene::generate::MAX_LENGTH;
+
 /// The largest turning angle (light azimuth, camera yaw) a setting may hold, in degrees: 100 turns.
 pub const MAX_TURN_DEG: f32 = 36000.0;
 
@@ -263,6 +267,12 @@ impl Settings {
         }
         if !(r.hair_alpha > 0.0 && r.hair_alpha <= 1.0) {
             bail!("render.hair_alpha must be in (0, 1] (got {})", r.hair_alpha);
+        }
+        if !(r.strand_width > 0.0 && r.strand_width <= MAX_STRAND_WIDTH) {
+            bail!(
+                "render.strand_width must be in (0, {MAX_STRAND_WIDTH}] world units (got {})",
+                r.strand_width
+            );
         }
         for (k, c) in [
             ("render.hair_color", r.hair_color),
@@ -559,6 +569,36 @@ mod tests {
         assert!(
             format!("{e:#}")
                 .contains("method.params.spacing: parameter 'spacing': 'wide' is not one of linear, uniform"),
+            "{e:#}"
+        );
+    }
+
+    #[test]
+    fn alpha_mode_and_strand_width_are_read_and_checked_by_name() {
+        let s = Settings::from_toml_with(
+            "",
+            "test",
+            &["render.alpha=coverage".into(), "render.strand_width=8e-5".into()],
+        )
+        .unwrap();
+        assert_eq!(s.render.alpha, crate::render::AlphaMode::Coverage);
+        assert_eq!(s.render.strand_width, 8e-5);
+        assert_eq!(
+            Settings::default().render.alpha,
+            crate::render::AlphaMode::Constant
+        );
+        for bad in ["0", "-1e-3", "nan", "inf", "1e5"] {
+            let e =
+                Settings::from_toml_with("", "x.toml", &[format!("render.strand_width={bad}")]).unwrap_err();
+            assert!(
+                format!("{e:#}")
+                    .starts_with("x.toml: invalid preset: render.strand_width must be in (0, 10000]"),
+                "{bad}: {e:#}"
+            );
+        }
+        let e = Settings::from_toml_with("", "x.toml", &["render.alpha=cover".into()]).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("render.alpha") && format!("{e:#}").contains("coverage"),
             "{e:#}"
         );
     }

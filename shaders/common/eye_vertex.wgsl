@@ -6,17 +6,17 @@
 struct EyePoint {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
-    // Opacity: the point's alpha times the global hair alpha.
+    // Opacity: strand_alpha() of the point over one pixel at its view depth.
     @location(1) alpha: f32,
     // Segment id: the index of the segment's first point (the provoking vertex of a LineList segment).
     @location(2) @interpolate(flat) segment: u32,
 }
 
-fn eye_point(index: u32, position: vec3<f32>, alpha: f32) -> EyePoint {
+fn eye_point(index: u32, position: vec3<f32>, alpha: f32, thickness: f32) -> EyePoint {
     var out: EyePoint;
     out.clip = frame.world_to_clip * vec4<f32>(position, 1.0);
     out.world = position;
-    out.alpha = clamp(alpha * frame.hair_alpha, 0.0, 1.0);
+    out.alpha = strand_alpha(alpha, thickness, frame.eye_footprint * out.clip.w);
     out.segment = index;
     return out;
 }

@@ -38,6 +38,14 @@ struct FrameUniforms {
     // Texels per side of the opaque shadow map, and its depth bias.
     shadow_map_resolution: u32,
     shadow_bias: f32,
+    // 0: constant alpha, 1: coverage alpha (see strand_alpha()).
+    alpha_mode: u32,
+    // World width of a strand of thickness 1.
+    strand_width: f32,
+    // World size of one eye pixel, and of one hair light-map texel, per unit of clip w (the view depth of a
+    // perspective, 1 for the orthographic directional light frame).
+    eye_footprint: f32,
+    light_footprint: f32,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
@@ -47,6 +55,18 @@ struct FrameUniforms {
 fn light_depth(world: vec3<f32>) -> f32 {
     let view = frame.world_to_light_view * vec4<f32>(world, 1.0);
     return (-view.z - frame.light_near) / (frame.light_far - frame.light_near);
+}
+
+// A fragment's opacity from its point's alpha and thickness and the world size of its pixel or texel there.
+// Constant: the point alpha times the global hair alpha. Coverage: the strand's share of the pixel or texel,
+// hair_alpha (the material opacity) times width over footprint, clamped, times the point alpha.
+fn strand_alpha(point_alpha: f32, thickness: f32, footprint: f32) -> f32 {
+    if frame.alpha_mode == 0u {
+        return clamp(point_alpha * frame.hair_alpha, 0.0, 1.0);
+    }
+    let width = thickness * frame.strand_width;
+    let coverage = clamp(frame.hair_alpha * width / max(footprint, 1e-30), 0.0, 1.0);
+    return coverage * clamp(point_alpha, 0.0, 1.0);
 }
 
 // Unit vector from `world` towards the light.

@@ -6,13 +6,14 @@ struct LightVertexIn {
     @builtin(vertex_index) index: u32,
     @location(0) position: vec3<f32>,
     @location(1) alpha: f32,
+    @location(3) thickness: f32,
 }
 
 struct LightFragment {
     @builtin(position) clip: vec4<f32>,
     // Normalised light depth (see light_depth()).
     @location(0) depth: f32,
-    // Opacity: the point's alpha times the global hair alpha.
+    // Opacity: strand_alpha() of the point over one light texel at its depth.
     @location(1) alpha: f32,
     // Segment id: the index of the segment's first point (the provoking vertex of a LineList segment).
     @location(2) @interpolate(flat) segment: u32,
@@ -22,7 +23,7 @@ fn light_vertex(v: LightVertexIn) -> LightFragment {
     var out: LightFragment;
     out.clip = frame.world_to_light_clip * vec4<f32>(v.position, 1.0);
     out.depth = light_depth(v.position);
-    out.alpha = clamp(v.alpha * frame.hair_alpha, 0.0, 1.0);
+    out.alpha = strand_alpha(v.alpha, v.thickness, frame.light_footprint * out.clip.w);
     out.segment = v.index;
     return out;
 }

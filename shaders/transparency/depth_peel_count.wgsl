@@ -11,11 +11,12 @@ struct CountVertexIn {
     @builtin(vertex_index) index: u32,
     @location(0) position: vec3<f32>,
     @location(1) alpha: f32,
+    @location(3) thickness: f32,
 }
 
 @vertex
 fn vs_main(v: CountVertexIn) -> EyePoint {
-    return eye_point(v.index, v.position, v.alpha);
+    return eye_point(v.index, v.position, v.alpha, v.thickness);
 }
 
 @fragment

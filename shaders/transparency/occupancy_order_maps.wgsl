@@ -23,11 +23,12 @@ struct MapVertexIn {
     @builtin(vertex_index) index: u32,
     @location(0) position: vec3<f32>,
     @location(1) alpha: f32,
+    @location(3) thickness: f32,
 }
 
 @vertex
 fn vs_main(v: MapVertexIn) -> EyePoint {
-    return eye_point(v.index, v.position, v.alpha);
+    return eye_point(v.index, v.position, v.alpha, v.thickness);
 }
 
 struct RangeTargets {

@@ -195,9 +195,45 @@ impl HairlabApp {
         egui::CollapsingHeader::new("Render")
             .default_open(true)
             .show(ui, |ui| {
+                use crate::render::AlphaMode;
+                let alpha_modes = |ui: &mut egui::Ui, mode: &mut AlphaMode| {
+                    ui.selectable_value(mode, AlphaMode::Constant, "constant")
+                        .on_hover_text("every fragment: point alpha × hair alpha");
+                    ui.selectable_value(mode, AlphaMode::Coverage, "coverage")
+                        .on_hover_text("the strand's coverage of its pixel or light texel × hair alpha");
+                };
                 let r = &mut self.settings.render;
                 egui::Grid::new("render").num_columns(2).show(ui, |ui| {
-                    row(ui, "hair alpha", egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0));
+                    // The alpha mode is the hair-alpha label's context menu, so the default panel keeps its
+                    // layout; coverage mode shows the mode and the strand width as rows.
+                    let label = ui
+                        .add(egui::Label::new("hair alpha").sense(egui::Sense::click()))
+                        .on_hover_text("right-click: constant or coverage alpha");
+                    label.context_menu(|ui| alpha_modes(ui, &mut r.alpha));
+                    ui.add(egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0))
+                        .labelled_by(label.id)
+                        .on_hover_text(
+                            "every fragment's alpha (constant mode) or the strands' material opacity \
+                             (coverage mode)",
+                        );
+                    ui.end_row();
+                    if r.alpha == AlphaMode::Coverage {
+                        let label = ui.label("alpha mode");
+                        egui::ComboBox::from_id_salt("alpha_mode")
+                            .selected_text("coverage")
+                            .show_ui(ui, |ui| alpha_modes(ui, &mut r.alpha))
+                            .response
+                            .labelled_by(label.id);
+                        ui.end_row();
+                        row(
+                            ui,
+                            "strand width",
+                            egui::Slider::new(&mut r.strand_width, 1e-6..=10.0).logarithmic(true),
+                        )
+                        .on_hover_text(
+                            "world width of a strand of thickness 1; alpha = opacity × width / pixel or texel size",
+                        );
+                    }
                     row(ui, "PCF 3×3", egui::Checkbox::without_text(&mut r.pcf)).on_hover_text(
                         "average the method's visibility over the 3×3 light texels around each point",
                     );

@@ -41,8 +41,17 @@ pub struct RenderSettings {
     pub height: u32,
     /// Side of the square light-space hair maps, 1..=4096.
     pub map_resolution: u32,
-    /// Global hair opacity in (0, 1].
+    /// Global hair opacity in (0, 1]: every fragment's alpha in `constant` mode, the strands' material opacity
+    /// in `coverage` mode.
     pub hair_alpha: f32,
+    /// How a fragment's alpha is found ([`AlphaMode`]).
+    pub alpha: AlphaMode,
+    /// World width of a strand of thickness 1 (`coverage` mode): the width of strands without a thickness array
+    /// (the generated ones; a `.hair` header's default thickness is not applied) and the scale on a `.hair`
+    /// file's thickness array (1 takes it in the file's units). The default, 1.2 mm, is about one pixel at the
+    /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
+    /// mode, at the same `hair_alpha`.
+    pub strand_width: f32,
     /// Colour of strands without their own colour (linear RGB).
     pub hair_color: [f32; 3],
     pub background: [f32; 3],
@@ -59,12 +68,41 @@ impl Default for RenderSettings {
             height: 480,
             map_resolution: 512,
             hair_alpha: 0.35,
+            alpha: AlphaMode::Constant,
+            strand_width: DEFAULT_STRAND_WIDTH,
             hair_color: [0.30, 0.18, 0.09],
             background: [0.12, 0.13, 0.15],
             pcf: false,
             jitter: false,
         }
     }
+}
+
+/// How a fragment's alpha is found, in the two vertex stages every light-space and eye-space pass shares
+/// (`strand_alpha` in `shaders/common/frame.wgsl`), so every technique and shadow method sees the same alphas.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AlphaMode {
+    /// The point's alpha times `hair_alpha`, whatever the strand's width and the view.
+    #[default]
+    Constant,
+    /// The strand's coverage of the pixel (eye) or light texel: `clamp(hair_alpha · width / footprint, 0, 1)` times
+    /// the point's alpha, width = thickness × `strand_width`, footprint from [`footprint_per_w`] at the
+    /// point's depth.
+    Coverage,
+}
+
+/// Default [`RenderSettings::strand_width`], in world units (metres for the generated scenes).
+pub const DEFAULT_STRAND_WIDTH: f32 = 1.2e-3;
+
+/// World size of one pixel of a `width`×`height` image under the projection `view_to_clip`, per unit of clip w:
+/// the side of the square of a pixel's area at view depth 1 for a perspective (`2 d tan(fov_y/2) / height` at
+/// depth d, clip w = d), everywhere for an orthographic projection (clip w = 1; frustum width / width for a
+/// square frustum).
+pub fn footprint_per_w(view_to_clip: &Mat4, width: u32, height: u32) -> f32 {
+    let sx = view_to_clip.x_axis.x.abs() * width.max(1) as f32;
+    let sy = view_to_clip.y_axis.y.abs() * height.max(1) as f32;
+    2.0 / (sx * sy).sqrt()
 }
 
 /// Everything one frame depends on besides the scene.
@@ -433,12 +471,17 @@ impl Renderer {
 
     /// Camera matrices for an image of `width`×`height`.
     pub fn world_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
+        self.view_to_clip(camera, width, height) * camera.world_to_view()
+    }
+
+    /// The camera's projection for an image of `width`×`height`.
+    fn view_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
         let aspect = width as f32 / height.max(1) as f32;
         let r = self.scene_radius.max(1e-3);
         let dist = camera.eye().distance(self.scene_center);
         let near = (dist - 2.0 * r).max(r * 0.01).max(camera.distance * 0.01);
         let far = dist + 2.0 * r;
-        Mat4::perspective_rh(camera.fov_y_deg.to_radians(), aspect, near, far) * camera.world_to_view()
+        Mat4::perspective_rh(camera.fov_y_deg.to_radians(), aspect, near, far)
     }
 
     fn uniforms(&self, f: &FrameInput) -> FrameUniforms {
@@ -471,6 +514,7 @@ impl Renderer {
         let eye = f.camera.eye();
         let spot = f.light.kind == LightKind::Spot;
         let intensity = f.light.intensity;
+        let resolution = self.light_maps.near.width();
         FrameUniforms {
             world_to_clip: self.world_to_clip(f.camera, f.width, f.height).to_cols_array_2d(),
             world_to_light_view: hair.world_to_view.to_cols_array_2d(),
@@ -488,12 +532,20 @@ impl Renderer {
             hair_alpha: f.render.hair_alpha,
             light_near: hair.near,
             light_far: hair.far,
-            light_map_resolution: self.light_maps.near.width(),
+            light_map_resolution: resolution,
             lookup_flags: u32::from(f.render.pcf) | (u32::from(f.render.jitter) << 1),
             method_params,
             viewport_size: [f.width as f32, f.height as f32],
             shadow_map_resolution: self.shadow_map.texture.width(),
             shadow_bias: 1e-4,
+            alpha_mode: u32::from(f.render.alpha == AlphaMode::Coverage),
+            strand_width: f.render.strand_width,
+            eye_footprint: footprint_per_w(
+                &self.view_to_clip(f.camera, f.width, f.height),
+                f.width,
+                f.height,
+            ),
+            light_footprint: footprint_per_w(&hair.view_to_clip, resolution, resolution),
         }
     }
 
@@ -890,6 +942,22 @@ fn ts<'a>(timer: &'a mut Option<GpuTimer>, name: &str) -> Option<wgpu::RenderPas
 
 #[cfg(test)]
 mod tests {
+    use super::footprint_per_w;
+    use glam::Mat4;
+
+    /// One pixel's world size against hand-computed cases: a 90° camera at 200×100 (2 · 2 · tan 45° / 100 =
+    /// 0.04 at depth 2), a 60° spot at 512² (2 · 3 · tan 30° / 512 = 6.7658e-3 at depth 3) and a 2 × 0.5
+    /// orthographic frustum at 100² (√(0.02 · 0.005) = 0.01 everywhere).
+    #[test]
+    fn footprints_match_hand_computed_cases() {
+        let eye = Mat4::perspective_rh(90f32.to_radians(), 2.0, 0.1, 10.0);
+        assert!((footprint_per_w(&eye, 200, 100) * 2.0 - 0.04).abs() < 1e-7);
+        let spot = Mat4::perspective_rh(60f32.to_radians(), 1.0, 0.1, 10.0);
+        assert!((footprint_per_w(&spot, 512, 512) * 3.0 - 6.7658e-3).abs() < 1e-7);
+        let ortho = Mat4::orthographic_rh(-1.0, 1.0, -0.25, 0.25, 0.1, 10.0);
+        assert!((footprint_per_w(&ortho, 100, 100) - 0.01).abs() < 1e-8);
+    }
+
     /// Dependencies run one way: the renderer (and the GPU, scene and CPU-model modules under it) never import
     /// the shadow methods, the settings, the app, the bench or `measure`, which sit above it.
     #[test]

@@ -42,6 +42,14 @@ pub struct FrameUniforms {
     pub shadow_map_resolution: u32,
     /// Depth bias of the opaque shadow-map comparison.
     pub shadow_bias: f32,
+    /// 0: constant alpha, 1: coverage alpha ([`crate::render::AlphaMode`]).
+    pub alpha_mode: u32,
+    /// World width of a strand of thickness 1 (`render.strand_width`).
+    pub strand_width: f32,
+    /// World size of one eye pixel per unit of eye clip w ([`crate::render::footprint_per_w`]).
+    pub eye_footprint: f32,
+    /// World size of one hair light-map texel per unit of light clip w.
+    pub light_footprint: f32,
 }
 
 /// Field names and byte offsets, in declaration order, for the layout test.
@@ -88,5 +96,9 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
             offset_of!(FrameUniforms, shadow_map_resolution),
         ),
         ("shadow_bias", offset_of!(FrameUniforms, shadow_bias)),
+        ("alpha_mode", offset_of!(FrameUniforms, alpha_mode)),
+        ("strand_width", offset_of!(FrameUniforms, strand_width)),
+        ("eye_footprint", offset_of!(FrameUniforms, eye_footprint)),
+        ("light_footprint", offset_of!(FrameUniforms, light_footprint)),
     ]
 };

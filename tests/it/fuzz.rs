@@ -186,6 +186,7 @@ fn mutated_presets_and_overrides_fail_cleanly() {
         "light.azimuth_deg",
         "render.map_resolution",
         "render.hair_alpha",
+        "render.strand_width",
         "scene.generator.strands",
         "method.name",
         "render",

@@ -9,6 +9,7 @@ mod common;
 mod app_ui;
 mod bench;
 mod cli;
+mod coverage_alpha;
 mod fuzz;
 mod generate;
 mod gltf_load;

@@ -16,8 +16,10 @@ pub struct ListsKey {
     /// The light, without intensity and colour (they do not move fragments).
     light: Light,
     map_resolution: u32,
-    /// The hair alpha's bits.
+    /// The hair alpha's bits, the alpha mode and the strand width's bits (they set the fragments' alphas).
     hair_alpha: u32,
+    alpha: crate::render::AlphaMode,
+    strand_width: u32,
 }
 
 impl ListsKey {
@@ -31,6 +33,8 @@ impl ListsKey {
             light,
             map_resolution: settings.render.map_resolution,
             hair_alpha: settings.render.hair_alpha.to_bits(),
+            alpha: settings.render.alpha,
+            strand_width: settings.render.strand_width.to_bits(),
         }
     }
 }
@@ -241,5 +245,12 @@ mod tests {
         let mut brighter = Settings::default();
         brighter.light.intensity *= 2.0;
         assert_eq!(ListsKey::new(&brighter, None), key());
+        // The alpha mode and the strand width set the fragments' alphas: new keys.
+        let mut coverage = Settings::default();
+        coverage.render.alpha = crate::render::AlphaMode::Coverage;
+        assert_ne!(ListsKey::new(&coverage, None), key());
+        let mut wider = Settings::default();
+        wider.render.strand_width *= 2.0;
+        assert_ne!(ListsKey::new(&wider, None), key());
     }
 }

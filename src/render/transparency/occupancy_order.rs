@@ -15,6 +15,7 @@
 //!    why the paper needs 32 bits, Rgba16Float) One/One target; `ᾱ` is the global hair alpha
 //!    (`frame.hair_alpha`) and `b̄ = -ln(1 - min(ᾱ, 1 - 1e-6))`: each fragment's own alpha is not used (the paper
 //!    assumes one alpha, spec A.3 #4).
+//!    In `render.alpha = "coverage"` mode `ᾱ` is still `render.hair_alpha` (there the material opacity).
 //!
 //! The resolve (`eye: resolve`) sums the four slab counts to `n`, puts `T = exp(-n b̄)` on the background and
 //! `Λ = 1 - T` of hair over it; with the correction on the colour is rescaled to `rgb · Λ / acc.a` (the reading

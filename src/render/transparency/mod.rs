@@ -22,7 +22,9 @@
 //! The technique's own geometry passes use `common/eye_vertex.wgsl`, the vertex stage the hair pass shares, so
 //! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
+pub mod mboit;
 pub mod registry;
+pub mod shortcut;
 pub mod sorted;
 pub mod wboit;
 

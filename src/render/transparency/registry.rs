@@ -2,11 +2,13 @@
 //! shader tests go through it, so adding a technique is its own files plus one line here.
 
 use super::EyeTransparency;
+use super::mboit::MomentBasedOit;
+use super::shortcut::Shortcut;
 use super::sorted::Sorted;
 use super::wboit::Wboit;
 use crate::render::method::ParamSpec;
 
-static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit];
+static TECHNIQUES: &[&dyn EyeTransparency] = &[&Sorted, &Wboit, &MomentBasedOit, &Shortcut];
 
 /// Every registered technique, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {

@@ -23,9 +23,11 @@
 //! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
 
 pub mod depth_peel;
+pub mod mboit;
 pub mod occupancy_order;
 pub mod opaque;
 pub mod registry;
+pub mod shortcut;
 pub mod sorted;
 pub mod wboit;
 pub mod weighted_average;

@@ -3,8 +3,10 @@
 
 use super::EyeTransparency;
 use super::depth_peel::DepthPeel;
+use super::mboit::MomentBasedOit;
 use super::occupancy_order::OccupancyOrder;
 use super::opaque::Opaque;
+use super::shortcut::Shortcut;
 use super::sorted::Sorted;
 use super::wboit::Wboit;
 use super::weighted_average::WeightedAverage;
@@ -16,6 +18,8 @@ static TECHNIQUES: &[&dyn EyeTransparency] = &[
     &DepthPeel,
     &WeightedAverage,
     &Wboit,
+    &MomentBasedOit,
+    &Shortcut,
     &Opaque,
 ];
 

@@ -1,0 +1,524 @@
+//! TressFX ShortCut-style blending (AMD TressFX; spec A.12): the K nearest fragments of each pixel blended
+//! exactly, the rest as one weighted layer behind them. Pass 1 (`eye: k nearest`) keeps the K smallest depth keys
+//! per pixel with an `atomicMin` insertion chain in a storage buffer (K words per pixel); pass 2, the shaded hair
+//! entry, stores a fragment whose key is one of them in that key's slot and adds every other fragment to the
+//! tail (additive `(a c, a)` RGBA32F and a revealage product R32F); the resolve blends the slots front to back,
+//! then the tail, and resets the words and slots for the next frame. Both passes write storage, so they have no
+//! depth attachment and test the meshes by hand. Two geometry passes, `20 K + 20` B per pixel.
+//!
+//! Equal keys: the depth pass gives each its own word; in pass 2 each fragment with that key takes the first
+//! free one (`atomicExchange`), so equal-depth fragments in the K nearest are blended in the order they arrive,
+//! not by segment as the model orders them, and where more share the K-th depth than words are left, which of
+//! them stay in front is the arrival order too. CPU model: [`crate::transparency::ShortcutParams`].
+
+use super::{
+    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
+    TechniqueInfo, TransparencyGpu, cleared,
+};
+use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::HairVertex;
+use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
+use crate::render::passes::composite::CompositePass;
+use crate::render::targets::{EyeTargets, eye_texture};
+use crate::transparency::shortcut::K_RANGE;
+use crate::transparency::{Compositor, ModelContext, ShortcutParams};
+use bytemuck::{Pod, Zeroable};
+
+pub const TAIL: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Bytes per pixel and kept fragment: a key word and an RGBA32F slot.
+const SLOT_BYTES: u64 = 4 + 16;
+
+const REVEAL: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::Zero,
+    dst_factor: wgpu::BlendFactor::OneMinusSrc,
+    operation: wgpu::BlendOperation::Add,
+};
+
+static HAIR: HairEntry = HairEntry {
+    entry: "fs_main",
+    targets: &[
+        wgpu::ColorTargetState {
+            format: TAIL,
+            blend: Some(ADDITIVE),
+            write_mask: wgpu::ColorWrites::ALL,
+        },
+        wgpu::ColorTargetState {
+            format: REVEALAGE,
+            blend: Some(wgpu::BlendState {
+                color: REVEAL,
+                alpha: REVEAL,
+            }),
+            write_mask: wgpu::ColorWrites::RED,
+        },
+    ],
+    depth: EntryDepth::Manual,
+};
+
+const K: ParamSpec = ParamSpec {
+    key: "k",
+    label: "K nearest",
+    help: "fragments per pixel blended exactly, nearest first (TressFX: 3); the rest form one averaged layer",
+    kind: ParamKind::Int {
+        min: K_RANGE[0] as i32,
+        max: K_RANGE[1] as i32,
+    },
+    default: 3.0,
+};
+const FRONT: ParamSpec = ParamSpec {
+    key: "front",
+    label: "front blending",
+    help: "ordered: the K nearest blended front to back; averaged: their weighted average, TressFX 4.x as shipped",
+    kind: ParamKind::Choice {
+        options: &["ordered", "averaged"],
+    },
+    default: 0.0,
+};
+
+static INFO: TechniqueInfo = TechniqueInfo {
+    name: "shortcut",
+    label: "ShortCut (K nearest)",
+    paper: "AMD TressFX 4, ShortCut; k-buffer front with an order-independent tail (Maule et al. 2013)",
+    role: Role::Approximation,
+    hair_wgsl: "transparency/shortcut.wgsl",
+    hair_entries: std::slice::from_ref(&HAIR),
+    pass_wgsl: &[
+        "transparency/shortcut_depths.wgsl",
+        "transparency/shortcut_resolve.wgsl",
+    ],
+    params: &[K, FRONT],
+    color: [68, 170, 153],
+    // f32 sums and products in another order only. Measured on lavapipe, 160x120 head (tests/it/transparency_gpu.rs):
+    // 6.0e-8 at K = 1, 3 and 8, ordered and averaged (one pixel of 3489 has an exact depth tie among its 5
+    // nearest; no pixel differed by more).
+    gpu_tolerance: 1e-5,
+};
+
+/// The model's parameters from `values`.
+fn params(values: &ParamValues) -> ShortcutParams {
+    ShortcutParams {
+        k: value(values, &K) as u32,
+        average_front: value(values, &FRONT) >= 1.0,
+    }
+}
+
+pub struct Shortcut;
+
+impl EyeTransparency for Shortcut {
+    fn info(&self) -> &'static TechniqueInfo {
+        &INFO
+    }
+
+    fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
+        Ok(Box::new(ShortcutGpu::new(setup)?))
+    }
+
+    fn model(&self, values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
+        Box::new(params(values))
+    }
+}
+
+/// Mirrors `ShortcutUniforms` in `shaders/common/shortcut.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct ShortcutUniforms {
+    pub k: u32,
+    pub width: u32,
+    pub average_front: u32,
+    pub pad0: u32,
+}
+
+fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty,
+        count: None,
+    }
+}
+
+const UNIFORM: wgpu::BindingType = wgpu::BindingType::Buffer {
+    ty: wgpu::BufferBindingType::Uniform,
+    has_dynamic_offset: false,
+    min_binding_size: None,
+};
+const STORAGE: wgpu::BindingType = wgpu::BindingType::Buffer {
+    ty: wgpu::BufferBindingType::Storage { read_only: false },
+    has_dynamic_offset: false,
+    min_binding_size: None,
+};
+const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Depth,
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+const FLOAT_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+
+/// The resources of one viewport size and K.
+struct Buffers {
+    keys: wgpu::Buffer,
+    slots: wgpu::Buffer,
+    tail: wgpu::TextureView,
+    revealage: wgpu::TextureView,
+    resolve_group: wgpu::BindGroup,
+    width: u32,
+    height: u32,
+    k: u32,
+}
+
+impl Buffers {
+    fn new(
+        gpu: &Gpu,
+        uniforms: &wgpu::Buffer,
+        resolve_layout: &wgpu::BindGroupLayout,
+        (width, height): (u32, u32),
+        k: u32,
+    ) -> Result<Buffers, GpuError> {
+        let device = &gpu.device;
+        let words = width as u64 * height as u64 * k as u64;
+        let binding = device.limits().max_storage_buffer_binding_size;
+        for (what, bytes) in [("key words", words * 4), ("slots", words * 16)] {
+            let what = format!("ShortCut's {what} (K = {k}) at {width}x{height}");
+            gpu.check_buffer_size(&what, bytes)?;
+            if bytes > binding {
+                return Err(GpuError::TooLarge {
+                    what,
+                    bytes,
+                    limit: binding,
+                });
+            }
+        }
+        // Key words start empty (all ones) and slots at zero; each resolve resets them for the next frame.
+        let keys = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("hairlab.shortcut.keys"),
+                contents: &vec![0xff; words.max(1) as usize * 4],
+                usage: wgpu::BufferUsages::STORAGE,
+            },
+        );
+        let slots = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.shortcut.slots"),
+            size: words.max(1) * 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let view = |label, format| {
+            eye_texture(
+                device,
+                label,
+                (width, height),
+                format,
+                wgpu::TextureUsages::TEXTURE_BINDING,
+                &[],
+            )
+            .create_view(&Default::default())
+        };
+        let tail = view("hairlab.shortcut.tail", TAIL);
+        let revealage = view("hairlab.shortcut.revealage", REVEALAGE);
+        let resolve_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.shortcut.resolve_group"),
+            layout: resolve_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: keys.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: slots.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&tail),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&revealage),
+                },
+            ],
+        });
+        Ok(Buffers {
+            keys,
+            slots,
+            tail,
+            revealage,
+            resolve_group,
+            width,
+            height,
+            k,
+        })
+    }
+}
+
+struct ShortcutGpu {
+    uniforms: wgpu::Buffer,
+    depths_layout: wgpu::BindGroupLayout,
+    hair_layout: wgpu::BindGroupLayout,
+    resolve_layout: wgpu::BindGroupLayout,
+    depths_pipeline: wgpu::RenderPipeline,
+    resolve: CompositePass,
+    buffers: Buffers,
+}
+
+impl ShortcutGpu {
+    fn new(setup: &EyeSetup) -> Result<ShortcutGpu, GpuError> {
+        let device = &setup.gpu.device;
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.shortcut.uniforms"),
+            size: std::mem::size_of::<ShortcutUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let depths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.shortcut.depths_layout"),
+            entries: &[entry(0, UNIFORM), entry(1, STORAGE), entry(2, MESH_DEPTH)],
+        });
+        let hair_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.shortcut.hair_layout"),
+            entries: &[
+                entry(0, UNIFORM),
+                entry(1, STORAGE),
+                entry(2, STORAGE),
+                entry(3, MESH_DEPTH),
+            ],
+        });
+        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.shortcut.resolve_layout"),
+            entries: &[
+                entry(0, UNIFORM),
+                entry(1, STORAGE),
+                entry(2, STORAGE),
+                entry(3, FLOAT_TEXTURE),
+                entry(4, FLOAT_TEXTURE),
+            ],
+        });
+        let module = crate::render::passes::shader_module(
+            device,
+            "hairlab.shortcut.depths_shader",
+            INFO.pass_wgsl[0],
+            None,
+        );
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hairlab.shortcut.depths_pipeline_layout"),
+            bind_group_layouts: &[Some(setup.frame_layout), Some(&depths_layout)],
+            immediate_size: 0,
+        });
+        let depths_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("hairlab.shortcut.depths_pipeline"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(HairVertex::layout())],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::LineList,
+                ..Default::default()
+            },
+            // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the atomics.
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(EyeTargets::NULL)],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let resolve = CompositePass::new(
+            device,
+            "hairlab.shortcut.resolve",
+            INFO.pass_wgsl[1],
+            &resolve_layout,
+            PREMULTIPLIED_OVER,
+        );
+        let buffers = Buffers::new(
+            setup.gpu,
+            &uniforms,
+            &resolve_layout,
+            (setup.width, setup.height),
+            ShortcutParams::default().k,
+        )?;
+        Ok(ShortcutGpu {
+            uniforms,
+            depths_layout,
+            hair_layout,
+            resolve_layout,
+            depths_pipeline,
+            resolve,
+            buffers,
+        })
+    }
+
+    /// Re-creates the buffers for `size` and `k` when either changed.
+    fn ensure(&mut self, gpu: &Gpu, size: (u32, u32), k: u32) -> Result<(), GpuError> {
+        let b = &self.buffers;
+        if (b.width, b.height, b.k) != (size.0, size.1, k) {
+            self.buffers = Buffers::new(gpu, &self.uniforms, &self.resolve_layout, size, k)?;
+        }
+        Ok(())
+    }
+}
+
+impl TransparencyGpu for ShortcutGpu {
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+        self.ensure(gpu, (width, height), self.buffers.k)
+    }
+
+    fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
+        let p = params(frame.values);
+        let k = p.k() as u32;
+        self.ensure(frame.gpu, (self.buffers.width, self.buffers.height), k)?;
+        let u = ShortcutUniforms {
+            k,
+            width: self.buffers.width,
+            average_front: u32::from(p.average_front),
+            pad0: 0,
+        };
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
+        let device = &frame.gpu.device;
+        let b = &self.buffers;
+        let mesh_depth = wgpu::BindingResource::TextureView(&frame.targets.depth_view);
+        let depths_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.shortcut.depths_group"),
+            layout: &self.depths_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: b.keys.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: mesh_depth.clone(),
+                },
+            ],
+        });
+        let hair_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.shortcut.hair_group"),
+            layout: &self.hair_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: b.keys.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: b.slots.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: mesh_depth,
+                },
+            ],
+        });
+        {
+            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: k nearest"));
+            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hairlab.shortcut.depths_pass"),
+                color_attachments: &[frame.targets.null_attachment()],
+                depth_stencil_attachment: None,
+                timestamp_writes: timestamps,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            if frame.geometry.hair_index_count > 0 {
+                pass.set_pipeline(&self.depths_pipeline);
+                pass.set_bind_group(0, frame.frame_bind_group, &[]);
+                pass.set_bind_group(1, &depths_group, &[]);
+                pass.set_vertex_buffer(0, frame.geometry.hair_vertices.slice(..));
+                pass.set_index_buffer(frame.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..frame.geometry.hair_index_count, 0, 0..1);
+            }
+        }
+        // Nothing in the tail, everything revealed.
+        let attachments = [
+            cleared(&b.tail, [0.0; 4]),
+            cleared(&b.revealage, [1.0, 0.0, 0.0, 0.0]),
+        ];
+        frame.draw_hair(
+            HairDrawPass {
+                entry: &HAIR,
+                attachments: &attachments,
+                depth: None,
+                group: Some((&self.hair_layout, &hair_group)),
+                rows: None,
+            },
+            "eye: hair",
+        );
+        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        self.resolve
+            .record(&mut frame.encoder, frame.output, &b.resolve_group, timestamps);
+        Ok(())
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        let b = &self.buffers;
+        let pixels = b.width as u64 * b.height as u64;
+        pixels * (b.k as u64 * SLOT_BYTES + 16 + 4) + self.uniforms.size()
+    }
+
+    fn geometry_passes(&self) -> u32 {
+        2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniforms_mirror_the_wgsl_struct() {
+        for pass in INFO.pass_wgsl {
+            let src = crate::shaders::compose(pass, None).unwrap();
+            let module = naga::front::wgsl::parse_str(&src).unwrap();
+            let (_, ty) = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some("ShortcutUniforms"))
+                .unwrap();
+            let naga::TypeInner::Struct { members, span } = &ty.inner else {
+                panic!("ShortcutUniforms is not a struct")
+            };
+            let wgsl: Vec<(String, u32)> = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect();
+            let rust: Vec<(String, u32)> = [
+                ("k", std::mem::offset_of!(ShortcutUniforms, k)),
+                ("width", std::mem::offset_of!(ShortcutUniforms, width)),
+                (
+                    "average_front",
+                    std::mem::offset_of!(ShortcutUniforms, average_front),
+                ),
+                ("pad0", std::mem::offset_of!(ShortcutUniforms, pad0)),
+            ]
+            .map(|(n, o)| (n.to_string(), o as u32))
+            .to_vec();
+            assert_eq!(wgsl, rust, "{pass}");
+            assert_eq!(*span as usize, std::mem::size_of::<ShortcutUniforms>(), "{pass}");
+        }
+    }
+}

@@ -120,7 +120,7 @@ impl FurMesh {
     /// Welds, cleans, orients and neighbours `mesh` (named `name` in messages).
     pub fn build(name: &str, mesh: &Mesh) -> Result<FurMesh, MeshError> {
         let err_name = || name.to_string();
-        if mesh.indices.len() % 3 != 0 {
+        if !mesh.indices.len().is_multiple_of(3) {
             return Err(MeshError::IndexCount {
                 mesh: err_name(),
                 len: mesh.indices.len(),
@@ -207,6 +207,15 @@ impl FurMesh {
         v - self.edge_count() as i64 + self.faces.len() as i64
     }
 
+    /// The most faces around one vertex.
+    pub fn max_valence(&self) -> u32 {
+        let mut n = vec![0u32; self.positions.len()];
+        for &v in self.faces.iter().flatten() {
+            n[v as usize] += 1;
+        }
+        n.into_iter().max().unwrap_or(0)
+    }
+
     /// The unit normal of face `f` (its winding's right-hand normal).
     pub fn face_normal(&self, f: usize) -> Vec3 {
         let [a, b, c] = self.faces[f].map(|v| self.positions[v as usize]);
@@ -251,11 +260,11 @@ fn weld(positions: &[Vec3]) -> (Vec<Vec3>, Vec<u32>, f32) {
         'search: for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
-                    if let Some(list) = grid.get(&(c + glam::IVec3::new(dx, dy, dz))) {
-                        if let Some(&w) = list.iter().find(|&&w| out[w as usize].distance(p) <= tol) {
-                            found = Some(w);
-                            break 'search;
-                        }
+                    if let Some(list) = grid.get(&(c + glam::IVec3::new(dx, dy, dz)))
+                        && let Some(&w) = list.iter().find(|&&w| out[w as usize].distance(p) <= tol)
+                    {
+                        found = Some(w);
+                        break 'search;
                     }
                 }
             }

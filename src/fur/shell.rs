@@ -31,6 +31,8 @@ const SHRINK: f32 = 0.8;
 const MAX_SHRINK_PASSES: usize = 64;
 /// A quadratic counts as positive on `[0, 1]` when its minimum exceeds this fraction of its scale.
 const VALID_MARGIN: f64 = 1e-3;
+/// The spec's hop cap per step (B.3 #5); [`Shell::hop_cap`] raises it at high-valence vertices.
+pub const MIN_HOPS: u32 = 4;
 /// Newton iterations for the shell height of a point.
 const NEWTON_STEPS: usize = 8;
 
@@ -314,6 +316,12 @@ impl Shell {
             };
         }
         Walk::Lost { face: f }
+    }
+
+    /// The hop cap for [`Shell::walk`]: at least [`MIN_HOPS`], and half the largest vertex valence, so that a
+    /// step passing a high-valence vertex (the generated head's poles join 40 faces) can go half way round it.
+    pub fn hop_cap(&self) -> u32 {
+        MIN_HOPS.max(self.mesh.max_valence().div_ceil(2))
     }
 
     /// Brute-force point location: the first prism (by face index) holding `p`, testing every prism whose

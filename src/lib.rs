@@ -4,6 +4,7 @@
 pub mod app;
 pub mod bench;
 pub mod cli;
+pub mod fur;
 pub mod gpu;
 pub mod io;
 pub mod measure;

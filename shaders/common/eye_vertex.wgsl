@@ -12,6 +12,18 @@ struct EyePoint {
     @location(2) @interpolate(flat) segment: u32,
 }
 
+// The vertex inputs of the techniques' own geometry passes (the hair pass reads more).
+struct EyeVertexIn {
+    @builtin(vertex_index) index: u32,
+    @location(0) position: vec3<f32>,
+    @location(1) alpha: f32,
+    @location(3) thickness: f32,
+}
+
+fn eye_vertex(v: EyeVertexIn) -> EyePoint {
+    return eye_point(v.index, v.position, v.alpha, v.thickness);
+}
+
 fn eye_point(index: u32, position: vec3<f32>, alpha: f32, thickness: f32) -> EyePoint {
     var out: EyePoint;
     out.clip = frame.world_to_clip * vec4<f32>(position, 1.0);

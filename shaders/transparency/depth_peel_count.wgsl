@@ -7,16 +7,9 @@
 @group(1) @binding(0) var<storage, read_write> peel_counts: array<atomic<u32>>;
 @group(1) @binding(1) var mesh_depth: texture_depth_2d;
 
-struct CountVertexIn {
-    @builtin(vertex_index) index: u32,
-    @location(0) position: vec3<f32>,
-    @location(1) alpha: f32,
-    @location(3) thickness: f32,
-}
-
 @vertex
-fn vs_main(v: CountVertexIn) -> EyePoint {
-    return eye_point(v.index, v.position, v.alpha, v.thickness);
+fn vs_main(v: EyeVertexIn) -> EyePoint {
+    return eye_vertex(v);
 }
 
 @fragment

@@ -7,20 +7,14 @@
 
 @group(1) @binding(0) var<uniform> mboit: MboitUniforms;
 
-struct VertexIn {
-    @builtin(vertex_index) index: u32,
-    @location(0) position: vec3<f32>,
-    @location(1) alpha: f32,
-}
-
 struct MomentTargets {
     @location(0) low: vec4<f32>,
     @location(1) high: vec4<f32>,
 }
 
 @vertex
-fn vs_main(v: VertexIn) -> EyePoint {
-    return eye_point(v.index, v.position, v.alpha);
+fn vs_main(v: EyeVertexIn) -> EyePoint {
+    return eye_vertex(v);
 }
 
 @fragment

@@ -19,16 +19,9 @@
 @group(1) @binding(4) var<uniform> params: OccupancyOrderUniforms;
 @group(1) @binding(5) var mesh_depth: texture_depth_2d;
 
-struct MapVertexIn {
-    @builtin(vertex_index) index: u32,
-    @location(0) position: vec3<f32>,
-    @location(1) alpha: f32,
-    @location(3) thickness: f32,
-}
-
 @vertex
-fn vs_main(v: MapVertexIn) -> EyePoint {
-    return eye_point(v.index, v.position, v.alpha, v.thickness);
+fn vs_main(v: EyeVertexIn) -> EyePoint {
+    return eye_vertex(v);
 }
 
 struct RangeTargets {

@@ -10,15 +10,9 @@
 @group(1) @binding(1) var<storage, read_write> keys: array<atomic<u32>>;
 @group(1) @binding(2) var mesh_depth: texture_depth_2d;
 
-struct VertexIn {
-    @builtin(vertex_index) index: u32,
-    @location(0) position: vec3<f32>,
-    @location(1) alpha: f32,
-}
-
 @vertex
-fn vs_main(v: VertexIn) -> EyePoint {
-    return eye_point(v.index, v.position, v.alpha);
+fn vs_main(v: EyeVertexIn) -> EyePoint {
+    return eye_vertex(v);
 }
 
 @fragment

@@ -193,6 +193,9 @@ pub fn render_compare(
     r.render_capture(&input(reference, &defaults))
         .map_err(|e| gpu_error("opaque image", e))?;
     let background = r.read_output().map_err(|e| gpu_error("opaque image", e))?;
+    // Drain these frames' timings: the timer keeps the newest finished readback, and the viewport's frame
+    // must not finish together with them.
+    r.wait_timings();
     let hair: Vec<bool> = lists.iter().map(|l| !l.is_empty()).collect();
     let first = rendered[0].1.clone();
     let images = rendered
@@ -562,8 +565,8 @@ fn metrics_grid(ui: &mut egui::Ui, frames: &CompareFrames) {
         ));
         egui::Grid::new("compare_metrics").striped(true).show(ui, |ui| {
             ui.label("");
-            for img in &frames.images[1..] {
-                ui.strong(img.label);
+            for (k, img) in frames.images.iter().enumerate().skip(1) {
+                ui.strong(format!("{} · {}", k + 1, img.label));
             }
             ui.end_row();
             let rows: [MetricRow; 12] = [

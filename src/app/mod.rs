@@ -109,6 +109,8 @@ pub struct HairlabApp {
     compare: compare_view::CompareView,
     /// The eye pixel inspector window.
     pixel_inspector: pixel_inspector::PixelInspector,
+    /// The next viewport frame waits for its GPU times (another window rendered after the last one).
+    wait_timings: bool,
 }
 
 impl HairlabApp {
@@ -157,6 +159,7 @@ impl HairlabApp {
             bench: Default::default(),
             compare: Default::default(),
             pixel_inspector: Default::default(),
+            wait_timings: false,
         };
         app.rebuild_scene();
         app
@@ -476,7 +479,10 @@ impl HairlabApp {
             let action = egui::Window::new("Compare")
                 .open(&mut open)
                 .default_pos([area.left() + 8.0, area.top() + 8.0])
-                .default_size([(area.width() - 16.0).max(400.0), 520.0])
+                .default_size([
+                    (area.width() - 16.0).max(400.0),
+                    (area.height() - 16.0).max(400.0),
+                ])
                 .show(ctx, |ui| {
                     egui::ScrollArea::vertical()
                         .show(ui, |ui| self.compare.ui(ui, settings, hide))
@@ -507,8 +513,9 @@ impl HairlabApp {
             return self.error("compare view: no GPU renderer");
         };
         self.compare.render(r, &self.settings, size, ctx);
-        // The compare frames replaced the viewport's image and timings: render it again.
+        // The compare frames replaced the viewport's image and timings: render it again and wait for its times.
         self.last_rendered = None;
+        self.wait_timings = true;
         ctx.request_repaint();
         if let Some(e) = self.compare.error() {
             let e = e.to_string();

@@ -286,10 +286,12 @@ fn transmittance_plot(ui: &mut egui::Ui, r: &PixelReport, height: f32) {
         .include_y(0.0)
         .include_y(1.05)
         .show(ui, |p| {
+            // One step per fragment, never merged into a band.
             p.line(
                 Line::new("exact Π(1 − a)", series(&depths, &values))
                     .color(text)
-                    .width(2.0),
+                    .width(2.0)
+                    .allow_band(false),
             );
             if let Some(o) = &r.orders {
                 let estimate = |orders: &[f32]| -> PlotPoints<'static> {

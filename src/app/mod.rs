@@ -2,10 +2,13 @@
 //! status line at the bottom. Settings persist between runs; presets load and save the same struct.
 
 mod bench_panel;
+pub mod compare_view;
 pub mod inspector;
 mod lightmap_view;
 mod panels;
+pub mod pixel_inspector;
 pub mod texel_lab;
+mod transparency_panel;
 mod viewport;
 
 use crate::gpu::{self, AdapterPreference, timing::PassTime};
@@ -102,6 +105,12 @@ pub struct HairlabApp {
     viewport_rect: Option<egui::Rect>,
     /// The Bench window: speed against accuracy of every method's sweep.
     bench: bench_panel::BenchPanel,
+    /// The eye transparency compare window (four techniques, their difference and metrics).
+    compare: compare_view::CompareView,
+    /// The eye pixel inspector window.
+    pixel_inspector: pixel_inspector::PixelInspector,
+    /// The next viewport frame waits for its GPU times (another window rendered after the last one).
+    wait_timings: bool,
 }
 
 impl HairlabApp {
@@ -148,6 +157,9 @@ impl HairlabApp {
             light_map: Default::default(),
             viewport_rect: None,
             bench: Default::default(),
+            compare: Default::default(),
+            pixel_inspector: Default::default(),
+            wait_timings: false,
         };
         app.rebuild_scene();
         app
@@ -440,6 +452,77 @@ impl HairlabApp {
         &mut self.inspector
     }
 
+    pub fn compare(&self) -> &compare_view::CompareView {
+        &self.compare
+    }
+
+    pub fn compare_mut(&mut self) -> &mut compare_view::CompareView {
+        &mut self.compare
+    }
+
+    pub fn pixel_inspector(&self) -> &pixel_inspector::PixelInspector {
+        &self.pixel_inspector
+    }
+
+    /// The compare window (renders when asked or, in auto mode, when the settings changed and no drag is under
+    /// way) and the pixel inspector window.
+    fn transparency_windows(&mut self, ctx: &egui::Context) {
+        if self.compare.open {
+            let area = self.viewport_rect.unwrap_or_else(|| ctx.content_rect());
+            let size = self.compare.size(&self.settings.render);
+            let dragging = ctx.input(|i| i.pointer.any_down());
+            if self.compare.auto && !dragging && self.compare.stale(&self.settings, size) {
+                self.render_compare(size, ctx);
+            }
+            let mut open = self.compare.open;
+            let (settings, hide) = (&self.settings, self.snapshot_mode);
+            let action = egui::Window::new("Compare")
+                .open(&mut open)
+                .default_pos([area.left() + 8.0, area.top() + 8.0])
+                .default_size([
+                    (area.width() - 16.0).max(400.0),
+                    (area.height() - 16.0).max(400.0),
+                ])
+                .show(ctx, |ui| {
+                    egui::ScrollArea::vertical()
+                        .show(ui, |ui| self.compare.ui(ui, settings, hide))
+                        .inner
+                })
+                .and_then(|r| r.inner)
+                .flatten();
+            self.compare.open = open;
+            match action {
+                Some(compare_view::CompareAction::Render) => self.render_compare(size, ctx),
+                Some(compare_view::CompareAction::Pick(p)) => self.pixel_inspector.select(p),
+                None => {}
+            }
+        }
+        if self.pixel_inspector.open {
+            let mut open = self.pixel_inspector.open;
+            let (frames, generation) = (self.compare.frames(), self.compare.generation());
+            egui::Window::new("Pixel inspector")
+                .open(&mut open)
+                .default_size([560.0, 520.0])
+                .show(ctx, |ui| self.pixel_inspector.ui(ui, frames, generation));
+            self.pixel_inspector.open = open;
+        }
+    }
+
+    fn render_compare(&mut self, size: (u32, u32), ctx: &egui::Context) {
+        let Some(r) = self.renderer.as_mut() else {
+            return self.error("compare view: no GPU renderer");
+        };
+        self.compare.render(r, &self.settings, size, ctx);
+        // The compare frames replaced the viewport's image and timings: render it again and wait for its times.
+        self.last_rendered = None;
+        self.wait_timings = true;
+        ctx.request_repaint();
+        if let Some(e) = self.compare.error() {
+            let e = e.to_string();
+            self.error(e);
+        }
+    }
+
     /// Writes every curve shown (see [`inspector::TexelCurves::csv`]) to `path`; the outcome goes to the status
     /// line.
     pub fn export_inspector_csv(&mut self, path: &std::path::Path) {
@@ -592,6 +675,7 @@ impl eframe::App for HairlabApp {
             .show(ui, |ui| self.viewport(ui));
         self.inspector_windows(&ctx);
         self.bench_window(&ctx);
+        self.transparency_windows(&ctx);
         if let Some(path) = self.screenshot_request.take() {
             self.save_screenshot(path);
         }

@@ -1,12 +1,14 @@
 //! The real workbench app driven headless by egui_kittest on the software adapter: it shows the scene, reacts to
-//! a parameter change through the UI, saves a screenshot without a dialog, and matches a UI snapshot.
+//! a parameter change through the UI, saves a screenshot without a dialog, and matches a UI snapshot; the eye
+//! transparency section, the compare view and the pixel inspector.
 
 use crate::common;
 
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::{Harness, SnapshotOptions};
 use hairlab::app::{HairlabApp, wgpu_setup};
 use hairlab::gpu::{AdapterPreference, Gpu};
+use hairlab::render::transparency::registry as techniques;
 use hairlab::scene::generate::HairStyle;
 
 #[test]
@@ -80,4 +82,197 @@ fn workbench_headless() {
         "workbench",
         &SnapshotOptions::new().threshold(2.0).max_failed_pixels(200),
     );
+}
+
+/// The workbench at a height where the side panel's Transparency section and the compare window fit.
+fn tall_harness() -> Harness<'static, HairlabApp> {
+    let settings = common::small_settings(320, 240);
+    Harness::builder()
+        .with_size([1400.0, 1500.0])
+        .with_max_steps(8)
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)))
+}
+
+/// Opens the side panel's Transparency section.
+fn open_transparency_section(harness: &mut Harness<'_, HairlabApp>) {
+    harness.get_by_label("Transparency").click();
+    harness.run();
+}
+
+/// Opens the compare window and lets it render.
+fn open_compare(harness: &mut Harness<'_, HairlabApp>) {
+    open_transparency_section(harness);
+    harness.get_by_label("Compare").click();
+    harness.run();
+    assert_eq!(harness.state().compare().error(), None);
+    // The new window sizes itself to its contents over a few frames.
+    for _ in 0..10 {
+        let rect = harness.state().compare().image_rect(0);
+        harness.run();
+        if harness.state().compare().image_rect(0) == rect {
+            return;
+        }
+    }
+    panic!("the compare window does not settle");
+}
+
+#[test]
+fn transparency_section_lists_every_technique_and_switches_it() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness = tall_harness();
+    harness.run();
+    open_transparency_section(&mut harness);
+    let before = harness.state().settings().transparency.name.clone();
+    harness.get_by_label("technique").click();
+    harness.run();
+    // Every registered technique is offered (the current one is also the combo's text).
+    for t in techniques::all() {
+        assert!(
+            harness.query_all_by_label(t.info().label).next().is_some(),
+            "{} is not offered",
+            t.name()
+        );
+    }
+    let other = techniques::all()
+        .iter()
+        .find(|t| t.name() != before)
+        .expect("a second technique");
+    harness.get_by_label(other.info().label).click();
+    harness.run();
+    assert_eq!(harness.state().settings().transparency.name, other.name());
+    // Its paper is shown under the combo, and the held technique's cost once the viewport rendered it.
+    assert!(harness.query_by_label(other.info().paper).is_some());
+    assert!(
+        harness
+            .query_by_label_contains(&format!("held: {} · ", other.name()))
+            .is_some()
+    );
+}
+
+#[test]
+fn compare_view_renders_four_labelled_images_and_their_metrics() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness = tall_harness();
+    harness.run();
+    open_compare(&mut harness);
+    let app = harness.state();
+    let frames = app.compare().frames().expect("compare frames rendered");
+    assert_eq!(frames.images.len(), 4);
+    assert_eq!(frames.images[0].name, techniques::reference().name());
+    assert_eq!(frames.images[1].name, app.settings().transparency.name);
+    assert_eq!(frames.lists.len(), (frames.width * frames.height) as usize);
+    let hair = frames.hair.iter().filter(|&&h| h).count();
+    assert!(hair > 500, "only {hair} hair pixels");
+    for (i, img) in frames.images.iter().enumerate() {
+        assert_eq!(img.image.dimensions(), (frames.width, frames.height));
+        assert!(app.compare().image_rect(i).is_some(), "image {i} not drawn");
+        // Outside the hair every technique shows the opaque image alone.
+        let differ = img
+            .image
+            .pixels()
+            .zip(frames.images[0].image.pixels())
+            .zip(&frames.hair)
+            .filter(|((p, q), h)| !**h && p != q)
+            .count();
+        assert_eq!(
+            differ, 0,
+            "{}: pixels without hair differ from the reference",
+            img.name
+        );
+    }
+    // Four captions, each naming its technique and its GPU time (or why there is none).
+    let captions: Vec<String> = harness
+        .query_all_by_label_contains(" — GPU")
+        .map(|n| n.accesskit_node().value().unwrap_or_default())
+        .collect();
+    assert_eq!(captions.len(), 4, "{captions:?}");
+    for (c, img) in captions.iter().zip(&frames.images) {
+        assert!(c.starts_with(&format!("{} — GPU", img.label)), "{c}");
+    }
+    // The metrics of the selected technique against the reference: a real difference on the hair.
+    let m = &frames.images[1].metrics;
+    assert!(m.rmse_hair > 0.0 && m.rmse_hair > m.rmse, "{m:?}");
+    assert!(harness.query_by_label("RMSE hair").is_some());
+    assert!(harness.query_by_label("contrast retention").is_some());
+}
+
+#[test]
+fn pixel_inspector_shows_the_list_of_a_clicked_hair_pixel() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness = tall_harness();
+    harness.run();
+    open_compare(&mut harness);
+    // The hair pixel with the most fragments, clicked in the reference image.
+    let app = harness.state();
+    let frames = app.compare().frames().expect("compare frames rendered");
+    let (index, list) = frames
+        .lists
+        .iter()
+        .enumerate()
+        .max_by_key(|(_, l)| l.len())
+        .unwrap();
+    let expected = list.clone();
+    let (w, h) = (frames.width, frames.height);
+    let pixel = [index as u32 % w, index as u32 / w];
+    let rect = app.compare().image_rect(0).expect("reference image drawn");
+    let pos = rect.min
+        + egui::vec2(
+            (pixel[0] as f32 + 0.5) * rect.width() / w as f32,
+            (pixel[1] as f32 + 0.5) * rect.height() / h as f32,
+        );
+    let gpu_reference = frames.images[0].image.get_pixel(pixel[0], pixel[1]).0;
+    harness.hover_at(pos);
+    harness.step();
+    harness.drag_at(pos);
+    harness.step();
+    harness.drop_at(pos);
+    harness.run();
+    let app = harness.state();
+    assert!(app.pixel_inspector().open, "a click opens the pixel inspector");
+    assert_eq!(
+        app.pixel_inspector().pixel,
+        Some(pixel),
+        "clicked {pos:?} in {rect:?}"
+    );
+    let report = app.pixel_inspector().report().expect("a report of the pixel");
+    assert_eq!(report.fragments, expected);
+    assert!(
+        expected.len() >= 2,
+        "deepest pixel holds {} fragments",
+        expected.len()
+    );
+    assert!(expected.windows(2).all(|p| p[0].depth <= p[1].depth));
+    // The transmittance behind the last fragment is the product of (1 - a), in f64 here.
+    let through: f64 = expected.iter().map(|f| 1.0 - f64::from(f.alpha)).product();
+    assert!((f64::from(*report.transmittance.last().unwrap()) - through).abs() < 1e-5);
+    // The exact model's colour, sRGB encoded, is the GPU reference's pixel (8-bit rounding of both, and of the
+    // background the model is fed).
+    let encoded: egui::Color32 =
+        egui::Rgba::from_rgb(report.reference[0], report.reference[1], report.reference[2]).into();
+    for (c, g) in [encoded.r(), encoded.g(), encoded.b()].iter().zip(gpu_reference) {
+        assert!(
+            c.abs_diff(g) <= 2,
+            "CPU exact {encoded:?} vs GPU {gpu_reference:?}"
+        );
+    }
+    assert_eq!(report.composites.len(), techniques::all().len());
+    let reference = &report.composites[0];
+    assert_eq!(
+        (reference.name, reference.delta),
+        (techniques::reference().name(), 0.0)
+    );
+    let title = format!(
+        "pixel ({}, {}) · {} fragments",
+        pixel[0],
+        pixel[1],
+        expected.len()
+    );
+    assert!(harness.query_by_label(&title).is_some(), "{title} not shown");
 }

@@ -18,6 +18,7 @@ pub use csv::export;
 pub use curves::{MethodCurve, PlotModel, TexelCurves, TexelPlot, inspected, method_color, plot_range};
 pub use lists::{ListsKey, ReferenceLists, read_reference_lists};
 pub use map_stats::{MapStats, MethodMapError};
+pub(super) use plot::series;
 
 use super::texel_lab::LabSettings;
 use crate::methods::registry;

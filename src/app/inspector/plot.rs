@@ -179,7 +179,8 @@ pub(super) fn figures(ui: &mut egui::Ui, curves: &TexelCurves) {
     }
 }
 
-fn series(depths: &[f32], values: &[f32]) -> PlotPoints<'static> {
+/// `(depth, value)` pairs as plot points (the eye pixel inspector's too).
+pub(in crate::app) fn series(depths: &[f32], values: &[f32]) -> PlotPoints<'static> {
     depths
         .iter()
         .zip(values)

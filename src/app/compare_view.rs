@@ -1,0 +1,640 @@
+//! The compare view: the occupancy paper's Fig. 2 layout — four eye transparency techniques side by side
+//! (reference | selected | weighted average | opaque by default, each slot any registered technique), each
+//! labelled with its GPU time and frame rate, and the difference heat map `|slot − slot 1|` (max channel, in
+//! 1/255 steps, times a gain of ×1…×64) with every image metric of `transparency::metrics::compare` beside it.
+//!
+//! The frames are rendered on demand (a button, or when the settings change while "auto" is on and no drag is
+//! under way) with the current settings at the aspect of `render.width`×`render.height`, through the window's
+//! renderer (the viewport renders its own frame again afterwards). The same render reads the exact per-pixel
+//! lists (the hair mask of the metrics, what the pixel inspector shows) and the opaque image under the hair (the
+//! inspector's backgrounds).
+
+use crate::gpu::timing::PassTime;
+use crate::methods::{LightMethod, ParamValues, registry as methods};
+use crate::render::transparency::{EyeTransparency, registry};
+use crate::render::{FrameInput, Renderer};
+use crate::settings::Settings;
+use crate::transparency::{EyeFragment, ImageMetrics, ModelContext, metrics};
+use image::RgbaImage;
+
+/// Image widths offered (the height follows the viewport's aspect).
+pub const WIDTHS: &[u32] = &[160, 240, 320, 480, 640, 960];
+/// Range of the difference gain.
+pub const GAIN_RANGE: std::ops::RangeInclusive<f32> = 1.0..=64.0;
+
+/// What one of the four images shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Slot {
+    /// The side panel's technique, with its parameters.
+    Selected,
+    /// A registered technique with its default parameters.
+    Technique(&'static str),
+}
+
+impl Slot {
+    /// The technique shown and its parameters under `settings`.
+    fn resolve<'a>(
+        self,
+        settings: &'a Settings,
+        defaults: &'a ParamValues,
+    ) -> Result<(&'static dyn EyeTransparency, &'a ParamValues), String> {
+        match self {
+            Slot::Selected => settings
+                .transparency
+                .technique()
+                .map(|t| (t, &settings.transparency.params))
+                .map_err(|e| format!("{e:#}")),
+            Slot::Technique(name) => registry::find(name).map(|t| {
+                let params = if t.name() == settings.transparency.name {
+                    &settings.transparency.params
+                } else {
+                    defaults
+                };
+                (t, params)
+            }),
+        }
+    }
+
+    fn text(self, settings: &Settings) -> String {
+        match self {
+            Slot::Selected => format!("selected ({})", settings.transparency.name),
+            Slot::Technique(name) => {
+                registry::find(name).map_or(name.to_string(), |t| t.info().label.to_string())
+            }
+        }
+    }
+}
+
+/// The default slots: the reference, the selected technique, then weighted average and opaque where they are
+/// registered (else the next registered techniques).
+fn default_slots() -> [Slot; 4] {
+    let reference = registry::reference().name();
+    let mut spare = registry::all()
+        .iter()
+        .map(|t| t.name())
+        .filter(|n| *n != reference)
+        .cycle();
+    let pick = |wanted: &'static str, spare: &mut dyn Iterator<Item = &'static str>| {
+        registry::find(wanted)
+            .map(|t| t.name())
+            .unwrap_or_else(|_| spare.next().unwrap_or(reference))
+    };
+    let third = pick("weighted-average", &mut spare);
+    let fourth = pick("opaque", &mut spare);
+    [
+        Slot::Technique(reference),
+        Slot::Selected,
+        Slot::Technique(third),
+        Slot::Technique(fourth),
+    ]
+}
+
+/// One rendered image.
+pub struct CompareImage {
+    pub name: &'static str,
+    pub label: &'static str,
+    pub image: RgbaImage,
+    /// The frame's GPU passes (empty without timestamp queries).
+    pub passes: Vec<PassTime>,
+    pub geometry_passes: u32,
+    /// Against the first image.
+    pub metrics: ImageMetrics,
+}
+
+impl CompareImage {
+    /// The frame's GPU time, all passes.
+    pub fn gpu_ms(&self) -> Option<f64> {
+        (!self.passes.is_empty()).then(|| self.passes.iter().map(|p| p.ms).sum())
+    }
+}
+
+/// Eye depth complexity of the compared view, from the exact lists.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthComplexity {
+    pub width: u32,
+    pub height: u32,
+    /// Fragments at the deepest pixel.
+    pub max: usize,
+    pub total: u64,
+    /// Mean over the hair pixels (those with a fragment).
+    pub mean_hair: f64,
+}
+
+/// Everything one compare render produced.
+pub struct CompareFrames {
+    pub width: u32,
+    pub height: u32,
+    pub images: Vec<CompareImage>,
+    /// The exact reference's lists, row-major, each front to back on (depth, segment).
+    pub lists: Vec<Vec<EyeFragment>>,
+    /// The opaque meshes alone (sRGB): the background every pixel's hair is composited over.
+    pub background: RgbaImage,
+    /// Pixels whose exact list is non-empty.
+    pub hair: Vec<bool>,
+    /// What the techniques' CPU models need of the frame.
+    pub model: ModelContext,
+    /// The settings rendered.
+    pub settings: Settings,
+}
+
+impl CompareFrames {
+    /// The exact fragment list of pixel `(x, y)`.
+    pub fn list(&self, [x, y]: [u32; 2]) -> Option<&[EyeFragment]> {
+        (x < self.width && y < self.height)
+            .then(|| self.lists.get((y * self.width + x) as usize).map(Vec::as_slice))
+            .flatten()
+    }
+
+    pub fn depth_complexity(&self) -> DepthComplexity {
+        let max = self.lists.iter().map(Vec::len).max().unwrap_or(0);
+        let total: u64 = self.lists.iter().map(|l| l.len() as u64).sum();
+        let hair = self.hair.iter().filter(|&&h| h).count();
+        DepthComplexity {
+            width: self.width,
+            height: self.height,
+            max,
+            total,
+            mean_hair: if hair == 0 {
+                0.0
+            } else {
+                total as f64 / hair as f64
+            },
+        }
+    }
+}
+
+/// Renders the four `slots` at `width`×`height` with `settings`, reads the exact lists and the opaque image.
+pub fn render_compare(
+    r: &mut Renderer,
+    settings: &Settings,
+    slots: &[Slot; 4],
+    width: u32,
+    height: u32,
+) -> Result<CompareFrames, String> {
+    let method = methods::find(&settings.method.name).map_err(|e| format!("method.name: {e}"))?;
+    let defaults = ParamValues::new();
+    let reference = registry::reference();
+    let input = |technique, technique_params| {
+        frame_input(settings, method, technique, technique_params, width, height)
+    };
+    let gpu_error = |what: &str, e: crate::gpu::GpuError| format!("compare view: {what}: {e}");
+    let mut rendered = Vec::with_capacity(4);
+    for slot in slots {
+        let (technique, params) = slot.resolve(settings, &defaults)?;
+        r.render(&input(technique, params))
+            .map_err(|e| gpu_error(technique.name(), e))?;
+        let passes = r.wait_timings();
+        let image = r.read_output().map_err(|e| gpu_error(technique.name(), e))?;
+        rendered.push((technique, image, passes, r.eye_geometry_passes()));
+    }
+    let lists = r
+        .eye_lists(&input(reference, &defaults))
+        .map_err(|e| gpu_error("exact lists", e))?;
+    r.render_capture(&input(reference, &defaults))
+        .map_err(|e| gpu_error("opaque image", e))?;
+    let background = r.read_output().map_err(|e| gpu_error("opaque image", e))?;
+    // Drain these frames' timings: the timer keeps the newest finished readback, and the viewport's frame
+    // must not finish together with them.
+    r.wait_timings();
+    let hair: Vec<bool> = lists.iter().map(|l| !l.is_empty()).collect();
+    let first = rendered[0].1.clone();
+    let images = rendered
+        .into_iter()
+        .map(|(t, image, passes, geometry_passes)| CompareImage {
+            name: t.name(),
+            label: t.info().label,
+            metrics: metrics::compare(&image, &first, &hair),
+            image,
+            passes,
+            geometry_passes,
+        })
+        .collect();
+    Ok(CompareFrames {
+        width,
+        height,
+        images,
+        lists,
+        background,
+        hair,
+        model: ModelContext {
+            hair_alpha: settings.render.hair_alpha,
+            depth_range: r.eye_depth_range(&settings.camera),
+        },
+        settings: settings.clone(),
+    })
+}
+
+/// The frame of `settings` with `technique` at `width`×`height`.
+fn frame_input<'a>(
+    settings: &'a Settings,
+    method: &'a dyn LightMethod,
+    technique: &'a dyn EyeTransparency,
+    technique_params: &'a ParamValues,
+    width: u32,
+    height: u32,
+) -> FrameInput<'a> {
+    FrameInput {
+        camera: &settings.camera,
+        light: &settings.light,
+        render: &settings.render,
+        method,
+        method_params: &settings.method.params,
+        technique,
+        technique_params,
+        width,
+        height,
+    }
+}
+
+/// A colour ramp for `t` in [0, 1]: black, purple, red, yellow, white.
+pub fn heat(t: f32) -> [u8; 3] {
+    const STOPS: [[f32; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.35, 0.0, 0.55],
+        [0.9, 0.1, 0.1],
+        [1.0, 0.85, 0.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    std::array::from_fn(|c| ((STOPS[i][c] + f * (STOPS[i + 1][c] - STOPS[i][c])) * 255.0).round() as u8)
+}
+
+/// The heat map of the max-channel `|a − b|` (1/255 steps) times `gain`, over 255.
+pub fn difference_image(a: &RgbaImage, b: &RgbaImage, gain: f32) -> RgbaImage {
+    let (w, h) = (a.width().min(b.width()), a.height().min(b.height()));
+    RgbaImage::from_fn(w, h, |x, y| {
+        let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+        let e = (0..3).map(|i| p.0[i].abs_diff(q.0[i])).max().unwrap_or(0);
+        let [r, g, b] = heat(f32::from(e) * gain / 255.0);
+        image::Rgba([r, g, b, 255])
+    })
+}
+
+/// What the compare window asks of the app.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompareAction {
+    /// Render the four images now.
+    Render,
+    /// Inspect this pixel of the compared images.
+    Pick([u32; 2]),
+}
+
+/// The settings, slots and size a render was made for.
+type CompareKey = (Settings, [Slot; 4], u32, u32);
+
+/// The compare window's state.
+pub struct CompareView {
+    pub open: bool,
+    pub slots: [Slot; 4],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Render again whenever the settings change (off: only on the button).
+    pub auto: bool,
+    /// The slot (1…3) the difference view compares with the first.
+    pub diff_slot: usize,
+    pub gain: f32,
+    frames: Option<CompareFrames>,
+    /// Counts renders (the pixel inspector's cache key).
+    generation: u64,
+    rendered: Option<CompareKey>,
+    error: Option<String>,
+    textures: Vec<egui::TextureHandle>,
+    diff: Option<((usize, u32, u64), egui::TextureHandle)>,
+    rects: [Option<egui::Rect>; 4],
+}
+
+impl Default for CompareView {
+    fn default() -> Self {
+        CompareView {
+            open: false,
+            slots: default_slots(),
+            width: 320,
+            auto: true,
+            diff_slot: 1,
+            gain: 8.0,
+            frames: None,
+            generation: 0,
+            rendered: None,
+            error: None,
+            textures: Vec::new(),
+            diff: None,
+            rects: [None; 4],
+        }
+    }
+}
+
+impl CompareView {
+    /// The last render, when one succeeded.
+    pub fn frames(&self) -> Option<&CompareFrames> {
+        self.frames.as_ref()
+    }
+
+    /// Increases with every render.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Why the last render failed.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// Where image `slot` was drawn in the last frame of the window (screen points).
+    pub fn image_rect(&self, slot: usize) -> Option<egui::Rect> {
+        self.rects.get(slot).copied().flatten()
+    }
+
+    pub fn depth_complexity(&self) -> Option<DepthComplexity> {
+        self.frames.as_ref().map(CompareFrames::depth_complexity)
+    }
+
+    /// The image size: [`CompareView::width`] at the aspect of `render.width`×`render.height` (the image
+    /// `hairlab render` makes).
+    pub fn size(&self, render: &crate::render::RenderSettings) -> (u32, u32) {
+        let h = (u64::from(self.width) * u64::from(render.height) / u64::from(render.width.max(1))) as u32;
+        (self.width, h.clamp(1, 8192))
+    }
+
+    /// Whether a render for `settings` at `size` is due (auto mode and something changed).
+    pub fn stale(&self, settings: &Settings, (w, h): (u32, u32)) -> bool {
+        self.rendered
+            .as_ref()
+            .is_none_or(|(s, slots, rw, rh)| s != settings || *slots != self.slots || (*rw, *rh) != (w, h))
+    }
+
+    /// Renders the four images; the outcome replaces the last one (an error is kept until the next render).
+    pub fn render(&mut self, r: &mut Renderer, settings: &Settings, (w, h): (u32, u32), ctx: &egui::Context) {
+        self.rendered = Some((settings.clone(), self.slots, w, h));
+        match render_compare(r, settings, &self.slots, w, h) {
+            Ok(frames) => {
+                self.textures = frames
+                    .images
+                    .iter()
+                    .enumerate()
+                    .map(|(i, img)| ctx.load_texture(format!("compare{i}"), color_image(&img.image), NEAREST))
+                    .collect();
+                self.frames = Some(frames);
+                self.generation += 1;
+                self.diff = None;
+                self.error = None;
+            }
+            Err(e) => {
+                self.error = Some(e);
+                self.frames = None;
+                self.textures.clear();
+            }
+        }
+    }
+
+    /// Draws the window's contents; `hide_times` replaces the measured times (UI snapshots).
+    pub fn ui(&mut self, ui: &mut egui::Ui, settings: &Settings, hide_times: bool) -> Option<CompareAction> {
+        let mut action = None;
+        ui.horizontal(|ui| {
+            if ui.button("Render").clicked() {
+                action = Some(CompareAction::Render);
+            }
+            ui.checkbox(&mut self.auto, "auto")
+                .on_hover_text("render again when the settings change (slow on software adapters)");
+            egui::ComboBox::from_label("width")
+                .selected_text(format!("{} px", self.width))
+                .show_ui(ui, |ui| {
+                    for &w in WIDTHS {
+                        ui.selectable_value(&mut self.width, w, format!("{w} px"));
+                    }
+                });
+            if let Some(f) = &self.frames {
+                ui.label(format!(
+                    "{}×{} · click hair to inspect the pixel",
+                    f.width, f.height
+                ));
+            }
+        });
+        if let Some(e) = &self.error {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        self.rects = [None; 4];
+        ui.columns(4, |cols| {
+            for (i, ui) in cols.iter_mut().enumerate() {
+                if let Some(p) = self.slot_column(ui, i, settings, hide_times) {
+                    action = Some(CompareAction::Pick(p));
+                }
+            }
+        });
+        ui.separator();
+        if let Some(p) = self.difference_ui(ui) {
+            action = Some(CompareAction::Pick(p));
+        }
+        action
+    }
+
+    /// One slot: its technique combo, image and caption; a click on the image returns the pixel.
+    fn slot_column(
+        &mut self,
+        ui: &mut egui::Ui,
+        i: usize,
+        settings: &Settings,
+        hide_times: bool,
+    ) -> Option<[u32; 2]> {
+        let slot = &mut self.slots[i];
+        egui::ComboBox::new(("compare_slot", i), format!("{}", i + 1))
+            .selected_text(slot.text(settings))
+            // Room for the label beside it.
+            .width((ui.available_width() - 32.0).max(40.0))
+            .show_ui(ui, |ui| {
+                if i == 1 {
+                    let text = Slot::Selected.text(settings);
+                    ui.selectable_value(slot, Slot::Selected, text);
+                }
+                for t in registry::all() {
+                    ui.selectable_value(slot, Slot::Technique(t.name()), t.info().label)
+                        .on_hover_text(t.info().paper);
+                }
+            });
+        let (frames, tex) = (self.frames.as_ref()?, self.textures.get(i)?);
+        let img = frames.images.get(i)?;
+        let size = image_size(ui.available_width(), frames.width, frames.height);
+        let response = ui.add(egui::Image::new((tex.id(), size)).sense(egui::Sense::click()));
+        self.rects[i] = Some(response.rect);
+        ui.label(caption(img, hide_times));
+        clicked_pixel(&response, frames.width, frames.height)
+    }
+
+    /// The heat map of the chosen slot against the first, its gain, and the metrics of every slot.
+    fn difference_ui(&mut self, ui: &mut egui::Ui) -> Option<[u32; 2]> {
+        let frames = self.frames.as_ref()?;
+        let mut pick = None;
+        ui.horizontal_top(|ui| {
+            ui.vertical(|ui| {
+                ui.horizontal(|ui| {
+                    egui::ComboBox::from_label(format!("− {}", frames.images[0].label))
+                        .selected_text(frames.images[self.diff_slot].label)
+                        .show_ui(ui, |ui| {
+                            for (k, img) in frames.images.iter().enumerate().skip(1) {
+                                ui.selectable_value(&mut self.diff_slot, k, img.label);
+                            }
+                        });
+                });
+                ui.add(
+                    egui::Slider::new(&mut self.gain, GAIN_RANGE)
+                        .logarithmic(true)
+                        .text("gain ×"),
+                );
+                let key = (self.diff_slot, self.gain.to_bits(), self.generation);
+                if self.diff.as_ref().is_none_or(|(k, _)| *k != key) {
+                    let d = difference_image(
+                        &frames.images[self.diff_slot].image,
+                        &frames.images[0].image,
+                        self.gain,
+                    );
+                    let tex = ui
+                        .ctx()
+                        .load_texture("compare_difference", color_image(&d), NEAREST);
+                    self.diff = Some((key, tex));
+                }
+                if let Some((_, tex)) = &self.diff {
+                    // As large as the images above (a size from the available width would feed back into the
+                    // window's).
+                    let width = self.rects[0].map_or(frames.width as f32, |r| r.width());
+                    let size = image_size(width, frames.width, frames.height);
+                    let r = ui.add(egui::Image::new((tex.id(), size)).sense(egui::Sense::click()));
+                    pick = clicked_pixel(&r, frames.width, frames.height);
+                    ui.label(format!(
+                        "|{} − {}| max channel × {:.0} (white: ≥ {:.0}/255)",
+                        frames.images[self.diff_slot].label,
+                        frames.images[0].label,
+                        self.gain,
+                        255.0 / self.gain
+                    ));
+                }
+            });
+            metrics_grid(ui, frames);
+        });
+        pick
+    }
+}
+
+const NEAREST: egui::TextureOptions = egui::TextureOptions::NEAREST;
+
+fn color_image(img: &RgbaImage) -> egui::ColorImage {
+    egui::ColorImage::from_rgba_unmultiplied([img.width() as usize, img.height() as usize], img.as_raw())
+}
+
+/// The largest size of a `w`×`h` image in `width` points, never above 2× its pixels.
+fn image_size(width: f32, w: u32, h: u32) -> egui::Vec2 {
+    let scale = (width / w.max(1) as f32).min(2.0);
+    egui::vec2(w as f32 * scale, h as f32 * scale)
+}
+
+/// The pixel of a `w`×`h` image under a click on `response`.
+fn clicked_pixel(response: &egui::Response, w: u32, h: u32) -> Option<[u32; 2]> {
+    if !response.clicked() {
+        return None;
+    }
+    let pos = response.interact_pointer_pos()?;
+    let r = response.rect;
+    let u = ((pos.x - r.min.x) / r.width()).clamp(0.0, 1.0);
+    let v = ((pos.y - r.min.y) / r.height()).clamp(0.0, 1.0);
+    Some([
+        ((u * w as f32) as u32).min(w.saturating_sub(1)),
+        ((v * h as f32) as u32).min(h.saturating_sub(1)),
+    ])
+}
+
+/// "label — GPU x ms · y fps · n geometry passes".
+fn caption(img: &CompareImage, hide_times: bool) -> String {
+    let time = match img.gpu_ms() {
+        _ if hide_times => "GPU time hidden".to_string(),
+        Some(ms) => format!("GPU {ms:.2} ms · {:.0} fps", 1000.0 / ms.max(1e-6)),
+        None => "GPU: no timestamp queries".to_string(),
+    };
+    format!("{} — {time} · {} geometry passes", img.label, img.geometry_passes)
+}
+
+/// A metric's name and how it is written.
+type MetricRow = (&'static str, fn(&ImageMetrics) -> String);
+
+/// Every metric of each slot against the first.
+fn metrics_grid(ui: &mut egui::Ui, frames: &CompareFrames) {
+    let hair = frames.hair.iter().filter(|&&h| h).count();
+    ui.vertical(|ui| {
+        ui.strong(format!(
+            "against {} · hair: {hair} pixels (exact list non-empty)",
+            frames.images[0].label
+        ));
+        egui::Grid::new("compare_metrics").striped(true).show(ui, |ui| {
+            ui.label("");
+            for (k, img) in frames.images.iter().enumerate().skip(1) {
+                ui.strong(format!("{} · {}", k + 1, img.label));
+            }
+            ui.end_row();
+            let rows: [MetricRow; 12] = [
+                ("RMSE all", |m| format!("{:.5}", m.rmse)),
+                ("PSNR all dB", |m| format!("{:.2}", m.psnr)),
+                ("RMSE hair", |m| format!("{:.5}", m.rmse_hair)),
+                ("PSNR hair dB", |m| format!("{:.2}", m.psnr_hair)),
+                ("SSIM", |m| format!("{:.4}", m.ssim)),
+                ("SSIM hair", |m| format!("{:.4}", m.ssim_hair)),
+                ("max /255", |m| format!("{:.0}", m.max_error)),
+                ("p99 /255", |m| format!("{:.0}", m.p99)),
+                ("> 1/255", |m| format!("{:.2} %", 100.0 * m.share_over[0])),
+                ("> 4/255", |m| format!("{:.2} %", 100.0 * m.share_over[1])),
+                ("> 8/255", |m| format!("{:.2} %", 100.0 * m.share_over[2])),
+                ("contrast retention", |m| format!("{:.3}", m.contrast_retention)),
+            ];
+            for (name, value) in rows {
+                ui.label(name);
+                for img in &frames.images[1..] {
+                    ui.label(value(&img.metrics));
+                }
+                ui.end_row();
+            }
+        });
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heat_ramp_ends_and_stops() {
+        assert_eq!(heat(0.0), [0, 0, 0]);
+        assert_eq!(heat(1.0), [255, 255, 255]);
+        assert_eq!(heat(2.0), [255, 255, 255]);
+        // The second stop, [0.35, 0, 0.55] × 255 rounded, and half way from it to the third, [0.9, 0.1, 0.1].
+        assert_eq!(heat(0.25), [89, 0, 140]);
+        assert_eq!(heat(0.375), [159, 13, 83]);
+    }
+
+    #[test]
+    fn difference_is_the_max_channel_error_times_the_gain() {
+        let a = RgbaImage::from_pixel(2, 1, image::Rgba([10, 20, 30, 255]));
+        let mut b = a.clone();
+        // Pixel 1 differs by 4, 0 and 1 steps: max channel 4.
+        b.put_pixel(1, 0, image::Rgba([14, 20, 29, 255]));
+        let d = difference_image(&a, &b, 1.0);
+        assert_eq!(d.get_pixel(0, 0).0, [0, 0, 0, 255]);
+        let [r, g, bl] = heat(4.0 / 255.0);
+        assert_eq!(d.get_pixel(1, 0).0, [r, g, bl, 255]);
+        // Gain 64: 4 steps become 256/255, clamped to white.
+        assert_eq!(
+            difference_image(&a, &b, 64.0).get_pixel(1, 0).0,
+            [255, 255, 255, 255]
+        );
+    }
+
+    #[test]
+    fn default_slots_start_with_the_reference_and_the_selected_technique() {
+        let s = default_slots();
+        assert_eq!(s[0], Slot::Technique(registry::reference().name()));
+        assert_eq!(s[1], Slot::Selected);
+        for slot in &s[2..] {
+            let Slot::Technique(name) = slot else {
+                panic!("{slot:?}")
+            };
+            assert!(registry::find(name).is_ok(), "{name}");
+        }
+    }
+}

@@ -69,18 +69,7 @@ impl Slot {
 /// registered (else the next registered techniques).
 fn default_slots() -> [Slot; 4] {
     let reference = registry::reference().name();
-    let mut spare = registry::all()
-        .iter()
-        .map(|t| t.name())
-        .filter(|n| *n != reference)
-        .cycle();
-    let pick = |wanted: &'static str, spare: &mut dyn Iterator<Item = &'static str>| {
-        registry::find(wanted)
-            .map(|t| t.name())
-            .unwrap_or_else(|_| spare.next().unwrap_or(reference))
-    };
-    let third = pick("weighted-average", &mut spare);
-    let fourth = pick("opaque", &mut spare);
+    let [third, fourth] = registry::fig2_comparisons().map(|t| t.name());
     [
         Slot::Technique(reference),
         Slot::Selected,

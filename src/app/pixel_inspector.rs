@@ -18,9 +18,6 @@ use crate::visibility::OccupancyVariant;
 use egui::Color32;
 use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoints, Points};
 
-/// The technique whose order estimate the inspector shows, when registered.
-const OCCUPANCY_ORDER: &str = "occupancy-order";
-
 /// One technique's composite of the pixel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Composite {
@@ -105,7 +102,8 @@ pub fn report(frames: &CompareFrames, pixel: [u32; 2]) -> Option<PixelReport> {
             (img.label, [p[0], p[1], p[2]])
         })
         .collect();
-    let orders = registry::find(OCCUPANCY_ORDER).ok().map(|_| Orders {
+    // Sintorn & Assarsson's order estimate, the one technique that estimates each fragment's order.
+    let orders = Some(Orders {
         slab_map: estimated_orders(OccupancyVariant::SlabMap, &fragments),
         occupancy_only: estimated_orders(OccupancyVariant::OccupancyOnly, &fragments),
         hair_alpha: frames.model.hair_alpha,

@@ -43,6 +43,12 @@ pub fn paper_and_baseline() -> (&'static dyn EyeTransparency, &'static dyn EyeTr
     (&OccupancyOrder, &DepthPeel)
 }
 
+/// The other two images of Sintorn & Assarsson's Fig. 2 besides the reference and their method: weighted-average
+/// blending and no transparency.
+pub fn fig2_comparisons() -> [&'static dyn EyeTransparency; 2] {
+    [&WeightedAverage, &Opaque]
+}
+
 /// The technique called `name`, or an error listing the known names.
 pub fn find(name: &str) -> Result<&'static dyn EyeTransparency, String> {
     TECHNIQUES

@@ -199,3 +199,22 @@ fn depth_peeling_equals_the_sorted_composite_except_at_depth_ties() {
     println!("depth peel vs sorted: max |Δ| {worst:.2e} off ties; {ties} pixels with a depth tie");
     assert!(worst <= 1e-5, "{worst}");
 }
+
+/// A row of the view whose fragments exceed one band is refused with a message naming the row, the view, its
+/// fragments and the budget (here a 1 KiB band budget: 32 nodes), never a truncated image.
+#[test]
+fn a_row_over_the_band_budget_is_refused_by_name() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (s, mut r, _) = eye_scene(&gpu, 160, 120);
+    let tiny = ParamValues::from([("band_kib".to_string(), 1.0)]);
+    let e = r
+        .render(&eye_frame(&s, registry::reference(), &tiny))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("transparency.params.band_kib: the exact eye reference's row ")
+            && e.contains("of a 160x120 view (")
+            && e.ends_with("more than the band budget of 1024 bytes"),
+        "{e}"
+    );
+}

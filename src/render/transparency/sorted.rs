@@ -513,14 +513,25 @@ impl TransparencyGpu for SortedGpu {
             .chunks(width as usize)
             .map(|r| r.iter().map(|&c| c as u64).sum())
             .collect();
-        self.bands = bands(&row_counts, binding / NODE_BYTES).map_err(|row| GpuError::TooLarge {
-            what: format!(
+        self.bands = bands(&row_counts, binding / NODE_BYTES).map_err(|row| {
+            let what = format!(
                 "the exact eye reference's row {row} of a {width}x{height} view ({} fragments, {} segments drawn)",
                 row_counts[row],
                 frame.geometry.hair_index_count / 2
-            ),
-            bytes: row_counts[row] * NODE_BYTES,
-            limit: binding,
+            );
+            let bytes = row_counts[row] * NODE_BYTES;
+            if binding < device_limit {
+                GpuError::Setting(format!(
+                    "transparency.params.band_kib: {what} needs {bytes} bytes, more than the band budget of \
+                     {binding} bytes"
+                ))
+            } else {
+                GpuError::TooLarge {
+                    what,
+                    bytes,
+                    limit: binding,
+                }
+            }
         })?;
         let needed = self
             .bands

@@ -1,8 +1,10 @@
 //! The shell ray march, the CPU model of the undercoat (spec B.5, decisions B.3 #4–#9).
 //!
 //! From a shell fragment (entry point `p0` on the shell's surface at ray distance `t0`, in prism `f`) the eye
-//! ray is sampled at step mid-points `t0 + (k + ½)Δs`. Each sample is located by the neighbour walk
-//! ([`Shell::walk`], at most [`MarchParams::hops`] hops); the march stops when the sample lies under the base
+//! ray is sampled at step mid-points `t0 + (k + ½)Δs`. Each sample is located by B.5's neighbour walk
+//! ([`Shell::locate`] with at most [`MarchParams::hops`] hops; unlike [`Shell::walk`] it tests the shell
+//! height before the sides, as B.5 does, so a ray grazing out of the top is not sent hopping round the
+//! extrapolated prisms above it); the march stops when the sample lies under the base
 //! (the base mesh, opaque), over the top (the ray left; a re-entry is its own shell fragment), across a
 //! boundary edge, when the walk runs out of hops (a *lost* ray, counted), when `T < ε_T`, or after
 //! `max_steps`. At each sample inside, with `σ = σ_0 ρ` and `T_s = e^{−σΔs}`,
@@ -22,13 +24,18 @@
 
 use glam::Vec3;
 
-use super::shell::{Shell, Walk};
+use super::mesh::NONE;
+use super::shell::{Location, Shell};
 use super::volume::Volume;
 
 /// Kajiya–Kay constants, as `shaders/common/kajiya_kay.wgsl`.
 const KK_DIFFUSE: f32 = 0.75;
 const KK_SPECULAR: f32 = 0.35;
 const KK_EXPONENT: f32 = 60.0;
+/// A sample this close outside a side (in barycentrics) counts as inside: without it a ray running exactly
+/// along an edge sees `λ ≈ −10⁻⁹` from both faces and hops between them until it is lost (measured: a ray
+/// along one of the cylinder's rings).
+const SIDE_TOLERANCE: f32 = 1e-6;
 /// Steps per smallest shell height for [`MarchParams::for_shell`] (B.3 #7).
 pub const STEPS_PER_THICKNESS: u32 = 32;
 /// Default step cap per fragment (B.3 #7).
@@ -169,7 +176,7 @@ pub struct March {
     pub stop: Stop,
     /// Samples inside the shell.
     pub steps: u32,
-    /// Hops of the eye walk's samples that were found inside.
+    /// Hops of the eye walk (every sample's, the last one's included).
     pub hops: u32,
     /// Light-march samples inside the shell.
     pub light_steps: u32,
@@ -222,7 +229,7 @@ pub fn entry(shell: &Shell, o: Vec3, r: Vec3) -> Option<(f32, u32)> {
         let (b, t) = shell.prism(f);
         consider(front_hit(o, r, [t[0], t[1], t[2]]), f);
         for e in 0..3 {
-            if shell.mesh.neighbours[f][e] != super::mesh::NONE {
+            if shell.mesh.neighbours[f][e] != NONE {
                 continue;
             }
             // Edge e runs from corner e + 1 to e + 2; the wall wound so its normal points out of the prism.
@@ -307,25 +314,10 @@ pub fn march(shell: &Shell, volume: &Volume, p: &MarchParams, o: Vec3, r: Vec3, 
         }
         let t = t0 + (step as f32 + 0.5) * p.step;
         let x = o + t * r;
-        let (g, at) = match shell.walk(x, f, p.hops) {
-            Walk::Inside { face, at, hops } => {
-                out.hops += hops;
-                (face, at)
-            }
-            Walk::Base { .. } => {
-                out.stop = Stop::Base;
-                break;
-            }
-            Walk::Top { .. } => {
-                out.stop = Stop::Top;
-                break;
-            }
-            Walk::Boundary { .. } => {
-                out.stop = Stop::Boundary;
-                break;
-            }
-            Walk::Lost { .. } => {
-                out.stop = Stop::Lost;
+        let (g, at) = match locate(shell, x, f, p.hops, &mut out.hops) {
+            Ok(found) => found,
+            Err(stop) => {
+                out.stop = stop;
                 break;
             }
         };
@@ -355,6 +347,38 @@ pub fn march(shell: &Shell, volume: &Volume, p: &MarchParams, o: Vec3, r: Vec3, 
     out
 }
 
+/// B.5's point location with hops: `x` located in prism `f` (shell height first: under the base or over the
+/// top stops, `w` being continuous across shared lateral faces), then across the exit edge (opposite the
+/// most negative barycentric) to the neighbour, at most `max_hops` times; within [`SIDE_TOLERANCE`] of a side
+/// is inside. Hops taken are added to `hops`.
+fn locate(shell: &Shell, x: Vec3, f: u32, max_hops: u32, hops: &mut u32) -> Result<(u32, Location), Stop> {
+    let mut f = f;
+    for hop in 0..=max_hops {
+        let at = shell.locate(x, f as usize);
+        if at.w < 0.0 {
+            return Err(Stop::Base);
+        }
+        if at.w > 1.0 {
+            return Err(Stop::Top);
+        }
+        let (edge, m) = at.min_lambda();
+        if m >= -SIDE_TOLERANCE {
+            return Ok((f, at));
+        }
+        if hop == max_hops {
+            break;
+        }
+        match shell.mesh.neighbours[f as usize][edge] {
+            NONE => return Err(Stop::Boundary),
+            g => {
+                f = g;
+                *hops += 1;
+            }
+        }
+    }
+    Err(Stop::Lost)
+}
+
 /// `T_light` at `x` (in prism `f`): `n_light` mid-point samples towards the light (module docs).
 fn light_transmittance(
     shell: &Shell,
@@ -368,19 +392,20 @@ fn light_transmittance(
     let mut f = f;
     for j in 0..p.light_steps {
         let y = x + (j as f32 + 0.5) * p.light_step * p.to_light;
-        match shell.walk(y, f, p.hops) {
-            Walk::Inside { face, at, .. } => {
+        let mut hops = 0;
+        match locate(shell, y, f, p.hops, &mut hops) {
+            Ok((face, at)) => {
                 f = face;
                 out.light_steps += 1;
                 let (layer, local, _) = shell.sub_element(f as usize, &at);
                 optical += p.sigma * volume.sample(shell, f as usize, layer, local).density * p.light_step;
             }
-            Walk::Base { .. } => return 0.0,
-            Walk::Top { .. } | Walk::Boundary { .. } => break,
-            Walk::Lost { .. } => {
+            Err(Stop::Base) => return 0.0,
+            Err(Stop::Lost) => {
                 out.light_lost += 1;
                 break;
             }
+            Err(_) => break,
         }
     }
     (-optical).exp()

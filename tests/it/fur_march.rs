@@ -1,7 +1,8 @@
-//! The CPU shell ray march (spec B.5, B.9 FT-U6; FC-2, FC-6): a homogeneous slab against `exp(−σ·path)` by
-//! hand, the `ε_T` cut-off's error bound, virtual fragments against the single shell fragment and the error
-//! of coarser groups against `k = 1`, convergence as `Δs` halves, determinism under triangle permutation, the
-//! stop reasons on the paper's cylinder, and lost rays on the head and the cylinder.
+//! The CPU shell ray march (spec B.5, B.9 FT-U6; FC-2, FC-6): a homogeneous slab against `exp(−σ·path)`
+//! by hand, the light march and the base mesh's shadow by hand, the `ε_T` cut-off's error bound, virtual
+//! fragments against the single shell fragment and the error of coarser groups against `k = 1`, convergence
+//! as `Δs` halves, determinism under triangle permutation, the stop reasons on the paper's cylinder, and lost
+//! rays on the head and the cylinder.
 
 use glam::Vec3;
 use hairlab::fur::march::{self, Emit, Fragment, MarchParams, MarchStats, Stop, composite, entry};
@@ -135,6 +136,70 @@ fn fur_march_a_constant_slab_transmits_exp_minus_sigma_path() {
             );
         }
     }
+}
+
+#[test]
+fn fur_march_the_light_march_by_hand() {
+    // Slab h = 0.1, ρ = 1, σ = 10, vertical eye ray, Δs = 0.01 (σΔs = 0.1), light straight up, Δs_l = 0.0125,
+    // 8 light steps. τ = l = e = +z: Kajiya–Kay has no diffuse and a full specular cone, φ = 0.35 (grey).
+    // Eye sample k sits (k + ½)Δs under the top; light sample j is inside while (j + ½)Δs_l < (k + ½)Δs
+    // (never equal), so T_light,k = e^{−σ Δs_l n_k}, n_k = #{j < 8 : (j + ½)·1.25 < k + ½}.
+    let s = slab(0.1);
+    let o = Vec3::new(0.43, 0.57, 1.0);
+    let (t0, face) = entry(&s, o, Vec3::NEG_Z).unwrap();
+    let p = MarchParams {
+        sigma: 10.0,
+        step: 0.01,
+        epsilon_t: 0.0,
+        light_steps: 8,
+        light_step: 0.0125,
+        to_light: Vec3::Z,
+        ..MarchParams::for_shell(&s)
+    };
+    let m = march::march(&s, &uniform(), &p, o, Vec3::NEG_Z, t0, face);
+    let mut expect = 0.0f64;
+    for k in 0..10 {
+        let n = (0..8)
+            .filter(|&j| (f64::from(j) + 0.5) * 1.25 < f64::from(k) + 0.5)
+            .count();
+        let t_light = (-10.0 * 0.0125 * n as f64).exp();
+        expect += (-0.1 * f64::from(k)).exp() * (1.0 - (-0.1f64).exp()) * 0.35 * t_light;
+    }
+    assert_eq!((m.stop, m.steps), (Stop::Base, 10));
+    let grey = Vec3::splat(expect as f32);
+    assert!(
+        (m.radiance - grey).abs().max_element() < 1e-6,
+        "L {} vs {expect}",
+        m.radiance
+    );
+    // Light from below at 45° (diffuse 0.75·sin 45° > 0): 16 light steps reach 0.2 along it, past every
+    // sample's √2·(height) ≤ 0.141 to the base, so the base mesh shadows every sample: L = 0 while α stays
+    // 1 − e^{−1}. Without the light march the same light shades the fur.
+    let below = MarchParams {
+        to_light: Vec3::new(1.0, 0.0, -1.0).normalize(),
+        light_steps: 16,
+        ..p
+    };
+    let m = march::march(&s, &uniform(), &below, o, Vec3::NEG_Z, t0, face);
+    assert_eq!(m.radiance, Vec3::ZERO);
+    let unshadowed = march::march(
+        &s,
+        &uniform(),
+        &MarchParams {
+            light_steps: 0,
+            ..below
+        },
+        o,
+        Vec3::NEG_Z,
+        t0,
+        face,
+    );
+    assert!(
+        unshadowed.radiance.min_element() > 0.01,
+        "{}",
+        unshadowed.radiance
+    );
+    assert!((m.transmittance - (-1.0f32).exp()).abs() < 1e-6);
 }
 
 #[test]

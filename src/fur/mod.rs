@@ -1,11 +1,13 @@
 //! Hybrid fur (Andersen et al. 2016), the CPU half: a base mesh welded, oriented and neighboured
 //! ([`mesh`]), extruded into a prismatic shell with dynamic resolution ([`shell`]), its sub-elements indexed
-//! by eqs. (1)–(3) ([`index`]), the paper's generated base meshes ([`shapes`]) and the simplex noise the
-//! volume densities will come from ([`noise`]). The specification is
+//! by eqs. (1)–(3) ([`index`]), the paper's generated base meshes ([`shapes`]), the simplex noise ([`noise`])
+//! the volume densities and tangents come from ([`volume`]) and the ray march through them ([`march`]). The specification is
 //! `shared/specs/transparency-and-fur.md` Part B; the GPU ray march mirrors these functions.
 
 pub mod index;
+pub mod march;
 pub mod mesh;
 pub mod noise;
 pub mod shapes;
 pub mod shell;
+pub mod volume;

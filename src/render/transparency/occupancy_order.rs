@@ -73,10 +73,10 @@ const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         key: "order_bias",
         label: "order bias",
-        help: "none: the paper's estimate; half: subtract ½ from every order estimate (clamped at 0), the \
+        help: "paper: the paper's estimate; half: subtract ½ from every order estimate (clamped at 0), the \
                estimate's mean bias",
         kind: ParamKind::Choice {
-            options: &["none", "half"],
+            options: &["paper", "half"],
         },
         default: 0.0,
     },

@@ -181,6 +181,8 @@ impl HairlabApp {
                         (GenKind::StrayStrand, "stray strand"),
                         (GenKind::MixedSizes, "mixed sizes"),
                         (GenKind::ManyClumps, "many clumps"),
+                        (GenKind::FurCylinder, "fur cylinder"),
+                        (GenKind::FurHat, "fur hat"),
                     ];
                     let current = kinds.iter().find(|(k, _)| *k == g.kind).map_or("?", |(_, n)| *n);
                     egui::ComboBox::from_id_salt("kind")

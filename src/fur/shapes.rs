@@ -1,9 +1,13 @@
 //! Generated fur base meshes with the paper's triangle counts (Table 1): a cylinder of 64 around × 28 rings
-//! = 3584 triangles (the mink-skin cylinder of Fig. 1) and a hat, a surface of revolution of a 44-segment
-//! profile. The hat's crown is closed at a pole, whose segment is a fan of `around` triangles, so 64 × 44
-//! gives 2·64·43 + 64 = 5568 triangles, not Table 1's 5632 = 2·64·44: that count needs every profile segment
-//! to be a full quad ring, i.e. a crown left open (or 64 zero-area triangles at the pole, which welding
-//! drops). Both meshes are indexed without seam duplicates and wound outward.
+//! = 3584 triangles (the mink-skin cylinder of Fig. 1) and a hat of 64 around × 44 profile segments = 5632
+//! triangles (Fig. 9). Table 1's 5632 = 2·64·44 means every profile segment is a full quad ring, so the hat's
+//! profile must not end on the axis (a pole's segment is a fan of 64 triangles, 2·64·43 + 64 = 5568). The hat
+//! is therefore a single surface with a small vent hole at the top of the crown (radius [`CROWN_HOLE`], under
+//! the 1 cm default shell height, so the undercoat closes over it) and the brim's rim as its two boundary loops:
+//! an intentionally bounded annulus, which the shell handles as it handles the open cylinder (walls on boundary
+//! edges). A closed hat with thickness (a welded torus) was the alternative; it would have furred the inside of
+//! the crown and the underside of the brim too. Both meshes are indexed without seam duplicates and wound
+//! outward.
 
 use std::f32::consts::TAU;
 
@@ -53,8 +57,11 @@ pub fn fur_cylinder() -> Mesh {
     cylinder(0.04, 0.3, CYLINDER_GRID.0, CYLINDER_GRID.1)
 }
 
-/// The hat's profile (radius, height), from the crown's pole to the brim's rim: a domed top, the crown's wall
-/// and an upturned brim, `segments` segments in all (at least 3).
+/// Radius of the vent hole at the top of the hat's crown, in world units.
+pub const CROWN_HOLE: f32 = 0.006;
+
+/// The hat's profile (radius, height), `segments + 1` points from the rim of the crown's vent hole to the
+/// brim's rim: a domed top, the crown's wall and an upturned brim, `segments` segments in all (at least 3).
 pub fn hat_profile(segments: u32) -> Vec<Vec2> {
     let (top, wall) = (segments / 4, segments / 3);
     let brim = segments - top - wall;
@@ -62,7 +69,8 @@ pub fn hat_profile(segments: u32) -> Vec<Vec2> {
     let mut p = Vec::new();
     for k in 0..=top {
         let s = k as f32 / top as f32;
-        p.push(Vec2::new(crown_r * s, crown_h + 0.015 * (1.0 - s * s)));
+        let r = CROWN_HOLE + (crown_r - CROWN_HOLE) * s;
+        p.push(Vec2::new(r, crown_h + 0.015 * (1.0 - (r / crown_r).powi(2))));
     }
     for k in 1..=wall {
         let s = k as f32 / wall as f32;
@@ -78,33 +86,24 @@ pub fn hat_profile(segments: u32) -> Vec<Vec2> {
     p
 }
 
-/// The hat: [`hat_profile`] revolved `around` times about +Y, a pole at the crown.
+/// The hat: [`hat_profile`] revolved `around` times about +Y, every profile segment a ring of `around` quads
+/// (`2 · around · segments` triangles).
 pub fn hat(around: u32, segments: u32) -> Mesh {
     let profile = hat_profile(segments);
-    let mut positions = vec![Vec3::new(0.0, profile[0].y, 0.0)];
-    for q in &profile[1..] {
+    let mut positions = Vec::new();
+    for q in &profile {
         for j in 0..around {
             let phi = TAU * j as f32 / around as f32;
             positions.push(Vec3::new(q.x * phi.cos(), q.y, q.x * phi.sin()));
         }
     }
-    // Ring i ≥ 1 of profile point i; ring 0 is the pole.
-    let v = |i: u32, j: u32| {
-        if i == 0 {
-            0
-        } else {
-            1 + (i - 1) * around + j % around
-        }
-    };
+    let v = |i: u32, j: u32| i * around + j % around;
     let mut indices = Vec::new();
     for i in 0..segments {
         for j in 0..around {
             let (a, b, c, d) = (v(i, j), v(i, j + 1), v(i + 1, j + 1), v(i + 1, j));
             // Along φ then down the profile: (∂φ × ∂s) points out.
-            if i > 0 {
-                indices.extend_from_slice(&[a, b, c]);
-            }
-            indices.extend_from_slice(&[a, c, d]);
+            indices.extend_from_slice(&[a, b, c, a, c, d]);
         }
     }
     let mut mesh = Mesh {
@@ -132,10 +131,8 @@ mod tests {
         assert_eq!((c.positions.len(), c.indices.len() / 3), (5 * 4, 2 * 5 * 3));
         let h = hat(5, 6);
         assert_eq!(hat_profile(6).len(), 7);
-        assert_eq!(
-            (h.positions.len(), h.indices.len() / 3),
-            (1 + 5 * 6, 5 + 2 * 5 * 5)
-        );
+        assert_eq!((h.positions.len(), h.indices.len() / 3), (5 * 7, 2 * 5 * 6));
+        assert_eq!(hat_profile(6)[0].x, CROWN_HOLE);
     }
 
     #[test]
@@ -148,7 +145,7 @@ mod tests {
             assert!(n.dot(Vec3::new(centre.x, 0.0, centre.z)) > 0.0);
         }
         let h = fur_hat();
-        // The crown's first fan triangle faces up; the upturned brim's last triangle faces up and in.
+        // The crown's first triangle (at the vent hole) faces up; the upturned brim's last faces up and in.
         let up = |k: usize| {
             let t = &h.indices[3 * k..3 * k + 3];
             let [a, b, d] = [0, 1, 2].map(|i| h.positions[t[i] as usize]);

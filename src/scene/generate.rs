@@ -1,5 +1,6 @@
 //! Seeded, deterministic procedural hair: a head (an ellipsoid scalp grown with hair), a hair patch (roots on
-//! a square, growing up), or hair grown on a loaded scalp mesh.
+//! a square, growing up), hair grown on a loaded scalp mesh, or guard hairs on the paper's fur base meshes
+//! (Andersen et al. 2016, Table 1: [`crate::fur::shapes`]).
 //!
 //! Every strand is traced with `segments` steps of exactly `length / segments`, so its points are evenly
 //! spaced in arc length and it is `length` long. Each step goes along the strand's growth direction, which
@@ -11,7 +12,8 @@
 //! roots, the offset shrinking towards the tip by `clump_strength`.
 //!
 //! With `strand_colors` each strand gets a slight random variation around a brown; without, the strands have
-//! no colour array and take the renderer's hair colour. No per-point alpha or thickness arrays are written.
+//! no colour array and take the renderer's hair colour. Per-point thickness and alpha arrays are written only
+//! when `taper` or `tip_transparency` is not neutral ([`crate::fur::guard::style`]).
 //!
 //! Randomness comes from [`crate::rng::SplitMix64`] streams derived from `seed` (one for roots, one per strand), so the same
 //! parameters give bit-identical output.
@@ -21,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::{Aabb, Mesh, Scene, Strands};
+use crate::fur::{guard, shapes};
 use crate::rng::SplitMix64 as Rng;
 
 /// Most points [`generate`] produces (about 1.2 GB of positions and colours).
@@ -73,6 +76,14 @@ pub enum GenKind {
     /// lit from above, so every texel sees Q separated clusters; Density Clustering has K = 4.
     #[value(help = "`clumps` stacked sheets of hair (more clusters than Density Clustering's four)")]
     ManyClumps,
+    /// Fur (Andersen et al. 2016, Fig. 1 / Table 1): the 3584-triangle cylinder of
+    /// [`shapes::fur_cylinder`] as an opaque mesh, guard hairs grown on all of it.
+    #[value(help = "guard hairs on the paper's 3584-triangle cylinder (fur, Fig. 1)")]
+    FurCylinder,
+    /// Fur (Andersen et al. 2016, Fig. 9 / Table 1): the 5632-triangle hat of [`shapes::fur_hat`] as an
+    /// opaque mesh, guard hairs grown on all of it.
+    #[value(help = "guard hairs on the paper's 5632-triangle hat (fur, Fig. 9)")]
+    FurHat,
 }
 
 /// Shape of each strand.
@@ -119,6 +130,12 @@ pub struct GenParams {
     /// Writes a per-strand brown colour variation. Off by default: strands without colours take the
     /// renderer's hair colour, so the colour control applies.
     pub strand_colors: bool,
+    /// Tip thickness over root thickness, in [0, 1]; the thickness falls linearly from root to tip (truncated
+    /// cones). 1 (the default) writes no thickness array.
+    pub taper: f32,
+    /// τ_tip ≥ 0: per-point alpha `exp(−τ_tip · s)`, s = 0 at the root to 1 at the tip (B.3 #14). 0 (the
+    /// default) writes no alpha array.
+    pub tip_transparency: f32,
 }
 
 impl Default for GenParams {
@@ -141,6 +158,8 @@ impl Default for GenParams {
             seed: 1,
             floor: true,
             strand_colors: false,
+            taper: 1.0,
+            tip_transparency: 0.0,
         }
     }
 }
@@ -167,13 +186,16 @@ pub enum GenError {
     BadScalp { reason: String },
     #[error("scalp mesh has no upward-facing triangles (normal.y > -0.2) to grow hair on")]
     NoScalpArea,
+    #[error("fur base mesh has no triangles of non-zero area to grow guard hairs on")]
+    NoMeshArea,
 }
 
-/// Generates the scene `p` describes: hair plus the head mesh (head kind) and the floor (if `p.floor`).
+/// Generates the scene `p` describes: hair plus the head mesh (head kind) or the fur base mesh (fur kinds)
+/// and the floor (if `p.floor`), the strands styled by `taper` and `tip_transparency`.
 pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
     let n = validate(p)?;
     let mut rng = Rng::stream(p.seed, 0);
-    let (strands, mut meshes) = match p.kind {
+    let (mut strands, mut meshes) = match p.kind {
         GenKind::Head => {
             let roots: Vec<Root> = (0..n).map(|_| head_root(&mut rng)).collect();
             (
@@ -188,11 +210,20 @@ pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
         GenKind::StrayStrand => (stray_strand(p, n, &mut rng), Vec::new()),
         GenKind::MixedSizes => (mixed_sizes(p, n, &mut rng), Vec::new()),
         GenKind::ManyClumps => (many_clumps(p, n, &mut rng), Vec::new()),
+        GenKind::FurCylinder | GenKind::FurHat => {
+            let mesh = if p.kind == GenKind::FurCylinder {
+                shapes::fur_cylinder()
+            } else {
+                shapes::fur_hat()
+            };
+            (grow_on_mesh(p, &mesh)?, vec![mesh])
+        }
     };
+    guard::style(&mut strands, p.taper, p.tip_transparency);
     if p.floor {
         let floor_y = match p.kind {
             GenKind::Patch | GenKind::StrayStrand | GenKind::MixedSizes => Some(0.0),
-            GenKind::Head | GenKind::ManyClumps => None,
+            GenKind::Head | GenKind::ManyClumps | GenKind::FurCylinder | GenKind::FurHat => None,
         };
         meshes.push(floor_mesh(&strands, &meshes, floor_y));
     }
@@ -205,13 +236,37 @@ pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
 /// out of the mesh.
 pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError> {
     let n = validate(p)?;
-    let tris = scalp_triangles(scalp)?;
-    let total = tris.last().map_or(0.0, |t| t.cum_area);
-    if total <= 0.0 {
+    let tris = mesh_triangles(scalp, Some(SCALP_MIN_NORMAL_Y))?;
+    if tris.last().is_none_or(|t| t.cum_area <= 0.0) {
         return Err(GenError::NoScalpArea);
     }
-    let mut rng = Rng::stream(p.seed, 0);
-    let roots: Vec<Root> = (0..n)
+    let mut strands = grow_all(p, p.gravity, &mesh_roots(scalp, &tris, n, p.seed), None);
+    guard::style(&mut strands, p.taper, p.tip_transparency);
+    let mut meshes = vec![scalp.clone()];
+    if p.floor {
+        meshes.push(floor_mesh(&strands, &meshes, None));
+    }
+    Ok(Scene::new(strands, meshes))
+}
+
+/// Grows `p`'s strands on every triangle of `mesh` (area-weighted roots, along the interpolated normal,
+/// drooping with gravity), unstyled: the growth [`generate_on_scalp`] does, without its upward-facing filter,
+/// for fur base meshes ([`crate::fur::guard`]). `p.kind`, `p.floor`, `p.taper` and `p.tip_transparency`
+/// are not used here.
+pub fn grow_on_mesh(p: &GenParams, mesh: &Mesh) -> Result<Strands, GenError> {
+    let n = validate(p)?;
+    let tris = mesh_triangles(mesh, None)?;
+    if tris.last().is_none_or(|t| t.cum_area <= 0.0) {
+        return Err(GenError::NoMeshArea);
+    }
+    Ok(grow_all(p, p.gravity, &mesh_roots(mesh, &tris, n, p.seed), None))
+}
+
+/// `n` roots on `tris` of `mesh` (non-empty, positive total area), area-weighted, from `seed`'s root stream.
+fn mesh_roots(mesh: &Mesh, tris: &[MeshTri], n: usize, seed: u64) -> Vec<Root> {
+    let total = tris.last().map_or(0.0, |t| t.cum_area);
+    let mut rng = Rng::stream(seed, 0);
+    (0..n)
         .map(|_| {
             let target = f64::from(rng.unit()) * total;
             let k = tris
@@ -222,16 +277,10 @@ pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError>
                     pos: Vec3::ZERO,
                     dir: Vec3::Y,
                 },
-                |t| t.sample(scalp, &mut rng),
+                |t| t.sample(mesh, &mut rng),
             )
         })
-        .collect();
-    let strands = grow_all(p, p.gravity, &roots, None);
-    let mut meshes = vec![scalp.clone()];
-    if p.floor {
-        meshes.push(floor_mesh(&strands, &meshes, None));
-    }
-    Ok(Scene::new(strands, meshes))
+        .collect()
 }
 
 /// Checks the parameters and returns the strand count after density scaling.
@@ -269,6 +318,20 @@ fn validate(p: &GenParams) -> Result<usize, GenError> {
         if !(v.is_finite() && v >= 0.0) {
             return Err(param(name, v, "must be finite and not negative"));
         }
+    }
+    if !(0.0..=1.0).contains(&p.taper) {
+        return Err(param(
+            "taper",
+            p.taper,
+            "must lie in [0, 1] (tip thickness / root thickness)",
+        ));
+    }
+    if !(p.tip_transparency.is_finite() && p.tip_transparency >= 0.0) {
+        return Err(param(
+            "tip_transparency",
+            p.tip_transparency,
+            "must be finite and not negative",
+        ));
     }
     for (name, v) in [("wave_frequency", p.wave_frequency), ("curl_turns", p.curl_turns)] {
         if !(std::f32::consts::TAU * v / p.length).is_finite() {
@@ -635,14 +698,17 @@ fn floor_mesh(strands: &Strands, meshes: &[Mesh], y: Option<f32>) -> Mesh {
     }
 }
 
-/// An upward-facing scalp triangle with the running total of area up to and including it.
-struct ScalpTri {
+/// The scalp's upward-facing filter: triangles whose normal has y above this grow hair.
+const SCALP_MIN_NORMAL_Y: f32 = -0.2;
+
+/// A triangle hair grows on, with the running total of area up to and including it.
+struct MeshTri {
     corners: [u32; 3],
     normal: Vec3,
     cum_area: f64,
 }
 
-impl ScalpTri {
+impl MeshTri {
     /// A uniform point on the triangle, with the interpolated vertex normal (or the face normal).
     fn sample(&self, mesh: &Mesh, rng: &mut Rng) -> Root {
         let (r1, r2) = (rng.unit().sqrt(), rng.unit());
@@ -672,9 +738,9 @@ impl ScalpTri {
     }
 }
 
-/// The mesh's upward-facing triangles with cumulative areas; errors on indices out of range or non-finite
-/// positions.
-fn scalp_triangles(mesh: &Mesh) -> Result<Vec<ScalpTri>, GenError> {
+/// The mesh's non-degenerate triangles (only those with normal.y above `min_normal_y` when given) with
+/// cumulative areas; errors on indices out of range or non-finite positions.
+fn mesh_triangles(mesh: &Mesh, min_normal_y: Option<f32>) -> Result<Vec<MeshTri>, GenError> {
     let bad = |reason: String| GenError::BadScalp { reason };
     let vertex = |i: u32| {
         let p = mesh.positions.get(i as usize).copied().ok_or_else(|| {
@@ -705,9 +771,9 @@ fn scalp_triangles(mesh: &Mesh) -> Result<Vec<ScalpTri>, GenError> {
                 normal = -normal;
             }
         }
-        if normal.y > -0.2 {
+        if min_normal_y.is_none_or(|y| normal.y > y) {
             total += f64::from(cross.length()) * 0.5;
-            out.push(ScalpTri {
+            out.push(MeshTri {
                 corners,
                 normal,
                 cum_area: total,

@@ -15,6 +15,8 @@ fn kind_name(kind: GenKind) -> &'static str {
         GenKind::StrayStrand => "stray-strand",
         GenKind::MixedSizes => "mixed-sizes",
         GenKind::ManyClumps => "many-clumps",
+        GenKind::FurCylinder => "fur-cylinder",
+        GenKind::FurHat => "fur-hat",
     }
 }
 

@@ -86,6 +86,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "dsm.wgsl",
     "msm.wgsl",
     "avsm.wgsl",
+    "fur/shell.wgsl",
     "mesh.wgsl",
     "hair.wgsl",
     "evaluate.wgsl",

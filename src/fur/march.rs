@@ -242,6 +242,53 @@ pub fn entry(shell: &Shell, o: Vec3, r: Vec3) -> Option<(f32, u32)> {
     best
 }
 
+/// One of the shell's entry triangles (B.3 #6) of a prism: its top, or half `half` (0 or 1) of the outward wall
+/// quad on its boundary edge `edge`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EntryTriangle {
+    Top,
+    Wall { edge: usize, half: usize },
+}
+
+/// Every entry triangle of `shell` as `(face, triangle)`, in the order [`entry`] tests them: per face its top,
+/// then the two halves of the wall on each boundary edge.
+pub fn entry_triangles(shell: &Shell) -> Vec<(u32, EntryTriangle)> {
+    let mut out = Vec::new();
+    for f in 0..shell.mesh.faces.len() {
+        out.push((f as u32, EntryTriangle::Top));
+        for edge in 0..3 {
+            if shell.mesh.neighbours[f][edge] == NONE {
+                out.extend((0..2).map(|half| (f as u32, EntryTriangle::Wall { edge, half })));
+            }
+        }
+    }
+    out
+}
+
+/// The corners of entry triangle `which` of prism `f`, counter-clockwise seen from outside the prism (as
+/// [`entry`] winds them).
+pub fn entry_corners(shell: &Shell, f: usize, which: EntryTriangle) -> [Vec3; 3] {
+    let (b, t) = shell.prism(f);
+    match which {
+        EntryTriangle::Top => t,
+        EntryTriangle::Wall { edge, half } => {
+            let (i, j) = ((edge + 1) % 3, (edge + 2) % 3);
+            if half == 0 { [b[i], b[j], t[j]] } else { [b[i], t[j], t[i]] }
+        }
+    }
+}
+
+/// Every front-facing entry hit along the ray `o + t r` (`r` unit) as `(t, face)`, nearest first (ties by face):
+/// what the rasteriser makes of one pixel's ray, each hit the start of a march of its own; [`entry`] is the first.
+pub fn entry_hits(shell: &Shell, o: Vec3, r: Vec3) -> Vec<(f32, u32)> {
+    let mut hits: Vec<(f32, u32)> = entry_triangles(shell)
+        .into_iter()
+        .filter_map(|(f, which)| front_hit(o, r, entry_corners(shell, f as usize, which)).map(|t| (t, f)))
+        .collect();
+    hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    hits
+}
+
 /// Ray–triangle intersection (Möller–Trumbore) with triangle `v` seen from its front (counter-clockwise).
 fn front_hit(o: Vec3, r: Vec3, v: [Vec3; 3]) -> Option<f32> {
     let (e1, e2) = (v[1] - v[0], v[2] - v[0]);

@@ -3,6 +3,7 @@
 //! `hairlab render` use the same code path.
 
 pub mod caster;
+pub mod fur;
 pub mod geometry;
 pub mod light_frame;
 pub mod maps;

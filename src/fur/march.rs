@@ -250,19 +250,20 @@ pub enum EntryTriangle {
     Wall { edge: usize, half: usize },
 }
 
-/// Every entry triangle of `shell` as `(face, triangle)`, in the order [`entry`] tests them: per face its top,
-/// then the two halves of the wall on each boundary edge.
+/// The entry triangles of prism `f`: its top, then the two halves of the wall on each boundary edge.
+fn face_entry_triangles(shell: &Shell, f: usize) -> impl Iterator<Item = EntryTriangle> + '_ {
+    std::iter::once(EntryTriangle::Top).chain(
+        (0..3)
+            .filter(move |&edge| shell.mesh.neighbours[f][edge] == NONE)
+            .flat_map(|edge| (0..2).map(move |half| EntryTriangle::Wall { edge, half })),
+    )
+}
+
+/// Every entry triangle of `shell` as `(face, triangle)`, in the order [`entry`] tests them.
 pub fn entry_triangles(shell: &Shell) -> Vec<(u32, EntryTriangle)> {
-    let mut out = Vec::new();
-    for f in 0..shell.mesh.faces.len() {
-        out.push((f as u32, EntryTriangle::Top));
-        for edge in 0..3 {
-            if shell.mesh.neighbours[f][edge] == NONE {
-                out.extend((0..2).map(|half| (f as u32, EntryTriangle::Wall { edge, half })));
-            }
-        }
-    }
-    out
+    (0..shell.mesh.faces.len())
+        .flat_map(|f| face_entry_triangles(shell, f).map(move |which| (f as u32, which)))
+        .collect()
 }
 
 /// The corners of entry triangle `which` of prism `f`, counter-clockwise seen from outside the prism (as
@@ -273,20 +274,60 @@ pub fn entry_corners(shell: &Shell, f: usize, which: EntryTriangle) -> [Vec3; 3]
         EntryTriangle::Top => t,
         EntryTriangle::Wall { edge, half } => {
             let (i, j) = ((edge + 1) % 3, (edge + 2) % 3);
-            if half == 0 { [b[i], b[j], t[j]] } else { [b[i], t[j], t[i]] }
+            if half == 0 {
+                [b[i], b[j], t[j]]
+            } else {
+                [b[i], t[j], t[i]]
+            }
         }
     }
 }
 
-/// Every front-facing entry hit along the ray `o + t r` (`r` unit) as `(t, face)`, nearest first (ties by face):
-/// what the rasteriser makes of one pixel's ray, each hit the start of a march of its own; [`entry`] is the first.
-pub fn entry_hits(shell: &Shell, o: Vec3, r: Vec3) -> Vec<(f32, u32)> {
-    let mut hits: Vec<(f32, u32)> = entry_triangles(shell)
-        .into_iter()
-        .filter_map(|(f, which)| front_hit(o, r, entry_corners(shell, f as usize, which)).map(|t| (t, f)))
-        .collect();
-    hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    hits
+/// Every front-facing entry hit along rays through a shell: its entry triangles built once, with a bounding
+/// sphere per prism so that a ray tests only the prisms it passes near (the sphere holds the prism's corners,
+/// hence its triangles; it is widened by 0.1 % and by 10⁻⁵ of the ray's distance to it, far beyond the
+/// rounding of the test, so no hit is culled).
+pub struct EntryHits {
+    /// Per prism: face, sphere centre, radius, its triangles' range in `triangles`.
+    prisms: Vec<(u32, Vec3, f32, std::ops::Range<usize>)>,
+    triangles: Vec<[Vec3; 3]>,
+}
+
+impl EntryHits {
+    pub fn new(shell: &Shell) -> EntryHits {
+        let mut prisms = Vec::with_capacity(shell.mesh.faces.len());
+        let mut triangles = Vec::new();
+        for f in 0..shell.mesh.faces.len() {
+            let (b, t) = shell.prism(f);
+            let centre = (b[0] + b[1] + b[2] + t[0] + t[1] + t[2]) / 6.0;
+            let radius = b.iter().chain(&t).fold(0.0f32, |m, c| m.max(c.distance(centre)));
+            let start = triangles.len();
+            triangles.extend(face_entry_triangles(shell, f).map(|which| entry_corners(shell, f, which)));
+            prisms.push((f as u32, centre, radius, start..triangles.len()));
+        }
+        EntryHits { prisms, triangles }
+    }
+
+    /// The hits along the ray `o + t r` (`r` unit) as `(t, face)`, nearest first (ties by face): what the
+    /// rasteriser makes of one pixel's ray, each hit the start of a march of its own; [`entry`] is the first.
+    pub fn along(&self, o: Vec3, r: Vec3) -> Vec<(f32, u32)> {
+        let mut hits = Vec::new();
+        for (f, centre, radius, range) in &self.prisms {
+            let oc = *centre - o;
+            let off = oc - oc.dot(r) * r;
+            let reach = radius * 1.001 + 1e-5 * oc.length();
+            if off.length_squared() > reach * reach {
+                continue;
+            }
+            hits.extend(
+                self.triangles[range.clone()]
+                    .iter()
+                    .filter_map(|&v| front_hit(o, r, v).map(|t| (t, *f))),
+            );
+        }
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        hits
+    }
 }
 
 /// Ray–triangle intersection (Möller–Trumbore) with triangle `v` seen from its front (counter-clockwise).

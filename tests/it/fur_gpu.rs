@@ -1,6 +1,6 @@
 //! GPU = CPU for the shell pass of hybrid fur (Andersen, Falster, Frisvad, Christensen 2016; spec B.9 FT-G1):
 //! on `fur-cylinder`, every pixel's read-back shell or virtual fragments against [`march::march`] from every
-//! front-facing entry hit of the same pixel-centre ray ([`march::entry_hits`], [`shell_gpu::pixel_ray`]); the
+//! front-facing entry hit of the same pixel-centre ray ([`march::EntryHits`], [`shell_gpu::pixel_ray`]); the
 //! count pass's total against the nodes the fill used; the statistics against the CPU's; a mesh depth in
 //! front hiding every fragment; the Rust/WGSL struct layouts; the volume's binding limit.
 //!
@@ -98,19 +98,25 @@ fn shell_structs_match_wgsl_layout() {
     }
 }
 
-/// `entry_hits` lists what `entry` finds first, on rays from all round the cylinder; and the uploaded entry
+/// `EntryHits` lists what `entry` (which tests every triangle) finds first, on rays from all round the
+/// cylinder, so its bounding-sphere cull drops no nearest hit; and the uploaded entry
 /// triangles are `entry`'s: a top per face and two per boundary edge (64 × 2 boundary edges at the rims).
 #[test]
 fn entry_hits_start_with_the_entry() {
     let shell = test_shell();
     assert_eq!(shell_gpu::entry_triangles(&shell).len(), 3584 + 2 * 128);
+    let all = march::EntryHits::new(&shell);
     let mut hit = 0;
     for i in 0..400 {
         let a = i as f32 * 0.37;
         let o = Vec3::new(0.3 * a.cos(), 0.15 + 0.2 * (a * 1.7).sin(), 0.3 * a.sin());
-        let aim = Vec3::new(0.02 * (a * 3.1).sin(), 0.15 + 0.1 * (a * 0.7).cos(), 0.02 * (a * 2.3).cos());
+        let aim = Vec3::new(
+            0.02 * (a * 3.1).sin(),
+            0.15 + 0.1 * (a * 0.7).cos(),
+            0.02 * (a * 2.3).cos(),
+        );
         let r = (aim - o).normalize();
-        let hits = march::entry_hits(&shell, o, r);
+        let hits = all.along(o, r);
         assert_eq!(hits.first().copied(), march::entry(&shell, o, r), "ray {i}");
         assert!(hits.windows(2).all(|w| w[0].0 <= w[1].0));
         hit += usize::from(!hits.is_empty());
@@ -203,7 +209,8 @@ fn full_view(width: u32, height: u32) -> View {
     }
 }
 
-/// A close-up looking steeply down the cylinder's side: rays cross the shell at about 20° (long oblique paths).
+/// A close-up looking steeply down the cylinder's side: rays cross the shell at about 20° (long oblique
+/// paths), at 80×60 (its marches are 7× longer than the full view's; the CPU side of the test is the cost).
 fn oblique_view() -> View {
     View {
         name: "oblique close-up",
@@ -214,8 +221,8 @@ fn oblique_view() -> View {
             distance: 0.05,
             fov_y_deg: 40.0,
         },
-        width: 160,
-        height: 120,
+        width: 80,
+        height: 60,
     }
 }
 
@@ -235,6 +242,7 @@ struct Rig {
     gpu: Gpu,
     renderer: Renderer,
     shell: Shell,
+    hits: march::EntryHits,
     shell_gpu: ShellGpu,
 }
 
@@ -247,6 +255,7 @@ impl Rig {
         Rig {
             gpu,
             renderer,
+            hits: march::EntryHits::new(&shell),
             shell,
             shell_gpu,
         }
@@ -281,7 +290,9 @@ impl Rig {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        self.gpu.queue.write_buffer(&frame_buffer, 0, bytemuck::bytes_of(&uniforms));
+        self.gpu
+            .queue
+            .write_buffer(&frame_buffer, 0, bytemuck::bytes_of(&uniforms));
         let frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("test.frame_group"),
             layout: self.renderer.frame_layout(),
@@ -330,7 +341,10 @@ impl Rig {
         let count_s = start.elapsed().as_secs_f64();
         let counted: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(&self.gpu, &counts).unwrap());
         let total = counted[pixels];
-        assert_eq!(counted[..pixels].iter().map(|&c| u64::from(c)).sum::<u64>(), u64::from(total));
+        assert_eq!(
+            counted[..pixels].iter().map(|&c| u64::from(c)).sum::<u64>(),
+            u64::from(total)
+        );
         let heads = self.storage("test.heads", pixels as u64 * 4);
         let nodes = self.storage("test.nodes", u64::from(total.max(1)) * 32);
         let counters = self.storage("test.counters", 8);
@@ -385,11 +399,17 @@ impl Rig {
 }
 
 /// The CPU fragments of the ray `o + t r` (every entry hit's march), sorted as the GPU lists, with the face.
-fn cpu_fragments(shell: &Shell, p: &MarchParams, o: Vec3, r: Vec3, stats: &mut MarchStats) -> Vec<(Fragment, u32)> {
+fn cpu_fragments(
+    rig: &Rig,
+    p: &MarchParams,
+    o: Vec3,
+    r: Vec3,
+    stats: &mut MarchStats,
+) -> Vec<(Fragment, u32)> {
     let volume = fur_volume();
     let mut out = Vec::new();
-    for (t0, face) in march::entry_hits(shell, o, r) {
-        let m = march::march(shell, &volume, p, o, r, t0, face);
+    for (t0, face) in rig.hits.along(o, r) {
+        let m = march::march(&rig.shell, &volume, p, o, r, t0, face);
         stats.add(&m);
         out.extend(m.fragments.iter().map(|f| (*f, face)));
     }
@@ -432,7 +452,10 @@ struct Outcome {
 fn compare(rig: &Rig, v: &View, p: &MarchParams) -> (Outcome, GpuRun) {
     let run = rig.run(v, p, 1.0);
     assert_eq!(run.overflow, 0);
-    assert_eq!(run.used, run.counted, "the count pass's total is the nodes the fill used");
+    assert_eq!(
+        run.used, run.counted,
+        "the count pass's total is the nodes the fill used"
+    );
     let kind = if p.emit == Emit::Shell {
         KIND_SHELL
     } else {
@@ -449,7 +472,7 @@ fn compare(rig: &Rig, v: &View, p: &MarchParams) -> (Outcome, GpuRun) {
             let gpu = &run.lists[(y * v.width + x) as usize];
             assert!(gpu.iter().all(|n| n.kind == kind), "pixel ({x}, {y}): node kinds");
             let r = shell_gpu::pixel_ray(&m, viewport, (x, y));
-            let cpu = cpu_fragments(&rig.shell, p, o, r, &mut out.cpu_stats);
+            let cpu = cpu_fragments(rig, p, o, r, &mut out.cpu_stats);
             if gpu.is_empty() && cpu.is_empty() {
                 continue;
             }
@@ -466,32 +489,38 @@ fn compare(rig: &Rig, v: &View, p: &MarchParams) -> (Outcome, GpuRun) {
             let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
             let faces = |xy: Vec2| -> Vec<u32> {
                 let r = shell_gpu::ray_through(&m, viewport, xy);
-                march::entry_hits(&rig.shell, o, r).iter().map(|h| h.1).collect()
+                rig.hits.along(o, r).iter().map(|h| h.1).collect()
             };
             let shifts = [Vec2::X, -Vec2::X, Vec2::Y, -Vec2::Y].map(|s| centre + EDGE_SHIFT * s);
             let here = faces(centre);
             if shifts.iter().any(|&s| faces(s) != here) {
                 let any = shifts.iter().any(|&s| {
                     let r = shell_gpu::ray_through(&m, viewport, s);
-                    within(difference(gpu, &cpu_fragments(&rig.shell, p, o, r, &mut scratch), cd))
+                    within(difference(gpu, &cpu_fragments(rig, p, o, r, &mut scratch), cd))
                 });
                 if any {
                     out.edge += 1;
                     continue;
                 }
             }
-            let flipped = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].iter().any(|&a| {
-                let oo = o + FLIP_SHIFT * a;
-                within(difference(gpu, &cpu_fragments(&rig.shell, p, oo, r, &mut scratch), cd))
-            });
+            let flipped = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+                .iter()
+                .any(|&a| {
+                    let oo = o + FLIP_SHIFT * a;
+                    within(difference(gpu, &cpu_fragments(rig, p, oo, r, &mut scratch), cd))
+                });
             if flipped {
                 out.flip += 1;
                 continue;
             }
             out.failed.push(format!(
                 "pixel ({x}, {y}): |Δ| (t, α, c) = {d:?}; GPU {:?}; CPU {:?}",
-                gpu.iter().map(|n| (n.depth * cd, n.alpha, [n.r, n.g, n.b], n.segment)).collect::<Vec<_>>(),
-                cpu.iter().map(|(f, face)| (f.t, f.alpha, f.colour, *face)).collect::<Vec<_>>()
+                gpu.iter()
+                    .map(|n| (n.depth * cd, n.alpha, [n.r, n.g, n.b], n.segment))
+                    .collect::<Vec<_>>(),
+                cpu.iter()
+                    .map(|(f, face)| (f.t, f.alpha, f.colour, *face))
+                    .collect::<Vec<_>>()
             ));
         }
     }
@@ -506,50 +535,89 @@ fn modes() -> [(&'static str, Emit); 3] {
     ]
 }
 
-/// FT-G1: GPU = CPU for the full view and the oblique close-up, shell and virtual k ∈ {1, 4} emission.
-#[test]
-fn shell_pass_gpu_equals_the_cpu_march() {
+/// `a` within 0.1 % of `b` (or 2).
+fn close(a: u64, b: u64) -> bool {
+    a.abs_diff(b) <= (b / 1000).max(2)
+}
+
+/// FT-G1 on view `v`, shell and virtual k ∈ {1, 4} emission. The statistics are compared within 0.1 %: the
+/// GPU marches the entries the rasteriser makes, which differ from the CPU's exact hits at edge pixels, and
+/// those that emit nothing (no density met, or a first sample already outside) are not seen by the node
+/// comparison (measured: 1 ray and 2 hops more on the GPU in the full view, steps and light steps equal).
+fn gpu_equals_cpu(v: View) {
     let Some(gpu) = Gpu::for_tests() else { return };
     let rig = Rig::new(gpu);
-    for v in [full_view(160, 120), oblique_view()] {
-        for (label, emit) in modes() {
-            let p = MarchParams {
-                emit,
-                ..MarchParams::for_shell(&rig.shell)
-            };
-            let (o, run) = compare(&rig, &v, &p);
-            println!(
-                "{} {label}: {} covered px, {} fragments; {} px match (max |Δt| {:.1e}, |Δα| {:.1e}, |Δc| {:.1e}), \
-                 {} edge px, {} flip px, {} failed; count {:.3} s + fill {:.3} s",
-                v.name,
-                o.covered,
-                o.fragments,
-                o.matched,
-                o.worst[0],
-                o.worst[1],
-                o.worst[2],
-                o.edge,
-                o.flip,
-                o.failed.len(),
-                run.count_s,
-                run.fill_s
-            );
-            println!("  stats GPU {:?}\n        CPU {:?}", run.stats, o.cpu_stats);
-            for f in o.failed.iter().take(5) {
-                println!("  {f}");
-            }
-            assert!(o.covered > 1000, "{}: a non-trivial view ({} px)", v.name, o.covered);
-            assert!(o.failed.is_empty(), "{} {label}: {} pixels differ", v.name, o.failed.len());
-            assert!(
-                (o.edge + o.flip) * 100 <= o.covered,
-                "{} {label}: {} edge + {} flip pixels of {}",
-                v.name,
-                o.edge,
-                o.flip,
-                o.covered
-            );
+    for (label, emit) in modes() {
+        let p = MarchParams {
+            emit,
+            ..MarchParams::for_shell(&rig.shell)
+        };
+        let (o, run) = compare(&rig, &v, &p);
+        println!(
+            "{} {label}: {} covered px, {} fragments; {} px match (max |Δt| {:.1e}, |Δα| {:.1e}, |Δc| {:.1e}), \
+             {} edge px, {} flip px, {} failed; count {:.3} s + fill {:.3} s",
+            v.name,
+            o.covered,
+            o.fragments,
+            o.matched,
+            o.worst[0],
+            o.worst[1],
+            o.worst[2],
+            o.edge,
+            o.flip,
+            o.failed.len(),
+            run.count_s,
+            run.fill_s
+        );
+        println!("  stats GPU {:?}\n        CPU {:?}", run.stats, o.cpu_stats);
+        for f in o.failed.iter().take(5) {
+            println!("  {f}");
+        }
+        assert!(
+            o.covered > 1000,
+            "{}: a non-trivial view ({} px)",
+            v.name,
+            o.covered
+        );
+        assert!(
+            o.failed.is_empty(),
+            "{} {label}: {} pixels differ",
+            v.name,
+            o.failed.len()
+        );
+        assert!(
+            (o.edge + o.flip) * 100 <= o.covered,
+            "{} {label}: {} edge + {} flip pixels of {}",
+            v.name,
+            o.edge,
+            o.flip,
+            o.covered
+        );
+        let (g, c) = (&run.stats, &o.cpu_stats);
+        for (what, a, b) in [
+            ("rays", g.rays, c.rays),
+            ("steps", g.steps, c.steps),
+            ("hops", g.hops, c.hops),
+            ("light steps", g.light_steps, c.light_steps),
+            ("lost", g.lost, c.lost),
+            ("capped", g.capped, c.capped),
+            ("light lost", g.light_lost, c.light_lost),
+        ] {
+            assert!(close(a, b), "{} {label}: {what} GPU {a}, CPU {b}", v.name);
         }
     }
+}
+
+/// FT-G1 on the full view of the cylinder.
+#[test]
+fn shell_pass_gpu_equals_the_cpu_march_full_view() {
+    gpu_equals_cpu(full_view(160, 120));
+}
+
+/// FT-G1 on the oblique close-up.
+#[test]
+fn shell_pass_gpu_equals_the_cpu_march_oblique() {
+    gpu_equals_cpu(oblique_view());
 }
 
 /// A mesh depth in front of the whole shell (cleared to 0) hides every shell fragment: no node, no count, no
@@ -561,7 +629,11 @@ fn an_occluder_in_front_hides_the_shell() {
     let v = full_view(160, 120);
     let p = MarchParams::for_shell(&rig.shell);
     let open = rig.run(&v, &p, 1.0);
-    assert!(open.counted > 1000, "{} fragments without the occluder", open.counted);
+    assert!(
+        open.counted > 1000,
+        "{} fragments without the occluder",
+        open.counted
+    );
     let hidden = rig.run(&v, &p, 0.0);
     assert_eq!((hidden.counted, hidden.used, hidden.stats.rays), (0, 0, 0));
     assert!(hidden.lists.iter().all(Vec::is_empty));
@@ -574,6 +646,8 @@ fn shell_pass_time_at_two_resolutions() {
     let rig = Rig::new(gpu);
     for (w, h) in [(160, 120), (320, 240)] {
         let p = MarchParams::for_shell(&rig.shell);
+        // The first run compiles the pipelines; the second is timed.
+        rig.run(&full_view(w, h), &p, 1.0);
         let run = rig.run(&full_view(w, h), &p, 1.0);
         assert_eq!((run.used, run.overflow), (run.counted, 0));
         println!(

@@ -186,10 +186,16 @@ pub fn ray_through(world_to_clip: &Mat4, viewport: [f32; 2], xy: Vec2) -> Vec3 {
     d.normalize()
 }
 
+/// A storage binding: read-only ones are seen by both stages (the vertex stage pulls the entry triangles),
+/// writable ones by the fragment stage only.
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        visibility: if read_only {
+            wgpu::ShaderStages::VERTEX_FRAGMENT
+        } else {
+            wgpu::ShaderStages::FRAGMENT
+        },
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Storage { read_only },
             has_dynamic_offset: false,
@@ -364,7 +370,8 @@ impl ShellGpu {
                 mesh_depth_entry(),
             ],
         });
-        let module = crate::render::passes::shader_module(device, "hairlab.fur.shell.shader", SHELL_WGSL, None);
+        let module =
+            crate::render::passes::shader_module(device, "hairlab.fur.shell.shader", SHELL_WGSL, None);
         let pipeline = |name: &str, lists: &wgpu::BindGroupLayout, entry: &str| {
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(&format!("hairlab.fur.shell.{name}_pipeline_layout")),
@@ -420,7 +427,11 @@ impl ShellGpu {
     /// The march parameters of the next passes (to_light and the light's radiance are MarchParams'; the caller
     /// fills them from the scene's light). `p` is expected to pass [`MarchParams::validate`].
     pub fn set_params(&self, queue: &wgpu::Queue, p: &MarchParams) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&FurShellUniforms::new(p, self.layers)));
+        queue.write_buffer(
+            &self.params,
+            0,
+            bytemuck::bytes_of(&FurShellUniforms::new(p, self.layers)),
+        );
     }
 
     /// The count pass: per pixel the number of fragments its shell fragments emit, added to `counts[pixel]` and
@@ -439,7 +450,16 @@ impl ShellGpu {
         rows: Option<(u32, u32)>,
     ) {
         let group = self.lists_group(gpu, "count", &self.count_layout, &[(0, counts)], mesh_depth);
-        self.draw(encoder, "count", &self.count_pipeline, frame, &group, null_view, timestamps, rows);
+        self.draw(
+            encoder,
+            "count",
+            &self.count_pipeline,
+            frame,
+            &group,
+            null_view,
+            timestamps,
+            rows,
+        );
     }
 
     /// The fill pass: every emitted fragment appended to its pixel's list (`heads`, `nodes`, `counters[0]`
@@ -464,7 +484,16 @@ impl ShellGpu {
             &[(1, heads), (2, nodes), (3, counters)],
             mesh_depth,
         );
-        self.draw(encoder, "fill", &self.fill_pipeline, frame, &group, null_view, timestamps, rows);
+        self.draw(
+            encoder,
+            "fill",
+            &self.fill_pipeline,
+            frame,
+            &group,
+            null_view,
+            timestamps,
+            rows,
+        );
     }
 
     fn lists_group(
@@ -561,5 +590,4 @@ impl ShellGpu {
             self.volume.size(),
         )
     }
-
 }

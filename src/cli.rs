@@ -101,6 +101,14 @@ pub struct MeasureArgs {
         requires = "transparency"
     )]
     pub techniques: Vec<String>,
+    /// Measure a fur preset's blendings against the fur reference (virtual fragments of one march step, no
+    /// early exit): RMSE of (H, 1 - T) over fur pixels, fragments, and the paper's Table 1 for each.
+    #[arg(long, conflicts_with = "transparency")]
+    pub fur: bool,
+    /// Blendings for `--fur`: `naive`, `simplified` or `virtual:k=K` (repeatable); default naive, simplified,
+    /// virtual k = 32, 8, 4, 2.
+    #[arg(long = "fur-config", value_name = "BLENDING[:k=K]", requires = "fur")]
+    pub fur_configs: Vec<String>,
 }
 
 #[derive(Args, Debug)]
@@ -286,12 +294,19 @@ fn render(a: &RenderArgs) -> Result<()> {
 /// Renders `settings` headlessly (framing the camera when its distance is 0) and returns the image. Prints the
 /// scene, the adapter and per-pass GPU times on stderr.
 pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
+    let start = std::time::Instant::now();
     let scene = settings.scene.build()?;
+    let scene_ms = start.elapsed().as_secs_f64() * 1e3;
+    let fur = crate::fur::settings::FurScene::build(&scene, &settings.fur).map_err(anyhow::Error::msg)?;
+    for w in fur.iter().flat_map(|f| &f.warnings) {
+        eprintln!("warning: {w}");
+    }
     if settings.camera.distance <= 0.0 {
         settings.camera.frame(&scene.framing_bounds());
     }
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let mut renderer = Renderer::new(&gpu, &scene, settings.render.map_resolution)?;
+    renderer.set_fur(fur.as_ref().map(|f| (f, &settings.fur)))?;
     let method = registry::find(&settings.method.name).map_err(anyhow::Error::msg)?;
     let input = FrameInput {
         camera: &settings.camera,
@@ -316,6 +331,17 @@ pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
     );
     for t in &times {
         eprintln!("  {:>16}: {:.3} ms", t.name, t.ms);
+    }
+    if let Some(f) = &fur {
+        let table = crate::measure::fur::table1(&renderer, f, scene_ms, &times)?;
+        eprintln!(
+            "fur ({}, {} blending): {} triangles, {} sub-elements\n{}",
+            settings.fur.mode.word(),
+            settings.fur.blending.word(),
+            f.shell.mesh.faces.len(),
+            f.shell.sub_elements,
+            table.render(None)
+        );
     }
     Ok(image)
 }
@@ -784,9 +810,80 @@ fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Result<()> {
     Ok(())
 }
 
+fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
+    use crate::measure::fur::{FurConfig, measure, usual_configs};
+    if !a.configs.is_empty() {
+        anyhow::bail!("--config names shadow methods; with --fur use --fur-config");
+    }
+    let configs = if a.fur_configs.is_empty() {
+        usual_configs()
+    } else {
+        a.fur_configs
+            .iter()
+            .map(|c| FurConfig::parse(c))
+            .collect::<Result<_>>()?
+    };
+    let (stats, rows) = measure(settings, &configs, a.frames)?;
+    println!(
+        "preset {}: {} triangles, {} sub-elements, {} guard hairs; view {}x{}: {} fur pixels; mode {}, \
+         reference virtual k=1 with no early exit",
+        a.preset,
+        stats.triangles,
+        stats.sub_elements,
+        stats.strands,
+        stats.width,
+        stats.height,
+        stats.fur_pixels,
+        settings.fur.mode.word()
+    );
+    println!(
+        "{:<16} {:>10} {:>8} {:>10} {:>10} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "blending",
+        "RMSE",
+        "max",
+        "explicit",
+        "shell",
+        "deepest",
+        "shell ms",
+        "expl. ms",
+        "OIT ms",
+        "online ms",
+        "MiB"
+    );
+    let mib = |b: u64| b as f64 / (1 << 20) as f64;
+    let reference = &stats.reference;
+    for r in &rows {
+        let t = &r.table;
+        println!(
+            "{:<16} {:>10.6} {:>8.5} {:>10} {:>10} {:>7} {:>10.3} {:>10.3} {:>10.3} {:>10.3} {:>10.3}",
+            r.config.label(),
+            r.rmse,
+            r.max_error,
+            r.explicit_fragments,
+            r.shell_fragments,
+            r.deepest,
+            t.times[3],
+            t.times[5],
+            t.times[6],
+            t.online_ms(),
+            mib(t.total_bytes())
+        );
+    }
+    println!(
+        "Table 1 of the reference ({}x{}):\n{}",
+        stats.width,
+        stats.height,
+        reference.render(None)
+    );
+    Ok(())
+}
+
 fn measure(a: &MeasureArgs) -> Result<()> {
     use crate::measure::{MethodConfig, usual_configs};
     let settings = Settings::load_preset(&a.preset, &a.set)?;
+    if a.fur {
+        return measure_fur(a, &settings);
+    }
     if a.transparency {
         if !a.configs.is_empty() {
             anyhow::bail!("--config names shadow methods; with --transparency use --technique");

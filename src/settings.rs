@@ -20,6 +20,8 @@ pub struct Settings {
     pub camera: Camera,
     pub method: MethodSettings,
     pub transparency: TransparencySettings,
+    /// Hybrid fur on the scene's first mesh (off unless a preset asks).
+    pub fur: crate::fur::settings::FurSettings,
 }
 
 /// Where the strands come from: a file when `file` is set, the generator otherwise (on `scalp`'s triangles when
@@ -216,6 +218,8 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
         include_str!("../presets/transparency-dense.toml"),
     ),
     ("dense-coverage", include_str!("../presets/dense-coverage.toml")),
+    ("fur-cylinder", include_str!("../presets/fur-cylinder.toml")),
+    ("fur-hat", include_str!("../presets/fur-hat.toml")),
 ];
 
 impl SceneSettings {
@@ -328,6 +332,7 @@ impl Settings {
         }
         let m = registry::find(&self.method.name).map_err(anyhow::Error::msg)?;
         methods::validate(m, &self.method.params).map_err(anyhow::Error::msg)?;
+        self.fur.validate().map_err(anyhow::Error::msg)?;
         let t = self.transparency.technique()?;
         for (k, v) in &self.transparency.params {
             techniques::spec(t, k)

@@ -49,6 +49,8 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/eye_vertex.wgsl",
     "common/eye_node.wgsl",
     "common/mesh_depth.wgsl",
+    "common/eye_sort.wgsl",
+    "fur/resolve.wgsl",
     "transparency/sorted.wgsl",
     "transparency/sorted_count.wgsl",
     "transparency/sorted_resolve.wgsl",

@@ -22,34 +22,7 @@ fn before(a: Key, b: Key) -> bool {
 }
 
 // template begin
-// One bottom-up merge pass of runs of `width` from `src` into `dst`.
-fn merge_pass_64(src: ptr<function, array<Key, 64u>>, dst: ptr<function, array<Key, 64u>>, n: u32, width: u32) {
-    var start = 0u;
-    loop {
-        if start >= n {
-            break;
-        }
-        let mid = min(start + width, n);
-        let end = min(start + 2u * width, n);
-        var i = start;
-        var j = mid;
-        var k = start;
-        loop {
-            if k >= end {
-                break;
-            }
-            if i < mid && (j >= end || !before((*src)[j], (*src)[i])) {
-                (*dst)[k] = (*src)[i];
-                i += 1u;
-            } else {
-                (*dst)[k] = (*src)[j];
-                j += 1u;
-            }
-            k += 1u;
-        }
-        start = end;
-    }
-}
+#include "common/eye_sort.wgsl"
 
 // The composite of the `n` nodes of the list starting at `head`, sorted.
 fn resolve_64(head: u32, n: u32) -> vec4<f32> {
@@ -61,20 +34,7 @@ fn resolve_64(head: u32, n: u32) -> vec4<f32> {
         a[k] = Key(bitcast<u32>(node.depth), node.segment, i - 1u);
         i = node.next;
     }
-    var width = 1u;
-    var in_a = true;
-    loop {
-        if width >= n {
-            break;
-        }
-        if in_a {
-            merge_pass_64(&a, &b, n, width);
-        } else {
-            merge_pass_64(&b, &a, n, width);
-        }
-        in_a = !in_a;
-        width *= 2u;
-    }
+    let in_a = sort_64(&a, &b, n);
     var h = vec3<f32>(0.0);
     var t = 1.0;
     for (var k = 0u; k < n; k += 1u) {

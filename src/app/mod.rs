@@ -3,6 +3,7 @@
 
 mod bench_panel;
 pub mod compare_view;
+mod fur_panel;
 pub mod inspector;
 mod lightmap_view;
 mod panels;
@@ -111,6 +112,11 @@ pub struct HairlabApp {
     pixel_inspector: pixel_inspector::PixelInspector,
     /// The next viewport frame waits for its GPU times (another window rendered after the last one).
     wait_timings: bool,
+    /// The scene's fur and the settings it was built with (`fur_panel.rs`).
+    fur: Option<crate::fur::settings::FurScene>,
+    built_fur: Option<crate::fur::settings::FurSettings>,
+    /// How long the scene took to build (Table 1 row 3).
+    scene_ms: f64,
 }
 
 impl HairlabApp {
@@ -140,6 +146,9 @@ impl HairlabApp {
             renderer: None,
             scene: None,
             built_scene: None,
+            fur: None,
+            built_fur: None,
+            scene_ms: 0.0,
             texture: None,
             last_rendered: None,
             adapter,
@@ -209,7 +218,10 @@ impl HairlabApp {
     /// and the error is shown.
     fn rebuild_scene(&mut self) {
         let scene_settings = self.settings.scene.clone();
-        let scene = match scene_settings.build() {
+        let start = Instant::now();
+        let built = scene_settings.build();
+        self.scene_ms = start.elapsed().as_secs_f64() * 1e3;
+        let scene = match built {
             Ok(s) => s,
             Err(e) => {
                 self.error(format!("{e:#}"));
@@ -253,6 +265,9 @@ impl HairlabApp {
                 self.scene = Some(scene);
                 self.built_scene = Some(scene_settings);
                 self.last_rendered = None;
+                // The fur grows on the new scene's mesh.
+                self.built_fur = None;
+                self.fur = None;
             }
             Err(e) => {
                 self.error(format!("cannot upload the scene: {e}"));

@@ -113,6 +113,7 @@ impl HairlabApp {
         self.light_section(ui);
         self.method_section(ui);
         self.transparency_section(ui);
+        self.fur_section(ui);
         ui.collapsing("Presets", |ui| {
             ui.horizontal(|ui| {
                 if ui.button("Load preset…").clicked() {

@@ -34,7 +34,7 @@ impl HairlabApp {
             );
             return;
         };
-        let Some(renderer) = self.renderer.as_mut() else {
+        if self.renderer.is_none() {
             ui.painter().text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
@@ -42,6 +42,10 @@ impl HairlabApp {
                 egui::FontId::proportional(16.0),
                 ui.visuals().error_fg_color,
             );
+            return;
+        }
+        self.sync_fur();
+        let Some(renderer) = self.renderer.as_mut() else {
             return;
         };
         let key = (self.settings.clone(), width, height);

@@ -4,6 +4,7 @@
 //! pass (median over frames) and memory. The method side is read through its GPU lookup (the evaluation
 //! pass), so what is measured is what the GPU computes.
 
+pub mod fur;
 pub mod transparency;
 
 use crate::gpu::{AdapterPreference, Gpu};
@@ -127,7 +128,7 @@ impl Measurement {
 /// Samples per texel: every fragment depth and this many grid points across the texel's range.
 pub const GRID_POINTS: usize = 16;
 
-fn median(mut v: Vec<f64>) -> f64 {
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     if v.is_empty() { 0.0 } else { v[v.len() / 2] }
 }

@@ -149,6 +149,15 @@ struct FrameParts<'a> {
 /// Side of the opaque meshes' shadow map.
 pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
 
+/// The fur a renderer holds, for the panel, `measure` and the tests.
+pub struct FurState<'a> {
+    pub shell: &'a fur::shell_gpu::ShellGpu,
+    /// The typed lists of the last frame (none before the first fur frame).
+    pub lists: Option<&'a fur::typed::FurGpu>,
+    /// Table 1 row 2: the volume stored and uploaded (ms).
+    pub volume_ms: f64,
+}
+
 /// GPU memory held by the renderer, by part.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MemoryReport {
@@ -223,6 +232,17 @@ pub struct Renderer {
     strand_bounds: crate::scene::Aabb,
     scene_bounds: crate::scene::Aabb,
     segments: usize,
+    /// The scene's fur ([`Renderer::set_fur`]): when on, frames are drawn with the fur's typed lists.
+    fur: Option<RendererFur>,
+}
+
+/// The fur the renderer holds: the shell's GPU state, the settings and the march before the frame's light.
+struct RendererFur {
+    shell: fur::shell_gpu::ShellGpu,
+    settings: crate::fur::settings::FurSettings,
+    march: crate::fur::march::MarchParams,
+    /// Table 1 row 2: the volume stored and uploaded (ms).
+    volume_ms: f64,
 }
 
 impl Renderer {
@@ -326,6 +346,7 @@ impl Renderer {
             reference: None,
             peel: None,
             targets_generation: 0,
+            fur: None,
             timer: GpuTimer::new(device, &gpu.queue),
             scene_center: scene.bounds().center(),
             scene_radius: scene.bounds().radius(),
@@ -416,6 +437,59 @@ impl Renderer {
             self.targets_generation += 1;
         }
         Ok(())
+    }
+
+    /// Holds `fur`'s shell and volume on the GPU and draws the following frames with the fur's typed lists
+    /// (`None`, or a mode of off: the selected eye transparency technique again).
+    pub fn set_fur(
+        &mut self,
+        fur: Option<(
+            &crate::fur::settings::FurScene,
+            &crate::fur::settings::FurSettings,
+        )>,
+    ) -> Result<(), GpuError> {
+        self.fur = None;
+        let Some((scene, settings)) = fur.filter(|(_, s)| s.mode != crate::fur::settings::FurMode::Off)
+        else {
+            return Ok(());
+        };
+        let start = std::time::Instant::now();
+        let shell =
+            fur::shell_gpu::ShellGpu::new(&self.gpu, &self.frame_layout, &scene.shell, &scene.volume)?;
+        self.fur = Some(RendererFur {
+            shell,
+            march: settings.march_params(&scene.shell, glam::Vec3::Y, glam::Vec3::ONE),
+            settings: settings.clone(),
+            volume_ms: start.elapsed().as_secs_f64() * 1e3,
+        });
+        Ok(())
+    }
+
+    /// Changes the held fur's rendering (mode, blending, `a`, `k`, march) without rebuilding its shell: the
+    /// caller keeps the shell's own settings (height, layers, levels, noise) those it was built with.
+    pub fn set_fur_rendering(
+        &mut self,
+        shell: &crate::fur::shell::Shell,
+        settings: &crate::fur::settings::FurSettings,
+    ) {
+        if let Some(f) = &mut self.fur {
+            f.march = settings.march_params(shell, glam::Vec3::Y, glam::Vec3::ONE);
+            f.settings = settings.clone();
+        }
+    }
+
+    /// The held fur's GPU state, its last frame's list figures and the volume's build time, when fur is on.
+    pub fn fur_state(&self) -> Option<FurState<'_>> {
+        let f = self.fur.as_ref()?;
+        let lists = self
+            .transparency
+            .as_ref()
+            .and_then(|(_, t)| (t.as_ref() as &dyn std::any::Any).downcast_ref::<fur::typed::FurGpu>());
+        Some(FurState {
+            shell: &f.shell,
+            lists,
+            volume_ms: f.volume_ms,
+        })
     }
 
     /// Makes the held technique state `technique`'s, sized to the eye targets.
@@ -605,7 +679,11 @@ impl Renderer {
 
     fn render_frame(&mut self, f: &FrameInput, capture: bool) -> Result<(), GpuError> {
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
-        self.ensure_technique(f.technique)?;
+        let technique: &dyn EyeTransparency = match &self.fur {
+            Some(_) => &fur::typed::FUR,
+            None => f.technique,
+        };
+        self.ensure_technique(technique)?;
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
         let method_gpu = held(&self.method, f.method)?;
@@ -663,9 +741,18 @@ impl Renderer {
         let Some((_, technique_gpu)) = self.transparency.as_mut() else {
             return Err(GpuError::Setting(format!(
                 "transparency.name: no state for '{}'",
-                f.technique.name()
+                technique.name()
             )));
         };
+        let fur_frame = self.fur.as_ref().map(|fur| fur::typed::FurFrame {
+            shell: &fur.shell,
+            settings: &fur.settings,
+            march: crate::fur::march::MarchParams {
+                to_light: f.light.to_light(),
+                light: glam::Vec3::from_array(f.light.color) * f.light.intensity,
+                ..fur.march
+            },
+        });
         let mut frame = transparency::EyeFrame {
             gpu: &self.gpu,
             encoder: enc,
@@ -676,13 +763,14 @@ impl Renderer {
             output,
             values: f.technique_params,
             model,
+            fur: fur_frame,
             hair: transparency::HairDraw {
                 pass: &mut self.hair_pass,
                 scene: passes::hair::HairScene {
                     device: &device,
                     method: f.method,
                     method_gpu,
-                    technique: f.technique,
+                    technique,
                     scene: &self.scene_bind_group,
                     geometry: &self.geometry,
                     targets: &self.targets,
@@ -924,6 +1012,16 @@ impl Renderer {
     /// Side of the hair light maps.
     pub fn map_resolution(&self) -> u32 {
         self.light_maps.near.width()
+    }
+
+    /// The scene's buffers on the GPU.
+    pub fn geometry(&self) -> &GeometryBuffers {
+        &self.geometry
+    }
+
+    /// The eye image's size.
+    pub fn eye_size(&self) -> (u32, u32) {
+        (self.targets.width, self.targets.height)
     }
 
     pub fn segment_count(&self) -> usize {

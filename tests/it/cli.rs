@@ -651,3 +651,61 @@ fn soak_samples_memory_per_cycle_and_reports_its_growth() {
     let o = hairlab(&["soak", "--frames", "10", "--switch-every", "2"]);
     assert_fails(&o, &["--frames 10 holds fewer than two cycles"]);
 }
+
+/// `render --preset fur-cylinder` renders the fur in each mode and prints the paper's Table 1 rows; a bad fur
+/// value is refused by its key before anything is written.
+#[test]
+fn render_draws_fur_and_prints_table_1() {
+    if hairlab::gpu::Gpu::for_tests().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fur.png");
+    let out_s = out.to_str().unwrap();
+    for mode in ["implicit", "explicit", "hybrid"] {
+        let o = hairlab(&[
+            "render",
+            "--preset",
+            "fur-cylinder",
+            "--set",
+            &format!("fur.mode={mode}"),
+            "--set",
+            "fur.max_steps=48",
+            "--set",
+            "scene.generator.strands=200",
+            "--width",
+            "96",
+            "--height",
+            "72",
+            "--out",
+            out_s,
+        ]);
+        assert!(o.status.success(), "{mode}: {}", stderr(&o));
+        let err = stderr(&o);
+        for row in hairlab::fur::table::TIME_ROWS
+            .iter()
+            .chain(&hairlab::fur::table::MEMORY_ROWS)
+        {
+            assert!(err.contains(row), "{mode}: no '{row}' in\n{err}");
+        }
+        assert!(
+            err.contains(&format!("fur ({mode}, virtual blending): 3584 triangles")),
+            "{err}"
+        );
+        assert_eq!(image::open(&out).unwrap().width(), 96);
+    }
+    std::fs::remove_file(&out).unwrap();
+    assert_fails(
+        &hairlab(&[
+            "render",
+            "--preset",
+            "fur-cylinder",
+            "--set",
+            "fur.layers=0",
+            "--out",
+            out_s,
+        ]),
+        &["fur.layers must be in 1..=256 (got 0)"],
+    );
+    assert!(!out.exists(), "no output on failure");
+}

@@ -3,12 +3,14 @@
 //! tests write; each case mutates it a few times (a number token replaced by an extreme, a byte overwritten, the
 //! text cut short) and must load or fail with an error naming its source — never panic (a panic fails the test)
 //! and, for glTF, never get as far as a panic inside the `gltf` crate. 2000 cases per format run in about a second;
-//! a long run sets `HAIRLAB_FUZZ_CASES` (cases per format) and `HAIRLAB_FUZZ_SEED`.
+//! a long run sets `HAIRLAB_FUZZ_CASES` (cases per format) and `HAIRLAB_FUZZ_SEED`. Every case is timed: one over
+//! [`TIMEOUT`] is a hang the mutation found (a failure), and the slowest case of each format is printed.
 
 use hairlab::rng::SplitMix64;
 use hairlab::scene::gltf_load::load_gltf;
 use hairlab::scene::hair::{HairFile, read_hair_file, write_hair};
 use hairlab::settings::Settings;
+use std::time::{Duration, Instant};
 
 /// Number tokens a mutation puts in place of another.
 const NUMBERS: [&str; 10] = [
@@ -23,6 +25,45 @@ const NUMBERS: [&str; 10] = [
     "1e30",
     "nan",
 ];
+
+/// A case slower than this is a timeout (a loop or read the input made unbounded), not a slow machine: the
+/// slowest case measured is under a millisecond.
+const TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The slowest case of a run.
+#[derive(Default)]
+struct Slowest {
+    time: Duration,
+    case: u64,
+}
+
+impl Slowest {
+    /// Runs case `case`, keeping its time when it is the slowest so far; a timeout fails the test.
+    fn time<T>(&mut self, case: u64, f: impl FnOnce() -> T) -> T {
+        let start = Instant::now();
+        let out = f();
+        let t = start.elapsed();
+        assert!(
+            t < TIMEOUT,
+            "case {case} took {t:?}, over the {TIMEOUT:?} timeout"
+        );
+        if t > self.time {
+            (self.time, self.case) = (t, case);
+        }
+        out
+    }
+}
+
+impl std::fmt::Display for Slowest {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "slowest case {} in {:.3} ms",
+            self.case,
+            self.time.as_secs_f64() * 1e3
+        )
+    }
+}
 
 fn env(key: &str, default: u64) -> u64 {
     std::env::var(key)
@@ -91,6 +132,7 @@ fn mutated_gltf_and_glb_files_fail_cleanly() {
     let glb = glb_of(&text);
     let (cases, mut rng) = run();
     let (mut loaded, mut refused, mut gave_up) = (0, 0, Vec::new());
+    let mut slowest = Slowest::default();
     for case in 0..cases {
         let (seed, ext) = if case % 2 == 0 {
             (&text, "gltf")
@@ -99,7 +141,7 @@ fn mutated_gltf_and_glb_files_fail_cleanly() {
         };
         let path = dir.path().join(format!("case{case}.{ext}"));
         std::fs::write(&path, mutate(&mut rng, seed)).unwrap();
-        match load_gltf(&path) {
+        match slowest.time(case, || load_gltf(&path)) {
             Ok(_) => loaded += 1,
             Err(e) => {
                 let msg = e.to_string();
@@ -113,7 +155,7 @@ fn mutated_gltf_and_glb_files_fail_cleanly() {
         std::fs::remove_file(&path).unwrap();
     }
     eprintln!(
-        "glTF/glb: {cases} cases, {loaded} load, {refused} refused, {} crate panics",
+        "glTF/glb: {cases} cases, {loaded} load, {refused} refused, {} crate panics, {slowest}",
         gave_up.len()
     );
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
@@ -131,10 +173,13 @@ fn mutated_hair_files_fail_cleanly() {
     let seed = write_hair(&file);
     let (cases, mut rng) = run();
     let (mut loaded, mut refused) = (0, 0);
+    let mut slowest = Slowest::default();
     for case in 0..cases {
         let path = dir.path().join(format!("case{case}.hair"));
         std::fs::write(&path, mutate(&mut rng, &seed)).unwrap();
-        match read_hair_file(&path).and_then(|h| h.to_strands().map(|_| ())) {
+        match slowest.time(case, || {
+            read_hair_file(&path).and_then(|h| h.to_strands().map(|_| ()))
+        }) {
             Ok(()) => loaded += 1,
             Err(e) => {
                 assert!(e.to_string().contains(&format!("case{case}.hair")), "{e}");
@@ -143,7 +188,7 @@ fn mutated_hair_files_fail_cleanly() {
         }
         std::fs::remove_file(&path).unwrap();
     }
-    eprintln!(".hair: {cases} cases, {loaded} load, {refused} refused");
+    eprintln!(".hair: {cases} cases, {loaded} load, {refused} refused, {slowest}");
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
 }
 
@@ -152,10 +197,11 @@ fn mutated_fragment_csv_fails_cleanly() {
     let seed = b"# a texel\ndepth,alpha\n0.10,0.35\n0.25,0.5\n\n0.5,0.2\n0.75,0.9\n1.0,0.05\n";
     let (cases, mut rng) = run();
     let (mut parsed, mut refused) = (0, 0);
+    let mut slowest = Slowest::default();
     for case in 0..cases {
         let text = String::from_utf8_lossy(&mutate(&mut rng, seed)).into_owned();
         let source = format!("case{case}.csv");
-        match hairlab::cli::parse_fragments_csv(&text, &source) {
+        match slowest.time(case, || hairlab::cli::parse_fragments_csv(&text, &source)) {
             Ok(frags) => {
                 assert!(
                     frags
@@ -171,7 +217,7 @@ fn mutated_fragment_csv_fails_cleanly() {
             }
         }
     }
-    eprintln!("fragment CSV: {cases} cases, {parsed} parse, {refused} refused");
+    eprintln!("fragment CSV: {cases} cases, {parsed} parse, {refused} refused, {slowest}");
     assert!(parsed > 0 && refused > 0, "{parsed} parsed, {refused} refused");
 }
 
@@ -190,9 +236,14 @@ fn mutated_presets_and_overrides_fail_cleanly() {
         "scene.generator.strands",
         "method.name",
         "render",
+        "fur.mode",
+        "fur.layers",
+        "fur.height",
+        "fur.group_steps",
     ];
     let (cases, mut rng) = run();
     let (mut loaded, mut refused) = (0, 0);
+    let mut slowest = Slowest::default();
     for case in 0..cases {
         let seed = seeds[rng.int(0, seeds.len() - 1)];
         let text = String::from_utf8_lossy(&mutate(&mut rng, seed.as_bytes())).into_owned();
@@ -203,7 +254,7 @@ fn mutated_presets_and_overrides_fail_cleanly() {
             })
             .collect();
         let origin = format!("case{case}.toml");
-        match Settings::from_toml_with(&text, &origin, &overrides) {
+        match slowest.time(case, || Settings::from_toml_with(&text, &origin, &overrides)) {
             Ok(s) => {
                 s.validate().expect("a loaded preset is valid");
                 loaded += 1;
@@ -215,6 +266,6 @@ fn mutated_presets_and_overrides_fail_cleanly() {
             }
         }
     }
-    eprintln!("presets: {cases} cases, {loaded} load, {refused} refused");
+    eprintln!("presets: {cases} cases, {loaded} load, {refused} refused, {slowest}");
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
 }

@@ -14,6 +14,7 @@ mod fur_gpu;
 mod fur_guard;
 mod fur_march;
 mod fur_shell;
+mod fur_typed;
 mod fuzz;
 mod generate;
 mod gltf_load;

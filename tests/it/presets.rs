@@ -42,3 +42,28 @@ fn scalp_mesh_preset_grows_hair_on_the_asset() {
         );
     }
 }
+
+/// The fur presets grow fur on the paper's meshes: Table 1's triangle counts, a valid shell, and a stored volume
+/// (16 B a sub-element) inside lavapipe's 128 MiB storage binding.
+#[test]
+fn fur_presets_build_their_shells_on_the_papers_meshes() {
+    use hairlab::fur::settings::{FurMode, FurScene};
+    for (name, triangles) in [("fur-cylinder", 3584), ("fur-hat", 5632)] {
+        let s = Settings::load_preset(name, &[]).unwrap();
+        assert_eq!(s.fur.mode, FurMode::Hybrid, "{name}");
+        let scene = s.scene.build().unwrap();
+        let fur = FurScene::build(&scene, &s.fur).unwrap().expect("fur is on");
+        assert_eq!(fur.shell.mesh.faces.len(), triangles, "{name}");
+        let bytes = fur.shell.sub_elements * 16;
+        eprintln!(
+            "{name}: {} sub-elements ({:.1} MiB stored), levels {:?}..{:?}, {} guard hairs, warnings {:?}",
+            fur.shell.sub_elements,
+            bytes as f64 / (1 << 20) as f64,
+            fur.shell.levels.iter().min(),
+            fur.shell.levels.iter().max(),
+            scene.strands.strand_count(),
+            fur.warnings
+        );
+        assert!(bytes <= 128 << 20, "{name}: {bytes} bytes of volume");
+    }
+}

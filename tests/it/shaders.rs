@@ -148,15 +148,17 @@ fn fragment_outputs(module: &naga::Module, entry: &str) -> Vec<(u32, u64)> {
 /// A registered technique is complete: its store function and resolve are embedded, the hair pass's fragment
 /// outputs (`HairOutput`) are the technique's colour targets location by location, each with at least the
 /// target format's components, and its label and paper are written.
-/// The exact reference's resolve validates with its sort instantiated for every size.
+/// The exact reference's and the fur's resolves validate with their sorts instantiated for every size.
 #[test]
-fn the_sorted_resolve_validates_at_every_sort_size() {
+fn the_list_resolves_validate_at_every_sort_size() {
     use hairlab::render::transparency::sorted::{SORT_SIZES, resolve_source};
-    for max in SORT_SIZES {
-        validate(
-            &format!("sorted resolve up to {max}"),
-            &resolve_source(max).unwrap(),
-        );
+    for path in ["transparency/sorted_resolve.wgsl", "fur/resolve.wgsl"] {
+        for max in SORT_SIZES {
+            validate(
+                &format!("{path} up to {max}"),
+                &resolve_source(path, max).unwrap(),
+            );
+        }
     }
 }
 
@@ -479,4 +481,15 @@ fn vertex_layouts_match_wgsl() {
     check_vertex_inputs("mesh.wgsl", &MeshVertex::ATTRIBUTES);
     assert_eq!(std::mem::size_of::<HairVertex>(), 48);
     assert_eq!(std::mem::size_of::<MeshVertex>(), 36);
+}
+
+/// The fur resolve's uniform mirror against its WGSL.
+#[test]
+fn fur_resolve_uniforms_match_wgsl_layout() {
+    use hairlab::render::fur::typed::{FUR_RESOLVE_UNIFORMS_FIELDS, FurResolveUniforms};
+    check_mirror(
+        std::mem::size_of::<FurResolveUniforms>(),
+        FUR_RESOLVE_UNIFORMS_FIELDS,
+        &[("fur/resolve.wgsl", None, "FurResolveUniforms")],
+    );
 }

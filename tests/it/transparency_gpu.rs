@@ -218,3 +218,48 @@ fn a_row_over_the_band_budget_is_refused_by_name() {
         "{e}"
     );
 }
+
+/// A pixel deeper than the exact reference's largest sort (1024 fragments) is refused with a message naming the
+/// limit, the view and the pixel's depth, never resolved from a truncated list: 1100 horizontal strands at
+/// different depths all cross the view's centre.
+#[test]
+fn a_pixel_deeper_than_the_sort_is_refused_by_name() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let n = 1100;
+    let strands = hairlab::scene::Strands {
+        points: (0..n)
+            .flat_map(|i| {
+                let z = i as f32 / n as f32 - 0.5;
+                [glam::Vec3::new(-1.0, 0.0, z), glam::Vec3::new(1.0, 0.0, z)]
+            })
+            .collect(),
+        counts: vec![2; n],
+        ..Default::default()
+    };
+    let scene = hairlab::scene::Scene::new(strands, Vec::new());
+    let mut s = crate::common::small_settings(64, 49);
+    s.camera = hairlab::scene::Camera {
+        yaw_deg: 0.0,
+        pitch_deg: 0.0,
+        ..Default::default()
+    };
+    s.camera.frame(&scene.bounds());
+    let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    let empty = ParamValues::new();
+    let e = r
+        .render(&eye_frame(&s, registry::reference(), &empty))
+        .unwrap_err()
+        .to_string();
+    let deepest: u32 = e
+        .rsplit(' ')
+        .next()
+        .and_then(|w| w.parse().ok())
+        .unwrap_or_else(|| panic!("no depth at the end of: {e}"));
+    assert!(
+        e.starts_with(
+            "transparency.name: the exact reference sorts at most 1024 fragments per pixel, and a pixel of this \
+             64x49 view has "
+        ) && deepest > 1024,
+        "{e}"
+    );
+}

@@ -145,6 +145,8 @@ pub struct EyeFrame<'a> {
     pub output: (&'a wgpu::TextureView, wgpu::TextureFormat),
     pub values: &'a ParamValues,
     pub model: ModelContext,
+    /// The scene's fur, for the fur's typed lists (`crate::render::fur::typed`); other techniques ignore it.
+    pub fur: Option<crate::render::fur::typed::FurFrame<'a>>,
     pub hair: HairDraw<'a>,
 }
 

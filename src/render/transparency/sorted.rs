@@ -71,18 +71,14 @@ impl EyeTransparency for Sorted {
     }
 }
 
-/// The resolve's WGSL with its sort instantiated for each of [`SORT_SIZES`] up to `max`, each pixel dispatched
-/// to the smallest that holds its list.
-pub fn resolve_source(max: u32) -> Result<String, String> {
-    let src = crate::shaders::compose(INFO.pass_wgsl[1], None)?;
+/// The resolve `path` (this one's, or another list technique's written on the same template) with its sort
+/// instantiated for each of [`SORT_SIZES`] up to `max`, each pixel dispatched to the smallest that holds its
+/// list.
+pub fn resolve_source(path: &str, max: u32) -> Result<String, String> {
+    let src = crate::shaders::compose(path, None)?;
     let part = |a: &str, b: &str| -> Result<(usize, usize), String> {
-        let start = src
-            .find(a)
-            .ok_or_else(|| format!("{}: no '{a}'", INFO.pass_wgsl[1]))?;
-        let end = src[start..]
-            .find(b)
-            .ok_or_else(|| format!("{}: no '{b}'", INFO.pass_wgsl[1]))?
-            + start;
+        let start = src.find(a).ok_or_else(|| format!("{path}: no '{a}'"))?;
+        let end = src[start..].find(b).ok_or_else(|| format!("{path}: no '{b}'"))? + start;
         Ok((start, end))
     };
     let (t0, t1) = part("// template begin", "// template end")?;
@@ -115,7 +111,7 @@ pub fn resolve_source(max: u32) -> Result<String, String> {
     ))
 }
 
-fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+pub(crate) fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes.max(4),
@@ -124,7 +120,11 @@ fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
     })
 }
 
-fn layout_entry(binding: u32, visibility: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn layout_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,
@@ -137,14 +137,14 @@ fn layout_entry(binding: u32, visibility: wgpu::ShaderStages, read_only: bool) -
     }
 }
 
-const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
+pub(crate) const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
     sample_type: wgpu::TextureSampleType::Depth,
     view_dimension: wgpu::TextureViewDimension::D2,
     multisampled: false,
 };
 
 /// A bind group over `buffers` at bindings 0.., and the meshes' depth after them when given.
-fn bind_group(
+pub(crate) fn bind_group(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::BindGroupLayout,
@@ -169,6 +169,132 @@ fn bind_group(
         label: Some(label),
         layout,
         entries: &entries,
+    })
+}
+
+/// Group 1 of the count pass: the per-pixel counts and the meshes' depth.
+pub(crate) fn count_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("hairlab.sorted.count_layout"),
+        entries: &[
+            layout_entry(0, fragment, false),
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: fragment,
+                ty: MESH_DEPTH,
+                count: None,
+            },
+        ],
+    })
+}
+
+/// Group 2 of the fill pass (`sorted.wgsl`): heads, nodes, counters and the meshes' depth.
+pub(crate) fn fill_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("hairlab.sorted.fill_layout"),
+        entries: &[
+            layout_entry(0, fragment, false),
+            layout_entry(1, fragment, false),
+            layout_entry(2, fragment, false),
+            wgpu::BindGroupLayoutEntry {
+                binding: 3,
+                visibility: fragment,
+                ty: MESH_DEPTH,
+                count: None,
+            },
+        ],
+    })
+}
+
+/// The count pass over the strands (`sorted_count.wgsl`): group 0 the frame, group 1 [`count_layout`]'s.
+pub(crate) fn count_pipeline(
+    device: &wgpu::Device,
+    frame_layout: &wgpu::BindGroupLayout,
+    count_layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let module =
+        crate::render::passes::shader_module(device, "hairlab.sorted.count_shader", INFO.pass_wgsl[0], None);
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("hairlab.sorted.count_pipeline_layout"),
+        bind_group_layouts: &[Some(frame_layout), Some(count_layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("hairlab.sorted.count_pipeline"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(HairVertex::layout())],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::LineList,
+            ..Default::default()
+        },
+        // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the count's side effects.
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(EyeTargets::NULL)],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A list resolve `path` (instantiated by [`resolve_source`] up to `size`) drawn full screen and blended
+/// premultiplied over `format`'s image; groups 0 and 1 from `layouts`.
+pub(crate) fn list_resolve_pipeline(
+    device: &wgpu::Device,
+    path: &str,
+    size: u32,
+    layouts: &[&wgpu::BindGroupLayout; 2],
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    let src = resolve_source(path, size).unwrap_or_else(|e| panic!("{e}"));
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(path),
+        source: wgpu::ShaderSource::Wgsl(src.into()),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(path),
+        bind_group_layouts: &layouts.map(Some),
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(path),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: Some(PREMULTIPLIED_OVER),
+                write_mask: if format == EyeTargets::COLOR {
+                    wgpu::ColorWrites::COLOR
+                } else {
+                    wgpu::ColorWrites::ALL
+                },
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
     })
 }
 
@@ -223,72 +349,13 @@ impl SortedGpu {
     fn new(setup: &EyeSetup) -> Result<SortedGpu, GpuError> {
         let device = &setup.gpu.device;
         let fragment = wgpu::ShaderStages::FRAGMENT;
-        let count_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.sorted.count_layout"),
-            entries: &[
-                layout_entry(0, fragment, false),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: fragment,
-                    ty: MESH_DEPTH,
-                    count: None,
-                },
-            ],
-        });
-        let fill_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.sorted.fill_layout"),
-            entries: &[
-                layout_entry(0, fragment, false),
-                layout_entry(1, fragment, false),
-                layout_entry(2, fragment, false),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: fragment,
-                    ty: MESH_DEPTH,
-                    count: None,
-                },
-            ],
-        });
+        let count_layout = count_layout(device);
+        let fill_layout = fill_layout(device);
         let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.sorted.resolve_layout"),
             entries: &[layout_entry(0, fragment, true), layout_entry(1, fragment, true)],
         });
-        let module = crate::render::passes::shader_module(
-            device,
-            "hairlab.sorted.count_shader",
-            INFO.pass_wgsl[0],
-            None,
-        );
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.sorted.count_pipeline_layout"),
-            bind_group_layouts: &[Some(setup.frame_layout), Some(&count_layout)],
-            immediate_size: 0,
-        });
-        let count_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hairlab.sorted.count_pipeline"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(HairVertex::layout())],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the count's side effects.
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(EyeTargets::NULL)],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let count_pipeline = count_pipeline(device, setup.frame_layout, &count_layout);
         let mut gpu = SortedGpu {
             lists: Lists::new(setup.gpu, &resolve_layout, setup.width, setup.height, 1)?,
             count_layout,
@@ -308,50 +375,13 @@ impl SortedGpu {
     fn resolve_pipeline(&mut self, device: &wgpu::Device, size: u32, format: wgpu::TextureFormat) {
         let (frame_layout, resolve_layout) = (&self.frame_layout, &self.resolve_layout);
         self.resolves.entry((size, format)).or_insert_with(|| {
-            let src = crate::shaders::compose(INFO.pass_wgsl[1], None)
-                .unwrap_or_else(|e| panic!("{e}"))
-                .replace(
-                    "const OIT_MAX: u32 = 64u;",
-                    &format!("const OIT_MAX: u32 = {size}u;"),
-                );
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("hairlab.sorted.resolve_shader"),
-                source: wgpu::ShaderSource::Wgsl(src.into()),
-            });
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("hairlab.sorted.resolve_pipeline_layout"),
-                bind_group_layouts: &[Some(frame_layout), Some(resolve_layout)],
-                immediate_size: 0,
-            });
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("hairlab.sorted.resolve_pipeline"),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: Some(PREMULTIPLIED_OVER),
-                        write_mask: if format == EyeTargets::COLOR {
-                            wgpu::ColorWrites::COLOR
-                        } else {
-                            wgpu::ColorWrites::ALL
-                        },
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            list_resolve_pipeline(
+                device,
+                INFO.pass_wgsl[1],
+                size,
+                &[frame_layout, resolve_layout],
+                format,
+            )
         });
     }
 
@@ -620,7 +650,7 @@ mod tests {
 
     #[test]
     fn the_resolve_instantiates_one_sort_per_size_up_to_the_deepest_pixel() {
-        let src = resolve_source(256).unwrap();
+        let src = resolve_source(INFO.pass_wgsl[1], 256).unwrap();
         for s in [16, 64, 128, 256] {
             assert!(src.contains(&format!("fn resolve_{s}(")), "{s}");
             assert!(src.contains(&format!("array<Key, {s}u>")), "{s}");
@@ -629,7 +659,7 @@ mod tests {
         assert!(src.contains("if n <= 128u { return resolve_128(head, n); }"));
         assert!(src.contains("return resolve_256(head, min(n, 256u));"));
         assert!(!src.contains("// template begin") && !src.contains("// template end"));
-        let small = resolve_source(1).unwrap();
+        let small = resolve_source(INFO.pass_wgsl[1], 1).unwrap();
         assert!(small.contains("return resolve_16(head, min(n, 16u));") && !small.contains("fn resolve_64("));
     }
 

@@ -1,6 +1,6 @@
-// Eye pass for hair: strands as lines, Kajiya-Kay shading, shadowed by the selected method's visibility and by
-// opaque meshes; the eye transparency technique's entry points (pasted at #include_technique) store what
-// `shade_hair` returns.
+// Eye pass for hair: strands as lines (vs_main) or camera-facing ribbons (vs_ribbon), Kajiya-Kay shading,
+// shadowed by the selected method's visibility and by opaque meshes; the eye transparency technique's entry
+// points (pasted at #include_technique) store what `shade_hair` returns.
 #include "common/eye_vertex.wgsl"
 #include "common/scene_bindings.wgsl"
 #include "common/kajiya_kay.wgsl"
@@ -38,6 +38,22 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.segment = p.segment;
     out.tangent = v.tangent;
     out.color = mix(frame.hair_color, v.color.rgb, v.color.a);
+    return out;
+}
+
+// Camera-facing ribbons (a `HairGeometry::Ribbons` entry): non-indexed TriangleList, 6 vertices per segment,
+// the same VertexOut (and segment ids) as vs_main.
+@vertex
+fn vs_ribbon(@builtin(vertex_index) index: u32) -> VertexOut {
+    let p = eye_ribbon_point(index);
+    let point = ribbon_points[ribbon_point_index(index)];
+    var out: VertexOut;
+    out.clip = p.clip;
+    out.world = p.world;
+    out.alpha = p.alpha;
+    out.segment = p.segment;
+    out.tangent = point.tangent;
+    out.color = mix(frame.hair_color, point.color.rgb, point.color.a);
     return out;
 }
 

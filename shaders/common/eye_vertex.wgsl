@@ -1,6 +1,8 @@
 // The vertex stage every eye-space hair pass shares (the shaded hair pass and the techniques' own geometry
 // passes), so that all of them see bitwise the same fragments: same clip position, same interpolated world
-// position (hence depth) and the same segment id.
+// position (hence depth) and the same segment id. Lines: `eye_vertex` / `eye_point` per LineList vertex.
+// Camera-facing ribbons (Andersen et al. 2016's "camera-facing geometry", spec B.6): `eye_ribbon_point` per
+// `vertex_index` of a non-indexed TriangleList draw of 6 vertices per segment, the points pulled from group 3.
 #include "common/frame.wgsl"
 
 struct EyePoint {
@@ -43,4 +45,67 @@ fn eye_depth(world: vec3<f32>) -> f32 {
 fn pixel_index(clip: vec4<f32>) -> u32 {
     let p = vec2<u32>(clip.xy);
     return p.y * u32(frame.viewport_size.x) + p.x;
+}
+
+// One strand point as the ribbons pull it from storage. Mirrors `render::geometry::HairVertex` (a test checks
+// the layout).
+struct HairPoint {
+    position: vec3<f32>,
+    alpha: f32,
+    // Unit tangent (central differences along the strand).
+    tangent: vec3<f32>,
+    thickness: f32,
+    // rgb colour; a = 1 when the strand carries its own colour.
+    color: vec4<f32>,
+}
+
+// Group 3 of every ribbon pipeline (`render::geometry::RIBBON_GROUP`): the strand points, and the LineList
+// index buffer, one pair (first point, second point) per segment.
+@group(3) @binding(0) var<storage, read> ribbon_points: array<HairPoint>;
+@group(3) @binding(1) var<storage, read> ribbon_segments: array<u32>;
+
+// Corner `c` in 0..6 of a segment's two triangles, (0, 1, 2) and (2, 1, 3), as a quad corner q: bit 1 says
+// the second point of the segment, bit 0 the + side.
+fn ribbon_quad_corner(c: u32) -> u32 {
+    var quad = array<u32, 6>(0u, 1u, 2u, 2u, 1u, 3u);
+    return quad[c];
+}
+
+// The index in `ribbon_points` of the point ribbon vertex `vertex_index` lies at: segment vertex_index / 6,
+// corner vertex_index % 6.
+fn ribbon_point_index(vertex_index: u32) -> u32 {
+    let q = ribbon_quad_corner(vertex_index % 6u);
+    return ribbon_segments[2u * (vertex_index / 6u) + (q >> 1u)];
+}
+
+// Ribbon vertex `vertex_index`: its strand point offset by ± half the width along normalize(cross(tangent,
+// to_eye)), so the ribbon faces the eye. Width = thickness × strand_width (world); one narrower than a pixel
+// at its depth is widened to one pixel and its alpha multiplied by the covered fraction (no conservative
+// rasterisation), so thin strands neither vanish nor fatten. Alpha = point alpha × hair_alpha × that fraction,
+// whatever the alpha mode (a ribbon's coverage is its geometry). Segment id: its first point's index, as on
+// the LineList path. Adjacent segments compute their shared point's corners bitwise alike: no gaps, no
+// overlaps.
+fn eye_ribbon_point(vertex_index: u32) -> EyePoint {
+    let q = ribbon_quad_corner(vertex_index % 6u);
+    let p = ribbon_points[ribbon_point_index(vertex_index)];
+    let to_eye = frame.eye_position - p.position;
+    let pixel = frame.eye_footprint * (frame.world_to_clip * vec4<f32>(p.position, 1.0)).w;
+    let width = p.thickness * frame.strand_width;
+    let covered = width / max(pixel, 1e-30);
+    var side = cross(p.tangent, to_eye);
+    let len = length(side);
+    if len <= 1e-6 * length(to_eye) {
+        // Seen end-on (a point on screen): any direction across the view.
+        let up = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(to_eye.y) > 0.9 * length(to_eye));
+        side = normalize(cross(up, to_eye));
+    } else {
+        side = side / len;
+    }
+    let sign = f32(q & 1u) * 2.0 - 1.0;
+    var out: EyePoint;
+    out.world = p.position + side * (0.5 * max(width, pixel) * sign);
+    out.clip = frame.world_to_clip * vec4<f32>(out.world, 1.0);
+    out.alpha = clamp(p.alpha * frame.hair_alpha, 0.0, 1.0) * min(covered, 1.0);
+    out.segment = ribbon_segments[2u * (vertex_index / 6u)];
+    return out;
 }

@@ -1,5 +1,7 @@
 //! Scene geometry on the GPU: strands as a LineList (one index pair per segment) and opaque meshes, with buffers
-//! sized from the scene and checked against the device's limits.
+//! sized from the scene and checked against the device's limits. The strand vertex and index buffers are also
+//! storage buffers, bound at [`RIBBON_GROUP`] for the camera-facing ribbons (spec B.6) that pull a segment's
+//! points from them (`eye_ribbon_point` in `shaders/common/eye_vertex.wgsl`).
 
 use crate::gpu::{Gpu, GpuError};
 use crate::scene::Scene;
@@ -7,7 +9,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-/// One strand point as the hair passes read it (`VertexIn` in `shaders/hair.wgsl`).
+/// One strand point as the hair passes read it (`VertexIn` in `shaders/hair.wgsl`, and `HairPoint` in
+/// `shaders/common/eye_vertex.wgsl` as the ribbons pull it from storage; a test checks both layouts).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct HairVertex {
@@ -29,6 +32,46 @@ impl HairVertex {
             attributes: &Self::ATTRIBUTES,
         }
     }
+}
+
+/// [`HairVertex`]'s field names and byte offsets, in declaration order, for the layout test against
+/// `HairPoint` in `shaders/common/eye_vertex.wgsl`.
+pub const HAIR_VERTEX_FIELDS: &[(&str, usize)] = {
+    use std::mem::offset_of;
+    &[
+        ("position", offset_of!(HairVertex, position)),
+        ("alpha", offset_of!(HairVertex, alpha)),
+        ("tangent", offset_of!(HairVertex, tangent)),
+        ("thickness", offset_of!(HairVertex, thickness)),
+        ("color", offset_of!(HairVertex, color)),
+    ]
+};
+
+/// The bind group index of the ribbon storage buffers in every ribbon pipeline (groups 0–2 are the scene, the
+/// shadow method and the technique's own in the hair pass).
+pub const RIBBON_GROUP: u32 = 3;
+
+/// Vertices a ribbon draw takes per strand segment: two triangles.
+pub const RIBBON_VERTICES_PER_SEGMENT: u32 = 6;
+
+/// The layout of [`RIBBON_GROUP`]: the strand points (binding 0, `array<HairPoint>`) and the segment index
+/// pairs (binding 1, `array<u32>`), read-only in the vertex stage. The renderer creates it once; every
+/// [`GeometryBuffers`] binds its buffers with it.
+pub fn ribbon_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("hairlab.geometry.ribbon_layout"),
+        entries: &[entry(0), entry(1)],
+    })
 }
 
 /// One mesh vertex (`VertexIn` in `shaders/mesh.wgsl`).
@@ -93,9 +136,16 @@ pub fn hair_indices(scene: &Scene) -> Vec<u32> {
 
 /// The scene's vertex and index buffers.
 pub struct GeometryBuffers {
+    /// Per strand point; vertex and storage usage.
     pub hair_vertices: wgpu::Buffer,
+    /// One index pair per segment; index and storage usage.
     pub hair_indices: wgpu::Buffer,
     pub hair_index_count: u32,
+    /// The layout of [`RIBBON_GROUP`] ([`ribbon_layout`], the renderer's).
+    pub ribbon_layout: wgpu::BindGroupLayout,
+    /// The two strand buffers bound with `ribbon_layout`, or the buffer that exceeds the storage binding limit
+    /// (name, bytes, limit).
+    ribbon_group: Result<wgpu::BindGroup, (&'static str, u64, u64)>,
     pub mesh_vertices: wgpu::Buffer,
     pub mesh_indices: wgpu::Buffer,
     pub mesh_index_count: u32,
@@ -104,7 +154,12 @@ pub struct GeometryBuffers {
 }
 
 impl GeometryBuffers {
-    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<GeometryBuffers, GpuError> {
+    /// Uploads `scene`'s strands and meshes; `ribbon_layout` is the renderer's [`ribbon_layout`].
+    pub fn upload(
+        gpu: &Gpu,
+        scene: &Scene,
+        ribbon_layout: &wgpu::BindGroupLayout,
+    ) -> Result<GeometryBuffers, GpuError> {
         let points = scene.strands.point_count() as u64;
         if points > u32::MAX as u64 {
             return Err(GpuError::TooLarge {
@@ -138,10 +193,10 @@ impl GeometryBuffers {
             gpu.check_buffer_size(what, bytes as u64)?;
         }
         let buf = |label: &str, contents: &[u8], usage| {
-            // Empty buffers are legal but a zero-sized binding is not: keep at least 16 bytes.
+            // Empty buffers are legal but a zero-sized binding is not: keep at least one HairVertex.
             let padded;
             let contents = if contents.is_empty() {
-                padded = [0u8; 16];
+                padded = [0u8; std::mem::size_of::<HairVertex>()];
                 &padded[..]
             } else {
                 contents
@@ -154,15 +209,57 @@ impl GeometryBuffers {
         };
         let v = wgpu::BufferUsages::VERTEX;
         let i = wgpu::BufferUsages::INDEX;
+        let s = wgpu::BufferUsages::STORAGE;
+        let hair_vertices = buf("hairlab.geometry.hair_vertices", bytemuck::cast_slice(&hv), v | s);
+        let hair_indices = buf("hairlab.geometry.hair_indices", bytemuck::cast_slice(&hi), i | s);
+        let binding_limit = gpu.device.limits().max_storage_buffer_binding_size;
+        let ribbon_group = match sizes[..2].iter().find(|(_, b)| *b as u64 > binding_limit) {
+            Some(&(what, bytes)) => Err((what, bytes as u64, binding_limit)),
+            None => Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("hairlab.geometry.ribbon_group"),
+                layout: ribbon_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: hair_vertices.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: hair_indices.as_entire_binding(),
+                    },
+                ],
+            })),
+        };
         Ok(GeometryBuffers {
-            hair_vertices: buf("hairlab.geometry.hair_vertices", bytemuck::cast_slice(&hv), v),
-            hair_indices: buf("hairlab.geometry.hair_indices", bytemuck::cast_slice(&hi), i),
+            hair_vertices,
+            hair_indices,
             hair_index_count: hi.len() as u32,
+            ribbon_layout: ribbon_layout.clone(),
+            ribbon_group,
             mesh_vertices: buf("hairlab.geometry.mesh_vertices", bytemuck::cast_slice(&mv), v),
             mesh_indices: buf("hairlab.geometry.mesh_indices", bytemuck::cast_slice(&mi), i),
             mesh_index_count: mi.len() as u32,
             bytes: sizes.iter().map(|(_, b)| *b as u64).sum(),
         })
+    }
+}
+
+impl GeometryBuffers {
+    /// The bind group of [`RIBBON_GROUP`] over the strand buffers, or the error saying which buffer exceeds the
+    /// storage binding limit. A technique that draws ribbons checks it before recording.
+    pub fn ribbons(&self) -> Result<&wgpu::BindGroup, GpuError> {
+        self.ribbon_group
+            .as_ref()
+            .map_err(|&(what, bytes, limit)| GpuError::TooLarge {
+                what: format!("the {what} bound as storage for ribbons"),
+                bytes,
+                limit,
+            })
+    }
+
+    /// Vertices of a ribbon draw of every segment: [`RIBBON_VERTICES_PER_SEGMENT`] per segment.
+    pub fn ribbon_vertex_count(&self) -> u32 {
+        self.hair_index_count / 2 * RIBBON_VERTICES_PER_SEGMENT
     }
 }
 

@@ -203,6 +203,8 @@ pub struct Renderer {
     frame_buffer: wgpu::Buffer,
     frame_layout: wgpu::BindGroupLayout,
     scene_layout: wgpu::BindGroupLayout,
+    /// Group [`geometry::RIBBON_GROUP`] of the ribbon pipelines, shared by every scene's geometry.
+    ribbon_layout: wgpu::BindGroupLayout,
     frame_bind_group: wgpu::BindGroup,
     scene_bind_group: wgpu::BindGroup,
     shadow_sampler: wgpu::Sampler,
@@ -332,7 +334,8 @@ impl Renderer {
             &shadow_sampler,
         );
         let targets = EyeTargets::new(device, 16, 16);
-        let geometry = GeometryBuffers::upload(gpu, scene)?;
+        let ribbon_layout = geometry::ribbon_layout(device);
+        let geometry = GeometryBuffers::upload(gpu, scene, &ribbon_layout)?;
         Ok(Renderer {
             gpu: gpu.clone(),
             light_depth: LightDepthPass::new(device, &frame_layout),
@@ -356,6 +359,7 @@ impl Renderer {
             frame_buffer,
             frame_layout,
             scene_layout,
+            ribbon_layout,
             frame_bind_group,
             scene_bind_group,
             shadow_sampler,
@@ -404,7 +408,7 @@ impl Renderer {
 
     /// Replaces the scene geometry (buffers re-sized from the new scene).
     pub fn set_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
-        self.geometry = GeometryBuffers::upload(&self.gpu, scene)?;
+        self.geometry = GeometryBuffers::upload(&self.gpu, scene, &self.ribbon_layout)?;
         self.scene_center = scene.bounds().center();
         self.scene_radius = scene.bounds().radius();
         self.strand_bounds = scene.strand_bounds();

@@ -10,6 +10,8 @@ use std::collections::HashMap;
 pub enum Pass {
     Mesh,
     Hair,
+    /// The hair pass drawing camera-facing ribbons (a hair entry of `HairGeometry::Ribbons`).
+    HairRibbons,
     Evaluate,
 }
 
@@ -19,6 +21,7 @@ impl Pass {
         match self {
             Pass::Mesh => "mesh",
             Pass::Hair => "hair",
+            Pass::HairRibbons => "hair_ribbons",
             Pass::Evaluate => "evaluate",
         }
     }

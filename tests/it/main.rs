@@ -32,6 +32,7 @@ mod inspector_ui;
 mod methods_gpu;
 mod presets;
 mod reference;
+mod ribbons;
 mod shaders;
 mod stability;
 mod stability_avsm;

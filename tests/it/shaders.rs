@@ -2,7 +2,7 @@
 //! and vertex structs match the WGSL declarations.
 
 use hairlab::methods::registry;
-use hairlab::render::geometry::{HairVertex, MeshVertex};
+use hairlab::render::geometry::{HAIR_VERTEX_FIELDS, HairVertex, MeshVertex};
 use hairlab::render::transparency::registry as techniques;
 use hairlab::render::uniforms::{FRAME_UNIFORMS_FIELDS, FrameUniforms};
 use hairlab::shaders::{METHOD_PASSES, SOURCES, TECHNIQUE_PASSES, compose, compose_with};
@@ -245,6 +245,17 @@ fn frame_uniforms_match_wgsl_layout() {
         std::mem::size_of::<FrameUniforms>(),
         FRAME_UNIFORMS_FIELDS,
         &[("common/frame.wgsl", None, "FrameUniforms")],
+    );
+}
+
+/// The ribbons' storage view of a strand point (`HairPoint`, pulled by `eye_ribbon_point`) is the Rust
+/// `HairVertex` the vertex buffer holds, field by field.
+#[test]
+fn ribbon_hair_points_match_the_rust_hair_vertex() {
+    check_mirror(
+        std::mem::size_of::<HairVertex>(),
+        HAIR_VERTEX_FIELDS,
+        &[("common/eye_vertex.wgsl", None, "HairPoint")],
     );
 }
 

@@ -1,13 +1,15 @@
-//! Eye pass for hair: strands as lines (LineList) through the shared eye vertex stage, shaded with the shadow
-//! method's visibility, into what the eye transparency technique's entry point writes (its colour targets, its
-//! storage). Depth-tested against the meshes without writing, or against a technique's own depth target. One
-//! pipeline per method, technique and entry point.
+//! Eye pass for hair: strands as lines (LineList) through the shared eye vertex stage, or as camera-facing
+//! ribbons (TriangleList, `vs_ribbon` pulling each segment's points from the storage buffers of
+//! [`RIBBON_GROUP`], spec B.6) for an entry that asks for them, shaded with the shadow method's visibility,
+//! into what the eye transparency technique's entry point writes (its colour targets, its storage).
+//! Depth-tested against the meshes without writing, or against a technique's own depth target. One pipeline
+//! per method, technique and entry point.
 
-use crate::render::geometry::{GeometryBuffers, HairVertex};
+use crate::render::geometry::{GeometryBuffers, HairVertex, RIBBON_GROUP};
 use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use crate::render::targets::EyeTargets;
-use crate::render::transparency::{EntryDepth, EyeTransparency, HairDrawPass};
+use crate::render::transparency::{EntryDepth, EyeTransparency, HairDrawPass, HairGeometry};
 
 pub struct HairPass {
     scene_layout: wgpu::BindGroupLayout,
@@ -40,8 +42,9 @@ impl HairPass {
 
     fn pipeline(&mut self, s: &HairScene, draw: &HairDrawPass) -> &wgpu::RenderPipeline {
         let scene_layout = &self.scene_layout;
+        let ribbons = draw.entry.geometry == HairGeometry::Ribbons;
         let key = PipelineKey {
-            pass: Pass::Hair,
+            pass: if ribbons { Pass::HairRibbons } else { Pass::Hair },
             method: s.method.name(),
             technique: Some((s.technique.name(), draw.entry.entry)),
         };
@@ -49,6 +52,10 @@ impl HairPass {
             let mut layouts = vec![Some(scene_layout), Some(s.method_gpu.bind_group_layout())];
             if let Some((layout, _)) = draw.group {
                 layouts.push(Some(layout));
+            }
+            if ribbons {
+                layouts.resize(RIBBON_GROUP as usize, None);
+                layouts.push(Some(&s.geometry.ribbon_layout));
             }
             let layout = s.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(&key.label("layout")),
@@ -68,17 +75,24 @@ impl HairPass {
                 source: wgpu::ShaderSource::Wgsl(src.into()),
             });
             let targets: Vec<_> = draw.entry.targets.iter().cloned().map(Some).collect();
+            let lines = [Some(HairVertex::layout())];
+            let (entry_point, buffers, topology) = if ribbons {
+                ("vs_ribbon", &[][..], wgpu::PrimitiveTopology::TriangleList)
+            } else {
+                ("vs_main", &lines[..], wgpu::PrimitiveTopology::LineList)
+            };
             s.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&key.label("pipeline")),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module: &module,
-                    entry_point: Some("vs_main"),
+                    entry_point: Some(entry_point),
                     compilation_options: Default::default(),
-                    buffers: &[Some(HairVertex::layout())],
+                    buffers,
                 },
+                // Ribbons face the camera but their winding follows the strand: no culling.
                 primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::LineList,
+                    topology,
                     ..Default::default()
                 },
                 depth_stencil: (draw.entry.depth != EntryDepth::Manual).then(|| wgpu::DepthStencilState {
@@ -146,8 +160,20 @@ impl HairPass {
         if let Some((_, group)) = draw.group {
             pass.set_bind_group(2, group, &[]);
         }
-        pass.set_vertex_buffer(0, s.geometry.hair_vertices.slice(..));
-        pass.set_index_buffer(s.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..s.geometry.hair_index_count, 0, 0..1);
+        match draw.entry.geometry {
+            HairGeometry::Lines => {
+                pass.set_vertex_buffer(0, s.geometry.hair_vertices.slice(..));
+                pass.set_index_buffer(s.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..s.geometry.hair_index_count, 0, 0..1);
+            }
+            HairGeometry::Ribbons => match s.geometry.ribbons() {
+                Ok(group) => {
+                    pass.set_bind_group(RIBBON_GROUP, group, &[]);
+                    pass.draw(0..s.geometry.ribbon_vertex_count(), 0..1);
+                }
+                // A technique drawing ribbons reports this from `GeometryBuffers::ribbons` before recording.
+                Err(e) => log::error!("hair ribbons not drawn: {e}"),
+            },
+        }
     }
 }

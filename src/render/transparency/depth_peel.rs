@@ -59,6 +59,7 @@ static HAIR: HairEntry = HairEntry {
         },
     ],
     depth: EntryDepth::Own,
+    geometry: super::HairGeometry::Lines,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {

@@ -32,6 +32,7 @@ static HAIR: HairEntry = HairEntry {
     entry: "fs_main",
     targets: &[ADD],
     depth: EntryDepth::Meshes,
+    geometry: super::HairGeometry::Lines,
 };
 
 const MOMENTS: ParamSpec = ParamSpec {

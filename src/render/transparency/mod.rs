@@ -20,7 +20,8 @@
 //! ```
 //!
 //! The technique's own geometry passes use `common/eye_vertex.wgsl`, the vertex stage the hair pass shares, so
-//! every eye pass sees bitwise the same fragments (positions, depths, segment ids).
+//! every eye pass sees bitwise the same fragments (positions, depths, segment ids): `eye_vertex` for an entry
+//! drawn as [`HairGeometry::Lines`], `eye_ribbon_point` for one drawn as [`HairGeometry::Ribbons`].
 
 pub mod depth_peel;
 pub mod mboit;
@@ -69,6 +70,20 @@ pub struct HairEntry {
     pub entry: &'static str,
     pub targets: &'static [wgpu::ColorTargetState],
     pub depth: EntryDepth,
+    /// What the entry's pipeline draws the strands as.
+    pub geometry: HairGeometry,
+}
+
+/// The primitives of a hair entry's pipeline. Either way the fragment entry receives the same `VertexOut`
+/// (`shaders/hair.wgsl`) with the same segment ids, so `shade_hair` and every entry work unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HairGeometry {
+    /// Strands as lines (LineList, `vs_main`, one index pair per segment): what the hair methods compare.
+    Lines,
+    /// Camera-facing ribbons (spec B.6, `vs_ribbon`): two triangles per segment pulled from the storage
+    /// buffers of [`crate::render::geometry::RIBBON_GROUP`], widened to one pixel with alpha scaled by the
+    /// covered fraction when thinner (`eye_ribbon_point` in `common/eye_vertex.wgsl`).
+    Ribbons,
 }
 
 /// How a hair entry is depth-tested.

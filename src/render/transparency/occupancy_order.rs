@@ -122,11 +122,13 @@ static HAIR: [HairEntry; 2] = [
         entry: "fs_main",
         targets: &ACCUM_F32,
         depth: EntryDepth::Meshes,
+        geometry: super::HairGeometry::Lines,
     },
     HairEntry {
         entry: "fs_half",
         targets: &ACCUM_F16,
         depth: EntryDepth::Meshes,
+        geometry: super::HairGeometry::Lines,
     },
 ];
 

@@ -28,6 +28,7 @@ static HAIR: HairEntry = HairEntry {
         write_mask: wgpu::ColorWrites::ALL,
     }],
     depth: EntryDepth::Own,
+    geometry: super::HairGeometry::Lines,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {

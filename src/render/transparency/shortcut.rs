@@ -53,6 +53,7 @@ static HAIR: HairEntry = HairEntry {
         },
     ],
     depth: EntryDepth::Manual,
+    geometry: super::HairGeometry::Lines,
 };
 
 const K: ParamSpec = ParamSpec {

@@ -29,6 +29,7 @@ static FILL: HairEntry = HairEntry {
     entry: "fs_main",
     targets: &[EyeTargets::NULL],
     depth: EntryDepth::Manual,
+    geometry: super::HairGeometry::Lines,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {

@@ -41,6 +41,7 @@ static HAIR: HairEntry = HairEntry {
         },
     ],
     depth: EntryDepth::Meshes,
+    geometry: super::HairGeometry::Lines,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {

@@ -276,3 +276,56 @@ fn pixel_inspector_shows_the_list_of_a_clicked_hair_pixel() {
     );
     assert!(harness.query_by_label(&title).is_some(), "{title} not shown");
 }
+
+/// The Fur section of a fur preset: its mode switches the shell on and off, and the paper's Table 1 for the
+/// frame is shown, row by row.
+#[test]
+fn fur_section_switches_the_mode_and_shows_table_1() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = hairlab::settings::Settings::load_preset(
+        "fur-cylinder",
+        &[
+            "render.width=160".into(),
+            "render.height=120".into(),
+            "scene.generator.strands=200".into(),
+            "fur.layers=4".into(),
+            "fur.max_level=2".into(),
+            "fur.max_steps=48".into(),
+            // Far away: the viewport is the window's size, and a small cylinder keeps lavapipe's march short.
+            "camera.distance=4".into(),
+        ],
+    )
+    .unwrap();
+    let mut harness = Harness::builder()
+        .with_size([1400.0, 1800.0])
+        .with_max_steps(8)
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    // The section opens by itself when the preset has fur; the frame drawn, Table 1 lists every row.
+    harness.run();
+    for row in hairlab::fur::table::TIME_ROWS
+        .iter()
+        .chain(&hairlab::fur::table::MEMORY_ROWS)
+    {
+        assert!(
+            harness.query_all_by_label(row).next().is_some(),
+            "no Table 1 row '{row}'"
+        );
+    }
+    assert!(
+        harness
+            .query_by_label_contains("3584 triangles · 229376 sub-elements")
+            .is_some()
+    );
+    harness.get_by_label("mode").click();
+    harness.run();
+    harness.get_by_label("implicit").click();
+    harness.run();
+    assert_eq!(
+        harness.state().settings().fur.mode,
+        hairlab::fur::settings::FurMode::Implicit
+    );
+}

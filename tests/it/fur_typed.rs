@@ -132,6 +132,12 @@ fn the_typed_resolve_equals_its_cpu_model_in_every_blending() {
         let lists = fur.lists();
         let kinds: [usize; 3] = [blend::EXPLICIT, blend::SHELL, blend::VIRTUAL]
             .map(|k| lists.iter().flatten().filter(|t| t.kind == k).count());
+        // The count passes (ribbons, shell march) counted exactly what the fills pushed.
+        let stats = fur.renderer.fur_state().unwrap().lists.unwrap().stats();
+        assert_eq!(
+            (stats.explicit as usize, stats.shell as usize),
+            (kinds[0], kinds[1] + kinds[2])
+        );
         match blending {
             Blending::Virtual => assert!(kinds[0] > 0 && kinds[1] == 0 && kinds[2] > 0, "{kinds:?}"),
             _ => assert!(kinds[0] > 0 && kinds[1] > 0 && kinds[2] == 0, "{kinds:?}"),

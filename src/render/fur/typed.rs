@@ -17,6 +17,7 @@ use crate::fur::blend::{self, Typed};
 use crate::fur::march::MarchParams;
 use crate::fur::settings::{Blending, FurSettings, FurView};
 use crate::gpu::{Gpu, GpuError};
+use crate::render::geometry::RIBBON_GROUP;
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role};
 use crate::render::passes::abuffer::copy_out;
 use crate::render::targets::EyeTargets;
@@ -24,16 +25,19 @@ use crate::render::transparency::sorted::{
     self, EyeNode, NODE_BYTES, SORT_SIZES, bands, bind_group, layout_entry, storage,
 };
 use crate::render::transparency::{
-    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, TechniqueInfo, TransparencyGpu,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
+    TransparencyGpu,
 };
 use crate::transparency::{Compositor, ModelContext};
 
 use super::shell_gpu::ShellGpu;
 
+/// The guard hairs' fill: the exact reference's list push, on camera-facing ribbons (B.6).
 static FILL: HairEntry = HairEntry {
     entry: "fs_main",
     targets: &[EyeTargets::NULL],
     depth: EntryDepth::Manual,
+    geometry: HairGeometry::Ribbons,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {
@@ -44,7 +48,7 @@ static INFO: TechniqueInfo = TechniqueInfo {
     role: Role::Reference,
     hair_wgsl: "transparency/sorted.wgsl",
     hair_entries: std::slice::from_ref(&FILL),
-    pass_wgsl: &["transparency/sorted_count.wgsl", "fur/resolve.wgsl"],
+    pass_wgsl: &["fur/ribbon_count.wgsl", "fur/resolve.wgsl"],
     params: &[ParamSpec {
         key: "band_kib",
         label: "band budget KiB",
@@ -119,6 +123,46 @@ fn blending_code(b: Blending) -> u32 {
         Blending::Simplified => 1,
         Blending::Virtual => 2,
     }
+}
+
+/// The guard hairs' count pass over their ribbons (`fur/ribbon_count.wgsl`): group 0 the frame, group 1 the
+/// counts and the meshes' depth ([`sorted::count_layout`]), [`RIBBON_GROUP`] the strands.
+fn ribbon_count_pipeline(
+    device: &wgpu::Device,
+    frame_layout: &wgpu::BindGroupLayout,
+    count_layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let module =
+        crate::render::passes::shader_module(device, "hairlab.fur.ribbon_count", INFO.pass_wgsl[0], None);
+    let ribbons = crate::render::geometry::ribbon_layout(device);
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("hairlab.fur.ribbon_count"),
+        bind_group_layouts: &[Some(frame_layout), Some(count_layout), None, Some(&ribbons)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("hairlab.fur.ribbon_count"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        // Ribbons face the camera but their winding follows the strand: no culling, as the fill.
+        primitive: wgpu::PrimitiveState::default(),
+        // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the count's side effects.
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(EyeTargets::NULL)],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
 
 /// The last frame's list figures, by fragment type (Table 1 rows 4 and 6).
@@ -205,7 +249,7 @@ impl FurGpu {
             ],
         });
         Ok(FurGpu {
-            count_pipeline: sorted::count_pipeline(device, setup.frame_layout, &count_layout),
+            count_pipeline: ribbon_count_pipeline(device, setup.frame_layout, &count_layout),
             count_layout,
             fill_layout: sorted::fill_layout(device),
             resolve_layout,
@@ -319,6 +363,7 @@ impl TransparencyGpu for FurGpu {
             .encoder
             .copy_buffer_to_buffer(&self.lists.counts, pixels * 4, &self.shell_total, 0, 4);
         if strands {
+            let ribbons = frame.geometry.ribbons()?;
             let count_group = bind_group(
                 &gpu.device,
                 "hairlab.fur.count_group",
@@ -338,9 +383,8 @@ impl TransparencyGpu for FurGpu {
             pass.set_pipeline(&self.count_pipeline);
             pass.set_bind_group(0, frame.frame_bind_group, &[]);
             pass.set_bind_group(1, &count_group, &[]);
-            pass.set_vertex_buffer(0, frame.geometry.hair_vertices.slice(..));
-            pass.set_index_buffer(frame.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..frame.geometry.hair_index_count, 0, 0..1);
+            pass.set_bind_group(RIBBON_GROUP, ribbons, &[]);
+            pass.draw(0..frame.geometry.ribbon_vertex_count(), 0..1);
         }
         frame.flush();
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.lists.counts)?);

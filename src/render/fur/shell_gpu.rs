@@ -251,7 +251,8 @@ pub struct ShellGpu {
 impl ShellGpu {
     /// Uploads the shell (per-face corners, neighbours, levels, offsets, entry triangles) and the stored volume
     /// ([`Volume::store`], 16 B per sub-element); a volume over the device's storage binding limit is an error
-    /// naming the mesh, the sub-element count and the limit (checked before the volume is evaluated).
+    /// naming the mesh, the sub-element count and the limit (checked before the volume is evaluated). The
+    /// march parameters start as [`MarchParams::for_shell`].
     pub fn new(
         gpu: &Gpu,
         frame_layout: &wgpu::BindGroupLayout,

@@ -16,7 +16,11 @@
 //! edge may be covered by the other triangle or by both or neither), *flip* when the CPU march of the eye
 //! ray shifted by [`FLIP_SHIFT`] along a world axis matches the GPU (a sample within rounding of a
 //! sub-element boundary: the CPU and GPU rays differ by rounding, ~1e-7 relative). Anything else fails.
-//! Measured on lavapipe (numbers printed by the tests).
+//! Measured on lavapipe (Mesa 22.3; the tests print them): full view 160×120, max |Δt| 6.0e-8, |Δα| 7.7e-7,
+//! |Δc| 7.4e-5 over 3475 covered px (3 / 5 / 3 flip px for shell / k = 1 / k = 4, 0 edge px); oblique
+//! close-up 80×60, 3.7e-8, 7.2e-7, 4.8e-5 over 3390 px (1–2 flip px, 0 edge px). The tests allow 1 % of the
+//! covered pixels to be classified. Statistics: the full view's GPU marches 1 ray and 2 hops more (an edge
+//! entry that emits nothing), the oblique view's 1 step, 1 hop and 8 light steps fewer (a flip).
 
 use glam::{Mat4, Vec2, Vec3};
 use hairlab::fur::march::{self, Emit, Fragment, MarchParams, MarchStats};
@@ -481,8 +485,8 @@ fn compare(rig: &Rig, v: &View, p: &MarchParams) -> (Outcome, GpuRun) {
             let d = difference(gpu, &cpu, cd);
             if within(d) {
                 out.matched += 1;
-                for k in 0..3 {
-                    out.worst[k] = out.worst[k].max(d[k]);
+                for (w, x) in out.worst.iter_mut().zip(d) {
+                    *w = w.max(x);
                 }
                 continue;
             }
@@ -543,7 +547,7 @@ fn close(a: u64, b: u64) -> bool {
 /// FT-G1 on view `v`, shell and virtual k ∈ {1, 4} emission. The statistics are compared within 0.1 %: the
 /// GPU marches the entries the rasteriser makes, which differ from the CPU's exact hits at edge pixels, and
 /// those that emit nothing (no density met, or a first sample already outside) are not seen by the node
-/// comparison (measured: 1 ray and 2 hops more on the GPU in the full view, steps and light steps equal).
+/// comparison (measured: module docs).
 fn gpu_equals_cpu(v: View) {
     let Some(gpu) = Gpu::for_tests() else { return };
     let rig = Rig::new(gpu);

@@ -41,6 +41,10 @@ pub struct BenchArgs {
     /// transparency_speed_vs_accuracy.png/.svg) and the speed ratio of depth peeling to occupancy ordering.
     #[arg(long, conflicts_with = "scaling")]
     pub transparency: bool,
+    /// Measure a fur preset's blendings against the fur reference (`measure --fur`'s rows) into `fur.csv` and
+    /// `fur.json`: error, fragments and the paper's Table 1 rows per blending.
+    #[arg(long, conflicts_with_all = ["scaling", "transparency"])]
+    pub fur: bool,
     /// The segment count the scaling mode reaches.
     #[arg(long, default_value_t = DEFAULT_SCALING_SEGMENTS)]
     pub max_segments: usize,
@@ -61,6 +65,13 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
     let never = AtomicBool::new(false);
     let mut bar = TerminalProgress::new();
     let mut progress = |p: Progress| bar.update(&p);
+    if a.fur {
+        let b = super::fur::FurBench::run(&settings, &a.preset, a.frames)?;
+        for f in b.write(&a.out)? {
+            println!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
     if a.transparency {
         let b = super::transparency::TransparencyBench::run(&settings, &a.preset, a.frames, |what| {
             eprintln!("measuring {what}…")

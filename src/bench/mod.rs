@@ -16,6 +16,7 @@
 
 pub mod chart;
 pub mod cli;
+pub mod fur;
 pub mod report;
 pub mod result;
 pub mod run;

@@ -145,6 +145,8 @@ pub struct FurSceneStats {
     pub height: u32,
     pub fur_pixels: usize,
     pub reference: Table1,
+    /// The adapter, in words.
+    pub device: String,
 }
 
 /// Per-pixel (H, 1 − T) error of `image` against `reference` over the pixels either covers.
@@ -259,6 +261,7 @@ pub fn measure(
             height: s.render.height,
             fur_pixels,
             reference: reference_table,
+            device: crate::gpu::describe(&gpu.info),
         },
         out,
     ))

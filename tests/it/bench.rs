@@ -625,3 +625,54 @@ fn bench_transparency_writes_every_techniques_sweep_and_the_peel_ratio() {
         assert!(std::fs::metadata(out.join(f)).unwrap().len() > 1000, "{f}");
     }
 }
+
+/// `bench --fur` writes one CSV row per blending after the reference's, with the paper's Table 1 rows, and the
+/// same in JSON with the view and the device; the reference's own error is zero and every blending's is finite.
+#[test]
+fn fur_bench_writes_every_blending_with_table_1() {
+    if hairlab::gpu::Gpu::for_tests().is_none() {
+        return;
+    }
+    let s = hairlab::settings::Settings::load_preset(
+        "fur-cylinder",
+        &[
+            "render.width=96".into(),
+            "render.height=72".into(),
+            "scene.generator.strands=200".into(),
+            "fur.layers=4".into(),
+            "fur.max_level=2".into(),
+            "fur.max_steps=48".into(),
+        ],
+    )
+    .unwrap();
+    let b = hairlab::bench::fur::FurBench::run(&s, "fur-cylinder", 1).unwrap();
+    let csv = b.to_csv().unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(
+        lines[0].starts_with("configuration,blending,group_steps,rmse,max_error,"),
+        "{}",
+        lines[0]
+    );
+    assert_eq!(
+        lines.len(),
+        1 + 1 + hairlab::measure::fur::usual_configs().len(),
+        "{csv}"
+    );
+    assert!(
+        lines[1].starts_with("reference,virtual,1,0.0,0.0,"),
+        "{}",
+        lines[1]
+    );
+    for r in &b.rows {
+        assert!(
+            r.rmse.is_finite() && r.rmse > 0.0,
+            "{}: {}",
+            r.config.label(),
+            r.rmse
+        );
+    }
+    let json: serde_json::Value = serde_json::from_str(&b.to_json().unwrap()).unwrap();
+    assert_eq!(json["view"], serde_json::json!([96, 72]));
+    assert_eq!(json["triangles"], 3584);
+    assert_eq!(json["time_rows"].as_array().unwrap().len(), 7);
+}

@@ -481,8 +481,8 @@ fn compare(rig: &Rig, v: &View, p: &MarchParams) -> (Outcome, GpuRun) {
             let d = difference(gpu, &cpu, cd);
             if within(d) {
                 out.matched += 1;
-                for k in 0..3 {
-                    out.worst[k] = out.worst[k].max(d[k]);
+                for (w, dk) in out.worst.iter_mut().zip(d) {
+                    *w = w.max(dk);
                 }
                 continue;
             }

@@ -11,6 +11,7 @@
 #include "common/mesh_depth.wgsl"
 #include "common/kajiya_kay.wgsl"
 #include "common/visibility.wgsl"
+#include "common/fur_face.wgsl"
 
 // Mirrors `render::fur::shell_gpu::FurShellUniforms` (a test compares the layouts).
 struct FurShellUniforms {
@@ -35,17 +36,6 @@ struct FurShellUniforms {
     // Layers per prism n_l.
     layers: u32,
     pad0: u32,
-}
-
-// Mirrors `FurFace`: prism f's base corners P_k and top corners T_k (w unused), the faces across its edges
-// (edge e opposite corner e; 0xffffffff: none), its level d_f and the global index of its first sub-element.
-struct FurFace {
-    base: array<vec4<f32>, 3>,
-    top: array<vec4<f32>, 3>,
-    neighbours: array<u32, 3>,
-    level: u32,
-    offset: u32,
-    pad: array<u32, 3>,
 }
 
 // One entry triangle: its prism, and which of its triangles it is (0: the top; 1 + 2e + s: half s of the wall

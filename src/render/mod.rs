@@ -154,7 +154,7 @@ pub struct FurState<'a> {
     pub shell: &'a fur::shell_gpu::ShellGpu,
     /// The typed lists of the last frame (none before the first fur frame).
     pub lists: Option<&'a fur::typed::FurGpu>,
-    /// Table 1 row 2: the volume stored and uploaded (ms).
+    /// Table 1 row 2: the shell uploaded and its volume computed on the GPU (wall time of `ShellGpu::new`, ms).
     pub volume_ms: f64,
 }
 
@@ -243,7 +243,7 @@ struct RendererFur {
     shell: fur::shell_gpu::ShellGpu,
     settings: crate::fur::settings::FurSettings,
     march: crate::fur::march::MarchParams,
-    /// Table 1 row 2: the volume stored and uploaded (ms).
+    /// Table 1 row 2: the shell uploaded and its volume computed on the GPU (wall time of `ShellGpu::new`, ms).
     volume_ms: f64,
 }
 

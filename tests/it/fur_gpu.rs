@@ -485,8 +485,8 @@ fn compare(rig: &Rig, v: &View, p: &MarchParams) -> (Outcome, GpuRun) {
             let d = difference(gpu, &cpu, cd);
             if within(d) {
                 out.matched += 1;
-                for (w, x) in out.worst.iter_mut().zip(d) {
-                    *w = w.max(x);
+                for (w, dk) in out.worst.iter_mut().zip(d) {
+                    *w = w.max(dk);
                 }
                 continue;
             }

@@ -259,6 +259,27 @@ fn ribbon_hair_points_match_the_rust_hair_vertex() {
     );
 }
 
+/// The fur volume pass's uniforms, and the prisms it shares with the shell pass (`common/fur_face.wgsl`), against
+/// their Rust mirrors in every pass that reads them.
+#[test]
+fn fur_density_structs_match_wgsl_layout() {
+    use hairlab::render::fur::density::{FUR_DENSITY_UNIFORMS_FIELDS, FurDensityUniforms};
+    use hairlab::render::fur::shell_gpu::{FUR_FACE_FIELDS, FurFace};
+    check_mirror(
+        std::mem::size_of::<FurDensityUniforms>(),
+        FUR_DENSITY_UNIFORMS_FIELDS,
+        &[("fur/density.wgsl", None, "FurDensityUniforms")],
+    );
+    check_mirror(
+        std::mem::size_of::<FurFace>(),
+        FUR_FACE_FIELDS,
+        &[
+            ("fur/density.wgsl", None, "FurFace"),
+            ("fur/shell.wgsl", None, "FurFace"),
+        ],
+    );
+}
+
 /// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its
 /// lookup composed into the evaluation pass).
 #[test]

@@ -6,8 +6,9 @@
 //! triangle. The march runs twice: [`ShellGpu::record_count`] adds the fragments each pixel would get to the
 //! counts (and the total) and the march statistics to the stats buffer; [`ShellGpu::record_fill`] appends
 //! them to the eye lists as `EyeNode`s (`depth = t / camera_distance`, non-premultiplied colour, alpha,
-//! `segment` = the entry prism, kind 1 SHELL or 2 VIRTUAL). The volume is stored ([`Volume::store`], 16 B per
-//! sub-element, `(τ, ρ)`); one over the device's storage binding limit is an error.
+//! `segment` = the entry prism, kind 1 SHELL or 2 VIRTUAL). The volume is stored (16 B per sub-element, `(τ, ρ)`),
+//! computed on the GPU by [`density::compute_volume`] (its specification [`Volume::store`]); one over the
+//! device's storage binding limit is an error.
 //!
 //! GPU = CPU (tests/it/fur_gpu.rs, lavapipe): t within 6e-8 world units, alpha 8e-7, colour 7.4e-5 on
 //! `fur-cylinder`, but for the few pixels whose march passes within rounding of a sub-element boundary.
@@ -24,6 +25,8 @@ use crate::fur::volume::Volume;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::passes::abuffer::copy_out;
 use crate::render::targets::EyeTargets;
+
+use super::density;
 
 /// The shell pass's WGSL.
 pub const SHELL_WGSL: &str = "fur/shell.wgsl";
@@ -246,13 +249,15 @@ pub struct ShellGpu {
     fill_pipeline: wgpu::RenderPipeline,
     triangle_count: u32,
     layers: u32,
+    volume_ms: f64,
 }
 
 impl ShellGpu {
-    /// Uploads the shell (per-face corners, neighbours, levels, offsets, entry triangles) and the stored volume
-    /// ([`Volume::store`], 16 B per sub-element); a volume over the device's storage binding limit is an error
-    /// naming the mesh, the sub-element count and the limit (checked before the volume is evaluated). The
-    /// march parameters start as [`MarchParams::for_shell`].
+    /// Uploads the shell (per-face corners, neighbours, levels, offsets, entry triangles) and computes the stored
+    /// volume on the GPU ([`density::compute_volume`] = [`Volume::store`], 16 B per sub-element), waiting for it
+    /// ([`ShellGpu::volume_ms`]); a volume over the device's storage binding limit is an error naming the mesh,
+    /// the sub-element count and the limit (checked before anything is uploaded).
+    /// The march parameters start as [`MarchParams::for_shell`].
     pub fn new(
         gpu: &Gpu,
         frame_layout: &wgpu::BindGroupLayout,
@@ -260,22 +265,9 @@ impl ShellGpu {
         volume: &Volume,
     ) -> Result<ShellGpu, GpuError> {
         let device = &gpu.device;
+        density::check_volume_fits(gpu, shell)?;
         let limits = device.limits();
         let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        let volume_bytes = shell.sub_elements * SUB_ELEMENT_BYTES;
-        if volume_bytes > limit {
-            return Err(GpuError::TooLarge {
-                what: format!(
-                    "the stored fur volume of mesh '{}' ({} sub-elements of {SUB_ELEMENT_BYTES} B; the storage \
-                     binding limit holds {})",
-                    shell.mesh.name,
-                    shell.sub_elements,
-                    limit / SUB_ELEMENT_BYTES
-                ),
-                bytes: volume_bytes,
-                limit,
-            });
-        }
         let faces = faces(shell);
         let triangles = entry_triangles(shell);
         for (what, bytes) in [
@@ -290,11 +282,6 @@ impl ShellGpu {
                 });
             }
         }
-        let stored: Vec<[f32; 4]> = volume
-            .store(shell)
-            .iter()
-            .map(|s| s.tangent.extend(s.density).to_array())
-            .collect();
         let storage = wgpu::BufferUsages::STORAGE;
         let params = buffer(
             device,
@@ -318,12 +305,12 @@ impl ShellGpu {
             bytemuck::cast_slice(&triangles),
             storage,
         );
-        let volume = buffer(
-            device,
-            "hairlab.fur.shell.volume",
-            bytemuck::cast_slice(&stored),
-            storage,
-        );
+        let start = std::time::Instant::now();
+        let volume = density::compute_volume(gpu, shell, &faces, &volume.params)?;
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(format!("waiting for the fur volume pass: {e}")))?;
+        let volume_ms = start.elapsed().as_secs_f64() * 1e3;
         let stats = buffer(
             device,
             "hairlab.fur.shell.stats",
@@ -425,6 +412,7 @@ impl ShellGpu {
             fill_pipeline,
             triangle_count,
             layers: shell.layers,
+            volume_ms,
         })
     }
 
@@ -585,6 +573,16 @@ impl ShellGpu {
             capped: c(5),
             light_lost: c(6),
         })
+    }
+
+    /// Wall time of the volume pass in [`ShellGpu::new`], submission to completion (ms).
+    pub fn volume_ms(&self) -> f64 {
+        self.volume_ms
+    }
+
+    /// The stored volume, `(τ.xyz, ρ)` per sub-element in global-index order.
+    pub fn volume(&self) -> &wgpu::Buffer {
+        &self.volume
     }
 
     /// Bytes by Table 1 row: (mesh data: faces, entry triangles and the uniforms; volume densities).

@@ -22,7 +22,7 @@ use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role};
 use crate::render::passes::abuffer::copy_out;
 use crate::render::targets::EyeTargets;
 use crate::render::transparency::sorted::{
-    self, EyeNode, NODE_BYTES, SORT_SIZES, bands, bind_group, layout_entry, storage,
+    self, EyeNode, ListNames, NODE_BYTES, bind_group, layout_entry, plan_lists, record_resolve, storage,
 };
 use crate::render::transparency::{
     EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
@@ -389,53 +389,19 @@ impl TransparencyGpu for FurGpu {
         frame.flush();
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.lists.counts)?);
         let shell_total: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.shell_total)?);
-        let total = counts[pixels as usize] as u64;
-        let deepest = counts[..pixels as usize].iter().copied().max().unwrap_or(0);
-        let Some(&size) = SORT_SIZES.iter().find(|&&s| s >= deepest) else {
-            return Err(GpuError::Setting(format!(
-                "fur.group_steps: the fur lists sort at most {} fragments per pixel, and a pixel of this {width}x{height} \
-                 view has {deepest} (a larger group, fewer march steps or simplified blending keep fewer)",
-                SORT_SIZES[SORT_SIZES.len() - 1]
-            )));
-        };
-        let limit = gpu.device.limits();
-        let device_limit = limit.max_storage_buffer_binding_size.min(limit.max_buffer_size);
-        let budget = crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024;
-        let binding = if budget == 0 {
-            device_limit
-        } else {
-            budget.min(device_limit)
-        };
-        let row_counts: Vec<u64> = counts[..pixels as usize]
-            .chunks(width as usize)
-            .map(|r| r.iter().map(|&c| c as u64).sum())
-            .collect();
-        self.bands = bands(&row_counts, binding / NODE_BYTES).map_err(|row| {
-            let what = format!(
-                "the fur lists' row {row} of a {width}x{height} view ({} fragments)",
-                row_counts[row]
-            );
-            let bytes = row_counts[row] * NODE_BYTES;
-            if binding < device_limit {
-                GpuError::Setting(format!(
-                    "transparency.params.band_kib: {what} needs {bytes} bytes, more than the band budget of \
-                     {binding} bytes"
-                ))
-            } else {
-                GpuError::TooLarge {
-                    what,
-                    bytes,
-                    limit: binding,
-                }
-            }
-        })?;
-        let needed = self
-            .bands
-            .iter()
-            .map(|&(y0, y1)| row_counts[y0 as usize..y1 as usize].iter().sum::<u64>())
-            .max()
-            .unwrap_or(0)
-            .max(1);
+        let plan = plan_lists(
+            gpu,
+            &counts,
+            (width, height),
+            crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024,
+            &ListNames {
+                deep: "fur.group_steps: the fur lists",
+                rows: "the fur lists'",
+                drawn: String::new(),
+            },
+        )?;
+        let (size, needed, deepest, total) = (plan.size, plan.needed, plan.deepest, plan.fragments);
+        self.bands = plan.bands;
         if needed > self.lists.capacity || needed < self.lists.capacity / 2 {
             self.lists = Lists::new(gpu, width, height, needed)?;
         }
@@ -517,29 +483,14 @@ impl TransparencyGpu for FurGpu {
                 );
             }
             let timestamps = frame.timer.as_mut().and_then(|t| t.pass("fur: resolve"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.fur.resolve_pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: frame.output.0,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if y1 > y0 {
-                pass.set_scissor_rect(0, y0, width, y1 - y0);
-                pass.set_pipeline(resolve);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &resolve_group, &[]);
-                pass.draw(0..3, 0..1);
-            }
+            record_resolve(
+                &mut frame.encoder,
+                frame.output.0,
+                timestamps,
+                (width, y0, y1),
+                resolve,
+                [frame.frame_bind_group, &resolve_group],
+            );
         }
         Ok(())
     }

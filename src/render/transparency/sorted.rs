@@ -299,6 +299,125 @@ pub(crate) fn list_resolve_pipeline(
     })
 }
 
+/// How a list technique's errors name it: the key and owner of a too-deep pixel (`"<key>: the <owner>"`), the
+/// owner of a row over the band budget, and what was drawn (appended to the row's figures).
+pub(crate) struct ListNames {
+    pub deep: &'static str,
+    pub rows: &'static str,
+    pub drawn: String,
+}
+
+/// A frame's lists as its counts size them: the sort size of its deepest pixel, its bands of rows, the nodes of
+/// the largest band, the deepest pixel and the fragments in all.
+pub(crate) struct ListPlan {
+    pub size: u32,
+    pub bands: Vec<(u32, u32)>,
+    pub needed: u64,
+    pub deepest: u32,
+    pub fragments: u64,
+}
+
+/// Plans a `width`×`height` frame's lists from its per-pixel `counts` (the total at `[W·H]`): refuses a pixel
+/// deeper than the last of [`SORT_SIZES`] and a row over the band budget (`budget` bytes, 0: the device's
+/// binding), each naming the view, the figures and the key.
+pub(crate) fn plan_lists(
+    gpu: &Gpu,
+    counts: &[u32],
+    (width, height): (u32, u32),
+    budget: u64,
+    names: &ListNames,
+) -> Result<ListPlan, GpuError> {
+    let pixels = width as usize * height as usize;
+    let deepest = counts[..pixels].iter().copied().max().unwrap_or(0);
+    let Some(&size) = SORT_SIZES.iter().find(|&&s| s >= deepest) else {
+        return Err(GpuError::Setting(format!(
+            "{} sorts at most {} fragments per pixel, and a pixel of this {width}x{height} view has {deepest}",
+            names.deep,
+            SORT_SIZES[SORT_SIZES.len() - 1],
+        )));
+    };
+    // Size the nodes from the count: bands when the frame's fragments exceed one binding.
+    let limit = gpu.device.limits();
+    let device_limit = limit.max_storage_buffer_binding_size.min(limit.max_buffer_size);
+    let binding = if budget == 0 {
+        device_limit
+    } else {
+        budget.min(device_limit)
+    };
+    let row_counts: Vec<u64> = counts[..pixels]
+        .chunks(width as usize)
+        .map(|r| r.iter().map(|&c| c as u64).sum())
+        .collect();
+    let bands = bands(&row_counts, binding / NODE_BYTES).map_err(|row| {
+        let what = format!(
+            "{} row {row} of a {width}x{height} view ({} fragments{})",
+            names.rows, row_counts[row], names.drawn
+        );
+        let bytes = row_counts[row] * NODE_BYTES;
+        if binding < device_limit {
+            GpuError::Setting(format!(
+                "transparency.params.band_kib: {what} needs {bytes} bytes, more than the band budget of {binding} \
+                 bytes"
+            ))
+        } else {
+            GpuError::TooLarge {
+                what,
+                bytes,
+                limit: binding,
+            }
+        }
+    })?;
+    let needed = bands
+        .iter()
+        .map(|&(y0, y1)| row_counts[y0 as usize..y1 as usize].iter().sum::<u64>())
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    Ok(ListPlan {
+        size,
+        bands,
+        needed,
+        deepest,
+        fragments: u64::from(counts[pixels]),
+    })
+}
+
+/// Records a list resolve over rows `[y0, y1)` of a `width`-wide `output`, loaded and blended onto: groups 0
+/// and 1 from `groups`.
+pub(crate) fn record_resolve(
+    encoder: &mut wgpu::CommandEncoder,
+    output: &wgpu::TextureView,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    (width, y0, y1): (u32, u32, u32),
+    pipeline: &wgpu::RenderPipeline,
+    groups: [&wgpu::BindGroup; 2],
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("hairlab.lists.resolve_pass"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: output,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if y1 > y0 {
+        pass.set_scissor_rect(0, y0, width, y1 - y0);
+        pass.set_pipeline(pipeline);
+        for (i, g) in groups.into_iter().enumerate() {
+            pass.set_bind_group(i as u32, g, &[]);
+        }
+        pass.draw(0..3, 0..1);
+    }
+}
+
 /// Rows `[y0, y1)` whose fragments fit in `capacity` nodes, greedily from the top; an error when one row alone
 /// does not fit.
 pub fn bands(row_counts: &[u64], capacity: u64) -> Result<Vec<(u32, u32)>, usize> {
@@ -520,57 +639,21 @@ impl TransparencyGpu for SortedGpu {
         }
         frame.flush();
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(frame.gpu, &self.lists.counts)?);
-        let pixels = width as usize * height as usize;
-        self.fragments = counts[pixels] as u64;
-        self.deepest = counts[..pixels].iter().copied().max().unwrap_or(0);
-        let Some(&size) = SORT_SIZES.iter().find(|&&s| s >= self.deepest) else {
-            return Err(GpuError::Setting(format!(
-                "transparency.name: the exact reference sorts at most {} fragments per pixel, and a pixel of this \
-                 {width}x{height} view has {}",
-                SORT_SIZES[SORT_SIZES.len() - 1],
-                self.deepest
-            )));
-        };
-        // Size the nodes from the count: bands when the frame's fragments exceed one binding.
-        let limit = frame.gpu.device.limits();
-        let device_limit = limit.max_storage_buffer_binding_size.min(limit.max_buffer_size);
-        let budget = crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024;
-        let binding = if budget == 0 {
-            device_limit
-        } else {
-            budget.min(device_limit)
-        };
-        let row_counts: Vec<u64> = counts[..pixels]
-            .chunks(width as usize)
-            .map(|r| r.iter().map(|&c| c as u64).sum())
-            .collect();
-        self.bands = bands(&row_counts, binding / NODE_BYTES).map_err(|row| {
-            let what = format!(
-                "the exact eye reference's row {row} of a {width}x{height} view ({} fragments, {} segments drawn)",
-                row_counts[row],
-                frame.geometry.hair_index_count / 2
-            );
-            let bytes = row_counts[row] * NODE_BYTES;
-            if binding < device_limit {
-                GpuError::Setting(format!(
-                    "transparency.params.band_kib: {what} needs {bytes} bytes, more than the band budget of \
-                     {binding} bytes"
-                ))
-            } else {
-                GpuError::TooLarge {
-                    what,
-                    bytes,
-                    limit: binding,
-                }
-            }
-        })?;
-        let needed = self
-            .bands
-            .iter()
-            .map(|&(y0, y1)| row_counts[y0 as usize..y1 as usize].iter().sum::<u64>())
-            .max()
-            .unwrap_or(0)
-            .max(1);
+        let plan = plan_lists(
+            frame.gpu,
+            &counts,
+            (width, height),
+            crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024,
+            &ListNames {
+                deep: "transparency.name: the exact reference",
+                rows: "the exact eye reference's",
+                drawn: format!(", {} segments drawn", frame.geometry.hair_index_count / 2),
+            },
+        )?;
+        self.fragments = plan.fragments;
+        self.deepest = plan.deepest;
+        self.bands = plan.bands;
+        let (size, needed) = (plan.size, plan.needed);
         if needed > self.lists.capacity || needed < self.lists.capacity / 2 {
             self.lists = Lists::new(frame.gpu, &self.resolve_layout, width, height, needed)?;
         }
@@ -600,29 +683,14 @@ impl TransparencyGpu for SortedGpu {
                 "eye: fill",
             );
             let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.sorted.resolve_pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: frame.output.0,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if y1 > y0 {
-                pass.set_scissor_rect(0, y0, width, y1 - y0);
-                pass.set_pipeline(resolve);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &self.lists.resolve_group, &[]);
-                pass.draw(0..3, 0..1);
-            }
+            record_resolve(
+                &mut frame.encoder,
+                frame.output.0,
+                timestamps,
+                (width, y0, y1),
+                resolve,
+                [frame.frame_bind_group, &self.lists.resolve_group],
+            );
         }
         Ok(())
     }

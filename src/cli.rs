@@ -334,12 +334,24 @@ pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
     }
     if let Some(f) = &fur {
         let table = crate::measure::fur::table1(&renderer, f, scene_ms, &times)?;
+        let march = match renderer.fur_state() {
+            Some(state) => state.shell.read_stats(&gpu)?,
+            None => Default::default(),
+        };
         eprintln!(
-            "fur ({}, {} blending): {} triangles, {} sub-elements\n{}",
+            "fur ({}, {} blending): {} triangles, {} sub-elements; march: {} rays, {} steps, {} hops, {} light \
+             steps, {} rays lost at the hop cap, {} capped at fur.max_steps, {} light marches lost\n{}",
             settings.fur.mode.word(),
             settings.fur.blending.word(),
             f.shell.mesh.faces.len(),
             f.shell.sub_elements,
+            march.rays,
+            march.steps,
+            march.hops,
+            march.light_steps,
+            march.lost,
+            march.capped,
+            march.light_lost,
             table.render(None)
         );
     }

@@ -271,11 +271,14 @@ impl FurSettings {
         }
     }
 
-    /// The march through `shell` lit from `to_light` with radiance `light`, emitting as the blending asks.
+    /// The march through `shell` lit from `to_light` with radiance `light`, emitting as the blending asks. The
+    /// step is the nominal height `h_0` over `steps_per_thickness`, not the smallest height as
+    /// [`MarchParams::for_shell`] takes it: prisms shrunk at a concave junction would shrink the step everywhere
+    /// (measured on fur-hat, whose crown-brim junction shrinks to 0.17 h_0: 7561 of 10782 rays stopped at
+    /// `max_steps` with the smallest height, at 320×240).
     pub fn march_params(&self, shell: &Shell, to_light: Vec3, light: Vec3) -> MarchParams {
         let base = MarchParams::for_shell(shell);
-        let h_min = shell.heights.iter().fold(f32::INFINITY, |m, &h| m.min(h));
-        let step = h_min / self.steps_per_thickness as f32;
+        let step = shell.height / self.steps_per_thickness as f32;
         MarchParams {
             sigma: self.density / self.height,
             step,

@@ -5,7 +5,9 @@
 //! poles); zero-area triangles dropped (their edges become boundary); edges used by more than two faces cut
 //! (non-manifold); faces re-oriented by a breadth-first walk so that every shared edge is traversed in
 //! opposite directions (what cannot be made consistent — a Möbius band — is cut too); a closed component is
-//! turned outward (positive signed volume), an open one keeps the winding of most of its input faces.
+//! turned outward (positive signed volume), an open one faces where its input vertex normals point (a glTF
+//! scalp wound inward but with outward normals grows its shell outside), or keeps the winding of most of its
+//! input faces when the normals say nothing.
 //! Neighbours are then found as the paper does: a map from 64-bit directed-edge keys `(a << 32) | b` to the
 //! face, looked up with the reversed key. Normals are area-weighted over the welded vertices. Every fix is
 //! counted in [`MeshReport`]; nothing is dropped silently.
@@ -155,6 +157,9 @@ impl FurMesh {
         let min_double_area = (WELD_TOLERANCE * diagonal).powi(2);
         let mut faces = Vec::new();
         let mut source_faces = Vec::new();
+        // Per kept face, the input's vertex normals summed: which side an open surface's outside is.
+        let mut hints = Vec::new();
+        let has_normals = mesh.normals.len() == nv;
         for (f, t) in mesh.indices.chunks_exact(3).enumerate() {
             let face = [remap[t[0] as usize], remap[t[1] as usize], remap[t[2] as usize]];
             let [a, b, c] = face.map(|v| positions[v as usize]);
@@ -168,6 +173,11 @@ impl FurMesh {
             } else {
                 faces.push(face);
                 source_faces.push(f as u32);
+                hints.push(if has_normals {
+                    t.iter().map(|&i| mesh.normals[i as usize]).sum()
+                } else {
+                    Vec3::ZERO
+                });
             }
         }
         if faces.is_empty() {
@@ -176,7 +186,7 @@ impl FurMesh {
                 faces: report.input_faces,
             });
         }
-        let cut = orient(&positions, &mut faces, &mut report);
+        let cut = orient(&positions, &mut faces, &hints, &mut report);
         let neighbours = neighbours(&faces, &cut);
         report.boundary_edges = neighbours.iter().flatten().filter(|&&n| n == NONE).count();
         let normals = smoothed_normals(&positions, &faces, &mut report);
@@ -280,8 +290,10 @@ fn weld(positions: &[Vec3]) -> (Vec<Vec3>, Vec<u32>, f32) {
     (out, remap, diagonal)
 }
 
-/// Re-orients `faces` in place; returns the set of cut edges as undirected keys (min, max).
-fn orient(positions: &[Vec3], faces: &mut [[u32; 3]], report: &mut MeshReport) -> Vec<u64> {
+/// Re-orients `faces` in place; returns the set of cut edges as undirected keys (min, max). A closed
+/// component faces outward; an open one faces the side its input normals (`hints`, per face) point to, or keeps
+/// the winding most of its faces had when the input has no normals.
+fn orient(positions: &[Vec3], faces: &mut [[u32; 3]], hints: &[Vec3], report: &mut MeshReport) -> Vec<u64> {
     let undirected = |a: u32, b: u32| edge_key(a.min(b), a.max(b));
     let mut uses: HashMap<u64, Vec<(u32, u8)>> = HashMap::new();
     for (f, &face) in faces.iter().enumerate() {
@@ -336,7 +348,7 @@ fn orient(positions: &[Vec3], faces: &mut [[u32; 3]], report: &mut MeshReport) -
                 }
             }
         }
-        // Closed and consistent: face outward. Otherwise keep the winding most of the input faces had.
+        // Closed and consistent: face outward. Otherwise face the input normals, or keep the majority winding.
         let closed = component.iter().all(|&f| links[f].iter().all(|l| l.is_some()));
         let flipped = component.iter().filter(|&&f| flip[f] == Some(true)).count();
         let invert = if closed && inconsistent.len() == conflicts_before {
@@ -350,7 +362,20 @@ fn orient(positions: &[Vec3], faces: &mut [[u32; 3]], report: &mut MeshReport) -
                 .sum();
             volume < 0.0
         } else {
-            2 * flipped > component.len()
+            // Area-weighted agreement of the oriented faces with the input normals.
+            let agreement: f64 = component
+                .iter()
+                .map(|&f| {
+                    let [a, b, c] = faces[f].map(|v| positions[v as usize].as_dvec3());
+                    let n = (b - a).cross(c - a).dot(hints[f].as_dvec3());
+                    if flip[f] == Some(true) { -n } else { n }
+                })
+                .sum();
+            if agreement != 0.0 {
+                agreement < 0.0
+            } else {
+                2 * flipped > component.len()
+            }
         };
         if invert {
             for &f in &component {
@@ -427,6 +452,25 @@ fn smoothed_normals(positions: &[Vec3], faces: &[[u32; 3]], report: &mut MeshRep
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_open_mesh_wound_inward_faces_where_its_normals_point() {
+        // The cylinder's windings reversed, its radial (outward) normals kept, as a glTF scalp can come.
+        let mut m = crate::fur::shapes::cylinder(0.04, 0.1, 16, 4);
+        for t in m.indices.chunks_exact_mut(3) {
+            t.swap(1, 2);
+        }
+        let f = FurMesh::build("inward", &m).unwrap();
+        assert_eq!(f.report.flipped_faces, f.faces.len());
+        for face in 0..f.faces.len() {
+            let [a, b, c] = f.faces[face].map(|v| f.positions[v as usize]);
+            let radial = ((a + b + c) / 3.0) * Vec3::new(1.0, 0.0, 1.0);
+            assert!(f.face_normal(face).dot(radial) > 0.0, "face {face} faces inward");
+        }
+        // Without normals the majority winding stays.
+        m.normals.clear();
+        assert_eq!(FurMesh::build("inward", &m).unwrap().report.flipped_faces, 0);
+    }
 
     fn mesh(positions: &[[f32; 3]], indices: &[u32]) -> Mesh {
         Mesh {

@@ -581,6 +581,10 @@ mod tests {
         for t in tube.indices.chunks_exact_mut(3) {
             t.swap(1, 2);
         }
+        // The inside of a tube: its normals point inward too.
+        for n in &mut tube.normals {
+            *n = -*n;
+        }
         let m = FurMesh::build("tube", &tube).unwrap();
         let thin = Shell::build(
             m.clone(),

@@ -67,3 +67,32 @@ fn fur_presets_build_their_shells_on_the_papers_meshes() {
         assert!(bytes <= 128 << 20, "{name}: {bytes} bytes of volume");
     }
 }
+
+/// Fur grown on the glTF scalp (wound inward in the file, its normals outward) extrudes its shell outside the
+/// scalp: every oriented face points away from the mesh's centre.
+#[test]
+fn fur_on_the_scalp_asset_grows_outside() {
+    use hairlab::fur::settings::FurScene;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/scalp-mesh.toml");
+    let s = Settings::load_preset(path.to_str().unwrap(), &["fur.mode=hybrid".into()]).unwrap();
+    let scene = s.scene.build().unwrap();
+    let fur = FurScene::build(&scene, &s.fur).unwrap().expect("fur is on");
+    let m = &fur.shell.mesh;
+    let centre = m.positions.iter().sum::<glam::Vec3>() / m.positions.len() as f32;
+    let inward: Vec<usize> = (0..m.faces.len())
+        .filter(|&f| {
+            let c = m.faces[f]
+                .iter()
+                .map(|&v| m.positions[v as usize])
+                .sum::<glam::Vec3>()
+                / 3.0;
+            m.face_normal(f).dot(c - centre) <= 0.0
+        })
+        .collect();
+    assert!(
+        inward.is_empty(),
+        "{} of {} faces point inward: {inward:?}",
+        inward.len(),
+        m.faces.len()
+    );
+}

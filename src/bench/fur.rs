@@ -4,7 +4,9 @@
 
 use super::report::{csv_text, write_files};
 use crate::fur::table::Table1;
-use crate::measure::fur::{FurConfig, FurMeasurement, FurSceneStats, measure, usual_configs};
+use crate::measure::fur::{
+    FurConfig, FurMeasurement, FurSceneStats, REFERENCE_LABEL, measure, usual_configs,
+};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -108,7 +110,7 @@ impl FurBench {
 
     /// The reference's row first, then each blending's.
     fn rows(&self) -> Vec<Row> {
-        std::iter::once(Row::of("reference".into(), None, None, &self.stats.reference))
+        std::iter::once(Row::of(REFERENCE_LABEL.into(), None, None, &self.stats.reference))
             .chain(
                 self.rows
                     .iter()

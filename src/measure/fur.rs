@@ -110,6 +110,9 @@ pub fn usual_configs() -> Vec<FurConfig> {
     out
 }
 
+/// How tables name the reference's row.
+pub const REFERENCE_LABEL: &str = "virtual k=1 eps_t=0";
+
 /// The reference every fur blending is measured against: virtual fragments of one step each, no early exit
 /// (B.7).
 pub fn reference_settings(s: &FurSettings) -> FurSettings {

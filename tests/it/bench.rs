@@ -659,7 +659,10 @@ fn fur_bench_writes_every_blending_with_table_1() {
         "{csv}"
     );
     assert!(
-        lines[1].starts_with("reference,virtual,1,0.0,0.0,"),
+        lines[1].starts_with(&format!(
+            "{},virtual,1,0.0,0.0,",
+            hairlab::measure::fur::REFERENCE_LABEL
+        )),
         "{}",
         lines[1]
     );

@@ -12,7 +12,8 @@ pub mod texel_lab;
 mod transparency_panel;
 mod viewport;
 
-use crate::gpu::{self, AdapterPreference, timing::PassTime};
+use crate::gpu::timing::{PassTime, Phase, phase_ms};
+use crate::gpu::{self, AdapterPreference};
 use crate::methods::registry;
 use crate::render::Renderer;
 use crate::scene::Scene;
@@ -551,7 +552,10 @@ impl HairlabApp {
 
     /// The key of the reference lists the current settings need.
     fn lists_key(&self) -> ListsKey {
-        ListsKey::new(&self.settings, self.built_scene.as_ref())
+        ListsKey::new(
+            &self.settings,
+            self.renderer.as_ref().map(Renderer::scene_generation),
+        )
     }
 
     /// Reads the reference lists again when a window needs them and what they depend on changed (and `allow`,
@@ -651,10 +655,10 @@ impl HairlabApp {
                 ui.label("GPU: no timestamp queries");
             } else {
                 let total: f64 = self.pass_times.iter().map(|p| p.ms).sum();
-                let parts: Vec<String> = self
-                    .pass_times
+                let parts: Vec<String> = Phase::ALL
                     .iter()
-                    .map(|p| format!("{} {:.2}", p.name, p.ms))
+                    .filter(|&&phase| self.pass_times.iter().any(|p| p.phase == phase))
+                    .map(|&phase| format!("{} {:.2}", phase.label(), phase_ms(&self.pass_times, phase)))
                     .collect();
                 ui.label(format!("GPU {total:.2} ms: {}", parts.join(" · ")));
             }

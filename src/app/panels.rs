@@ -3,8 +3,8 @@
 
 use super::{DialogPurpose, HairlabApp, method_names};
 use crate::methods::{self, ParamKind, ParamSpec, ParamValues, registry};
-use crate::scene::LightKind;
 use crate::scene::generate::{GenKind, HairStyle};
+use crate::scene::{LightFit, LightKind};
 
 /// Map resolutions offered in the UI.
 const MAP_RESOLUTIONS: &[u32] = &[64, 128, 256, 512, 1024, 2048];
@@ -330,6 +330,14 @@ impl HairlabApp {
                 ui.horizontal(|ui| {
                     ui.selectable_value(&mut l.kind, LightKind::Directional, "directional");
                     ui.selectable_value(&mut l.kind, LightKind::Spot, "spot");
+                });
+                ui.horizontal(|ui| {
+                    ui.label("fit").on_hover_text(
+                        "What the hair maps' light frame is fitted to: the hair of each frame (tightest), or \
+                         one bound of the whole motion (light depth does not swim). light.fit",
+                    );
+                    ui.selectable_value(&mut l.fit, LightFit::PerFrame, "per frame");
+                    ui.selectable_value(&mut l.fit, LightFit::Bound, "bound");
                 });
                 egui::Grid::new("light").num_columns(2).show(ui, |ui| {
                     row(ui, "azimuth°", egui::Slider::new(&mut l.azimuth_deg, 0.0..=360.0));

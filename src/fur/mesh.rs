@@ -456,7 +456,7 @@ mod tests {
     #[test]
     fn an_open_mesh_wound_inward_faces_where_its_normals_point() {
         // The cylinder's windings reversed, its radial (outward) normals kept, as a glTF scalp can come.
-        let mut m = crate::fur::shapes::cylinder(0.04, 0.1, 16, 4);
+        let mut m = crate::scene::fur_shapes::cylinder(0.04, 0.1, 16, 4);
         for t in m.indices.chunks_exact_mut(3) {
             t.swap(1, 2);
         }

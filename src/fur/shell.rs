@@ -577,7 +577,7 @@ mod tests {
     fn the_inside_of_a_tube_thicker_than_its_radius_shrinks_and_reports() {
         // Wound inward, a tube of radius 1 extrudes towards its axis: every prism inverts past h = 1. Shrinking
         // ×0.8 a pass: 1.5 → 1.2 (still inverted) → 0.96 (valid), so two passes and 0.64 × h_0 everywhere.
-        let mut tube = crate::fur::shapes::cylinder(1.0, 2.0, 16, 4);
+        let mut tube = crate::scene::fur_shapes::cylinder(1.0, 2.0, 16, 4);
         for t in tube.indices.chunks_exact_mut(3) {
             t.swap(1, 2);
         }
@@ -662,7 +662,7 @@ mod tests {
             .contains("fur.cell_size = NaN")
         );
         // 256 layers × 4^10 = 2^28 per face on 32 faces is 2^33, over 2^32 − 1.
-        let m = FurMesh::build("test", &crate::fur::shapes::cylinder(1.0, 1.0, 16, 1)).unwrap();
+        let m = FurMesh::build("test", &crate::scene::fur_shapes::cylinder(1.0, 1.0, 16, 1)).unwrap();
         let e = Shell::build(
             m,
             &ShellParams {

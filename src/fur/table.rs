@@ -5,13 +5,10 @@
 //! image stands in for them (B.7); rows 4 and 6 hold exactly the frame's fragments, counted (the paper's
 //! fixed pools are 0.20 and 2.60 GB whatever the mesh).
 
-use crate::gpu::timing::PassTime;
+use crate::gpu::timing::{PassTime, Phase, phase_ms};
 
-/// Timestamp names of the fur's passes (src/render/fur/typed.rs) and the meshes' (src/render/mod.rs).
-const SHELL_PASSES: [&str; 2] = ["fur: shell count", "fur: shell fill"];
-const MESH_PASSES: [&str; 1] = ["eye: meshes"];
-const EXPLICIT_PASSES: [&str; 2] = ["fur: explicit count", "fur: explicit fill"];
-const RESOLVE_PASSES: [&str; 1] = ["fur: resolve"];
+/// The timer phases of rows 4–7: the shell's march, the base mesh, the explicit strands, the OIT resolve.
+const ROW_PHASES: [Phase; 4] = [Phase::FurShell, Phase::Meshes, Phase::EyeHair, Phase::Resolve];
 
 /// The paper's time rows, in its words.
 pub const TIME_ROWS: [&str; 7] = [
@@ -75,23 +72,16 @@ pub struct FurMemory {
 impl Table1 {
     /// Row 1–3 CPU times (ms), the frame's GPU pass times and its memory.
     pub fn new(preprocess: [f64; 3], passes: &[PassTime], m: FurMemory) -> Table1 {
-        let sum = |names: &[&str]| {
-            passes
-                .iter()
-                .filter(|p| names.contains(&p.name.as_str()))
-                .map(|p| p.ms)
-                .sum::<f64>()
-        };
-        let listed: Vec<&str> = [&SHELL_PASSES[..], &MESH_PASSES, &EXPLICIT_PASSES, &RESOLVE_PASSES].concat();
+        let [shell, mesh, explicit, resolve] = ROW_PHASES.map(|phase| phase_ms(passes, phase));
         Table1 {
             times: [
                 preprocess[0],
                 preprocess[1],
                 preprocess[2],
-                sum(&SHELL_PASSES),
-                sum(&MESH_PASSES),
-                sum(&EXPLICIT_PASSES),
-                sum(&RESOLVE_PASSES),
+                shell,
+                mesh,
+                explicit,
+                resolve,
             ],
             memory: [
                 m.mesh,
@@ -103,7 +93,7 @@ impl Table1 {
             ],
             other_ms: passes
                 .iter()
-                .filter(|p| !listed.contains(&p.name.as_str()))
+                .filter(|p| !ROW_PHASES.contains(&p.phase))
                 .map(|p| p.ms)
                 .sum(),
         }
@@ -183,8 +173,9 @@ impl Table1 {
 mod tests {
     use super::*;
 
-    fn pass(name: &str, ms: f64) -> PassTime {
+    fn pass(phase: Phase, name: &str, ms: f64) -> PassTime {
         PassTime {
+            phase,
             name: name.into(),
             ms,
         }
@@ -193,13 +184,13 @@ mod tests {
     #[test]
     fn rows_collect_their_passes_and_sum_to_their_totals() {
         let passes = [
-            pass("light: depth", 1.0),
-            pass("eye: meshes", 2.0),
-            pass("fur: shell count", 3.0),
-            pass("fur: shell fill", 4.0),
-            pass("fur: explicit count", 5.0),
-            pass("fur: explicit fill", 6.0),
-            pass("fur: resolve", 7.0),
+            pass(Phase::SharedLight, "light: depth", 1.0),
+            pass(Phase::Meshes, "eye: meshes", 2.0),
+            pass(Phase::FurShell, "fur: shell count", 3.0),
+            pass(Phase::FurShell, "fur: shell fill", 4.0),
+            pass(Phase::EyeHair, "fur: explicit count", 5.0),
+            pass(Phase::EyeHair, "fur: explicit fill", 6.0),
+            pass(Phase::Resolve, "fur: resolve", 7.0),
         ];
         let m = FurMemory {
             mesh: 1,

@@ -222,8 +222,8 @@ impl Volume {
 mod tests {
     use super::*;
     use crate::fur::mesh::FurMesh;
-    use crate::fur::shapes;
     use crate::fur::shell::ShellParams;
+    use crate::scene::fur_shapes as shapes;
 
     fn cylinder_shell() -> Shell {
         let m = FurMesh::build("cyl", &shapes::cylinder(0.04, 0.1, 16, 4)).unwrap();

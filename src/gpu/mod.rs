@@ -43,6 +43,9 @@ pub enum GpuError {
     /// A render setting the renderer cannot follow; the message names the key.
     #[error("{0}")]
     Setting(String),
+    /// Moved strand points whose count is not the scene's.
+    #[error(transparent)]
+    Points(#[from] crate::scene::PointCountMismatch),
 }
 
 /// Which kind of adapter to try first.

@@ -11,16 +11,69 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub const MAX_PASSES: u32 = 64;
 const RING: usize = 3;
 
+/// What part of a frame a timed pass belongs to: what `measure`, the bench, Table 1 and the status line
+/// filter on (a pass's name is for people, never matched).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Phase {
+    /// The light passes every method shares (light depth, the meshes' shadow map).
+    SharedLight,
+    /// The shadow method's own light passes (the exact reference's lists included).
+    Method,
+    /// The opaque meshes in the eye view.
+    Meshes,
+    /// The eye transparency technique's passes over the strands (counts, depth ranges, moments, shaded hair).
+    EyeHair,
+    /// The fur shell's ray march in the eye view.
+    FurShell,
+    /// The technique's resolve onto the image.
+    Resolve,
+}
+
+impl Phase {
+    /// Every phase, in frame order.
+    pub const ALL: [Phase; 6] = [
+        Phase::SharedLight,
+        Phase::Method,
+        Phase::Meshes,
+        Phase::EyeHair,
+        Phase::FurShell,
+        Phase::Resolve,
+    ];
+
+    /// A short word for tables and the status line.
+    pub fn label(self) -> &'static str {
+        match self {
+            Phase::SharedLight => "shared light",
+            Phase::Method => "method",
+            Phase::Meshes => "meshes",
+            Phase::EyeHair => "eye hair",
+            Phase::FurShell => "fur shell",
+            Phase::Resolve => "resolve",
+        }
+    }
+
+    /// Whether the phase is the eye transparency technique's own work (what `measure transparency` times).
+    pub fn is_technique(self) -> bool {
+        matches!(self, Phase::EyeHair | Phase::FurShell | Phase::Resolve)
+    }
+}
+
 /// GPU time of one pass in milliseconds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassTime {
+    pub phase: Phase,
     pub name: String,
     pub ms: f64,
 }
 
+/// Total milliseconds of the passes of `phase` in `times`.
+pub fn phase_ms(times: &[PassTime], phase: Phase) -> f64 {
+    times.iter().filter(|t| t.phase == phase).map(|t| t.ms).sum()
+}
+
 struct Slot {
     buffer: wgpu::Buffer,
-    names: Vec<String>,
+    names: Vec<(Phase, String)>,
     ready: Arc<AtomicBool>,
     in_flight: bool,
 }
@@ -56,7 +109,7 @@ pub struct GpuTimer {
     resolve: wgpu::Buffer,
     slots: Vec<Slot>,
     current: usize,
-    names: Vec<String>,
+    names: Vec<(Phase, String)>,
     period_ns: f64,
     latest: Vec<PassTime>,
 }
@@ -104,9 +157,13 @@ impl GpuTimer {
         })
     }
 
-    /// Timestamp writes for the next pass of this frame (`None` once [`MAX_PASSES`] are used).
-    pub fn pass(&mut self, name: impl Into<String>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = self.next(name)?;
+    /// Timestamp writes for the next pass of this frame, of `phase` (`None` once [`MAX_PASSES`] are used).
+    pub fn pass(
+        &mut self,
+        phase: Phase,
+        name: impl Into<String>,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.next(phase, name)?;
         Some(wgpu::RenderPassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(2 * i),
@@ -115,8 +172,12 @@ impl GpuTimer {
     }
 
     /// Timestamp writes for the next compute pass of this frame.
-    pub fn compute_pass(&mut self, name: impl Into<String>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        let i = self.next(name)?;
+    pub fn compute_pass(
+        &mut self,
+        phase: Phase,
+        name: impl Into<String>,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let i = self.next(phase, name)?;
         Some(wgpu::ComputePassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(2 * i),
@@ -126,20 +187,20 @@ impl GpuTimer {
 
     /// One entry named `name` timing several passes as one, from the beginning of the first (`TimerSpan::first`)
     /// to the end of the last (`TimerSpan::last`): for more passes than [`MAX_PASSES`] (a depth peel's layers).
-    pub fn span(&mut self, name: impl Into<String>) -> Option<TimerSpan> {
-        let index = self.next(name)?;
+    pub fn span(&mut self, phase: Phase, name: impl Into<String>) -> Option<TimerSpan> {
+        let index = self.next(phase, name)?;
         Some(TimerSpan {
             queries: self.queries.clone(),
             index,
         })
     }
 
-    fn next(&mut self, name: impl Into<String>) -> Option<u32> {
+    fn next(&mut self, phase: Phase, name: impl Into<String>) -> Option<u32> {
         let i = self.names.len() as u32;
         if i >= MAX_PASSES {
             return None;
         }
-        self.names.push(name.into());
+        self.names.push((phase, name.into()));
         Some(i)
     }
 
@@ -206,7 +267,8 @@ impl GpuTimer {
                     .names
                     .iter()
                     .enumerate()
-                    .map(|(i, name)| PassTime {
+                    .map(|(i, (phase, name))| PassTime {
+                        phase: *phase,
                         name: name.clone(),
                         ms: ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns * 1e-6,
                     })

@@ -9,7 +9,7 @@ use anyhow::{Result, anyhow};
 use super::median;
 use crate::fur::settings::{Blending, FurMode, FurScene, FurSettings};
 use crate::fur::table::{FurMemory, Table1};
-use crate::gpu::timing::PassTime;
+use crate::gpu::timing::{PassTime, Phase};
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods;
 use crate::render::FrameInput;
@@ -28,7 +28,7 @@ pub fn table1(renderer: &Renderer, fur: &FurScene, scene_ms: f64, times: &[PassT
         .ok_or_else(|| anyhow!("fur.mode: no fur frame has been drawn yet"))?;
     let stats = lists.stats();
     let (shell_mesh, volume) = state.shell.memory();
-    let g = renderer.geometry();
+    let g = renderer.scene_gpu();
     let (width, height) = renderer.eye_size();
     let pixels = u64::from(width) * u64::from(height);
     let memory = FurMemory {
@@ -207,7 +207,7 @@ pub fn measure(
     };
     // Each configuration: a warm-up, `frames` timed frames (per-pass medians), then a capture.
     let run = |r: &mut Renderer| -> Result<(Table1, Vec<[f32; 4]>)> {
-        let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
+        let mut per_pass: Vec<(Phase, String, Vec<f64>)> = Vec::new();
         for f in 0..=frames {
             r.render(&input)?;
             let times = r.wait_timings();
@@ -215,15 +215,22 @@ pub fn measure(
                 continue;
             }
             for t in times {
-                match per_pass.iter_mut().find(|(n, _)| *n == t.name) {
-                    Some((_, v)) => v.push(t.ms),
-                    None => per_pass.push((t.name, vec![t.ms])),
+                match per_pass
+                    .iter_mut()
+                    .find(|(p, n, _)| (*p, n) == (t.phase, &t.name))
+                {
+                    Some((_, _, v)) => v.push(t.ms),
+                    None => per_pass.push((t.phase, t.name, vec![t.ms])),
                 }
             }
         }
         let medians: Vec<PassTime> = per_pass
             .into_iter()
-            .map(|(name, v)| PassTime { name, ms: median(v) })
+            .map(|(phase, name, v)| PassTime {
+                phase,
+                name,
+                ms: median(v),
+            })
             .collect();
         let table = table1(r, &fur, scene_ms, &medians)?;
         Ok((table, r.render_capture(&input)?))

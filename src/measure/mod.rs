@@ -7,6 +7,7 @@
 pub mod fur;
 pub mod transparency;
 
+use crate::gpu::timing::Phase;
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::{self, ParamValues, registry};
 use crate::render::{FrameInput, Renderer};
@@ -303,10 +304,7 @@ fn time_light_passes(r: &mut Renderer, input: &FrameInput, frames: u32) -> Resul
         if frame == 0 {
             continue;
         }
-        for t in times
-            .into_iter()
-            .filter(|t| t.name != "light depth" && t.name != "mesh shadow map")
-        {
+        for t in times.into_iter().filter(|t| t.phase == Phase::Method) {
             match per_pass.iter_mut().find(|(n, _)| *n == t.name) {
                 Some((_, v)) => v.push(t.ms),
                 None => per_pass.push((t.name, vec![t.ms])),

@@ -177,9 +177,8 @@ pub fn measure_on(
             if f == 0 {
                 continue;
             }
-            // The technique's passes: everything recorded after the meshes.
-            let own = times.iter().skip_while(|t| t.name != "eye: meshes").skip(1);
-            for t in own {
+            // The technique's own passes.
+            for t in times.iter().filter(|t| t.phase.is_technique()) {
                 match per_pass.iter_mut().find(|(n, _)| *n == t.name) {
                     Some((_, v)) => v.push(t.ms),
                     None => per_pass.push((t.name.clone(), vec![t.ms])),

@@ -305,7 +305,9 @@ impl MethodGpu for AvsmGpu {
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.avsm.compress"),
-            timestamp_writes: timer.as_mut().and_then(|t| t.compute_pass("avsm: compress")),
+            timestamp_writes: timer
+                .as_mut()
+                .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "avsm: compress")),
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.abuffer.lookup_bind_group, &[]);

@@ -521,14 +521,18 @@ impl MethodGpu for DcGpu {
         geometry_pass(
             ctx,
             encoder,
-            timer.as_mut().and_then(|t| t.pass("dc: k-means")),
+            timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, "dc: k-means")),
             &sums,
             &pipelines.kmeans,
             &maps.depth_bind_group,
         );
         compute_pass(
             encoder,
-            timer.as_mut().and_then(|t| t.compute_pass("dc: means")),
+            timer
+                .as_mut()
+                .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dc: means")),
             &self.res.means,
             &maps.compute_bind_group,
             resolution,
@@ -536,14 +540,18 @@ impl MethodGpu for DcGpu {
         geometry_pass(
             ctx,
             encoder,
-            timer.as_mut().and_then(|t| t.pass("dc: variance")),
+            timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, "dc: variance")),
             &sums,
             &pipelines.variance,
             &maps.clusters_bind_group,
         );
         compute_pass(
             encoder,
-            timer.as_mut().and_then(|t| t.compute_pass("dc: half-widths")),
+            timer
+                .as_mut()
+                .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dc: half-widths")),
             &self.res.half_widths,
             &maps.compute_bind_group,
             resolution,
@@ -551,7 +559,9 @@ impl MethodGpu for DcGpu {
         geometry_pass(
             ctx,
             encoder,
-            timer.as_mut().and_then(|t| t.pass("dc: histogram")),
+            timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, "dc: histogram")),
             &densities,
             &pipelines.histogram,
             &maps.clusters_bind_group,

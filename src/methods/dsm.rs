@@ -341,7 +341,9 @@ impl MethodGpu for DsmGpu {
             timer,
         );
         encoder.clear_buffer(&self.alloc, 0, None);
-        let timestamps = timer.as_mut().and_then(|t| t.compute_pass("dsm: count vertices"));
+        let timestamps = timer
+            .as_mut()
+            .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dsm: count vertices"));
         self.dispatch(&mut encoder, &self.count_pipeline, timestamps);
         gpu.queue.submit([encoder.finish()]);
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.alloc)?);
@@ -372,7 +374,9 @@ impl MethodGpu for DsmGpu {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
-        let timestamps = timer.as_mut().and_then(|t| t.compute_pass("dsm: compress"));
+        let timestamps = timer
+            .as_mut()
+            .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dsm: compress"));
         self.dispatch(encoder, &self.compress_pipeline, timestamps);
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {

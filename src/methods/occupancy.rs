@@ -366,7 +366,7 @@ impl MethodGpu for OccupancyGpu {
         encoder.clear_buffer(&maps.slabs, 0, None);
         let ts = timer
             .as_mut()
-            .and_then(|t| t.pass("occupancy: bitmap + slab map"));
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, "occupancy: bitmap + slab map"));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.occupancy.pass"),
             color_attachments: &[self.target.attachment()],

@@ -209,9 +209,12 @@ impl<U: Pod + Send> MethodGpu for LayersGpu<U> {
             let pipeline = self.pipelines.get(&ctx.gpu.device, count);
             let attachments = self.maps.map.attachments(first, count);
             let last = ((first + count) * VALUES_PER_LAYER).min(values) - 1;
-            let ts = timer
-                .as_mut()
-                .and_then(|t| t.pass(format!("{name}: {unit} {}-{last}", first * VALUES_PER_LAYER)));
+            let ts = timer.as_mut().and_then(|t| {
+                t.pass(
+                    crate::gpu::timing::Phase::Method,
+                    format!("{name}: {unit} {}-{last}", first * VALUES_PER_LAYER),
+                )
+            });
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(&format!("hairlab.{name}.pass")),
                 color_attachments: &attachments,

@@ -2,7 +2,7 @@
 //! method's own passes) draws from the light. A caster feeds the shared light vertex stage
 //! (`shaders/common/light_vertex.wgsl`), whose light-fragment contract (normalised light depth, alpha, segment
 //! id) is the interface between casters and methods, so a method never knows what it shadows. Today's caster is
-//! the strands as line segments ([`crate::render::geometry::GeometryBuffers`]); a caster of another primitive
+//! the strands as line segments ([`crate::render::scene_gpu::SceneGpu`]); a caster of another primitive
 //! (fur shells, ribbons) brings its own vertex stage honouring the same contract.
 
 use std::ops::Range;

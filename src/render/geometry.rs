@@ -1,13 +1,11 @@
-//! Scene geometry on the GPU: strands as a LineList (one index pair per segment) and opaque meshes, with buffers
-//! sized from the scene and checked against the device's limits. The strand vertex and index buffers are also
-//! storage buffers, bound at [`RIBBON_GROUP`] for the camera-facing ribbons (spec B.6) that pull a segment's
-//! points from them (`eye_ribbon_point` in `shaders/common/eye_vertex.wgsl`).
+//! The vertex formats of the scene's GPU buffers ([`crate::render::scene_gpu::SceneGpu`] holds them): strand
+//! points and mesh vertices, the LineList indices (one index pair per segment), and the layout of
+//! [`RIBBON_GROUP`], where the strand buffers are bound as storage for the camera-facing ribbons (spec B.6) that
+//! pull a segment's points from them (`eye_ribbon_point` in `shaders/common/eye_vertex.wgsl`).
 
-use crate::gpu::{Gpu, GpuError};
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use wgpu::util::DeviceExt;
 
 /// One strand point as the hair passes read it (`VertexIn` in `shaders/hair.wgsl`, and `HairPoint` in
 /// `shaders/common/eye_vertex.wgsl` as the ribbons pull it from storage; a test checks both layouts).
@@ -56,7 +54,7 @@ pub const RIBBON_VERTICES_PER_SEGMENT: u32 = 6;
 
 /// The layout of [`RIBBON_GROUP`]: the strand points (binding 0, `array<HairPoint>`) and the segment index
 /// pairs (binding 1, `array<u32>`), read-only in the vertex stage. The renderer creates it once; every
-/// [`GeometryBuffers`] binds its buffers with it.
+/// [`crate::render::scene_gpu::SceneGpu`] binds its buffers with it.
 pub fn ribbon_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding| wgpu::BindGroupLayoutEntry {
         binding,
@@ -95,31 +93,39 @@ impl MeshVertex {
     }
 }
 
-/// Builds the per-point vertices of every strand: tangents by central differences along each strand.
+/// Builds the per-point vertices of every strand: tangents by central differences along each strand
+/// ([`write_tangents`]).
 pub fn hair_vertices(scene: &Scene) -> Vec<HairVertex> {
     let s = &scene.strands;
-    let mut out = Vec::with_capacity(s.points.len());
-    for (start, n) in s.ranges() {
-        let pts = &s.points[start..start + n];
-        for i in 0..n {
-            let a = pts[i.saturating_sub(1)];
-            let b = pts[(i + 1).min(n - 1)];
-            let tangent = (b - a).try_normalize().unwrap_or(Vec3::Y);
-            let k = start + i;
+    let mut out: Vec<HairVertex> = (0..s.points.len())
+        .map(|k| {
             let (color, has_color) = match &s.color {
                 Some(c) => (c[k], 1.0),
                 None => (Vec3::ONE, 0.0),
             };
-            out.push(HairVertex {
-                position: pts[i].into(),
+            HairVertex {
+                position: s.points[k].into(),
                 alpha: s.alpha.as_ref().map_or(1.0, |a| a[k]),
-                tangent: tangent.into(),
+                tangent: [0.0; 3],
                 thickness: s.thickness.as_ref().map_or(1.0, |t| t[k]),
                 color: [color.x, color.y, color.z, has_color],
-            });
+            }
+        })
+        .collect();
+    write_tangents(&mut out, s.ranges());
+    out
+}
+
+/// Sets every vertex's tangent from the positions: the unit central difference along its strand (one-sided at
+/// the ends, +Y where the points coincide). `ranges` are the strands' `(first point, point count)`.
+pub fn write_tangents(vertices: &mut [HairVertex], ranges: impl IntoIterator<Item = (usize, usize)>) {
+    for (start, n) in ranges {
+        for i in 0..n {
+            let a = Vec3::from(vertices[start + i.saturating_sub(1)].position);
+            let b = Vec3::from(vertices[start + (i + 1).min(n - 1)].position);
+            vertices[start + i].tangent = (b - a).try_normalize().unwrap_or(Vec3::Y).into();
         }
     }
-    out
 }
 
 /// LineList indices: one pair per segment.
@@ -132,150 +138,4 @@ pub fn hair_indices(scene: &Scene) -> Vec<u32> {
         }
     }
     out
-}
-
-/// The scene's vertex and index buffers.
-pub struct GeometryBuffers {
-    /// Per strand point; vertex and storage usage.
-    pub hair_vertices: wgpu::Buffer,
-    /// One index pair per segment; index and storage usage.
-    pub hair_indices: wgpu::Buffer,
-    pub hair_index_count: u32,
-    /// The layout of [`RIBBON_GROUP`] ([`ribbon_layout`], the renderer's).
-    pub ribbon_layout: wgpu::BindGroupLayout,
-    /// The two strand buffers bound with `ribbon_layout`, or the buffer that exceeds the storage binding limit
-    /// (name, bytes, limit).
-    ribbon_group: Result<wgpu::BindGroup, (&'static str, u64, u64)>,
-    pub mesh_vertices: wgpu::Buffer,
-    pub mesh_indices: wgpu::Buffer,
-    pub mesh_index_count: u32,
-    /// Bytes of GPU memory these buffers hold.
-    pub bytes: u64,
-}
-
-impl GeometryBuffers {
-    /// Uploads `scene`'s strands and meshes; `ribbon_layout` is the renderer's [`ribbon_layout`].
-    pub fn upload(
-        gpu: &Gpu,
-        scene: &Scene,
-        ribbon_layout: &wgpu::BindGroupLayout,
-    ) -> Result<GeometryBuffers, GpuError> {
-        let points = scene.strands.point_count() as u64;
-        if points > u32::MAX as u64 {
-            return Err(GpuError::TooLarge {
-                what: "strand points".into(),
-                bytes: points,
-                limit: u32::MAX as u64,
-            });
-        }
-        let hv = hair_vertices(scene);
-        let hi = hair_indices(scene);
-        let mut mv = Vec::new();
-        let mut mi = Vec::new();
-        for m in &scene.meshes {
-            let base = mv.len() as u32;
-            for (p, n) in m.positions.iter().zip(&m.normals) {
-                mv.push(MeshVertex {
-                    position: (*p).into(),
-                    normal: (*n).into(),
-                    color: m.color.into(),
-                });
-            }
-            mi.extend(m.indices.iter().map(|i| i + base));
-        }
-        let sizes = [
-            ("strand vertex buffer", std::mem::size_of_val(hv.as_slice())),
-            ("strand index buffer", std::mem::size_of_val(hi.as_slice())),
-            ("mesh vertex buffer", std::mem::size_of_val(mv.as_slice())),
-            ("mesh index buffer", std::mem::size_of_val(mi.as_slice())),
-        ];
-        for (what, bytes) in sizes {
-            gpu.check_buffer_size(what, bytes as u64)?;
-        }
-        let buf = |label: &str, contents: &[u8], usage| {
-            // Empty buffers are legal but a zero-sized binding is not: keep at least one HairVertex.
-            let padded;
-            let contents = if contents.is_empty() {
-                padded = [0u8; std::mem::size_of::<HairVertex>()];
-                &padded[..]
-            } else {
-                contents
-            };
-            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
-        };
-        let v = wgpu::BufferUsages::VERTEX;
-        let i = wgpu::BufferUsages::INDEX;
-        let s = wgpu::BufferUsages::STORAGE;
-        let hair_vertices = buf("hairlab.geometry.hair_vertices", bytemuck::cast_slice(&hv), v | s);
-        let hair_indices = buf("hairlab.geometry.hair_indices", bytemuck::cast_slice(&hi), i | s);
-        let binding_limit = gpu.device.limits().max_storage_buffer_binding_size;
-        let ribbon_group = match sizes[..2].iter().find(|(_, b)| *b as u64 > binding_limit) {
-            Some(&(what, bytes)) => Err((what, bytes as u64, binding_limit)),
-            None => Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("hairlab.geometry.ribbon_group"),
-                layout: ribbon_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: hair_vertices.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: hair_indices.as_entire_binding(),
-                    },
-                ],
-            })),
-        };
-        Ok(GeometryBuffers {
-            hair_vertices,
-            hair_indices,
-            hair_index_count: hi.len() as u32,
-            ribbon_layout: ribbon_layout.clone(),
-            ribbon_group,
-            mesh_vertices: buf("hairlab.geometry.mesh_vertices", bytemuck::cast_slice(&mv), v),
-            mesh_indices: buf("hairlab.geometry.mesh_indices", bytemuck::cast_slice(&mi), i),
-            mesh_index_count: mi.len() as u32,
-            bytes: sizes.iter().map(|(_, b)| *b as u64).sum(),
-        })
-    }
-}
-
-impl GeometryBuffers {
-    /// The bind group of [`RIBBON_GROUP`] over the strand buffers, or the error saying which buffer exceeds the
-    /// storage binding limit. A technique that draws ribbons checks it before recording.
-    pub fn ribbons(&self) -> Result<&wgpu::BindGroup, GpuError> {
-        self.ribbon_group
-            .as_ref()
-            .map_err(|&(what, bytes, limit)| GpuError::TooLarge {
-                what: format!("the {what} bound as storage for ribbons"),
-                bytes,
-                limit,
-            })
-    }
-
-    /// Vertices of a ribbon draw of every segment: [`RIBBON_VERTICES_PER_SEGMENT`] per segment.
-    pub fn ribbon_vertex_count(&self) -> u32 {
-        self.hair_index_count / 2 * RIBBON_VERTICES_PER_SEGMENT
-    }
-}
-
-impl crate::render::caster::LightCaster for GeometryBuffers {
-    fn label(&self) -> &'static str {
-        "strands"
-    }
-
-    fn is_empty(&self) -> bool {
-        self.hair_index_count == 0
-    }
-
-    /// Every strand segment as a line (LineList, one index pair per segment).
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>) {
-        pass.set_vertex_buffer(0, self.hair_vertices.slice(..));
-        pass.set_index_buffer(self.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.hair_index_count, 0, instances);
-    }
 }

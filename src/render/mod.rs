@@ -10,15 +10,14 @@ pub mod maps;
 pub mod method;
 pub mod passes;
 pub mod pipelines;
+pub mod scene_gpu;
 pub mod targets;
 pub mod transparency;
 pub mod uniforms;
 
-use crate::gpu::timing::{GpuTimer, PassTime};
+use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::scene::{Camera, Light, LightKind, Scene};
-use caster::LightCaster;
-use geometry::GeometryBuffers;
 use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
 use method::{LightMethod, MethodContext, MethodGpu, ParamValues};
@@ -28,6 +27,7 @@ use passes::hair::HairPass;
 use passes::light_depth::{LightDepthMaps, LightDepthPass};
 use passes::mesh::MeshPass;
 use passes::shadow_map::{ShadowMap, ShadowMapPass};
+use scene_gpu::SceneGpu;
 use serde::{Deserialize, Serialize};
 use targets::EyeTargets;
 use transparency::{EyeTransparency, TransparencyGpu};
@@ -198,6 +198,19 @@ impl MemoryReport {
     }
 }
 
+/// GPU states a renderer has created, by kind: what a frame after [`Renderer::update_points`] must not add to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Creations {
+    /// Scene uploads (buffers created from a scene).
+    pub scene_uploads: u64,
+    /// Shadow-method GPU states (each holds the method's maps and pipelines).
+    pub method_states: u64,
+    /// Eye transparency technique GPU states.
+    pub technique_states: u64,
+    /// Pipelines built by the eye passes' caches (meshes and hair, per method and technique).
+    pub pipelines: u64,
+}
+
 pub struct Renderer {
     gpu: Gpu,
     frame_buffer: wgpu::Buffer,
@@ -208,7 +221,7 @@ pub struct Renderer {
     frame_bind_group: wgpu::BindGroup,
     scene_bind_group: wgpu::BindGroup,
     shadow_sampler: wgpu::Sampler,
-    geometry: GeometryBuffers,
+    scene: SceneGpu,
     light_depth: LightDepthPass,
     light_maps: LightDepthMaps,
     shadow_map_pass: ShadowMapPass,
@@ -229,11 +242,7 @@ pub struct Renderer {
     targets: EyeTargets,
     targets_generation: u64,
     timer: Option<GpuTimer>,
-    scene_center: Vec3,
-    scene_radius: f32,
-    strand_bounds: crate::scene::Aabb,
-    scene_bounds: crate::scene::Aabb,
-    segments: usize,
+    creations: Creations,
     /// The scene's fur ([`Renderer::set_fur`]): when on, frames are drawn with the fur's typed lists.
     fur: Option<RendererFur>,
 }
@@ -335,7 +344,7 @@ impl Renderer {
         );
         let targets = EyeTargets::new(device, 16, 16);
         let ribbon_layout = geometry::ribbon_layout(device);
-        let geometry = GeometryBuffers::upload(gpu, scene, &ribbon_layout)?;
+        let scene = SceneGpu::upload(gpu, scene, &ribbon_layout)?;
         Ok(Renderer {
             gpu: gpu.clone(),
             light_depth: LightDepthPass::new(device, &frame_layout),
@@ -351,11 +360,10 @@ impl Renderer {
             targets_generation: 0,
             fur: None,
             timer: GpuTimer::new(device, &gpu.queue),
-            scene_center: scene.bounds().center(),
-            scene_radius: scene.bounds().radius(),
-            strand_bounds: scene.strand_bounds(),
-            scene_bounds: scene.bounds(),
-            segments: scene.strands.segment_count(),
+            creations: Creations {
+                scene_uploads: 1,
+                ..Creations::default()
+            },
             frame_buffer,
             frame_layout,
             scene_layout,
@@ -363,7 +371,7 @@ impl Renderer {
             frame_bind_group,
             scene_bind_group,
             shadow_sampler,
-            geometry,
+            scene,
             light_maps,
             shadow_map,
             targets,
@@ -406,15 +414,35 @@ impl Renderer {
         })
     }
 
-    /// Replaces the scene geometry (buffers re-sized from the new scene).
+    /// Replaces the scene (buffers re-sized from the new scene, a new generation).
     pub fn set_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
-        self.geometry = GeometryBuffers::upload(&self.gpu, scene, &self.ribbon_layout)?;
-        self.scene_center = scene.bounds().center();
-        self.scene_radius = scene.bounds().radius();
-        self.strand_bounds = scene.strand_bounds();
-        self.scene_bounds = scene.bounds();
-        self.segments = scene.strands.segment_count();
+        self.scene = SceneGpu::upload(&self.gpu, scene, &self.ribbon_layout)?;
+        self.creations.scene_uploads += 1;
         Ok(())
+    }
+
+    /// Moves the strands' points ([`SceneGpu::update_points`], the one write path for moving hair): the next
+    /// frame draws them, with every light frame and map refitted, and nothing re-created.
+    pub fn update_points(&mut self, points: &[Vec3]) -> Result<(), GpuError> {
+        Ok(self.scene.update_points(&self.gpu, points)?)
+    }
+
+    /// The bound [`crate::scene::LightFit::Bound`] fits the hair maps to ([`SceneGpu::set_fit_bound`]).
+    pub fn set_fit_bound(&mut self, bound: Option<crate::scene::Aabb>) {
+        self.scene.set_fit_bound(bound);
+    }
+
+    /// The scene's generation ([`SceneGpu::generation`]): what caches of the geometry key on.
+    pub fn scene_generation(&self) -> u64 {
+        self.scene.generation()
+    }
+
+    /// How many GPU states the renderer has created so far, by kind.
+    pub fn creations(&self) -> Creations {
+        Creations {
+            pipelines: self.mesh_pass.pipelines_built() + self.hair_pass.pipelines_built(),
+            ..self.creations
+        }
     }
 
     fn ensure_map_size(&mut self, map_resolution: u32) -> Result<(), GpuError> {
@@ -511,6 +539,7 @@ impl Renderer {
                     height,
                 };
                 self.transparency = Some((technique.name(), technique.create_gpu(&setup)?));
+                self.creations.technique_states += 1;
                 self.hair_pass.forget_technique(technique.name());
                 Ok(())
             }
@@ -521,7 +550,7 @@ impl Renderer {
     /// the eye techniques store): the distance to the strands' bounding box and to its farthest corner.
     pub fn eye_depth_range(&self, camera: &Camera) -> [f32; 2] {
         let eye = camera.eye();
-        let b = &self.strand_bounds;
+        let b = &self.scene.bounds().strands;
         let d = camera.distance.max(1e-4);
         let nearest = eye.clamp(b.min, b.max).distance(eye);
         let farthest = (0..8)
@@ -543,9 +572,16 @@ impl Renderer {
         self.targets_generation
     }
 
-    /// The light frame fitted to the strands (hair maps).
+    /// The light frame of the hair maps: fitted to the strands under `light.fit` ([`SceneGpu::light_fit`]).
     pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
-        LightFrame::fit(light, self.scene_center, self.scene_radius, &self.strand_bounds)
+        let (hair, around) = self.scene.light_fit(light.fit);
+        LightFrame::fit(light, around.center(), around.radius(), &hair)
+    }
+
+    /// The light frame of the meshes' shadow map: fitted to the whole scene.
+    fn shadow_light_frame(&self, light: &Light) -> LightFrame {
+        let all = &self.scene.bounds().all;
+        LightFrame::fit(light, all.center(), all.radius(), all)
     }
 
     /// Camera matrices for an image of `width`×`height`.
@@ -556,8 +592,9 @@ impl Renderer {
     /// The camera's projection for an image of `width`×`height`.
     fn view_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
         let aspect = width as f32 / height.max(1) as f32;
-        let r = self.scene_radius.max(1e-3);
-        let dist = camera.eye().distance(self.scene_center);
+        let all = &self.scene.bounds().all;
+        let r = all.radius().max(1e-3);
+        let dist = camera.eye().distance(all.center());
         let near = (dist - 2.0 * r).max(r * 0.01).max(camera.distance * 0.01);
         let far = dist + 2.0 * r;
         Mat4::perspective_rh(camera.fov_y_deg.to_radians(), aspect, near, far)
@@ -589,7 +626,7 @@ impl Renderer {
             height,
         };
         let hair = self.hair_light_frame(f.light);
-        let shadow = LightFrame::fit(f.light, self.scene_center, self.scene_radius, &self.scene_bounds);
+        let shadow = self.shadow_light_frame(f.light);
         let eye = f.camera.eye();
         let spot = f.light.kind == LightKind::Spot;
         let intensity = f.light.intensity;
@@ -699,8 +736,8 @@ impl Renderer {
             &self.targets,
             f.render.background,
             &self.scene_bind_group,
-            &self.geometry,
-            ts(&mut self.timer, "eye: meshes"),
+            &self.scene,
+            ts(&mut self.timer, Phase::Meshes, "eye: meshes"),
         );
         let model = crate::transparency::ModelContext {
             hair_alpha: f.render.hair_alpha,
@@ -762,7 +799,7 @@ impl Renderer {
             encoder: enc,
             timer: &mut self.timer,
             frame_bind_group: &self.frame_bind_group,
-            geometry: &self.geometry,
+            geometry: &self.scene,
             targets: &self.targets,
             output,
             values: f.technique_params,
@@ -776,7 +813,7 @@ impl Renderer {
                     method_gpu,
                     technique,
                     scene: &self.scene_bind_group,
-                    geometry: &self.geometry,
+                    geometry: &self.scene,
                     targets: &self.targets,
                 },
             },
@@ -819,18 +856,18 @@ impl Renderer {
             &mut enc,
             &self.light_maps,
             &self.frame_bind_group,
-            &[&self.geometry as &dyn LightCaster],
-            ts(&mut self.timer, "light depth"),
+            &self.scene.casters(),
+            ts(&mut self.timer, Phase::SharedLight, "light depth"),
         );
         self.shadow_map_pass.record(
             &mut enc,
             &self.shadow_map,
             &self.frame_bind_group,
-            &self.geometry,
-            ts(&mut self.timer, "mesh shadow map"),
+            &self.scene,
+            ts(&mut self.timer, Phase::SharedLight, "mesh shadow map"),
         );
         let gpu = self.gpu.clone();
-        let casters: [&dyn LightCaster; 1] = [&self.geometry];
+        let casters = self.scene.casters();
         let ctx = MethodContext {
             gpu: &gpu,
             frame_layout: &self.frame_layout,
@@ -845,6 +882,7 @@ impl Renderer {
             // Evict the previous method's maps before the new method allocates its own.
             self.method = None;
             self.method = Some((name, f.method.create_gpu(&ctx)?));
+            self.creations.method_states += 1;
         }
         if let Some((_, state)) = &mut self.method {
             state.prepare(&ctx, &mut self.timer)?;
@@ -885,14 +923,14 @@ impl Renderer {
             &mut enc,
             &self.light_maps,
             &self.frame_bind_group,
-            &[&self.geometry as &dyn LightCaster],
-            ts(&mut self.timer, "light depth"),
+            &self.scene.casters(),
+            ts(&mut self.timer, Phase::SharedLight, "light depth"),
         );
         let mut abuffer = match self.reference.take() {
             Some(a) => a,
             None => passes::abuffer::ABuffer::new(&gpu, &self.frame_layout),
         };
-        let casters: [&dyn LightCaster; 1] = [&self.geometry];
+        let casters = self.scene.casters();
         let resolution = self.light_maps.near.width();
         let prepared = abuffer.prepare(&gpu, &self.frame_bind_group, &casters, resolution, &mut None);
         if prepared.is_ok() {
@@ -913,7 +951,7 @@ impl Renderer {
         peel.peel(
             &self.gpu,
             &self.frame_bind_group,
-            &[&self.geometry as &dyn LightCaster],
+            &self.scene.casters(),
             self.light_maps.near.width(),
             max_layers,
         )
@@ -989,7 +1027,7 @@ impl Renderer {
             .as_ref()
             .map_or(("", 0), |(n, t)| (*n, t.memory_bytes()));
         MemoryReport {
-            geometry: self.geometry.bytes,
+            geometry: self.scene.bytes,
             light_depth_maps: self.light_maps.bytes(),
             shadow_map: self.shadow_map.bytes(),
             eye_targets: self.targets.bytes() + transparency_targets,
@@ -1018,9 +1056,9 @@ impl Renderer {
         self.light_maps.near.width()
     }
 
-    /// The scene's buffers on the GPU.
-    pub fn geometry(&self) -> &GeometryBuffers {
-        &self.geometry
+    /// The scene on the GPU: buffers, bounds, generation.
+    pub fn scene_gpu(&self) -> &SceneGpu {
+        &self.scene
     }
 
     /// The eye image's size.
@@ -1029,7 +1067,7 @@ impl Renderer {
     }
 
     pub fn segment_count(&self) -> usize {
-        self.segments
+        self.scene.segment_count()
     }
 
     /// The layout the light passes bind (the frame uniforms alone).
@@ -1039,8 +1077,12 @@ impl Renderer {
 }
 
 /// Timestamp writes for the next pass, when timing is on.
-fn ts<'a>(timer: &'a mut Option<GpuTimer>, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
-    timer.as_mut().and_then(|t| t.pass(name))
+fn ts<'a>(
+    timer: &'a mut Option<GpuTimer>,
+    phase: Phase,
+    name: &str,
+) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
+    timer.as_mut().and_then(|t| t.pass(phase, name))
 }
 
 #[cfg(test)]
@@ -1074,7 +1116,7 @@ mod tests {
             "crate::measure",
         ];
         let mut checked = 0;
-        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility", "transparency"]
+        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility", "transparency", "fur"]
             .iter()
             .map(|d| root.join(d))
             .collect();

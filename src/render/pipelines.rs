@@ -49,12 +49,15 @@ impl PipelineKey {
 /// Pipelines (render or compute) by key, each built once.
 pub struct PipelineCache<P> {
     pipelines: HashMap<PipelineKey, P>,
+    /// Pipelines built so far.
+    built: u64,
 }
 
 impl<P> Default for PipelineCache<P> {
     fn default() -> Self {
         PipelineCache {
             pipelines: HashMap::new(),
+            built: 0,
         }
     }
 }
@@ -62,7 +65,16 @@ impl<P> Default for PipelineCache<P> {
 impl<P> PipelineCache<P> {
     /// The pipeline of `key`, built by `build` when the cache does not hold it yet.
     pub fn get_or_build(&mut self, key: PipelineKey, build: impl FnOnce(&PipelineKey) -> P) -> &P {
-        self.pipelines.entry(key).or_insert_with(|| build(&key))
+        let built = &mut self.built;
+        self.pipelines.entry(key).or_insert_with(|| {
+            *built += 1;
+            build(&key)
+        })
+    }
+
+    /// How many pipelines this cache has built (a pipeline dropped and built again counts twice).
+    pub fn built(&self) -> u64 {
+        self.built
     }
 
     /// Drops the pipelines of `technique` (its GPU state, whose group-2 layout they were built with, is new).
@@ -131,5 +143,6 @@ mod tests {
             key(Pass::Hair, "method-a", Some(("technique-b", "fs_main"))),
         );
         assert_eq!(builds.get(), 8, "only technique-a's pipelines were dropped");
+        assert_eq!(cache.built(), 8);
     }
 }

@@ -1,6 +1,6 @@
 //! Seeded, deterministic procedural hair: a head (an ellipsoid scalp grown with hair), a hair patch (roots on
 //! a square, growing up), hair grown on a loaded scalp mesh, or guard hairs on the paper's fur base meshes
-//! (Andersen et al. 2016, Table 1: [`crate::fur::shapes`]).
+//! (Andersen et al. 2016, Table 1: [`crate::scene::fur_shapes`]).
 //!
 //! Every strand is traced with `segments` steps of exactly `length / segments`, so its points are evenly
 //! spaced in arc length and it is `length` long. Each step goes along the strand's growth direction, which
@@ -13,7 +13,7 @@
 //!
 //! With `strand_colors` each strand gets a slight random variation around a brown; without, the strands have
 //! no colour array and take the renderer's hair colour. Per-point thickness and alpha arrays are written only
-//! when `taper` or `tip_transparency` is not neutral ([`crate::fur::guard::style`]).
+//! when `taper` or `tip_transparency` is not neutral ([`crate::scene::style::style`]).
 //!
 //! Randomness comes from [`crate::rng::SplitMix64`] streams derived from `seed` (one for roots, one per strand), so the same
 //! parameters give bit-identical output.
@@ -22,8 +22,9 @@ use glam::{Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::fur_shapes as shapes;
+use super::style;
 use super::{Aabb, Mesh, Scene, Strands};
-use crate::fur::{guard, shapes};
 use crate::rng::SplitMix64 as Rng;
 
 /// Most points [`generate`] produces (about 1.2 GB of positions and colours).
@@ -219,7 +220,7 @@ pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
             (grow_on_mesh(p, &mesh)?, vec![mesh])
         }
     };
-    guard::style(&mut strands, p.taper, p.tip_transparency);
+    style::style(&mut strands, p.taper, p.tip_transparency);
     if p.floor {
         let floor_y = match p.kind {
             GenKind::Patch | GenKind::StrayStrand | GenKind::MixedSizes => Some(0.0),
@@ -241,7 +242,7 @@ pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError>
         return Err(GenError::NoScalpArea);
     }
     let mut strands = grow_all(p, p.gravity, &mesh_roots(scalp, &tris, n, p.seed), None);
-    guard::style(&mut strands, p.taper, p.tip_transparency);
+    style::style(&mut strands, p.taper, p.tip_transparency);
     let mut meshes = vec![scalp.clone()];
     if p.floor {
         meshes.push(floor_mesh(&strands, &meshes, None));
@@ -251,7 +252,7 @@ pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError>
 
 /// Grows `p`'s strands on every triangle of `mesh` (area-weighted roots, along the interpolated normal,
 /// drooping with gravity), unstyled: the growth [`generate_on_scalp`] does, without its upward-facing filter,
-/// for fur base meshes ([`crate::fur::guard`]). `p.kind`, `p.floor`, `p.taper` and `p.tip_transparency`
+/// for fur base meshes ([`crate::scene::style`]). `p.kind`, `p.floor`, `p.taper` and `p.tip_transparency`
 /// are not used here.
 pub fn grow_on_mesh(p: &GenParams, mesh: &Mesh) -> Result<Strands, GenError> {
     let n = validate(p)?;
@@ -781,4 +782,12 @@ fn mesh_triangles(mesh: &Mesh, min_normal_y: Option<f32>) -> Result<Vec<MeshTri>
         }
     }
     Ok(out)
+}
+
+/// Guard hairs (Andersen et al. 2016 §3.1) of `p` (count, length, segments, gravity, style, clumps, seed, taper, tip transparency) grown on
+/// every triangle of `mesh`.
+pub fn guard_hairs(p: &GenParams, mesh: &Mesh) -> Result<Strands, GenError> {
+    let mut strands = grow_on_mesh(p, mesh)?;
+    style::style(&mut strands, p.taper, p.tip_transparency);
+    Ok(strands)
 }

@@ -3,12 +3,14 @@
 //! Geometry lives in [`Scene`]; the light and camera are small parameter structs that presets and the GUI edit.
 //! Loaders (`.hair`, glTF) and the procedural generators all produce a [`Scene`].
 
+pub mod fur_shapes;
 pub mod generate;
 pub mod gltf_check;
 pub mod gltf_load;
 pub mod hair;
 pub mod load;
 pub mod pick;
+pub mod style;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -209,6 +211,31 @@ impl Scene {
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len() / 3).sum()
     }
+    /// Moves the strands' points to `points` (one per point, same order; strands, thickness, alpha and colour
+    /// kept) and updates the bounds: the CPU side of the renderer's one write path for moving hair
+    /// (`Renderer::update_points`).
+    pub fn set_strand_points(&mut self, points: &[Vec3]) -> Result<(), PointCountMismatch> {
+        if points.len() != self.strands.points.len() {
+            return Err(PointCountMismatch {
+                expected: self.strands.points.len(),
+                got: points.len(),
+            });
+        }
+        self.strands.points.copy_from_slice(points);
+        *self = Scene::new(
+            std::mem::take(&mut self.strands),
+            std::mem::take(&mut self.meshes),
+        );
+        Ok(())
+    }
+}
+
+/// New strand points whose count is not the scene's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{got} new strand points for a scene of {expected} points (the topology of moving hair is fixed)")]
+pub struct PointCountMismatch {
+    pub expected: usize,
+    pub got: usize,
 }
 
 /// The light's kind.
@@ -235,6 +262,23 @@ pub struct Light {
     pub cone_deg: f32,
     pub intensity: f32,
     pub color: [f32; 3],
+    /// What the hair maps' light frame is fitted to ([`LightFit`]).
+    pub fit: LightFit,
+}
+
+/// What the light frame of the hair maps is fitted to, the one policy every light-space pass follows
+/// (`Renderer::hair_light_frame`). For a still scene both give the same frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum LightFit {
+    /// The strands of the frame being drawn: the tightest frame, so every texel and depth bit covers hair, but
+    /// under motion the frustum and the normalised light depth follow the hair and can swim.
+    #[default]
+    PerFrame,
+    /// A conservative bound fitted once: the bound the scene's motion declares (`Renderer::set_fit_bound`), else
+    /// the strands as they were uploaded, grown by the current strands where they leave it, so a moving groom
+    /// keeps one frustum and one depth normalisation.
+    Bound,
 }
 
 impl Default for Light {
@@ -247,6 +291,7 @@ impl Default for Light {
             cone_deg: 40.0,
             intensity: 1.0,
             color: [1.0, 1.0, 1.0],
+            fit: LightFit::PerFrame,
         }
     }
 }

@@ -12,13 +12,13 @@
 use glam::{IVec3, Vec3};
 use hairlab::fur::mesh::FurMesh;
 use hairlab::fur::noise;
-use hairlab::fur::shapes;
 use hairlab::fur::shell::{Levels, Shell, ShellParams};
 use hairlab::fur::volume::{Volume, VolumeParams};
 use hairlab::gpu::Gpu;
 use hairlab::render::fur::{density, shell_gpu};
 use hairlab::render::passes::abuffer::copy_out;
 use hairlab::rng::SplitMix64;
+use hairlab::scene::fur_shapes as shapes;
 use std::time::Instant;
 
 /// GPU = CPU tolerance on each noise value.

@@ -25,7 +25,6 @@
 use glam::{Mat4, Vec2, Vec3};
 use hairlab::fur::march::{self, Emit, Fragment, MarchParams, MarchStats};
 use hairlab::fur::mesh::FurMesh;
-use hairlab::fur::shapes;
 use hairlab::fur::shell::{Levels, Shell, ShellParams};
 use hairlab::fur::volume::{Volume, VolumeParams};
 use hairlab::gpu::Gpu;
@@ -38,6 +37,7 @@ use hairlab::render::passes::abuffer::copy_out;
 use hairlab::render::targets::EyeTargets;
 use hairlab::render::transparency::sorted::EyeNode;
 use hairlab::render::uniforms::FrameUniforms;
+use hairlab::scene::fur_shapes as shapes;
 use hairlab::scene::{Camera, Scene, Strands};
 use std::time::Instant;
 
@@ -142,7 +142,7 @@ fn the_default_cylinder_volume_is_refused_over_the_binding_limit() {
         ("fur-hat", shapes::fur_hat()),
     ] {
         let shell = Shell::build(FurMesh::build(name, &mesh).unwrap(), &ShellParams::default()).unwrap();
-        let bytes = shell.sub_elements * shell_gpu::SUB_ELEMENT_BYTES;
+        let bytes = shell.sub_elements * hairlab::render::fur::density::SUB_ELEMENT_BYTES;
         println!(
             "{name}: {} faces, levels {}..={}, {} sub-elements, stored volume {:.1} MiB (binding limit {:.1} MiB)",
             shell.mesh.faces.len(),

@@ -4,9 +4,10 @@
 
 use crate::common::cli::{assert_fails, hairlab, stderr};
 use glam::Vec3;
-use hairlab::fur::{guard, shapes};
+use hairlab::scene::fur_shapes as shapes;
 use hairlab::scene::generate::{GenError, GenKind, GenParams, HairStyle, generate};
 use hairlab::scene::hair::read_hair_file;
+use hairlab::scene::style as guard;
 use hairlab::scene::{Mesh, Strands};
 
 fn fur(kind: GenKind) -> GenParams {
@@ -98,7 +99,11 @@ fn fur_kinds_are_the_paper_meshes_with_guard_hairs_grown_on_them() {
             "{kind:?}: the floor is added after the base mesh"
         );
         // guard_hairs on the same mesh is the kind's hair.
-        assert_eq!(&guard::guard_hairs(&p, &mesh).unwrap(), s, "{kind:?}");
+        assert_eq!(
+            &hairlab::scene::generate::guard_hairs(&p, &mesh).unwrap(),
+            s,
+            "{kind:?}"
+        );
     }
 }
 
@@ -276,7 +281,7 @@ fn bad_taper_and_tip_transparency_are_refused_naming_the_key() {
             other => panic!("{name}: expected a parameter error, got {other:?}"),
         }
         assert!(matches!(
-            guard::guard_hairs(&p, &shapes::fur_cylinder()),
+            hairlab::scene::generate::guard_hairs(&p, &shapes::fur_cylinder()),
             Err(GenError::Param { .. })
         ));
     }
@@ -305,7 +310,7 @@ fn bad_taper_and_tip_transparency_are_refused_naming_the_key() {
         indices: vec![0, 1, 2],
         color: Vec3::ONE,
     };
-    let e = guard::guard_hairs(&d, &flat).unwrap_err();
+    let e = hairlab::scene::generate::guard_hairs(&d, &flat).unwrap_err();
     assert_eq!(e, GenError::NoMeshArea);
     assert!(e.to_string().contains("no triangles of non-zero area"), "{e}");
 }

@@ -7,11 +7,11 @@
 use glam::Vec3;
 use hairlab::fur::march::{self, Emit, Fragment, MarchParams, MarchStats, Stop, composite, entry};
 use hairlab::fur::mesh::FurMesh;
-use hairlab::fur::shapes;
 use hairlab::fur::shell::{Levels, Shell, ShellParams};
 use hairlab::fur::volume::{Volume, VolumeParams};
 use hairlab::rng::SplitMix64;
 use hairlab::scene::Mesh;
+use hairlab::scene::fur_shapes as shapes;
 use hairlab::scene::generate::{GenKind, GenParams, generate};
 
 /// A flat `n × n` grid of quads on z = 0, `size` wide, wound towards +z.

@@ -7,10 +7,10 @@ use std::collections::HashMap;
 use glam::Vec3;
 use hairlab::fur::index::{self, SubNeighbour, SubTriangle, sub_neighbour};
 use hairlab::fur::mesh::{FurMesh, NONE, edge_of};
-use hairlab::fur::shapes;
 use hairlab::fur::shell::{Levels, Shell, ShellParams, Walk};
 use hairlab::rng::SplitMix64;
 use hairlab::scene::Mesh;
+use hairlab::scene::fur_shapes as shapes;
 use hairlab::scene::generate::{GenKind, GenParams, generate};
 
 fn head_mesh() -> Mesh {

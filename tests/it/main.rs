@@ -34,6 +34,7 @@ mod methods_gpu;
 mod presets;
 mod reference;
 mod ribbons;
+mod scene_gpu;
 mod shaders;
 mod stability;
 mod stability_avsm;

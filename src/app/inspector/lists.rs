@@ -1,18 +1,19 @@
 //! The reference's per-texel fragment lists of the current light view, read back from the A-buffer on demand and
-//! cached: read again only when the scene, the light, the map resolution or the hair alpha change, and not while
+//! cached: read again only when the scene's generation, the light, the map resolution or the hair alpha change, and not while
 //! a drag is under way. [`read_reference_lists`] is the one place the app reads them from the renderer.
 
 use crate::render::Renderer;
 use crate::render::passes::abuffer::RefFragment;
 use crate::scene::Light;
 use crate::scene::pick;
-use crate::settings::{SceneSettings, Settings};
+use crate::settings::Settings;
 use crate::visibility::Fragment;
 
 /// What the reference fragment lists were read for.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ListsKey {
-    scene: Option<SceneSettings>,
+    /// The renderer's scene generation (`Renderer::scene_generation`): it changes whenever the geometry does.
+    scene: Option<u64>,
     /// The light, without intensity and colour (they do not move fragments).
     light: Light,
     map_resolution: u32,
@@ -23,13 +24,13 @@ pub struct ListsKey {
 }
 
 impl ListsKey {
-    /// The key of `settings` with `built_scene` loaded.
-    pub fn new(settings: &Settings, built_scene: Option<&SceneSettings>) -> ListsKey {
+    /// The key of `settings` on the scene of generation `scene_generation`.
+    pub fn new(settings: &Settings, scene_generation: Option<u64>) -> ListsKey {
         let mut light = settings.light;
         light.intensity = 0.0;
         light.color = [0.0; 3];
         ListsKey {
-            scene: built_scene.cloned(),
+            scene: scene_generation,
             light,
             map_resolution: settings.render.map_resolution,
             hair_alpha: settings.render.hair_alpha.to_bits(),

@@ -17,8 +17,8 @@ use crate::fur::shell::Shell;
 use crate::fur::volume::VolumeParams;
 use crate::gpu::{Gpu, GpuError};
 
-use super::shell_gpu::SUB_ELEMENT_BYTES;
-
+/// Bytes of one stored sub-element, `(τ.xyz, ρ)`.
+pub const SUB_ELEMENT_BYTES: u64 = 16;
 /// The volume pass's WGSL.
 pub const DENSITY_WGSL: &str = "fur/density.wgsl";
 /// Invocations per workgroup (`@workgroup_size` in the shader).

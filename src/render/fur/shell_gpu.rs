@@ -30,8 +30,6 @@ use super::density;
 
 /// The shell pass's WGSL.
 pub const SHELL_WGSL: &str = "fur/shell.wgsl";
-/// Bytes of one stored sub-element, `(τ.xyz, ρ)`.
-pub const SUB_ELEMENT_BYTES: u64 = 16;
 /// EyeNode kinds of the shell pass's fragments (B.7).
 pub const KIND_SHELL: u32 = 1;
 pub const KIND_VIRTUAL: u32 = 2;

@@ -347,7 +347,10 @@ impl TransparencyGpu for FurGpu {
         frame.encoder.clear_buffer(&self.lists.counts, 0, None);
         fur.shell.reset_stats(&mut frame.encoder);
         if shell {
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("fur: shell count"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::FurShell, "fur: shell count"));
             fur.shell.record_count(
                 gpu,
                 &mut frame.encoder,
@@ -371,7 +374,10 @@ impl TransparencyGpu for FurGpu {
                 &[&self.lists.counts],
                 Some(&frame.targets.depth_view),
             );
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("fur: explicit count"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, "fur: explicit count"));
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hairlab.fur.count_pass"),
                 color_attachments: &[frame.targets.null_attachment()],
@@ -468,7 +474,10 @@ impl TransparencyGpu for FurGpu {
                 );
             }
             if shell {
-                let timestamps = frame.timer.as_mut().and_then(|t| t.pass("fur: shell fill"));
+                let timestamps = frame
+                    .timer
+                    .as_mut()
+                    .and_then(|t| t.pass(crate::gpu::timing::Phase::FurShell, "fur: shell fill"));
                 fur.shell.record_fill(
                     gpu,
                     &mut frame.encoder,
@@ -482,7 +491,10 @@ impl TransparencyGpu for FurGpu {
                     Some((y0, y1)),
                 );
             }
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("fur: resolve"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "fur: resolve"));
             record_resolve(
                 &mut frame.encoder,
                 frame.output.0,

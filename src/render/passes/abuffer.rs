@@ -258,7 +258,9 @@ impl ABuffer {
         enc.clear_buffer(&self.counters, 0, None);
         enc.clear_buffer(&self.heads, 0, None);
         let label = format!("{} count", self.pass_label);
-        let ts = timer.as_mut().and_then(|t| t.pass(label));
+        let ts = timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, label));
         self.draw(&mut enc, &self.count_pipeline, frame, casters, ts);
         let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.abuffer.count_readback"),
@@ -317,7 +319,9 @@ impl ABuffer {
     ) {
         encoder.clear_buffer(&self.counters, 0, None);
         encoder.clear_buffer(&self.heads, 0, None);
-        let ts = timer.as_mut().and_then(|t| t.pass(label));
+        let ts = timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, label));
         self.draw(encoder, &self.fill_pipeline, frame, casters, ts);
     }
 

@@ -5,9 +5,10 @@
 //! Depth-tested against the meshes without writing, or against a technique's own depth target. One pipeline
 //! per method, technique and entry point.
 
-use crate::render::geometry::{GeometryBuffers, HairVertex, RIBBON_GROUP};
+use crate::render::geometry::{HairVertex, RIBBON_GROUP};
 use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::targets::EyeTargets;
 use crate::render::transparency::{EntryDepth, EyeTransparency, HairDrawPass, HairGeometry};
 
@@ -23,11 +24,16 @@ pub struct HairScene<'a> {
     pub method_gpu: &'a dyn MethodGpu,
     pub technique: &'a dyn EyeTransparency,
     pub scene: &'a wgpu::BindGroup,
-    pub geometry: &'a GeometryBuffers,
+    pub geometry: &'a SceneGpu,
     pub targets: &'a EyeTargets,
 }
 
 impl HairPass {
+    /// Pipelines this pass has built ([`PipelineCache::built`]).
+    pub fn pipelines_built(&self) -> u64 {
+        self.pipelines.built()
+    }
+
     pub fn new(scene_layout: &wgpu::BindGroupLayout) -> Self {
         Self {
             scene_layout: scene_layout.clone(),
@@ -171,7 +177,7 @@ impl HairPass {
                     pass.set_bind_group(RIBBON_GROUP, group, &[]);
                     pass.draw(0..s.geometry.ribbon_vertex_count(), 0..1);
                 }
-                // A technique drawing ribbons reports this from `GeometryBuffers::ribbons` before recording.
+                // A technique drawing ribbons reports this from `SceneGpu::ribbons` before recording.
                 Err(e) => log::error!("hair ribbons not drawn: {e}"),
             },
         }

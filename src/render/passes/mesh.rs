@@ -1,9 +1,10 @@
 //! Eye pass for opaque meshes (clears colour and depth). One pipeline per shadow method, built on first use (it
 //! does not depend on the eye transparency technique).
 
-use crate::render::geometry::{GeometryBuffers, MeshVertex};
+use crate::render::geometry::MeshVertex;
 use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::targets::EyeTargets;
 
 pub struct MeshPass {
@@ -12,6 +13,11 @@ pub struct MeshPass {
 }
 
 impl MeshPass {
+    /// Pipelines this pass has built ([`PipelineCache::built`]).
+    pub fn pipelines_built(&self) -> u64 {
+        self.pipelines.built()
+    }
+
     pub fn new(scene_layout: &wgpu::BindGroupLayout) -> Self {
         Self {
             scene_layout: scene_layout.clone(),
@@ -82,7 +88,7 @@ impl MeshPass {
         targets: &EyeTargets,
         background: [f32; 3],
         scene: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        geometry: &SceneGpu,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let pipeline = self.pipeline(device, method, method_gpu);

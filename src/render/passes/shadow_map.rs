@@ -1,7 +1,8 @@
 //! Opaque shadow-map pass: meshes depth-only from the light, in the frame fitted to the whole scene. Gives the
 //! shadows meshes cast on hair and on each other.
 
-use crate::render::geometry::{GeometryBuffers, MeshVertex};
+use crate::render::geometry::MeshVertex;
+use crate::render::scene_gpu::SceneGpu;
 
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -83,7 +84,7 @@ impl ShadowMapPass {
         encoder: &mut wgpu::CommandEncoder,
         map: &ShadowMap,
         frame: &wgpu::BindGroup,
-        geometry: &GeometryBuffers,
+        geometry: &SceneGpu,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

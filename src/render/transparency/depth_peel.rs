@@ -412,7 +412,7 @@ impl DepthPeelGpu {
             let timestamps = frame
                 .timer
                 .as_mut()
-                .and_then(|timer| timer.pass("eye: depth complexity"));
+                .and_then(|timer| timer.pass(crate::gpu::timing::Phase::EyeHair, "eye: depth complexity"));
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hairlab.depth-peel.count.pass"),
                 color_attachments: &[frame.targets.null_attachment()],
@@ -495,10 +495,12 @@ impl TransparencyGpu for DepthPeelGpu {
             self.peel_group(frame, &t.layer_depths[1]),
             self.peel_group(frame, &t.layer_depths[0]),
         ];
-        let span = frame
-            .timer
-            .as_mut()
-            .and_then(|timer| timer.span(format!("depth peel ({layers} layers)")));
+        let span = frame.timer.as_mut().and_then(|timer| {
+            timer.span(
+                crate::gpu::timing::Phase::EyeHair,
+                format!("depth peel ({layers} layers)"),
+            )
+        });
         // Nothing accumulated, everything transmitted; no layer before the first.
         frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.depth-peel.clear.pass"),
@@ -545,7 +547,10 @@ impl TransparencyGpu for DepthPeelGpu {
             pass.draw(0..3, 0..1);
         }
         self.layers = layers;
-        let timestamps = frame.timer.as_mut().and_then(|timer| timer.pass("eye: resolve"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|timer| timer.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         self.resolve
             .record(&mut frame.encoder, frame.output, &t.accum_bind_group, timestamps);
         Ok(())

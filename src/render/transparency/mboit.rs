@@ -351,7 +351,10 @@ impl TransparencyGpu for MboitGpu {
             .queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
         {
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: moments"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, "eye: moments"));
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hairlab.mboit.moments_pass"),
                 color_attachments: &[
@@ -390,7 +393,10 @@ impl TransparencyGpu for MboitGpu {
             },
             "eye: hair",
         );
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         self.resolve.record(
             &mut frame.encoder,
             frame.output,

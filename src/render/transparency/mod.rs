@@ -33,11 +33,11 @@ pub mod sorted;
 pub mod wboit;
 pub mod weighted_average;
 
-use crate::gpu::timing::GpuTimer;
+use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::GeometryBuffers;
 use crate::render::method::{ParamSpec, ParamValues, Role};
 use crate::render::passes::hair::{HairPass, HairScene};
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::targets::EyeTargets;
 use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
@@ -152,7 +152,7 @@ pub struct EyeFrame<'a> {
     pub timer: &'a mut Option<GpuTimer>,
     /// Group 0 of the technique's geometry passes.
     pub frame_bind_group: &'a wgpu::BindGroup,
-    pub geometry: &'a GeometryBuffers,
+    pub geometry: &'a SceneGpu,
     /// The colour image (the opaque meshes) and the meshes' depth.
     pub targets: &'a EyeTargets,
     /// Where the resolve draws, and its format: the colour image, or the capture target
@@ -166,9 +166,9 @@ pub struct EyeFrame<'a> {
 }
 
 impl EyeFrame<'_> {
-    /// Timestamp writes for the next render pass, named `name`.
-    pub fn timestamps(&mut self, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        self.timer.as_mut().and_then(|t| t.pass(name))
+    /// Timestamp writes for the next render pass, of `phase`, named `name`.
+    pub fn timestamps(&mut self, phase: Phase, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        self.timer.as_mut().and_then(|t| t.pass(phase, name))
     }
 
     /// Submits what is recorded so far and starts a new encoder: for a technique that reads back a count
@@ -192,7 +192,10 @@ impl EyeFrame<'_> {
 
     /// Records a shaded hair draw of entry `entry` (one of the technique's [`HairEntry`]s).
     pub fn draw_hair(&mut self, draw: HairDrawPass<'_>, timestamp: &str) {
-        let timestamps = self.timer.as_mut().and_then(|t| t.pass(timestamp));
+        let timestamps = self
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(Phase::EyeHair, timestamp));
         self.hair.record(&mut self.encoder, draw, timestamps);
     }
 }

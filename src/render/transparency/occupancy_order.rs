@@ -567,7 +567,10 @@ impl OccupancyOrderGpu {
         name: &str,
     ) {
         let depth_view = &frame.targets.depth_view;
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass(name));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, name));
         let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.occupancy-order.map_pass"),
             color_attachments: attachments,
@@ -662,7 +665,10 @@ impl TransparencyGpu for OccupancyOrderGpu {
             },
             "eye: hair",
         );
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         res.resolve.record(
             &mut frame.encoder,
             frame.output,

@@ -198,7 +198,10 @@ impl TransparencyGpu for OpaqueGpu {
             },
             "eye: hair",
         );
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         self.resolve
             .record(&mut frame.encoder, frame.output, &t.bind_group, timestamps);
         Ok(())

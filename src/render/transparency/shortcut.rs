@@ -436,7 +436,10 @@ impl TransparencyGpu for ShortcutGpu {
             ],
         });
         {
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: k nearest"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, "eye: k nearest"));
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hairlab.shortcut.depths_pass"),
                 color_attachments: &[frame.targets.null_attachment()],
@@ -469,7 +472,10 @@ impl TransparencyGpu for ShortcutGpu {
             },
             "eye: hair",
         );
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         self.resolve
             .record(&mut frame.encoder, frame.output, &b.resolve_group, timestamps);
         Ok(())

@@ -619,7 +619,10 @@ impl TransparencyGpu for SortedGpu {
         );
         frame.encoder.clear_buffer(&self.lists.counts, 0, None);
         {
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: count"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, "eye: count"));
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hairlab.sorted.count_pass"),
                 color_attachments: &[frame.targets.null_attachment()],
@@ -682,7 +685,10 @@ impl TransparencyGpu for SortedGpu {
                 },
                 "eye: fill",
             );
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+            let timestamps = frame
+                .timer
+                .as_mut()
+                .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
             record_resolve(
                 &mut frame.encoder,
                 frame.output.0,

@@ -159,7 +159,10 @@ impl TransparencyGpu for WboitGpu {
             },
             "eye: hair",
         );
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("composite"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         self.resolve.record(
             &mut frame.encoder,
             frame.output,

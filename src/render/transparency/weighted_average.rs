@@ -150,7 +150,10 @@ impl TransparencyGpu for WeightedAverageGpu {
             },
             "eye: hair",
         );
-        let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: resolve"));
+        let timestamps = frame
+            .timer
+            .as_mut()
+            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
         self.resolve.record(
             &mut frame.encoder,
             frame.output,

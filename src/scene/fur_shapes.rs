@@ -13,7 +13,7 @@ use std::f32::consts::TAU;
 
 use glam::{Vec2, Vec3};
 
-use crate::scene::Mesh;
+use super::Mesh;
 
 /// Table 1's cylinder: around, rings.
 pub const CYLINDER_GRID: (u32, u32) = (64, 28);

@@ -1,8 +1,6 @@
-//! Guard hairs (Andersen, Falster, Frisvad, Christensen 2016, "Hybrid fur rendering: combining volumetric fur
-//! with explicit hair strands", The Visual Computer, §3.1; spec FR-GUARD, B.3 #14): explicit strands rooted on
-//! a fur base mesh. The roots are placed at random by area on every triangle and the strands grown along the
-//! interpolated normal and bent by gravity, as the paper does after Van Gelder & Wilhelms, by the scene
-//! generator's growth ([`generate::grow_on_mesh`]); this module styles them: per-point `thickness` falling
+//! Strand styling, as Andersen, Falster, Frisvad, Christensen 2016, "Hybrid fur rendering: combining volumetric
+//! fur with explicit hair strands", The Visual Computer, §3.1, styles its guard hairs (explicit strands grown on
+//! a fur base mesh by [`super::generate::guard_hairs`]): per-point `thickness` falling
 //! linearly from 1 at the root to `taper` at the tip (a chain of truncated cones, the paper's tubes of variable
 //! radius after Goldman) and per-point `alpha = exp(−τ_tip · s)`, the paper's transparency "increasing
 //! exponentially towards the hair strand tips", with `s = j / segments` the point's fraction of the strand's
@@ -12,16 +10,7 @@
 //! [`Strands`], so every light-space shadow method of hairlab draws and shadows them like any other hair.
 //! Everything is deterministic from the generator's seed.
 
-use crate::scene::generate::{self, GenError, GenParams};
-use crate::scene::{Mesh, Strands};
-
-/// Guard hairs of `p` (count, length, segments, gravity, style, clumps, seed, taper, tip transparency) grown on
-/// every triangle of `mesh`.
-pub fn guard_hairs(p: &GenParams, mesh: &Mesh) -> Result<Strands, GenError> {
-    let mut strands = generate::grow_on_mesh(p, mesh)?;
-    style(&mut strands, p.taper, p.tip_transparency);
-    Ok(strands)
-}
+use super::Strands;
 
 /// Thickness at `s` ∈ [0, 1] (root to tip) of a strand whose tip is `taper` times as thick as its root (1).
 pub fn thickness_at(s: f32, taper: f32) -> f32 {

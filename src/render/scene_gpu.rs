@@ -1,0 +1,270 @@
+//! The scene on the GPU, the one home of everything the renderer knows about the geometry: the strand and mesh
+//! buffers (sized from the scene, checked against the device's limits, with copy rights so they can be
+//! rewritten), the bounds, and a generation that changes whenever the geometry does. Moving hair has one write
+//! path, [`SceneGpu::update_points`]: new positions with their tangents (derived from them on the CPU by
+//! [`write_tangents`], as at upload) written into the existing buffers, the bounds refitted, a new generation.
+//! Whatever depends on the geometry (the light frame, the inspector's lists, the bench's reference) keys on
+//! [`SceneGpu::generation`], never on settings.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::caster::LightCaster;
+use super::geometry::{
+    HairVertex, MeshVertex, RIBBON_VERTICES_PER_SEGMENT, hair_indices, hair_vertices, write_tangents,
+};
+use crate::gpu::{Gpu, GpuError};
+use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+/// Generations are unique across every scene of the process, so a cache keyed on one never confuses two scenes.
+static NEXT_GENERATION: AtomicU64 = AtomicU64::new(1);
+
+fn next_generation() -> u64 {
+    NEXT_GENERATION.fetch_add(1, Ordering::Relaxed)
+}
+
+/// The bounds the renderer fits frusta and ranges to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneBounds {
+    /// The hair alone (the hair maps' light frame, the eye depth range).
+    pub strands: Aabb,
+    /// Hair and meshes (the camera's range, the meshes' shadow map, where a spot light stands).
+    pub all: Aabb,
+}
+
+/// The scene's buffers, bounds and generation.
+pub struct SceneGpu {
+    /// Per strand point; vertex, storage and copy-destination usage.
+    pub hair_vertices: wgpu::Buffer,
+    /// One index pair per segment; index and storage usage.
+    pub hair_indices: wgpu::Buffer,
+    pub hair_index_count: u32,
+    /// The layout of [`crate::render::geometry::RIBBON_GROUP`] (the renderer's).
+    pub ribbon_layout: wgpu::BindGroupLayout,
+    /// The strand buffers bound with `ribbon_layout`, or the buffer that exceeds the storage
+    /// binding limit (name, bytes, limit).
+    ribbon_group: Result<wgpu::BindGroup, (&'static str, u64, u64)>,
+    pub mesh_vertices: wgpu::Buffer,
+    pub mesh_indices: wgpu::Buffer,
+    pub mesh_index_count: u32,
+    /// Bytes of GPU memory these buffers hold.
+    pub bytes: u64,
+    /// The strand vertices as uploaded last, which [`SceneGpu::update_points`] rewrites (positions, tangents).
+    vertices: Vec<HairVertex>,
+    /// Each strand's `(first point, point count)`.
+    ranges: Vec<(usize, usize)>,
+    mesh_bounds: Aabb,
+    bounds: SceneBounds,
+    /// The strands as uploaded, or the bound given by [`SceneGpu::set_fit_bound`]: what [`LightFit::Bound`]
+    /// fits to.
+    fit_bound: Aabb,
+    generation: u64,
+}
+
+impl SceneGpu {
+    /// Uploads `scene`'s strands and meshes; `ribbon_layout` is the renderer's
+    /// [`crate::render::geometry::ribbon_layout`].
+    pub fn upload(
+        gpu: &Gpu,
+        scene: &Scene,
+        ribbon_layout: &wgpu::BindGroupLayout,
+    ) -> Result<SceneGpu, GpuError> {
+        let points = scene.strands.point_count() as u64;
+        if points > u32::MAX as u64 {
+            return Err(GpuError::TooLarge {
+                what: "strand points".into(),
+                bytes: points,
+                limit: u32::MAX as u64,
+            });
+        }
+        let hv = hair_vertices(scene);
+        let hi = hair_indices(scene);
+        let mut mv = Vec::new();
+        let mut mi = Vec::new();
+        for m in &scene.meshes {
+            let base = mv.len() as u32;
+            for (p, n) in m.positions.iter().zip(&m.normals) {
+                mv.push(MeshVertex {
+                    position: (*p).into(),
+                    normal: (*n).into(),
+                    color: m.color.into(),
+                });
+            }
+            mi.extend(m.indices.iter().map(|i| i + base));
+        }
+        let sizes = [
+            ("strand vertex buffer", std::mem::size_of_val(hv.as_slice())),
+            ("strand index buffer", std::mem::size_of_val(hi.as_slice())),
+            ("mesh vertex buffer", std::mem::size_of_val(mv.as_slice())),
+            ("mesh index buffer", std::mem::size_of_val(mi.as_slice())),
+        ];
+        for (what, bytes) in sizes {
+            gpu.check_buffer_size(what, bytes as u64)?;
+        }
+        let buf = |label: &str, contents: &[u8], usage| {
+            // Empty buffers are legal but a zero-sized binding is not: keep at least one HairVertex.
+            let padded;
+            let contents = if contents.is_empty() {
+                padded = [0u8; std::mem::size_of::<HairVertex>()];
+                &padded[..]
+            } else {
+                contents
+            };
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let v = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST;
+        let i = wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST;
+        let s = wgpu::BufferUsages::STORAGE;
+        let hair_vertices = buf("hairlab.scene.hair_vertices", bytemuck::cast_slice(&hv), v | s);
+        let hair_indices = buf("hairlab.scene.hair_indices", bytemuck::cast_slice(&hi), i | s);
+        let binding_limit = gpu.device.limits().max_storage_buffer_binding_size;
+        let ribbon_group = match sizes[..2].iter().find(|(_, b)| *b as u64 > binding_limit) {
+            Some(&(what, bytes)) => Err((what, bytes as u64, binding_limit)),
+            None => Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("hairlab.scene.ribbon_group"),
+                layout: ribbon_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: hair_vertices.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: hair_indices.as_entire_binding(),
+                    },
+                ],
+            })),
+        };
+        let mesh_bounds = scene
+            .meshes
+            .iter()
+            .fold(Aabb::EMPTY, |b, m| b.union(Aabb::from_points(&m.positions)));
+        let strands = scene.strand_bounds();
+        Ok(SceneGpu {
+            hair_vertices,
+            hair_indices,
+            hair_index_count: hi.len() as u32,
+            ribbon_layout: ribbon_layout.clone(),
+            ribbon_group,
+            mesh_vertices: buf("hairlab.scene.mesh_vertices", bytemuck::cast_slice(&mv), v),
+            mesh_indices: buf("hairlab.scene.mesh_indices", bytemuck::cast_slice(&mi), i),
+            mesh_index_count: mi.len() as u32,
+            bytes: sizes.iter().map(|(_, b)| *b as u64).sum(),
+            vertices: hv,
+            ranges: scene.strands.ranges().collect(),
+            mesh_bounds,
+            bounds: SceneBounds {
+                strands,
+                all: scene.bounds(),
+            },
+            fit_bound: strands,
+            generation: next_generation(),
+        })
+    }
+
+    /// The one write path for moving hair: `points` (one per strand point, in the scene's order) replace the
+    /// positions, tangents are derived from them as at upload, both are written into the existing vertex
+    /// buffer, the bounds follow, and the generation changes. Nothing is re-created.
+    pub fn update_points(&mut self, gpu: &Gpu, points: &[Vec3]) -> Result<(), PointCountMismatch> {
+        if points.len() != self.vertices.len() {
+            return Err(PointCountMismatch {
+                expected: self.vertices.len(),
+                got: points.len(),
+            });
+        }
+        for (v, p) in self.vertices.iter_mut().zip(points) {
+            v.position = (*p).into();
+        }
+        write_tangents(&mut self.vertices, self.ranges.iter().copied());
+        if !self.vertices.is_empty() {
+            gpu.queue
+                .write_buffer(&self.hair_vertices, 0, bytemuck::cast_slice(&self.vertices));
+        }
+        let strands = Aabb::from_points(points);
+        self.bounds = SceneBounds {
+            strands,
+            all: strands.union(self.mesh_bounds),
+        };
+        self.generation = next_generation();
+        Ok(())
+    }
+
+    /// Makes `bound` (e.g. the bound of a whole motion) what [`LightFit::Bound`] fits the hair maps to; `None`
+    /// goes back to the strands' current bounds. The light frame changes, so the generation does.
+    pub fn set_fit_bound(&mut self, bound: Option<Aabb>) {
+        self.fit_bound = bound.unwrap_or(self.bounds.strands);
+        self.generation = next_generation();
+    }
+
+    /// Changes whenever the geometry (or the bound the light frame fits) changes; unique across scenes.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    pub fn bounds(&self) -> &SceneBounds {
+        &self.bounds
+    }
+
+    /// Under `fit`, the box the hair maps' light frame is fitted to and the box the light is placed around
+    /// (the one place the policy is applied; [`crate::render::Renderer::hair_light_frame`] reads it).
+    pub fn light_fit(&self, fit: LightFit) -> (Aabb, Aabb) {
+        match fit {
+            LightFit::PerFrame => (self.bounds.strands, self.bounds.all),
+            LightFit::Bound => {
+                let hair = self.fit_bound.union(self.bounds.strands);
+                (hair, hair.union(self.mesh_bounds))
+            }
+        }
+    }
+
+    /// What every light pass draws from the light (the light-depth pass, the exact reference, each method's
+    /// passes): the one list, so a new caster is added here once.
+    pub fn casters(&self) -> [&dyn LightCaster; 1] {
+        [self]
+    }
+
+    /// Segments of the strands.
+    pub fn segment_count(&self) -> usize {
+        self.hair_index_count as usize / 2
+    }
+
+    /// The bind group of [`crate::render::geometry::RIBBON_GROUP`] over the strand buffers, or the error
+    /// saying which buffer exceeds the storage binding limit. A technique that draws ribbons checks it before
+    /// recording.
+    pub fn ribbons(&self) -> Result<&wgpu::BindGroup, GpuError> {
+        self.ribbon_group
+            .as_ref()
+            .map_err(|&(what, bytes, limit)| GpuError::TooLarge {
+                what: format!("the {what} bound as storage for ribbons"),
+                bytes,
+                limit,
+            })
+    }
+
+    /// Vertices of a ribbon draw of every segment: [`RIBBON_VERTICES_PER_SEGMENT`] per segment.
+    pub fn ribbon_vertex_count(&self) -> u32 {
+        self.hair_index_count / 2 * RIBBON_VERTICES_PER_SEGMENT
+    }
+}
+
+impl LightCaster for SceneGpu {
+    fn label(&self) -> &'static str {
+        "strands"
+    }
+
+    fn is_empty(&self) -> bool {
+        self.hair_index_count == 0
+    }
+
+    /// Every strand segment as a line (LineList, one index pair per segment).
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>) {
+        pass.set_vertex_buffer(0, self.hair_vertices.slice(..));
+        pass.set_index_buffer(self.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.hair_index_count, 0, instances);
+    }
+}

@@ -10,6 +10,7 @@ mod app_ui;
 mod bench;
 mod cli;
 mod coverage_alpha;
+mod docs;
 mod fur_density;
 mod fur_gpu;
 mod fur_guard;

@@ -1,6 +1,6 @@
 //! Approximated deep shadow maps (ADSM): the hair shadow most shipped engines use — Lacroix, "A Survivor Reborn:
 //! Tomb Raider on DX11" (GDC 2013), AMD TressFX (`ComputeShadow` / `ComputeHairShadowAttenuation`), vkhr
-//! (Kenzie, EGSR 2019 poster). Only the nearest strand depth `z0` of the texel is stored (the shared light-depth
+//! (Jansson, Chajdas, Lacroix, Ragnemalm, "Real-Time Hybrid Hair Rendering", EGSR 2019). Only the nearest strand depth `z0` of the texel is stored (the shared light-depth
 //! pass); the number of fibres in front of a point is estimated from a constant fibre spacing `s`:
 //!
 //! `n(z) = min(n_max, (z - z0) / s)`, raised to at least one fibre when `z - z0 > 1e-5` (TressFX: "if occluded

@@ -1,0 +1,81 @@
+//! The headless command line, one file per subcommand (`bench`'s lives in `crate::bench::cli`). With no
+//! subcommand, `hairlab` opens the workbench window. Every failure is one line naming the file and the problem,
+//! and a non-zero exit; outputs are written whole.
+
+pub mod composite;
+pub mod curve;
+pub mod generate;
+pub mod info;
+pub mod measure;
+pub mod render;
+pub mod soak;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use composite::CompositeArgs;
+pub use composite::parse_pixel_csv;
+use curve::CurveArgs;
+pub use curve::{parse_fragments_csv, read_fragments_csv};
+use generate::GenArgs;
+use info::InfoArgs;
+use measure::MeasureArgs;
+use render::RenderArgs;
+pub use render::render_image;
+use soak::SoakArgs;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "hairlab",
+    version,
+    about = "A workbench for real-time hair self-shadowing methods."
+)]
+#[command(after_help = "With no subcommand, hairlab opens the workbench window.")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Preset for the window (built-in name, `presets/<name>.toml`, or a path); default: the last session's.
+    #[arg(long, global = false)]
+    pub preset: Option<String>,
+    /// Override a preset value for the window, e.g. `--set render.hair_alpha=0.2` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a preset headlessly to a PNG: the same image the window shows.
+    Render(RenderArgs),
+    /// Print what a `.hair` / glTF file holds: strands, points, segments, bounds, arrays.
+    Info(InfoArgs),
+    /// Generate procedural hair and write it as a `.hair` file.
+    Gen(GenArgs),
+    /// Evaluate a method's CPU model on one texel's fragments (CSV rows `depth,alpha`, depth in [0,1]) and
+    /// print CSV `depth,reference,<method>`: the papers' texel experiments, in a script.
+    Curve(CurveArgs),
+    /// Composite one pixel's eye fragments (CSV rows `depth,r,g,b,alpha`, linear colour) through a transparency
+    /// technique's CPU model and print the linear RGB result `r,g,b`: the eye-space twin of `curve`.
+    Composite(CompositeArgs),
+    /// Measure methods against the exact reference on a preset's scene: depth complexity, map error, GPU time
+    /// per pass (median), memory, geometry passes.
+    Measure(MeasureArgs),
+    /// Sweep every method's parameters on a preset's scene and chart GPU time against map error: results.csv,
+    /// results.json and speed_vs_accuracy.png/.svg (Pareto front marked); `--scaling` fits GPU time per segment.
+    Bench(crate::bench::BenchArgs),
+    /// Render many frames while the light turns and the method changes, and check that neither the process's
+    /// resident memory nor the GPU memory grows (last cycle of methods against the first, at most 5 %).
+    Soak(SoakArgs),
+}
+
+/// Runs a subcommand.
+pub fn run(cmd: Command) -> Result<()> {
+    match cmd {
+        Command::Render(a) => render::render(&a),
+        Command::Info(a) => info::info(&a.file),
+        Command::Gen(a) => generate::gen_hair(&a),
+        Command::Curve(a) => curve::curve(&a),
+        Command::Composite(a) => composite::composite(&a),
+        Command::Measure(a) => measure::measure(&a),
+        Command::Bench(a) => crate::bench::run_cli(&a),
+        Command::Soak(a) => soak::soak(&a),
+    }
+}

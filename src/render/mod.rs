@@ -3,13 +3,16 @@
 //! `hairlab render` use the same code path.
 
 pub mod caster;
+pub mod frame;
 pub mod fur;
 pub mod geometry;
 pub mod light_frame;
 pub mod maps;
+pub mod memory;
 pub mod method;
 pub mod passes;
 pub mod pipelines;
+pub mod render_settings;
 pub mod scene_gpu;
 pub mod targets;
 pub mod transparency;
@@ -17,7 +20,7 @@ pub mod uniforms;
 
 use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback};
-use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::scene::{Camera, Light, Scene};
 use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
 use method::{LightMethod, MethodContext, MethodGpu, ParamValues};
@@ -28,97 +31,13 @@ use passes::light_depth::{LightDepthMaps, LightDepthPass};
 use passes::mesh::MeshPass;
 use passes::shadow_map::{ShadowMap, ShadowMapPass};
 use scene_gpu::SceneGpu;
-use serde::{Deserialize, Serialize};
+
+pub use frame::{FrameInput, footprint_per_w};
+pub use memory::{Creations, MemoryReport};
+pub use render_settings::{AlphaMode, DEFAULT_STRAND_WIDTH, RenderSettings};
 use targets::EyeTargets;
 use transparency::{EyeTransparency, TransparencyGpu};
 use uniforms::FrameUniforms;
-
-/// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RenderSettings {
-    /// Output size of `hairlab render` (the window uses its viewport size).
-    pub width: u32,
-    pub height: u32,
-    /// Side of the square light-space hair maps, 1..=4096.
-    pub map_resolution: u32,
-    /// Global hair opacity in (0, 1]: every fragment's alpha in `constant` mode, the strands' material opacity
-    /// in `coverage` mode.
-    pub hair_alpha: f32,
-    /// How a fragment's alpha is found ([`AlphaMode`]).
-    pub alpha: AlphaMode,
-    /// World width of a strand of thickness 1 (`coverage` mode): the width of strands without a thickness array
-    /// (the generated ones; a `.hair` header's default thickness is not applied) and the scale on a `.hair`
-    /// file's thickness array (1 takes it in the file's units). The default, 1.2 mm, is about one pixel at the
-    /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
-    /// mode, at the same `hair_alpha`.
-    pub strand_width: f32,
-    /// Colour of strands without their own colour (linear RGB).
-    pub hair_color: [f32; 3],
-    pub background: [f32; 3],
-    /// 3x3 percentage-closer filtering of the shadow method's visibility in the eye passes.
-    pub pcf: bool,
-    /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
-    pub jitter: bool,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            width: 640,
-            height: 480,
-            map_resolution: 512,
-            hair_alpha: 0.35,
-            alpha: AlphaMode::Constant,
-            strand_width: DEFAULT_STRAND_WIDTH,
-            hair_color: [0.30, 0.18, 0.09],
-            background: [0.12, 0.13, 0.15],
-            pcf: false,
-            jitter: false,
-        }
-    }
-}
-
-/// How a fragment's alpha is found, in the two vertex stages every light-space and eye-space pass shares
-/// (`strand_alpha` in `shaders/common/frame.wgsl`), so every technique and shadow method sees the same alphas.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum AlphaMode {
-    /// The point's alpha times `hair_alpha`, whatever the strand's width and the view.
-    #[default]
-    Constant,
-    /// The strand's coverage of the pixel (eye) or light texel: `clamp(hair_alpha · width / footprint, 0, 1)` times
-    /// the point's alpha, width = thickness × `strand_width`, footprint from [`footprint_per_w`] at the
-    /// point's depth.
-    Coverage,
-}
-
-/// Default [`RenderSettings::strand_width`], in world units (metres for the generated scenes).
-pub const DEFAULT_STRAND_WIDTH: f32 = 1.2e-3;
-
-/// World size of one pixel of a `width`×`height` image under the projection `view_to_clip`, per unit of clip w:
-/// the side of the square of a pixel's area at view depth 1 for a perspective (`2 d tan(fov_y/2) / height` at
-/// depth d, clip w = d), everywhere for an orthographic projection (clip w = 1; frustum width / width for a
-/// square frustum).
-pub fn footprint_per_w(view_to_clip: &Mat4, width: u32, height: u32) -> f32 {
-    let sx = view_to_clip.x_axis.x.abs() * width.max(1) as f32;
-    let sy = view_to_clip.y_axis.y.abs() * height.max(1) as f32;
-    2.0 / (sx * sy).sqrt()
-}
-
-/// Everything one frame depends on besides the scene.
-pub struct FrameInput<'a> {
-    pub camera: &'a Camera,
-    pub light: &'a Light,
-    pub render: &'a RenderSettings,
-    pub method: &'a dyn LightMethod,
-    pub method_params: &'a ParamValues,
-    /// The eye transparency technique and its parameters.
-    pub technique: &'a dyn EyeTransparency,
-    pub technique_params: &'a ParamValues,
-    pub width: u32,
-    pub height: u32,
-}
 
 /// The held method state if it is `method`'s, or an error saying that `method` is not the last frame's.
 fn held<'a>(
@@ -137,15 +56,6 @@ fn held<'a>(
         })
 }
 
-/// What [`Renderer::frame_uniforms`] reads of a frame.
-struct FrameParts<'a> {
-    camera: &'a Camera,
-    light: &'a Light,
-    render: &'a RenderSettings,
-    width: u32,
-    height: u32,
-}
-
 /// Side of the opaque meshes' shadow map.
 pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
 
@@ -156,59 +66,6 @@ pub struct FurState<'a> {
     pub lists: Option<&'a fur::typed::FurGpu>,
     /// Table 1 row 2: the shell uploaded and its volume computed on the GPU (wall time of `ShellGpu::new`, ms).
     pub volume_ms: f64,
-}
-
-/// GPU memory held by the renderer, by part.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct MemoryReport {
-    pub geometry: u64,
-    pub light_depth_maps: u64,
-    pub shadow_map: u64,
-    /// The colour and depth images and the eye transparency technique's targets.
-    pub eye_targets: u64,
-    /// The technique whose targets are held (the last frame's), and their part of `eye_targets`.
-    pub transparency_name: &'static str,
-    pub transparency_targets: u64,
-    /// The method whose state is held (the last frame's), and its maps: those it owns, and the shared
-    /// light-depth maps its lookup reads (already counted in `light_depth_maps`).
-    pub method_name: &'static str,
-    pub method_owned: u64,
-    pub method_shared: u64,
-    /// What the method builds its maps from each frame (`MethodGpu::build_bytes`).
-    pub method_build: u64,
-    /// The exact reference's fragment lists, when the inspector or a measurement has read them.
-    pub reference_lists: u64,
-}
-
-impl MemoryReport {
-    /// Everything the renderer holds (the shared maps once).
-    pub fn total(&self) -> u64 {
-        self.geometry
-            + self.light_depth_maps
-            + self.shadow_map
-            + self.eye_targets
-            + self.method_owned
-            + self.method_build
-            + self.reference_lists
-    }
-
-    /// What the method costs, as the papers count it: its own maps and the shared ones it reads.
-    pub fn method(&self) -> u64 {
-        self.method_owned + self.method_shared
-    }
-}
-
-/// GPU states a renderer has created, by kind: what a frame after [`Renderer::update_points`] must not add to.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Creations {
-    /// Scene uploads (buffers created from a scene).
-    pub scene_uploads: u64,
-    /// Shadow-method GPU states (each holds the method's maps and pipelines).
-    pub method_states: u64,
-    /// Eye transparency technique GPU states.
-    pub technique_states: u64,
-    /// Pipelines built by the eye passes' caches (meshes and hair, per method and technique).
-    pub pipelines: u64,
 }
 
 pub struct Renderer {
@@ -546,58 +403,46 @@ impl Renderer {
         }
     }
 
-    /// `[near, far]` of the strands' distances from `camera`'s eye, in units of the camera distance (the depth
-    /// the eye techniques store): the distance to the strands' bounding box and to its farthest corner.
-    pub fn eye_depth_range(&self, camera: &Camera) -> [f32; 2] {
-        let eye = camera.eye();
-        let b = &self.scene.bounds().strands;
-        let d = camera.distance.max(1e-4);
-        let nearest = eye.clamp(b.min, b.max).distance(eye);
-        let farthest = (0..8)
-            .map(|i| {
-                let pick = |bit: usize, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
-                Vec3::new(
-                    pick(1, b.min.x, b.max.x),
-                    pick(2, b.min.y, b.max.y),
-                    pick(4, b.min.z, b.max.z),
-                )
-                .distance(eye)
-            })
-            .fold(0.0f32, f32::max);
-        [nearest / d, farthest / d]
-    }
-
     /// Increases whenever the output texture is re-created (a viewer must re-register it).
     pub fn targets_generation(&self) -> u64 {
         self.targets_generation
     }
 
-    /// The light frame of the hair maps: fitted to the strands under `light.fit` ([`SceneGpu::light_fit`]).
-    pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
-        let (hair, around) = self.scene.light_fit(light.fit);
-        LightFrame::fit(light, around.center(), around.radius(), &hair)
+    /// `[near, far]` of the strands' distances from `camera`'s eye ([`frame::eye_depth_range`]).
+    pub fn eye_depth_range(&self, camera: &Camera) -> [f32; 2] {
+        frame::eye_depth_range(&self.scene, camera)
     }
 
-    /// The light frame of the meshes' shadow map: fitted to the whole scene.
-    fn shadow_light_frame(&self, light: &Light) -> LightFrame {
-        let all = &self.scene.bounds().all;
-        LightFrame::fit(light, all.center(), all.radius(), all)
+    /// The light frame of the hair maps under `light.fit` ([`frame::hair_light_frame`]).
+    pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
+        frame::hair_light_frame(&self.scene, light)
     }
 
     /// Camera matrices for an image of `width`×`height`.
     pub fn world_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
-        self.view_to_clip(camera, width, height) * camera.world_to_view()
+        frame::world_to_clip(&self.scene, camera, width, height)
     }
 
-    /// The camera's projection for an image of `width`×`height`.
-    fn view_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
-        let aspect = width as f32 / height.max(1) as f32;
-        let all = &self.scene.bounds().all;
-        let r = all.radius().max(1e-3);
-        let dist = camera.eye().distance(all.center());
-        let near = (dist - 2.0 * r).max(r * 0.01).max(camera.distance * 0.01);
-        let far = dist + 2.0 * r;
-        Mat4::perspective_rh(camera.fov_y_deg.to_radians(), aspect, near, far)
+    fn frame_uniforms(
+        &self,
+        camera: &Camera,
+        light: &Light,
+        render: &RenderSettings,
+        size: (u32, u32),
+        method_params: [f32; 4],
+    ) -> FrameUniforms {
+        frame::uniforms(
+            &self.scene,
+            &frame::UniformInputs {
+                camera,
+                light,
+                render,
+                size,
+                method_params,
+                light_map_resolution: self.light_maps.near.width(),
+                shadow_map_resolution: self.shadow_map.texture.width(),
+            },
+        )
     }
 
     fn uniforms(&self, f: &FrameInput) -> FrameUniforms {
@@ -608,61 +453,6 @@ impl Renderer {
             (f.width, f.height),
             f.method.uniform_params(f.method_params),
         )
-    }
-
-    fn frame_uniforms(
-        &self,
-        camera: &Camera,
-        light: &Light,
-        render: &RenderSettings,
-        (width, height): (u32, u32),
-        method_params: [f32; 4],
-    ) -> FrameUniforms {
-        let f = FrameParts {
-            camera,
-            light,
-            render,
-            width,
-            height,
-        };
-        let hair = self.hair_light_frame(f.light);
-        let shadow = self.shadow_light_frame(f.light);
-        let eye = f.camera.eye();
-        let spot = f.light.kind == LightKind::Spot;
-        let intensity = f.light.intensity;
-        let resolution = self.light_maps.near.width();
-        FrameUniforms {
-            world_to_clip: self.world_to_clip(f.camera, f.width, f.height).to_cols_array_2d(),
-            world_to_light_view: hair.world_to_view.to_cols_array_2d(),
-            world_to_light_clip: hair.world_to_clip().to_cols_array_2d(),
-            world_to_shadow_clip: shadow.world_to_clip().to_cols_array_2d(),
-            eye_position: eye.to_array(),
-            camera_distance: f.camera.distance.max(1e-4),
-            to_light: hair.to_light.to_array(),
-            light_is_spot: u32::from(spot),
-            light_position: hair.position.to_array(),
-            spot_cos_half_angle: (f.light.cone_deg.to_radians() * 0.5).cos(),
-            light_color: f.light.color.map(|c| c * intensity),
-            pad0: 0,
-            hair_color: f.render.hair_color,
-            hair_alpha: f.render.hair_alpha,
-            light_near: hair.near,
-            light_far: hair.far,
-            light_map_resolution: resolution,
-            lookup_flags: u32::from(f.render.pcf) | (u32::from(f.render.jitter) << 1),
-            method_params,
-            viewport_size: [f.width as f32, f.height as f32],
-            shadow_map_resolution: self.shadow_map.texture.width(),
-            shadow_bias: 1e-4,
-            alpha_mode: u32::from(f.render.alpha == AlphaMode::Coverage),
-            strand_width: f.render.strand_width,
-            eye_footprint: footprint_per_w(
-                &self.view_to_clip(f.camera, f.width, f.height),
-                f.width,
-                f.height,
-            ),
-            light_footprint: footprint_per_w(&hair.view_to_clip, resolution, resolution),
-        }
     }
 
     /// Records and submits one frame. Timings of earlier frames become available through [`Renderer::timings`].
@@ -1083,63 +873,4 @@ fn ts<'a>(
     name: &str,
 ) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
     timer.as_mut().and_then(|t| t.pass(phase, name))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::footprint_per_w;
-    use glam::Mat4;
-
-    /// One pixel's world size against hand-computed cases: a 90° camera at 200×100 (2 · 2 · tan 45° / 100 =
-    /// 0.04 at depth 2), a 60° spot at 512² (2 · 3 · tan 30° / 512 = 6.7658e-3 at depth 3) and a 2 × 0.5
-    /// orthographic frustum at 100² (√(0.02 · 0.005) = 0.01 everywhere).
-    #[test]
-    fn footprints_match_hand_computed_cases() {
-        let eye = Mat4::perspective_rh(90f32.to_radians(), 2.0, 0.1, 10.0);
-        assert!((footprint_per_w(&eye, 200, 100) * 2.0 - 0.04).abs() < 1e-7);
-        let spot = Mat4::perspective_rh(60f32.to_radians(), 1.0, 0.1, 10.0);
-        assert!((footprint_per_w(&spot, 512, 512) * 3.0 - 6.7658e-3).abs() < 1e-7);
-        let ortho = Mat4::orthographic_rh(-1.0, 1.0, -0.25, 0.25, 0.1, 10.0);
-        assert!((footprint_per_w(&ortho, 100, 100) - 0.01).abs() < 1e-8);
-    }
-
-    /// Dependencies run one way: the renderer (and the GPU, scene and CPU-model modules under it) never import
-    /// the shadow methods, the settings, the app, the bench or `measure`, which sit above it.
-    #[test]
-    fn lower_layers_import_nothing_above_them() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-        let above = [
-            "crate::methods",
-            "crate::settings",
-            "crate::app",
-            "crate::bench",
-            "crate::measure",
-        ];
-        let mut checked = 0;
-        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility", "transparency", "fur"]
-            .iter()
-            .map(|d| root.join(d))
-            .collect();
-        while let Some(dir) = stack.pop() {
-            for entry in std::fs::read_dir(&dir).unwrap() {
-                let path = entry.unwrap().path();
-                if path.is_dir() {
-                    stack.push(path);
-                    continue;
-                }
-                let text = std::fs::read_to_string(&path).unwrap();
-                for (i, line) in text.lines().enumerate() {
-                    let code = line.trim_start();
-                    if code.starts_with("//") || code.contains("\"crate::") {
-                        continue;
-                    }
-                    for a in above {
-                        assert!(!code.contains(a), "{}:{}: imports {a}", path.display(), i + 1);
-                    }
-                }
-                checked += 1;
-            }
-        }
-        assert!(checked > 20, "only {checked} files checked");
-    }
 }

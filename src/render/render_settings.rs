@@ -1,0 +1,67 @@
+//! How a frame is rendered ([`RenderSettings`], the `[render]` preset section) and how a strand fragment's alpha
+//! is found ([`AlphaMode`]).
+
+use serde::{Deserialize, Serialize};
+
+/// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RenderSettings {
+    /// Output size of `hairlab render` (the window uses its viewport size).
+    pub width: u32,
+    pub height: u32,
+    /// Side of the square light-space hair maps, 1..=4096.
+    pub map_resolution: u32,
+    /// Global hair opacity in (0, 1]: every fragment's alpha in `constant` mode, the strands' material opacity
+    /// in `coverage` mode.
+    pub hair_alpha: f32,
+    /// How a fragment's alpha is found ([`AlphaMode`]).
+    pub alpha: AlphaMode,
+    /// World width of a strand of thickness 1 (`coverage` mode): the width of strands without a thickness array
+    /// (the generated ones; a `.hair` header's default thickness is not applied) and the scale on a `.hair`
+    /// file's thickness array (1 takes it in the file's units). The default, 1.2 mm, is about one pixel at the
+    /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
+    /// mode, at the same `hair_alpha`.
+    pub strand_width: f32,
+    /// Colour of strands without their own colour (linear RGB).
+    pub hair_color: [f32; 3],
+    pub background: [f32; 3],
+    /// 3x3 percentage-closer filtering of the shadow method's visibility in the eye passes.
+    pub pcf: bool,
+    /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
+    pub jitter: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            map_resolution: 512,
+            hair_alpha: 0.35,
+            alpha: AlphaMode::Constant,
+            strand_width: DEFAULT_STRAND_WIDTH,
+            hair_color: [0.30, 0.18, 0.09],
+            background: [0.12, 0.13, 0.15],
+            pcf: false,
+            jitter: false,
+        }
+    }
+}
+
+/// How a fragment's alpha is found, in the two vertex stages every light-space and eye-space pass shares
+/// (`strand_alpha` in `shaders/common/frame.wgsl`), so every technique and shadow method sees the same alphas.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AlphaMode {
+    /// The point's alpha times `hair_alpha`, whatever the strand's width and the view.
+    #[default]
+    Constant,
+    /// The strand's coverage of the pixel (eye) or light texel: `clamp(hair_alpha · width / footprint, 0, 1)` times
+    /// the point's alpha, width = thickness × `strand_width`, footprint from [`footprint_per_w`] at the
+    /// point's depth.
+    Coverage,
+}
+
+/// Default [`RenderSettings::strand_width`], in world units (metres for the generated scenes).
+pub const DEFAULT_STRAND_WIDTH: f32 = 1.2e-3;

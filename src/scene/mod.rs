@@ -1,7 +1,7 @@
 //! Scene model: strands, opaque meshes, one light and a camera — no more than a scene needs.
 //!
 //! Geometry lives in [`Scene`]; the light and camera are small parameter structs that presets and the GUI edit.
-//! Loaders (`.hair`, glTF) and the procedural generators all produce a [`Scene`].
+//! Loaders (`.hair`, glTF, TressFX `.tfx`, USC-HairSalon `.data`) and the procedural generators all produce a [`Scene`].
 
 pub mod generate;
 pub mod gltf_check;
@@ -9,6 +9,8 @@ pub mod gltf_load;
 pub mod hair;
 pub mod load;
 pub mod pick;
+pub mod tfx;
+pub mod usc_data;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

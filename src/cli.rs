@@ -41,6 +41,9 @@ pub enum Command {
     Info(InfoArgs),
     /// Generate procedural hair and write it as a `.hair` file.
     Gen(GenArgs),
+    /// Convert strands between formats: any file `info` reads in, `.hair`, TressFX `.tfx` or USC-HairSalon
+    /// `.data` out (written whole or not at all); prints what the output cannot hold.
+    Convert(ConvertArgs),
     /// Evaluate a method's CPU model on one texel's fragments (CSV rows `depth,alpha`, depth in [0,1]) and
     /// print CSV `depth,reference,<method>`: the papers' texel experiments, in a script.
     Curve(CurveArgs),
@@ -135,6 +138,14 @@ pub struct RenderArgs {
 pub struct InfoArgs {
     /// A `.hair`, `.gltf`, `.glb`, TressFX `.tfx` or USC-HairSalon `.data` file.
     pub file: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct ConvertArgs {
+    /// Input: `.hair`, `.gltf`, `.glb`, `.tfx` or `.data`.
+    pub input: PathBuf,
+    /// Output: `.hair`, `.tfx` or `.data`.
+    pub output: PathBuf,
 }
 
 #[derive(Args, Debug)]
@@ -269,6 +280,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Render(a) => render(&a),
         Command::Info(a) => info(&a.file),
         Command::Gen(a) => gen_hair(&a),
+        Command::Convert(a) => convert(&a),
         Command::Curve(a) => curve(&a),
         Command::Composite(a) => composite(&a),
         Command::Measure(a) => measure(&a),
@@ -443,6 +455,51 @@ fn info(path: &Path) -> Result<()> {
             "bounds:    min ({:.4}, {:.4}, {:.4}) max ({:.4}, {:.4}, {:.4})",
             b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
         );
+    }
+    Ok(())
+}
+
+fn convert(a: &ConvertArgs) -> Result<()> {
+    use crate::scene::load::{STRAND_EXTENSIONS, load_scene, save_strands};
+    let ext = a
+        .output
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let Some(ext) = ext.filter(|e| STRAND_EXTENSIONS.contains(&e.as_str())) else {
+        anyhow::bail!(
+            "{}: the output must be one of .{}",
+            a.output.display(),
+            STRAND_EXTENSIONS.join(", .")
+        );
+    };
+    crate::io::check_output(&a.output, &ext)?;
+    let scene = load_scene(&a.input)?;
+    let name = a.input.file_name().unwrap_or_default().to_string_lossy();
+    save_strands(&a.output, &scene.strands, &format!("hairlab convert {name}"))?;
+    let s = &scene.strands;
+    println!(
+        "wrote {}: {} strands, {} points, {} segments",
+        a.output.display(),
+        s.strand_count(),
+        s.point_count(),
+        s.segment_count()
+    );
+    if !scene.meshes.is_empty() {
+        println!(
+            "dropped:   {} meshes (the output holds strands only)",
+            scene.meshes.len()
+        );
+    }
+    if ext == "data" {
+        for (present, name) in [
+            (s.thickness.is_some(), "thickness"),
+            (s.alpha.is_some(), "alpha"),
+            (s.color.is_some(), "colour"),
+        ] {
+            if present {
+                println!("dropped:   {name} (a .data file holds positions only)");
+            }
+        }
     }
     Ok(())
 }

@@ -37,3 +37,31 @@ pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
         ),
     }
 }
+
+/// Every extension [`save_strands`] writes (lower case).
+pub const STRAND_EXTENSIONS: [&str; 3] = ["hair", "tfx", "data"];
+
+/// Writes `strands` to `path` in the format its extension names (`.hair`, `.tfx`, `.data`, any case), whole or not
+/// at all (each writer goes through [`crate::io::write_atomic_io`]). `info` is the `.hair` info string. A groom the
+/// format cannot hold (a `.tfx` needs equal strand lengths, ...) is an error naming the file; a `.data` file holds
+/// positions only, so thickness, alpha and colour are not written to it (the caller says so).
+pub fn save_strands(path: &Path, strands: &super::Strands, info: &str) -> anyhow::Result<()> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let in_file = |e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", path.display());
+    match ext.as_deref() {
+        Some("hair") => {
+            let h = hair::HairFile::from_strands(strands, info).map_err(|e| in_file(&e))?;
+            Ok(hair::write_hair_file(path, &h)?)
+        }
+        Some("tfx") => {
+            let f = tfx::TfxFile::from_strands(strands).map_err(|e| in_file(&e))?;
+            Ok(tfx::write_tfx_file(path, &f)?)
+        }
+        Some("data") => Ok(usc_data::write_data_file(path, strands)?),
+        _ => bail!(
+            "{}: cannot write this file type (written: .{})",
+            path.display(),
+            STRAND_EXTENSIONS.join(", .")
+        ),
+    }
+}

@@ -413,3 +413,109 @@ fn info_prints_arrays_and_what_is_dropped() {
         ],
     );
 }
+
+fn stdout(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The names in `dir`, sorted.
+fn names(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn convert_tfx_to_hair_and_back_keeps_every_point() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = |n: &str| dir.path().join(n).to_str().unwrap().to_owned();
+    std::fs::write(p("in.tfx"), hand_built_tfx()).unwrap();
+    let o = hairlab(&["convert", &p("in.tfx"), &p("out.hair")]);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        format!("wrote {}: 2 strands, 6 points, 4 segments\n", p("out.hair"))
+    );
+    let original = read_tfx(&hand_built_tfx()).unwrap().to_strands();
+    let hair = load_scene(std::path::Path::new(&p("out.hair"))).unwrap().strands;
+    // Every array: the alphas (1, 0.75, 0.5, 0.25, 0, 1) survive `.hair`'s 1 - (1 - a) exactly.
+    assert_eq!(hair, original);
+    // And back: the UVs and w were dropped on the way in; the strands are the same.
+    let o = hairlab(&["convert", &p("out.hair"), &p("back.tfx")]);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    assert_eq!(
+        read_tfx_file(std::path::Path::new(&p("back.tfx")))
+            .unwrap()
+            .to_strands(),
+        original
+    );
+    assert_eq!(names(dir.path()), ["back.tfx", "in.tfx", "out.hair"]);
+}
+
+#[test]
+fn convert_to_data_says_what_it_drops() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let gltf = crate::gltf_load::sample(dir.path());
+    let out = dir.path().join("s.data");
+    let o = hairlab(&["convert", gltf.to_str().unwrap(), out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    // The sample: 1 quad mesh, strands of 3, 2, 3 and 4 points with colour and (on the strip) alpha.
+    assert_eq!(
+        stdout(&o),
+        format!(
+            "wrote {}: 4 strands, 12 points, 8 segments\ndropped:   1 meshes (the output holds strands only)\n\
+             dropped:   alpha (a .data file holds positions only)\ndropped:   colour (a .data file holds positions \
+             only)\n",
+            out.display()
+        )
+    );
+    let from_gltf = load_scene(&gltf).unwrap().strands;
+    let data = read_data_file(&out).unwrap();
+    assert_eq!(
+        (data.strands.points, data.strands.counts),
+        (from_gltf.points, from_gltf.counts)
+    );
+}
+
+#[test]
+fn convert_never_leaves_a_half_written_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = |n: &str| dir.path().join(n).to_str().unwrap().to_owned();
+    // Strands of 4 and 3 points: no .tfx holds them; the old output stays as it was, and nothing else appears.
+    let mut uneven = uniform_groom();
+    uneven.points.pop();
+    uneven.counts = vec![4, 3];
+    for a in [&mut uneven.thickness, &mut uneven.alpha] {
+        a.as_mut().unwrap().pop();
+    }
+    uneven.color.as_mut().unwrap().pop();
+    write_hair_file(
+        std::path::Path::new(&p("uneven.hair")),
+        &HairFile::from_strands(&uneven, "").unwrap(),
+    )
+    .unwrap();
+    std::fs::write(p("old.tfx"), b"old").unwrap();
+    assert_fails(
+        &hairlab(&["convert", &p("uneven.hair"), &p("old.tfx")]),
+        &["old.tfx", "strand 1 has 3 points and strand 0 has 4"],
+    );
+    assert_eq!(std::fs::read(p("old.tfx")).unwrap(), b"old");
+    // An unreadable input: named, and no output created.
+    std::fs::write(p("bad.data"), [1, 0, 0, 0, 9]).unwrap();
+    assert_fails(
+        &hairlab(&["convert", &p("bad.data"), &p("new.hair")]),
+        &[
+            "bad.data",
+            "1 strands, whose vertex counts alone need 4 bytes, but only 1 follow it",
+        ],
+    );
+    // An output type it does not write: refused before reading anything.
+    assert_fails(
+        &hairlab(&["convert", &p("uneven.hair"), &p("out.obj")]),
+        &["out.obj", "the output must be one of .hair, .tfx, .data"],
+    );
+    assert_eq!(names(dir.path()), ["bad.data", "old.tfx", "uneven.hair"]);
+}

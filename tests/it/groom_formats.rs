@@ -519,3 +519,20 @@ fn convert_never_leaves_a_half_written_file() {
     );
     assert_eq!(names(dir.path()), ["bad.data", "old.tfx", "uneven.hair"]);
 }
+
+#[test]
+fn a_preset_can_name_a_tfx_or_data_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("g.tfx"), hand_built_tfx()).unwrap();
+    std::fs::write(dir.path().join("g.data"), hand_built_data()).unwrap();
+    for (name, expected) in [
+        ("g.tfx", read_tfx(&hand_built_tfx()).unwrap().to_strands()),
+        ("g.data", read_data(&hand_built_data()).unwrap().strands),
+    ] {
+        // A relative scene file is found beside the preset.
+        let preset = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&preset, format!("[scene]\nfile = \"{name}\"\n")).unwrap();
+        let settings = hairlab::settings::Settings::load_preset(preset.to_str().unwrap(), &[]).unwrap();
+        assert_eq!(settings.scene.build().unwrap().strands, expected, "{name}");
+    }
+}

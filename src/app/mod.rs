@@ -291,9 +291,12 @@ impl HairlabApp {
             let d = rfd::AsyncFileDialog::new();
             let fut: Pick = match purpose {
                 DialogPurpose::OpenScene => Box::pin(
-                    d.add_filter("hair or glTF", &["hair", "gltf", "glb"])
-                        .set_title("Load strands")
-                        .pick_file(),
+                    d.add_filter(
+                        "hair, glTF, TressFX or USC-HairSalon",
+                        &crate::scene::load::SCENE_EXTENSIONS,
+                    )
+                    .set_title("Load strands")
+                    .pick_file(),
                 ),
                 DialogPurpose::SaveScreenshot => Box::pin(
                     d.add_filter("PNG", &["png"])

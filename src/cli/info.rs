@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// A `.hair`, `.gltf` or `.glb` file.
+    /// A `.hair`, `.gltf`, `.glb`, TressFX `.tfx` or USC-HairSalon `.data` file.
     pub file: PathBuf,
 }
 
@@ -18,16 +18,49 @@ pub(super) fn info(path: &Path) -> Result<()> {
         Some("hair") => Some(hair::read_hair_file(path)?),
         _ => None,
     };
-    let scene = match &hair_file {
-        Some(h) => crate::scene::Scene::new(
+    // For the strand-only formats: the arrays the file holds and what hairlab drops of it.
+    let mut arrays_dropped: Option<(Vec<&str>, Vec<String>)> = None;
+    let scene = match (&hair_file, ext.as_deref()) {
+        (Some(h), _) => crate::scene::Scene::new(
             h.to_strands()
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
             Vec::new(),
         ),
-        None => crate::scene::load::load_scene(path)?,
+        (None, Some("tfx")) => {
+            let f = crate::scene::tfx::read_tfx_file(path)?;
+            let mut arrays = vec!["positions"];
+            let mut dropped = vec!["position w (TressFX's simulation flag)".to_owned()];
+            for (present, name, drop) in [
+                (f.strand_uvs, "strand UVs", true),
+                (f.vertex_uvs, "vertex UVs", true),
+                (f.strand_thickness.is_some(), "strand thickness", false),
+                (f.vertex_color.is_some(), "vertex colours", false),
+            ] {
+                if present {
+                    arrays.push(name);
+                    if drop {
+                        dropped.push(format!("{name} (hairlab has no texture coordinates)"));
+                    }
+                }
+            }
+            arrays_dropped = Some((arrays, dropped));
+            crate::scene::Scene::new(f.to_strands(), Vec::new())
+        }
+        (None, Some("data")) => {
+            let f = crate::scene::usc_data::read_data_file(path)?;
+            let dropped = (f.empty_strands > 0).then(|| format!("{} strands of 0 vertices", f.empty_strands));
+            arrays_dropped = Some((vec!["positions"], dropped.into_iter().collect()));
+            crate::scene::Scene::new(f.strands, Vec::new())
+        }
+        (None, _) => crate::scene::load::load_scene(path)?,
     };
     println!("file:      {}", path.display());
-    if let Some(h) = &hair_file {
+    if let Some((arrays, dropped)) = &arrays_dropped {
+        println!("arrays:    {}", arrays.join(", "));
+        for d in dropped {
+            println!("dropped:   {d}");
+        }
+    } else if let Some(h) = &hair_file {
         let present: Vec<&str> = [
             ("segments", h.segments.is_some()),
             ("points", h.points.is_some()),

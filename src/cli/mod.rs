@@ -3,6 +3,7 @@
 //! and a non-zero exit; outputs are written whole.
 
 pub mod composite;
+pub mod convert;
 pub mod curve;
 pub mod generate;
 pub mod info;
@@ -14,6 +15,7 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use composite::CompositeArgs;
 pub use composite::parse_pixel_csv;
+use convert::ConvertArgs;
 use curve::CurveArgs;
 pub use curve::{parse_fragments_csv, read_fragments_csv};
 use generate::GenArgs;
@@ -45,10 +47,14 @@ pub struct Cli {
 pub enum Command {
     /// Render a preset headlessly to a PNG: the same image the window shows.
     Render(RenderArgs),
-    /// Print what a `.hair` / glTF file holds: strands, points, segments, bounds, arrays.
+    /// Print what a `.hair` / glTF / `.tfx` / `.data` file holds: strands, points, segments, bounds, arrays, and
+    /// what hairlab drops of it.
     Info(InfoArgs),
     /// Generate procedural hair and write it as a `.hair` file.
     Gen(GenArgs),
+    /// Convert strands between formats: any file `info` reads in, `.hair`, TressFX `.tfx` or USC-HairSalon
+    /// `.data` out (written whole or not at all); prints what the output cannot hold.
+    Convert(ConvertArgs),
     /// Evaluate a method's CPU model on one texel's fragments (CSV rows `depth,alpha`, depth in [0,1]) and
     /// print CSV `depth,reference,<method>`: the papers' texel experiments, in a script.
     Curve(CurveArgs),
@@ -72,6 +78,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Render(a) => render::render(&a),
         Command::Info(a) => info::info(&a.file),
         Command::Gen(a) => generate::gen_hair(&a),
+        Command::Convert(a) => convert::convert(&a),
         Command::Curve(a) => curve::curve(&a),
         Command::Composite(a) => composite::composite(&a),
         Command::Measure(a) => measure::measure(&a),

@@ -1,13 +1,23 @@
-//! Loading a scene from a file, choosing the loader by extension (`.hair`, `.gltf`, `.glb`).
+//! Loading a scene from a file, choosing the loader by extension (`.hair`, `.gltf`, `.glb`, `.tfx`, `.data`).
+//!
+//! hairlab's world is right-handed and Y-up, in the units of the file: no loader rescales or turns what it reads.
+//! `.hair` and glTF (Y-up by its specification, metres) are taken as they are; so are TressFX `.tfx` (Y-up, as
+//! TressFX runtimes expect) and USC-HairSalon `.data` (Y-up, aligned to the database's head model). What each
+//! reader keeps and drops is stated in its module: [`super::hair`], [`super::gltf_load`], [`super::tfx`],
+//! [`super::usc_data`].
 
 use std::path::Path;
 
 use anyhow::bail;
 
-use super::{Scene, gltf_load, hair};
+use super::{Scene, gltf_load, hair, tfx, usc_data};
 
-/// Loads `path` as a scene: `.hair` files give strands only (no meshes); `.gltf`/`.glb` files give meshes and
-/// strands. The extension is matched case-insensitively; anything else is an error naming the file.
+/// Every extension [`load_scene`] reads (lower case), for file dialogs.
+pub const SCENE_EXTENSIONS: [&str; 5] = ["hair", "gltf", "glb", "tfx", "data"];
+
+/// Loads `path` as a scene: `.hair`, `.tfx` and `.data` files give strands only (no meshes); `.gltf`/`.glb` files
+/// give meshes and strands. The extension is matched case-insensitively; anything else is an error naming the
+/// file.
 pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
@@ -18,9 +28,40 @@ pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
             Ok(Scene::new(strands, Vec::new()))
         }
         Some("gltf" | "glb") => Ok(gltf_load::load_gltf(path)?),
+        Some("tfx") => Ok(Scene::new(tfx::read_tfx_file(path)?.to_strands(), Vec::new())),
+        Some("data") => Ok(Scene::new(usc_data::read_data_file(path)?.strands, Vec::new())),
         _ => bail!(
-            "{}: unsupported file type (supported: .hair, .gltf, .glb)",
-            path.display()
+            "{}: unsupported file type (supported: .{})",
+            path.display(),
+            SCENE_EXTENSIONS.join(", .")
+        ),
+    }
+}
+
+/// Every extension [`save_strands`] writes (lower case).
+pub const STRAND_EXTENSIONS: [&str; 3] = ["hair", "tfx", "data"];
+
+/// Writes `strands` to `path` in the format its extension names (`.hair`, `.tfx`, `.data`, any case), whole or not
+/// at all (each writer goes through [`crate::io::write_atomic_io`]). `info` is the `.hair` info string. A groom the
+/// format cannot hold (a `.tfx` needs equal strand lengths, ...) is an error naming the file; a `.data` file holds
+/// positions only, so thickness, alpha and colour are not written to it (the caller says so).
+pub fn save_strands(path: &Path, strands: &super::Strands, info: &str) -> anyhow::Result<()> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let in_file = |e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", path.display());
+    match ext.as_deref() {
+        Some("hair") => {
+            let h = hair::HairFile::from_strands(strands, info).map_err(|e| in_file(&e))?;
+            Ok(hair::write_hair_file(path, &h)?)
+        }
+        Some("tfx") => {
+            let f = tfx::TfxFile::from_strands(strands).map_err(|e| in_file(&e))?;
+            Ok(tfx::write_tfx_file(path, &f)?)
+        }
+        Some("data") => Ok(usc_data::write_data_file(path, strands)?),
+        _ => bail!(
+            "{}: cannot write this file type (written: .{})",
+            path.display(),
+            STRAND_EXTENSIONS.join(", .")
         ),
     }
 }

@@ -1,7 +1,7 @@
 //! Scene model: strands, opaque meshes, one light and a camera — no more than a scene needs.
 //!
 //! Geometry lives in [`Scene`]; the light and camera are small parameter structs that presets and the GUI edit.
-//! Loaders (`.hair`, glTF) and the procedural generators all produce a [`Scene`].
+//! Loaders (`.hair`, glTF, TressFX `.tfx`, USC-HairSalon `.data`) and the procedural generators all produce a [`Scene`].
 
 pub mod fur_shapes;
 pub mod generate;
@@ -11,6 +11,8 @@ pub mod hair;
 pub mod load;
 pub mod pick;
 pub mod style;
+pub mod tfx;
+pub mod usc_data;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

@@ -1,7 +1,9 @@
 //! Bounded mutation runs over every input format hairlab reads (issue 11's "fuzzing as a habit"): glTF and glb,
-//! `.hair`, the fragment CSV of `hairlab curve`, and preset TOML with `--set` overrides. Each seed is a file the
-//! tests write; each case mutates it a few times (a number token replaced by an extreme, a byte overwritten, the
-//! text cut short) and must load or fail with an error naming its source — never panic (a panic fails the test)
+//! `.hair`, TressFX `.tfx`, USC-HairSalon `.data`, the fragment CSV of `hairlab curve`, and preset TOML with `--set`
+//! overrides. Each seed is a file the tests write; each case mutates it a few times (a number token replaced by an
+//! extreme, a byte overwritten, the text cut short; for `.tfx` and `.data` also an aligned 32-bit word — a count,
+//! an offset, a coordinate — replaced by an extreme) and must load or fail with an error naming its source — never
+//! panic (a panic fails the test)
 //! and, for glTF, never get as far as a panic inside the `gltf` crate. 2000 cases per format run in about a second;
 //! a long run sets `HAIRLAB_FUZZ_CASES` (cases per format) and `HAIRLAB_FUZZ_SEED`. Every case is timed: one over
 //! [`TIMEOUT`] is a hang the mutation found (a failure), and the slowest case of each format is printed.
@@ -9,6 +11,9 @@
 use hairlab::rng::SplitMix64;
 use hairlab::scene::gltf_load::load_gltf;
 use hairlab::scene::hair::{HairFile, read_hair_file, write_hair};
+use hairlab::scene::load::load_scene;
+use hairlab::scene::tfx::{TfxFile, write_tfx};
+use hairlab::scene::usc_data::write_data;
 use hairlab::settings::Settings;
 use std::time::{Duration, Instant};
 
@@ -108,6 +113,89 @@ fn mutate(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
         }
     }
     bytes
+}
+
+/// 32-bit words a binary mutation writes over an aligned word: counts and offsets at and past every bound, and
+/// the extreme floats.
+const WORDS: [u32; 12] = [
+    0,
+    1,
+    2,
+    3,
+    4,
+    160,
+    0x7fff_ffff,
+    0x8000_0000,
+    0xffff_ffff,
+    0x7fc0_0000, // NaN
+    0x7f80_0000, // +inf
+    0xbf80_0000, // -1.0
+];
+
+/// [`mutate`], then, in half the cases, one aligned 32-bit little-endian word replaced by one of [`WORDS`] or a
+/// small random count.
+fn mutate_binary(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
+    let mut bytes = mutate(rng, seed);
+    if rng.int(0, 1) == 0 && bytes.len() >= 4 {
+        let at = 4 * rng.int(0, bytes.len() / 4 - 1);
+        let word = match rng.int(0, WORDS.len()) {
+            i if i < WORDS.len() => WORDS[i],
+            _ => rng.int(0, 64) as u32,
+        };
+        bytes[at..at + 4].copy_from_slice(&word.to_le_bytes());
+    }
+    bytes
+}
+
+/// One binary format's run: `cases` mutations of `seeds` (picked in turn) loaded through [`load_scene`] as
+/// `case<N>.<ext>`. A loaded groom must be consistent (its counts add up to its points, every point finite);
+/// a refusal must name the file.
+fn fuzz_strand_format(ext: &str, seeds: &[Vec<u8>]) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (cases, mut rng) = run();
+    let (mut loaded, mut refused) = (0, 0);
+    let mut slowest = Slowest::default();
+    let start = Instant::now();
+    for case in 0..cases {
+        let seed = &seeds[case as usize % seeds.len()];
+        let path = dir.path().join(format!("case{case}.{ext}"));
+        std::fs::write(&path, mutate_binary(&mut rng, seed)).unwrap();
+        match slowest.time(case, || load_scene(&path)) {
+            Ok(scene) => {
+                let s = &scene.strands;
+                let total: u64 = s.counts.iter().map(|&c| u64::from(c)).sum();
+                assert_eq!(total, s.points.len() as u64, "case {case}");
+                assert!(s.points.iter().all(|p| p.is_finite()), "case {case}");
+                loaded += 1;
+            }
+            Err(e) => {
+                let msg = format!("{e:#}");
+                assert!(msg.contains(&format!("case{case}.{ext}")), "{msg}");
+                refused += 1;
+            }
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+    eprintln!(
+        ".{ext}: {cases} cases, {loaded} load, {refused} refused, {slowest}, {:.1} s in all",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
+}
+
+#[test]
+fn mutated_tfx_files_fail_cleanly() {
+    let groom = TfxFile::from_strands(&crate::groom_formats::uniform_groom()).unwrap();
+    fuzz_strand_format(
+        "tfx",
+        &[write_tfx(&groom), crate::groom_formats::hand_built_tfx()],
+    );
+}
+
+#[test]
+fn mutated_data_files_fail_cleanly() {
+    let groom = write_data(&crate::groom_formats::uniform_groom()).unwrap();
+    fuzz_strand_format("data", &[groom, crate::groom_formats::hand_built_data()]);
 }
 
 /// The glb form of a text glTF: its JSON as the one chunk.

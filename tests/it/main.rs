@@ -29,6 +29,7 @@ mod gpu_fom;
 mod gpu_msm;
 mod gpu_occupancy;
 mod gpu_render;
+mod groom_formats;
 mod hair_format;
 mod inspector_ui;
 mod methods_gpu;

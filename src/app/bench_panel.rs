@@ -258,9 +258,9 @@ impl HairlabApp {
             egui::ComboBox::from_id_salt("bench_metric")
                 .selected_text(result.metric)
                 .show_ui(ui, |ui| {
-                    for (name, axis) in bench::ACCURACY_METRICS {
-                        ui.selectable_value(&mut result.metric, *name, *name)
-                            .on_hover_text(*axis);
+                    for (name, axis) in bench::accuracy_metrics() {
+                        ui.selectable_value(&mut result.metric, name, name)
+                            .on_hover_text(axis);
                     }
                 })
                 .response

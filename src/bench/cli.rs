@@ -1,9 +1,8 @@
 //! `hairlab bench`: the arguments, the run, and the tables printed on stdout.
 
 use super::{
-    ACCURACY_METRICS, BenchResult, DEFAULT_SCALING_SEGMENTS, Progress, ScalingResult, TerminalProgress,
-    parse_methods, parse_metric, prepare_out_dir, run, run_scaling, scaling_configs, write_results,
-    write_scaling,
+    BenchResult, DEFAULT_SCALING_SEGMENTS, Progress, ScalingResult, TerminalProgress, parse_methods,
+    parse_metric, prepare_out_dir, run, run_scaling, scaling_configs, write_results, write_scaling,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
@@ -26,7 +25,7 @@ pub struct BenchArgs {
     /// The accuracy metric of the chart, the table and the Pareto front (every metric is in the CSV and the
     /// JSON whichever is chosen).
     #[arg(long, default_value = super::DEFAULT_ACCURACY_METRIC,
-          value_parser = clap::builder::PossibleValuesParser::new(ACCURACY_METRICS.iter().map(|(n, _)| *n)))]
+          value_parser = clap::builder::PossibleValuesParser::new(super::accuracy_metrics().map(|(n, _)| n)))]
     pub metric: String,
     /// Timed frames per configuration (after one warm-up frame).
     #[arg(long, default_value_t = 5)]

@@ -30,8 +30,8 @@ pub use report::{
     prepare_out_dir, scaling_csv, scaling_points_csv, to_csv, to_json, write_results, write_scaling,
 };
 pub use result::{
-    ACCURACY_METRICS, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, ScalingFit, ScalingPoint,
-    ScalingRefusal, ScalingResult, error_metrics, frame_totals, metric_axis, parse_metric,
+    BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, METRICS, Metric, ScalingFit, ScalingPoint,
+    ScalingRefusal, ScalingResult, accuracy_metrics, error_metrics, frame_totals, metric_axis, parse_metric,
 };
 pub use run::{Progress, TerminalProgress, measure_configs, run, run_scaling};
 pub use stats::{Spread, fit_line, pareto_front};

@@ -5,71 +5,129 @@ use super::{Spread, pareto_front};
 use crate::measure::{Measurement, MethodConfig, SceneStats};
 use std::fmt::Write as _;
 
-/// Every error metric of a measurement, by column name: adding a metric to [`Measurement`] is one line here,
-/// and the CSV, the JSON and the tables follow.
+/// One error metric of a measurement: its column name (CSV, JSON, `--metric`), its header in `measure`'s table,
+/// the axis label when a chart plots it (`None`: not an accuracy axis, e.g. PSNR, where higher is better), and how
+/// it is read from a [`Measurement`]. Adding a metric is one line in [`METRICS`] plus its computation; the CSV,
+/// the JSON, the charts, the window's metric menu and `measure`'s table follow.
+pub struct Metric {
+    pub name: &'static str,
+    pub header: &'static str,
+    pub axis: Option<&'static str>,
+    /// Printed as a percentage in the table.
+    pub percent: bool,
+    pub value: fn(&Measurement) -> f64,
+}
+
+/// Every error metric, in column order.
+pub const METRICS: &[Metric] = &[
+    Metric {
+        name: "map_error",
+        header: "map err",
+        axis: Some("map error: mean |ΔV| per occupied texel"),
+        percent: false,
+        value: |m| m.map_error,
+    },
+    Metric {
+        name: "texel_error_p50",
+        header: "p50",
+        axis: Some("median texel error (texel mean |ΔV|)"),
+        percent: false,
+        value: |m| m.texel_errors.p50,
+    },
+    Metric {
+        name: "texel_error_p95",
+        header: "p95",
+        axis: Some("95th-percentile texel error (texel mean |ΔV|)"),
+        percent: false,
+        value: |m| m.texel_errors.p95,
+    },
+    Metric {
+        name: "texel_error_p99",
+        header: "p99",
+        axis: Some("99th-percentile texel error (texel mean |ΔV|)"),
+        percent: false,
+        value: |m| m.texel_errors.p99,
+    },
+    Metric {
+        name: "worst_texel_error",
+        header: "worst",
+        axis: Some("worst texel error (texel mean |ΔV|)"),
+        percent: false,
+        value: |m| m.texel_errors.worst,
+    },
+    Metric {
+        name: "share_texels_over_0.05",
+        header: ">0.05",
+        axis: Some("share of occupied texels with error > 0.05"),
+        percent: true,
+        value: |m| m.texel_errors.share_over[0],
+    },
+    Metric {
+        name: "share_texels_over_0.1",
+        header: ">0.1",
+        axis: Some("share of occupied texels with error > 0.1"),
+        percent: true,
+        value: |m| m.texel_errors.share_over[1],
+    },
+    Metric {
+        name: "shading_error",
+        header: "shading",
+        axis: Some("shading error: mean |ΔV| at the visible hair points"),
+        percent: false,
+        value: |m| m.shading_error,
+    },
+    Metric {
+        name: "image_rmse",
+        header: "img RMSE",
+        axis: Some("image RMSE against the reference image"),
+        percent: false,
+        value: |m| m.image_rmse,
+    },
+    Metric {
+        name: "image_psnr",
+        header: "PSNR",
+        axis: None,
+        percent: false,
+        value: |m| m.image_psnr,
+    },
+    Metric {
+        name: "flicker",
+        header: "flicker",
+        axis: Some("flicker: frame-to-frame change of V beyond the reference's"),
+        percent: false,
+        value: |m| m.flicker,
+    },
+];
+
+/// Every error metric of a measurement, by column name ([`METRICS`] order).
 pub fn error_metrics(m: &Measurement) -> Vec<(&'static str, f64)> {
-    vec![
-        ("map_error", m.map_error),
-        ("texel_error_p50", m.texel_errors.p50),
-        ("texel_error_p95", m.texel_errors.p95),
-        ("texel_error_p99", m.texel_errors.p99),
-        ("worst_texel_error", m.texel_errors.worst),
-        ("share_texels_over_0.05", m.texel_errors.share_over[0]),
-        ("share_texels_over_0.1", m.texel_errors.share_over[1]),
-        ("shading_error", m.shading_error),
-        ("image_rmse", m.image_rmse),
-        ("image_psnr", m.image_psnr),
-        ("flicker", m.flicker),
-    ]
+    METRICS.iter().map(|k| (k.name, (k.value)(m))).collect()
 }
 
 /// The metrics a chart's accuracy axis and the Pareto front can use (lower is better), with the axis label.
-pub const ACCURACY_METRICS: &[(&str, &str)] = &[
-    ("map_error", "map error: mean |ΔV| per occupied texel"),
-    ("texel_error_p50", "median texel error (texel mean |ΔV|)"),
-    ("texel_error_p95", "95th-percentile texel error (texel mean |ΔV|)"),
-    ("texel_error_p99", "99th-percentile texel error (texel mean |ΔV|)"),
-    ("worst_texel_error", "worst texel error (texel mean |ΔV|)"),
-    (
-        "share_texels_over_0.05",
-        "share of occupied texels with error > 0.05",
-    ),
-    (
-        "share_texels_over_0.1",
-        "share of occupied texels with error > 0.1",
-    ),
-    (
-        "shading_error",
-        "shading error: mean |ΔV| at the visible hair points",
-    ),
-    ("image_rmse", "image RMSE against the reference image"),
-    (
-        "flicker",
-        "flicker: frame-to-frame change of V beyond the reference's",
-    ),
-];
+pub fn accuracy_metrics() -> impl Iterator<Item = (&'static str, &'static str)> {
+    METRICS.iter().filter_map(|k| k.axis.map(|axis| (k.name, axis)))
+}
 
 /// The accuracy metric a new result shows.
 pub const DEFAULT_ACCURACY_METRIC: &str = "map_error";
 
-/// `name` as one of [`ACCURACY_METRICS`], or an error listing them.
+/// `name` as one of the [`accuracy_metrics`], or an error listing them.
 pub fn parse_metric(name: &str) -> Result<&'static str, String> {
-    ACCURACY_METRICS
-        .iter()
+    accuracy_metrics()
         .find(|(n, _)| *n == name)
-        .map(|(n, _)| *n)
+        .map(|(n, _)| n)
         .ok_or_else(|| {
-            let names: Vec<_> = ACCURACY_METRICS.iter().map(|(n, _)| *n).collect();
+            let names: Vec<_> = accuracy_metrics().map(|(n, _)| n).collect();
             format!("unknown metric '{name}' (known: {})", names.join(", "))
         })
 }
 
-/// The axis label of an [`ACCURACY_METRICS`] name.
+/// The axis label of an [`accuracy_metrics`] name.
 pub fn metric_axis(name: &str) -> &'static str {
-    ACCURACY_METRICS
-        .iter()
+    accuracy_metrics()
         .find(|(n, _)| *n == name)
-        .map_or("error", |(_, axis)| *axis)
+        .map_or("error", |(_, axis)| axis)
 }
 
 /// The GPU milliseconds of each timed frame, all passes summed, from per-pass frame times.

@@ -20,6 +20,7 @@ use std::collections::HashMap;
 use super::bindings::{self, Binding};
 use super::pipelines;
 use crate::gpu::{Gpu, GpuError};
+use crate::render::method::{ParamKind, ParamSpec};
 use crate::render::passes::abuffer::copy_out;
 
 /// Bytes of one list node (`common/eye_node.wgsl`).
@@ -27,6 +28,16 @@ pub const NODE_BYTES: u64 = 32;
 
 /// The resolve's private sort sizes; a pixel deeper than the last is refused.
 pub const SORT_SIZES: [u32; 6] = [16, 64, 128, 256, 512, 1024];
+
+/// A list technique's band budget, `transparency.params.band_kib` (the key the plan's refusals name).
+pub const BAND_KIB: ParamSpec = ParamSpec {
+    key: "band_kib",
+    label: "band budget KiB",
+    help: "most KiB of list nodes per band of rows (0: the device's storage binding limit); a smaller budget \
+           renders the same image in more bands",
+    kind: ParamKind::Int { min: 0, max: 4 << 20 },
+    default: 0.0,
+};
 
 /// Mirror of `EyeNode` in `common/eye_node.wgsl`.
 #[repr(C)]
@@ -403,30 +414,15 @@ impl PixelLists {
         (y0, y1): (u32, u32),
         groups: [&wgpu::BindGroup; 2],
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("hairlab.lists.resolve_pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: output,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        if y1 > y0 {
-            pass.set_scissor_rect(0, y0, self.buffers.width, y1 - y0);
-            pass.set_pipeline(&self.resolves[&(self.plan.size, format)]);
-            for (i, g) in groups.into_iter().enumerate() {
-                pass.set_bind_group(i as u32, g, &[]);
-            }
-            pass.draw(0..3, 0..1);
-        }
+        pipelines::record_fullscreen(
+            encoder,
+            "hairlab.lists.resolve_pass",
+            output,
+            timestamps,
+            Some((self.buffers.width, y0, y1)),
+            &self.resolves[&(self.plan.size, format)],
+            &groups,
+        );
     }
 
     /// The last frame's lists (row-major), each pixel's nodes in list order; an error when the frame was built in
@@ -491,7 +487,10 @@ mod tests {
         assert!(!src.contains("fn resolve_512("));
         assert!(src.contains("if n <= 128u { return resolve_128(head, n); }"));
         assert!(src.contains("return resolve_256(head, min(n, 256u));"));
-        assert!(!src.lines().any(|l| l.trim_start().starts_with("#sort")), "a directive left");
+        assert!(
+            !src.lines().any(|l| l.trim_start().starts_with("#sort")),
+            "a directive left"
+        );
         let small = resolve_source("transparency/sorted_resolve.wgsl", 1).unwrap();
         assert!(small.contains("return resolve_16(head, min(n, 16u));") && !small.contains("fn resolve_64("));
     }

@@ -145,3 +145,72 @@ pub fn module(device: &wgpu::Device, label: &str, src: Result<String, String>) -
         source: wgpu::ShaderSource::Wgsl(src.into()),
     })
 }
+
+/// Records a full-screen pass of `pipeline` loaded and blended onto `output` (rows `[y0, y1)` only when given;
+/// nothing drawn for an empty band), groups 0.. from `groups`.
+pub fn record_fullscreen(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    output: &wgpu::TextureView,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    rows: Option<(u32, u32, u32)>,
+    pipeline: &wgpu::RenderPipeline,
+    groups: &[&wgpu::BindGroup],
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: output,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if let Some((width, y0, y1)) = rows {
+        if y1 <= y0 {
+            return;
+        }
+        pass.set_scissor_rect(0, y0, width, y1 - y0);
+    }
+    pass.set_pipeline(pipeline);
+    for (i, g) in groups.iter().enumerate() {
+        pass.set_bind_group(i as u32, *g, &[]);
+    }
+    pass.draw(0..3, 0..1);
+}
+
+/// Records a storage-only pass over the strands as lines (the count passes' shape): into the never-written null
+/// target, the meshes tested by hand, group 0 the frame and group 1 `group`; nothing drawn without strands.
+pub fn record_line_count(
+    frame: &mut crate::render::transparency::EyeFrame<'_>,
+    label: &str,
+    timer: &str,
+    pipeline: &wgpu::RenderPipeline,
+    group: &wgpu::BindGroup,
+) {
+    let timestamps = frame.timer.as_mut().and_then(|t| t.pass(timer));
+    let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[frame.targets.null_attachment()],
+        depth_stencil_attachment: None,
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    let geometry = frame.geometry;
+    if geometry.hair_index_count > 0 {
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_bind_group(1, group, &[]);
+        pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
+        pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
+    }
+}

@@ -19,10 +19,10 @@ use crate::fur::march::MarchParams;
 use crate::fur::settings::{Blending, FurSettings, FurView};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::Binding;
-use crate::render::eye::lists::{ListNames, ListSpec, NODE_BYTES, PixelLists};
+use crate::render::eye::lists::{BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
 use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::geometry::RIBBON_GROUP;
-use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, UniformMirror};
+use crate::render::method::{ParamValues, Role, UniformMirror};
 use crate::render::targets::EyeTargets;
 use crate::render::transparency::{
     EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
@@ -51,13 +51,7 @@ static INFO: TechniqueInfo = TechniqueInfo {
     hair_wgsl: "transparency/sorted.wgsl",
     hair_entries: std::slice::from_ref(&FILL),
     pass_wgsl: &["fur/ribbon_count.wgsl", "fur/resolve.wgsl"],
-    params: &[ParamSpec {
-        key: "band_kib",
-        label: "band budget KiB",
-        help: "most KiB of list nodes per band of rows (0: the device's storage binding limit)",
-        kind: ParamKind::Int { min: 0, max: 4 << 20 },
-        default: 0.0,
-    }],
+    params: &[BAND_KIB],
     color: [150, 95, 60],
     // f32 front-to-back sums in both; measured in tests/it/fur_typed.rs.
     gpu_tolerance: 1e-5,

@@ -54,26 +54,16 @@ impl CompositePass {
         bind_group: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("hairlab.composite.pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
         let pipeline = self.pipelines.iter().find(|(f, _)| *f == format);
-        pass.set_pipeline(&pipeline.unwrap_or(&self.pipelines[0]).1);
-        pass.set_bind_group(0, bind_group, &[]);
-        pass.draw(0..3, 0..1);
+        pipelines::record_fullscreen(
+            encoder,
+            "hairlab.composite.pass",
+            color,
+            timestamps,
+            None,
+            &pipeline.unwrap_or(&self.pipelines[0]).1,
+            &[bind_group],
+        );
     }
 }
 

@@ -247,17 +247,7 @@ impl Targets {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let view = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label, format| bindings::texture(device, label, (width, height), format);
         let depth_view = eye_texture(
             device,
             "hairlab.depth-peel.depth",
@@ -330,29 +320,13 @@ impl DepthPeelGpu {
             ],
         );
         frame.encoder.clear_buffer(&t.counts, 0, None);
-        {
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|timer| timer.pass("eye: depth complexity"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.depth-peel.count.pass"),
-                color_attachments: &[frame.targets.null_attachment()],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            let g = frame.geometry;
-            if g.hair_index_count > 0 {
-                pass.set_pipeline(&self.count);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &count_bind_group, &[]);
-                pass.set_vertex_buffer(0, g.hair_vertices.slice(..));
-                pass.set_index_buffer(g.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..g.hair_index_count, 0, 0..1);
-            }
-        }
+        pipelines::record_line_count(
+            frame,
+            "hairlab.depth-peel.count.pass",
+            "eye: depth complexity",
+            &self.count,
+            &count_bind_group,
+        );
         frame
             .encoder
             .copy_buffer_to_buffer(&t.counts, 0, &self.readback, 0, 8);
@@ -438,25 +412,15 @@ impl TransparencyGpu for DepthPeelGpu {
                 rows: None,
             });
             let last = k + 1 == layers as usize;
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.depth-peel.under.pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &t.accum,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: span.as_ref().filter(|_| last).map(|s| s.last()),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.under);
-            pass.set_bind_group(0, &t.layer_bind_group, &[]);
-            pass.draw(0..3, 0..1);
+            pipelines::record_fullscreen(
+                &mut frame.encoder,
+                "hairlab.depth-peel.under.pass",
+                &t.accum,
+                span.as_ref().filter(|_| last).map(|s| s.last()),
+                None,
+                &self.under,
+                &[&t.layer_bind_group],
+            );
         }
         self.layers = layers;
         let timestamps = frame.timer.as_mut().and_then(|timer| timer.pass("eye: resolve"));

@@ -15,7 +15,6 @@ use crate::render::eye::bindings::{self, Binding};
 use crate::render::eye::pipelines::{self, DepthTest, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
 use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
-use crate::render::targets::eye_texture;
 use crate::transparency::{Compositor, MboitParams, ModelContext};
 use crate::visibility::msm::DEFAULT_OVERESTIMATION;
 use bytemuck::{Pod, Zeroable};
@@ -238,17 +237,7 @@ impl Targets {
         width: u32,
         height: u32,
     ) -> Targets {
-        let view = |label| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                FORMAT,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label| bindings::texture(device, label, (width, height), FORMAT);
         let low = view("hairlab.mboit.moments_low");
         let high = view("hairlab.mboit.moments_high");
         let accum = view("hairlab.mboit.accum");

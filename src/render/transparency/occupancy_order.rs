@@ -35,7 +35,7 @@ use crate::render::eye::pipelines::{self, DepthTest, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, UniformMirror, value};
 use crate::render::passes::composite::CompositePass;
 use crate::render::passes::{abuffer::copy_out, shader_module};
-use crate::render::targets::{EyeTargets, eye_texture};
+use crate::render::targets::EyeTargets;
 use crate::transparency::occupancy_order::OccupancyOrderParams;
 use crate::transparency::{Compositor, ModelContext};
 use crate::visibility::OccupancyVariant;
@@ -385,17 +385,7 @@ impl Resources {
                 limit,
             });
         }
-        let texture = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let texture = |label, format| bindings::texture(device, label, (width, height), format);
         let near = texture("hairlab.occupancy-order.near", RANGE);
         let far = texture("hairlab.occupancy-order.far", RANGE);
         let accum = texture("hairlab.occupancy-order.accum", accum_format);

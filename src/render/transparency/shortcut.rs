@@ -20,7 +20,7 @@ use crate::render::eye::bindings::{self, Binding};
 use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
 use crate::render::passes::composite::CompositePass;
-use crate::render::targets::{EyeTargets, eye_texture};
+use crate::render::targets::EyeTargets;
 use crate::transparency::shortcut::K_RANGE;
 use crate::transparency::{Compositor, ModelContext, ShortcutParams};
 use bytemuck::{Pod, Zeroable};
@@ -191,17 +191,7 @@ impl Buffers {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let view = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label, format| bindings::texture(device, label, (width, height), format);
         let tail = view("hairlab.shortcut.tail", TAIL);
         let revealage = view("hairlab.shortcut.revealage", REVEALAGE);
         let resolve_group = bindings::group(
@@ -360,25 +350,13 @@ impl TransparencyGpu for ShortcutGpu {
                 mesh_depth,
             ],
         );
-        {
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: k nearest"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.shortcut.depths_pass"),
-                color_attachments: &[frame.targets.null_attachment()],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if frame.geometry.hair_index_count > 0 {
-                pass.set_pipeline(&self.depths_pipeline);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &depths_group, &[]);
-                pass.set_vertex_buffer(0, frame.geometry.hair_vertices.slice(..));
-                pass.set_index_buffer(frame.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..frame.geometry.hair_index_count, 0, 0..1);
-            }
-        }
+        pipelines::record_line_count(
+            frame,
+            "hairlab.shortcut.depths_pass",
+            "eye: k nearest",
+            &self.depths_pipeline,
+            &depths_group,
+        );
         // Nothing in the tail, everything revealed.
         let attachments = [
             cleared(&b.tail, [0.0; 4]),

@@ -11,9 +11,9 @@ use super::{
     TransparencyGpu,
 };
 use crate::gpu::{Gpu, GpuError};
-use crate::render::eye::lists::{ListNames, ListSpec, PixelLists};
+use crate::render::eye::lists::{BAND_KIB, ListNames, ListSpec, PixelLists};
 use crate::render::eye::pipelines::{self, GeometryPass};
-use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role};
+use crate::render::method::{ParamValues, Role};
 use crate::render::targets::EyeTargets;
 use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
@@ -37,14 +37,7 @@ static INFO: TechniqueInfo = TechniqueInfo {
         "transparency/sorted_count.wgsl",
         "transparency/sorted_resolve.wgsl",
     ],
-    params: &[ParamSpec {
-        key: "band_kib",
-        label: "band budget KiB",
-        help: "most KiB of list nodes per band of rows (0: the device's storage binding limit); a smaller budget \
-               renders the same image in more bands",
-        kind: ParamKind::Int { min: 0, max: 4 << 20 },
-        default: 0.0,
-    }],
+    params: &[BAND_KIB],
     color: [0, 0, 0],
     // f32 front-to-back sums against the model's back-to-front ones; measured 1.2e-7 on lavapipe.
     gpu_tolerance: 1e-5,
@@ -122,25 +115,13 @@ impl TransparencyGpu for SortedGpu {
         let device = &frame.gpu.device;
         let count_group = self.lists.count_group(device, &frame.targets.depth_view);
         self.lists.clear_counts(&mut frame.encoder);
-        {
-            let timestamps = frame.timer.as_mut().and_then(|t| t.pass("eye: count"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.sorted.count_pass"),
-                color_attachments: &[frame.targets.null_attachment()],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if frame.geometry.hair_index_count > 0 {
-                pass.set_pipeline(&self.count_pipeline);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &count_group, &[]);
-                pass.set_vertex_buffer(0, frame.geometry.hair_vertices.slice(..));
-                pass.set_index_buffer(frame.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..frame.geometry.hair_index_count, 0, 0..1);
-            }
-        }
+        pipelines::record_line_count(
+            frame,
+            "hairlab.sorted.count_pass",
+            "eye: count",
+            &self.count_pipeline,
+            &count_group,
+        );
         frame.flush();
         // Pass 2 and 3 per band: fill, resolve.
         let bands = self

@@ -55,6 +55,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/mesh_depth.wgsl",
     "common/eye_sort.wgsl",
     "common/list_resolve.wgsl",
+    "common/list_count.wgsl",
     "fur/resolve.wgsl",
     "fur/ribbon_count.wgsl",
     "transparency/sorted.wgsl",

@@ -10,11 +10,6 @@
 @group(1) @binding(0) var<storage, read> heads: array<u32>;
 @group(1) @binding(1) var<storage, read> nodes: array<EyeNode>;
 
-@vertex
-fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    return fullscreen_position(i);
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = u32(pos.y) * u32(frame.viewport_size.x) + u32(pos.x);

@@ -22,12 +22,30 @@ use super::pipelines;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::method::{ParamKind, ParamSpec};
 use crate::render::passes::abuffer::copy_out;
+use crate::render::passes::hair::{EntryDepth, HairEntry, HairGeometry};
+use crate::render::targets::EyeTargets;
 
 /// Bytes of one list node (`common/eye_node.wgsl`).
 pub const NODE_BYTES: u64 = 32;
 
 /// The resolve's private sort sizes; a pixel deeper than the last is refused.
 pub const SORT_SIZES: [u32; 6] = [16, 64, 128, 256, 512, 1024];
+
+/// The hair file of a list technique's fill: the shaded fragment pushed onto its pixel's list.
+pub const FILL_WGSL: &str = "transparency/sorted.wgsl";
+
+/// The fill's hair entry ([`FILL_WGSL`]'s `fs_main`) over `geometry`: storage writes only, the meshes' depth tested
+/// by hand before them.
+pub const fn fill_entry(geometry: HairGeometry) -> HairEntry {
+    HairEntry {
+        entry: "fs_main",
+        targets: NULL_TARGET,
+        depth: EntryDepth::Manual,
+        geometry,
+    }
+}
+
+const NULL_TARGET: &[wgpu::ColorTargetState] = &[EyeTargets::NULL];
 
 /// A list technique's band budget, `transparency.params.band_kib` (the key the plan's refusals name).
 pub const BAND_KIB: ParamSpec = ParamSpec {

@@ -19,13 +19,13 @@ use crate::fur::march::MarchParams;
 use crate::fur::settings::{Blending, FurSettings, FurView};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::Binding;
-use crate::render::eye::lists::{BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
+use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
 use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::geometry::RIBBON_GROUP;
 use crate::render::method::{ParamValues, Role, UniformMirror};
 use crate::render::targets::EyeTargets;
 use crate::render::transparency::{
-    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
+    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
     TransparencyGpu,
 };
 use crate::transparency::{Compositor, ModelContext};
@@ -35,12 +35,7 @@ pub use super::state::FurListStats;
 use super::state::{FurLists, FurState, SceneFur};
 
 /// The guard hairs' fill: the exact reference's list push, on camera-facing ribbons (B.6).
-static FILL: HairEntry = HairEntry {
-    entry: "fs_main",
-    targets: &[EyeTargets::NULL],
-    depth: EntryDepth::Manual,
-    geometry: HairGeometry::Ribbons,
-};
+static FILL: HairEntry = lists::fill_entry(HairGeometry::Ribbons);
 
 static INFO: TechniqueInfo = TechniqueInfo {
     name: "fur",
@@ -48,7 +43,7 @@ static INFO: TechniqueInfo = TechniqueInfo {
     paper: "Andersen, Falster, Frisvad, Christensen 2016, Hybrid fur rendering: combining volumetric fur with \
             explicit hair strands (§3.3, §4)",
     role: Role::Reference,
-    hair_wgsl: "transparency/sorted.wgsl",
+    hair_wgsl: lists::FILL_WGSL,
     hair_entries: std::slice::from_ref(&FILL),
     pass_wgsl: &["fur/ribbon_count.wgsl", "fur/resolve.wgsl"],
     params: &[BAND_KIB],

@@ -7,11 +7,11 @@
 //! merge-sorts each pixel's nodes. Memory: 4 B/px heads + 4 B/px counts + 32 B per fragment of the largest band.
 
 use super::{
-    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
+    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
     TransparencyGpu,
 };
 use crate::gpu::{Gpu, GpuError};
-use crate::render::eye::lists::{BAND_KIB, ListNames, ListSpec, PixelLists};
+use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, PixelLists};
 use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::method::{ParamValues, Role};
 use crate::render::targets::EyeTargets;
@@ -19,19 +19,14 @@ use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
 pub use crate::render::eye::lists::{EyeNode, NODE_BYTES, SORT_SIZES, resolve_source};
 
-static FILL: HairEntry = HairEntry {
-    entry: "fs_main",
-    targets: &[EyeTargets::NULL],
-    depth: EntryDepth::Manual,
-    geometry: HairGeometry::Lines,
-};
+static FILL: HairEntry = lists::fill_entry(HairGeometry::Lines);
 
 static INFO: TechniqueInfo = TechniqueInfo {
     name: "sorted",
     label: "Sorted (exact)",
     paper: "Carpenter 1984, The A-buffer; lists as Yang et al. 2010, Real-time concurrent linked list construction",
     role: Role::Reference,
-    hair_wgsl: "transparency/sorted.wgsl",
+    hair_wgsl: lists::FILL_WGSL,
     hair_entries: std::slice::from_ref(&FILL),
     pass_wgsl: &[
         "transparency/sorted_count.wgsl",

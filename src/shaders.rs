@@ -2,6 +2,10 @@
 //! `shaders/`, `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`),
 //! `#include_technique` the selected eye transparency technique's store function (`shaders/transparency/<name>.wgsl`).
 //! Included files may include others; each file is pasted once per composed shader, where it is first named.
+//! One more step serves the per-pixel lists' resolves (`crate::render::eye::lists`): the lines between
+//! `#sort_sizes begin` and `#sort_sizes end` are written for 64 nodes and pasted once per sort size, `_64` and
+//! `64u` replaced by the size, and `#sort_dispatch` becomes the line that calls the smallest size holding a pixel's
+//! `n` nodes ([`compose_sorts`]; [`compose`] instantiates the 64 alone).
 
 /// Embeds files of `shaders/` by their path relative to that folder.
 macro_rules! embed {
@@ -50,6 +54,8 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/eye_node.wgsl",
     "common/mesh_depth.wgsl",
     "common/eye_sort.wgsl",
+    "common/list_resolve.wgsl",
+    "common/list_count.wgsl",
     "fur/resolve.wgsl",
     "fur/ribbon_count.wgsl",
     "transparency/sorted.wgsl",
@@ -110,6 +116,14 @@ pub fn compose(path: &str, method: Option<&str>) -> Result<String, String> {
     compose_from(SOURCES, path, method, None)
 }
 
+/// [`compose`] of a list resolve with its sort instantiated for each of `sizes` (ascending, not empty).
+pub fn compose_sorts(path: &str, sizes: &[u32]) -> Result<String, String> {
+    let mut composer = Composer::new(SOURCES, None, None);
+    composer.sizes = sizes;
+    composer.paste(path)?;
+    Ok(composer.out)
+}
+
 /// [`compose`] with `technique`, the store function file for `#include_technique` (e.g. `transparency/wboit.wgsl`).
 pub fn compose_with(path: &str, method: Option<&str>, technique: Option<&str>) -> Result<String, String> {
     compose_from(SOURCES, path, method, technique)
@@ -122,17 +136,13 @@ fn compose_from(
     method: Option<&str>,
     technique: Option<&str>,
 ) -> Result<String, String> {
-    let mut composer = Composer {
-        sources,
-        method,
-        technique,
-        chain: Vec::new(),
-        pasted: Vec::new(),
-        out: String::new(),
-    };
+    let mut composer = Composer::new(sources, method, technique);
     composer.paste(path)?;
     Ok(composer.out)
 }
+
+/// The sort size the `#sort_sizes` template is written for.
+const TEMPLATE_SIZE: u32 = 64;
 
 struct Composer<'a> {
     sources: &'a [(&'a str, &'a str)],
@@ -143,9 +153,58 @@ struct Composer<'a> {
     /// Every file pasted so far.
     pasted: Vec<&'a str>,
     out: String,
+    /// The sort sizes of `#sort_sizes` templates, and the template being collected (its output so far).
+    sizes: &'a [u32],
+    template: Option<String>,
 }
 
 impl<'a> Composer<'a> {
+    fn new(sources: &'a [(&'a str, &'a str)], method: Option<&'a str>, technique: Option<&'a str>) -> Self {
+        Composer {
+            sources,
+            method,
+            technique,
+            chain: Vec::new(),
+            pasted: Vec::new(),
+            out: String::new(),
+            sizes: &[TEMPLATE_SIZE],
+            template: None,
+        }
+    }
+
+    /// `#sort_sizes begin` / `end`: collects the template, then pastes it once per size.
+    fn sort_sizes(&mut self, directive: &str) -> Result<(), String> {
+        let here = self.chain.join(" -> ");
+        match (directive, self.template.take()) {
+            ("begin", None) => {
+                self.template = Some(std::mem::take(&mut self.out));
+            }
+            ("end", Some(before)) => {
+                let template = std::mem::replace(&mut self.out, before);
+                for s in self.sizes {
+                    self.out.push_str(
+                        &template
+                            .replace(&format!("_{TEMPLATE_SIZE}"), &format!("_{s}"))
+                            .replace(&format!("{TEMPLATE_SIZE}u"), &format!("{s}u")),
+                    );
+                }
+            }
+            _ => return Err(format!("{here}: unpaired '#sort_sizes {directive}'")),
+        }
+        Ok(())
+    }
+
+    /// `#sort_dispatch`: `resolve_<size>(head, n)` of the smallest size holding `n` nodes, the last clamped.
+    fn sort_dispatch(&mut self) {
+        let (last, smaller) = self.sizes.split_last().expect("at least one sort size");
+        self.out.push_str("    ");
+        for s in smaller {
+            self.out
+                .push_str(&format!("if n <= {s}u {{ return resolve_{s}(head, n); }}\n    "));
+        }
+        self.out
+            .push_str(&format!("return resolve_{last}(head, min(n, {last}u));\n"));
+    }
     /// The include chain ending in `last`, e.g. `hair.wgsl -> common/frame.wgsl -> last`.
     fn chain_to(&self, last: &str) -> String {
         let mut chain = self.chain.join(" -> ");
@@ -181,6 +240,10 @@ impl<'a> Composer<'a> {
                     format!("{}: needs an eye transparency technique", self.chain.join(" -> "))
                 })?;
                 self.paste(t)?;
+            } else if let Some(directive) = trimmed.strip_prefix("#sort_sizes ") {
+                self.sort_sizes(directive.trim())?;
+            } else if trimmed == "#sort_dispatch" {
+                self.sort_dispatch();
             } else if let Some(rest) = trimmed.strip_prefix("#include ") {
                 let inc = rest
                     .trim()
@@ -227,7 +290,33 @@ mod tests {
             "#include_method\n#include_technique\n#include \"c.wgsl\"\nfn main() {}",
         ),
         ("t.wgsl", "#include \"c.wgsl\"\nfn store_hair() {}"),
+        (
+            "sorts.wgsl",
+            "#include \"c.wgsl\"\n#sort_sizes begin\nfn resolve_64() -> array<u32, 64u> {}\n#sort_sizes end\nfn main() {\n#sort_dispatch\n}",
+        ),
+        ("unpaired.wgsl", "#sort_sizes end"),
     ];
+
+    #[test]
+    fn a_sort_template_is_pasted_once_per_size_and_dispatched_to_the_smallest() {
+        let mut composer = super::Composer::new(FILES, None, None);
+        composer.sizes = &[16, 128];
+        composer.paste("sorts.wgsl").unwrap();
+        assert_eq!(
+            composer.out,
+            "fn c() {}\nfn resolve_16() -> array<u32, 16u> {}\nfn resolve_128() -> array<u32, 128u> {}\nfn main() {\n    \
+             if n <= 16u { return resolve_16(head, n); }\n    return resolve_128(head, min(n, 128u));\n}\n"
+        );
+        let one = compose_from(FILES, "sorts.wgsl", None, None).unwrap();
+        assert!(
+            one.contains("fn resolve_64() -> array<u32, 64u> {}\n")
+                && one.contains("return resolve_64(head, min(n, 64u));")
+        );
+        assert_eq!(
+            compose_from(FILES, "unpaired.wgsl", None, None).unwrap_err(),
+            "unpaired.wgsl: unpaired '#sort_sizes end'"
+        );
+    }
 
     #[test]
     fn includes_recurse_and_each_file_is_pasted_once_where_first_named() {

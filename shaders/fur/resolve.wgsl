@@ -4,10 +4,8 @@
 // premultiplied over the opaque meshes. Two inspection views replace the colours: each fragment's by its type's,
 // or the whole pixel's by its fragment count. Simplified blending (eq. 4) first lowers each shell fragment's alpha by
 // exp(-a d) (`transmittance(a d)`) for every explicit fragment a distance d behind it, up to the next shell fragment. The sort is
-// instantiated per size like the exact reference's (src/render/transparency/sorted.rs, `resolve_source`).
-#include "common/frame.wgsl"
-#include "common/fullscreen.wgsl"
-#include "common/eye_node.wgsl"
+// instantiated per size by the shared list resolve (`common/list_resolve.wgsl`), as the exact reference's.
+#include "common/list_resolve.wgsl"
 #include "common/visibility.wgsl"
 
 // Mirrors `FurResolveUniforms` in src/render/fur/typed.rs.
@@ -22,8 +20,6 @@ struct FurResolveUniforms {
     deepest: u32,
 }
 
-@group(1) @binding(0) var<storage, read> heads: array<u32>;
-@group(1) @binding(1) var<storage, read> nodes: array<EyeNode>;
 @group(1) @binding(2) var<uniform> fur: FurResolveUniforms;
 
 const EXPLICIT: u32 = 0u;
@@ -67,7 +63,7 @@ fn before(a: Key, b: Key) -> bool {
     return a.kind < b.kind;
 }
 
-// template begin
+#sort_sizes begin
 #include "common/eye_sort.wgsl"
 
 // Node of the `k`-th key of the sorted list.
@@ -119,28 +115,4 @@ fn resolve_64(head: u32, n: u32) -> vec4<f32> {
     }
     return vec4<f32>(h, 1.0 - t);
 }
-// template end
-
-@vertex
-fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    return fullscreen_position(i);
-}
-
-@fragment
-fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = u32(pos.y) * u32(frame.viewport_size.x) + u32(pos.x);
-    let head = heads[p];
-    var n = 0u;
-    var i = head;
-    loop {
-        if i == 0u {
-            break;
-        }
-        n += 1u;
-        i = nodes[i - 1u].next;
-    }
-    if n == 0u {
-        discard;
-    }
-    return resolve_64(head, min(n, 64u)); // dispatch
-}
+#sort_sizes end

@@ -9,11 +9,6 @@
 @group(0) @binding(1) var<storage, read> slab_counts: array<vec4<u32>>;
 @group(0) @binding(2) var<uniform> params: OccupancyOrderUniforms;
 
-@vertex
-fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    return fullscreen_position(i);
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);

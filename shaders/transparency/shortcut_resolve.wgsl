@@ -12,11 +12,6 @@
 @group(0) @binding(3) var tail_tex: texture_2d<f32>;
 @group(0) @binding(4) var revealage_tex: texture_2d<f32>;
 
-@vertex
-fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    return fullscreen_position(i);
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);

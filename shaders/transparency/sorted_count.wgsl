@@ -1,21 +1,7 @@
-// Exact eye transparency, pass 1: every hair fragment the meshes do not hide adds 1 to its pixel's count
-// (counts[W·H] holds the total), so the node buffer is sized from the scene.
-#include "common/eye_vertex.wgsl"
-#include "common/mesh_depth.wgsl"
-
-@group(1) @binding(0) var<storage, read_write> counts: array<atomic<u32>>;
-@group(1) @binding(1) var mesh_depth: texture_depth_2d;
+// Exact eye transparency, pass 1: the lists' count (`common/list_count.wgsl`) over the strands as lines.
+#include "common/list_count.wgsl"
 
 @vertex
 fn vs_main(v: EyeVertexIn) -> EyePoint {
     return eye_vertex(v);
-}
-
-@fragment
-fn fs_main(in: EyePoint) {
-    if hidden_by_mesh(mesh_depth, in.clip) {
-        discard;
-    }
-    atomicAdd(&counts[pixel_index(in.clip)], 1u);
-    atomicAdd(&counts[arrayLength(&counts) - 1u], 1u);
 }

@@ -25,11 +25,11 @@ impl HairlabApp {
             return;
         };
         let wanted = &self.settings.fur;
-        if let (Some(built), Some(fur)) = (&self.built_fur, &self.fur)
+        if let (Some(built), Some(_)) = (&self.built_fur, &self.fur)
             && same_shell(built, wanted)
         {
             if built != wanted {
-                r.set_fur_rendering(&fur.shell, wanted);
+                r.set_fur_rendering(wanted);
                 self.built_fur = Some(wanted.clone());
             }
             return;

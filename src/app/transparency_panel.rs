@@ -29,7 +29,7 @@ impl HairlabApp {
                 egui::ComboBox::from_label("technique")
                     .selected_text(current)
                     .show_ui(ui, |ui| {
-                        for technique in registry::all() {
+                        for technique in registry::every() {
                             let info = technique.info();
                             let picked = ui
                                 .selectable_label(t.name == info.name, info.label)

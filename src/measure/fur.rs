@@ -14,7 +14,7 @@ use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods;
 use crate::render::FrameInput;
 use crate::render::Renderer;
-use crate::render::transparency::sorted::NODE_BYTES;
+use crate::render::eye::lists::NODE_BYTES;
 use crate::settings::Settings;
 
 /// Table 1 of `renderer`'s last frame (drawn with `fur`, its passes timed as `times`); `scene_ms` is the
@@ -194,14 +194,21 @@ pub fn measure(
     let reference = reference_settings(&s.fur);
     r.set_fur(Some((&fur, &reference)))?;
     let method = methods::registry::find(&s.method.name).map_err(anyhow::Error::msg)?;
+    // `measure --fur` measures the fur's typed lists, whichever technique the preset names.
+    let technique = crate::render::transparency::registry::fur();
+    let technique_params = if s.transparency.name == technique.name() {
+        s.transparency.params.clone()
+    } else {
+        Default::default()
+    };
     let input = FrameInput {
         camera: &s.camera,
         light: &s.light,
         render: &s.render,
         method,
         method_params: &s.method.params,
-        technique: s.transparency.technique()?,
-        technique_params: &s.transparency.params,
+        technique,
+        technique_params: &technique_params,
         width: s.render.width,
         height: s.render.height,
     };
@@ -243,7 +250,7 @@ pub fn measure(
             group_steps: c.group_steps,
             ..s.fur.clone()
         };
-        r.set_fur_rendering(&fur.shell, &fs);
+        r.set_fur_rendering(&fs);
         let (table, image) = run(&mut r)?;
         let stats = r
             .fur_state()

@@ -3,6 +3,7 @@
 //! `hairlab render` use the same code path.
 
 pub mod caster;
+pub mod eye;
 pub mod frame;
 pub mod fur;
 pub mod geometry;
@@ -59,15 +60,6 @@ fn held<'a>(
 /// Side of the opaque meshes' shadow map.
 pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
 
-/// The fur a renderer holds, for the panel, `measure` and the tests.
-pub struct FurState<'a> {
-    pub shell: &'a fur::shell_gpu::ShellGpu,
-    /// The typed lists of the last frame (none before the first fur frame).
-    pub lists: Option<&'a fur::typed::FurGpu>,
-    /// Table 1 row 2: the shell uploaded and its volume computed on the GPU (wall time of `ShellGpu::new`, ms).
-    pub volume_ms: f64,
-}
-
 pub struct Renderer {
     gpu: Gpu,
     frame_buffer: wgpu::Buffer,
@@ -100,17 +92,10 @@ pub struct Renderer {
     targets_generation: u64,
     timer: Option<GpuTimer>,
     creations: Creations,
-    /// The scene's fur ([`Renderer::set_fur`]): when on, frames are drawn with the fur's typed lists.
-    fur: Option<RendererFur>,
-}
-
-/// The fur the renderer holds: the shell's GPU state, the settings and the march before the frame's light.
-struct RendererFur {
-    shell: fur::shell_gpu::ShellGpu,
-    settings: crate::fur::settings::FurSettings,
-    march: crate::fur::march::MarchParams,
-    /// Table 1 row 2: the shell uploaded and its volume computed on the GPU (wall time of `ShellGpu::new`, ms).
-    volume_ms: f64,
+    /// The scene's fur ([`Renderer::set_fur`]): scene content that a technique which shows fur builds its GPU
+    /// state from; a technique that cannot show it is refused.
+    fur: Option<fur::state::SceneFur>,
+    fur_generation: u64,
 }
 
 impl Renderer {
@@ -216,6 +201,7 @@ impl Renderer {
             peel: None,
             targets_generation: 0,
             fur: None,
+            fur_generation: 0,
             timer: GpuTimer::new(device, &gpu.queue),
             creations: Creations {
                 scene_uploads: 1,
@@ -328,8 +314,8 @@ impl Renderer {
         Ok(())
     }
 
-    /// Holds `fur`'s shell and volume on the GPU and draws the following frames with the fur's typed lists
-    /// (`None`, or a mode of off: the selected eye transparency technique again).
+    /// Gives the scene `fur` (its shell, volume and settings; `None`, or a mode of off: no fur). The technique
+    /// that shows fur builds its GPU state from it at the next frame; a frame with another technique is refused.
     pub fn set_fur(
         &mut self,
         fur: Option<(
@@ -337,55 +323,43 @@ impl Renderer {
             &crate::fur::settings::FurSettings,
         )>,
     ) -> Result<(), GpuError> {
-        self.fur = None;
-        let Some((scene, settings)) = fur.filter(|(_, s)| s.mode != crate::fur::settings::FurMode::Off)
-        else {
-            return Ok(());
-        };
-        let start = std::time::Instant::now();
-        let shell =
-            fur::shell_gpu::ShellGpu::new(&self.gpu, &self.frame_layout, &scene.shell, &scene.volume)?;
-        self.fur = Some(RendererFur {
-            shell,
-            march: settings.march_params(&scene.shell, glam::Vec3::Y, glam::Vec3::ONE),
-            settings: settings.clone(),
-            volume_ms: start.elapsed().as_secs_f64() * 1e3,
-        });
+        self.fur = fur
+            .filter(|(_, s)| s.mode != crate::fur::settings::FurMode::Off)
+            .map(|(scene, settings)| {
+                self.fur_generation += 1;
+                fur::state::SceneFur {
+                    scene: scene.clone(),
+                    settings: settings.clone(),
+                    generation: self.fur_generation,
+                }
+            });
         Ok(())
     }
 
-    /// Changes the held fur's rendering (mode, blending, `a`, `k`, march) without rebuilding its shell: the
-    /// caller keeps the shell's own settings (height, layers, levels, noise) those it was built with.
-    pub fn set_fur_rendering(
-        &mut self,
-        shell: &crate::fur::shell::Shell,
-        settings: &crate::fur::settings::FurSettings,
-    ) {
+    /// Changes the fur's rendering (mode, blending, `a`, `k`, march) without rebuilding its shell: the caller keeps
+    /// the shell's own settings (height, layers, levels, noise) those it was built with.
+    pub fn set_fur_rendering(&mut self, settings: &crate::fur::settings::FurSettings) {
         if let Some(f) = &mut self.fur {
-            f.march = settings.march_params(shell, glam::Vec3::Y, glam::Vec3::ONE);
             f.settings = settings.clone();
         }
     }
 
-    /// The held fur's GPU state, its last frame's list figures and the volume's build time, when fur is on.
-    pub fn fur_state(&self) -> Option<FurState<'_>> {
-        let f = self.fur.as_ref()?;
-        let lists = self
-            .transparency
-            .as_ref()
-            .and_then(|(_, t)| (t.as_ref() as &dyn std::any::Any).downcast_ref::<fur::typed::FurGpu>());
-        Some(FurState {
-            shell: &f.shell,
-            lists,
-            volume_ms: f.volume_ms,
-        })
+    /// The fur the last frame's technique shows (its shell, its last lists, the volume's build time).
+    pub fn fur_state(&self) -> Option<fur::state::FurState<'_>> {
+        self.transparency.as_ref().and_then(|(_, t)| t.fur())
     }
 
     /// Makes the held technique state `technique`'s, sized to the eye targets.
     fn ensure_technique(&mut self, technique: &dyn EyeTransparency) -> Result<(), GpuError> {
         let (width, height) = (self.targets.width, self.targets.height);
         match &mut self.transparency {
-            Some((name, state)) if *name == technique.name() => state.resize(&self.gpu, width, height),
+            Some((name, state)) if *name == technique.name() => state.update(&transparency::EyeSetup {
+                gpu: &self.gpu,
+                frame_layout: &self.frame_layout,
+                width,
+                height,
+                scene_fur: self.fur.as_ref(),
+            }),
             _ => {
                 // Evict the previous technique's state before the new technique allocates its own.
                 self.transparency = None;
@@ -394,6 +368,7 @@ impl Renderer {
                     frame_layout: &self.frame_layout,
                     width,
                     height,
+                    scene_fur: self.fur.as_ref(),
                 };
                 self.transparency = Some((technique.name(), technique.create_gpu(&setup)?));
                 self.creations.technique_states += 1;
@@ -510,10 +485,15 @@ impl Renderer {
 
     fn render_frame(&mut self, f: &FrameInput, capture: bool) -> Result<(), GpuError> {
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
-        let technique: &dyn EyeTransparency = match &self.fur {
-            Some(_) => &fur::typed::FUR,
-            None => f.technique,
-        };
+        let technique = f.technique;
+        if let Some(fur) = self.fur.as_ref().filter(|_| !technique.shows_fur()) {
+            return Err(GpuError::Setting(format!(
+                "transparency.name: the scene has fur (fur.mode = {}) and '{}' cannot show it; choose '{}'",
+                fur.settings.mode.word(),
+                technique.name(),
+                transparency::registry::fur().name()
+            )));
+        }
         self.ensure_technique(technique)?;
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
@@ -575,15 +555,6 @@ impl Renderer {
                 technique.name()
             )));
         };
-        let fur_frame = self.fur.as_ref().map(|fur| fur::typed::FurFrame {
-            shell: &fur.shell,
-            settings: &fur.settings,
-            march: crate::fur::march::MarchParams {
-                to_light: f.light.to_light(),
-                light: glam::Vec3::from_array(f.light.color) * f.light.intensity,
-                ..fur.march
-            },
-        });
         let mut frame = transparency::EyeFrame {
             gpu: &self.gpu,
             encoder: enc,
@@ -594,14 +565,17 @@ impl Renderer {
             output,
             values: f.technique_params,
             model,
-            fur: fur_frame,
+            light: f.light,
             hair: transparency::HairDraw {
                 pass: &mut self.hair_pass,
                 scene: passes::hair::HairScene {
                     device: &device,
                     method: f.method,
                     method_gpu,
-                    technique,
+                    technique: passes::hair::HairTechnique {
+                        name: technique.name(),
+                        hair_wgsl: technique.info().hair_wgsl,
+                    },
                     scene: &self.scene_bind_group,
                     geometry: &self.scene,
                     targets: &self.targets,

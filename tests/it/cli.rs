@@ -653,7 +653,7 @@ fn soak_samples_memory_per_cycle_and_reports_its_growth() {
 }
 
 /// `render --preset fur-cylinder` renders the fur in each mode and prints the paper's Table 1 rows; a bad fur
-/// value is refused by its key before anything is written.
+/// value is refused by its key before anything is written, and so is a technique that cannot show fur.
 #[test]
 fn render_draws_fur_and_prints_table_1() {
     if hairlab::gpu::Gpu::for_tests().is_none() {
@@ -710,6 +710,33 @@ fn render_draws_fur_and_prints_table_1() {
             out_s,
         ]),
         &["fur.layers must be in 1..=256 (got 0)"],
+    );
+    assert!(!out.exists(), "no output on failure");
+    // Fur is shown by its own technique, never swapped in: another one is refused, naming the fur's.
+    let strands_only = hairlab::render::transparency::registry::default_technique().name();
+    let fur_technique = hairlab::render::transparency::registry::fur().name();
+    assert_fails(
+        &hairlab(&[
+            "render",
+            "--preset",
+            "fur-cylinder",
+            "--set",
+            &format!("transparency.name={strands_only}"),
+            "--set",
+            "fur.layers=4",
+            "--set",
+            "fur.max_level=2",
+            "--width",
+            "96",
+            "--height",
+            "72",
+            "--out",
+            out_s,
+        ]),
+        &[
+            "the scene has fur",
+            format!("'{strands_only}' cannot show it; choose '{fur_technique}'").as_str(),
+        ],
     );
     assert!(!out.exists(), "no output on failure");
 }

@@ -8,6 +8,7 @@ use hairlab::fur::blend;
 use hairlab::fur::settings::{Blending, FurMode, FurScene, FurSettings, FurView};
 use hairlab::gpu::Gpu;
 use hairlab::render::method::ParamValues;
+use hairlab::render::transparency::registry as techniques;
 use hairlab::render::{FrameInput, Renderer};
 use hairlab::scene::fur_shapes as shapes;
 use hairlab::scene::generate::{GenParams, generate_on_scalp};
@@ -63,7 +64,7 @@ fn frame<'a>(s: &'a Settings, params: &'a ParamValues) -> FrameInput<'a> {
         render: &s.render,
         method: hairlab::methods::registry::find(&s.method.name).unwrap(),
         method_params: &s.method.params,
-        technique: s.transparency.technique().unwrap(),
+        technique: techniques::fur(),
         technique_params: params,
         width: WIDTH,
         height: HEIGHT,
@@ -90,7 +91,7 @@ fn fur_on(gpu: &Gpu, scene: &Scene, f: &FurSettings) -> Fur {
 
 impl Fur {
     fn capture(&mut self, f: &FurSettings, params: &ParamValues) -> Vec<[f32; 4]> {
-        self.renderer.set_fur_rendering(&self.fur.shell, f);
+        self.renderer.set_fur_rendering(f);
         self.renderer
             .render_capture(&frame(&self.settings, params))
             .unwrap()
@@ -447,4 +448,39 @@ fn table_1_of_a_fur_frame_has_every_row_and_sums_to_its_totals() {
     let rows: f64 = table.times.iter().sum();
     assert!((table.total_ms() - rows).abs() < 1e-9);
     assert_eq!(table.total_bytes(), table.memory.iter().sum::<u64>());
+}
+
+/// Fur is shown by a registered technique, never swapped in: a scene with fur drawn with a technique that
+/// cannot show it is refused with a message naming the one that can, the same frame with that technique renders,
+/// and the fur technique on a scene without fur draws the guard hairs alone.
+#[test]
+fn a_scene_with_fur_is_refused_to_a_technique_that_cannot_show_it() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let scene = cylinder_scene(100);
+    let f = fur_settings(FurMode::Hybrid, Blending::Virtual, 4);
+    let mut fur = fur_on(&gpu, &scene, &f);
+    let empty = ParamValues::new();
+    let strands_only = techniques::default_technique();
+    assert!(!strands_only.shows_fur());
+    let refused = fur
+        .renderer
+        .render(&FrameInput {
+            technique: strands_only,
+            ..frame(&fur.settings, &empty)
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(
+        refused.contains("the scene has fur")
+            && refused.contains(strands_only.name())
+            && refused.contains(techniques::fur().name()),
+        "{refused}"
+    );
+    fur.renderer.render(&frame(&fur.settings, &empty)).unwrap();
+    assert!(fur.renderer.fur_state().is_some_and(|s| s.lists.is_some()));
+    fur.renderer.set_fur(None).unwrap();
+    fur.renderer.render(&frame(&fur.settings, &empty)).unwrap();
+    assert!(fur.renderer.fur_state().is_none(), "no shell without fur");
+    let (explicit, _) = fur.renderer.eye_depth_complexity().unwrap();
+    assert!(explicit > 0, "the guard hairs are drawn without fur");
 }

@@ -162,16 +162,75 @@ fn the_list_resolves_validate_at_every_sort_size() {
     }
 }
 
+/// A registered technique is complete, as a method is (`every_registered_method_is_complete`): a label and a
+/// paper, its WGSL embedded and validating, hair entries whose outputs match their targets, a colour of its own, a
+/// CPU model giving a valid colour (the exact composite for a reference), parameters with valid defaults, a sweep
+/// of valid configurations, a stated tolerance; its uniform mirror is checked by `technique_uniforms_match_wgsl_layout`.
 #[test]
 fn every_registered_technique_is_complete() {
+    use hairlab::render::method::Role;
+    use hairlab::transparency::{EyeFragment, ModelContext};
     let embedded = |p: &str| SOURCES.iter().any(|(s, _)| *s == p);
-    for t in techniques::all() {
+    let fragments = [
+        (0.30, 4, [0.8, 0.2, 0.1], 0.5),
+        (0.10, 9, [0.1, 0.7, 0.3], 0.4),
+        (0.30, 2, [0.2, 0.2, 0.9], 0.6),
+        (0.55, 1, [0.5, 0.5, 0.5], 0.3),
+    ]
+    .map(|(depth, segment, color, alpha)| EyeFragment {
+        depth,
+        segment,
+        color,
+        alpha,
+    });
+    let ctx = ModelContext {
+        hair_alpha: 0.5,
+        depth_range: [0.1, 0.55],
+    };
+    let exact = techniques::reference().model(&Default::default(), &ctx);
+    let mut colors = Vec::new();
+    for t in techniques::every() {
         let info = t.info();
         let name = info.name;
         assert!(
             !info.label.is_empty() && !info.paper.is_empty(),
             "{name}: label and paper"
         );
+        assert!(
+            !colors.contains(&info.color),
+            "{name}: colour {:?} taken",
+            info.color
+        );
+        colors.push(info.color);
+        for spec in info.params {
+            spec.check(spec.default)
+                .unwrap_or_else(|e| panic!("{name}: default of {}: {e}", spec.key));
+        }
+        let sweep = t.sweep();
+        assert!(!sweep.is_empty(), "{name}: no bench sweep");
+        for values in &sweep {
+            for (key, v) in values {
+                let spec = techniques::spec(t, key).unwrap_or_else(|e| panic!("{name}: sweep: {e}"));
+                spec.check(*v)
+                    .unwrap_or_else(|e| panic!("{name}: sweep {key} = {v}: {e}"));
+            }
+            let model = t.model(values, &ctx);
+            for background in [[0.0; 3], [1.0; 3]] {
+                let c = model.composite(&fragments, background);
+                assert!(
+                    c.iter()
+                        .all(|c| c.is_finite() && (-1e-6..=1.0 + 1e-6).contains(c)),
+                    "{name}: CPU model over {background:?} gives {c:?}"
+                );
+                if info.role == Role::Reference {
+                    assert_eq!(
+                        c,
+                        exact.composite(&fragments, background),
+                        "{name}: a reference is exact"
+                    );
+                }
+            }
+        }
         for file in std::iter::once(&info.hair_wgsl).chain(info.pass_wgsl) {
             assert!(embedded(file), "{name}: {file} not embedded");
         }
@@ -296,15 +355,72 @@ fn method_uniforms_match_wgsl_layout() {
     assert!(checked >= 5, "only {checked} methods have uniform mirrors");
 }
 
-/// The occupancy-order technique's uniform mirror against its passes (the hair entry includes the same file).
+/// Every registered technique's uniform mirror against every WGSL shader of the technique that declares the
+/// struct (its own passes, and its hair file composed into the hair pass); a technique whose shaders bind a uniform
+/// struct of their own must have a mirror.
 #[test]
-fn occupancy_order_uniforms_match_wgsl_layout() {
-    let u = hairlab::render::transparency::occupancy_order::uniform_mirror();
-    let wgsl = [
-        ("transparency/occupancy_order_maps.wgsl", None, u.wgsl_name),
-        ("transparency/occupancy_order_resolve.wgsl", None, u.wgsl_name),
-    ];
-    check_mirror(u.size, &u.fields, &wgsl);
+fn technique_uniforms_match_wgsl_layout() {
+    let mut checked = 0;
+    for t in techniques::every() {
+        let info = t.info();
+        let mut sources: Vec<(String, String)> = info
+            .pass_wgsl
+            .iter()
+            .map(|p| (p.to_string(), compose(p, None).unwrap()))
+            .collect();
+        sources.push((
+            format!("hair.wgsl + {}", info.hair_wgsl),
+            compose_with("hair.wgsl", Some("methods/none.wgsl"), Some(info.hair_wgsl)).unwrap(),
+        ));
+        let own_struct = sources.iter().any(|(_, src)| {
+            src.lines().any(|l| {
+                l.contains("var<uniform>")
+                    && l.trim_end().ends_with("Uniforms;")
+                    && !l.contains("FrameUniforms")
+            })
+        });
+        let Some(u) = t.uniform_mirror() else {
+            assert!(
+                !own_struct,
+                "{}: binds a uniform struct of its own but has no mirror",
+                info.name
+            );
+            continue;
+        };
+        let rust: Vec<(String, usize)> = u.fields.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+        let mut seen = 0;
+        for (label, src) in &sources {
+            let (module, _) = validate(label, src);
+            let Some((_, ty)) = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some(u.wgsl_name))
+            else {
+                continue;
+            };
+            let naga::TypeInner::Struct { members, span } = &ty.inner else {
+                panic!("{}: {} is not a struct", info.name, u.wgsl_name)
+            };
+            let wgsl: Vec<(String, usize)> = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+                .collect();
+            assert_eq!(
+                *span as usize, u.size,
+                "{}: {} in {label}: size",
+                info.name, u.wgsl_name
+            );
+            assert_eq!(
+                wgsl, rust,
+                "{}: {} in {label}: field names/offsets",
+                info.name, u.wgsl_name
+            );
+            seen += 1;
+        }
+        assert!(seen > 0, "{}: no shader declares {}", info.name, u.wgsl_name);
+        checked += 1;
+    }
+    assert!(checked >= 4, "only {checked} techniques have uniform mirrors");
 }
 
 /// A registered method is complete: a CPU model giving valid curves, light and lookup WGSL that validate, a
@@ -386,10 +502,21 @@ fn every_registered_method_is_complete() {
     }
 }
 
-/// Names declared (`struct X` or `fn x(`) in `src`.
+/// Names declared (`struct X` or `fn x(`) in `src`, entry points (`@vertex`, `@fragment`, `@compute`) aside: a
+/// pass names its own.
 fn declarations(src: &str) -> Vec<String> {
-    src.lines()
-        .filter_map(|l| l.strip_prefix("struct ").or_else(|| l.strip_prefix("fn ")))
+    let lines: Vec<&str> = src.lines().collect();
+    let entry = |i: usize| {
+        i > 0
+            && ["@vertex", "@fragment", "@compute"]
+                .iter()
+                .any(|a| lines[i - 1].starts_with(a))
+    };
+    lines
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| !entry(i))
+        .filter_map(|(_, l)| l.strip_prefix("struct ").or_else(|| l.strip_prefix("fn ")))
         .map(|rest| {
             rest.split(|c: char| !(c.is_alphanumeric() || c == '_'))
                 .next()
@@ -513,15 +640,4 @@ fn vertex_layouts_match_wgsl() {
     check_vertex_inputs("mesh.wgsl", &MeshVertex::ATTRIBUTES);
     assert_eq!(std::mem::size_of::<HairVertex>(), 48);
     assert_eq!(std::mem::size_of::<MeshVertex>(), 36);
-}
-
-/// The fur resolve's uniform mirror against its WGSL.
-#[test]
-fn fur_resolve_uniforms_match_wgsl_layout() {
-    use hairlab::render::fur::typed::{FUR_RESOLVE_UNIFORMS_FIELDS, FurResolveUniforms};
-    check_mirror(
-        std::mem::size_of::<FurResolveUniforms>(),
-        FUR_RESOLVE_UNIFORMS_FIELDS,
-        &[("fur/resolve.wgsl", None, "FurResolveUniforms")],
-    );
 }

@@ -1,44 +1,41 @@
-//! Hybrid fur's typed per-pixel lists (Andersen et al. 2016 §3.3 and §4; spec B.7): the guard hairs' shaded
-//! fragments (explicit) and the shell pass's ray-marched fragments (shell, or virtual: one per group of march
-//! steps) pushed onto the eye lists of the exact reference, then sorted and blended back to front by the
-//! typed resolve (`shaders/fur/resolve.wgsl`, CPU model [`crate::fur::blend`]). The meshes are not stored:
-//! they are drawn first, every list pass tests their depth by hand and their colour is what the resolve
-//! blends onto (B.7; the paper stores base-mesh fragments, Table 1 row 5).
+//! Hybrid fur's typed per-pixel lists (Andersen et al. 2016 §3.3 and §4; spec B.7), an eye transparency
+//! technique: the guard hairs' shaded fragments (explicit, on camera-facing ribbons, B.6) and the shell pass's
+//! ray-marched fragments (shell, or virtual: one per group of march steps) pushed onto per-pixel lists
+//! ([`PixelLists`], the exact reference's), then sorted and blended back to front by the typed resolve
+//! (`shaders/fur/resolve.wgsl`, CPU model [`crate::fur::blend`]). The meshes are not stored: they are drawn
+//! first, every list pass tests their depth by hand and their colour is what the resolve blends onto (B.7; the
+//! paper stores base-mesh fragments, Table 1 row 5).
 //!
 //! Passes: the shell's count (the march run once to count what it emits) and the strands' count, one
 //! readback, the node buffer sized to exactly the frame's fragments (bands of rows when they exceed a
-//! binding), then per band the strands' fill, the shell's fill and the resolve. The renderer uses this
-//! technique whenever the scene's fur is on; it is not one of the eye transparency registry's techniques
-//! (none of those knows a shell), and with no shell fragments it equals the exact reference.
+//! binding), then per band the strands' fill, the shell's fill and the resolve. The technique owns the shell's
+//! GPU state, built from the scene's fur ([`SceneFur`]) when its generation changes; without fur it draws the
+//! guard hairs alone, whose typed lists every blending composites exactly.
 
-use std::collections::HashMap;
+use std::time::Instant;
 
 use crate::fur::blend::{self, Typed};
 use crate::fur::march::MarchParams;
 use crate::fur::settings::{Blending, FurSettings, FurView};
 use crate::gpu::{Gpu, GpuError};
+use crate::render::eye::bindings::Binding;
+use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
+use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::geometry::RIBBON_GROUP;
-use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role};
-use crate::render::passes::abuffer::copy_out;
+use crate::render::method::{ParamValues, Role, UniformMirror};
 use crate::render::targets::EyeTargets;
-use crate::render::transparency::sorted::{
-    self, EyeNode, ListNames, NODE_BYTES, bind_group, layout_entry, plan_lists, record_resolve, storage,
-};
 use crate::render::transparency::{
-    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
+    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
     TransparencyGpu,
 };
 use crate::transparency::{Compositor, ModelContext};
 
 use super::shell_gpu::ShellGpu;
+pub use super::state::FurListStats;
+use super::state::{FurLists, FurState, SceneFur};
 
 /// The guard hairs' fill: the exact reference's list push, on camera-facing ribbons (B.6).
-static FILL: HairEntry = HairEntry {
-    entry: "fs_main",
-    targets: &[EyeTargets::NULL],
-    depth: EntryDepth::Manual,
-    geometry: HairGeometry::Ribbons,
-};
+static FILL: HairEntry = lists::fill_entry(HairGeometry::Ribbons);
 
 static INFO: TechniqueInfo = TechniqueInfo {
     name: "fur",
@@ -46,29 +43,25 @@ static INFO: TechniqueInfo = TechniqueInfo {
     paper: "Andersen, Falster, Frisvad, Christensen 2016, Hybrid fur rendering: combining volumetric fur with \
             explicit hair strands (§3.3, §4)",
     role: Role::Reference,
-    hair_wgsl: "transparency/sorted.wgsl",
+    hair_wgsl: lists::FILL_WGSL,
     hair_entries: std::slice::from_ref(&FILL),
     pass_wgsl: &["fur/ribbon_count.wgsl", "fur/resolve.wgsl"],
-    params: &[ParamSpec {
-        key: "band_kib",
-        label: "band budget KiB",
-        help: "most KiB of list nodes per band of rows (0: the device's storage binding limit)",
-        kind: ParamKind::Int { min: 0, max: 4 << 20 },
-        default: 0.0,
-    }],
+    params: &[BAND_KIB],
     color: [150, 95, 60],
     // f32 front-to-back sums in both; measured in tests/it/fur_typed.rs.
     gpu_tolerance: 1e-5,
 };
 
-/// The technique the renderer draws fur scenes with.
+/// The technique that shows a scene's fur.
 pub struct FurTechnique;
-
-pub static FUR: FurTechnique = FurTechnique;
 
 impl EyeTransparency for FurTechnique {
     fn info(&self) -> &'static TechniqueInfo {
         &INFO
+    }
+
+    fn shows_fur(&self) -> bool {
+        true
     }
 
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
@@ -79,13 +72,18 @@ impl EyeTransparency for FurTechnique {
     fn model(&self, _values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
         Box::new(crate::transparency::exact::ExactParams)
     }
-}
 
-/// What a fur frame adds to an [`EyeFrame`]: the shell's GPU state, the settings and the march of this frame.
-pub struct FurFrame<'a> {
-    pub shell: &'a ShellGpu,
-    pub settings: &'a FurSettings,
-    pub march: MarchParams,
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "FurResolveUniforms",
+            FurResolveUniforms {
+                blending,
+                attenuation,
+                view,
+                deepest
+            }
+        ))
+    }
 }
 
 /// Mirrors `FurResolveUniforms` in `shaders/fur/resolve.wgsl`.
@@ -97,17 +95,6 @@ pub struct FurResolveUniforms {
     pub view: u32,
     pub deepest: u32,
 }
-
-/// `FurResolveUniforms`' fields and offsets (a test compares them with the WGSL struct).
-pub const FUR_RESOLVE_UNIFORMS_FIELDS: &[(&str, usize)] = &[
-    ("blending", std::mem::offset_of!(FurResolveUniforms, blending)),
-    (
-        "attenuation",
-        std::mem::offset_of!(FurResolveUniforms, attenuation),
-    ),
-    ("view", std::mem::offset_of!(FurResolveUniforms, view)),
-    ("deepest", std::mem::offset_of!(FurResolveUniforms, deepest)),
-];
 
 fn view_code(v: FurView) -> u32 {
     match v {
@@ -125,237 +112,178 @@ fn blending_code(b: Blending) -> u32 {
     }
 }
 
-/// The guard hairs' count pass over their ribbons (`fur/ribbon_count.wgsl`): group 0 the frame, group 1 the
-/// counts and the meshes' depth ([`sorted::count_layout`]), [`RIBBON_GROUP`] the strands.
-fn ribbon_count_pipeline(
-    device: &wgpu::Device,
-    frame_layout: &wgpu::BindGroupLayout,
-    count_layout: &wgpu::BindGroupLayout,
-) -> wgpu::RenderPipeline {
-    let module =
-        crate::render::passes::shader_module(device, "hairlab.fur.ribbon_count", INFO.pass_wgsl[0], None);
-    let ribbons = crate::render::geometry::ribbon_layout(device);
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("hairlab.fur.ribbon_count"),
-        bind_group_layouts: &[Some(frame_layout), Some(count_layout), None, Some(&ribbons)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("hairlab.fur.ribbon_count"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        // Ribbons face the camera but their winding follows the strand: no culling, as the fill.
-        primitive: wgpu::PrimitiveState::default(),
-        // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the count's side effects.
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
-            targets: &[Some(EyeTargets::NULL)],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-/// The last frame's list figures, by fragment type (Table 1 rows 4 and 6).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FurListStats {
-    /// Explicit (guard-hair) fragments.
-    pub explicit: u64,
-    /// Shell or virtual fragments.
-    pub shell: u64,
-    /// The deepest pixel's list.
-    pub deepest: u32,
-    /// Bands of rows the frame was filled and resolved in.
-    pub bands: u32,
-    /// Bytes of the largest band's nodes.
-    pub node_bytes: u64,
-}
-
-struct Lists {
-    width: u32,
-    height: u32,
-    counts: wgpu::Buffer,
-    heads: wgpu::Buffer,
-    nodes: wgpu::Buffer,
-    capacity: u64,
-    counters: wgpu::Buffer,
-}
-
-impl Lists {
-    fn new(gpu: &Gpu, width: u32, height: u32, capacity: u64) -> Result<Lists, GpuError> {
-        let device = &gpu.device;
-        let pixels = width as u64 * height as u64;
-        gpu.check_buffer_size(&format!("fur lists' pixel heads at {width}x{height}"), pixels * 4)?;
-        gpu.check_buffer_size(
-            &format!("fur lists' nodes at {width}x{height}"),
-            capacity * NODE_BYTES,
-        )?;
-        Ok(Lists {
-            width,
-            height,
-            counts: storage(device, "hairlab.fur.counts", (pixels + 1) * 4),
-            heads: storage(device, "hairlab.fur.heads", pixels * 4),
-            nodes: storage(device, "hairlab.fur.nodes", capacity.max(1) * NODE_BYTES),
-            capacity: capacity.max(1),
-            counters: storage(device, "hairlab.fur.counters", 8),
-        })
-    }
+/// The shell on the GPU, the generation of the scene's fur it was built from and its build time.
+struct HeldShell {
+    gpu: ShellGpu,
+    generation: u64,
+    volume_ms: f64,
 }
 
 pub struct FurGpu {
-    count_layout: wgpu::BindGroupLayout,
+    lists: PixelLists,
+    /// The guard hairs' count pass over their ribbons (`fur/ribbon_count.wgsl`).
     count_pipeline: wgpu::RenderPipeline,
-    fill_layout: wgpu::BindGroupLayout,
-    resolve_layout: wgpu::BindGroupLayout,
     frame_layout: wgpu::BindGroupLayout,
-    resolves: HashMap<(u32, wgpu::TextureFormat), wgpu::RenderPipeline>,
     uniforms: wgpu::Buffer,
     /// The shell count's total, copied before the strands add theirs.
     shell_total: wgpu::Buffer,
-    lists: Lists,
-    bands: Vec<(u32, u32)>,
+    shell: Option<HeldShell>,
+    /// The fur's settings and march of the next frame (light from the frame); the defaults without fur.
+    settings: FurSettings,
+    march: Option<MarchParams>,
     stats: FurListStats,
+    /// Whether a frame has been drawn (its lists can be read).
+    drawn: bool,
 }
 
 impl FurGpu {
     fn new(setup: &EyeSetup) -> Result<FurGpu, GpuError> {
         let device = &setup.gpu.device;
-        let count_layout = sorted::count_layout(device);
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.fur.resolve_layout"),
-            entries: &[
-                layout_entry(0, fragment, true),
-                layout_entry(1, fragment, true),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        Ok(FurGpu {
-            count_pipeline: ribbon_count_pipeline(device, setup.frame_layout, &count_layout),
-            count_layout,
-            fill_layout: sorted::fill_layout(device),
-            resolve_layout,
+        let lists = PixelLists::new(
+            setup.gpu,
+            setup.frame_layout,
+            (setup.width, setup.height),
+            ListSpec {
+                label: "fur",
+                what: "fur lists",
+                resolve_wgsl: INFO.pass_wgsl[1],
+                resolve_extra: &[Binding::Uniform],
+            },
+        )?;
+        let module =
+            crate::render::passes::shader_module(device, "hairlab.fur.ribbon_count", INFO.pass_wgsl[0], None);
+        let count_pipeline = pipelines::geometry(
+            device,
+            &GeometryPass {
+                label: "hairlab.fur.ribbon_count",
+                module: &module,
+                layouts: &[setup.frame_layout, lists.count_layout()],
+                geometry: HairGeometry::Ribbons,
+                fragment: "fs_main",
+                targets: &[Some(EyeTargets::NULL)],
+                depth: None,
+            },
+        );
+        let mut gpu = FurGpu {
+            lists,
+            count_pipeline,
             frame_layout: setup.frame_layout.clone(),
-            resolves: HashMap::new(),
-            uniforms: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("hairlab.fur.resolve_uniforms"),
-                size: std::mem::size_of::<FurResolveUniforms>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            shell_total: storage(device, "hairlab.fur.shell_total", 4),
-            lists: Lists::new(setup.gpu, setup.width, setup.height, 1)?,
-            bands: Vec::new(),
+            uniforms: crate::render::eye::bindings::uniform(
+                device,
+                "hairlab.fur.resolve_uniforms",
+                std::mem::size_of::<FurResolveUniforms>() as u64,
+            ),
+            shell_total: crate::render::eye::bindings::storage(device, "hairlab.fur.shell_total", 4),
+            shell: None,
+            settings: FurSettings::default(),
+            march: None,
             stats: FurListStats::default(),
-        })
+            drawn: false,
+        };
+        gpu.update(setup)?;
+        Ok(gpu)
     }
 
-    /// The last frame's list figures.
-    pub fn stats(&self) -> FurListStats {
+    /// Brings the shell up to the scene's fur: built when its generation is new, dropped when the scene has none.
+    fn sync_fur(&mut self, gpu: &Gpu, fur: Option<&SceneFur>) -> Result<(), GpuError> {
+        let Some(fur) = fur else {
+            self.shell = None;
+            self.settings = FurSettings::default();
+            self.march = None;
+            return Ok(());
+        };
+        if self.shell.as_ref().map(|s| s.generation) != Some(fur.generation) {
+            self.shell = None;
+            let start = Instant::now();
+            let shell = ShellGpu::new(gpu, &self.frame_layout, &fur.scene.shell, &fur.scene.volume)?;
+            self.shell = Some(HeldShell {
+                gpu: shell,
+                generation: fur.generation,
+                volume_ms: start.elapsed().as_secs_f64() * 1e3,
+            });
+        }
+        self.settings = fur.settings.clone();
+        self.march = Some(
+            fur.settings
+                .march_params(&fur.scene.shell, glam::Vec3::Y, glam::Vec3::ONE),
+        );
+        Ok(())
+    }
+}
+
+impl FurLists for FurGpu {
+    fn stats(&self) -> FurListStats {
         self.stats
     }
 
-    /// The last frame's typed lists (row-major, each front to back in the resolve's order).
-    pub fn typed_lists(&self, gpu: &Gpu) -> Result<Vec<Vec<Typed>>, GpuError> {
-        if self.bands.len() > 1 {
-            return Err(GpuError::Readback(format!(
-                "the fur lists of this frame were built in {} bands; only one band can be read back",
-                self.bands.len()
-            )));
-        }
-        let l = &self.lists;
-        let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &l.counters)?);
-        if counters[1] > 0 {
-            return Err(GpuError::Readback(format!(
-                "fur lists overflow: {} fragments did not fit in {} nodes",
-                counters[1], l.capacity
-            )));
-        }
-        let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &l.heads)?);
-        let nodes: Vec<EyeNode> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &l.nodes)?);
-        let used = (counters[0] as usize).min(nodes.len());
-        Ok(heads
-            .iter()
-            .map(|&head| {
-                let mut out = Vec::new();
-                let mut i = head as usize;
-                while i != 0 && i <= used && out.len() <= used {
-                    let n = nodes[i - 1];
-                    out.push(Typed {
+    fn typed_lists(&self, gpu: &Gpu) -> Result<Vec<Vec<Typed>>, GpuError> {
+        Ok(self
+            .lists
+            .read(gpu)?
+            .into_iter()
+            .map(|nodes| {
+                let mut out: Vec<Typed> = nodes
+                    .into_iter()
+                    .map(|n| Typed {
                         depth: n.depth,
                         id: n.segment,
                         kind: n.kind,
                         colour: glam::Vec3::new(n.r, n.g, n.b),
                         alpha: n.alpha,
-                    });
-                    i = n.next as usize;
-                }
+                    })
+                    .collect();
                 blend::front_to_back(&mut out);
                 out
             })
             .collect())
     }
-
-    fn resolve_pipeline(&mut self, device: &wgpu::Device, size: u32, format: wgpu::TextureFormat) {
-        let layouts = [&self.frame_layout, &self.resolve_layout];
-        self.resolves.entry((size, format)).or_insert_with(|| {
-            sorted::list_resolve_pipeline(device, INFO.pass_wgsl[1], size, &layouts, format)
-        });
-    }
 }
 
 impl TransparencyGpu for FurGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        if (self.lists.width, self.lists.height) != (width, height) {
-            self.lists = Lists::new(gpu, width, height, self.lists.capacity)?;
-        }
-        Ok(())
+        self.lists.resize(gpu, width, height)
+    }
+
+    fn update(&mut self, setup: &EyeSetup) -> Result<(), GpuError> {
+        self.resize(setup.gpu, setup.width, setup.height)?;
+        self.sync_fur(setup.gpu, setup.scene_fur)
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
-        let Some(fur) = frame.fur.take() else {
-            return Err(GpuError::Setting(
-                "fur.mode: the fur lists were asked for a frame without a fur shell".into(),
-            ));
-        };
-        let (width, height) = (self.lists.width, self.lists.height);
+        let (width, height) = self.lists.size();
         let pixels = width as u64 * height as u64;
-        let mode = fur.settings.mode;
-        let strands = mode.strands() && frame.geometry.hair_index_count > 0;
-        let shell = mode.shell();
+        let mode = self.settings.mode;
+        let held = self.shell.as_ref().map(|s| &s.gpu);
+        let shell = held.filter(|_| mode.shell());
+        // Without fur the guard hairs are all there is.
+        let strands = (self.shell.is_none() || mode.strands()) && frame.geometry.hair_index_count > 0;
         let gpu = frame.gpu;
-        fur.shell.set_params(&gpu.queue, &fur.march);
+        let device = &gpu.device;
+        if let (Some(held), Some(march)) = (held, &self.march) {
+            held.set_params(
+                &gpu.queue,
+                &MarchParams {
+                    to_light: frame.light.to_light(),
+                    light: glam::Vec3::from_array(frame.light.color) * frame.light.intensity,
+                    ..*march
+                },
+            );
+        }
         // Counts: the shell's first (its total copied aside), then the strands'.
-        frame.encoder.clear_buffer(&self.lists.counts, 0, None);
-        fur.shell.reset_stats(&mut frame.encoder);
-        if shell {
+        let counts = self.lists.clear_counts(&mut frame.encoder);
+        if let Some(held) = held {
+            held.reset_stats(&mut frame.encoder);
+        }
+        if let Some(shell) = shell {
             let timestamps = frame
                 .timer
                 .as_mut()
                 .and_then(|t| t.pass(crate::gpu::timing::Phase::FurShell, "fur: shell count"));
-            fur.shell.record_count(
+            shell.record_count(
                 gpu,
                 &mut frame.encoder,
                 frame.frame_bind_group,
-                &self.lists.counts,
+                counts,
                 &frame.targets.depth_view,
                 &frame.targets.null_view,
                 timestamps,
@@ -364,16 +292,10 @@ impl TransparencyGpu for FurGpu {
         }
         frame
             .encoder
-            .copy_buffer_to_buffer(&self.lists.counts, pixels * 4, &self.shell_total, 0, 4);
+            .copy_buffer_to_buffer(counts, pixels * 4, &self.shell_total, 0, 4);
         if strands {
             let ribbons = frame.geometry.ribbons()?;
-            let count_group = bind_group(
-                &gpu.device,
-                "hairlab.fur.count_group",
-                &self.count_layout,
-                &[&self.lists.counts],
-                Some(&frame.targets.depth_view),
-            );
+            let count_group = self.lists.count_group(device, &frame.targets.depth_view);
             let timestamps = frame
                 .timer
                 .as_mut()
@@ -393,73 +315,46 @@ impl TransparencyGpu for FurGpu {
             pass.draw(0..frame.geometry.ribbon_vertex_count(), 0..1);
         }
         frame.flush();
-        let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.lists.counts)?);
-        let shell_total: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.shell_total)?);
-        let plan = plan_lists(
-            gpu,
-            &counts,
-            (width, height),
-            crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024,
-            &ListNames {
-                deep: "fur.group_steps: the fur lists",
-                rows: "the fur lists'",
-                drawn: String::new(),
-            },
-        )?;
-        let (size, needed, deepest, total) = (plan.size, plan.needed, plan.deepest, plan.fragments);
-        self.bands = plan.bands;
-        if needed > self.lists.capacity || needed < self.lists.capacity / 2 {
-            self.lists = Lists::new(gpu, width, height, needed)?;
-        }
+        let shell_total: Vec<u32> =
+            bytemuck::pod_collect_to_vec(&crate::render::passes::abuffer::copy_out(gpu, &self.shell_total)?);
+        let plan = self
+            .lists
+            .plan(
+                gpu,
+                frame.output.1,
+                crate::render::method::value(frame.values, &INFO.params[0]) as u64 * 1024,
+                &ListNames {
+                    deep: "fur.group_steps: the fur lists",
+                    rows: "the fur lists'",
+                    drawn: String::new(),
+                },
+            )?
+            .clone();
         gpu.queue.write_buffer(
             &self.uniforms,
             0,
             bytemuck::bytes_of(&FurResolveUniforms {
-                blending: blending_code(fur.settings.blending),
-                attenuation: fur.settings.attenuation_per_unit(),
-                view: view_code(fur.settings.view),
-                deepest,
+                blending: blending_code(self.settings.blending),
+                attenuation: self.settings.attenuation_per_unit(),
+                view: view_code(self.settings.view),
+                deepest: plan.deepest,
             }),
         );
         self.stats = FurListStats {
-            explicit: total - u64::from(shell_total[0]),
+            explicit: plan.fragments - u64::from(shell_total[0]),
             shell: u64::from(shell_total[0]),
-            deepest,
-            bands: self.bands.len() as u32,
-            node_bytes: needed * NODE_BYTES,
+            deepest: plan.deepest,
+            bands: plan.bands.len() as u32,
+            node_bytes: plan.needed * NODE_BYTES,
         };
-        let l = &self.lists;
-        let fill_group = bind_group(
-            &gpu.device,
-            "hairlab.fur.fill_group",
-            &self.fill_layout,
-            &[&l.heads, &l.nodes, &l.counters],
-            Some(&frame.targets.depth_view),
-        );
-        let resolve_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.fur.resolve_group"),
-            layout: &self.resolve_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: l.heads.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: l.nodes.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-            ],
-        });
-        let format = frame.output.1;
-        self.resolve_pipeline(&gpu.device, size, format);
-        let resolve = &self.resolves[&(size, format)];
-        for &(y0, y1) in &self.bands {
-            frame.encoder.clear_buffer(&self.lists.heads, 0, None);
-            frame.encoder.clear_buffer(&self.lists.counters, 0, None);
+        self.drawn = true;
+        let fill_group = self.lists.fill_group(device, &frame.targets.depth_view);
+        let resolve_group = self
+            .lists
+            .resolve_group(device, &[self.uniforms.as_entire_binding()]);
+        let [heads, nodes, counters] = self.lists.fill_buffers();
+        for &band in &plan.bands {
+            self.lists.begin_band(&mut frame.encoder);
             if strands {
                 let null = [frame.targets.null_attachment()];
                 frame.draw_hair(
@@ -467,40 +362,39 @@ impl TransparencyGpu for FurGpu {
                         entry: &FILL,
                         attachments: &null,
                         depth: None,
-                        group: Some((&self.fill_layout, &fill_group)),
-                        rows: Some((y0, y1)),
+                        group: Some((self.lists.fill_layout(), &fill_group)),
+                        rows: Some(band),
                     },
                     "fur: explicit fill",
                 );
             }
-            if shell {
+            if let Some(shell) = shell {
                 let timestamps = frame
                     .timer
                     .as_mut()
                     .and_then(|t| t.pass(crate::gpu::timing::Phase::FurShell, "fur: shell fill"));
-                fur.shell.record_fill(
+                shell.record_fill(
                     gpu,
                     &mut frame.encoder,
                     frame.frame_bind_group,
-                    &self.lists.heads,
-                    &self.lists.nodes,
-                    &self.lists.counters,
+                    heads,
+                    nodes,
+                    counters,
                     &frame.targets.depth_view,
                     &frame.targets.null_view,
                     timestamps,
-                    Some((y0, y1)),
+                    Some(band),
                 );
             }
             let timestamps = frame
                 .timer
                 .as_mut()
                 .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "fur: resolve"));
-            record_resolve(
+            self.lists.resolve(
                 &mut frame.encoder,
-                frame.output.0,
+                frame.output,
                 timestamps,
-                (width, y0, y1),
-                resolve,
+                band,
                 [frame.frame_bind_group, &resolve_group],
             );
         }
@@ -508,15 +402,22 @@ impl TransparencyGpu for FurGpu {
     }
 
     fn memory_bytes(&self) -> u64 {
-        let l = &self.lists;
-        l.counts.size() + l.heads.size() + l.nodes.size() + l.counters.size() + self.uniforms.size()
+        self.lists.memory_bytes() + self.uniforms.size()
     }
 
     fn geometry_passes(&self) -> u32 {
-        1 + self.bands.len().max(1) as u32
+        self.lists.geometry_passes()
     }
 
     fn depth_complexity(&self) -> Option<(u32, u64)> {
         Some((self.stats.deepest, self.stats.explicit + self.stats.shell))
+    }
+
+    fn fur(&self) -> Option<FurState<'_>> {
+        self.shell.as_ref().map(|s| FurState {
+            shell: &s.gpu,
+            lists: self.drawn.then_some(self as &dyn FurLists),
+            volume_ms: s.volume_ms,
+        })
     }
 }

@@ -2,6 +2,8 @@
 //! (`common/fullscreen.wgsl`) runs the technique's resolve shader, which reads the technique's targets through
 //! group 0 and blends its result onto the opaque colour image.
 
+use crate::render::eye::bindings::{self, Binding};
+use crate::render::eye::pipelines;
 use crate::render::targets::{CAPTURE_FORMAT, EyeTargets};
 
 pub struct CompositePass {
@@ -21,42 +23,23 @@ impl CompositePass {
         blend: wgpu::BlendState,
     ) -> CompositePass {
         let module = super::shader_module(device, &format!("{label}.shader"), resolve_wgsl, None);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(&format!("{label}.layout")),
-            bind_group_layouts: &[Some(layout)],
-            immediate_size: 0,
-        });
         let pipeline = |format| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&format!("{label}.pipeline")),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: Some(blend),
-                        // The colour image keeps its alpha; the capture records coverage 1 - T in it.
-                        write_mask: if format == CAPTURE_FORMAT {
-                            wgpu::ColorWrites::ALL
-                        } else {
-                            wgpu::ColorWrites::COLOR
-                        },
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            pipelines::fullscreen(
+                device,
+                &format!("{label}.pipeline"),
+                &module,
+                &[layout],
+                &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: Some(blend),
+                    // The colour image keeps its alpha; the capture records coverage 1 - T in it.
+                    write_mask: if format == CAPTURE_FORMAT {
+                        wgpu::ColorWrites::ALL
+                    } else {
+                        wgpu::ColorWrites::COLOR
+                    },
+                })],
+            )
         };
         CompositePass {
             pipelines: [EyeTargets::COLOR, CAPTURE_FORMAT].map(|f| (f, pipeline(f))),
@@ -71,47 +54,22 @@ impl CompositePass {
         bind_group: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("hairlab.composite.pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
         let pipeline = self.pipelines.iter().find(|(f, _)| *f == format);
-        pass.set_pipeline(&pipeline.unwrap_or(&self.pipelines[0]).1);
-        pass.set_bind_group(0, bind_group, &[]);
-        pass.draw(0..3, 0..1);
+        pipelines::record_fullscreen(
+            encoder,
+            "hairlab.composite.pass",
+            color,
+            timestamps,
+            None,
+            &pipeline.unwrap_or(&self.pipelines[0]).1,
+            &[bind_group],
+        );
     }
 }
 
 /// A group-0 layout of `count` unfilterable float textures at bindings 0.., read by a resolve's fragment stage.
 pub fn texture_layout(device: &wgpu::Device, label: &str, count: u32) -> wgpu::BindGroupLayout {
-    let entries: Vec<_> = (0..count)
-        .map(|binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        })
-        .collect();
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries: &entries,
-    })
+    bindings::layout(device, label, &vec![Binding::Texture; count as usize])
 }
 
 /// The bind group of a [`texture_layout`] over `views`, in binding order.
@@ -121,17 +79,9 @@ pub fn texture_bind_group(
     layout: &wgpu::BindGroupLayout,
     views: &[&wgpu::TextureView],
 ) -> wgpu::BindGroup {
-    let entries: Vec<_> = views
+    let resources: Vec<_> = views
         .iter()
-        .enumerate()
-        .map(|(i, v)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: wgpu::BindingResource::TextureView(v),
-        })
+        .map(|v| wgpu::BindingResource::TextureView(v))
         .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    })
+    bindings::group(device, label, layout, &resources)
 }

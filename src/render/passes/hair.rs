@@ -10,7 +10,6 @@ use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::targets::EyeTargets;
-use crate::render::transparency::{EntryDepth, EyeTransparency, HairDrawPass, HairGeometry};
 
 pub struct HairPass {
     scene_layout: wgpu::BindGroupLayout,
@@ -22,10 +21,64 @@ pub struct HairScene<'a> {
     pub device: &'a wgpu::Device,
     pub method: &'a dyn LightMethod,
     pub method_gpu: &'a dyn MethodGpu,
-    pub technique: &'a dyn EyeTransparency,
+    pub technique: HairTechnique,
     pub scene: &'a wgpu::BindGroup,
     pub geometry: &'a SceneGpu,
     pub targets: &'a EyeTargets,
+}
+
+/// The eye transparency technique whose entries a hair draw uses: its name (the pipelines' key) and its hair
+/// file (pasted at `#include_technique`).
+#[derive(Clone, Copy, Debug)]
+pub struct HairTechnique {
+    pub name: &'static str,
+    pub hair_wgsl: &'static str,
+}
+
+/// One fragment entry point of the hair pass and what it writes.
+#[derive(Debug)]
+pub struct HairEntry {
+    pub entry: &'static str,
+    pub targets: &'static [wgpu::ColorTargetState],
+    pub depth: EntryDepth,
+    /// What the entry's pipeline draws the strands as.
+    pub geometry: HairGeometry,
+}
+
+/// The primitives of a hair entry's pipeline. Either way the fragment entry receives the same `VertexOut`
+/// (`shaders/hair.wgsl`) with the same segment ids, so `shade_hair` and every entry work unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HairGeometry {
+    /// Strands as lines (LineList, `vs_main`, one index pair per segment): what the hair methods compare.
+    Lines,
+    /// Camera-facing ribbons (spec B.6, `vs_ribbon`): two triangles per segment pulled from the storage
+    /// buffers of [`RIBBON_GROUP`], widened to one pixel with alpha scaled by the
+    /// covered fraction when thinner (`eye_ribbon_point` in `common/eye_vertex.wgsl`).
+    Ribbons,
+}
+
+/// How a hair entry is depth-tested.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EntryDepth {
+    /// `Less` against the meshes' depth, not written (the shared hair state).
+    Meshes,
+    /// `Less` against the technique's own depth target, written.
+    Own,
+    /// No depth attachment: the entry tests the meshes' depth by hand (`common/mesh_depth.wgsl`) before its
+    /// storage writes, which a fixed-function test after the shader would not undo.
+    Manual,
+}
+
+/// A shaded hair pass as a technique asks for it.
+pub struct HairDrawPass<'a> {
+    pub entry: &'static HairEntry,
+    pub attachments: &'a [Option<wgpu::RenderPassColorAttachment<'a>>],
+    /// The technique's own depth target (entries with [`EntryDepth::Own`]), cleared to `clear` or loaded.
+    pub depth: Option<(&'a wgpu::TextureView, Option<f32>)>,
+    /// Group 2 of the hair pass: the technique's own resources.
+    pub group: Option<(&'a wgpu::BindGroupLayout, &'a wgpu::BindGroup)>,
+    /// Rows `[y0, y1)` only (a scissor rect), for techniques that render in bands.
+    pub rows: Option<(u32, u32)>,
 }
 
 impl HairPass {
@@ -52,7 +105,7 @@ impl HairPass {
         let key = PipelineKey {
             pass: if ribbons { Pass::HairRibbons } else { Pass::Hair },
             method: s.method.name(),
-            technique: Some((s.technique.name(), draw.entry.entry)),
+            technique: Some((s.technique.name, draw.entry.entry)),
         };
         self.pipelines.get_or_build(key, |key| {
             let mut layouts = vec![Some(scene_layout), Some(s.method_gpu.bind_group_layout())];
@@ -71,7 +124,7 @@ impl HairPass {
             let src = crate::shaders::compose_with(
                 "hair.wgsl",
                 Some(s.method.lookup_wgsl()),
-                Some(s.technique.info().hair_wgsl),
+                Some(s.technique.hair_wgsl),
             )
             // As `passes::shader_module`: only a shader failing naga validation panics, which
             // `tests/shaders.rs` rules out for every method × technique.

@@ -18,11 +18,12 @@
 //! + 16 (accumulation) = 48 B per pixel.
 
 use super::{
-    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
-    TechniqueInfo, TransparencyGpu, cleared,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::HairVertex;
+use crate::render::eye::bindings::{self, Binding};
+use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
 use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
 use crate::render::targets::{EyeTargets, eye_texture};
@@ -59,7 +60,7 @@ static HAIR: HairEntry = HairEntry {
         },
     ],
     depth: EntryDepth::Own,
-    geometry: super::HairGeometry::Lines,
+    geometry: HairGeometry::Lines,
 };
 
 static INFO: TechniqueInfo = TechniqueInfo {
@@ -111,49 +112,16 @@ impl EyeTransparency for DepthPeel {
 
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
-        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let count_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.depth-peel.count_layout"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                texture(1, wgpu::TextureSampleType::Depth),
-            ],
-        });
-        let peel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.depth-peel.peel_layout"),
-            entries: &[
-                texture(0, wgpu::TextureSampleType::Depth),
-                texture(1, wgpu::TextureSampleType::Float { filterable: false }),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
-        });
+        let count_layout = bindings::layout(
+            device,
+            "hairlab.depth-peel.count_layout",
+            &[Binding::StorageRw, Binding::MeshDepth],
+        );
+        let peel_layout = bindings::layout(
+            device,
+            "hairlab.depth-peel.peel_layout",
+            &[Binding::MeshDepth, Binding::Texture, Binding::Uniform],
+        );
         let texture_layout = texture_layout(device, "hairlab.depth-peel.texture_layout", 1);
         let count = count_pipeline(device, setup.frame_layout, &count_layout);
         let under = under_pipeline(device, &texture_layout);
@@ -164,12 +132,7 @@ impl EyeTransparency for DepthPeel {
             &texture_layout,
             PREMULTIPLIED_OVER,
         );
-        let scale = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.depth-peel.scale"),
-            size: 16,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let scale = bindings::uniform(device, "hairlab.depth-peel.scale", 16);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.depth-peel.readback"),
             size: 8,
@@ -210,35 +173,18 @@ fn count_pipeline(
         INFO.pass_wgsl[0],
         None,
     );
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("hairlab.depth-peel.count.layout"),
-        bind_group_layouts: &[Some(frame_layout), Some(count_layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("hairlab.depth-peel.count.pipeline"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
+    pipelines::geometry(
+        device,
+        &GeometryPass {
+            label: "hairlab.depth-peel.count.pipeline",
             module: &module,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &[Some(HairVertex::layout())],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::LineList,
-            ..Default::default()
-        },
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
+            layouts: &[frame_layout, count_layout],
+            geometry: HairGeometry::Lines,
+            fragment: "fs_main",
             targets: &[Some(EyeTargets::NULL)],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+            depth: None,
+        },
+    )
 }
 
 /// The full-screen "under" blend of a layer into the accumulation.
@@ -249,36 +195,17 @@ fn under_pipeline(device: &wgpu::Device, texture_layout: &wgpu::BindGroupLayout)
         INFO.pass_wgsl[1],
         None,
     );
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("hairlab.depth-peel.under.layout"),
-        bind_group_layouts: &[Some(texture_layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("hairlab.depth-peel.under.pipeline"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: ACCUM,
-                blend: Some(UNDER),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    pipelines::fullscreen(
+        device,
+        "hairlab.depth-peel.under.pipeline",
+        &module,
+        &[texture_layout],
+        &[Some(wgpu::ColorTargetState {
+            format: ACCUM,
+            blend: Some(UNDER),
+            write_mask: wgpu::ColorWrites::ALL,
+        })],
+    )
 }
 
 /// Everything sized to the viewport.
@@ -320,17 +247,7 @@ impl Targets {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let view = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label, format| bindings::texture(device, label, (width, height), format);
         let depth_view = eye_texture(
             device,
             "hairlab.depth-peel.depth",
@@ -393,44 +310,23 @@ impl DepthPeelGpu {
     /// the total.
     fn count(&self, frame: &mut EyeFrame<'_>) -> Result<(u32, u32), GpuError> {
         let t = &self.targets;
-        let count_bind_group = frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.depth-peel.count_bind_group"),
-            layout: &self.count_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: t.counts.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-                },
+        let count_bind_group = bindings::group(
+            &frame.gpu.device,
+            "hairlab.depth-peel.count_bind_group",
+            &self.count_layout,
+            &[
+                t.counts.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
             ],
-        });
+        );
         frame.encoder.clear_buffer(&t.counts, 0, None);
-        {
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|timer| timer.pass(crate::gpu::timing::Phase::EyeHair, "eye: depth complexity"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.depth-peel.count.pass"),
-                color_attachments: &[frame.targets.null_attachment()],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            let g = frame.geometry;
-            if g.hair_index_count > 0 {
-                pass.set_pipeline(&self.count);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &count_bind_group, &[]);
-                pass.set_vertex_buffer(0, g.hair_vertices.slice(..));
-                pass.set_index_buffer(g.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..g.hair_index_count, 0, 0..1);
-            }
-        }
+        pipelines::record_line_count(
+            frame,
+            "hairlab.depth-peel.count.pass",
+            "eye: depth complexity",
+            &self.count,
+            &count_bind_group,
+        );
         frame
             .encoder
             .copy_buffer_to_buffer(&t.counts, 0, &self.readback, 0, 8);
@@ -442,24 +338,16 @@ impl DepthPeelGpu {
 
     /// Group 2 of the layer reading the previous layer's depth from `previous`.
     fn peel_group(&self, frame: &EyeFrame<'_>, previous: &wgpu::TextureView) -> wgpu::BindGroup {
-        frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.depth-peel.peel_bind_group"),
-            layout: &self.peel_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(previous),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.scale.as_entire_binding(),
-                },
+        bindings::group(
+            &frame.gpu.device,
+            "hairlab.depth-peel.peel_bind_group",
+            &self.peel_layout,
+            &[
+                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                wgpu::BindingResource::TextureView(previous),
+                self.scale.as_entire_binding(),
             ],
-        })
+        )
     }
 }
 
@@ -526,25 +414,15 @@ impl TransparencyGpu for DepthPeelGpu {
                 rows: None,
             });
             let last = k + 1 == layers as usize;
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.depth-peel.under.pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &t.accum,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: span.as_ref().filter(|_| last).map(|s| s.last()),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.under);
-            pass.set_bind_group(0, &t.layer_bind_group, &[]);
-            pass.draw(0..3, 0..1);
+            pipelines::record_fullscreen(
+                &mut frame.encoder,
+                "hairlab.depth-peel.under.pass",
+                &t.accum,
+                span.as_ref().filter(|_| last).map(|s| s.last()),
+                None,
+                &self.under,
+                &[&t.layer_bind_group],
+            );
         }
         self.layers = layers;
         let timestamps = frame

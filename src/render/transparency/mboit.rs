@@ -7,14 +7,14 @@
 //! CPU model: [`crate::transparency::Mboit`].
 
 use super::{
-    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
-    TechniqueInfo, TransparencyGpu, cleared,
+    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::HairVertex;
+use crate::render::eye::bindings::{self, Binding};
+use crate::render::eye::pipelines::{self, DepthTest, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
 use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
-use crate::render::targets::{EyeTargets, eye_texture};
 use crate::transparency::{Compositor, MboitParams, ModelContext};
 use crate::visibility::msm::DEFAULT_OVERESTIMATION;
 use bytemuck::{Pod, Zeroable};
@@ -32,7 +32,7 @@ static HAIR: HairEntry = HairEntry {
     entry: "fs_main",
     targets: &[ADD],
     depth: EntryDepth::Meshes,
-    geometry: super::HairGeometry::Lines,
+    geometry: HairGeometry::Lines,
 };
 
 const MOMENTS: ParamSpec = ParamSpec {
@@ -94,6 +94,22 @@ impl EyeTransparency for MomentBasedOit {
     fn model(&self, values: &ParamValues, ctx: &ModelContext) -> Box<dyn Compositor> {
         Box::new(params(values).model(ctx))
     }
+
+    fn uniform_mirror(&self) -> Option<crate::render::method::UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "MboitUniforms",
+            MboitUniforms {
+                near,
+                far,
+                moments,
+                bias,
+                overestimation,
+                pad0,
+                pad1,
+                pad2
+            }
+        ))
+    }
 }
 
 /// Mirrors `MboitUniforms` in `shaders/common/mboit.wgsl`.
@@ -145,103 +161,45 @@ struct MboitGpu {
     targets: Targets,
 }
 
-fn uniform_entry(visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
 impl MboitGpu {
     fn new(setup: &EyeSetup) -> MboitGpu {
         let device = &setup.gpu.device;
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.mboit.uniforms"),
-            size: std::mem::size_of::<MboitUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let moments_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.mboit.moments_layout"),
-            entries: &[uniform_entry(wgpu::ShaderStages::FRAGMENT)],
-        });
-        let moments_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.mboit.moments_group"),
-            layout: &moments_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniforms.as_entire_binding(),
-            }],
-        });
-        let hair_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.mboit.hair_layout"),
-            entries: &[
-                uniform_entry(wgpu::ShaderStages::FRAGMENT),
-                texture_entry(1),
-                texture_entry(2),
-            ],
-        });
+        let uniforms = bindings::uniform(
+            device,
+            "hairlab.mboit.uniforms",
+            std::mem::size_of::<MboitUniforms>() as u64,
+        );
+        let moments_layout = bindings::layout(device, "hairlab.mboit.moments_layout", &[Binding::Uniform]);
+        let moments_group = bindings::group(
+            device,
+            "hairlab.mboit.moments_group",
+            &moments_layout,
+            &[uniforms.as_entire_binding()],
+        );
+        let hair_layout = bindings::layout(
+            device,
+            "hairlab.mboit.hair_layout",
+            &[Binding::Uniform, Binding::Texture, Binding::Texture],
+        );
         let module = crate::render::passes::shader_module(
             device,
             "hairlab.mboit.moments_shader",
             INFO.pass_wgsl[0],
             None,
         );
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.mboit.moments_pipeline_layout"),
-            bind_group_layouts: &[Some(setup.frame_layout), Some(&moments_layout)],
-            immediate_size: 0,
-        });
-        let moments_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hairlab.mboit.moments_pipeline"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
+        // The hair pass's test: Less against the meshes, no write (no storage writes, so fixed function).
+        let moments_pipeline = pipelines::geometry(
+            device,
+            &GeometryPass {
+                label: "hairlab.mboit.moments_pipeline",
                 module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(HairVertex::layout())],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            // The hair pass's test: Less against the meshes, no write (no storage writes, so fixed function).
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: EyeTargets::DEPTH,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
+                layouts: &[setup.frame_layout, &moments_layout],
+                geometry: HairGeometry::Lines,
+                fragment: "fs_main",
                 targets: &[Some(ADD), Some(ADD)],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+                depth: Some(DepthTest::Meshes),
+            },
+        );
         let resolve_layout = texture_layout(device, "hairlab.mboit.resolve_layout", 2);
         let resolve = CompositePass::new(
             device,
@@ -279,38 +237,20 @@ impl Targets {
         width: u32,
         height: u32,
     ) -> Targets {
-        let view = |label| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                FORMAT,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label| bindings::texture(device, label, (width, height), FORMAT);
         let low = view("hairlab.mboit.moments_low");
         let high = view("hairlab.mboit.moments_high");
         let accum = view("hairlab.mboit.accum");
-        let hair_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.mboit.hair_group"),
-            layout: hair_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&low),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&high),
-                },
+        let hair_group = bindings::group(
+            device,
+            "hairlab.mboit.hair_group",
+            hair_layout,
+            &[
+                uniforms.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&low),
+                wgpu::BindingResource::TextureView(&high),
             ],
-        });
+        );
         let resolve_group = texture_bind_group(
             device,
             "hairlab.mboit.resolve_group",
@@ -419,41 +359,6 @@ impl TransparencyGpu for MboitGpu {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn uniforms_mirror_the_wgsl_struct() {
-        let src = crate::shaders::compose(INFO.pass_wgsl[0], None).unwrap();
-        let module = naga::front::wgsl::parse_str(&src).unwrap();
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("MboitUniforms"))
-            .unwrap();
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("MboitUniforms is not a struct")
-        };
-        let wgsl: Vec<(String, u32)> = members
-            .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-            .collect();
-        let rust: Vec<(String, u32)> = [
-            ("near", std::mem::offset_of!(MboitUniforms, near)),
-            ("far", std::mem::offset_of!(MboitUniforms, far)),
-            ("moments", std::mem::offset_of!(MboitUniforms, moments)),
-            ("bias", std::mem::offset_of!(MboitUniforms, bias)),
-            (
-                "overestimation",
-                std::mem::offset_of!(MboitUniforms, overestimation),
-            ),
-            ("pad0", std::mem::offset_of!(MboitUniforms, pad0)),
-            ("pad1", std::mem::offset_of!(MboitUniforms, pad1)),
-            ("pad2", std::mem::offset_of!(MboitUniforms, pad2)),
-        ]
-        .map(|(n, o)| (n.to_string(), o as u32))
-        .to_vec();
-        assert_eq!(wgsl, rust);
-        assert_eq!(*span as usize, std::mem::size_of::<MboitUniforms>());
-    }
 
     #[test]
     fn params_follow_the_model() {

@@ -4,6 +4,10 @@
 //! the technique's passes into an [`EyeFrame`]: its own geometry passes over the strands (depth ranges, counts,
 //! occupancy), shaded hair passes drawn through [`HairDraw`] and its resolve onto the colour image. The renderer
 //! defines the contract and holds one technique's state at a time; `registry.rs` is the one list of techniques.
+//! Techniques build their passes from the eye toolkit ([`crate::render::eye`]: declared bindings, base pipeline
+//! descriptors, per-pixel lists). A scene's fur is content of the scene that only a technique which
+//! [`EyeTransparency::shows_fur`] draws (the fur's typed lists, `crate::render::fur::typed`); the renderer refuses
+//! a scene with fur to any other, naming the one that shows it.
 //!
 //! A technique's hair file (`TechniqueInfo::hair_wgsl`) is pasted into `hair.wgsl` at `#include_technique` and
 //! defines the hair pass's fragment entry points. Each calls `shade_hair(in)` (hair.wgsl) for the shaded
@@ -35,10 +39,13 @@ pub mod weighted_average;
 
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::method::{ParamSpec, ParamValues, Role};
+use crate::render::fur::state::{FurState, SceneFur};
+use crate::render::method::{ParamSpec, ParamValues, Role, UniformMirror};
+pub use crate::render::passes::hair::{EntryDepth, HairDrawPass, HairEntry, HairGeometry};
 use crate::render::passes::hair::{HairPass, HairScene};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::targets::EyeTargets;
+use crate::scene::Light;
 use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
 /// A technique's constants: the registry, the panel, the pipelines and the tests read them.
@@ -64,40 +71,6 @@ pub struct TechniqueInfo {
     pub gpu_tolerance: f32,
 }
 
-/// One fragment entry point of the hair pass and what it writes.
-#[derive(Debug)]
-pub struct HairEntry {
-    pub entry: &'static str,
-    pub targets: &'static [wgpu::ColorTargetState],
-    pub depth: EntryDepth,
-    /// What the entry's pipeline draws the strands as.
-    pub geometry: HairGeometry,
-}
-
-/// The primitives of a hair entry's pipeline. Either way the fragment entry receives the same `VertexOut`
-/// (`shaders/hair.wgsl`) with the same segment ids, so `shade_hair` and every entry work unchanged.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HairGeometry {
-    /// Strands as lines (LineList, `vs_main`, one index pair per segment): what the hair methods compare.
-    Lines,
-    /// Camera-facing ribbons (spec B.6, `vs_ribbon`): two triangles per segment pulled from the storage
-    /// buffers of [`crate::render::geometry::RIBBON_GROUP`], widened to one pixel with alpha scaled by the
-    /// covered fraction when thinner (`eye_ribbon_point` in `common/eye_vertex.wgsl`).
-    Ribbons,
-}
-
-/// How a hair entry is depth-tested.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EntryDepth {
-    /// `Less` against the meshes' depth, not written (the shared hair state).
-    Meshes,
-    /// `Less` against the technique's own depth target, written.
-    Own,
-    /// No depth attachment: the entry tests the meshes' depth by hand (`common/mesh_depth.wgsl`) before its
-    /// storage writes, which a fixed-function test after the shader would not undo.
-    Manual,
-}
-
 /// What the renderer asks of an eye transparency technique.
 pub trait EyeTransparency: Sync {
     fn info(&self) -> &'static TechniqueInfo;
@@ -112,6 +85,15 @@ pub trait EyeTransparency: Sync {
     fn sweep(&self) -> Vec<ParamValues> {
         vec![ParamValues::new()]
     }
+    /// The technique's own uniform struct and its WGSL twin in its passes (`None` when it has none).
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        None
+    }
+    /// Whether the technique shows a scene's fur ([`EyeSetup::scene_fur`]); the renderer refuses a scene with fur
+    /// to a technique that does not, naming one that does.
+    fn shows_fur(&self) -> bool {
+        false
+    }
 }
 
 /// What a technique's GPU state is created from.
@@ -121,12 +103,22 @@ pub struct EyeSetup<'a> {
     pub frame_layout: &'a wgpu::BindGroupLayout,
     pub width: u32,
     pub height: u32,
+    /// The scene's fur, when it has one: content of the scene, shown by a technique that [`shows_fur`]
+    /// (`EyeTransparency::shows_fur`), which builds what it needs from it.
+    ///
+    /// [`shows_fur`]: EyeTransparency::shows_fur
+    pub scene_fur: Option<&'a SceneFur>,
 }
 
 /// A technique's GPU side.
 pub trait TransparencyGpu: Send + std::any::Any {
     /// Re-creates the viewport-sized resources for `width`×`height` (nothing when the size is unchanged).
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError>;
+    /// Brings the state up to `setup` before a frame: its size, and for a technique that shows fur the scene's
+    /// fur (nothing re-created that did not change).
+    fn update(&mut self, setup: &EyeSetup) -> Result<(), GpuError> {
+        self.resize(setup.gpu, setup.width, setup.height)
+    }
     /// Records the technique's passes of one frame: after the meshes, before the frame is submitted.
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError>;
     /// GPU memory held, in bytes (viewport-sized targets and per-fragment buffers).
@@ -140,6 +132,10 @@ pub trait TransparencyGpu: Send + std::any::Any {
     }
     /// The last frame's eye depth complexity (deepest pixel, total fragments), for a technique that counts it.
     fn depth_complexity(&self) -> Option<(u32, u64)> {
+        None
+    }
+    /// The fur the state shows (its shell, its last frame's typed lists), for a technique that shows fur.
+    fn fur(&self) -> Option<FurState<'_>> {
         None
     }
 }
@@ -160,8 +156,8 @@ pub struct EyeFrame<'a> {
     pub output: (&'a wgpu::TextureView, wgpu::TextureFormat),
     pub values: &'a ParamValues,
     pub model: ModelContext,
-    /// The scene's fur, for the fur's typed lists (`crate::render::fur::typed`); other techniques ignore it.
-    pub fur: Option<crate::render::fur::typed::FurFrame<'a>>,
+    /// The frame's light (a technique that marches a volume lights it).
+    pub light: &'a Light,
     pub hair: HairDraw<'a>,
 }
 
@@ -198,18 +194,6 @@ impl EyeFrame<'_> {
             .and_then(|t| t.pass(Phase::EyeHair, timestamp));
         self.hair.record(&mut self.encoder, draw, timestamps);
     }
-}
-
-/// A shaded hair pass as a technique asks for it.
-pub struct HairDrawPass<'a> {
-    pub entry: &'static HairEntry,
-    pub attachments: &'a [Option<wgpu::RenderPassColorAttachment<'a>>],
-    /// The technique's own depth target (entries with [`EntryDepth::Own`]), cleared to `clear` or loaded.
-    pub depth: Option<(&'a wgpu::TextureView, Option<f32>)>,
-    /// Group 2 of the hair pass: the technique's own resources.
-    pub group: Option<(&'a wgpu::BindGroupLayout, &'a wgpu::BindGroup)>,
-    /// Rows `[y0, y1)` only (a scissor rect), for techniques that render in bands.
-    pub rows: Option<(u32, u32)>,
 }
 
 /// What the renderer lends a technique to draw shaded hair: the shadow method, the scene and the hair pass.

@@ -26,15 +26,16 @@
 //! f16. The buffers must fit the device's storage binding size (128 MiB on lavapipe: 8,388,608 pixels).
 
 use super::{
-    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
-    TechniqueInfo, TransparencyGpu, cleared,
+    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::HairVertex;
+use crate::render::eye::bindings::{self, Binding};
+use crate::render::eye::pipelines::{self, DepthTest, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, UniformMirror, value};
 use crate::render::passes::composite::CompositePass;
 use crate::render::passes::{abuffer::copy_out, shader_module};
-use crate::render::targets::{EyeTargets, eye_texture};
+use crate::render::targets::EyeTargets;
 use crate::transparency::occupancy_order::OccupancyOrderParams;
 use crate::transparency::{Compositor, ModelContext};
 use crate::visibility::OccupancyVariant;
@@ -122,13 +123,13 @@ static HAIR: [HairEntry; 2] = [
         entry: "fs_main",
         targets: &ACCUM_F32,
         depth: EntryDepth::Meshes,
-        geometry: super::HairGeometry::Lines,
+        geometry: HairGeometry::Lines,
     },
     HairEntry {
         entry: "fs_half",
         targets: &ACCUM_F16,
         depth: EntryDepth::Meshes,
-        geometry: super::HairGeometry::Lines,
+        geometry: HairGeometry::Lines,
     },
 ];
 
@@ -203,6 +204,10 @@ impl EyeTransparency for OccupancyOrder {
         Box::new(params(values).model(ctx))
     }
 
+    fn uniform_mirror(&self) -> Option<UniformMirror> {
+        Some(uniform_mirror())
+    }
+
     /// The paper's method and each option on its own: occupancy only, no Λ correction, the −½ bias, f16.
     fn sweep(&self) -> Vec<ParamValues> {
         let one = |key: &str| ParamValues::from([(key.to_string(), 1.0)]);
@@ -216,110 +221,18 @@ impl EyeTransparency for OccupancyOrder {
     }
 }
 
-fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty,
-        count: None,
-    }
-}
-
-const TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
-    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-    view_dimension: wgpu::TextureViewDimension::D2,
-    multisampled: false,
-};
-
-const UNIFORM: wgpu::BindingType = wgpu::BindingType::Buffer {
-    ty: wgpu::BufferBindingType::Uniform,
-    has_dynamic_offset: false,
-    min_binding_size: None,
-};
-
-const fn storage(read_only: bool) -> wgpu::BindingType {
-    wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Storage { read_only },
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    }
-}
-
-const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
-    sample_type: wgpu::TextureSampleType::Depth,
-    view_dimension: wgpu::TextureViewDimension::D2,
-    multisampled: false,
-};
-
-/// Layout of the maps: the two depth ranges, the bitmap, the slab counts and the uniforms; group 2 of the hair
+/// The maps' group: the two depth ranges, the bitmap, the slab counts and the uniforms; group 2 of the hair
 /// pass (read-only), or group 1 of the occupancy pass (writable, and the meshes' depth it tests by hand).
-fn maps_layout(device: &wgpu::Device, label: &str, occupancy_pass: bool) -> wgpu::BindGroupLayout {
-    let mut entries = vec![
-        entry(0, TEXTURE),
-        entry(1, TEXTURE),
-        entry(2, storage(!occupancy_pass)),
-        entry(3, storage(!occupancy_pass)),
-        entry(4, UNIFORM),
-    ];
+fn maps_group(occupancy_pass: bool) -> &'static [Binding] {
+    use Binding::{MeshDepth, StorageRo, StorageRw, Texture, Uniform};
     if occupancy_pass {
-        entries.push(entry(5, MESH_DEPTH));
+        &[Texture, Texture, StorageRw, StorageRw, Uniform, MeshDepth]
+    } else {
+        &[Texture, Texture, StorageRo, StorageRo, Uniform]
     }
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries: &entries,
-    })
 }
 
-/// A pipeline of the maps shader drawing the strands from the eye (LineList, the eye vertex stage), fragment entry
-/// `fragment` writing `targets`; with `depth_tested`, tested `Less` against the meshes' depth without writing
-/// (else the entry tests it by hand).
-fn eye_pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    layouts: &[Option<&wgpu::BindGroupLayout>],
-    module: &wgpu::ShaderModule,
-    fragment: &str,
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth_tested: bool,
-) -> wgpu::RenderPipeline {
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(&format!("{label}_layout")),
-        bind_group_layouts: layouts,
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &[Some(HairVertex::layout())],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::LineList,
-            ..Default::default()
-        },
-        depth_stencil: depth_tested.then(|| wgpu::DepthStencilState {
-            format: EyeTargets::DEPTH,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fragment),
-            compilation_options: Default::default(),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-/// A bind group of [`maps_layout`]: the depth-range `textures`, the bitmap, slab and uniform `buffers`, and for the
+/// A group of [`maps_group`]: the depth-range `textures`, the bitmap, slab and uniform `buffers`, and for the
 /// occupancy pass the meshes' depth.
 fn maps_bind_group(
     device: &wgpu::Device,
@@ -329,24 +242,12 @@ fn maps_bind_group(
     buffers: [&wgpu::Buffer; 3],
     mesh_depth: Option<&wgpu::TextureView>,
 ) -> wgpu::BindGroup {
-    let views = textures.into_iter().chain(mesh_depth);
-    let mut entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: 2 + i as u32,
-            resource: b.as_entire_binding(),
-        })
+    let views = textures.into_iter().map(wgpu::BindingResource::TextureView);
+    let mut resources: Vec<_> = views
+        .chain(buffers.iter().map(|b| b.as_entire_binding()))
         .collect();
-    entries.extend(views.zip([0, 1, 5]).map(|(v, binding)| wgpu::BindGroupEntry {
-        binding,
-        resource: wgpu::BindingResource::TextureView(v),
-    }));
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    })
+    resources.extend(mesh_depth.map(wgpu::BindingResource::TextureView));
+    bindings::group(device, label, layout, &resources)
 }
 
 /// The viewport-sized maps, the accumulation target and the bind groups over them.
@@ -383,12 +284,13 @@ pub struct OccupancyOrderGpu {
 impl Resources {
     fn new(setup: &EyeSetup) -> Resources {
         let device = &setup.gpu.device;
-        let pass_layout = maps_layout(device, "hairlab.occupancy-order.pass_layout", true);
-        let hair_layout = maps_layout(device, "hairlab.occupancy-order.hair_layout", false);
-        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.occupancy-order.resolve_layout"),
-            entries: &[entry(0, TEXTURE), entry(1, storage(true)), entry(2, UNIFORM)],
-        });
+        let pass_layout = bindings::layout(device, "hairlab.occupancy-order.pass_layout", maps_group(true));
+        let hair_layout = bindings::layout(device, "hairlab.occupancy-order.hair_layout", maps_group(false));
+        let resolve_layout = bindings::layout(
+            device,
+            "hairlab.occupancy-order.resolve_layout",
+            &[Binding::Texture, Binding::StorageRo, Binding::Uniform],
+        );
         let module = shader_module(
             device,
             "hairlab.occupancy-order.maps_shader",
@@ -409,26 +311,33 @@ impl Resources {
                 write_mask: wgpu::ColorWrites::RED,
             })
         };
-        let range_pipeline = eye_pipeline(
+        let range_pipeline = pipelines::geometry(
             device,
-            "hairlab.occupancy-order.range_pipeline",
-            &[Some(setup.frame_layout)],
-            &module,
-            "fs_range",
-            &[
-                range_target(wgpu::BlendOperation::Min),
-                range_target(wgpu::BlendOperation::Max),
-            ],
-            true,
+            &GeometryPass {
+                label: "hairlab.occupancy-order.range_pipeline",
+                module: &module,
+                layouts: &[setup.frame_layout],
+                geometry: HairGeometry::Lines,
+                fragment: "fs_range",
+                targets: &[
+                    range_target(wgpu::BlendOperation::Min),
+                    range_target(wgpu::BlendOperation::Max),
+                ],
+                depth: Some(DepthTest::Meshes),
+            },
         );
-        let slabs_pipeline = eye_pipeline(
+        // The slabs' entry tests the meshes' depth by hand, before its atomics.
+        let slabs_pipeline = pipelines::geometry(
             device,
-            "hairlab.occupancy-order.slabs_pipeline",
-            &[Some(setup.frame_layout), Some(&pass_layout)],
-            &module,
-            "fs_slabs",
-            &[Some(EyeTargets::NULL)],
-            false,
+            &GeometryPass {
+                label: "hairlab.occupancy-order.slabs_pipeline",
+                module: &module,
+                layouts: &[setup.frame_layout, &pass_layout],
+                geometry: HairGeometry::Lines,
+                fragment: "fs_slabs",
+                targets: &[Some(EyeTargets::NULL)],
+                depth: None,
+            },
         );
         let resolve = CompositePass::new(
             device,
@@ -437,12 +346,11 @@ impl Resources {
             &resolve_layout,
             PREMULTIPLIED_OVER,
         );
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.occupancy-order.uniforms"),
-            size: std::mem::size_of::<OccupancyOrderUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let uniforms = bindings::uniform(
+            device,
+            "hairlab.occupancy-order.uniforms",
+            std::mem::size_of::<OccupancyOrderUniforms>() as u64,
+        );
         Resources {
             range_pipeline,
             slabs_pipeline,
@@ -477,17 +385,7 @@ impl Resources {
                 limit,
             });
         }
-        let texture = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let texture = |label, format| bindings::texture(device, label, (width, height), format);
         let near = texture("hairlab.occupancy-order.near", RANGE);
         let far = texture("hairlab.occupancy-order.far", RANGE);
         let accum = texture("hairlab.occupancy-order.accum", accum_format);
@@ -511,24 +409,16 @@ impl Resources {
             [&bits, &slabs, &self.uniforms],
             None,
         );
-        let resolve_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.occupancy-order.resolve_bind_group"),
-            layout: &self.resolve_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&accum),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: slabs.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.uniforms.as_entire_binding(),
-                },
+        let resolve_bind_group = bindings::group(
+            device,
+            "hairlab.occupancy-order.resolve_bind_group",
+            &self.resolve_layout,
+            &[
+                wgpu::BindingResource::TextureView(&accum),
+                slabs.as_entire_binding(),
+                self.uniforms.as_entire_binding(),
             ],
-        });
+        );
         Ok(OccupancyOrderMaps {
             near,
             far,

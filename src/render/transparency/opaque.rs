@@ -12,6 +12,7 @@ use super::{
     TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
+use crate::render::eye::bindings::{self, Binding};
 use crate::render::method::{ParamValues, Role};
 use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
 use crate::render::targets::{EyeTargets, eye_texture};
@@ -56,37 +57,13 @@ impl EyeTransparency for Opaque {
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
         let layout = texture_layout(device, "hairlab.opaque.resolve_bind_group_layout", 1);
-        let hair_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.opaque.hair_layout"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        let scale = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.opaque.scale"),
-            size: 16,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // The technique's own depth (the nearest hair), read where the meshes' depth would be.
+        let hair_layout = bindings::layout(
+            device,
+            "hairlab.opaque.hair_layout",
+            &[Binding::MeshDepth, Binding::Uniform],
+        );
+        let scale = bindings::uniform(device, "hairlab.opaque.scale", 16);
         let resolve = CompositePass::new(
             device,
             "hairlab.opaque.resolve",
@@ -172,20 +149,15 @@ impl TransparencyGpu for OpaqueGpu {
             .gpu
             .queue
             .write_buffer(&self.scale, 0, bytemuck::cast_slice(&scale));
-        let group = frame.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.opaque.hair_bind_group"),
-            layout: &self.hair_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.scale.as_entire_binding(),
-                },
+        let group = bindings::group(
+            &frame.gpu.device,
+            "hairlab.opaque.hair_bind_group",
+            &self.hair_layout,
+            &[
+                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                self.scale.as_entire_binding(),
             ],
-        });
+        );
         let t = &self.targets;
         let attachments = [cleared(&t.nearest, [0.0; 4])];
         frame.draw_hair(

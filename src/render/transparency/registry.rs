@@ -1,5 +1,8 @@
 //! The one list of eye transparency techniques: settings validation, the renderer, the pipelines, the CLI and the
-//! shader tests go through it, so adding a technique is its own files plus one line here.
+//! shader tests go through it, so adding a technique is its own files plus one line here. Two lists: the
+//! techniques compared on bare strands ([`all`]: the bench, `measure`, the claims, the GPU = CPU tests), and those
+//! that show a scene's fur ([`fur`]), which the renderer names when a scene with fur meets a technique that
+//! cannot show it; [`every`] is both, for names, settings and the panel.
 
 use super::EyeTransparency;
 use super::depth_peel::DepthPeel;
@@ -10,6 +13,7 @@ use super::shortcut::Shortcut;
 use super::sorted::Sorted;
 use super::wboit::Wboit;
 use super::weighted_average::WeightedAverage;
+use crate::render::fur::typed::FurTechnique;
 use crate::render::method::ParamSpec;
 
 static TECHNIQUES: &[&dyn EyeTransparency] = &[
@@ -23,9 +27,22 @@ static TECHNIQUES: &[&dyn EyeTransparency] = &[
     &Opaque,
 ];
 
-/// Every registered technique, in UI order.
+/// The techniques that show a scene's fur as well as its strands.
+static FUR_TECHNIQUES: &[&dyn EyeTransparency] = &[&FurTechnique];
+
+/// The techniques compared on bare strands, in UI order.
 pub fn all() -> &'static [&'static dyn EyeTransparency] {
     TECHNIQUES
+}
+
+/// Every registered technique: those of [`all`], then those that show fur.
+pub fn every() -> impl Iterator<Item = &'static dyn EyeTransparency> {
+    TECHNIQUES.iter().chain(FUR_TECHNIQUES).copied()
+}
+
+/// The technique a scene with fur is drawn with (the fur's typed lists).
+pub fn fur() -> &'static dyn EyeTransparency {
+    &FurTechnique
 }
 
 /// The technique of new settings (it keeps every existing preset's image).
@@ -51,17 +68,13 @@ pub fn fig2_comparisons() -> [&'static dyn EyeTransparency; 2] {
 
 /// The technique called `name`, or an error listing the known names.
 pub fn find(name: &str) -> Result<&'static dyn EyeTransparency, String> {
-    TECHNIQUES
-        .iter()
-        .copied()
-        .find(|t| t.name() == name)
-        .ok_or_else(|| {
-            let names: Vec<_> = TECHNIQUES.iter().map(|t| t.name()).collect();
-            format!(
-                "unknown eye transparency technique '{name}' (known: {})",
-                names.join(", ")
-            )
-        })
+    every().find(|t| t.name() == name).ok_or_else(|| {
+        let names: Vec<_> = every().map(|t| t.name()).collect();
+        format!(
+            "unknown eye transparency technique '{name}' (known: {})",
+            names.join(", ")
+        )
+    })
 }
 
 /// The parameter `key` of `technique`, or an error listing its parameters.
@@ -87,7 +100,7 @@ mod tests {
 
     #[test]
     fn an_unknown_name_is_an_error_listing_the_known_names() {
-        let known: Vec<_> = all().iter().map(|t| t.name()).collect();
+        let known: Vec<_> = every().map(|t| t.name()).collect();
         assert_eq!(
             find("no-such-technique").err(),
             Some(format!(
@@ -99,9 +112,16 @@ mod tests {
     }
 
     #[test]
+    fn the_fur_technique_shows_fur_and_the_compared_ones_do_not() {
+        assert!(fur().shows_fur());
+        assert!(all().iter().all(|t| !t.shows_fur()));
+        assert_eq!(find(fur().name()).map(|t| t.name()), Ok(fur().name()));
+    }
+
+    #[test]
     fn every_technique_is_found_by_its_unique_kebab_case_name() {
         let mut names = Vec::new();
-        for t in all() {
+        for t in every() {
             let name = t.name();
             assert!(
                 !name.is_empty() && name.chars().all(|c| c.is_ascii_lowercase() || c == '-'),
@@ -115,7 +135,7 @@ mod tests {
                     "{name}.{}: default out of range",
                     p.key
                 );
-                assert_eq!(spec(*t, p.key).map(|s| s.key), Ok(p.key));
+                assert_eq!(spec(t, p.key).map(|s| s.key), Ok(p.key));
             }
             names.push(name);
         }

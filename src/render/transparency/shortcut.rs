@@ -12,14 +12,15 @@
 //! them stay in front is the arrival order too. CPU model: [`crate::transparency::ShortcutParams`].
 
 use super::{
-    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
-    TechniqueInfo, TransparencyGpu, cleared,
+    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
-use crate::render::geometry::HairVertex;
+use crate::render::eye::bindings::{self, Binding};
+use crate::render::eye::pipelines::{self, GeometryPass};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
 use crate::render::passes::composite::CompositePass;
-use crate::render::targets::{EyeTargets, eye_texture};
+use crate::render::targets::EyeTargets;
 use crate::transparency::shortcut::K_RANGE;
 use crate::transparency::{Compositor, ModelContext, ShortcutParams};
 use bytemuck::{Pod, Zeroable};
@@ -53,7 +54,7 @@ static HAIR: HairEntry = HairEntry {
         },
     ],
     depth: EntryDepth::Manual,
-    geometry: super::HairGeometry::Lines,
+    geometry: HairGeometry::Lines,
 };
 
 const K: ParamSpec = ParamSpec {
@@ -117,6 +118,18 @@ impl EyeTransparency for Shortcut {
     fn model(&self, values: &ParamValues, _ctx: &ModelContext) -> Box<dyn Compositor> {
         Box::new(params(values))
     }
+
+    fn uniform_mirror(&self) -> Option<crate::render::method::UniformMirror> {
+        Some(crate::uniform_mirror!(
+            "ShortcutUniforms",
+            ShortcutUniforms {
+                k,
+                width,
+                average_front,
+                pad0
+            }
+        ))
+    }
 }
 
 /// Mirrors `ShortcutUniforms` in `shaders/common/shortcut.wgsl`.
@@ -128,36 +141,6 @@ pub struct ShortcutUniforms {
     pub average_front: u32,
     pub pad0: u32,
 }
-
-fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty,
-        count: None,
-    }
-}
-
-const UNIFORM: wgpu::BindingType = wgpu::BindingType::Buffer {
-    ty: wgpu::BufferBindingType::Uniform,
-    has_dynamic_offset: false,
-    min_binding_size: None,
-};
-const STORAGE: wgpu::BindingType = wgpu::BindingType::Buffer {
-    ty: wgpu::BufferBindingType::Storage { read_only: false },
-    has_dynamic_offset: false,
-    min_binding_size: None,
-};
-const MESH_DEPTH: wgpu::BindingType = wgpu::BindingType::Texture {
-    sample_type: wgpu::TextureSampleType::Depth,
-    view_dimension: wgpu::TextureViewDimension::D2,
-    multisampled: false,
-};
-const FLOAT_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
-    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-    view_dimension: wgpu::TextureViewDimension::D2,
-    multisampled: false,
-};
 
 /// The resources of one viewport size and K.
 struct Buffers {
@@ -208,45 +191,21 @@ impl Buffers {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let view = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label, format| bindings::texture(device, label, (width, height), format);
         let tail = view("hairlab.shortcut.tail", TAIL);
         let revealage = view("hairlab.shortcut.revealage", REVEALAGE);
-        let resolve_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.shortcut.resolve_group"),
-            layout: resolve_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: keys.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: slots.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&tail),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&revealage),
-                },
+        let resolve_group = bindings::group(
+            device,
+            "hairlab.shortcut.resolve_group",
+            resolve_layout,
+            &[
+                uniforms.as_entire_binding(),
+                keys.as_entire_binding(),
+                slots.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&tail),
+                wgpu::BindingResource::TextureView(&revealage),
             ],
-        });
+        );
         Ok(Buffers {
             keys,
             slots,
@@ -273,71 +232,46 @@ struct ShortcutGpu {
 impl ShortcutGpu {
     fn new(setup: &EyeSetup) -> Result<ShortcutGpu, GpuError> {
         let device = &setup.gpu.device;
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.shortcut.uniforms"),
-            size: std::mem::size_of::<ShortcutUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let depths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.shortcut.depths_layout"),
-            entries: &[entry(0, UNIFORM), entry(1, STORAGE), entry(2, MESH_DEPTH)],
-        });
-        let hair_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.shortcut.hair_layout"),
-            entries: &[
-                entry(0, UNIFORM),
-                entry(1, STORAGE),
-                entry(2, STORAGE),
-                entry(3, MESH_DEPTH),
-            ],
-        });
-        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.shortcut.resolve_layout"),
-            entries: &[
-                entry(0, UNIFORM),
-                entry(1, STORAGE),
-                entry(2, STORAGE),
-                entry(3, FLOAT_TEXTURE),
-                entry(4, FLOAT_TEXTURE),
-            ],
-        });
+        let uniforms = bindings::uniform(
+            device,
+            "hairlab.shortcut.uniforms",
+            std::mem::size_of::<ShortcutUniforms>() as u64,
+        );
+        use Binding::{MeshDepth, StorageRw, Texture, Uniform};
+        let depths_layout = bindings::layout(
+            device,
+            "hairlab.shortcut.depths_layout",
+            &[Uniform, StorageRw, MeshDepth],
+        );
+        let hair_layout = bindings::layout(
+            device,
+            "hairlab.shortcut.hair_layout",
+            &[Uniform, StorageRw, StorageRw, MeshDepth],
+        );
+        let resolve_layout = bindings::layout(
+            device,
+            "hairlab.shortcut.resolve_layout",
+            &[Uniform, StorageRw, StorageRw, Texture, Texture],
+        );
         let module = crate::render::passes::shader_module(
             device,
             "hairlab.shortcut.depths_shader",
             INFO.pass_wgsl[0],
             None,
         );
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.shortcut.depths_pipeline_layout"),
-            bind_group_layouts: &[Some(setup.frame_layout), Some(&depths_layout)],
-            immediate_size: 0,
-        });
-        let depths_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hairlab.shortcut.depths_pipeline"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
+        let depths_pipeline = pipelines::geometry(
+            device,
+            &GeometryPass {
+                label: "hairlab.shortcut.depths_pipeline",
                 module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(HairVertex::layout())],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the atomics.
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
+                layouts: &[setup.frame_layout, &depths_layout],
+                geometry: HairGeometry::Lines,
+                fragment: "fs_main",
                 targets: &[Some(EyeTargets::NULL)],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+                // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the atomics.
+                depth: None,
+            },
+        );
         let resolve = CompositePass::new(
             device,
             "hairlab.shortcut.resolve",
@@ -395,68 +329,34 @@ impl TransparencyGpu for ShortcutGpu {
         let device = &frame.gpu.device;
         let b = &self.buffers;
         let mesh_depth = wgpu::BindingResource::TextureView(&frame.targets.depth_view);
-        let depths_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.shortcut.depths_group"),
-            layout: &self.depths_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: b.keys.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: mesh_depth.clone(),
-                },
+        let depths_group = bindings::group(
+            device,
+            "hairlab.shortcut.depths_group",
+            &self.depths_layout,
+            &[
+                self.uniforms.as_entire_binding(),
+                b.keys.as_entire_binding(),
+                mesh_depth.clone(),
             ],
-        });
-        let hair_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.shortcut.hair_group"),
-            layout: &self.hair_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: b.keys.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: b.slots.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: mesh_depth,
-                },
+        );
+        let hair_group = bindings::group(
+            device,
+            "hairlab.shortcut.hair_group",
+            &self.hair_layout,
+            &[
+                self.uniforms.as_entire_binding(),
+                b.keys.as_entire_binding(),
+                b.slots.as_entire_binding(),
+                mesh_depth,
             ],
-        });
-        {
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, "eye: k nearest"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.shortcut.depths_pass"),
-                color_attachments: &[frame.targets.null_attachment()],
-                depth_stencil_attachment: None,
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if frame.geometry.hair_index_count > 0 {
-                pass.set_pipeline(&self.depths_pipeline);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &depths_group, &[]);
-                pass.set_vertex_buffer(0, frame.geometry.hair_vertices.slice(..));
-                pass.set_index_buffer(frame.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..frame.geometry.hair_index_count, 0, 0..1);
-            }
-        }
+        );
+        pipelines::record_line_count(
+            frame,
+            "hairlab.shortcut.depths_pass",
+            "eye: k nearest",
+            &self.depths_pipeline,
+            &depths_group,
+        );
         // Nothing in the tail, everything revealed.
         let attachments = [
             cleared(&b.tail, [0.0; 4]),
@@ -489,43 +389,5 @@ impl TransparencyGpu for ShortcutGpu {
 
     fn geometry_passes(&self) -> u32 {
         2
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn uniforms_mirror_the_wgsl_struct() {
-        for pass in INFO.pass_wgsl {
-            let src = crate::shaders::compose(pass, None).unwrap();
-            let module = naga::front::wgsl::parse_str(&src).unwrap();
-            let (_, ty) = module
-                .types
-                .iter()
-                .find(|(_, t)| t.name.as_deref() == Some("ShortcutUniforms"))
-                .unwrap();
-            let naga::TypeInner::Struct { members, span } = &ty.inner else {
-                panic!("ShortcutUniforms is not a struct")
-            };
-            let wgsl: Vec<(String, u32)> = members
-                .iter()
-                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-                .collect();
-            let rust: Vec<(String, u32)> = [
-                ("k", std::mem::offset_of!(ShortcutUniforms, k)),
-                ("width", std::mem::offset_of!(ShortcutUniforms, width)),
-                (
-                    "average_front",
-                    std::mem::offset_of!(ShortcutUniforms, average_front),
-                ),
-                ("pad0", std::mem::offset_of!(ShortcutUniforms, pad0)),
-            ]
-            .map(|(n, o)| (n.to_string(), o as u32))
-            .to_vec();
-            assert_eq!(wgsl, rust, "{pass}");
-            assert_eq!(*span as usize, std::mem::size_of::<ShortcutUniforms>(), "{pass}");
-        }
     }
 }

@@ -9,9 +9,9 @@ use super::{
     TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
+use crate::render::eye::bindings;
 use crate::render::method::{ParamValues, Role};
 use crate::render::passes::composite::{CompositePass, texture_layout};
-use crate::render::targets::eye_texture;
 use crate::transparency::{Compositor, ModelContext};
 
 pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -100,17 +100,7 @@ struct WboitTargets {
 
 impl WboitTargets {
     fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, width: u32, height: u32) -> WboitTargets {
-        let view = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label, format| bindings::texture(device, label, (width, height), format);
         let accum = view("hairlab.wboit.accum", ACCUM);
         let revealage = view("hairlab.wboit.revealage", REVEALAGE);
         let bind_group = crate::render::passes::composite::texture_bind_group(

@@ -10,9 +10,9 @@ use super::{
     TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
+use crate::render::eye::bindings;
 use crate::render::method::{ParamValues, Role};
 use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
-use crate::render::targets::eye_texture;
 use crate::transparency::weighted_average::WeightedAverageParams;
 use crate::transparency::{Compositor, ModelContext};
 
@@ -46,7 +46,7 @@ static INFO: TechniqueInfo = TechniqueInfo {
     hair_entries: std::slice::from_ref(&HAIR),
     pass_wgsl: &["transparency/weighted_average_resolve.wgsl"],
     params: &[],
-    color: [86, 180, 233],
+    color: [0, 158, 115],
     // f32 sums in blend order; measured 1.8e-7 on lavapipe (tests/it/transparency_gpu.rs, 160×120, deepest 50).
     gpu_tolerance: 1e-5,
 };
@@ -92,17 +92,7 @@ struct Targets {
 
 impl Targets {
     fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, width: u32, height: u32) -> Targets {
-        let view = |label, format| {
-            eye_texture(
-                device,
-                label,
-                (width, height),
-                format,
-                wgpu::TextureUsages::TEXTURE_BINDING,
-                &[],
-            )
-            .create_view(&Default::default())
-        };
+        let view = |label, format| bindings::texture(device, label, (width, height), format);
         let accum = view("hairlab.weighted-average.accum", ACCUM);
         let count = view("hairlab.weighted-average.count", COUNT);
         let bind_group = texture_bind_group(

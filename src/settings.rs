@@ -106,7 +106,8 @@ impl TryFrom<RawMethodSettings> for MethodSettings {
 
     fn try_from(raw: RawMethodSettings) -> Result<Self, String> {
         let params = params_from_raw(raw.params, "method", |k, w| {
-            methods::parse_value(registry::find(&raw.name)?, k, w)
+            let method = registry::find(&raw.name).map_err(|e| e.to_string())?;
+            methods::parse_value(method, k, w).map_err(|e| e.to_string())
         })?;
         Ok(MethodSettings {
             name: raw.name,
@@ -161,7 +162,9 @@ impl TryFrom<RawTransparencySettings> for TransparencySettings {
 
     fn try_from(raw: RawTransparencySettings) -> Result<Self, String> {
         let params = params_from_raw(raw.params, "transparency", |k, w| {
-            techniques::spec(techniques::find(&raw.name)?, k)?.parse(w)
+            let technique = techniques::find(&raw.name).map_err(|e| e.to_string())?;
+            let spec = techniques::spec(technique, k).map_err(|e| e.to_string())?;
+            spec.parse(w).map_err(|e| e.to_string())
         })?;
         Ok(TransparencySettings {
             name: raw.name,

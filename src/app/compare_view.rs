@@ -44,14 +44,16 @@ impl Slot {
                 .technique()
                 .map(|t| (t, &settings.transparency.params))
                 .map_err(|e| format!("{e:#}")),
-            Slot::Technique(name) => registry::find(name).map(|t| {
-                let params = if t.name() == settings.transparency.name {
-                    &settings.transparency.params
-                } else {
-                    defaults
-                };
-                (t, params)
-            }),
+            Slot::Technique(name) => registry::find(name)
+                .map(|t| {
+                    let params = if t.name() == settings.transparency.name {
+                        &settings.transparency.params
+                    } else {
+                        defaults
+                    };
+                    (t, params)
+                })
+                .map_err(|e| e.to_string()),
         }
     }
 

@@ -53,7 +53,7 @@ impl HairlabApp {
             let method = match registry::find(&self.settings.method.name) {
                 Ok(m) => m,
                 Err(e) => {
-                    self.error(e);
+                    self.error(e.to_string());
                     self.settings.method = Default::default();
                     return;
                 }

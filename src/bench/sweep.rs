@@ -51,7 +51,7 @@ pub fn parse_methods(names: &[String]) -> Result<Vec<&'static str>> {
         let Some(m) = swept.iter().find(|m| **m == n) else {
             let why = match registry::find(n) {
                 Ok(_) => format!("method '{n}' has no bench sweep"),
-                Err(e) => e,
+                Err(e) => e.to_string(),
             };
             bail!("--methods: {why}; the bench sweeps {}", swept.join(", "));
         };

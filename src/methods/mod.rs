@@ -19,8 +19,8 @@ pub mod reference;
 pub mod registry;
 
 pub use crate::render::method::{
-    LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamKind, ParamSpec, ParamValues, Role,
-    UniformMirror, value,
+    LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamError, ParamKind, ParamSpec, ParamValues,
+    Role, UniformMirror, UnknownName, value,
 };
 use crate::visibility::TexelModel;
 
@@ -92,23 +92,24 @@ pub struct AnalysisResult {
 }
 
 /// The parameter `key` of `method`, or an error listing the parameters it has.
-pub fn spec(method: &dyn ShadowMethod, key: &str) -> Result<&'static ParamSpec, String> {
+pub fn spec(method: &dyn ShadowMethod, key: &str) -> Result<&'static ParamSpec, ParamError> {
     method.params().iter().find(|p| p.key == key).ok_or_else(|| {
         let known: Vec<_> = method.params().iter().map(|p| p.key).collect();
-        format!(
-            "method '{}' has no parameter '{key}' (it has: {})",
-            method.name(),
-            if known.is_empty() {
+        ParamError::UnknownKey {
+            family: "method",
+            name: method.name(),
+            key: key.to_string(),
+            known: if known.is_empty() {
                 "no parameters".to_string()
             } else {
                 known.join(", ")
-            }
-        )
+            },
+        }
     })
 }
 
 /// Parses `key` = `text` for `method` (a number, or a choice's word).
-pub fn parse_value(method: &dyn ShadowMethod, key: &str, text: &str) -> Result<f32, String> {
+pub fn parse_value(method: &dyn ShadowMethod, key: &str, text: &str) -> Result<f32, ParamError> {
     spec(method, key)?.parse(text)
 }
 
@@ -125,7 +126,7 @@ pub fn format_values(method: &dyn ShadowMethod, values: &ParamValues) -> String 
 }
 
 /// Checks that every key in `values` belongs to `method` and lies in range.
-pub fn validate(method: &dyn ShadowMethod, values: &ParamValues) -> Result<(), String> {
+pub fn validate(method: &dyn ShadowMethod, values: &ParamValues) -> Result<(), ParamError> {
     for (k, v) in values {
         spec(method, k)?.check(*v)?;
     }
@@ -151,9 +152,9 @@ mod tests {
         assert_eq!(CHOICE.parse("uniform"), Ok(1.0));
         assert_eq!(CHOICE.parse(" linear "), Ok(0.0));
         assert_eq!(CHOICE.parse("1"), Ok(1.0), "old numeric presets still load");
-        let e = CHOICE.parse("2").unwrap_err();
+        let e = CHOICE.parse("2").unwrap_err().to_string();
         assert!(e.contains("expected one of linear, uniform"), "{e}");
-        let e = CHOICE.parse("wide").unwrap_err();
+        let e = CHOICE.parse("wide").unwrap_err().to_string();
         assert_eq!(e, "parameter 'spacing': 'wide' is not one of linear, uniform");
         assert_eq!(CHOICE.format(1.0), "uniform");
         assert_eq!(CHOICE.option(0.0), Some("linear"));

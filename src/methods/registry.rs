@@ -1,7 +1,6 @@
 //! The one list of shadow methods. Everything else (UI panel, inspector, CLI, presets, bench, tests, pipelines)
 //! goes through it: adding a method is its own files plus one line here.
 
-use super::ShadowMethod;
 use super::adsm::Adsm;
 use super::avsm::Avsm;
 use super::bom::Bom;
@@ -15,6 +14,7 @@ use super::occupancy::Occupancy;
 use super::opaque_shadow_map::OpaqueShadowMap;
 use super::osm::Osm;
 use super::reference::Reference;
+use super::{ShadowMethod, UnknownName};
 
 static METHODS: &[&dyn ShadowMethod] = &[
     &NoShadow,
@@ -38,10 +38,14 @@ pub fn all() -> &'static [&'static dyn ShadowMethod] {
 }
 
 /// The method called `name`, or an error listing the known names.
-pub fn find(name: &str) -> Result<&'static dyn ShadowMethod, String> {
+pub fn find(name: &str) -> Result<&'static dyn ShadowMethod, UnknownName> {
     METHODS.iter().copied().find(|m| m.name() == name).ok_or_else(|| {
         let names: Vec<_> = METHODS.iter().map(|m| m.name()).collect();
-        format!("unknown shadow method '{name}' (known: {})", names.join(", "))
+        UnknownName {
+            family: "shadow method",
+            name: name.to_string(),
+            known: names.join(", "),
+        }
     })
 }
 

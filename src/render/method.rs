@@ -21,6 +21,42 @@ pub enum ParamKind {
     Choice { options: &'static [&'static str] },
 }
 
+/// A parameter key or value that a method or technique does not take; the message names the key.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    #[error("parameter '{key}' = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        key: &'static str,
+        value: f32,
+        expected: String,
+    },
+    #[error("parameter '{key}': '{text}' is not one of {options}")]
+    NotAChoice {
+        key: &'static str,
+        text: String,
+        options: String,
+    },
+    #[error("parameter '{key}': '{text}' is not a number")]
+    NotANumber { key: &'static str, text: String },
+    #[error("{family} '{name}' has no parameter '{key}' (it has: {known})")]
+    UnknownKey {
+        family: &'static str,
+        name: &'static str,
+        key: String,
+        known: String,
+    },
+}
+
+/// A name that no registry entry has; the message lists the known names.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {family} '{name}' (known: {known})")]
+pub struct UnknownName {
+    /// What was looked up: "shadow method", "transparency technique".
+    pub family: &'static str,
+    pub name: String,
+    pub known: String,
+}
+
 /// One tunable parameter of a method.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ParamSpec {
@@ -33,7 +69,7 @@ pub struct ParamSpec {
 
 impl ParamSpec {
     /// Checks `v` against the parameter's range (and integrality).
-    pub fn check(&self, v: f32) -> Result<(), String> {
+    pub fn check(&self, v: f32) -> Result<(), ParamError> {
         let ok = match self.kind {
             ParamKind::Float { min, max, .. } => v.is_finite() && (min..=max).contains(&v),
             ParamKind::Int { min, max } => v.fract() == 0.0 && (min as f32..=max as f32).contains(&v),
@@ -47,16 +83,17 @@ impl ParamSpec {
                 ParamKind::Int { min, max } => format!("an integer in [{min}, {max}]"),
                 ParamKind::Choice { options } => format!("one of {}", options.join(", ")),
             };
-            Err(format!(
-                "parameter '{}' = {v} is out of range: expected {range}",
-                self.key
-            ))
+            Err(ParamError::OutOfRange {
+                key: self.key,
+                value: v,
+                expected: range,
+            })
         }
     }
 
     /// Parses a value as written in a preset or on the command line: a number, or for a choice its word (or
     /// its index).
-    pub fn parse(&self, text: &str) -> Result<f32, String> {
+    pub fn parse(&self, text: &str) -> Result<f32, ParamError> {
         let text = text.trim();
         if let ParamKind::Choice { options } = self.kind
             && let Some(i) = options.iter().position(|o| *o == text)
@@ -64,12 +101,15 @@ impl ParamSpec {
             return Ok(i as f32);
         }
         let v: f32 = text.parse().map_err(|_| match self.kind {
-            ParamKind::Choice { options } => format!(
-                "parameter '{}': '{text}' is not one of {}",
-                self.key,
-                options.join(", ")
-            ),
-            _ => format!("parameter '{}': '{text}' is not a number", self.key),
+            ParamKind::Choice { options } => ParamError::NotAChoice {
+                key: self.key,
+                text: text.to_string(),
+                options: options.join(", "),
+            },
+            _ => ParamError::NotANumber {
+                key: self.key,
+                text: text.to_string(),
+            },
         })?;
         self.check(v)?;
         Ok(v)

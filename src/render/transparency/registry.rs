@@ -14,7 +14,7 @@ use super::sorted::Sorted;
 use super::wboit::Wboit;
 use super::weighted_average::WeightedAverage;
 use crate::render::fur::typed::FurTechnique;
-use crate::render::method::ParamSpec;
+use crate::render::method::{ParamError, ParamSpec, UnknownName};
 
 static TECHNIQUES: &[&dyn EyeTransparency] = &[
     &Sorted,
@@ -67,30 +67,32 @@ pub fn fig2_comparisons() -> [&'static dyn EyeTransparency; 2] {
 }
 
 /// The technique called `name`, or an error listing the known names.
-pub fn find(name: &str) -> Result<&'static dyn EyeTransparency, String> {
+pub fn find(name: &str) -> Result<&'static dyn EyeTransparency, UnknownName> {
     every().find(|t| t.name() == name).ok_or_else(|| {
         let names: Vec<_> = every().map(|t| t.name()).collect();
-        format!(
-            "unknown eye transparency technique '{name}' (known: {})",
-            names.join(", ")
-        )
+        UnknownName {
+            family: "eye transparency technique",
+            name: name.to_string(),
+            known: names.join(", "),
+        }
     })
 }
 
 /// The parameter `key` of `technique`, or an error listing its parameters.
-pub fn spec(technique: &dyn EyeTransparency, key: &str) -> Result<&'static ParamSpec, String> {
+pub fn spec(technique: &dyn EyeTransparency, key: &str) -> Result<&'static ParamSpec, ParamError> {
     let params = technique.info().params;
     params.iter().find(|p| p.key == key).ok_or_else(|| {
         let known: Vec<_> = params.iter().map(|p| p.key).collect();
-        format!(
-            "technique '{}' has no parameter '{key}' (it has: {})",
-            technique.name(),
-            if known.is_empty() {
+        ParamError::UnknownKey {
+            family: "technique",
+            name: technique.name(),
+            key: key.to_string(),
+            known: if known.is_empty() {
                 "no parameters".to_string()
             } else {
                 known.join(", ")
-            }
-        )
+            },
+        }
     })
 }
 
@@ -102,7 +104,7 @@ mod tests {
     fn an_unknown_name_is_an_error_listing_the_known_names() {
         let known: Vec<_> = every().map(|t| t.name()).collect();
         assert_eq!(
-            find("no-such-technique").err(),
+            find("no-such-technique").err().map(|e| e.to_string()),
             Some(format!(
                 "unknown eye transparency technique 'no-such-technique' (known: {})",
                 known.join(", ")

@@ -5,8 +5,10 @@
 pub mod caster;
 pub mod eye;
 pub mod frame;
+pub mod frame_bindings;
 pub mod fur;
 pub mod geometry;
+pub mod inspect;
 pub mod light_frame;
 pub mod maps;
 pub mod memory;
@@ -22,10 +24,10 @@ pub mod uniforms;
 use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::scene::{Camera, Light, Scene};
+use frame_bindings::FrameBindings;
 use glam::{Mat4, Vec3};
 use light_frame::LightFrame;
-use method::{LightMethod, MethodContext, MethodGpu, ParamValues};
-use passes::abuffer::RefFragment;
+use method::{LightMethod, MethodContext, MethodGpu};
 use passes::depth_peel::DepthPeel;
 use passes::hair::HairPass;
 use passes::light_depth::{LightDepthMaps, LightDepthPass};
@@ -62,14 +64,10 @@ pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
 
 pub struct Renderer {
     gpu: Gpu,
-    frame_buffer: wgpu::Buffer,
-    frame_layout: wgpu::BindGroupLayout,
-    scene_layout: wgpu::BindGroupLayout,
+    /// Group 0 of every pass and the eye passes' scene group.
+    bindings: FrameBindings,
     /// Group [`geometry::RIBBON_GROUP`] of the ribbon pipelines, shared by every scene's geometry.
     ribbon_layout: wgpu::BindGroupLayout,
-    frame_bind_group: wgpu::BindGroup,
-    scene_bind_group: wgpu::BindGroup,
-    shadow_sampler: wgpu::Sampler,
     scene: SceneGpu,
     light_depth: LightDepthPass,
     light_maps: LightDepthMaps,
@@ -102,98 +100,22 @@ impl Renderer {
     pub fn new(gpu: &Gpu, scene: &Scene, map_resolution: u32) -> Result<Renderer, GpuError> {
         let device = &gpu.device;
         gpu.check_texture_size("light map", map_resolution)?;
-        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.frame.uniforms"),
-            size: std::mem::size_of::<FrameUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let uniform_entry = wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniforms>() as u64),
-            },
-            count: None,
-        };
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.frame.bind_group_layout"),
-            entries: &[uniform_entry],
-        });
-        let float_tex = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.scene.bind_group_layout"),
-            entries: &[
-                uniform_entry,
-                float_tex(1),
-                float_tex(2),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-            ],
-        });
-        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("hairlab.shadow_map.sampler"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
-        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.frame.bind_group"),
-            layout: &frame_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buffer.as_entire_binding(),
-            }],
-        });
         let light_maps = LightDepthMaps::new(device, map_resolution);
         let shadow_map = ShadowMap::new(
             device,
             SHADOW_MAP_RESOLUTION.min(device.limits().max_texture_dimension_2d),
         );
-        let scene_bind_group = Self::make_scene_bind_group(
-            device,
-            &scene_layout,
-            &frame_buffer,
-            &light_maps,
-            &shadow_map,
-            &shadow_sampler,
-        );
+        let bindings = FrameBindings::new(device, &light_maps, &shadow_map);
         let targets = EyeTargets::new(device, 16, 16);
         let ribbon_layout = geometry::ribbon_layout(device);
         let scene = SceneGpu::upload(gpu, scene, &ribbon_layout)?;
         Ok(Renderer {
             gpu: gpu.clone(),
-            light_depth: LightDepthPass::new(device, &frame_layout),
-            shadow_map_pass: ShadowMapPass::new(device, &frame_layout),
-            mesh_pass: MeshPass::new(&scene_layout),
-            hair_pass: HairPass::new(&scene_layout),
-            evaluate: passes::evaluate::EvaluatePass::new(device, &scene_layout),
+            light_depth: LightDepthPass::new(device, &bindings.frame_layout),
+            shadow_map_pass: ShadowMapPass::new(device, &bindings.frame_layout),
+            mesh_pass: MeshPass::new(&bindings.scene_layout),
+            hair_pass: HairPass::new(&bindings.scene_layout),
+            evaluate: passes::evaluate::EvaluatePass::new(device, &bindings.scene_layout),
             method: None,
             transparency: None,
             capture: None,
@@ -207,53 +129,12 @@ impl Renderer {
                 scene_uploads: 1,
                 ..Creations::default()
             },
-            frame_buffer,
-            frame_layout,
-            scene_layout,
+            bindings,
             ribbon_layout,
-            frame_bind_group,
-            scene_bind_group,
-            shadow_sampler,
             scene,
             light_maps,
             shadow_map,
             targets,
-        })
-    }
-
-    fn make_scene_bind_group(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        frame: &wgpu::Buffer,
-        maps: &LightDepthMaps,
-        shadow: &ShadowMap,
-        sampler: &wgpu::Sampler,
-    ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.scene.bind_group"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: frame.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&maps.near_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&maps.far_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&shadow.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(sampler),
-                },
-            ],
         })
     }
 
@@ -293,14 +174,8 @@ impl Renderer {
         if self.light_maps.near.width() != map_resolution {
             self.gpu.check_texture_size("light map", map_resolution)?;
             self.light_maps = LightDepthMaps::new(device, map_resolution);
-            self.scene_bind_group = Self::make_scene_bind_group(
-                device,
-                &self.scene_layout,
-                &self.frame_buffer,
-                &self.light_maps,
-                &self.shadow_map,
-                &self.shadow_sampler,
-            );
+            self.bindings
+                .rebind_scene(device, &self.light_maps, &self.shadow_map);
         }
         Ok(())
     }
@@ -355,7 +230,7 @@ impl Renderer {
         match &mut self.transparency {
             Some((name, state)) if *name == technique.name() => state.update(&transparency::EyeSetup {
                 gpu: &self.gpu,
-                frame_layout: &self.frame_layout,
+                frame_layout: &self.bindings.frame_layout,
                 width,
                 height,
                 scene_fur: self.fur.as_ref(),
@@ -365,7 +240,7 @@ impl Renderer {
                 self.transparency = None;
                 let setup = transparency::EyeSetup {
                     gpu: &self.gpu,
-                    frame_layout: &self.frame_layout,
+                    frame_layout: &self.bindings.frame_layout,
                     width,
                     height,
                     scene_fur: self.fur.as_ref(),
@@ -448,41 +323,6 @@ impl Renderer {
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
-    /// The exact eye reference's per-pixel fragment lists of `f`'s view (row-major pixels, each front to back
-    /// on (depth, segment)): `f` rendered with the reference technique, its lists read back.
-    pub fn eye_lists(
-        &mut self,
-        f: &FrameInput,
-    ) -> Result<Vec<Vec<crate::transparency::EyeFragment>>, GpuError> {
-        let empty = ParamValues::new();
-        let reference = FrameInput {
-            technique: transparency::registry::reference(),
-            technique_params: &empty,
-            ..*f
-        };
-        self.render(&reference)?;
-        match self
-            .transparency
-            .as_ref()
-            .and_then(|(_, t)| t.read_lists(&self.gpu))
-        {
-            Some(lists) => lists,
-            None => Err(GpuError::Readback(
-                "the reference technique keeps no lists".into(),
-            )),
-        }
-    }
-
-    /// The eye depth complexity (deepest pixel, total fragments) of the last frame, when its technique counts it.
-    pub fn eye_depth_complexity(&self) -> Option<(u32, u64)> {
-        self.transparency.as_ref().and_then(|(_, t)| t.depth_complexity())
-    }
-
-    /// Geometry passes the last frame's technique drew.
-    pub fn eye_geometry_passes(&self) -> u32 {
-        self.transparency.as_ref().map_or(0, |(_, t)| t.geometry_passes())
-    }
-
     fn render_frame(&mut self, f: &FrameInput, capture: bool) -> Result<(), GpuError> {
         self.ensure_eye_size(f.width.max(1), f.height.max(1))?;
         let technique = f.technique;
@@ -505,7 +345,7 @@ impl Renderer {
             method_gpu,
             &self.targets,
             f.render.background,
-            &self.scene_bind_group,
+            &self.bindings.scene_group,
             &self.scene,
             ts(&mut self.timer, Phase::Meshes, "eye: meshes"),
         );
@@ -559,7 +399,7 @@ impl Renderer {
             gpu: &self.gpu,
             encoder: enc,
             timer: &mut self.timer,
-            frame_bind_group: &self.frame_bind_group,
+            frame_bind_group: &self.bindings.frame_group,
             geometry: &self.scene,
             targets: &self.targets,
             output,
@@ -576,7 +416,7 @@ impl Renderer {
                         name: technique.name(),
                         hair_wgsl: technique.info().hair_wgsl,
                     },
-                    scene: &self.scene_bind_group,
+                    scene: &self.bindings.scene_group,
                     geometry: &self.scene,
                     targets: &self.targets,
                 },
@@ -611,7 +451,7 @@ impl Renderer {
         let u = self.uniforms(f);
         self.gpu
             .queue
-            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
+            .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
         let device = self.gpu.device.clone();
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.frame.encoder"),
@@ -619,14 +459,14 @@ impl Renderer {
         self.light_depth.record(
             &mut enc,
             &self.light_maps,
-            &self.frame_bind_group,
+            &self.bindings.frame_group,
             &self.scene.casters(),
             ts(&mut self.timer, Phase::SharedLight, "light depth"),
         );
         self.shadow_map_pass.record(
             &mut enc,
             &self.shadow_map,
-            &self.frame_bind_group,
+            &self.bindings.frame_group,
             &self.scene,
             ts(&mut self.timer, Phase::SharedLight, "mesh shadow map"),
         );
@@ -634,8 +474,8 @@ impl Renderer {
         let casters = self.scene.casters();
         let ctx = MethodContext {
             gpu: &gpu,
-            frame_layout: &self.frame_layout,
-            frame_bind_group: &self.frame_bind_group,
+            frame_layout: &self.bindings.frame_layout,
+            frame_bind_group: &self.bindings.frame_group,
             casters: &casters,
             light_maps: &self.light_maps,
             values: f.method_params,
@@ -653,77 +493,6 @@ impl Renderer {
             state.record(&ctx, &mut enc, &mut self.timer);
         }
         Ok(enc)
-    }
-
-    /// Evaluates the method's GPU lookup (`visibility_at`) at `(texel x, texel y, light depth)` samples, on the
-    /// maps of the last frame rendered with `method`.
-    pub fn evaluate(&mut self, method: &dyn LightMethod, samples: &[[f32; 3]]) -> Result<Vec<f32>, GpuError> {
-        let method_gpu = held(&self.method, method)?;
-        self.evaluate
-            .run(&self.gpu, method, method_gpu, &self.scene_bind_group, samples)
-    }
-
-    /// The exact reference's per-texel fragment lists (row-major texels, each sorted by depth then segment) of
-    /// the strands' light view under `light` at `render.map_resolution`: the light-depth pass and the A-buffer's
-    /// counting and filling passes, submitted and read back in this one call.
-    pub fn reference_lists(
-        &mut self,
-        camera: &Camera,
-        light: &Light,
-        render: &RenderSettings,
-    ) -> Result<Vec<Vec<RefFragment>>, GpuError> {
-        self.ensure_map_size(render.map_resolution)?;
-        let u = self.frame_uniforms(camera, light, render, (1, 1), [0.0; 4]);
-        self.gpu
-            .queue
-            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
-        let gpu = self.gpu.clone();
-        let mut enc = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("hairlab.reference_lists.encoder"),
-            });
-        self.light_depth.record(
-            &mut enc,
-            &self.light_maps,
-            &self.frame_bind_group,
-            &self.scene.casters(),
-            ts(&mut self.timer, Phase::SharedLight, "light depth"),
-        );
-        let mut abuffer = match self.reference.take() {
-            Some(a) => a,
-            None => passes::abuffer::ABuffer::new(&gpu, &self.frame_layout),
-        };
-        let casters = self.scene.casters();
-        let resolution = self.light_maps.near.width();
-        let prepared = abuffer.prepare(&gpu, &self.frame_bind_group, &casters, resolution, &mut None);
-        if prepared.is_ok() {
-            abuffer.record(&self.frame_bind_group, &casters, &mut enc, &mut self.timer);
-            self.submit(enc);
-        }
-        let lists = prepared.and_then(|()| abuffer.read_lists(&gpu));
-        self.reference = Some(abuffer);
-        lists
-    }
-
-    /// Depth-peels the strands of the last frame's light view (the slow exact reference; see
-    /// [`passes::depth_peel`]).
-    pub fn depth_peel(&mut self, max_layers: u32) -> Result<passes::depth_peel::Peeled, GpuError> {
-        let peel = self
-            .peel
-            .get_or_insert_with(|| DepthPeel::new(&self.gpu, &self.frame_layout));
-        peel.peel(
-            &self.gpu,
-            &self.frame_bind_group,
-            &self.scene.casters(),
-            self.light_maps.near.width(),
-            max_layers,
-        )
-    }
-
-    /// The GPU state of `method`, when it is the method of the last frame.
-    pub fn method_gpu(&self, method: &dyn LightMethod) -> Option<&dyn MethodGpu> {
-        held(&self.method, method).ok()
     }
 
     /// Newest per-pass GPU times (non-blocking; empty without timestamp support).
@@ -752,67 +521,8 @@ impl Renderer {
         &self.targets.display_view
     }
 
-    /// Reads the final image back as tightly packed sRGB RGBA8.
-    pub fn read_output(&self) -> Result<image::RgbaImage, GpuError> {
-        let bytes = readback::read_texture_rgba8(&self.gpu, &self.targets.color)?;
-        image::RgbaImage::from_raw(self.targets.width, self.targets.height, bytes)
-            .ok_or_else(|| GpuError::Readback("output size mismatch".into()))
-    }
-
-    /// Reads the eye depth buffer of the last frame (opaque meshes only; 1 where none), row-major.
-    pub fn read_eye_depth(&self) -> Result<Vec<f32>, GpuError> {
-        Ok(bytemuck::pod_collect_to_vec(&readback::read_texture(
-            &self.gpu,
-            &self.targets.depth,
-            4,
-        )?))
-    }
-
-    /// Reads a light-depth map back (`far == false`: nearest depths).
-    pub fn read_light_depth(&self, far: bool) -> Result<Vec<f32>, GpuError> {
-        let t = if far {
-            &self.light_maps.far
-        } else {
-            &self.light_maps.near
-        };
-        Ok(bytemuck::pod_collect_to_vec(&readback::read_texture(
-            &self.gpu, t, 4,
-        )?))
-    }
-
-    /// GPU memory by part; the method and the eye transparency technique are the last frame's (their states are
-    /// the only ones held).
-    pub fn memory(&self) -> MemoryReport {
-        let (method_name, method, shared, build) = self.method.as_ref().map_or(("", 0, 0, 0), |(n, m)| {
-            (*n, m.memory_bytes(), m.shared_bytes(), m.build_bytes())
-        });
-        let (transparency_name, transparency_targets) = self
-            .transparency
-            .as_ref()
-            .map_or(("", 0), |(n, t)| (*n, t.memory_bytes()));
-        MemoryReport {
-            geometry: self.scene.bytes,
-            light_depth_maps: self.light_maps.bytes(),
-            shadow_map: self.shadow_map.bytes(),
-            eye_targets: self.targets.bytes() + transparency_targets,
-            transparency_name,
-            transparency_targets,
-            method_name,
-            method_owned: method.saturating_sub(shared),
-            method_shared: shared,
-            method_build: build,
-            reference_lists: self.reference.as_ref().map_or(0, |a| a.memory_bytes()),
-        }
-    }
-
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
-    }
-
-    /// The GPU state of the eye transparency technique of the last frame, for a technique's own readbacks in
-    /// tests (downcast to its type).
-    pub fn transparency_gpu(&self) -> Option<&dyn TransparencyGpu> {
-        self.transparency.as_ref().map(|(_, t)| t.as_ref())
     }
 
     /// Side of the hair light maps.
@@ -836,7 +546,7 @@ impl Renderer {
 
     /// The layout the light passes bind (the frame uniforms alone).
     pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.frame_layout
+        &self.bindings.frame_layout
     }
 }
 

@@ -9,6 +9,7 @@ pub mod gpu;
 pub mod io;
 pub mod measure;
 pub mod methods;
+pub mod motion;
 pub mod render;
 pub mod rng;
 pub mod scene;

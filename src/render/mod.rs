@@ -1116,10 +1116,18 @@ mod tests {
             "crate::measure",
         ];
         let mut checked = 0;
-        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility", "transparency", "fur"]
-            .iter()
-            .map(|d| root.join(d))
-            .collect();
+        let mut stack: Vec<_> = [
+            "render",
+            "gpu",
+            "scene",
+            "visibility",
+            "transparency",
+            "fur",
+            "motion",
+        ]
+        .iter()
+        .map(|d| root.join(d))
+        .collect();
         while let Some(dir) = stack.pop() {
             for entry in std::fs::read_dir(&dir).unwrap() {
                 let path = entry.unwrap().path();

@@ -222,6 +222,10 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
     ("dense-coverage", include_str!("../presets/dense-coverage.toml")),
     ("fur-cylinder", include_str!("../presets/fur-cylinder.toml")),
     ("fur-hat", include_str!("../presets/fur-hat.toml")),
+    ("wind", include_str!("../presets/wind.toml")),
+    ("head-turn", include_str!("../presets/head-turn.toml")),
+    ("stray-sweep", include_str!("../presets/stray-sweep.toml")),
+    ("straight-motion", include_str!("../presets/straight-motion.toml")),
 ];
 
 impl SceneSettings {

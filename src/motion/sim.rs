@@ -28,7 +28,7 @@
 //! `φ_s = 0.25 s · (s mod 20)/20` differs per strand like TressFX's per-strand mix of its four winds.
 //!
 //! The length pass also collides: a follower it puts inside the head is moved out along the centre ray and
-//! put back on its leader's sphere, up to four rounds, so segments stay exact and a point may stay slightly
+//! put back on its leader's sphere, up to sixteen rounds, so segments stay exact and a point may stay slightly
 //! inside the head (the invariants tests state the measured depth).
 
 use glam::{Quat, Vec3};
@@ -208,7 +208,7 @@ pub struct SimState {
 }
 
 /// Rounds of collision and re-following per point in the length pass.
-const COLLISION_ROUNDS: usize = 4;
+const COLLISION_ROUNDS: usize = 16;
 
 /// Most checkpoints kept; beyond it every other one is dropped and the spacing doubles.
 const MAX_CHECKPOINTS: usize = 64;
@@ -292,6 +292,12 @@ impl Simulation {
     /// The collider in use, if any (in the head's rest frame).
     pub fn collider(&self) -> Option<Ellipsoid> {
         self.head
+    }
+
+    /// The head's (root frame's) pose at frame `k`.
+    pub fn head_pose_at_frame(&self, k: u32) -> Pose {
+        self.params
+            .head_pose(f64::from(k) / f64::from(self.params.fps), self.pivot)
     }
 
     /// The current state (the last frame computed).
@@ -603,7 +609,7 @@ mod tests {
         eprintln!("length error {len:e}, depth {depth:e}, root {root:e}, speed {speed}");
         assert!(len < 1e-5, "length error {len} (measured 8.0e-7)");
         assert!(root < 1e-6, "root error {root}");
-        assert!(depth < 1e-3, "depth {depth} (measured 3.7e-4)");
+        assert!(depth < 2e-4, "depth {depth}");
         assert!(speed < 10.0, "speed {speed}");
     }
 }

@@ -32,6 +32,7 @@ mod gpu_render;
 mod hair_format;
 mod inspector_ui;
 mod methods_gpu;
+mod motion;
 mod presets;
 mod reference;
 mod ribbons;

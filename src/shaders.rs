@@ -51,6 +51,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/mesh_depth.wgsl",
     "common/eye_sort.wgsl",
     "fur/resolve.wgsl",
+    "motion/simulate.wgsl",
     "fur/ribbon_count.wgsl",
     "transparency/sorted.wgsl",
     "transparency/sorted_count.wgsl",

@@ -5,6 +5,7 @@
 //!
 //! A lower layer: it reads scenes and files, never the settings module (which holds a [`MotionSettings`]).
 
+pub mod gpu;
 pub mod sequence;
 pub mod sim;
 

@@ -294,6 +294,22 @@ impl Simulation {
         self.head
     }
 
+    /// The rest pose, the strands' `(first point, count)`, the rest segment lengths and the root frame's pivot:
+    /// what a GPU simulation uploads.
+    pub fn topology(&self) -> (&[Vec3], &[(usize, usize)], &[f32], Vec3) {
+        (&self.rest, &self.ranges, &self.rest_len, self.pivot)
+    }
+
+    /// The first strand the sweep moves (the strand count when nothing sweeps).
+    pub fn first_swept_strand(&self) -> usize {
+        let n = self.ranges.len();
+        if self.params.head == HeadMotion::Sweep {
+            n.saturating_sub(self.params.sweep_strands as usize)
+        } else {
+            n
+        }
+    }
+
     /// The head's (root frame's) pose at frame `k`.
     pub fn head_pose_at_frame(&self, k: u32) -> Pose {
         self.params
@@ -324,7 +340,7 @@ impl Simulation {
 
     fn keep_checkpoint(&mut self) {
         let f = self.state.frame;
-        if f % self.spacing != 0 || self.checkpoints.last().is_some_and(|c| c.frame >= f) {
+        if !f.is_multiple_of(self.spacing) || self.checkpoints.last().is_some_and(|c| c.frame >= f) {
             return;
         }
         self.checkpoints.push(self.state.clone());

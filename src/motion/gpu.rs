@@ -41,7 +41,8 @@ impl GpuSimulation {
     /// Uploads `sim`'s rest pose (its frame 0); `sim` gives the parameters and the per-substep values.
     pub fn new(gpu: &Gpu, sim: Simulation) -> Result<GpuSimulation, GpuError> {
         let device = &gpu.device;
-        let (rest, ranges, rest_len, _) = sim.topology();
+        let topo = sim.topology();
+        let (rest, ranges, rest_len) = (topo.rest, topo.ranges, topo.rest_len);
         let flat: Vec<f32> = rest.iter().flat_map(|p| p.to_array()).collect();
         let bytes = (flat.len() * 4).max(16) as u64;
         gpu.check_buffer_size("simulation points", bytes)?;
@@ -158,7 +159,7 @@ impl GpuSimulation {
     /// The substep's values, computed as the CPU model computes them.
     fn params(&self, step: u64) -> Params {
         let p = self.sim.params();
-        let (_, _, _, pivot) = self.sim.topology();
+        let pivot = self.sim.topology().pivot;
         let h = p.h();
         let t = step as f64 / (f64::from(p.fps) * f64::from(p.substeps));
         let decay = (-p.damping * h * 60.0).exp();

@@ -210,6 +210,17 @@ pub struct SimState {
 /// Rounds of collision and re-following per point in the length pass.
 const COLLISION_ROUNDS: usize = 16;
 
+/// What a GPU simulation uploads ([`Simulation::topology`]).
+pub struct Topology<'a> {
+    pub rest: &'a [Vec3],
+    /// `(first point, count)` per strand.
+    pub ranges: &'a [(usize, usize)],
+    /// Rest length of the segment ending at each point (0 at roots).
+    pub rest_len: &'a [f32],
+    /// The root frame's pivot.
+    pub pivot: Vec3,
+}
+
 /// Most checkpoints kept; beyond it every other one is dropped and the spacing doubles.
 const MAX_CHECKPOINTS: usize = 64;
 
@@ -296,8 +307,13 @@ impl Simulation {
 
     /// The rest pose, the strands' `(first point, count)`, the rest segment lengths and the root frame's pivot:
     /// what a GPU simulation uploads.
-    pub fn topology(&self) -> (&[Vec3], &[(usize, usize)], &[f32], Vec3) {
-        (&self.rest, &self.ranges, &self.rest_len, self.pivot)
+    pub fn topology(&self) -> Topology<'_> {
+        Topology {
+            rest: &self.rest,
+            ranges: &self.ranges,
+            rest_len: &self.rest_len,
+            pivot: self.pivot,
+        }
     }
 
     /// The first strand the sweep moves (the strand count when nothing sweeps).

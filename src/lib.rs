@@ -9,6 +9,7 @@ pub mod gpu;
 pub mod io;
 pub mod measure;
 pub mod methods;
+pub mod motion;
 pub mod render;
 pub mod rng;
 pub mod scene;
@@ -33,10 +34,18 @@ mod tests {
             "crate::measure",
         ];
         let mut checked = 0;
-        let mut stack: Vec<_> = ["render", "gpu", "scene", "visibility", "transparency", "fur"]
-            .iter()
-            .map(|d| root.join(d))
-            .collect();
+        let mut stack: Vec<_> = [
+            "render",
+            "gpu",
+            "scene",
+            "visibility",
+            "transparency",
+            "fur",
+            "motion",
+        ]
+        .iter()
+        .map(|d| root.join(d))
+        .collect();
         while let Some(dir) = stack.pop() {
             for entry in std::fs::read_dir(&dir).unwrap() {
                 let path = entry.unwrap().path();

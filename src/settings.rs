@@ -22,6 +22,8 @@ pub struct Settings {
     pub transparency: TransparencySettings,
     /// Hybrid fur on the scene's first mesh (off unless a preset asks).
     pub fur: crate::fur::settings::FurSettings,
+    /// Where frame `k`'s strand points come from (still unless a preset asks).
+    pub motion: crate::motion::MotionSettings,
 }
 
 /// Where the strands come from: a file when `file` is set, the generator otherwise (on `scalp`'s triangles when
@@ -223,6 +225,10 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
     ("dense-coverage", include_str!("../presets/dense-coverage.toml")),
     ("fur-cylinder", include_str!("../presets/fur-cylinder.toml")),
     ("fur-hat", include_str!("../presets/fur-hat.toml")),
+    ("wind", include_str!("../presets/wind.toml")),
+    ("head-turn", include_str!("../presets/head-turn.toml")),
+    ("stray-sweep", include_str!("../presets/stray-sweep.toml")),
+    ("straight-motion", include_str!("../presets/straight-motion.toml")),
 ];
 
 impl SceneSettings {
@@ -336,6 +342,7 @@ impl Settings {
         let m = registry::find(&self.method.name).map_err(anyhow::Error::msg)?;
         methods::validate(m, &self.method.params).map_err(anyhow::Error::msg)?;
         self.fur.validate().map_err(anyhow::Error::msg)?;
+        self.motion.validate()?;
         let t = self.transparency.technique()?;
         for (k, v) in &self.transparency.params {
             techniques::spec(t, k)
@@ -409,7 +416,7 @@ impl Settings {
 
     /// Makes a relative scene file path relative to the preset's folder.
     fn resolve_paths(&mut self, base: &Path) {
-        for f in [&mut self.scene.file, &mut self.scene.scalp]
+        for f in [&mut self.scene.file, &mut self.scene.scalp, &mut self.motion.path]
             .into_iter()
             .flatten()
         {
@@ -417,6 +424,22 @@ impl Settings {
                 *f = base.join(&*f);
             }
         }
+    }
+
+    /// Builds the scene and opens its motion (`[motion]`): a sequence replaces the strands with its first
+    /// frame's; the simulation collides with the generator's head when the scene is that head.
+    pub fn open_motion(&self) -> Result<(crate::scene::Scene, crate::motion::Motion)> {
+        let mut scene = self.scene.build()?;
+        let s = &self.scene;
+        let head = (s.file.is_none()
+            && s.scalp.is_none()
+            && s.generator.kind == crate::scene::generate::GenKind::Head)
+            .then_some(crate::motion::Ellipsoid {
+                center: glam::Vec3::ZERO,
+                radii: crate::scene::generate::HEAD_RADII,
+            });
+        let motion = crate::motion::Motion::open(&self.motion, &mut scene, head)?;
+        Ok((scene, motion))
     }
 
     /// Writes the settings as a preset file (atomically).

@@ -57,6 +57,7 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/list_resolve.wgsl",
     "common/list_count.wgsl",
     "fur/resolve.wgsl",
+    "motion/simulate.wgsl",
     "fur/ribbon_count.wgsl",
     "transparency/sorted.wgsl",
     "transparency/sorted_count.wgsl",

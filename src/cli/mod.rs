@@ -9,6 +9,7 @@ pub mod generate;
 pub mod info;
 pub mod measure;
 pub mod render;
+pub mod simulate;
 pub mod soak;
 
 use anyhow::Result;
@@ -23,6 +24,8 @@ use info::InfoArgs;
 use measure::MeasureArgs;
 use render::RenderArgs;
 pub use render::render_image;
+use simulate::SimulateArgs;
+pub use simulate::frame_file_name;
 use soak::SoakArgs;
 
 #[derive(Parser, Debug)]
@@ -70,6 +73,10 @@ pub enum Command {
     /// Render many frames while the light turns and the method changes, and check that neither the process's
     /// resident memory nor the GPU memory grows (last cycle of methods against the first, at most 5 %).
     Soak(SoakArgs),
+    /// Run a preset's motion (`[motion]`) and bake it to a folder of `.hair` files, `frame_0000.hair` …,
+    /// that plays back with `--set motion.source=sequence --set motion.path=DIR`; prints the simulation's
+    /// invariants and cost.
+    Simulate(SimulateArgs),
 }
 
 /// Runs a subcommand.
@@ -84,5 +91,6 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Measure(a) => measure::measure(&a),
         Command::Bench(a) => crate::bench::run_cli(&a),
         Command::Soak(a) => soak::soak(&a),
+        Command::Simulate(a) => simulate::simulate(&a),
     }
 }

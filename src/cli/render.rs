@@ -22,38 +22,123 @@ pub struct RenderArgs {
     /// Image height in pixels (overrides render.height).
     #[arg(long)]
     pub height: Option<u32>,
-    /// Output PNG path.
+    /// Render frame K of the preset's motion (`[motion]`; frame 0 is the still scene of a simulation).
+    #[arg(long, value_name = "K", conflicts_with = "frames")]
+    pub frame: Option<u32>,
+    /// Render frames A up to B (exclusive) of the motion as a numbered PNG sequence `frame_0000.png` … in the
+    /// folder `--out`.
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<String>,
+    /// Output PNG path (a folder with `--frames`).
     #[arg(long)]
     pub out: PathBuf,
 }
 
+/// Parses `A..B` (B exclusive, A < B).
+pub fn parse_frame_range(text: &str) -> Result<std::ops::Range<u32>> {
+    let bad = || anyhow::anyhow!("--frames '{text}': expected A..B with whole numbers A < B, e.g. 0..30");
+    let (a, b) = text.split_once("..").ok_or_else(bad)?;
+    let (a, b): (u32, u32) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if a >= b {
+        return Err(bad());
+    }
+    Ok(a..b)
+}
+
 pub(super) fn render(a: &RenderArgs) -> Result<()> {
-    crate::io::check_output(&a.out, "png")?;
+    let range = a.frames.as_deref().map(parse_frame_range).transpose()?;
+    if range.is_none() {
+        crate::io::check_output(&a.out, "png")?;
+    }
     let mut settings = Settings::load_preset(&a.preset, &a.set)?;
     // The image size flags apply after the preset and its overrides, and are checked as themselves.
     settings.render.width = a.width.unwrap_or(settings.render.width);
     settings.render.height = a.height.unwrap_or(settings.render.height);
     settings.validate().context("--width/--height")?;
-    let image = render_image(&mut settings)?;
-    let mut png = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
-    crate::io::write_atomic(&a.out, &png)?;
-    println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
+    let encode = |image: &image::RgbaImage| -> Result<Vec<u8>> {
+        let mut png = Vec::new();
+        image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+        Ok(png)
+    };
+    match range {
+        None => {
+            let image = render_frame_image(&mut settings, a.frame.unwrap_or(0))?;
+            crate::io::write_atomic(&a.out, &encode(&image)?)?;
+            println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
+        }
+        Some(range) => {
+            std::fs::create_dir_all(&a.out)
+                .with_context(|| format!("--out {}: cannot create", a.out.display()))?;
+            let frames: Vec<u32> = range.clone().collect();
+            let digits = (range.end.saturating_sub(1).max(1).ilog10() as usize + 1).max(4);
+            render_frames(&mut settings, &frames, &mut |k, image| {
+                let path = a.out.join(format!("frame_{k:0digits$}.png"));
+                crate::io::write_atomic(&path, &encode(&image)?)
+            })?;
+            println!(
+                "wrote frames {}..{} to {} ({}×{})",
+                range.start,
+                range.end,
+                a.out.display(),
+                settings.render.width,
+                settings.render.height
+            );
+        }
+    }
     Ok(())
+}
+
+/// Renders frame `k` of `settings`' motion (a still preset has only its one scene, whatever `k`).
+pub fn render_frame_image(settings: &mut Settings, k: u32) -> Result<image::RgbaImage> {
+    let mut out = None;
+    render_frames(settings, &[k], &mut |_, image| {
+        out = Some(image);
+        Ok(())
+    })?;
+    out.context("no frame rendered")
 }
 
 /// Renders `settings` headlessly (framing the camera when its distance is 0) and returns the image. Prints the
 /// scene, the adapter and per-pass GPU times on stderr.
 pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
+    render_frame_image(settings, 0)
+}
+
+/// Renders `frames` of `settings`' motion in order with one renderer (the first frame's points uploaded with
+/// the scene, the later ones through `Renderer::update_points`), passing each image to `sink`. The camera is
+/// framed on the first frame when its distance is 0. Prints the scene, the adapter and the first frame's
+/// per-pass GPU times on stderr.
+pub fn render_frames(
+    settings: &mut Settings,
+    frames: &[u32],
+    sink: &mut dyn FnMut(u32, image::RgbaImage) -> Result<()>,
+) -> Result<()> {
+    let Some((&first, rest)) = frames.split_first() else {
+        return Ok(());
+    };
     let start = std::time::Instant::now();
-    let scene = settings.scene.build()?;
+    let (mut scene, mut motion) = settings.open_motion()?;
+    // Framed on the motion's frame 0 (the scene as built), so every frame of a motion gets the same camera.
+    if settings.camera.distance <= 0.0 {
+        settings.camera.frame(&scene.framing_bounds());
+    }
+    if !motion.is_still() {
+        let count = motion.frame_count(&settings.motion);
+        if let Some(&k) = frames.iter().find(|&&k| k >= count) {
+            anyhow::bail!(
+                "frame {k} is beyond the motion's {count} frames (0..={})",
+                count - 1
+            );
+        }
+        scene.set_strand_points(motion.frame(first)?)?;
+    }
     let scene_ms = start.elapsed().as_secs_f64() * 1e3;
     let fur = crate::fur::settings::FurScene::build(&scene, &settings.fur).map_err(anyhow::Error::msg)?;
     for w in fur.iter().flat_map(|f| &f.warnings) {
         eprintln!("warning: {w}");
-    }
-    if settings.camera.distance <= 0.0 {
-        settings.camera.frame(&scene.framing_bounds());
     }
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let mut renderer = Renderer::new(&gpu, &scene, settings.render.map_resolution)?;
@@ -72,7 +157,7 @@ pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
     };
     renderer.render(&input)?;
     let times = renderer.wait_timings();
-    let image = renderer.read_output()?;
+    sink(first, renderer.read_output()?)?;
     eprintln!(
         "{} strands, {} segments, {} triangles on {}",
         scene.strands.strand_count(),
@@ -106,5 +191,10 @@ pub fn render_image(settings: &mut Settings) -> Result<image::RgbaImage> {
             table.render(None)
         );
     }
-    Ok(image)
+    for &k in rest {
+        renderer.update_points(motion.frame(k)?)?;
+        renderer.render(&input)?;
+        sink(k, renderer.read_output()?)?;
+    }
+    Ok(())
 }

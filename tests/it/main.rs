@@ -33,6 +33,7 @@ mod groom_formats;
 mod hair_format;
 mod inspector_ui;
 mod methods_gpu;
+mod motion;
 mod presets;
 mod reference;
 mod ribbons;

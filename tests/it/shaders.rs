@@ -32,7 +32,7 @@ fn pass_shaders() -> impl Iterator<Item = &'static str> {
 fn every_shader_file_is_embedded() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut on_disk = Vec::new();
-    for dir in ["", "common", "methods", "transparency", "fur"] {
+    for dir in ["", "common", "methods", "transparency", "fur", "motion"] {
         for e in std::fs::read_dir(root.join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "wgsl") {

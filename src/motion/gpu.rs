@@ -1,0 +1,241 @@
+//! The strand simulation as a GPU compute pass (`shaders/motion/simulate.wgsl`), one thread per strand, equal
+//! to the CPU model ([`super::sim`]) up to floating-point rounding: the substep's time-dependent values (root
+//! frame, sweep, wind per strand phase class, damping factor) are computed on the CPU by the same functions
+//! the CPU model calls; the per-point arithmetic runs on the GPU in the CPU model's order. The test
+//! `motion_gpu` states the tolerance and the measured difference.
+
+use super::sim::Simulation;
+use crate::gpu::{Gpu, GpuError, readback::read_buffer};
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Params {
+    head_rot: [f32; 4],
+    pivot: [f32; 4],
+    sweep: [f32; 4],
+    head_center: [f32; 4],
+    head_radii: [f32; 4],
+    k: [f32; 4],
+    m: [f32; 4],
+    counts: [u32; 4],
+    wind: [[f32; 4]; 20],
+}
+
+/// The simulation's state on the GPU, stepped frame by frame from frame 0.
+pub struct GpuSimulation {
+    sim: Simulation,
+    uniforms: wgpu::Buffer,
+    x: wgpu::Buffer,
+    prev: wgpu::Buffer,
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    strands: u32,
+    points: usize,
+    frame: u32,
+}
+
+impl GpuSimulation {
+    /// Uploads `sim`'s rest pose (its frame 0); `sim` gives the parameters and the per-substep values.
+    pub fn new(gpu: &Gpu, sim: Simulation) -> Result<GpuSimulation, GpuError> {
+        let device = &gpu.device;
+        let topo = sim.topology();
+        let (rest, ranges, rest_len) = (topo.rest, topo.ranges, topo.rest_len);
+        let flat: Vec<f32> = rest.iter().flat_map(|p| p.to_array()).collect();
+        let bytes = (flat.len() * 4).max(16) as u64;
+        gpu.check_buffer_size("simulation points", bytes)?;
+        let strands: Vec<u32> = ranges.iter().flat_map(|&(f, n)| [f as u32, n as u32]).collect();
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            let mut padded = contents.to_vec();
+            padded.resize(padded.len().max(16), 0);
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: &padded,
+                usage,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let rw = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.motion.params"),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let rest_b = init("hairlab.motion.rest", bytemuck::cast_slice(&flat), storage);
+        let len_b = init("hairlab.motion.rest_len", bytemuck::cast_slice(rest_len), storage);
+        let strands_b = init("hairlab.motion.strands", bytemuck::cast_slice(&strands), storage);
+        let x = init("hairlab.motion.x", bytemuck::cast_slice(&flat), rw);
+        let prev = init("hairlab.motion.prev", bytemuck::cast_slice(&flat), rw);
+        let q = init("hairlab.motion.q", bytemuck::cast_slice(&flat), rw);
+        let corr = init("hairlab.motion.corr", bytemuck::cast_slice(&flat), rw);
+        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        let write = wgpu::BufferBindingType::Storage { read_only: false };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.motion.layout"),
+            entries: &[
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, read),
+                entry(2, read),
+                entry(3, read),
+                entry(4, write),
+                entry(5, write),
+                entry(6, write),
+                entry(7, write),
+            ],
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.motion.group"),
+            layout: &layout,
+            entries: &[&uniforms, &rest_b, &len_b, &strands_b, &x, &prev, &q, &corr]
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect::<Vec<_>>(),
+        });
+        let source = crate::shaders::compose("motion/simulate.wgsl", None).map_err(GpuError::Setting)?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("hairlab.motion.shader"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hairlab.motion.pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("hairlab.motion.pipeline"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("substep"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let (strand_count, points) = (ranges.len() as u32, rest.len());
+        Ok(GpuSimulation {
+            sim,
+            uniforms,
+            x,
+            prev,
+            pipeline,
+            group,
+            strands: strand_count,
+            points,
+            frame: 0,
+        })
+    }
+
+    /// Replaces the GPU state with a CPU state (frame, positions, previous positions), e.g. to compare one
+    /// frame's step from the same start.
+    pub fn set_state(&mut self, gpu: &Gpu, state: &super::sim::SimState) {
+        let flat = |v: &[Vec3]| v.iter().flat_map(|p| p.to_array()).collect::<Vec<f32>>();
+        gpu.queue
+            .write_buffer(&self.x, 0, bytemuck::cast_slice(&flat(&state.x)));
+        gpu.queue
+            .write_buffer(&self.prev, 0, bytemuck::cast_slice(&flat(&state.prev)));
+        self.frame = state.frame;
+    }
+
+    /// The frame the GPU state holds.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// The substep's values, computed as the CPU model computes them.
+    fn params(&self, step: u64) -> Params {
+        let p = self.sim.params();
+        let pivot = self.sim.topology().pivot;
+        let h = p.h();
+        let t = step as f64 / (f64::from(p.fps) * f64::from(p.substeps));
+        let decay = (-p.damping * h * 60.0).exp();
+        let pose = p.head_pose(t, pivot);
+        let head = self.sim.collider();
+        let (center, radii) = head.map_or((Vec3::ZERO, Vec3::ONE), |e| (e.center, e.radii));
+        let mut wind = [[0.0; 4]; 20];
+        for (s, w) in wind.iter_mut().enumerate() {
+            *w = p.wind_at(t, s).extend(0.0).to_array();
+        }
+        Params {
+            head_rot: pose.rotation.to_array(),
+            pivot: pivot.extend(h * h).to_array(),
+            sweep: p.sweep_offset(t).extend(0.0).to_array(),
+            head_center: center.extend(if head.is_some() { 1.0 } else { 0.0 }).to_array(),
+            head_radii: radii.extend(decay).to_array(),
+            k: [
+                p.gravity,
+                0.5 * p.local_stiffness.min(0.95),
+                p.global_stiffness,
+                p.global_range,
+            ],
+            m: [p.ftl_damping, 0.0, 0.0, 0.0],
+            counts: [self.strands, self.sim.first_swept_strand() as u32, 0, 0],
+            wind,
+        }
+    }
+
+    /// Advances one frame (`substeps` dispatches, one submission each).
+    pub fn step_frame(&mut self, gpu: &Gpu) {
+        let substeps = u64::from(self.sim.params().substeps);
+        let first = u64::from(self.frame) * substeps;
+        for j in 0..substeps {
+            gpu.queue
+                .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&self.params(first + j + 1)));
+            let mut encoder = gpu
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("hairlab.motion.encoder"),
+                });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("hairlab.motion.substep"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.group, &[]);
+                pass.dispatch_workgroups(self.strands.div_ceil(64), 1, 1);
+            }
+            gpu.queue.submit([encoder.finish()]);
+        }
+        self.frame += 1;
+    }
+
+    /// Reads the current points back.
+    pub fn read_points(&self, gpu: &Gpu) -> Result<Vec<Vec3>, GpuError> {
+        let bytes = (self.points * 12).max(16) as u64;
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.motion.readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hairlab.motion.readback"),
+            });
+        encoder.copy_buffer_to_buffer(&self.x, 0, &staging, 0, bytes);
+        gpu.queue.submit([encoder.finish()]);
+        let raw = read_buffer(gpu, &staging)?;
+        let floats: &[f32] = bytemuck::cast_slice(&raw);
+        Ok(floats
+            .chunks_exact(3)
+            .take(self.points)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect())
+    }
+}

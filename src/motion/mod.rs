@@ -1,0 +1,254 @@
+//! Hair in motion (issue 18): where frame `k`'s strand points come from, chosen by the `[motion]` preset
+//! section. `none` keeps the scene still; `simulate` runs the CPU strand simulation ([`sim`], the
+//! specification of any GPU simulation); `sequence` plays a folder of `.hair` files of identical topology
+//! ([`sequence`]). Every source is deterministic: frame `k` is the same bits whatever was played before.
+//!
+//! A lower layer: it reads scenes and files, never the settings module (which holds a [`MotionSettings`]).
+
+pub mod gpu;
+pub mod sequence;
+pub mod sim;
+
+use crate::scene::Scene;
+use anyhow::{Result, bail};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+pub use sequence::Sequence;
+pub use sim::{Ellipsoid, FrameStats, SimParams, Simulation};
+
+/// Where the frames come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MotionSource {
+    /// A still scene: every frame is the preset's strands.
+    #[default]
+    None,
+    /// The CPU strand simulation ([`sim`]).
+    Simulate,
+    /// A folder of `.hair` files (`motion.path`), sorted by name.
+    Sequence,
+}
+
+/// The root frame's keyframed rigid motion.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HeadMotion {
+    #[default]
+    Still,
+    /// Yaw by `head_angle_deg`, eased from 0.1 to 0.6 of `head_period`, then held: the head turns and stops.
+    Turn,
+    /// Pitch 0 → +a → −a → 0 over each `head_period`.
+    Nod,
+    /// Yaw 0 → +a → −a → 0 over each `head_period`.
+    Shake,
+    /// The head still; the roots of the last `sweep_strands` strands slide along +Z by
+    /// `sweep_amplitude · sin(2π t / head_period)` (the stray strand of `stray-sweep`).
+    Sweep,
+}
+
+/// `[motion]`: the source and, for `simulate`, the simulation's parameters (see [`sim`] for what each does).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MotionSettings {
+    pub source: MotionSource,
+    /// Frames per second: the simulation's frame step is `1 / fps`, and a sequence plays at this rate.
+    pub fps: f32,
+    /// Frames in the motion (a sequence has as many as its files).
+    pub frames: u32,
+    /// `sequence`: the folder of `.hair` files.
+    pub path: Option<PathBuf>,
+    /// Substeps per frame.
+    pub substeps: u32,
+    /// Verlet damping `d`: the velocity is scaled by `exp(−d · h · 60)` per substep of `h` seconds (TressFX).
+    pub damping: f32,
+    /// Gravity along −Y, m/s².
+    pub gravity: f32,
+    /// Global shape stiffness in [0, 1]: the pull towards the rest pose carried by the root frame.
+    pub global_stiffness: f32,
+    /// Share of each strand from the root that the global shape pull reaches, in [0, 1].
+    pub global_range: f32,
+    /// Local shape stiffness `k` in [0, 1]; each end moves `0.5 · min(k, 0.95)` of the gap (TressFX).
+    pub local_stiffness: f32,
+    /// Müller et al.'s velocity correction factor `s_damping` in [0, 1].
+    pub ftl_damping: f32,
+    /// Wind strength (an acceleration across the strand, m/s²); 0 = no wind.
+    pub wind: f32,
+    /// Mean wind direction (need not be unit; not zero).
+    pub wind_dir: [f32; 3],
+    /// Gust amplitude in [0, 1]: the wind varies by ±gust of its strength.
+    pub gust: f32,
+    /// The root frame's motion.
+    pub head: HeadMotion,
+    /// Angle of the turn, nod or shake, degrees.
+    pub head_angle_deg: f32,
+    /// Period of the head motion or sweep, seconds.
+    pub head_period: f32,
+    /// `sweep`: how many strands (the last ones) sweep.
+    pub sweep_strands: u32,
+    /// `sweep`: the sweep's amplitude along +Z, world units.
+    pub sweep_amplitude: f32,
+    /// Collide with the generated head (when the scene is the generator's head).
+    pub collide: bool,
+}
+
+impl Default for MotionSettings {
+    fn default() -> Self {
+        MotionSettings {
+            source: MotionSource::None,
+            fps: 30.0,
+            frames: 120,
+            path: None,
+            substeps: 4,
+            damping: 0.08,
+            gravity: 9.82,
+            global_stiffness: 0.05,
+            global_range: 0.3,
+            local_stiffness: 0.9,
+            ftl_damping: 0.9,
+            wind: 0.0,
+            wind_dir: [1.0, 0.0, 0.0],
+            gust: 0.5,
+            head: HeadMotion::Still,
+            head_angle_deg: 45.0,
+            head_period: 2.0,
+            sweep_strands: 1,
+            sweep_amplitude: 0.05,
+            collide: true,
+        }
+    }
+}
+
+/// Largest substep count and frame rate a preset may ask for.
+pub const MAX_SUBSTEPS: u32 = 64;
+pub const MAX_FPS: f32 = 1000.0;
+pub const MAX_FRAMES: u32 = 1_000_000;
+
+impl MotionSettings {
+    /// Range checks; each message names the key. Parameters that would make the simulation blow up or stand
+    /// still forever (no substeps, stiffness outside [0, 1], negative damping, a non-positive time step) are
+    /// refused.
+    pub fn validate(&self) -> Result<()> {
+        let fps = self.fps;
+        if !(fps.is_finite() && fps > 0.0 && fps <= MAX_FPS) {
+            bail!(
+                "motion.fps must be a finite number in (0, {MAX_FPS}]: the time step 1/fps must be a positive \
+                 number of seconds (got {fps:?})"
+            );
+        }
+        if !(1..=MAX_FRAMES).contains(&self.frames) {
+            bail!("motion.frames must be in 1..={MAX_FRAMES} (got {})", self.frames);
+        }
+        if !(1..=MAX_SUBSTEPS).contains(&self.substeps) {
+            bail!(
+                "motion.substeps must be in 1..={MAX_SUBSTEPS} (got {}): with none the simulation never advances",
+                self.substeps
+            );
+        }
+        for (k, v) in [
+            ("motion.global_stiffness", self.global_stiffness),
+            ("motion.global_range", self.global_range),
+            ("motion.local_stiffness", self.local_stiffness),
+            ("motion.ftl_damping", self.ftl_damping),
+            ("motion.gust", self.gust),
+        ] {
+            if !(0.0..=1.0).contains(&v) {
+                bail!(
+                    "{k} must be in [0, 1] (got {v:?}): beyond 1 a constraint overshoots and the hair blows up"
+                );
+            }
+        }
+        for (k, v, max) in [
+            ("motion.damping", self.damping, 100.0),
+            ("motion.wind", self.wind, 1000.0),
+            ("motion.head_period", self.head_period, 1e4),
+        ] {
+            if !(v.is_finite() && v >= 0.0 && v <= max) {
+                bail!(
+                    "motion.{} must be a finite number in [0, {max}] (got {v:?})",
+                    &k[7..]
+                );
+            }
+        }
+        if self.head_period == 0.0 {
+            bail!("motion.head_period must be positive (got 0)");
+        }
+        for (k, v, max) in [
+            ("motion.gravity", self.gravity, 1000.0),
+            ("motion.head_angle_deg", self.head_angle_deg, 180.0),
+            ("motion.sweep_amplitude", self.sweep_amplitude, 1e4),
+        ] {
+            if !(v.is_finite() && v.abs() <= max) {
+                bail!("{k} must be a finite number within ±{max} (got {v:?})");
+            }
+        }
+        let w = Vec3::from(self.wind_dir);
+        if !w.is_finite() || w.length_squared() == 0.0 {
+            bail!(
+                "motion.wind_dir must be three finite numbers, not all zero (got {:?})",
+                self.wind_dir
+            );
+        }
+        if self.sweep_strands == 0 {
+            bail!("motion.sweep_strands must be at least 1");
+        }
+        if self.source == MotionSource::Sequence && self.path.is_none() {
+            bail!("motion.path must name a folder of .hair files when motion.source = \"sequence\"");
+        }
+        Ok(())
+    }
+}
+
+/// An opened motion source.
+pub enum Motion {
+    Still(Vec<Vec3>),
+    Simulate(Box<Simulation>),
+    Sequence(Sequence),
+}
+
+impl Motion {
+    /// Opens the source `m` names on `scene`. A sequence replaces the scene's strands with its first frame's
+    /// (meshes kept). `head` is the generator's head ellipsoid when the scene is the generated head: the
+    /// simulation's collider and root frame.
+    pub fn open(m: &MotionSettings, scene: &mut Scene, head: Option<Ellipsoid>) -> Result<Motion> {
+        m.validate()?;
+        Ok(match m.source {
+            MotionSource::None => Motion::Still(scene.strands.points.clone()),
+            MotionSource::Simulate => Motion::Simulate(Box::new(Simulation::new(
+                SimParams::from_settings(m),
+                &scene.strands.points,
+                &scene.strands.counts,
+                head,
+            ))),
+            MotionSource::Sequence => {
+                let dir = m.path.as_ref().expect("validated: a sequence has a path");
+                let seq = Sequence::open(dir)?;
+                *scene = Scene::new(seq.strands().clone(), std::mem::take(&mut scene.meshes));
+                Motion::Sequence(seq)
+            }
+        })
+    }
+
+    /// How many frames the motion has: a sequence its files, otherwise `motion.frames`.
+    pub fn frame_count(&self, m: &MotionSettings) -> u32 {
+        match self {
+            Motion::Sequence(s) => s.len() as u32,
+            _ => m.frames,
+        }
+    }
+
+    /// Frame `k`'s strand points (one per point of the scene, same order).
+    pub fn frame(&mut self, k: u32) -> Result<&[Vec3]> {
+        match self {
+            Motion::Still(p) => Ok(p),
+            Motion::Simulate(s) => Ok(s.frame(k)),
+            Motion::Sequence(s) => s.frame(k),
+        }
+    }
+
+    /// Whether the points change from frame to frame.
+    pub fn is_still(&self) -> bool {
+        matches!(self, Motion::Still(_))
+    }
+}

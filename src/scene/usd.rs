@@ -847,7 +847,15 @@ pub fn read_usd_frames(path: &Path) -> Result<UsdFrames, UsdError> {
     };
     let mut frames: Vec<Strands> = Vec::with_capacity(whens.len());
     for (i, &when) in whens.iter().enumerate() {
-        let s = read_strands(&r, &curves, when, &mut Vec::new())?;
+        let s = read_strands(&r, &curves, when, &mut Vec::new()).map_err(|e| match (e, when) {
+            (UsdError::Attribute { file, prim, attribute, cause }, When::At(t)) => UsdError::Attribute {
+                file,
+                prim,
+                attribute,
+                cause: format!("at time code {t}: {cause}"),
+            },
+            (e, _) => e,
+        })?;
         if let Some(f0) = frames.first()
             && (s.counts != f0.counts || s.points.len() != f0.points.len())
         {

@@ -45,7 +45,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3, DVec4, Vec3};
 use openusd::schemas::geom::{Imageable, Xformable};
-use openusd::usd::{Prim, PrimPredicate, SchemaBase, SchemaKind, Stage, TimeCode};
+use openusd::usd::{Prim, SchemaBase, SchemaKind, Stage, TimeCode};
 use openusd::{sdf, tf};
 use thiserror::Error;
 
@@ -389,6 +389,18 @@ impl Reader<'_> {
         loop {
             let p = self.stage.prim(path.clone());
             let x = AnyXformable(p.clone());
+            // The crate builds a property path from each op name and, for a name that is not an identifier
+            // (`xformOp:a}b`), overflows the stack resolving it (found by the fuzz run): checked first.
+            if let Some(order) = x
+                .xform_op_order()
+                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?
+                && let Some(bad) = order.iter().find(|op| {
+                    let op = op.strip_prefix("!invert!").unwrap_or(op);
+                    op != "!resetXformStack!" && !is_property_name(op)
+                })
+            {
+                return Err(self.err(&p, "xformOpOrder", format!("{bad:?} is not an xformOp name")));
+            }
             let local = x
                 .local_to_parent_transform(time)
                 .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?;
@@ -751,18 +763,53 @@ fn open(path: &Path) -> Result<Reader<'_>, UsdError> {
     })
 }
 
-/// The stage's geometry prims: (BasisCurves, Mesh) and a note per other geometry prim dropped.
+/// Whether `name` is a USD identifier (a letter or `_`, then letters, digits or `_`; Unicode letters allowed).
+fn is_identifier(name: &str) -> bool {
+    let mut c = name.chars();
+    c.next().is_some_and(|f| f == '_' || f.is_alphabetic()) && c.all(|ch| ch == '_' || ch.is_alphanumeric())
+}
+
+/// Whether `name` is a namespaced property name (identifiers joined by `:`).
+fn is_property_name(name: &str) -> bool {
+    name.split(':').all(is_identifier)
+}
+
+/// The stage's geometry prims in depth-first order: (BasisCurves, Mesh) and a note per other geometry prim
+/// dropped. The walk is hairlab's, not the crate's `Stage::traverse`, so every child name is checked before a path
+/// is built from it: the crate (0.6.0) accepts a prim named `a}`, whose path is then its own parent, and walking
+/// its ancestors overflows the stack (found by the fuzz run). It keeps what OpenUSD's default traversal keeps:
+/// active, loaded, defined, non-abstract prims and their descendants.
 fn prims(r: &Reader) -> Result<(Vec<Prim>, Vec<Prim>, Vec<String>), UsdError> {
-    let mut paths = Vec::new();
-    r.stage
-        .traverse(PrimPredicate::DEFAULT, |p| paths.push(p.clone()))
-        .map_err(|e| UsdError::Stage {
-            file: r.file.to_owned(),
-            cause: format!("{e:#}"),
-        })?;
     let (mut curves, mut meshes, mut notes) = (Vec::new(), Vec::new(), Vec::new());
-    for path in paths {
-        let prim = r.stage.prim(path);
+    let mut stack = vec![r.stage.prim(sdf::Path::abs_root())];
+    while let Some(prim) = stack.pop() {
+        let crate_err = |what: &str, e: anyhow::Error| r.err(&prim, what, format!("{e:#}"));
+        let names = prim.child_names().map_err(|e| crate_err("(children)", e))?;
+        let mut children = Vec::with_capacity(names.len());
+        for name in names {
+            if !is_identifier(name.as_str()) {
+                return Err(r.err(
+                    &prim,
+                    "(children)",
+                    format!("the child prim name {:?} is not a USD identifier", name.as_str()),
+                ));
+            }
+            let path = prim
+                .path()
+                .append_path(name.as_str())
+                .map_err(|e| crate_err("(children)", e))?;
+            children.push(r.stage.prim(path));
+        }
+        // Reversed onto the stack, so the first child is visited first.
+        for child in children.into_iter().rev() {
+            let status = |f: fn(&Prim) -> anyhow::Result<bool>| f(&child).map_err(|e| r.err(&child, "(status)", format!("{e:#}")));
+            if status(Prim::is_active)? && status(Prim::is_loaded)? && status(Prim::is_defined)? && !status(Prim::is_abstract)? {
+                stack.push(child);
+            }
+        }
+        if prim.path() == &sdf::Path::abs_root() {
+            continue;
+        }
         let ty = prim
             .type_name()
             .map_err(|e| r.err(&prim, "typeName", format!("{e:#}")))?;

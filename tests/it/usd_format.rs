@@ -432,3 +432,26 @@ def Xform "Head"
     assert!(m.normals.iter().all(|n| (*n - Vec3::Y).length() < 1e-6), "{:?}", m.normals);
     assert_eq!(m.color, Vec3::new(0.25, 0.5, 0.75));
 }
+
+/// Regressions from the fuzz run (seeds 11 and 12): a `}` in a prim name or an xformOp name made the `openusd`
+/// crate overflow the stack (the path of `C}` is its own parent); both are now refused before the crate sees them.
+#[test]
+fn names_the_crate_cannot_walk_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let prim_name = HAND_STAGE.replace("def BasisCurves \"Linear\"", "def BasisCurves \"Lin}ear\"");
+    assert_ne!(prim_name, HAND_STAGE);
+    let path = write(&dir, "prim_name.usda", &prim_name);
+    let e = read_usd_file(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("prim_name.usda: prim /Groom, attribute (children): the child prim name \"Lin}ear\" is not a USD identifier"),
+        "{e}"
+    );
+    let op_name = HAND_STAGE.replace("[\"xformOp:translate\",", "[\"xformOp:transl}te\",");
+    assert_ne!(op_name, HAND_STAGE);
+    let path = write(&dir, "op_name.usda", &op_name);
+    let e = read_usd_file(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("op_name.usda: prim /Groom, attribute xformOpOrder: \"xformOp:transl}te\" is not an xformOp name"),
+        "{e}"
+    );
+}

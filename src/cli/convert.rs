@@ -70,7 +70,10 @@ pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
 /// other input or output, or a stage of one frame.
 #[cfg(feature = "usd")]
 fn write_usd_frames(a: &ConvertArgs, ext: &str) -> Result<Option<usize>> {
-    let in_ext = a.input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let in_ext = a
+        .input
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
     if ext != "usda" || !matches!(in_ext.as_deref(), Some("usda" | "usdc" | "usdz")) {
         return Ok(None);
     }

@@ -201,10 +201,9 @@ impl Shape {
         match self {
             Shape::Linear => Ok((n >= 2).then(|| n - 1)),
             Shape::Cubic {
-                basis: Basis::Bezier,
-                ..
+                basis: Basis::Bezier, ..
             } => {
-                if n >= 4 && (n - 4) % 3 == 0 {
+                if n >= 4 && (n - 4).is_multiple_of(3) {
                     Ok(Some((n - 1) / 3))
                 } else {
                     Err(format!("{n} vertices; a bezier curve needs 4 + 3k"))
@@ -214,14 +213,20 @@ impl Shape {
                 if n >= 2 {
                     Ok(Some(n - 1))
                 } else {
-                    Err(format!("{n} vertices; a pinned {} curve needs at least 2", basis.name()))
+                    Err(format!(
+                        "{n} vertices; a pinned {} curve needs at least 2",
+                        basis.name()
+                    ))
                 }
             }
             Shape::Cubic { basis, pinned: false } => {
                 if n >= 4 {
                     Ok(Some(n - 3))
                 } else {
-                    Err(format!("{n} vertices; a nonperiodic {} curve needs at least 4", basis.name()))
+                    Err(format!(
+                        "{n} vertices; a nonperiodic {} curve needs at least 4",
+                        basis.name()
+                    ))
                 }
             }
         }
@@ -355,19 +360,36 @@ impl Reader<'_> {
         if matches!(v, sdf::Value::ValueBlock) {
             return Ok(None);
         }
-        let mut values =
-            vec4s(&v).ok_or_else(|| self.err(prim, name, format!("expected a float or vector array, found {}", type_of(&v))))?;
+        let mut values = vec4s(&v).ok_or_else(|| {
+            self.err(
+                prim,
+                name,
+                format!("expected a float or vector array, found {}", type_of(&v)),
+            )
+        })?;
         let indices_name = format!("{name}:indices");
         if let Some(iv) = self.value(prim, &indices_name, when)? {
-            let idx = ints(&iv)
-                .ok_or_else(|| self.err(prim, &indices_name, format!("expected int[], found {}", type_of(&iv))))?;
+            let idx = ints(&iv).ok_or_else(|| {
+                self.err(
+                    prim,
+                    &indices_name,
+                    format!("expected int[], found {}", type_of(&iv)),
+                )
+            })?;
             values = idx
                 .iter()
                 .enumerate()
                 .map(|(i, &k)| {
-                    usize::try_from(k).ok().and_then(|k| values.get(k).copied()).ok_or_else(|| {
-                        self.err(prim, &indices_name, format!("index {i} is {k}, outside the {} values", values.len()))
-                    })
+                    usize::try_from(k)
+                        .ok()
+                        .and_then(|k| values.get(k).copied())
+                        .ok_or_else(|| {
+                            self.err(
+                                prim,
+                                &indices_name,
+                                format!("index {i} is {k}, outside the {} values", values.len()),
+                            )
+                        })
                 })
                 .collect::<Result<_, _>>()?;
         }
@@ -427,10 +449,25 @@ impl Reader<'_> {
             .value(prim, "points", when)?
             .ok_or_else(|| self.err(prim, "points", "missing"))?;
         let p = vec4s(&v)
-            .filter(|_| !matches!(v, sdf::Value::FloatVec(_) | sdf::Value::DoubleVec(_) | sdf::Value::HalfVec(_)))
-            .ok_or_else(|| self.err(prim, "points", format!("expected point3f[], found {}", type_of(&v))))?;
+            .filter(|_| {
+                !matches!(
+                    v,
+                    sdf::Value::FloatVec(_) | sdf::Value::DoubleVec(_) | sdf::Value::HalfVec(_)
+                )
+            })
+            .ok_or_else(|| {
+                self.err(
+                    prim,
+                    "points",
+                    format!("expected point3f[], found {}", type_of(&v)),
+                )
+            })?;
         if let Some((i, x)) = p.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(self.err(prim, "points", format!("point {i} is not finite: {}", x.truncate())));
+            return Err(self.err(
+                prim,
+                "points",
+                format!("point {i} is not finite: {}", x.truncate()),
+            ));
         }
         Ok(p.into_iter().map(DVec4::truncate).collect())
     }
@@ -440,11 +477,13 @@ impl Reader<'_> {
         let v = self
             .value(prim, name, when)?
             .ok_or_else(|| self.err(prim, name, "missing"))?;
-        let c = ints(&v).ok_or_else(|| self.err(prim, name, format!("expected int[], found {}", type_of(&v))))?;
+        let c =
+            ints(&v).ok_or_else(|| self.err(prim, name, format!("expected int[], found {}", type_of(&v))))?;
         let mut sum = 0u64;
         let mut out = Vec::with_capacity(c.len().min(total + 1));
         for (i, &k) in c.iter().enumerate() {
-            let k = u64::try_from(k).map_err(|_| self.err(prim, name, format!("count {i} is {k}, below 0")))?;
+            let k =
+                u64::try_from(k).map_err(|_| self.err(prim, name, format!("count {i} is {k}, below 0")))?;
             sum = sum.saturating_add(k);
             if sum > total as u64 {
                 break;
@@ -453,7 +492,11 @@ impl Reader<'_> {
         }
         if sum != total as u64 || out.len() != c.len() {
             let sum: i128 = c.iter().map(|&k| i128::from(k)).sum();
-            return Err(self.err(prim, name, format!("the counts sum to {sum}, the prim has {total} points")));
+            return Err(self.err(
+                prim,
+                name,
+                format!("the counts sum to {sum}, the prim has {total} points"),
+            ));
         }
         Ok(out)
     }
@@ -461,7 +504,14 @@ impl Reader<'_> {
 
 /// Checks a primvar's length against its interpolation: `constant` 1, `uniform` one per curve or face, `vertex`
 /// one per point, `varying` `varying` values.
-fn check_len(r: &Reader, prim: &Prim, pv: &Primvar, elements: usize, vertices: usize, varying: usize) -> Result<(), UsdError> {
+fn check_len(
+    r: &Reader,
+    prim: &Prim,
+    pv: &Primvar,
+    elements: usize,
+    vertices: usize,
+    varying: usize,
+) -> Result<(), UsdError> {
     let expected = match pv.interp {
         Interp::Constant => 1,
         Interp::Uniform => elements,
@@ -473,7 +523,10 @@ fn check_len(r: &Reader, prim: &Prim, pv: &Primvar, elements: usize, vertices: u
         return Err(r.err(
             prim,
             pv.name,
-            format!("{} values, {what} interpolation needs {expected}", pv.values.len()),
+            format!(
+                "{} values, {what} interpolation needs {expected}",
+                pv.values.len()
+            ),
         ));
     }
     Ok(())
@@ -490,14 +543,22 @@ fn read_curves(r: &Reader, prim: &Prim, when: When, notes: &mut Vec<String>) -> 
             let pinned = match wrap.as_str() {
                 "nonperiodic" => false,
                 "pinned" => true,
-                "periodic" => return Err(r.err(prim, "wrap", "periodic curves are refused (hairlab reads open strands)")),
+                "periodic" => {
+                    return Err(r.err(
+                        prim,
+                        "wrap",
+                        "periodic curves are refused (hairlab reads open strands)",
+                    ));
+                }
                 w => return Err(r.err(prim, "wrap", format!("unknown wrap {w:?}"))),
             };
             let basis = match r.token(prim, "basis", "bezier")?.as_str() {
                 "bezier" => Basis::Bezier,
                 "bspline" => Basis::Bspline,
                 "catmullRom" => Basis::CatmullRom,
-                "hermite" => return Err(r.err(prim, "basis", "hermite curves are refused (no tangents read)")),
+                "hermite" => {
+                    return Err(r.err(prim, "basis", "hermite curves are refused (no tangents read)"));
+                }
                 b => return Err(r.err(prim, "basis", format!("unknown basis {b:?}"))),
             };
             Shape::Cubic {
@@ -508,7 +569,11 @@ fn read_curves(r: &Reader, prim: &Prim, when: When, notes: &mut Vec<String>) -> 
         t => return Err(r.err(prim, "type", format!("unknown type {t:?}"))),
     };
     if shape == Shape::Linear && r.token(prim, "wrap", "nonperiodic")? == "periodic" {
-        return Err(r.err(prim, "wrap", "periodic curves are refused (hairlab reads open strands)"));
+        return Err(r.err(
+            prim,
+            "wrap",
+            "periodic curves are refused (hairlab reads open strands)",
+        ));
     }
     let points = r.points(prim, when)?;
     let counts = r.counts(prim, "curveVertexCounts", when, points.len())?;
@@ -538,9 +603,17 @@ fn read_curves(r: &Reader, prim: &Prim, when: When, notes: &mut Vec<String>) -> 
         return Err(r.err(prim, "widths", format!("width {i} is {}, below 0", x.x)));
     }
     if let Some(o) = &opacity
-        && let Some((i, x)) = o.values.iter().enumerate().find(|(_, x)| !(0.0..=1.0).contains(&x.x))
+        && let Some((i, x)) = o
+            .values
+            .iter()
+            .enumerate()
+            .find(|(_, x)| !(0.0..=1.0).contains(&x.x))
     {
-        return Err(r.err(prim, "primvars:displayOpacity", format!("opacity {i} is {}, outside [0, 1]", x.x)));
+        return Err(r.err(
+            prim,
+            "primvars:displayOpacity",
+            format!("opacity {i} is {}, outside [0, 1]", x.x),
+        ));
     }
     let m = r.world(prim, when)?;
     let width_scale = m.determinant().abs().cbrt();
@@ -602,7 +675,11 @@ fn read_curves(r: &Reader, prim: &Prim, when: When, notes: &mut Vec<String>) -> 
         }
     }
     if let Some((i, p)) = out.points.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-        return Err(r.err(prim, "points", format!("output point {i} is not finite after the transform: {p}")));
+        return Err(r.err(
+            prim,
+            "points",
+            format!("output point {i} is not finite after the transform: {p}"),
+        ));
     }
     if let Shape::Cubic { basis, pinned } = shape {
         notes.push(format!(
@@ -657,8 +734,13 @@ fn read_mesh(r: &Reader, prim: &Prim) -> Result<Mesh, UsdError> {
     let fv = r
         .value(prim, "faceVertexIndices", When::Default)?
         .ok_or_else(|| r.err(prim, "faceVertexIndices", "missing"))?;
-    let fv = ints(&fv)
-        .ok_or_else(|| r.err(prim, "faceVertexIndices", format!("expected int[], found {}", type_of(&fv))))?;
+    let fv = ints(&fv).ok_or_else(|| {
+        r.err(
+            prim,
+            "faceVertexIndices",
+            format!("expected int[], found {}", type_of(&fv)),
+        )
+    })?;
     let counts = r.counts(prim, "faceVertexCounts", When::Default, fv.len())?;
     let mut idx = Vec::with_capacity(fv.len());
     for (i, &k) in fv.iter().enumerate() {
@@ -693,7 +775,11 @@ fn read_mesh(r: &Reader, prim: &Prim) -> Result<Mesh, UsdError> {
     };
     let positions: Vec<Vec3> = points.iter().map(|&p| m.transform_point3(p).as_vec3()).collect();
     if let Some((i, p)) = positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-        return Err(r.err(prim, "points", format!("point {i} is not finite after the transform: {p}")));
+        return Err(r.err(
+            prim,
+            "points",
+            format!("point {i} is not finite after the transform: {p}"),
+        ));
     }
     let mut mesh = Mesh {
         positions,
@@ -743,12 +829,18 @@ fn open(path: &Path) -> Result<Reader<'_>, UsdError> {
         None => 0.01,
         Some(v) => match v.clone().try_as_double() {
             Some(m) if m.is_finite() && m > 0.0 => m,
-            _ => return Err(stage_err(format!("metersPerUnit: {v:?}; it must be finite and above 0"))),
+            _ => {
+                return Err(stage_err(format!(
+                    "metersPerUnit: {v:?}; it must be finite and above 0"
+                )));
+            }
         },
     };
     let tcps = stage.time_codes_per_second();
     if !(tcps.is_finite() && tcps > 0.0) {
-        return Err(stage_err(format!("timeCodesPerSecond is {tcps}; it must be finite and above 0")));
+        return Err(stage_err(format!(
+            "timeCodesPerSecond is {tcps}; it must be finite and above 0"
+        )));
     }
     let axis = match up_axis {
         'Z' => DMat4::from_cols(DVec4::X, DVec4::NEG_Z, DVec4::Y, DVec4::W),
@@ -763,6 +855,14 @@ fn open(path: &Path) -> Result<Reader<'_>, UsdError> {
     })
 }
 
+/// The geometry prims of a stage, in depth-first order.
+struct GeomPrims {
+    curves: Vec<Prim>,
+    meshes: Vec<Prim>,
+    /// One line per other geometry prim, dropped.
+    notes: Vec<String>,
+}
+
 /// Whether `name` is a USD identifier (a letter or `_`, then letters, digits or `_`; Unicode letters allowed).
 fn is_identifier(name: &str) -> bool {
     let mut c = name.chars();
@@ -774,12 +874,11 @@ fn is_property_name(name: &str) -> bool {
     name.split(':').all(is_identifier)
 }
 
-/// The stage's geometry prims in depth-first order: (BasisCurves, Mesh) and a note per other geometry prim
-/// dropped. The walk is hairlab's, not the crate's `Stage::traverse`, so every child name is checked before a path
+/// The stage's geometry prims in depth-first order ([`GeomPrims`]). The walk is hairlab's, not the crate's `Stage::traverse`, so every child name is checked before a path
 /// is built from it: the crate (0.6.0) accepts a prim named `a}`, whose path is then its own parent, and walking
 /// its ancestors overflows the stack (found by the fuzz run). It keeps what OpenUSD's default traversal keeps:
 /// active, loaded, defined, non-abstract prims and their descendants.
-fn prims(r: &Reader) -> Result<(Vec<Prim>, Vec<Prim>, Vec<String>), UsdError> {
+fn prims(r: &Reader) -> Result<GeomPrims, UsdError> {
     let (mut curves, mut meshes, mut notes) = (Vec::new(), Vec::new(), Vec::new());
     let mut stack = vec![r.stage.prim(sdf::Path::abs_root())];
     while let Some(prim) = stack.pop() {
@@ -802,8 +901,14 @@ fn prims(r: &Reader) -> Result<(Vec<Prim>, Vec<Prim>, Vec<String>), UsdError> {
         }
         // Reversed onto the stack, so the first child is visited first.
         for child in children.into_iter().rev() {
-            let status = |f: fn(&Prim) -> anyhow::Result<bool>| f(&child).map_err(|e| r.err(&child, "(status)", format!("{e:#}")));
-            if status(Prim::is_active)? && status(Prim::is_loaded)? && status(Prim::is_defined)? && !status(Prim::is_abstract)? {
+            let status = |f: fn(&Prim) -> anyhow::Result<bool>| {
+                f(&child).map_err(|e| r.err(&child, "(status)", format!("{e:#}")))
+            };
+            if status(Prim::is_active)?
+                && status(Prim::is_loaded)?
+                && status(Prim::is_defined)?
+                && !status(Prim::is_abstract)?
+            {
                 stack.push(child);
             }
         }
@@ -816,13 +921,20 @@ fn prims(r: &Reader) -> Result<(Vec<Prim>, Vec<Prim>, Vec<String>), UsdError> {
         match ty.as_ref().map(tf::Token::as_str) {
             Some("BasisCurves") => curves.push(prim),
             Some("Mesh") => meshes.push(prim),
-            Some(t @ ("NurbsCurves" | "HermiteCurves" | "Points" | "NurbsPatch" | "PointInstancer" | "TetMesh")) => {
+            Some(
+                t
+                @ ("NurbsCurves" | "HermiteCurves" | "Points" | "NurbsPatch" | "PointInstancer" | "TetMesh"),
+            ) => {
                 notes.push(format!("{}: {t} prim dropped (not read)", prim.path().as_str()));
             }
             _ => {}
         }
     }
-    Ok((curves, meshes, notes))
+    Ok(GeomPrims {
+        curves,
+        meshes,
+        notes,
+    })
 }
 
 /// The sorted union of the time codes of the curves' `points.timeSamples`.
@@ -843,7 +955,12 @@ fn time_codes(r: &Reader, curves: &[Prim]) -> Result<Vec<f64>, UsdError> {
     Ok(t)
 }
 
-fn read_strands(r: &Reader, curves: &[Prim], when: When, notes: &mut Vec<String>) -> Result<Strands, UsdError> {
+fn read_strands(
+    r: &Reader,
+    curves: &[Prim],
+    when: When,
+    notes: &mut Vec<String>,
+) -> Result<Strands, UsdError> {
     let mut strands = Strands::default();
     for prim in curves {
         strands.append(&read_curves(r, prim, when, notes)?);
@@ -855,7 +972,11 @@ fn read_strands(r: &Reader, curves: &[Prim], when: When, notes: &mut Vec<String>
 /// none is sampled) and its meshes, in hairlab's world (Y-up, metres). Errors name the file, prim and attribute.
 pub fn read_usd_file(path: &Path) -> Result<UsdScene, UsdError> {
     let r = open(path)?;
-    let (curves, mesh_prims, mut notes) = prims(&r)?;
+    let GeomPrims {
+        curves,
+        meshes: mesh_prims,
+        mut notes,
+    } = prims(&r)?;
     let time_codes = time_codes(&r, &curves)?;
     let when = time_codes.first().map_or(When::Default, |&t| When::At(t));
     let strands = read_strands(&r, &curves, when, &mut notes)?;
@@ -885,7 +1006,7 @@ pub fn read_usd_file(path: &Path) -> Result<UsdScene, UsdError> {
 /// different curve count or point count is an error naming the time code.
 pub fn read_usd_frames(path: &Path) -> Result<UsdFrames, UsdError> {
     let r = open(path)?;
-    let (curves, _, _) = prims(&r)?;
+    let curves = prims(&r)?.curves;
     let codes = time_codes(&r, &curves)?;
     let whens: Vec<When> = if codes.is_empty() {
         vec![When::Default]
@@ -895,7 +1016,15 @@ pub fn read_usd_frames(path: &Path) -> Result<UsdFrames, UsdError> {
     let mut frames: Vec<Strands> = Vec::with_capacity(whens.len());
     for (i, &when) in whens.iter().enumerate() {
         let s = read_strands(&r, &curves, when, &mut Vec::new()).map_err(|e| match (e, when) {
-            (UsdError::Attribute { file, prim, attribute, cause }, When::At(t)) => UsdError::Attribute {
+            (
+                UsdError::Attribute {
+                    file,
+                    prim,
+                    attribute,
+                    cause,
+                },
+                When::At(t),
+            ) => UsdError::Attribute {
                 file,
                 prim,
                 attribute,

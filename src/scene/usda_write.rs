@@ -103,7 +103,7 @@ fn vec3s(v: &[Vec3]) -> String {
 
 /// [`write_usda`] to `path`, whole or not at all ([`crate::io::write_atomic_io`]); errors name the file.
 pub fn write_usda_file(path: &Path, frames: &[Strands], time_codes_per_second: f64) -> anyhow::Result<()> {
-    let text = write_usda(frames, time_codes_per_second).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    crate::io::write_atomic_io(path, text.as_bytes())
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    let text =
+        write_usda(frames, time_codes_per_second).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    crate::io::write_atomic_io(path, text.as_bytes()).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }

@@ -209,10 +209,14 @@ fn mutated_data_files_fail_cleanly() {
 #[cfg(feature = "usd")]
 #[test]
 fn mutated_usda_files_fail_cleanly() {
-    let written = hairlab::scene::usda_write::write_usda(&[crate::groom_formats::uniform_groom()], 24.0).unwrap();
+    let written =
+        hairlab::scene::usda_write::write_usda(&[crate::groom_formats::uniform_groom()], 24.0).unwrap();
     fuzz_strand_format_with(
         "usda",
-        &[crate::usd_format::HAND_STAGE.as_bytes().to_vec(), written.into_bytes()],
+        &[
+            crate::usd_format::HAND_STAGE.as_bytes().to_vec(),
+            written.into_bytes(),
+        ],
         mutate,
     );
 }

@@ -109,7 +109,10 @@ fn hand_written_stage_loads_with_hand_computed_values() {
     let s = &f.strands;
     // Linear: 3 + 2 points; Bezier: 1 span at 4 segments = 5 points; Bspline: 2 spans = 9 points.
     assert_eq!(s.counts, [3, 2, 5, 9]);
-    assert_eq!((s.strand_count(), s.point_count(), s.segment_count()), (4, 19, 15));
+    assert_eq!(
+        (s.strand_count(), s.point_count(), s.segment_count()),
+        (4, 19, 15)
+    );
 
     // Linear, local (0,0,z) → stage (10, 0, 2z) → Y-up (10, 2z, 0) → metres (0.1, 0.02z, 0).
     assert_points(
@@ -178,17 +181,21 @@ fn hand_written_stage_loads_with_hand_computed_values() {
     // (Bezier's middle) to 0.
     let scene = load_scene(&path).unwrap();
     let b = scene.strand_bounds();
-    assert_points(
-        &[b.min, b.max],
-        &[[0.1, 0.0, -0.12], [0.46, 0.24, 0.0]],
-        "bounds",
-    );
+    assert_points(&[b.min, b.max], &[[0.1, 0.0, -0.12], [0.46, 0.24, 0.0]], "bounds");
     assert!(
-        f.notes.iter().any(|n| n == "/Groom/Bezier: cubic bezier → polylines at 4 segments per span (1 curves)"),
+        f.notes
+            .iter()
+            .any(|n| n == "/Groom/Bezier: cubic bezier → polylines at 4 segments per span (1 curves)"),
         "{:?}",
         f.notes
     );
-    assert!(f.notes.iter().any(|n| n == "/Groom/Bspline: widths varying → per point"), "{:?}", f.notes);
+    assert!(
+        f.notes
+            .iter()
+            .any(|n| n == "/Groom/Bspline: widths varying → per point"),
+        "{:?}",
+        f.notes
+    );
 }
 
 #[test]
@@ -216,7 +223,9 @@ fn time_samples_read_as_frames_with_constant_topology() {
     let path = write(&dir, "grown.usda", &grown);
     let e = read_usd_frames(&path).unwrap_err().to_string();
     assert!(
-        e.contains("grown.usda: prim /Groom/Bezier, attribute curveVertexCounts: at time code 2: the counts sum to 4"),
+        e.contains(
+            "grown.usda: prim /Groom/Bezier, attribute curveVertexCounts: at time code 2: the counts sum to 4"
+        ),
         "{e}"
     );
     // ... and counts that change with them (a valid bezier curve of 7 points at time code 2: 9 points, not 5).
@@ -228,7 +237,9 @@ fn time_samples_read_as_frames_with_constant_topology() {
     let path = write(&dir, "recounted.usda", &recounted);
     let e = read_usd_frames(&path).unwrap_err().to_string();
     assert!(
-        e.contains("recounted.usda: time code 2: 4 strands of 23 points, time code 0 has 4 strands of 19 points"),
+        e.contains(
+            "recounted.usda: time code 2: 4 strands of 23 points, time code 0 has 4 strands of 19 points"
+        ),
         "{e}"
     );
 }
@@ -258,7 +269,12 @@ def BasisCurves "C"
     assert_eq!(s.counts, [9]);
     assert_points(
         &[s.points[0], s.points[2], s.points[4], s.points[8]],
-        &[[0.0, 0.0, 0.0], [0.5, 0.625, 0.0], [1.0, 1.0, 0.0], [2.0, 0.0, 0.0]],
+        &[
+            [0.0, 0.0, 0.0],
+            [0.5, 0.625, 0.0],
+            [1.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ],
         "catmullRom pinned",
     );
 }
@@ -293,7 +309,10 @@ fn one_groom_as_usda_tfx_and_data_gives_the_same_strands() {
     let from_usda = load_scene(&usda).unwrap().strands;
     assert_eq!(from_usda, load_scene(&tfx).unwrap().strands);
     let from_data = load_scene(&data).unwrap().strands;
-    assert_eq!((&from_usda.points, &from_usda.counts), (&from_data.points, &from_data.counts));
+    assert_eq!(
+        (&from_usda.points, &from_usda.counts),
+        (&from_data.points, &from_data.counts)
+    );
 }
 
 #[test]
@@ -301,21 +320,16 @@ fn several_frames_round_trip_through_usda_frame_by_frame() {
     let dir = tempfile::tempdir().unwrap();
     let a = crate::groom_formats::uniform_groom();
     let mut b = a.clone();
-    b.points.iter_mut().for_each(|p| *p += Vec3::new(0.5, -0.25, 0.125));
+    b.points
+        .iter_mut()
+        .for_each(|p| *p += Vec3::new(0.5, -0.25, 0.125));
     let path = dir.path().join("m.usda");
     std::fs::write(&path, write_usda(&[a.clone(), b.clone()], 30.0).unwrap()).unwrap();
     let f = read_usd_frames(&path).unwrap();
     assert_eq!(f.time_codes, [0.0, 1.0]);
     assert_eq!(f.time_codes_per_second, 30.0);
     assert_eq!(f.frames, [a, b]);
-    let e = write_usda(
-        &[
-            Strands::default(),
-            crate::groom_formats::uniform_groom(),
-        ],
-        24.0,
-    )
-    .unwrap_err();
+    let e = write_usda(&[Strands::default(), crate::groom_formats::uniform_groom()], 24.0).unwrap_err();
     assert!(e.contains("frame 1"), "{e}");
 }
 
@@ -323,7 +337,9 @@ fn several_frames_round_trip_through_usda_frame_by_frame() {
 fn bad_stages_are_refused_naming_file_prim_and_attribute() {
     let dir = tempfile::tempdir().unwrap();
     let curve = |body: &str| {
-        format!("#usda 1.0\n(\n    metersPerUnit = 1\n)\ndef Xform \"G\"\n{{\n    def BasisCurves \"C\"\n    {{\n{body}\n    }}\n}}\n")
+        format!(
+            "#usda 1.0\n(\n    metersPerUnit = 1\n)\ndef Xform \"G\"\n{{\n    def BasisCurves \"C\"\n    {{\n{body}\n    }}\n}}\n"
+        )
     };
     let cases = [
         (
@@ -395,10 +411,16 @@ fn info_and_convert_report_the_stage_and_keep_its_frames() {
     let o = hairlab(&["convert", path.to_str().unwrap(), out_path.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("frames:    2 (time-sampled points)"));
-    let (a, b) = (read_usd_frames(&path).unwrap(), read_usd_frames(&out_path).unwrap());
+    let (a, b) = (
+        read_usd_frames(&path).unwrap(),
+        read_usd_frames(&out_path).unwrap(),
+    );
     assert_eq!(a.frames, b.frames);
     // The written stage plays its frames at time codes 0, 1 at the source's rate.
-    assert_eq!((b.time_codes.as_slice(), b.time_codes_per_second), ([0.0, 1.0].as_slice(), 12.0));
+    assert_eq!(
+        (b.time_codes.as_slice(), b.time_codes_per_second),
+        ([0.0, 1.0].as_slice(), 12.0)
+    );
 }
 
 #[test]
@@ -429,7 +451,11 @@ def Xform "Head"
     // A quad as a fan: (0, 1, 2), (0, 2, 3); lifted by 1 in y; counter-clockwise seen from +y, so normals +y.
     assert_eq!(m.indices, [0, 1, 2, 0, 2, 3]);
     assert_eq!(m.positions[2], Vec3::new(1.0, 1.0, -1.0));
-    assert!(m.normals.iter().all(|n| (*n - Vec3::Y).length() < 1e-6), "{:?}", m.normals);
+    assert!(
+        m.normals.iter().all(|n| (*n - Vec3::Y).length() < 1e-6),
+        "{:?}",
+        m.normals
+    );
     assert_eq!(m.color, Vec3::new(0.25, 0.5, 0.75));
 }
 
@@ -451,7 +477,9 @@ fn names_the_crate_cannot_walk_are_refused() {
     let path = write(&dir, "op_name.usda", &op_name);
     let e = read_usd_file(&path).unwrap_err().to_string();
     assert!(
-        e.contains("op_name.usda: prim /Groom, attribute xformOpOrder: \"xformOp:transl}te\" is not an xformOp name"),
+        e.contains(
+            "op_name.usda: prim /Groom, attribute xformOpOrder: \"xformOp:transl}te\" is not an xformOp name"
+        ),
         "{e}"
     );
 }

@@ -1,6 +1,7 @@
 //! USD stages (`.usda`, `.usdc`, `.usdz`; Pixar's Universal Scene Description, <https://openusd.org>), read
 //! through the pure-Rust [`openusd`] crate (pinned at 0.6.0, behind the default-on `usd` cargo feature): every
-//! `BasisCurves` prim becomes hair strands and every `Mesh` prim an opaque mesh, in hairlab's world.
+//! `BasisCurves` prim becomes hair strands and every `Mesh` prim an opaque mesh, in hairlab's world. `.usdc` and
+//! `.usdz` go through the same `Stage::open` as `.usda`; hairlab's tests and fuzz run cover `.usda` only.
 //!
 //! **World.** hairlab's world is right-handed and Y-up. A USD stage says its own up axis (`upAxis`, `"Y"` or
 //! `"Z"`, fallback Y) and unit (`metersPerUnit`, fallback 0.01 — USD's centimetres, `UsdGeomGetStageMetersPerUnit`),
@@ -36,10 +37,13 @@
 //!
 //! **Refusals.** Every error names the file, and for a prim's data the prim path and the attribute: missing
 //! `points` or `curveVertexCounts`, counts that are negative or do not sum to the points, a curve too short for its
-//! basis, an array of the wrong length for its interpolation, a value not finite, a width below 0, an opacity or
-//! colour outside [0, 1] for opacity. The crate parses the whole file before hairlab sees a count, so the bound on
+//! basis, an array of the wrong length for its interpolation, a value not finite, a width below 0, an opacity
+//! outside [0, 1]. The crate parses the whole file before hairlab sees a count, so the bound on
 //! memory is the crate's and [`crate::io::MAX_INPUT_BYTES`] on the file; what hairlab allocates from the file's
 //! counts is checked against the arrays first (at most `CUBIC_SEGMENTS_PER_SPAN + 1` points per control point).
+//! The crate 0.6.0 overflows the stack (an abort, not a panic) on a prim or xformOp name that is not an identifier
+//! (`a}`); hairlab walks the stage itself and refuses such names before the crate resolves them. No other crash was
+//! found in 2 × 1,000,000 mutated stages; no `catch_unwind` hides anything.
 
 use std::path::{Path, PathBuf};
 

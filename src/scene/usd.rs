@@ -1,7 +1,8 @@
 //! USD stages (`.usda`, `.usdc`, `.usdz`; Pixar's Universal Scene Description, <https://openusd.org>), read
 //! through the pure-Rust [`openusd`] crate (pinned at 0.6.0, behind the default-on `usd` cargo feature): every
 //! `BasisCurves` prim becomes hair strands and every `Mesh` prim an opaque mesh, in hairlab's world. `.usdc` and
-//! `.usdz` go through the same `Stage::open` as `.usda`; hairlab's tests and fuzz run cover `.usda` only.
+//! `.usdz` go through the same `Stage::open` as `.usda` (tested on the hand-written stage re-encoded by the crate;
+//! the fuzz run covers `.usda` only).
 //!
 //! **World.** hairlab's world is right-handed and Y-up. A USD stage says its own up axis (`upAxis`, `"Y"` or
 //! `"Z"`, fallback Y) and unit (`metersPerUnit`, fallback 0.01 — USD's centimetres, `UsdGeomGetStageMetersPerUnit`),

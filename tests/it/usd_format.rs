@@ -483,3 +483,19 @@ fn names_the_crate_cannot_walk_are_refused() {
         "{e}"
     );
 }
+
+/// The hand stage re-encoded by the `openusd` crate as binary `.usdc` and as a `.usdz` archive reads as the text.
+#[test]
+fn usdc_and_usdz_read_like_usda() {
+    let dir = tempfile::tempdir().unwrap();
+    let usda = write(&dir, "hand.usda", HAND_STAGE);
+    let text = read_usd_file(&usda).unwrap();
+    let stage = openusd::usd::Stage::open(usda.to_str().unwrap()).unwrap();
+    for ext in ["usdc", "usdz"] {
+        let path = dir.path().join(format!("hand.{ext}"));
+        stage.root_layer().export(path.to_str().unwrap()).unwrap();
+        let binary = read_usd_file(&path).unwrap();
+        assert_eq!(binary.strands, text.strands, ".{ext}");
+        assert_eq!(binary.time_codes, text.time_codes, ".{ext}");
+    }
+}

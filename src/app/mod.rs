@@ -292,8 +292,8 @@ impl HairlabApp {
             let fut: Pick = match purpose {
                 DialogPurpose::OpenScene => Box::pin(
                     d.add_filter(
-                        "hair, glTF, TressFX or USC-HairSalon",
-                        &crate::scene::load::SCENE_EXTENSIONS,
+                        "hair, glTF, TressFX, USC-HairSalon or USD",
+                        crate::scene::load::SCENE_EXTENSIONS,
                     )
                     .set_title("Load strands")
                     .pick_file(),

@@ -1,4 +1,6 @@
-//! `hairlab convert`: strands from any readable format to `.hair`, `.tfx` or `.data`, written whole.
+//! `hairlab convert`: strands from any readable format to `.hair`, `.tfx`, `.data` or `.usda`, written whole. A
+//! time-sampled USD stage converted to `.usda` keeps every frame (time-sampled points); to any other format, its
+//! first time code.
 
 use anyhow::Result;
 use clap::Args;
@@ -6,9 +8,9 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
-    /// Input: `.hair`, `.gltf`, `.glb`, `.tfx` or `.data`.
+    /// Input: `.hair`, `.gltf`, `.glb`, `.tfx`, `.data`, `.usda`, `.usdc` or `.usdz`.
     pub input: PathBuf,
-    /// Output: `.hair`, `.tfx` or `.data`.
+    /// Output: `.hair`, `.tfx`, `.data` or `.usda`.
     pub output: PathBuf,
 }
 
@@ -28,7 +30,14 @@ pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
     crate::io::check_output(&a.output, &ext)?;
     let scene = load_scene(&a.input)?;
     let name = a.input.file_name().unwrap_or_default().to_string_lossy();
-    save_strands(&a.output, &scene.strands, &format!("hairlab convert {name}"))?;
+    #[cfg(feature = "usd")]
+    let frames = write_usd_frames(a, &ext)?;
+    #[cfg(not(feature = "usd"))]
+    let frames: Option<usize> = None;
+    match frames {
+        Some(n) => println!("frames:    {n} (time-sampled points)"),
+        None => save_strands(&a.output, &scene.strands, &format!("hairlab convert {name}"))?,
+    }
     let s = &scene.strands;
     println!(
         "wrote {}: {} strands, {} points, {} segments",
@@ -55,4 +64,23 @@ pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// A time-sampled USD stage to `.usda`: writes every frame and returns how many; `None` (nothing written) for any
+/// other input or output, or a stage of one frame.
+#[cfg(feature = "usd")]
+fn write_usd_frames(a: &ConvertArgs, ext: &str) -> Result<Option<usize>> {
+    let in_ext = a
+        .input
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    if ext != "usda" || !matches!(in_ext.as_deref(), Some("usda" | "usdc" | "usdz")) {
+        return Ok(None);
+    }
+    let f = crate::scene::usd::read_usd_frames(&a.input)?;
+    if f.frames.len() < 2 {
+        return Ok(None);
+    }
+    crate::scene::usda_write::write_usda_file(&a.output, &f.frames, f.time_codes_per_second)?;
+    Ok(Some(f.frames.len()))
 }

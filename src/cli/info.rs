@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// A `.hair`, `.gltf`, `.glb`, TressFX `.tfx` or USC-HairSalon `.data` file.
+    /// A `.hair`, `.gltf`, `.glb`, TressFX `.tfx`, USC-HairSalon `.data` or USD (`.usda`, `.usdc`, `.usdz`) file.
     pub file: PathBuf,
 }
 
@@ -51,6 +51,36 @@ pub(super) fn info(path: &Path) -> Result<()> {
             let dropped = (f.empty_strands > 0).then(|| format!("{} strands of 0 vertices", f.empty_strands));
             arrays_dropped = Some((vec!["positions"], dropped.into_iter().collect()));
             crate::scene::Scene::new(f.strands, Vec::new())
+        }
+        #[cfg(feature = "usd")]
+        (None, Some("usda" | "usdc" | "usdz")) => {
+            let f = crate::scene::usd::read_usd_file(path)?;
+            let s = &f.strands;
+            let arrays: Vec<&str> = [
+                ("points", true),
+                ("widths", s.thickness.is_some()),
+                ("displayColor", s.color.is_some()),
+                ("displayOpacity", s.alpha.is_some()),
+            ]
+            .iter()
+            .filter(|(_, p)| *p)
+            .map(|(n, _)| *n)
+            .collect();
+            println!(
+                "stage:     upAxis {}, metersPerUnit {} (read as Y-up metres), {} time samples at {} time codes \
+                 per second",
+                f.up_axis,
+                f.meters_per_unit,
+                f.time_codes.len(),
+                f.time_codes_per_second
+            );
+            arrays_dropped = Some((arrays, Vec::new()));
+            for n in &f.notes {
+                println!("converted: {n}");
+            }
+            let tris: usize = f.meshes.iter().map(|m| m.indices.len() / 3).sum();
+            println!("meshes:    {} ({tris} triangles)", f.meshes.len());
+            crate::scene::Scene::new(f.strands, f.meshes)
         }
         (None, _) => crate::scene::load::load_scene(path)?,
     };

@@ -1,10 +1,11 @@
-//! Loading a scene from a file, choosing the loader by extension (`.hair`, `.gltf`, `.glb`, `.tfx`, `.data`).
+//! Loading a scene from a file, choosing the loader by extension (`.hair`, `.gltf`, `.glb`, `.tfx`, `.data`, and
+//! with the `usd` feature `.usda`, `.usdc`, `.usdz`).
 //!
-//! hairlab's world is right-handed and Y-up, in the units of the file: no loader rescales or turns what it reads.
-//! `.hair` and glTF (Y-up by its specification, metres) are taken as they are; so are TressFX `.tfx` (Y-up, as
-//! TressFX runtimes expect) and USC-HairSalon `.data` (Y-up, aligned to the database's head model). What each
-//! reader keeps and drops is stated in its module: [`super::hair`], [`super::gltf_load`], [`super::tfx`],
-//! [`super::usc_data`].
+//! hairlab's world is right-handed and Y-up. `.hair` and glTF (Y-up by its specification, metres) are taken as they
+//! are, in the units of the file; so are TressFX `.tfx` (Y-up, as TressFX runtimes expect) and USC-HairSalon `.data`
+//! (Y-up, aligned to the database's head model). A USD stage states its up axis and unit, so its reader turns a
+//! Z-up stage to Y-up and scales to metres. What each reader keeps and drops is stated in its module:
+//! [`super::hair`], [`super::gltf_load`], [`super::tfx`], [`super::usc_data`], `super::usd`.
 
 use std::path::Path;
 
@@ -13,10 +14,14 @@ use anyhow::bail;
 use super::{Scene, gltf_load, hair, tfx, usc_data};
 
 /// Every extension [`load_scene`] reads (lower case), for file dialogs.
-pub const SCENE_EXTENSIONS: [&str; 5] = ["hair", "gltf", "glb", "tfx", "data"];
+#[cfg(feature = "usd")]
+pub const SCENE_EXTENSIONS: &[&str] = &["hair", "gltf", "glb", "tfx", "data", "usda", "usdc", "usdz"];
+/// Every extension [`load_scene`] reads (lower case), for file dialogs (built without the `usd` feature).
+#[cfg(not(feature = "usd"))]
+pub const SCENE_EXTENSIONS: &[&str] = &["hair", "gltf", "glb", "tfx", "data"];
 
 /// Loads `path` as a scene: `.hair`, `.tfx` and `.data` files give strands only (no meshes); `.gltf`/`.glb` files
-/// give meshes and strands. The extension is matched case-insensitively; anything else is an error naming the
+/// and USD stages give meshes and strands (a time-sampled stage its first time code). The extension is matched case-insensitively; anything else is an error naming the
 /// file.
 pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
@@ -30,6 +35,11 @@ pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
         Some("gltf" | "glb") => Ok(gltf_load::load_gltf(path)?),
         Some("tfx") => Ok(Scene::new(tfx::read_tfx_file(path)?.to_strands(), Vec::new())),
         Some("data") => Ok(Scene::new(usc_data::read_data_file(path)?.strands, Vec::new())),
+        #[cfg(feature = "usd")]
+        Some("usda" | "usdc" | "usdz") => {
+            let s = super::usd::read_usd_file(path)?;
+            Ok(Scene::new(s.strands, s.meshes))
+        }
         _ => bail!(
             "{}: unsupported file type (supported: .{})",
             path.display(),
@@ -39,9 +49,9 @@ pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
 }
 
 /// Every extension [`save_strands`] writes (lower case).
-pub const STRAND_EXTENSIONS: [&str; 3] = ["hair", "tfx", "data"];
+pub const STRAND_EXTENSIONS: [&str; 4] = ["hair", "tfx", "data", "usda"];
 
-/// Writes `strands` to `path` in the format its extension names (`.hair`, `.tfx`, `.data`, any case), whole or not
+/// Writes `strands` to `path` in the format its extension names (`.hair`, `.tfx`, `.data`, `.usda`, any case), whole or not
 /// at all (each writer goes through [`crate::io::write_atomic_io`]). `info` is the `.hair` info string. A groom the
 /// format cannot hold (a `.tfx` needs equal strand lengths, ...) is an error naming the file; a `.data` file holds
 /// positions only, so thickness, alpha and colour are not written to it (the caller says so).
@@ -58,6 +68,7 @@ pub fn save_strands(path: &Path, strands: &super::Strands, info: &str) -> anyhow
             Ok(tfx::write_tfx_file(path, &f)?)
         }
         Some("data") => Ok(usc_data::write_data_file(path, strands)?),
+        Some("usda") => super::usda_write::write_usda_file(path, std::slice::from_ref(strands), 24.0),
         _ => bail!(
             "{}: cannot write this file type (written: .{})",
             path.display(),

@@ -1,7 +1,7 @@
 //! Scene model: strands, opaque meshes, one light and a camera — no more than a scene needs.
 //!
 //! Geometry lives in [`Scene`]; the light and camera are small parameter structs that presets and the GUI edit.
-//! Loaders (`.hair`, glTF, TressFX `.tfx`, USC-HairSalon `.data`) and the procedural generators all produce a [`Scene`].
+//! Loaders (`.hair`, glTF, TressFX `.tfx`, USC-HairSalon `.data`, USD) and the procedural generators all produce a [`Scene`].
 
 pub mod fur_shapes;
 pub mod generate;
@@ -13,6 +13,9 @@ pub mod pick;
 pub mod style;
 pub mod tfx;
 pub mod usc_data;
+#[cfg(feature = "usd")]
+pub mod usd;
+pub mod usda_write;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

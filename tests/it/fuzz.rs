@@ -1,5 +1,5 @@
 //! Bounded mutation runs over every input format hairlab reads (issue 11's "fuzzing as a habit"): glTF and glb,
-//! `.hair`, TressFX `.tfx`, USC-HairSalon `.data`, the fragment CSV of `hairlab curve`, and preset TOML with `--set`
+//! `.hair`, TressFX `.tfx`, USC-HairSalon `.data`, USD `.usda`, the fragment CSV of `hairlab curve`, and preset TOML with `--set`
 //! overrides. Each seed is a file the tests write; each case mutates it a few times (a number token replaced by an
 //! extreme, a byte overwritten, the text cut short; for `.tfx` and `.data` also an aligned 32-bit word — a count,
 //! an offset, a coordinate — replaced by an extreme) and must load or fail with an error naming its source — never
@@ -151,6 +151,11 @@ fn mutate_binary(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
 /// `case<N>.<ext>`. A loaded groom must be consistent (its counts add up to its points, every point finite);
 /// a refusal must name the file.
 fn fuzz_strand_format(ext: &str, seeds: &[Vec<u8>]) {
+    fuzz_strand_format_with(ext, seeds, mutate_binary);
+}
+
+/// [`fuzz_strand_format`] with the mutation `mutator`.
+fn fuzz_strand_format_with(ext: &str, seeds: &[Vec<u8>], mutator: fn(&mut SplitMix64, &[u8]) -> Vec<u8>) {
     let dir = tempfile::tempdir().expect("tempdir");
     let (cases, mut rng) = run();
     let (mut loaded, mut refused) = (0, 0);
@@ -159,7 +164,7 @@ fn fuzz_strand_format(ext: &str, seeds: &[Vec<u8>]) {
     for case in 0..cases {
         let seed = &seeds[case as usize % seeds.len()];
         let path = dir.path().join(format!("case{case}.{ext}"));
-        std::fs::write(&path, mutate_binary(&mut rng, seed)).unwrap();
+        std::fs::write(&path, mutator(&mut rng, seed)).unwrap();
         match slowest.time(case, || load_scene(&path)) {
             Ok(scene) => {
                 let s = &scene.strands;
@@ -196,6 +201,24 @@ fn mutated_tfx_files_fail_cleanly() {
 fn mutated_data_files_fail_cleanly() {
     let groom = write_data(&crate::groom_formats::uniform_groom()).unwrap();
     fuzz_strand_format("data", &[groom, crate::groom_formats::hand_built_data()]);
+}
+
+/// Text mutations of two stages: the hand-written one of the USD tests (Z-up centimetres, linear, bezier with time
+/// samples, bspline, transforms, vertex, constant, uniform and varying primvars) and the writer's output for a
+/// groom with every array. The `openusd` crate parses; a panic in it fails this test like one in hairlab.
+#[cfg(feature = "usd")]
+#[test]
+fn mutated_usda_files_fail_cleanly() {
+    let written =
+        hairlab::scene::usda_write::write_usda(&[crate::groom_formats::uniform_groom()], 24.0).unwrap();
+    fuzz_strand_format_with(
+        "usda",
+        &[
+            crate::usd_format::HAND_STAGE.as_bytes().to_vec(),
+            written.into_bytes(),
+        ],
+        mutate,
+    );
 }
 
 /// The glb form of a text glTF: its JSON as the one chunk.

@@ -47,4 +47,6 @@ mod stability_msm;
 mod transparency_claims;
 mod transparency_gpu;
 mod transparency_occupancy;
+#[cfg(feature = "usd")]
+mod usd_format;
 mod visibility_models;

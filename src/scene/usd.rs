@@ -1,0 +1,1064 @@
+//! USD stages (`.usda`, `.usdc`, `.usdz`; Pixar's Universal Scene Description, <https://openusd.org>), read
+//! through the pure-Rust [`openusd`] crate (pinned at 0.6.0, behind the default-on `usd` cargo feature): every
+//! `BasisCurves` prim becomes hair strands and every `Mesh` prim an opaque mesh, in hairlab's world. `.usdc` and
+//! `.usdz` go through the same `Stage::open` as `.usda` (tested on the hand-written stage re-encoded by the crate;
+//! the fuzz run covers `.usda` only).
+//!
+//! **World.** hairlab's world is right-handed and Y-up. A USD stage says its own up axis (`upAxis`, `"Y"` or
+//! `"Z"`, fallback Y) and unit (`metersPerUnit`, fallback 0.01 — USD's centimetres, `UsdGeomGetStageMetersPerUnit`),
+//! so this reader converts: a Z-up stage is turned by −90° about X (`(x, y, z)` → `(x, z, −y)`) and everything is
+//! scaled to metres. Each prim's points go through its world transform: the `xformOp`s of the prim and of every
+//! ancestor, composed by the crate's `Xformable::local_to_parent_transform` prim by prim (a
+//! `!resetXformStack!` stops the walk up), then the axis and unit conversion.
+//!
+//! **BasisCurves** (schema `UsdGeomBasisCurves`). The schema's fallbacks apply where the file authors nothing:
+//! `type` cubic, `basis` bezier, `wrap` nonperiodic (the crate returns `None` for an unauthored attribute).
+//! - `type = "linear"`: the vertices are the polyline (a curve of fewer than 2 vertices is dropped and counted).
+//! - `type = "cubic"` with `basis` bezier (vstep 3), bspline or catmullRom (vstep 1): each span is evaluated at
+//!   [`CUBIC_SEGMENTS_PER_SPAN`] segments (a constant), so a curve of `k` spans becomes `4k + 1` points. A
+//!   nonperiodic bezier curve needs `4 + 3m` vertices, a nonperiodic bspline or catmullRom curve at least 4.
+//!   `wrap = "pinned"` bspline and catmullRom curves get USD's phantom end points (`2·P0 − P1`, `2·Pn−1 − Pn−2`) so
+//!   they pass through their end vertices (at least 2 vertices, `n − 1` spans); pinned bezier is nonperiodic.
+//!   `basis = "hermite"` and `wrap = "periodic"` are refused by name.
+//! - `widths` (diameters; interpolation `constant`, `uniform`, `varying` or `vertex`, fallback vertex) become per
+//!   point thickness in metres: the width times the unit scale and the cube root of the transform's |det|.
+//!   `primvars:displayColor` / `primvars:displayOpacity` (fallback interpolation constant, `:indices` honoured)
+//!   become colour and alpha. A vertex value is evaluated with the curve's basis, a varying value linearly per span
+//!   (USD's rules; `faceVarying` reads as varying on curves). Other primvars, normals and velocities are not read.
+//!
+//! **Mesh** prims: `faceVertexCounts` / `faceVertexIndices` polygons triangulated as fans (`orientation =
+//! "leftHanded"` and mirroring transforms flip the winding), smooth normals computed, colour from a constant
+//! `displayColor` (else grey). Other geometry prims (`NurbsCurves`, `HermiteCurves`, `Points`, …) are dropped and
+//! listed in [`UsdScene::notes`].
+//!
+//! **Time.** `points.timeSamples` of the curves are read by [`read_usd_frames`] at the union of their time codes,
+//! played at the stage's `timeCodesPerSecond` (fallback `framesPerSecond`, then 24); the topology (curve counts and
+//! point counts) must not change, else the error names the time code. [`read_usd_file`] reads the first time code
+//! when the curves have samples, else the default values.
+//!
+//! **Refusals.** Every error names the file, and for a prim's data the prim path and the attribute: missing
+//! `points` or `curveVertexCounts`, counts that are negative or do not sum to the points, a curve too short for its
+//! basis, an array of the wrong length for its interpolation, a value not finite, a width below 0, an opacity
+//! outside [0, 1]. The crate parses the whole file before hairlab sees a count, so the bound on
+//! memory is the crate's and [`crate::io::MAX_INPUT_BYTES`] on the file; what hairlab allocates from the file's
+//! counts is checked against the arrays first (at most `CUBIC_SEGMENTS_PER_SPAN + 1` points per control point).
+//! The crate 0.6.0 overflows the stack (an abort, not a panic) on a prim or xformOp name that is not an identifier
+//! (`a}`); hairlab walks the stage itself and refuses such names before the crate resolves them. No other crash was
+//! found in 2 × 1,000,000 mutated stages; no `catch_unwind` hides anything.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DVec3, DVec4, Vec3};
+use openusd::schemas::geom::{Imageable, Xformable};
+use openusd::usd::{Prim, SchemaBase, SchemaKind, Stage, TimeCode};
+use openusd::{sdf, tf};
+use thiserror::Error;
+
+use super::{Mesh, Strands};
+
+/// Segments each cubic span is evaluated at.
+pub const CUBIC_SEGMENTS_PER_SPAN: usize = 4;
+
+/// Everything that can go wrong reading a USD stage. Each message is one line.
+#[derive(Debug, Error)]
+pub enum UsdError {
+    #[error("{file}: {cause}")]
+    Stage { file: PathBuf, cause: String },
+    #[error("{file}: prim {prim}, attribute {attribute}: {cause}")]
+    Attribute {
+        file: PathBuf,
+        prim: String,
+        attribute: String,
+        cause: String,
+    },
+}
+
+/// A stage as hairlab keeps it: strands and meshes in the world convention, and what was converted or dropped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UsdScene {
+    pub strands: Strands,
+    pub meshes: Vec<Mesh>,
+    /// The stage's `upAxis` ('Y' or 'Z', fallback 'Y').
+    pub up_axis: char,
+    /// The stage's `metersPerUnit` (fallback 0.01).
+    pub meters_per_unit: f64,
+    /// Time codes of the curves' `points.timeSamples` (all prims together, sorted); empty for a still stage.
+    pub time_codes: Vec<f64>,
+    pub time_codes_per_second: f64,
+    /// One line per thing converted or dropped, e.g. "cubic bspline → polylines at 4 segments per span (/A, 3
+    /// curves)".
+    pub notes: Vec<String>,
+}
+
+/// The frames of a stage's time-sampled curves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UsdFrames {
+    /// One [`Strands`] per time code, all with the same counts.
+    pub frames: Vec<Strands>,
+    /// The time code of each frame.
+    pub time_codes: Vec<f64>,
+    /// Time codes per second: frame `i` plays at `time_codes[i] / time_codes_per_second` seconds.
+    pub time_codes_per_second: f64,
+}
+
+/// Any prim as an [`Xformable`], to compose its `xformOp`s (the crate implements the trait on typed views only).
+struct AnyXformable(Prim);
+
+impl SchemaBase for AnyXformable {
+    const KIND: SchemaKind = SchemaKind::ConcreteTyped;
+    fn prim(&self) -> &Prim {
+        &self.0
+    }
+}
+impl Imageable for AnyXformable {}
+impl Xformable for AnyXformable {}
+
+/// The reading context: the stage, the file name for errors, and the stage-wide conversion.
+struct Reader<'a> {
+    file: &'a Path,
+    stage: Stage,
+    /// Axis and unit conversion, applied after each prim's world transform.
+    to_world: DMat4,
+    up_axis: char,
+    meters_per_unit: f64,
+}
+
+/// How a primvar's values map onto a curve batch or mesh (USD's `interpolation` metadata).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Interp {
+    Constant,
+    Uniform,
+    Varying,
+    Vertex,
+}
+
+impl Interp {
+    fn name(self) -> &'static str {
+        match self {
+            Interp::Constant => "constant",
+            Interp::Uniform => "uniform",
+            Interp::Varying => "varying",
+            Interp::Vertex => "vertex",
+        }
+    }
+}
+
+/// One array attribute as read: 4-wide values (a float uses `x`, a colour `xyz`), its interpolation and name.
+struct Primvar {
+    name: &'static str,
+    values: Vec<DVec4>,
+    interp: Interp,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Basis {
+    Bezier,
+    Bspline,
+    CatmullRom,
+}
+
+impl Basis {
+    fn vstep(self) -> usize {
+        match self {
+            Basis::Bezier => 3,
+            Basis::Bspline | Basis::CatmullRom => 1,
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Basis::Bezier => "bezier",
+            Basis::Bspline => "bspline",
+            Basis::CatmullRom => "catmullRom",
+        }
+    }
+    /// The four weights of a span's control points at `t` in [0, 1] (the basis matrices of `UsdGeomBasisCurves`).
+    fn weights(self, t: f64) -> [f64; 4] {
+        let (t2, t3, s) = (t * t, t * t * t, 1.0 - t);
+        match self {
+            Basis::Bezier => [s * s * s, 3.0 * t * s * s, 3.0 * t2 * s, t3],
+            Basis::Bspline => [
+                s * s * s / 6.0,
+                (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0,
+                (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0,
+                t3 / 6.0,
+            ],
+            Basis::CatmullRom => [
+                (-t3 + 2.0 * t2 - t) / 2.0,
+                (3.0 * t3 - 5.0 * t2 + 2.0) / 2.0,
+                (-3.0 * t3 + 4.0 * t2 + t) / 2.0,
+                (t3 - t2) / 2.0,
+            ],
+        }
+    }
+}
+
+/// A curve batch's shape: linear, or cubic with a basis and whether bspline/catmullRom ends are pinned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shape {
+    Linear,
+    Cubic { basis: Basis, pinned: bool },
+}
+
+impl Shape {
+    /// Spans of a curve of `n` vertices, or why it cannot be one (None for a linear curve of < 2 vertices, which
+    /// is dropped, not refused).
+    fn spans(self, n: usize) -> Result<Option<usize>, String> {
+        match self {
+            Shape::Linear => Ok((n >= 2).then(|| n - 1)),
+            Shape::Cubic {
+                basis: Basis::Bezier, ..
+            } => {
+                if n >= 4 && (n - 4).is_multiple_of(3) {
+                    Ok(Some((n - 1) / 3))
+                } else {
+                    Err(format!("{n} vertices; a bezier curve needs 4 + 3k"))
+                }
+            }
+            Shape::Cubic { basis, pinned: true } => {
+                if n >= 2 {
+                    Ok(Some(n - 1))
+                } else {
+                    Err(format!(
+                        "{n} vertices; a pinned {} curve needs at least 2",
+                        basis.name()
+                    ))
+                }
+            }
+            Shape::Cubic { basis, pinned: false } => {
+                if n >= 4 {
+                    Ok(Some(n - 3))
+                } else {
+                    Err(format!(
+                        "{n} vertices; a nonperiodic {} curve needs at least 4",
+                        basis.name()
+                    ))
+                }
+            }
+        }
+    }
+    /// Varying values of a curve of `spans` spans (USD: spans + 1 for open curves; the vertex count for linear).
+    fn varying(self, spans: usize) -> usize {
+        spans + 1
+    }
+}
+
+/// The value of a [`sdf::Value`] as a token or string.
+fn token(v: &sdf::Value) -> Option<&str> {
+    match v {
+        sdf::Value::Token(t) => Some(t.as_str()),
+        sdf::Value::String(s) => Some(s.as_str()),
+        _ => None,
+    }
+}
+
+/// A value's variant name, for errors.
+fn type_of(v: &sdf::Value) -> String {
+    let d = format!("{v:?}");
+    d.split(['(', ' ', '{']).next().unwrap_or("?").to_owned()
+}
+
+/// Floats, vectors and colours as 4-wide values.
+fn vec4s(v: &sdf::Value) -> Option<Vec<DVec4>> {
+    let f = |x: f64| DVec4::new(x, 0.0, 0.0, 0.0);
+    Some(match v {
+        sdf::Value::FloatVec(a) => a.iter().map(|&x| f(x.into())).collect(),
+        sdf::Value::DoubleVec(a) => a.iter().map(|&x| f(x)).collect(),
+        sdf::Value::HalfVec(a) => a.iter().map(|&x| f(x.to_f64())).collect(),
+        sdf::Value::Float(x) => vec![f((*x).into())],
+        sdf::Value::Double(x) => vec![f(*x)],
+        sdf::Value::Vec3fVec(a) => a
+            .iter()
+            .map(|p| DVec4::new(p.x.into(), p.y.into(), p.z.into(), 0.0))
+            .collect(),
+        sdf::Value::Vec3dVec(a) => a.iter().map(|p| DVec4::new(p.x, p.y, p.z, 0.0)).collect(),
+        sdf::Value::Vec3hVec(a) => a
+            .iter()
+            .map(|p| DVec4::new(p.x.to_f64(), p.y.to_f64(), p.z.to_f64(), 0.0))
+            .collect(),
+        sdf::Value::Vec3f(p) => vec![DVec4::new(p.x.into(), p.y.into(), p.z.into(), 0.0)],
+        sdf::Value::Vec3d(p) => vec![DVec4::new(p.x, p.y, p.z, 0.0)],
+        _ => return None,
+    })
+}
+
+fn ints(v: &sdf::Value) -> Option<Vec<i64>> {
+    Some(match v {
+        sdf::Value::IntVec(a) => a.iter().map(|&x| x.into()).collect(),
+        sdf::Value::UintVec(a) => a.iter().map(|&x| x.into()).collect(),
+        sdf::Value::Int64Vec(a) => a.clone(),
+        _ => return None,
+    })
+}
+
+/// Where the values of an attribute are read: its default, or at a time code.
+#[derive(Clone, Copy)]
+enum When {
+    Default,
+    At(f64),
+}
+
+impl Reader<'_> {
+    fn err(&self, prim: &Prim, attribute: &str, cause: impl Into<String>) -> UsdError {
+        UsdError::Attribute {
+            file: self.file.to_owned(),
+            prim: prim.path().as_str().to_owned(),
+            attribute: attribute.to_owned(),
+            cause: cause.into(),
+        }
+    }
+
+    /// The raw value of `prim.name` (at `when` if it has time samples), `None` when unauthored.
+    fn value(&self, prim: &Prim, name: &str, when: When) -> Result<Option<sdf::Value>, UsdError> {
+        let attr = prim.attribute(name);
+        let r = match when {
+            When::Default => attr.get::<sdf::Value>(),
+            When::At(t) => attr.get_at::<sdf::Value>(TimeCode::new(t)),
+        };
+        let v = r.map_err(|e| self.err(prim, name, format!("{e:#}")))?;
+        // An attribute authored only as time samples, read without a time: its first sample.
+        match (v, when) {
+            (None, When::Default) => Ok(attr
+                .time_samples()
+                .map_err(|e| self.err(prim, name, format!("{e:#}")))?
+                .and_then(|s| s.into_iter().next().map(|(_, v)| v))),
+            (v, _) => Ok(v),
+        }
+    }
+
+    /// A uniform token attribute, or `fallback` when unauthored.
+    fn token(&self, prim: &Prim, name: &str, fallback: &str) -> Result<String, UsdError> {
+        match self.value(prim, name, When::Default)? {
+            None | Some(sdf::Value::ValueBlock) => Ok(fallback.to_owned()),
+            Some(v) => token(&v)
+                .map(str::to_owned)
+                .ok_or_else(|| self.err(prim, name, format!("expected a token, found {}", type_of(&v)))),
+        }
+    }
+
+    fn interp(&self, prim: &Prim, name: &str, fallback: Interp) -> Result<Interp, UsdError> {
+        let v = prim
+            .attribute(name)
+            .get_metadata::<sdf::Value>("interpolation")
+            .map_err(|e| self.err(prim, name, format!("interpolation: {e:#}")))?;
+        let Some(v) = v else { return Ok(fallback) };
+        match token(&v) {
+            Some("constant") => Ok(Interp::Constant),
+            Some("uniform") => Ok(Interp::Uniform),
+            Some("varying" | "faceVarying") => Ok(Interp::Varying),
+            Some("vertex") => Ok(Interp::Vertex),
+            _ => Err(self.err(prim, name, format!("unknown interpolation {v:?}"))),
+        }
+    }
+
+    /// A float or colour array attribute with its interpolation (indexed primvars expanded), `None` when
+    /// unauthored or blocked.
+    fn primvar(
+        &self,
+        prim: &Prim,
+        name: &'static str,
+        when: When,
+        fallback: Interp,
+    ) -> Result<Option<Primvar>, UsdError> {
+        let Some(v) = self.value(prim, name, when)? else {
+            return Ok(None);
+        };
+        if matches!(v, sdf::Value::ValueBlock) {
+            return Ok(None);
+        }
+        let mut values = vec4s(&v).ok_or_else(|| {
+            self.err(
+                prim,
+                name,
+                format!("expected a float or vector array, found {}", type_of(&v)),
+            )
+        })?;
+        let indices_name = format!("{name}:indices");
+        if let Some(iv) = self.value(prim, &indices_name, when)? {
+            let idx = ints(&iv).ok_or_else(|| {
+                self.err(
+                    prim,
+                    &indices_name,
+                    format!("expected int[], found {}", type_of(&iv)),
+                )
+            })?;
+            values = idx
+                .iter()
+                .enumerate()
+                .map(|(i, &k)| {
+                    usize::try_from(k)
+                        .ok()
+                        .and_then(|k| values.get(k).copied())
+                        .ok_or_else(|| {
+                            self.err(
+                                prim,
+                                &indices_name,
+                                format!("index {i} is {k}, outside the {} values", values.len()),
+                            )
+                        })
+                })
+                .collect::<Result<_, _>>()?;
+        }
+        if let Some((i, x)) = values.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(self.err(prim, name, format!("value {i} is not finite: {x}")));
+        }
+        let interp = self.interp(prim, name, fallback)?;
+        Ok(Some(Primvar { name, values, interp }))
+    }
+
+    /// The prim's world transform (its `xformOp`s and its ancestors') at `when`, then the axis and unit conversion.
+    fn world(&self, prim: &Prim, when: When) -> Result<DMat4, UsdError> {
+        let time = match when {
+            When::Default => TimeCode::new(0.0),
+            When::At(t) => TimeCode::new(t),
+        };
+        let mut m = DMat4::IDENTITY;
+        let mut path = prim.path().clone();
+        loop {
+            let p = self.stage.prim(path.clone());
+            let x = AnyXformable(p.clone());
+            // The crate builds a property path from each op name and, for a name that is not an identifier
+            // (`xformOp:a}b`), overflows the stack resolving it (found by the fuzz run): checked first.
+            if let Some(order) = x
+                .xform_op_order()
+                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?
+                && let Some(bad) = order.iter().find(|op| {
+                    let op = op.strip_prefix("!invert!").unwrap_or(op);
+                    op != "!resetXformStack!" && !is_property_name(op)
+                })
+            {
+                return Err(self.err(&p, "xformOpOrder", format!("{bad:?} is not an xformOp name")));
+            }
+            let local = x
+                .local_to_parent_transform(time)
+                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?;
+            // The crate's matrices are row-major for row vectors (p' = p·M): read as columns, they are glam's.
+            let local = DMat4::from_cols_array(&local.0);
+            if !local.is_finite() {
+                return Err(self.err(&p, "xformOpOrder", "the transform is not finite"));
+            }
+            m = local * m;
+            let resets = x
+                .resets_xform_stack()
+                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?;
+            match path.parent() {
+                Some(parent) if !resets && parent != sdf::Path::abs_root() => path = parent,
+                _ => break,
+            }
+        }
+        Ok(self.to_world * m)
+    }
+
+    /// Points (`point3f[]` and kin) of a prim at `when`; missing points are an error.
+    fn points(&self, prim: &Prim, when: When) -> Result<Vec<DVec3>, UsdError> {
+        let v = self
+            .value(prim, "points", when)?
+            .ok_or_else(|| self.err(prim, "points", "missing"))?;
+        let p = vec4s(&v)
+            .filter(|_| {
+                !matches!(
+                    v,
+                    sdf::Value::FloatVec(_) | sdf::Value::DoubleVec(_) | sdf::Value::HalfVec(_)
+                )
+            })
+            .ok_or_else(|| {
+                self.err(
+                    prim,
+                    "points",
+                    format!("expected point3f[], found {}", type_of(&v)),
+                )
+            })?;
+        if let Some((i, x)) = p.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(self.err(
+                prim,
+                "points",
+                format!("point {i} is not finite: {}", x.truncate()),
+            ));
+        }
+        Ok(p.into_iter().map(DVec4::truncate).collect())
+    }
+
+    /// Non-negative counts summing to `total`.
+    fn counts(&self, prim: &Prim, name: &str, when: When, total: usize) -> Result<Vec<usize>, UsdError> {
+        let v = self
+            .value(prim, name, when)?
+            .ok_or_else(|| self.err(prim, name, "missing"))?;
+        let c =
+            ints(&v).ok_or_else(|| self.err(prim, name, format!("expected int[], found {}", type_of(&v))))?;
+        let mut sum = 0u64;
+        let mut out = Vec::with_capacity(c.len().min(total + 1));
+        for (i, &k) in c.iter().enumerate() {
+            let k =
+                u64::try_from(k).map_err(|_| self.err(prim, name, format!("count {i} is {k}, below 0")))?;
+            sum = sum.saturating_add(k);
+            if sum > total as u64 {
+                break;
+            }
+            out.push(k as usize);
+        }
+        if sum != total as u64 || out.len() != c.len() {
+            let sum: i128 = c.iter().map(|&k| i128::from(k)).sum();
+            return Err(self.err(
+                prim,
+                name,
+                format!("the counts sum to {sum}, the prim has {total} points"),
+            ));
+        }
+        Ok(out)
+    }
+}
+
+/// Checks a primvar's length against its interpolation: `constant` 1, `uniform` one per curve or face, `vertex`
+/// one per point, `varying` `varying` values.
+fn check_len(
+    r: &Reader,
+    prim: &Prim,
+    pv: &Primvar,
+    elements: usize,
+    vertices: usize,
+    varying: usize,
+) -> Result<(), UsdError> {
+    let expected = match pv.interp {
+        Interp::Constant => 1,
+        Interp::Uniform => elements,
+        Interp::Vertex => vertices,
+        Interp::Varying => varying,
+    };
+    let what = pv.interp.name();
+    if pv.values.len() != expected {
+        return Err(r.err(
+            prim,
+            pv.name,
+            format!(
+                "{} values, {what} interpolation needs {expected}",
+                pv.values.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// One BasisCurves prim at `when` as polylines in the world, with notes.
+fn read_curves(r: &Reader, prim: &Prim, when: When, notes: &mut Vec<String>) -> Result<Strands, UsdError> {
+    let path = prim.path().as_str().to_owned();
+    let ty = r.token(prim, "type", "cubic")?;
+    let shape = match ty.as_str() {
+        "linear" => Shape::Linear,
+        "cubic" => {
+            let wrap = r.token(prim, "wrap", "nonperiodic")?;
+            let pinned = match wrap.as_str() {
+                "nonperiodic" => false,
+                "pinned" => true,
+                "periodic" => {
+                    return Err(r.err(
+                        prim,
+                        "wrap",
+                        "periodic curves are refused (hairlab reads open strands)",
+                    ));
+                }
+                w => return Err(r.err(prim, "wrap", format!("unknown wrap {w:?}"))),
+            };
+            let basis = match r.token(prim, "basis", "bezier")?.as_str() {
+                "bezier" => Basis::Bezier,
+                "bspline" => Basis::Bspline,
+                "catmullRom" => Basis::CatmullRom,
+                "hermite" => {
+                    return Err(r.err(prim, "basis", "hermite curves are refused (no tangents read)"));
+                }
+                b => return Err(r.err(prim, "basis", format!("unknown basis {b:?}"))),
+            };
+            Shape::Cubic {
+                basis,
+                pinned: pinned && basis != Basis::Bezier,
+            }
+        }
+        t => return Err(r.err(prim, "type", format!("unknown type {t:?}"))),
+    };
+    if shape == Shape::Linear && r.token(prim, "wrap", "nonperiodic")? == "periodic" {
+        return Err(r.err(
+            prim,
+            "wrap",
+            "periodic curves are refused (hairlab reads open strands)",
+        ));
+    }
+    let points = r.points(prim, when)?;
+    let counts = r.counts(prim, "curveVertexCounts", when, points.len())?;
+    // Spans per curve (None: a linear curve of < 2 vertices, dropped), and the varying values.
+    let mut spans = Vec::with_capacity(counts.len());
+    for (i, &n) in counts.iter().enumerate() {
+        spans.push(
+            shape
+                .spans(n)
+                .map_err(|e| r.err(prim, "curveVertexCounts", format!("curve {i} has {e}")))?,
+        );
+    }
+    let varying: usize = counts
+        .iter()
+        .zip(&spans)
+        .map(|(&n, s)| s.map_or(n, |s| shape.varying(s)))
+        .sum();
+    let widths = r.primvar(prim, "widths", when, Interp::Vertex)?;
+    let color = r.primvar(prim, "primvars:displayColor", when, Interp::Constant)?;
+    let opacity = r.primvar(prim, "primvars:displayOpacity", when, Interp::Constant)?;
+    for pv in [&widths, &color, &opacity].into_iter().flatten() {
+        check_len(r, prim, pv, counts.len(), points.len(), varying)?;
+    }
+    if let Some(w) = &widths
+        && let Some((i, x)) = w.values.iter().enumerate().find(|(_, x)| x.x < 0.0)
+    {
+        return Err(r.err(prim, "widths", format!("width {i} is {}, below 0", x.x)));
+    }
+    if let Some(o) = &opacity
+        && let Some((i, x)) = o
+            .values
+            .iter()
+            .enumerate()
+            .find(|(_, x)| !(0.0..=1.0).contains(&x.x))
+    {
+        return Err(r.err(
+            prim,
+            "primvars:displayOpacity",
+            format!("opacity {i} is {}, outside [0, 1]", x.x),
+        ));
+    }
+    let m = r.world(prim, when)?;
+    let width_scale = m.determinant().abs().cbrt();
+    let n_seg = match shape {
+        Shape::Linear => 1,
+        Shape::Cubic { .. } => CUBIC_SEGMENTS_PER_SPAN,
+    };
+    let out_points: usize = spans.iter().flatten().map(|s| s * n_seg + 1).sum();
+    let mut out = Strands {
+        points: Vec::with_capacity(out_points),
+        counts: Vec::with_capacity(counts.len()),
+        thickness: widths.as_ref().map(|_| Vec::with_capacity(out_points)),
+        alpha: opacity.as_ref().map(|_| Vec::with_capacity(out_points)),
+        color: color.as_ref().map(|_| Vec::with_capacity(out_points)),
+    };
+    let p4: Vec<DVec4> = points.iter().map(|p| p.extend(0.0)).collect();
+    let (mut first, mut first_varying, mut dropped) = (0usize, 0usize, 0usize);
+    for (c, (&n, s)) in counts.iter().zip(&spans).enumerate() {
+        let range = first..first + n;
+        let vrange = first_varying..first_varying + s.map_or(n, |s| shape.varying(s));
+        (first, first_varying) = (range.end, vrange.end);
+        let Some(spans) = *s else {
+            dropped += 1;
+            continue;
+        };
+        // The parameters of the output points: (span, t); a linear curve's vertices are its points.
+        let params: Vec<(usize, f64)> = match shape {
+            Shape::Linear => (0..n).map(|i| (i, 0.0)).collect(),
+            Shape::Cubic { .. } => std::iter::once((0, 0.0))
+                .chain((0..spans).flat_map(|s| (1..=n_seg).map(move |k| (s, k as f64 / n_seg as f64))))
+                .collect(),
+        };
+        let sample = |pv: &Primvar| -> Vec<DVec4> {
+            match pv.interp {
+                Interp::Constant => vec![pv.values[0]; params.len()],
+                Interp::Uniform => vec![pv.values[c]; params.len()],
+                Interp::Varying => {
+                    let v = &pv.values[vrange.clone()];
+                    params
+                        .iter()
+                        .map(|&(s, t)| if t == 0.0 { v[s] } else { v[s].lerp(v[s + 1], t) })
+                        .collect()
+                }
+                Interp::Vertex => eval_vertex(shape, &pv.values[range.clone()], &params),
+            }
+        };
+        let pts = eval_vertex(shape, &p4[range.clone()], &params);
+        out.points
+            .extend(pts.iter().map(|p| m.transform_point3(p.truncate()).as_vec3()));
+        out.counts.push(params.len() as u32);
+        if let (Some(w), Some(t)) = (&widths, out.thickness.as_mut()) {
+            t.extend(sample(w).iter().map(|v| (v.x.max(0.0) * width_scale) as f32));
+        }
+        if let (Some(o), Some(a)) = (&opacity, out.alpha.as_mut()) {
+            a.extend(sample(o).iter().map(|v| v.x.clamp(0.0, 1.0) as f32));
+        }
+        if let (Some(k), Some(col)) = (&color, out.color.as_mut()) {
+            col.extend(sample(k).iter().map(|v| v.truncate().as_vec3()));
+        }
+    }
+    if let Some((i, p)) = out.points.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+        return Err(r.err(
+            prim,
+            "points",
+            format!("output point {i} is not finite after the transform: {p}"),
+        ));
+    }
+    if let Shape::Cubic { basis, pinned } = shape {
+        notes.push(format!(
+            "{path}: cubic {}{} → polylines at {CUBIC_SEGMENTS_PER_SPAN} segments per span ({} curves)",
+            basis.name(),
+            if pinned { " pinned" } else { "" },
+            counts.len() - dropped
+        ));
+    }
+    if dropped > 0 {
+        notes.push(format!("{path}: {dropped} curves with < 2 points dropped"));
+    }
+    for pv in [&widths, &color, &opacity].into_iter().flatten() {
+        if pv.interp != Interp::Vertex || shape != Shape::Linear {
+            notes.push(format!("{path}: {} {} → per point", pv.name, pv.interp.name()));
+        }
+    }
+    Ok(out)
+}
+
+/// A vertex-interpolated array of one curve evaluated at `params` with the curve's shape.
+fn eval_vertex(shape: Shape, ctrl: &[DVec4], params: &[(usize, f64)]) -> Vec<DVec4> {
+    match shape {
+        Shape::Linear => params.iter().map(|&(i, _)| ctrl[i]).collect(),
+        Shape::Cubic { basis, pinned } => {
+            let ext: Vec<DVec4>;
+            let ctrl = if pinned {
+                let n = ctrl.len();
+                ext = std::iter::once(2.0 * ctrl[0] - ctrl[1])
+                    .chain(ctrl.iter().copied())
+                    .chain(std::iter::once(2.0 * ctrl[n - 1] - ctrl[n - 2]))
+                    .collect();
+                &ext[..]
+            } else {
+                ctrl
+            };
+            params
+                .iter()
+                .map(|&(s, t)| {
+                    let w = basis.weights(t);
+                    let c = &ctrl[s * basis.vstep()..s * basis.vstep() + 4];
+                    c[0] * w[0] + c[1] * w[1] + c[2] * w[2] + c[3] * w[3]
+                })
+                .collect()
+        }
+    }
+}
+
+/// One Mesh prim as a triangle mesh in the world.
+fn read_mesh(r: &Reader, prim: &Prim) -> Result<Mesh, UsdError> {
+    let points = r.points(prim, When::Default)?;
+    let fv = r
+        .value(prim, "faceVertexIndices", When::Default)?
+        .ok_or_else(|| r.err(prim, "faceVertexIndices", "missing"))?;
+    let fv = ints(&fv).ok_or_else(|| {
+        r.err(
+            prim,
+            "faceVertexIndices",
+            format!("expected int[], found {}", type_of(&fv)),
+        )
+    })?;
+    let counts = r.counts(prim, "faceVertexCounts", When::Default, fv.len())?;
+    let mut idx = Vec::with_capacity(fv.len());
+    for (i, &k) in fv.iter().enumerate() {
+        match usize::try_from(k).ok().filter(|&k| k < points.len()) {
+            Some(k) => idx.push(k as u32),
+            None => {
+                return Err(r.err(
+                    prim,
+                    "faceVertexIndices",
+                    format!("index {i} is {k}, outside the {} points", points.len()),
+                ));
+            }
+        }
+    }
+    let m = r.world(prim, When::Default)?;
+    let left = r.token(prim, "orientation", "rightHanded")? == "leftHanded";
+    let flip = left != (m.determinant() < 0.0);
+    let mut indices = Vec::with_capacity(3 * fv.len());
+    let mut first = 0;
+    for &n in &counts {
+        let face = &idx[first..first + n];
+        first += n;
+        for k in 2..n {
+            let (a, b, c) = (face[0], face[k - 1], face[k]);
+            indices.extend(if flip { [a, c, b] } else { [a, b, c] });
+        }
+    }
+    let color = r.primvar(prim, "primvars:displayColor", When::Default, Interp::Constant)?;
+    let color = match color {
+        Some(c) if c.interp == Interp::Constant && c.values.len() == 1 => c.values[0].truncate().as_vec3(),
+        _ => Vec3::splat(0.7),
+    };
+    let positions: Vec<Vec3> = points.iter().map(|&p| m.transform_point3(p).as_vec3()).collect();
+    if let Some((i, p)) = positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+        return Err(r.err(
+            prim,
+            "points",
+            format!("point {i} is not finite after the transform: {p}"),
+        ));
+    }
+    let mut mesh = Mesh {
+        positions,
+        normals: Vec::new(),
+        indices,
+        color,
+    };
+    mesh.compute_normals();
+    Ok(mesh)
+}
+
+/// Opens the stage and reads its stage-wide metadata.
+fn open(path: &Path) -> Result<Reader<'_>, UsdError> {
+    let stage_err = |cause: String| UsdError::Stage {
+        file: path.to_owned(),
+        cause,
+    };
+    let meta = std::fs::metadata(path).map_err(|e| stage_err(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(stage_err("not a regular file".into()));
+    }
+    if meta.len() > crate::io::MAX_INPUT_BYTES {
+        return Err(stage_err(format!(
+            "{} bytes, more than the {} bytes hairlab reads",
+            meta.len(),
+            crate::io::MAX_INPUT_BYTES
+        )));
+    }
+    let name = path
+        .to_str()
+        .ok_or_else(|| stage_err("the path is not UTF-8 (the USD crate opens UTF-8 paths only)".into()))?;
+    let stage = Stage::open(name).map_err(|e| stage_err(format!("{e:#}")))?;
+    let meta = |key: &str| {
+        stage
+            .stage_metadata(key)
+            .map_err(|e| stage_err(format!("{key}: {e:#}")))
+    };
+    let up_axis = match meta("upAxis")? {
+        None => 'Y',
+        Some(v) => match token(&v) {
+            Some("Y") => 'Y',
+            Some("Z") => 'Z',
+            _ => return Err(stage_err(format!("upAxis: {v:?}; a stage is Y-up or Z-up"))),
+        },
+    };
+    let meters_per_unit = match meta("metersPerUnit")? {
+        None => 0.01,
+        Some(v) => match v.clone().try_as_double() {
+            Some(m) if m.is_finite() && m > 0.0 => m,
+            _ => {
+                return Err(stage_err(format!(
+                    "metersPerUnit: {v:?}; it must be finite and above 0"
+                )));
+            }
+        },
+    };
+    let tcps = stage.time_codes_per_second();
+    if !(tcps.is_finite() && tcps > 0.0) {
+        return Err(stage_err(format!(
+            "timeCodesPerSecond is {tcps}; it must be finite and above 0"
+        )));
+    }
+    let axis = match up_axis {
+        'Z' => DMat4::from_cols(DVec4::X, DVec4::NEG_Z, DVec4::Y, DVec4::W),
+        _ => DMat4::IDENTITY,
+    };
+    Ok(Reader {
+        file: path,
+        stage,
+        to_world: DMat4::from_scale(DVec3::splat(meters_per_unit)) * axis,
+        up_axis,
+        meters_per_unit,
+    })
+}
+
+/// The geometry prims of a stage, in depth-first order.
+struct GeomPrims {
+    curves: Vec<Prim>,
+    meshes: Vec<Prim>,
+    /// One line per other geometry prim, dropped.
+    notes: Vec<String>,
+}
+
+/// Whether `name` is a USD identifier (a letter or `_`, then letters, digits or `_`; Unicode letters allowed).
+fn is_identifier(name: &str) -> bool {
+    let mut c = name.chars();
+    c.next().is_some_and(|f| f == '_' || f.is_alphabetic()) && c.all(|ch| ch == '_' || ch.is_alphanumeric())
+}
+
+/// Whether `name` is a namespaced property name (identifiers joined by `:`).
+fn is_property_name(name: &str) -> bool {
+    name.split(':').all(is_identifier)
+}
+
+/// The stage's geometry prims in depth-first order ([`GeomPrims`]). The walk is hairlab's, not the crate's `Stage::traverse`, so every child name is checked before a path
+/// is built from it: the crate (0.6.0) accepts a prim named `a}`, whose path is then its own parent, and walking
+/// its ancestors overflows the stack (found by the fuzz run). It keeps what OpenUSD's default traversal keeps:
+/// active, loaded, defined, non-abstract prims and their descendants.
+fn prims(r: &Reader) -> Result<GeomPrims, UsdError> {
+    let (mut curves, mut meshes, mut notes) = (Vec::new(), Vec::new(), Vec::new());
+    let mut stack = vec![r.stage.prim(sdf::Path::abs_root())];
+    while let Some(prim) = stack.pop() {
+        let crate_err = |what: &str, e: anyhow::Error| r.err(&prim, what, format!("{e:#}"));
+        let names = prim.child_names().map_err(|e| crate_err("(children)", e))?;
+        let mut children = Vec::with_capacity(names.len());
+        for name in names {
+            if !is_identifier(name.as_str()) {
+                return Err(r.err(
+                    &prim,
+                    "(children)",
+                    format!("the child prim name {:?} is not a USD identifier", name.as_str()),
+                ));
+            }
+            let path = prim
+                .path()
+                .append_path(name.as_str())
+                .map_err(|e| crate_err("(children)", e))?;
+            children.push(r.stage.prim(path));
+        }
+        // Reversed onto the stack, so the first child is visited first.
+        for child in children.into_iter().rev() {
+            let status = |f: fn(&Prim) -> anyhow::Result<bool>| {
+                f(&child).map_err(|e| r.err(&child, "(status)", format!("{e:#}")))
+            };
+            if status(Prim::is_active)?
+                && status(Prim::is_loaded)?
+                && status(Prim::is_defined)?
+                && !status(Prim::is_abstract)?
+            {
+                stack.push(child);
+            }
+        }
+        if prim.path() == &sdf::Path::abs_root() {
+            continue;
+        }
+        let ty = prim
+            .type_name()
+            .map_err(|e| r.err(&prim, "typeName", format!("{e:#}")))?;
+        match ty.as_ref().map(tf::Token::as_str) {
+            Some("BasisCurves") => curves.push(prim),
+            Some("Mesh") => meshes.push(prim),
+            Some(
+                t
+                @ ("NurbsCurves" | "HermiteCurves" | "Points" | "NurbsPatch" | "PointInstancer" | "TetMesh"),
+            ) => {
+                notes.push(format!("{}: {t} prim dropped (not read)", prim.path().as_str()));
+            }
+            _ => {}
+        }
+    }
+    Ok(GeomPrims {
+        curves,
+        meshes,
+        notes,
+    })
+}
+
+/// The sorted union of the time codes of the curves' `points.timeSamples`.
+fn time_codes(r: &Reader, curves: &[Prim]) -> Result<Vec<f64>, UsdError> {
+    let mut t = Vec::new();
+    for prim in curves {
+        let times = prim
+            .attribute("points")
+            .time_sample_times()
+            .map_err(|e| r.err(prim, "points", format!("timeSamples: {e:#}")))?;
+        if let Some(x) = times.iter().find(|x| !x.is_finite()) {
+            return Err(r.err(prim, "points", format!("time code {x} is not finite")));
+        }
+        t.extend(times);
+    }
+    t.sort_by(f64::total_cmp);
+    t.dedup();
+    Ok(t)
+}
+
+fn read_strands(
+    r: &Reader,
+    curves: &[Prim],
+    when: When,
+    notes: &mut Vec<String>,
+) -> Result<Strands, UsdError> {
+    let mut strands = Strands::default();
+    for prim in curves {
+        strands.append(&read_curves(r, prim, when, notes)?);
+    }
+    Ok(strands)
+}
+
+/// Reads a stage (`.usda`, `.usdc`, `.usdz`): its curves at their first time code (or their default values when
+/// none is sampled) and its meshes, in hairlab's world (Y-up, metres). Errors name the file, prim and attribute.
+pub fn read_usd_file(path: &Path) -> Result<UsdScene, UsdError> {
+    let r = open(path)?;
+    let GeomPrims {
+        curves,
+        meshes: mesh_prims,
+        mut notes,
+    } = prims(&r)?;
+    let time_codes = time_codes(&r, &curves)?;
+    let when = time_codes.first().map_or(When::Default, |&t| When::At(t));
+    let strands = read_strands(&r, &curves, when, &mut notes)?;
+    let meshes = mesh_prims
+        .iter()
+        .map(|p| read_mesh(&r, p))
+        .collect::<Result<Vec<_>, _>>()?;
+    if r.up_axis == 'Z' {
+        notes.push("upAxis Z → Y-up (x, y, z) → (x, z, −y)".into());
+    }
+    if r.meters_per_unit != 1.0 {
+        notes.push(format!("metersPerUnit {} → metres", r.meters_per_unit));
+    }
+    Ok(UsdScene {
+        strands,
+        meshes,
+        up_axis: r.up_axis,
+        meters_per_unit: r.meters_per_unit,
+        time_codes_per_second: r.stage.time_codes_per_second(),
+        time_codes,
+        notes,
+    })
+}
+
+/// Reads the curves of a stage at every time code of their `points.timeSamples` (one frame at the default values
+/// when none is sampled), at the stage's `timeCodesPerSecond`. The topology must stay the frame's first: a
+/// different curve count or point count is an error naming the time code.
+pub fn read_usd_frames(path: &Path) -> Result<UsdFrames, UsdError> {
+    let r = open(path)?;
+    let curves = prims(&r)?.curves;
+    let codes = time_codes(&r, &curves)?;
+    let whens: Vec<When> = if codes.is_empty() {
+        vec![When::Default]
+    } else {
+        codes.iter().map(|&t| When::At(t)).collect()
+    };
+    let mut frames: Vec<Strands> = Vec::with_capacity(whens.len());
+    for (i, &when) in whens.iter().enumerate() {
+        let s = read_strands(&r, &curves, when, &mut Vec::new()).map_err(|e| match (e, when) {
+            (
+                UsdError::Attribute {
+                    file,
+                    prim,
+                    attribute,
+                    cause,
+                },
+                When::At(t),
+            ) => UsdError::Attribute {
+                file,
+                prim,
+                attribute,
+                cause: format!("at time code {t}: {cause}"),
+            },
+            (e, _) => e,
+        })?;
+        if let Some(f0) = frames.first()
+            && (s.counts != f0.counts || s.points.len() != f0.points.len())
+        {
+            return Err(UsdError::Stage {
+                file: path.to_owned(),
+                cause: format!(
+                    "time code {}: {} strands of {} points, time code {} has {} strands of {} points (the \
+                     topology of a sequence must not change)",
+                    codes[i],
+                    s.counts.len(),
+                    s.points.len(),
+                    codes[0],
+                    f0.counts.len(),
+                    f0.points.len()
+                ),
+            });
+        }
+        frames.push(s);
+    }
+    Ok(UsdFrames {
+        frames,
+        time_codes: codes,
+        time_codes_per_second: r.stage.time_codes_per_second(),
+    })
+}

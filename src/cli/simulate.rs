@@ -1,5 +1,6 @@
 //! `hairlab simulate`: a preset's motion baked to a folder of `.hair` files (`frame_0000.hair` …), one per
-//! frame, each written whole, so it plays back with `--set motion.source=sequence --set motion.path=DIR`. With
+//! frame, each written whole, or to one `.usda` file with time-sampled points, so it plays back with
+//! `--set motion.source=sequence --set motion.path=DIR` (or the `.usda` file). With
 //! no `--out` it only runs the frames and prints the simulation's invariants (segment lengths, head
 //! penetration, roots, energy) and its cost.
 
@@ -21,7 +22,8 @@ pub struct SimulateArgs {
     /// Frames to compute, from frame 0 (default: the preset's `motion.frames`).
     #[arg(long)]
     pub frames: Option<u32>,
-    /// Folder to write `frame_0000.hair` … into (created; it must hold no `.hair` files yet).
+    /// Folder to write `frame_0000.hair` … into (created; it must hold no `.hair` files yet), or a `.usda` file
+    /// to write every frame into as time-sampled points (at `motion.fps` time codes per second).
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -46,7 +48,15 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
     if frames == 0 {
         bail!("--frames must be at least 1");
     }
-    if let Some(dir) = &a.out {
+    let usda = a
+        .out
+        .as_ref()
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("usda")));
+    if let Some(file) = usda {
+        crate::io::check_output(file, "usda")?;
+    }
+    let folder = a.out.as_ref().filter(|_| usda.is_none());
+    if let Some(dir) = folder {
         if dir.exists() {
             let has_hair = std::fs::read_dir(dir)
                 .with_context(|| format!("--out {}: cannot read the folder", dir.display()))?
@@ -69,17 +79,21 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
         }
     }
     let mut strands = scene.strands.clone();
+    let mut usda_frames = Vec::new();
     let (mut len, mut depth, mut root, mut speed, mut energy) = (0f32, 0f32, 0f32, 0f32, 0f64);
     let mut sim_s = 0.0;
     for k in 0..frames {
         let start = std::time::Instant::now();
         let points = motion.frame(k)?;
         sim_s += start.elapsed().as_secs_f64();
-        if let Some(dir) = &a.out {
+        if let Some(dir) = folder {
             strands.points.copy_from_slice(points);
             let info = format!("hairlab simulate {} frame {k}", a.preset);
             let path = dir.join(frame_file_name(k, frames));
             write_hair_file(&path, &HairFile::from_strands(&strands, &info)?)?;
+        } else if usda.is_some() {
+            strands.points.copy_from_slice(points);
+            usda_frames.push(strands.clone());
         }
         if let Motion::Simulate(sim) = &motion {
             let st = sim.stats();
@@ -106,8 +120,11 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
              error {root:.3e}; top speed {speed:.3} m/s; top kinetic energy {energy:.4e} (unit mass per point)"
         );
     }
-    if let Some(dir) = &a.out {
-        println!("wrote {frames} frames to {}", dir.display());
+    if let Some(file) = usda {
+        crate::scene::usda_write::write_usda_file(file, &usda_frames, f64::from(settings.motion.fps))?;
+    }
+    if let Some(out) = &a.out {
+        println!("wrote {frames} frames to {}", out.display());
     }
     Ok(())
 }

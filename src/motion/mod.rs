@@ -27,7 +27,8 @@ pub enum MotionSource {
     None,
     /// The CPU strand simulation ([`sim`]).
     Simulate,
-    /// A folder of `.hair` files (`motion.path`), sorted by name.
+    /// A recording (`motion.path`): a folder of `.hair` files sorted by name, or a USD stage with time-sampled
+    /// points.
     Sequence,
 }
 
@@ -57,7 +58,7 @@ pub struct MotionSettings {
     pub fps: f32,
     /// Frames in the motion (a sequence has as many as its files).
     pub frames: u32,
-    /// `sequence`: the folder of `.hair` files.
+    /// `sequence`: the folder of `.hair` files, or the time-sampled USD file.
     pub path: Option<PathBuf>,
     /// Substeps per frame.
     pub substeps: u32,
@@ -194,7 +195,10 @@ impl MotionSettings {
             bail!("motion.sweep_strands must be at least 1");
         }
         if self.source == MotionSource::Sequence && self.path.is_none() {
-            bail!("motion.path must name a folder of .hair files when motion.source = \"sequence\"");
+            bail!(
+                "motion.path must name a folder of .hair files or a time-sampled USD file when motion.source = \
+                 \"sequence\""
+            );
         }
         Ok(())
     }

@@ -1,6 +1,7 @@
-//! Recorded motion: a folder of `.hair` files of identical topology, sorted by name, one per frame. The whole
-//! folder is read and checked when it is opened, so a missing, unreadable or differently shaped frame is one
-//! error naming its file before anything is shown.
+//! Recorded motion: a folder of `.hair` files of identical topology, sorted by name, one per frame, or a USD
+//! stage whose BasisCurves points are time-sampled (one frame per time code, in time-code order). The whole
+//! recording is read and checked when it is opened, so a missing, unreadable or differently shaped frame is one
+//! error naming its file (or time code) before anything is shown.
 
 use crate::scene::Strands;
 use crate::scene::hair::read_hair_file;
@@ -17,8 +18,12 @@ pub struct Sequence {
 }
 
 impl Sequence {
-    /// Reads every `.hair` file in `dir` (sorted by file name).
+    /// Reads every `.hair` file in `dir` (sorted by file name), or the frames of the USD stage `dir` names.
     pub fn open(dir: &Path) -> Result<Sequence> {
+        let ext = dir.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+        if matches!(ext.as_deref(), Some("usda" | "usdc" | "usdz")) {
+            return Self::open_usd(dir);
+        }
         let entries = std::fs::read_dir(dir)
             .with_context(|| format!("motion.path: {}: cannot read the folder", dir.display()))?;
         let mut files = Vec::new();
@@ -67,6 +72,30 @@ impl Sequence {
             strands,
             frames,
         })
+    }
+
+    /// The time-sampled frames of a USD stage (`crate::scene::usd::read_usd_frames`: constant topology, else
+    /// one error naming the time code).
+    #[cfg(feature = "usd")]
+    fn open_usd(path: &Path) -> Result<Sequence> {
+        let usd =
+            crate::scene::usd::read_usd_frames(path).map_err(|e| anyhow::anyhow!("motion.path: {e}"))?;
+        let Some(first) = usd.frames.first() else {
+            bail!("motion.path: {}: the stage holds no frames", path.display());
+        };
+        Ok(Sequence {
+            files: vec![path.to_path_buf(); usd.frames.len()],
+            strands: first.clone(),
+            frames: usd.frames.into_iter().map(|f| f.points).collect(),
+        })
+    }
+
+    #[cfg(not(feature = "usd"))]
+    fn open_usd(path: &Path) -> Result<Sequence> {
+        bail!(
+            "motion.path: {}: this hairlab was built without the `usd` feature",
+            path.display()
+        )
     }
 
     /// The first frame's strands.

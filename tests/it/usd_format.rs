@@ -499,3 +499,43 @@ fn usdc_and_usdz_read_like_usda() {
         assert_eq!(binary.time_codes, text.time_codes, ".{ext}");
     }
 }
+
+/// The hand stage as a preset's scene renders hair, and as `motion.path` plays as a motion of its two time codes:
+/// frame 1 (time code 2, the bezier moved by 2 cm) differs from frame 0 on screen, and each frame equals a fresh
+/// render of it.
+#[test]
+fn the_hand_stage_renders_and_plays_as_a_motion() {
+    let Some(_gpu) = hairlab::gpu::Gpu::for_tests() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir, "hand.usda", HAND_STAGE);
+    let preset = dir.path().join("hand.toml");
+    std::fs::write(
+        &preset,
+        "[scene]\nfile = \"hand.usda\"\n[render]\nwidth = 96\nheight = 72\nmap_resolution = 128\n\
+         [motion]\nsource = \"sequence\"\npath = \"hand.usda\"\n",
+    )
+    .unwrap();
+    let load = || hairlab::settings::Settings::load_preset(preset.to_str().unwrap(), &[]).unwrap();
+    let (_, motion) = load().open_motion().unwrap();
+    assert_eq!(motion.frame_count(&load().motion), 2);
+    let background = load().render.background;
+    let [first, second] = [0, 1].map(|k| hairlab::cli::render::render_frame_image(&mut load(), k).unwrap());
+    let hair = first
+        .pixels()
+        .filter(|p| {
+            let bg = background.map(|c| (c.powf(1.0 / 2.2) * 255.0) as i32);
+            (0..3).any(|i| (p.0[i] as i32 - bg[i]).abs() > 16)
+        })
+        .count();
+    assert!(hair > 50, "only {hair} pixels differ from the background");
+    let moved = first
+        .pixels()
+        .zip(second.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(moved > 0, "time code 2 moved nothing on screen");
+    let again = hairlab::cli::render::render_frame_image(&mut load(), 1).unwrap();
+    assert_eq!(again.as_raw(), second.as_raw(), "frame 1 rendered twice");
+}

@@ -13,6 +13,7 @@ pub mod motion;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod selection;
 pub mod settings;
 pub mod shaders;
 pub mod soak;

@@ -318,10 +318,10 @@ mod tests {
             max: ms * 2.0,
         };
         BenchRow {
-            config: MethodConfig {
-                name: name.to_string(),
-                params: params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
-            },
+            config: MethodConfig::new(
+                name.to_string(),
+                params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            ),
             note: String::new(),
             total_ms: spread,
             passes: vec![("light".to_string(), spread)],

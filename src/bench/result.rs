@@ -295,10 +295,10 @@ mod tests {
             max: 1.0,
         };
         BenchRow {
-            config: MethodConfig {
-                name: name.to_string(),
-                params: params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
-            },
+            config: MethodConfig::new(
+                name.to_string(),
+                params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            ),
             note: note.to_string(),
             total_ms: spread,
             passes: Vec::new(),

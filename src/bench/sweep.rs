@@ -92,10 +92,7 @@ pub fn sweep_configs(methods: &[&str], tuned: &[Tuned]) -> Vec<BenchConfig> {
         for p in m.sweep() {
             if !p.analysed {
                 out.push(BenchConfig {
-                    config: MethodConfig {
-                        name: name.to_string(),
-                        params: p.values,
-                    },
+                    config: MethodConfig::new(name.to_string(), p.values),
                     note: String::new(),
                 });
                 continue;
@@ -106,10 +103,7 @@ pub fn sweep_configs(methods: &[&str], tuned: &[Tuned]) -> Vec<BenchConfig> {
             match out[start..].iter_mut().find(|c| c.config.params == t.values) {
                 Some(c) => c.note = t.note.to_string(),
                 None => out.push(BenchConfig {
-                    config: MethodConfig {
-                        name: name.to_string(),
-                        params: t.values.clone(),
-                    },
+                    config: MethodConfig::new(name.to_string(), t.values.clone()),
                     note: t.note.to_string(),
                 }),
             }
@@ -214,10 +208,9 @@ pub fn scaling_configs(methods: &[&str]) -> Vec<MethodConfig> {
         .iter()
         .filter(|m| methods.contains(&m.name()))
         .flat_map(|m| {
-            m.scaling_configs().into_iter().map(|params| MethodConfig {
-                name: m.name().to_string(),
-                params,
-            })
+            m.scaling_configs()
+                .into_iter()
+                .map(|params| MethodConfig::new(m.name().to_string(), params))
         })
         .collect()
 }

@@ -32,10 +32,9 @@ pub fn sweep_configs() -> Vec<TechniqueConfig> {
     registry::all()
         .iter()
         .flat_map(|t| {
-            t.sweep().into_iter().map(|params| TechniqueConfig {
-                name: t.name().to_string(),
-                params,
-            })
+            t.sweep()
+                .into_iter()
+                .map(|params| TechniqueConfig::new(t.name(), params))
         })
         .collect()
 }

@@ -67,13 +67,7 @@ pub(super) fn auto_config(settings: &Settings, text: &str) -> Result<Option<Stri
     let fixed: Vec<&str> = pairs.iter().copied().filter(|kv| !is_auto(kv)).collect();
     let base = crate::measure::MethodConfig::parse(&format!("{name}:{}", fixed.join(",")))?;
     let values = crate::bench::tune(settings, method, &base.params)?;
-    Ok(Some(
-        crate::measure::MethodConfig {
-            name: base.name,
-            params: values,
-        }
-        .label(),
-    ))
+    Ok(Some(crate::measure::MethodConfig::new(base.name, values).label()))
 }
 
 pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Result<()> {

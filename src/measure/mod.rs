@@ -13,49 +13,9 @@ use crate::methods::{self, ParamValues, registry};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::visibility::{self, ErrorDistribution, Fragment, TexelModel, metrics};
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-/// A method with parameter values, written `name` or `name:key=value,key=value`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MethodConfig {
-    pub name: String,
-    pub params: ParamValues,
-}
-
-impl MethodConfig {
-    pub fn parse(text: &str) -> Result<MethodConfig> {
-        let (name, rest) = text.split_once(':').unwrap_or((text, ""));
-        let method = registry::find(name.trim()).map_err(anyhow::Error::msg)?;
-        let mut params = ParamValues::new();
-        for kv in rest.split(',').filter(|s| !s.trim().is_empty()) {
-            let (k, v) = kv
-                .split_once('=')
-                .with_context(|| format!("'{text}': expected key=value in '{kv}'"))?;
-            let v =
-                methods::parse_value(method, k.trim(), v).map_err(|e| anyhow::anyhow!("'{text}': {e}"))?;
-            params.insert(k.trim().to_string(), v);
-        }
-        methods::validate(method, &params).map_err(anyhow::Error::msg)?;
-        Ok(MethodConfig {
-            name: method.name().to_string(),
-            params,
-        })
-    }
-
-    /// `name` or `name:key=value,...`, parseable by [`MethodConfig::parse`].
-    pub fn label(&self) -> String {
-        if self.params.is_empty() {
-            return self.name.clone();
-        }
-        match registry::find(&self.name) {
-            Ok(m) => format!("{}:{}", self.name, methods::format_values(m, &self.params)),
-            Err(_) => {
-                let kv: Vec<String> = self.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
-                format!("{}:{}", self.name, kv.join(","))
-            }
-        }
-    }
-}
+pub use crate::selection::MethodConfig;
 
 /// The configurations `measure` reports when none is given: each registered method's
 /// [`methods::ShadowMethod::usual_configs`].
@@ -63,10 +23,9 @@ pub fn usual_configs() -> Vec<MethodConfig> {
     registry::all()
         .iter()
         .flat_map(|m| {
-            m.usual_configs().into_iter().map(|params| MethodConfig {
-                name: m.name().to_string(),
-                params,
-            })
+            m.usual_configs()
+                .into_iter()
+                .map(|params| MethodConfig::new(m.name(), params))
         })
         .collect()
 }

@@ -7,71 +7,19 @@ use super::{IMAGE_SIZE, median};
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::registry as methods;
 use crate::render::method::ParamValues;
-use crate::render::transparency::{EyeTransparency, registry};
+use crate::render::transparency::registry;
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::transparency::metrics::{ImageMetrics, compare};
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-/// A technique with parameter values, written `name` or `name:key=value,key=value`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TechniqueConfig {
-    pub name: String,
-    pub params: ParamValues,
-}
-
-impl TechniqueConfig {
-    pub fn parse(text: &str) -> Result<TechniqueConfig> {
-        let (name, rest) = text.split_once(':').unwrap_or((text, ""));
-        let technique = registry::find(name.trim()).map_err(anyhow::Error::msg)?;
-        let mut params = ParamValues::new();
-        for kv in rest.split(',').filter(|s| !s.trim().is_empty()) {
-            let (k, v) = kv
-                .split_once('=')
-                .with_context(|| format!("'{text}': expected key=value in '{kv}'"))?;
-            let v = registry::spec(technique, k.trim())
-                .and_then(|s| s.parse(v))
-                .map_err(|e| anyhow::anyhow!("'{text}': {e}"))?;
-            params.insert(k.trim().to_string(), v);
-        }
-        Ok(TechniqueConfig {
-            name: technique.name().to_string(),
-            params,
-        })
-    }
-
-    /// `name` or `name:key=value,...` (choices as words), parseable by [`TechniqueConfig::parse`].
-    pub fn label(&self) -> String {
-        let Ok(t) = registry::find(&self.name) else {
-            return self.name.clone();
-        };
-        if self.params.is_empty() {
-            return self.name.clone();
-        }
-        let kv: Vec<String> = self
-            .params
-            .iter()
-            .map(|(k, v)| match registry::spec(t, k) {
-                Ok(s) => format!("{k}={}", s.format(*v)),
-                Err(_) => format!("{k}={v}"),
-            })
-            .collect();
-        format!("{}:{}", self.name, kv.join(","))
-    }
-
-    pub fn technique(&self) -> Result<&'static dyn EyeTransparency> {
-        registry::find(&self.name).map_err(anyhow::Error::msg)
-    }
-}
+pub use crate::selection::TechniqueConfig;
 
 /// Every registered technique at its defaults.
 pub fn all_configs() -> Vec<TechniqueConfig> {
     registry::all()
         .iter()
-        .map(|t| TechniqueConfig {
-            name: t.name().to_string(),
-            params: ParamValues::new(),
-        })
+        .map(|t| TechniqueConfig::new(t.name(), ParamValues::new()))
         .collect()
 }
 
@@ -169,7 +117,7 @@ pub fn measure_on(
     let mut out = Vec::with_capacity(configs.len());
     for c in configs {
         progress(&c.label());
-        let input = frame(c.technique()?, &c.params);
+        let input = frame(c.plugin()?, &c.params);
         let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
         for f in 0..=frames {
             r.render(&input)?;

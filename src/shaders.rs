@@ -111,14 +111,31 @@ pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl", "evaluate.wgsl"];
 /// Pass shaders that take an eye transparency technique's store function through `#include_technique`.
 pub const TECHNIQUE_PASSES: &[&str] = &["hair.wgsl"];
 
+/// Why a shader could not be composed; each names the include chain (`a.wgsl -> b.wgsl`) where it happened.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ShaderError {
+    #[error("include cycle: {chain}")]
+    Cycle { chain: String },
+    #[error("{chain}: no such shader file")]
+    NoSuchFile { chain: String },
+    #[error("{chain}: needs a shadow method lookup")]
+    NeedsMethod { chain: String },
+    #[error("{chain}: needs an eye transparency technique")]
+    NeedsTechnique { chain: String },
+    #[error("{chain}: malformed include '{line}'")]
+    MalformedInclude { chain: String, line: String },
+    #[error("{at}: unpaired '#sort_sizes {directive}'")]
+    UnpairedSortSizes { at: String, directive: String },
+}
+
 /// Composes the pass shader `path`, resolving includes; `method` is the method lookup file for
 /// `#include_method` (e.g. `methods/none.wgsl`).
-pub fn compose(path: &str, method: Option<&str>) -> Result<String, String> {
+pub fn compose(path: &str, method: Option<&str>) -> Result<String, ShaderError> {
     compose_from(SOURCES, path, method, None)
 }
 
 /// [`compose`] of a list resolve with its sort instantiated for each of `sizes` (ascending, not empty).
-pub fn compose_sorts(path: &str, sizes: &[u32]) -> Result<String, String> {
+pub fn compose_sorts(path: &str, sizes: &[u32]) -> Result<String, ShaderError> {
     let mut composer = Composer::new(SOURCES, None, None);
     composer.sizes = sizes;
     composer.paste(path)?;
@@ -126,7 +143,11 @@ pub fn compose_sorts(path: &str, sizes: &[u32]) -> Result<String, String> {
 }
 
 /// [`compose`] with `technique`, the store function file for `#include_technique` (e.g. `transparency/wboit.wgsl`).
-pub fn compose_with(path: &str, method: Option<&str>, technique: Option<&str>) -> Result<String, String> {
+pub fn compose_with(
+    path: &str,
+    method: Option<&str>,
+    technique: Option<&str>,
+) -> Result<String, ShaderError> {
     compose_from(SOURCES, path, method, technique)
 }
 
@@ -136,7 +157,7 @@ fn compose_from(
     path: &str,
     method: Option<&str>,
     technique: Option<&str>,
-) -> Result<String, String> {
+) -> Result<String, ShaderError> {
     let mut composer = Composer::new(sources, method, technique);
     composer.paste(path)?;
     Ok(composer.out)
@@ -174,7 +195,7 @@ impl<'a> Composer<'a> {
     }
 
     /// `#sort_sizes begin` / `end`: collects the template, then pastes it once per size.
-    fn sort_sizes(&mut self, directive: &str) -> Result<(), String> {
+    fn sort_sizes(&mut self, directive: &str) -> Result<(), ShaderError> {
         let here = self.chain.join(" -> ");
         match (directive, self.template.take()) {
             ("begin", None) => {
@@ -190,7 +211,12 @@ impl<'a> Composer<'a> {
                     );
                 }
             }
-            _ => return Err(format!("{here}: unpaired '#sort_sizes {directive}'")),
+            _ => {
+                return Err(ShaderError::UnpairedSortSizes {
+                    at: here,
+                    directive: directive.to_string(),
+                });
+            }
         }
         Ok(())
     }
@@ -215,30 +241,34 @@ impl<'a> Composer<'a> {
         chain + last
     }
 
-    fn paste(&mut self, path: &'a str) -> Result<(), String> {
+    fn paste(&mut self, path: &'a str) -> Result<(), ShaderError> {
         if self.chain.contains(&path) {
-            return Err(format!("include cycle: {}", self.chain_to(path)));
+            return Err(ShaderError::Cycle {
+                chain: self.chain_to(path),
+            });
         }
         if self.pasted.contains(&path) {
             return Ok(());
         }
-        let &(name, src) = self
-            .sources
-            .iter()
-            .find(|(p, _)| *p == path)
-            .ok_or_else(|| format!("{}: no such shader file", self.chain_to(path)))?;
+        let &(name, src) =
+            self.sources
+                .iter()
+                .find(|(p, _)| *p == path)
+                .ok_or_else(|| ShaderError::NoSuchFile {
+                    chain: self.chain_to(path),
+                })?;
         self.chain.push(name);
         self.pasted.push(name);
         for line in src.lines() {
             let trimmed = line.trim();
             if trimmed == "#include_method" {
-                let m = self
-                    .method
-                    .ok_or_else(|| format!("{}: needs a shadow method lookup", self.chain.join(" -> ")))?;
+                let m = self.method.ok_or_else(|| ShaderError::NeedsMethod {
+                    chain: self.chain.join(" -> "),
+                })?;
                 self.paste(m)?;
             } else if trimmed == "#include_technique" {
-                let t = self.technique.ok_or_else(|| {
-                    format!("{}: needs an eye transparency technique", self.chain.join(" -> "))
+                let t = self.technique.ok_or_else(|| ShaderError::NeedsTechnique {
+                    chain: self.chain.join(" -> "),
                 })?;
                 self.paste(t)?;
             } else if let Some(directive) = trimmed.strip_prefix("#sort_sizes ") {
@@ -250,7 +280,10 @@ impl<'a> Composer<'a> {
                     .trim()
                     .strip_prefix('"')
                     .and_then(|r| r.strip_suffix('"'))
-                    .ok_or_else(|| format!("{}: malformed include '{trimmed}'", self.chain.join(" -> ")))?;
+                    .ok_or_else(|| ShaderError::MalformedInclude {
+                        chain: self.chain.join(" -> "),
+                        line: trimmed.to_string(),
+                    })?;
                 self.paste(inc)?;
             } else {
                 self.out.push_str(line);
@@ -314,7 +347,9 @@ mod tests {
                 && one.contains("return resolve_64(head, min(n, 64u));")
         );
         assert_eq!(
-            compose_from(FILES, "unpaired.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "unpaired.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "unpaired.wgsl: unpaired '#sort_sizes end'"
         );
     }
@@ -330,11 +365,15 @@ mod tests {
         let out = compose_from(FILES, "method_pass.wgsl", Some("m.wgsl"), None).unwrap();
         assert_eq!(out, "fn c() {}\nfn visibility_at() {}\nfn main() {}\n");
         assert_eq!(
-            compose_from(FILES, "method_pass.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "method_pass.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "method_pass.wgsl: needs a shadow method lookup"
         );
         assert_eq!(
-            compose_from(FILES, "method_pass.wgsl", Some("nope.wgsl"), None).unwrap_err(),
+            compose_from(FILES, "method_pass.wgsl", Some("nope.wgsl"), None)
+                .unwrap_err()
+                .to_string(),
             "method_pass.wgsl -> nope.wgsl: no such shader file"
         );
     }
@@ -347,11 +386,15 @@ mod tests {
             "fn c() {}\nfn visibility_at() {}\nfn store_hair() {}\nfn main() {}\n"
         );
         assert_eq!(
-            compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), None).unwrap_err(),
+            compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), None)
+                .unwrap_err()
+                .to_string(),
             "eye_pass.wgsl: needs an eye transparency technique"
         );
         assert_eq!(
-            compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), Some("nope.wgsl")).unwrap_err(),
+            compose_from(FILES, "eye_pass.wgsl", Some("m.wgsl"), Some("nope.wgsl"))
+                .unwrap_err()
+                .to_string(),
             "eye_pass.wgsl -> nope.wgsl: no such shader file"
         );
     }
@@ -359,11 +402,15 @@ mod tests {
     #[test]
     fn an_include_cycle_is_an_error_naming_the_chain() {
         assert_eq!(
-            compose_from(FILES, "cycle1.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "cycle1.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "include cycle: cycle1.wgsl -> cycle2.wgsl -> cycle3.wgsl -> cycle1.wgsl"
         );
         assert_eq!(
-            compose_from(FILES, "self.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "self.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "include cycle: self.wgsl -> self.wgsl"
         );
     }
@@ -371,11 +418,15 @@ mod tests {
     #[test]
     fn a_missing_file_is_an_error_naming_the_chain() {
         assert_eq!(
-            compose_from(FILES, "nested_missing.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "nested_missing.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "nested_missing.wgsl -> missing.wgsl -> d.wgsl: no such shader file"
         );
         assert_eq!(
-            compose_from(FILES, "none.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "none.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "none.wgsl: no such shader file"
         );
     }
@@ -383,7 +434,9 @@ mod tests {
     #[test]
     fn an_unquoted_include_is_an_error() {
         assert_eq!(
-            compose_from(FILES, "unquoted.wgsl", None, None).unwrap_err(),
+            compose_from(FILES, "unquoted.wgsl", None, None)
+                .unwrap_err()
+                .to_string(),
             "unquoted.wgsl: malformed include '#include c.wgsl'"
         );
     }

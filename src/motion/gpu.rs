@@ -108,7 +108,8 @@ impl GpuSimulation {
                 })
                 .collect::<Vec<_>>(),
         });
-        let source = crate::shaders::compose("motion/simulate.wgsl", None).map_err(GpuError::Setting)?;
+        let source = crate::shaders::compose("motion/simulate.wgsl", None)
+            .map_err(|e| GpuError::Setting(e.to_string()))?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("hairlab.motion.shader"),
             source: wgpu::ShaderSource::Wgsl(source.into()),

@@ -114,7 +114,7 @@ fn method_passes_refuse_to_compose_without_a_method() {
 fn technique_passes_refuse_to_compose_without_a_technique() {
     for pass in TECHNIQUE_PASSES {
         assert_eq!(
-            compose(pass, Some("methods/none.wgsl")).unwrap_err(),
+            compose(pass, Some("methods/none.wgsl")).unwrap_err().to_string(),
             format!("{pass}: needs an eye transparency technique")
         );
     }

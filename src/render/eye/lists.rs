@@ -94,7 +94,7 @@ pub fn sort_sizes(max: u32) -> Vec<u32> {
 }
 
 /// The list resolve `path` with its sort instantiated for every size up to `max` ([`sort_sizes`]).
-pub fn resolve_source(path: &str, max: u32) -> Result<String, String> {
+pub fn resolve_source(path: &str, max: u32) -> Result<String, crate::shaders::ShaderError> {
     crate::shaders::compose_sorts(path, &sort_sizes(max))
 }
 

@@ -138,7 +138,11 @@ pub fn over_target(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
 }
 
 /// A shader module of the composed `src` (a composer error is a bug the shader tests rule out: it panics).
-pub fn module(device: &wgpu::Device, label: &str, src: Result<String, String>) -> wgpu::ShaderModule {
+pub fn module(
+    device: &wgpu::Device,
+    label: &str,
+    src: Result<String, crate::shaders::ShaderError>,
+) -> wgpu::ShaderModule {
     let src = src.unwrap_or_else(|e| panic!("{e}"));
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),

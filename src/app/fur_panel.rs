@@ -37,11 +37,13 @@ impl HairlabApp {
         if self.built_fur.as_ref() == Some(wanted) {
             return;
         }
-        let built = FurScene::build(scene, wanted).and_then(|fur| {
-            r.set_fur(fur.as_ref().map(|f| (f, wanted)))
-                .map_err(|e| format!("fur: {e}"))?;
-            Ok(fur)
-        });
+        let built = FurScene::build(scene, wanted)
+            .map_err(|e| e.to_string())
+            .and_then(|fur| {
+                r.set_fur(fur.as_ref().map(|f| (f, wanted)))
+                    .map_err(|e| format!("fur: {e}"))?;
+                Ok(fur)
+            });
         match built {
             Ok(fur) => {
                 for w in fur.iter().flat_map(|f| f.warnings.clone()) {

@@ -112,8 +112,8 @@ impl MarchParams {
     }
 
     /// Checks the parameters; the error names the key.
-    pub fn validate(&self) -> Result<(), String> {
-        let bad = |key: &str, v: String, rule: &str| Err(format!("invalid {key} = {v}: {rule}"));
+    pub fn validate(&self) -> Result<(), super::InvalidParam> {
+        let bad = |key: &str, v: String, rule: &str| Err(super::InvalidParam::new(key, v, rule));
         if !(self.sigma.is_finite() && self.sigma >= 0.0) {
             return bad("fur.sigma", self.sigma.to_string(), "must be finite and ≥ 0");
         }
@@ -545,7 +545,7 @@ mod tests {
             emit: Emit::Shell,
         };
         assert_eq!(p.validate(), Ok(()));
-        let e = |q: MarchParams| q.validate().unwrap_err();
+        let e = |q: MarchParams| q.validate().unwrap_err().to_string();
         assert_eq!(
             e(MarchParams { step: 0.0, ..p }),
             "invalid fur.march_step = 0: must be finite and > 0"

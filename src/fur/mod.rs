@@ -16,3 +16,22 @@ pub mod settings;
 pub mod shell;
 pub mod table;
 pub mod volume;
+
+/// A fur parameter outside its range: the message names the key, the value and the rule.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("invalid {key} = {value}: {rule}")]
+pub struct InvalidParam {
+    pub key: String,
+    pub value: String,
+    pub rule: String,
+}
+
+impl InvalidParam {
+    pub fn new(key: &str, value: impl std::fmt::Display, rule: &str) -> InvalidParam {
+        InvalidParam {
+            key: key.to_string(),
+            value: value.to_string(),
+            rule: rule.to_string(),
+        }
+    }
+}

@@ -179,12 +179,12 @@ pub const MAX_LEVEL: u32 = 8;
 
 impl FurSettings {
     /// Range checks, each naming its key.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), super::InvalidParam> {
         let finite = |key: &str, v: f32, ok: bool, rule: &str| {
             if v.is_finite() && ok {
                 Ok(())
             } else {
-                Err(format!("fur.{key} {rule} (got {v:?})"))
+                Err(super::InvalidParam::new(&format!("fur.{key}"), v, rule))
             }
         };
         finite(
@@ -236,7 +236,11 @@ impl FurSettings {
             if (lo..=hi).contains(&v) {
                 Ok(())
             } else {
-                Err(format!("fur.{key} must be in {lo}..={hi} (got {v})"))
+                Err(super::InvalidParam::new(
+                    &format!("fur.{key}"),
+                    v,
+                    &format!("must be in {lo}..={hi}"),
+                ))
             }
         };
         count("group_steps", self.group_steps, 1, MAX_STEPS)?;
@@ -315,24 +319,34 @@ pub struct FurScene {
     pub warnings: Vec<String>,
 }
 
+/// Why a scene's fur cannot be built; the message names the key or the mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum FurSceneError {
+    #[error(transparent)]
+    Invalid(#[from] super::InvalidParam),
+    #[error("fur.mode = {mode}: the scene has no mesh to grow fur on")]
+    NoMesh { mode: &'static str },
+    #[error(transparent)]
+    Mesh(#[from] super::mesh::MeshError),
+    #[error(transparent)]
+    Shell(#[from] super::shell::ShellError),
+}
+
 impl FurScene {
     /// The fur of `scene`'s first mesh; `None` when `s.mode` is off. An error names the key or the mesh.
-    pub fn build(scene: &Scene, s: &FurSettings) -> Result<Option<FurScene>, String> {
+    pub fn build(scene: &Scene, s: &FurSettings) -> Result<Option<FurScene>, FurSceneError> {
         if s.mode == FurMode::Off {
             return Ok(None);
         }
         s.validate()?;
         let Some(mesh) = scene.meshes.first() else {
-            return Err(format!(
-                "fur.mode = {}: the scene has no mesh to grow fur on",
-                s.mode.word()
-            ));
+            return Err(FurSceneError::NoMesh { mode: s.mode.word() });
         };
         let start = Instant::now();
         let name = "the scene's first mesh";
-        let fur_mesh = FurMesh::build(name, mesh).map_err(|e| e.to_string())?;
+        let fur_mesh = FurMesh::build(name, mesh)?;
         let mut warnings: Vec<String> = fur_mesh.report.warning(name).into_iter().collect();
-        let shell = Shell::build(fur_mesh, &s.shell_params()).map_err(|e| e.to_string())?;
+        let shell = Shell::build(fur_mesh, &s.shell_params())?;
         warnings.extend(shell.report.warning(name));
         let volume = Volume {
             params: s.volume_params(),
@@ -357,28 +371,31 @@ mod tests {
         let bad = |f: fn(&mut FurSettings)| {
             let mut s = FurSettings::default();
             f(&mut s);
-            s.validate().unwrap_err()
+            s.validate().unwrap_err().to_string()
         };
         assert_eq!(
             bad(|s| s.height = f32::NAN),
-            "fur.height must be finite and > 0 (got NaN)"
+            "invalid fur.height = NaN: must be finite and > 0"
         );
         assert_eq!(
             bad(|s| s.group_steps = 0),
-            "fur.group_steps must be in 1..=256 (got 0)"
+            "invalid fur.group_steps = 0: must be in 1..=256"
         );
-        assert_eq!(bad(|s| s.layers = 300), "fur.layers must be in 1..=256 (got 300)");
+        assert_eq!(
+            bad(|s| s.layers = 300),
+            "invalid fur.layers = 300: must be in 1..=256"
+        );
         assert_eq!(
             bad(|s| s.attenuation = -1.0),
-            "fur.attenuation must be finite and ≥ 0 (got -1.0)"
+            "invalid fur.attenuation = -1: must be finite and ≥ 0"
         );
         assert_eq!(
             bad(|s| s.epsilon_t = 1.0),
-            "fur.epsilon_t must be in [0, 1) (got 1.0)"
+            "invalid fur.epsilon_t = 1: must be in [0, 1)"
         );
         assert_eq!(
             bad(|s| s.colour = [0.1, f32::INFINITY, 0.1]),
-            "fur.colour must hold three finite non-negative numbers (got inf)"
+            "invalid fur.colour = inf: must hold three finite non-negative numbers"
         );
     }
 

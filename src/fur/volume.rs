@@ -100,8 +100,8 @@ impl VolumeParams {
     }
 
     /// Checks the parameters; the error names the key.
-    pub fn validate(&self) -> Result<(), String> {
-        let bad = |key: &str, v: f32, rule: &str| Err(format!("invalid {key} = {v}: {rule}"));
+    pub fn validate(&self) -> Result<(), super::InvalidParam> {
+        let bad = |key: &str, v: f32, rule: &str| Err(super::InvalidParam::new(key, v, rule));
         let unit = |v: f32| v.is_finite() && (0.0..=1.0).contains(&v);
         if !unit(self.density_variation) {
             return bad(
@@ -295,7 +295,7 @@ mod tests {
             ..VolumeParams::default()
         };
         assert_eq!(
-            p.validate().unwrap_err(),
+            p.validate().unwrap_err().to_string(),
             "invalid fur.length_variation = 1: must be in [0, 1)"
         );
     }

@@ -709,7 +709,7 @@ fn render_draws_fur_and_prints_table_1() {
             "--out",
             out_s,
         ]),
-        &["fur.layers must be in 1..=256 (got 0)"],
+        &["invalid fur.layers = 0: must be in 1..=256"],
     );
     assert!(!out.exists(), "no output on failure");
     // Fur is shown by its own technique, never swapped in: another one is refused, naming the fur's.

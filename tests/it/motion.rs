@@ -11,7 +11,7 @@ use glam::Vec3;
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;
 use hairlab::motion::{Ellipsoid, Motion};
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 use hairlab::scene::generate::HEAD_RADII;
 use hairlab::scene::hair::{HairFile, write_hair_file};
 use hairlab::settings::Settings;
@@ -75,20 +75,6 @@ fn frame_k_is_the_same_bits_after_playing_scrubbing_or_fresh() {
     assert_ne!(frames[0], frames[k as usize], "the hair moves");
 }
 
-fn input<'a>(s: &'a Settings, method: &'a dyn hairlab::methods::ShadowMethod) -> FrameInput<'a> {
-    FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method,
-        method_params: &s.method.params,
-        technique: s.transparency.technique().unwrap(),
-        technique_params: &s.transparency.params,
-        width: s.render.width,
-        height: s.render.height,
-    }
-}
-
 #[test]
 fn rendering_frame_k_after_playing_equals_a_fresh_render_for_every_method() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -102,7 +88,7 @@ fn rendering_frame_k_after_playing_equals_a_fresh_render_for_every_method() {
     for f in 0..k {
         played.update_points(motion.frame(f).unwrap()).unwrap();
         played
-            .render(&input(&s, methods[f as usize % methods.len()]))
+            .render(&common::frame_input(&s, methods[f as usize % methods.len()]))
             .unwrap();
     }
     let points_k = motion.frame(k).unwrap().to_vec();
@@ -113,9 +99,9 @@ fn rendering_frame_k_after_playing_equals_a_fresh_render_for_every_method() {
     scene.set_strand_points(&points_k).unwrap();
     let mut fresh = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
     for &m in methods {
-        played.render(&input(&s, m)).unwrap();
+        played.render(&common::frame_input(&s, m)).unwrap();
         let a = played.read_output().unwrap();
-        fresh.render(&input(&s, m)).unwrap();
+        fresh.render(&common::frame_input(&s, m)).unwrap();
         let b = fresh.read_output().unwrap();
         let differing = a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
         assert_eq!(differing, 0, "{}: frame {k} played vs fresh", m.name());

@@ -7,24 +7,10 @@ use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;
-use hairlab::render::{FrameInput, Renderer};
+use hairlab::render::Renderer;
 use hairlab::scene::hair::{HairFile, write_hair_file};
 use hairlab::scene::{Aabb, LightFit, Scene, load::load_scene};
 use hairlab::settings::Settings;
-
-fn frame<'a>(s: &'a Settings, method: &'a dyn hairlab::methods::ShadowMethod) -> FrameInput<'a> {
-    FrameInput {
-        camera: &s.camera,
-        light: &s.light,
-        render: &s.render,
-        method,
-        method_params: &s.method.params,
-        technique: s.transparency.technique().unwrap(),
-        technique_params: &s.transparency.params,
-        width: s.render.width,
-        height: s.render.height,
-    }
-}
 
 /// The default head (strands and its mesh) with the camera framed on it.
 fn head() -> (Settings, Scene) {
@@ -63,7 +49,7 @@ fn moved_points_render_like_the_moved_strands_loaded_from_a_file() {
     for method in registry::all() {
         let m = *method;
         live.update_points(&scene.strands.points).unwrap();
-        live.render(&frame(&s, m)).unwrap();
+        live.render(&common::frame_input(&s, m)).unwrap();
         let unmoved = live.read_output().unwrap();
         let before = live.creations();
         let generation = live.scene_generation();
@@ -73,7 +59,7 @@ fn moved_points_render_like_the_moved_strands_loaded_from_a_file() {
             generation,
             "moving the points is a new generation"
         );
-        live.render(&frame(&s, m)).unwrap();
+        live.render(&common::frame_input(&s, m)).unwrap();
         let image = live.read_output().unwrap();
         assert_eq!(
             live.creations(),
@@ -85,7 +71,7 @@ fn moved_points_render_like_the_moved_strands_loaded_from_a_file() {
             live.scene_gpu().hair_vertices == vertices,
             "the strand vertex buffer was re-created"
         );
-        fresh.render(&frame(&s, m)).unwrap();
+        fresh.render(&common::frame_input(&s, m)).unwrap();
         let expected = fresh.read_output().unwrap();
         let differing = image
             .pixels()

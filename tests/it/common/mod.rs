@@ -160,6 +160,21 @@ pub fn light_frame<'a>(
     }
 }
 
+/// A frame of `method` with the preset's parameters, technique and image size under `s`.
+pub fn frame_input<'a>(s: &'a Settings, method: &'a dyn ShadowMethod) -> FrameInput<'a> {
+    FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method,
+        method_params: &s.method.params,
+        technique: s.transparency.technique().unwrap(),
+        technique_params: &s.transparency.params,
+        width: s.render.width,
+        height: s.render.height,
+    }
+}
+
 /// `(key, value)` pairs as parameter values.
 pub fn values(params: &[(&str, f32)]) -> ParamValues {
     params.iter().map(|(k, v)| (k.to_string(), *v)).collect()

@@ -114,6 +114,11 @@ impl HairlabApp {
     pub(super) fn feed_undoer(&mut self, ctx: &egui::Context) {
         let now = ctx.input(|i| i.time);
         self.undoer.feed_state(now, &self.settings);
+        if self.undoer.is_in_flux() {
+            // A frame once the stable time has passed takes the step, even with no input meanwhile: otherwise the
+            // next change, however much later, would join this one.
+            ctx.request_repaint_after(std::time::Duration::from_secs_f32(STABLE_TIME));
+        }
     }
 
     /// The Undo, Redo and Help buttons.

@@ -10,6 +10,7 @@ mod panels;
 pub mod pixel_inspector;
 pub mod texel_lab;
 mod transparency_panel;
+mod undo;
 mod viewport;
 
 use crate::gpu::timing::{PassTime, Phase, phase_ms};
@@ -118,6 +119,10 @@ pub struct HairlabApp {
     built_fur: Option<crate::fur::settings::FurSettings>,
     /// How long the scene took to build (Table 1 row 3).
     scene_ms: f64,
+    /// Undo and redo of settings changes (`undo.rs`).
+    undoer: egui::util::undoer::Undoer<Settings>,
+    /// Whether the Help window (shortcuts) is open.
+    help_open: bool,
 }
 
 impl HairlabApp {
@@ -170,6 +175,8 @@ impl HairlabApp {
             compare: Default::default(),
             pixel_inspector: Default::default(),
             wait_timings: false,
+            undoer: undo::new_undoer(),
+            help_open: false,
         };
         app.rebuild_scene();
         app
@@ -350,8 +357,7 @@ impl HairlabApp {
             DialogPurpose::SaveScreenshot => self.screenshot_request = Some(path),
             DialogPurpose::LoadPreset => match Settings::load_preset(&path.to_string_lossy(), &[]) {
                 Ok(s) => {
-                    self.settings = s;
-                    self.rebuild_scene();
+                    self.replace_settings(s);
                     self.info(format!("preset loaded: {}", path.display()));
                 }
                 Err(e) => self.error(format!("{e:#}")),
@@ -417,10 +423,7 @@ impl HairlabApp {
         if let Some(path) = dropped.into_iter().next() {
             if path.extension().is_some_and(|e| e == "toml") {
                 match Settings::load_preset(&path.to_string_lossy(), &[]) {
-                    Ok(s) => {
-                        self.settings = s;
-                        self.rebuild_scene();
-                    }
+                    Ok(s) => self.replace_settings(s),
                     Err(e) => self.error(format!("{e:#}")),
                 }
             } else {
@@ -685,6 +688,7 @@ impl eframe::App for HairlabApp {
         let ctx = ui.ctx().clone();
         self.poll_dialog();
         self.handle_input(&ctx);
+        self.undo_input(&ctx);
         egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));
         egui::Panel::left("controls")
             .resizable(true)
@@ -698,6 +702,8 @@ impl eframe::App for HairlabApp {
         self.inspector_windows(&ctx);
         self.bench_window(&ctx);
         self.transparency_windows(&ctx);
+        self.help_window(&ctx);
+        self.feed_undoer(&ctx);
         if let Some(path) = self.screenshot_request.take() {
             self.save_screenshot(path);
         }

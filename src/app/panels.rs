@@ -100,6 +100,7 @@ impl HairlabApp {
                 self.bench.open = !self.bench.open;
             }
         });
+        self.undo_buttons(ui);
         if ui
             .checkbox(&mut self.continuous, "Render continuously (measures frame time)")
             .changed()
@@ -127,10 +128,7 @@ impl HairlabApp {
                 for (name, _) in crate::settings::BUILTIN_PRESETS {
                     if ui.button(*name).clicked() {
                         match crate::settings::Settings::load_preset(name, &[]) {
-                            Ok(s) => {
-                                self.settings = s;
-                                self.rebuild_scene();
-                            }
+                            Ok(s) => self.replace_settings(s),
                             Err(e) => self.error(format!("{e:#}")),
                         }
                     }

@@ -329,3 +329,126 @@ fn fur_section_switches_the_mode_and_shows_table_1() {
         hairlab::fur::settings::FurMode::Implicit
     );
 }
+
+/// Lets the undoer take its step: the settings stay unchanged for longer than its stable time (1 s; 8 steps of
+/// the harness's 0.25 s).
+fn settle(harness: &mut Harness<'_, HairlabApp>) {
+    harness.run_steps(8);
+}
+
+#[test]
+fn undo_and_redo_step_through_settings_changed_in_the_ui() {
+    use egui::accesskit::Role;
+    use egui_kittest::kittest::By;
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness = tall_harness();
+    harness.run();
+    settle(&mut harness);
+    let original = harness.state().settings().clone();
+    let original_points = harness.state().scene().unwrap().strands.points.clone();
+    assert!(!harness.state().can_undo());
+    let mut states = vec![original.clone()];
+
+    // A slider, moved by three arrow-key presses within the stable time: one step.
+    harness.get_by_role_and_label(Role::Slider, "hair alpha").focus();
+    harness.run();
+    for _ in 0..3 {
+        harness.key_press(egui::Key::ArrowRight);
+        harness.run();
+    }
+    settle(&mut harness);
+    assert!(harness.state().settings().render.hair_alpha > original.render.hair_alpha);
+    states.push(harness.state().settings().clone());
+
+    // A checkbox.
+    harness.get_by_role_and_label(Role::CheckBox, "PCF 3×3").click();
+    harness.run();
+    settle(&mut harness);
+    assert_ne!(harness.state().settings().render.pcf, original.render.pcf);
+    states.push(harness.state().settings().clone());
+
+    // A combo box.
+    harness
+        .get_by_role_and_label(Role::ComboBox, "map resolution")
+        .click();
+    harness.run();
+    harness.get_by_label("128²").click();
+    harness.run();
+    settle(&mut harness);
+    assert_eq!(harness.state().settings().render.map_resolution, 128);
+    states.push(harness.state().settings().clone());
+
+    // A scene setting: the scene is rebuilt with straight hair.
+    harness.get_by_label("straight").click();
+    harness.run();
+    settle(&mut harness);
+    assert_ne!(harness.state().scene().unwrap().strands.points, original_points);
+    states.push(harness.state().settings().clone());
+    for w in states.windows(2) {
+        assert_ne!(w[0], w[1]);
+    }
+    let last = states.len() - 1;
+
+    // Ctrl+Z, step by step back to the original settings (and scene).
+    for i in (0..last).rev() {
+        assert!(harness.state().can_undo());
+        harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+        harness.run();
+        assert_eq!(
+            harness.state().settings(),
+            &states[i],
+            "after undoing to step {i}"
+        );
+    }
+    assert!(!harness.state().can_undo());
+    assert_eq!(harness.state().settings(), &original);
+    assert_eq!(harness.state().scene().unwrap().strands.points, original_points);
+
+    // Ctrl+Shift+Z forward to the final settings.
+    for (i, state) in states.iter().enumerate().skip(1) {
+        assert!(harness.state().can_redo());
+        harness.key_press_modifiers(egui::Modifiers::COMMAND | egui::Modifiers::SHIFT, egui::Key::Z);
+        harness.run();
+        assert_eq!(harness.state().settings(), state, "after redoing to step {i}");
+    }
+    assert!(!harness.state().can_redo());
+    assert_eq!(harness.state().settings(), &states[last]);
+    assert_eq!(
+        harness.state().settings().scene.generator.style,
+        HairStyle::Straight
+    );
+
+    // The Undo button, then Ctrl+Y.
+    harness.get_by_label("Undo").click();
+    harness.run();
+    assert_eq!(harness.state().settings(), &states[last - 1]);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
+    harness.run();
+    assert_eq!(harness.state().settings(), &states[last]);
+
+    // A preset replaces every setting as one step.
+    harness.get_by_label("Presets").click();
+    harness.run();
+    harness.get_by_label("stray-strand").click();
+    harness.run();
+    assert_ne!(harness.state().settings(), &states[last]);
+    settle(&mut harness);
+    let preset = harness.state().settings().clone();
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run();
+    assert_eq!(harness.state().settings(), &states[last]);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
+    harness.run();
+    assert_eq!(harness.state().settings(), &preset);
+
+    // F1 opens the Help window with the shortcuts.
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    assert!(
+        harness
+            .query(By::new().role(Role::Label).value("Ctrl+Shift+Z / Ctrl+Y"))
+            .is_some()
+    );
+}

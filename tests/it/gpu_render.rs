@@ -14,18 +14,7 @@ fn render(gpu: &Gpu, settings: &mut Settings) -> (Renderer, image::RgbaImage) {
     settings.camera.frame(&scene.framing_bounds());
     let mut r = Renderer::new(gpu, &scene, settings.render.map_resolution).unwrap();
     let method = registry::find(&settings.method.name).unwrap();
-    r.render(&FrameInput {
-        camera: &settings.camera,
-        light: &settings.light,
-        render: &settings.render,
-        method,
-        method_params: &settings.method.params,
-        technique: settings.transparency.technique().unwrap(),
-        technique_params: &settings.transparency.params,
-        width: settings.render.width,
-        height: settings.render.height,
-    })
-    .unwrap();
+    r.render(&common::frame_input(settings, method)).unwrap();
     let img = r.read_output().unwrap();
     (r, img)
 }

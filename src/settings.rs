@@ -287,6 +287,12 @@ impl Settings {
                 r.strand_width
             );
         }
+        if !(1.0..=8.0).contains(&r.light_min_width) {
+            bail!(
+                "render.light_min_width must be in 1..=8 light texels (got {})",
+                r.light_min_width
+            );
+        }
         for (k, c) in [
             ("render.hair_color", r.hair_color),
             ("render.background", r.background),

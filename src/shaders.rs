@@ -1,109 +1,17 @@
 //! WGSL sources embedded at compile time and a tiny include step: `#include "common/x.wgsl"` pastes a file of
 //! `shaders/`, `#include_method` pastes the selected shadow method's lookup (`shaders/methods/<name>.wgsl`),
-//! `#include_technique` the selected eye transparency technique's store function (`shaders/transparency/<name>.wgsl`).
+//! `#include_technique` the selected eye transparency technique's store function (`shaders/transparency/<name>.wgsl`),
+//! `#include_caster` the light caster's vertex stage (`shaders/casters/<name>.wgsl`, [`compose_light`]; the
+//! strands' lines, `casters/lines.wgsl`, where none is named).
 //! Included files may include others; each file is pasted once per composed shader, where it is first named.
 //! One more step serves the per-pixel lists' resolves (`crate::render::eye::lists`): the lines between
 //! `#sort_sizes begin` and `#sort_sizes end` are written for 64 nodes and pasted once per sort size, `_64` and
 //! `64u` replaced by the size, and `#sort_dispatch` becomes the line that calls the smallest size holding a pixel's
 //! `n` nodes ([`compose_sorts`]; [`compose`] instantiates the 64 alone).
 
-/// Embeds files of `shaders/` by their path relative to that folder.
-macro_rules! embed {
-    ($($path:literal),* $(,)?) => {
-        &[$(($path, include_str!(concat!("../shaders/", $path)))),*]
-    };
-}
-
-/// Every WGSL file under `shaders/`, by path relative to that folder (a test checks none is missing).
-pub const SOURCES: &[(&str, &str)] = embed![
-    "common/frame.wgsl",
-    "common/scene_bindings.wgsl",
-    "common/kajiya_kay.wgsl",
-    "common/light_vertex.wgsl",
-    "common/method_lookup.wgsl",
-    "common/cumulative_targets.wgsl",
-    "common/visibility.wgsl",
-    "common/osm_uniforms.wgsl",
-    "common/dom_uniforms.wgsl",
-    "common/bom_uniforms.wgsl",
-    "common/dc_uniforms.wgsl",
-    "common/occupancy_uniforms.wgsl",
-    "common/fom_uniforms.wgsl",
-    "common/dsm_uniforms.wgsl",
-    "common/msm_uniforms.wgsl",
-    "common/msm_bound.wgsl",
-    "common/mboit.wgsl",
-    "common/shortcut.wgsl",
-    "common/avsm_uniforms.wgsl",
-    "common/fullscreen.wgsl",
-    "common/list_node.wgsl",
-    "methods/none.wgsl",
-    "methods/adsm.wgsl",
-    "methods/opaque_shadow_map.wgsl",
-    "methods/reference.wgsl",
-    "methods/osm.wgsl",
-    "methods/dc.wgsl",
-    "methods/dom.wgsl",
-    "methods/bom.wgsl",
-    "methods/occupancy.wgsl",
-    "methods/fom.wgsl",
-    "methods/dsm.wgsl",
-    "methods/msm.wgsl",
-    "methods/avsm.wgsl",
-    "common/eye_vertex.wgsl",
-    "common/eye_node.wgsl",
-    "common/mesh_depth.wgsl",
-    "common/eye_sort.wgsl",
-    "common/list_resolve.wgsl",
-    "common/list_count.wgsl",
-    "fur/resolve.wgsl",
-    "motion/simulate.wgsl",
-    "fur/ribbon_count.wgsl",
-    "transparency/sorted.wgsl",
-    "transparency/sorted_count.wgsl",
-    "transparency/sorted_resolve.wgsl",
-    "transparency/wboit.wgsl",
-    "transparency/wboit_resolve.wgsl",
-    "transparency/weighted_average.wgsl",
-    "transparency/weighted_average_resolve.wgsl",
-    "transparency/opaque.wgsl",
-    "transparency/opaque_resolve.wgsl",
-    "transparency/depth_peel.wgsl",
-    "transparency/depth_peel_count.wgsl",
-    "transparency/depth_peel_under.wgsl",
-    "transparency/depth_peel_resolve.wgsl",
-    "common/occupancy_estimate.wgsl",
-    "common/occupancy_order_uniforms.wgsl",
-    "transparency/occupancy_order.wgsl",
-    "transparency/occupancy_order_maps.wgsl",
-    "transparency/occupancy_order_resolve.wgsl",
-    "transparency/mboit.wgsl",
-    "transparency/mboit_moments.wgsl",
-    "transparency/mboit_resolve.wgsl",
-    "transparency/shortcut.wgsl",
-    "transparency/shortcut_depths.wgsl",
-    "transparency/shortcut_resolve.wgsl",
-    "light_depth.wgsl",
-    "shadow_map.wgsl",
-    "abuffer.wgsl",
-    "depth_peel.wgsl",
-    "osm.wgsl",
-    "dc.wgsl",
-    "dom.wgsl",
-    "bom.wgsl",
-    "occupancy.wgsl",
-    "fom.wgsl",
-    "dsm.wgsl",
-    "msm.wgsl",
-    "avsm.wgsl",
-    "fur/shell.wgsl",
-    "fur/density.wgsl",
-    "common/fur_face.wgsl",
-    "common/fur_noise.wgsl",
-    "mesh.wgsl",
-    "hair.wgsl",
-    "evaluate.wgsl",
-];
+/// Every WGSL file under `shaders/`, by path relative to that folder: listed by the build script (`build.rs`)
+/// walking the folder, so adding a shader file is no edit here.
+pub const SOURCES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shader_sources.rs"));
 
 /// Pass shaders that take a method lookup through `#include_method`.
 pub const METHOD_PASSES: &[&str] = &["mesh.wgsl", "hair.wgsl", "evaluate.wgsl"];
@@ -132,6 +40,17 @@ pub enum ShaderError {
 /// `#include_method` (e.g. `methods/none.wgsl`).
 pub fn compose(path: &str, method: Option<&str>) -> Result<String, ShaderError> {
     compose_from(SOURCES, path, method, None)
+}
+
+/// The caster a light pass is composed with when none is named: the strands as lines.
+pub const DEFAULT_CASTER: &str = "casters/lines.wgsl";
+
+/// [`compose`] of a light pass with `caster`'s vertex stage for `#include_caster` (e.g. `casters/ribbons.wgsl`).
+pub fn compose_light(path: &str, caster: &str) -> Result<String, ShaderError> {
+    let mut composer = Composer::new(SOURCES, None, None);
+    composer.caster = caster;
+    composer.paste(path)?;
+    Ok(composer.out)
 }
 
 /// [`compose`] of a list resolve with its sort instantiated for each of `sizes` (ascending, not empty).
@@ -170,6 +89,8 @@ struct Composer<'a> {
     sources: &'a [(&'a str, &'a str)],
     method: Option<&'a str>,
     technique: Option<&'a str>,
+    /// The light caster file for `#include_caster`.
+    caster: &'a str,
     /// The files being pasted, outermost first (for cycles and error messages).
     chain: Vec<&'a str>,
     /// Every file pasted so far.
@@ -186,6 +107,7 @@ impl<'a> Composer<'a> {
             sources,
             method,
             technique,
+            caster: DEFAULT_CASTER,
             chain: Vec::new(),
             pasted: Vec::new(),
             out: String::new(),
@@ -271,6 +193,8 @@ impl<'a> Composer<'a> {
                     chain: self.chain.join(" -> "),
                 })?;
                 self.paste(t)?;
+            } else if trimmed == "#include_caster" {
+                self.paste(self.caster)?;
             } else if let Some(directive) = trimmed.strip_prefix("#sort_sizes ") {
                 self.sort_sizes(directive.trim())?;
             } else if trimmed == "#sort_dispatch" {

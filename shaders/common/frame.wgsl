@@ -19,7 +19,8 @@ struct FrameUniforms {
     spot_cos_half_angle: f32,
     // Light colour times intensity.
     light_color: vec3<f32>,
-    pad0: u32,
+    // Least width of a light-space ribbon, in light texels (casters/ribbons.wgsl).
+    light_min_width: f32,
     // Hair colour for strands without per-point colour.
     hair_color: vec3<f32>,
     // Global hair alpha.

@@ -1,13 +1,7 @@
 // The vertex stage every light-space pass shares, so that all of them (the light-depth pass, the reference and
-// every method) see bitwise the same fragments: same position, same interpolated depth and alpha.
+// every method) see bitwise the same fragments: same position, same interpolated depth and alpha. A pass's
+// `vs_main` takes a `LightVertexIn` and calls `light_vertex`; the caster the pipeline is built for defines both.
 #include "common/frame.wgsl"
-
-struct LightVertexIn {
-    @builtin(vertex_index) index: u32,
-    @location(0) position: vec3<f32>,
-    @location(1) alpha: f32,
-    @location(3) thickness: f32,
-}
 
 struct LightFragment {
     @builtin(position) clip: vec4<f32>,
@@ -19,14 +13,9 @@ struct LightFragment {
     @location(2) @interpolate(flat) segment: u32,
 }
 
-fn light_vertex(v: LightVertexIn) -> LightFragment {
-    var out: LightFragment;
-    out.clip = frame.world_to_light_clip * vec4<f32>(v.position, 1.0);
-    out.depth = light_depth(v.position);
-    out.alpha = strand_alpha(v.alpha, v.thickness, frame.light_footprint * out.clip.w);
-    out.segment = v.index;
-    return out;
-}
+// `LightVertexIn` and `light_vertex(v: LightVertexIn) -> LightFragment`: the vertex input and stage of the
+// light caster the pass is built for (`shaders/casters/<caster>.wgsl`, `render::caster`).
+#include_caster
 
 // The depth a light-space fragment stores: clamped to [0,1]; abs() turns -0.0 into +0.0 so the bit pattern of
 // the depth orders like the value (the depth peel compares bits).

@@ -3,6 +3,7 @@
 
 use super::{DialogPurpose, HairlabApp, method_names};
 use crate::methods::{self, ParamKind, ParamSpec, ParamValues, registry};
+use crate::render::LightStrands;
 use crate::scene::generate::{GenKind, HairStyle};
 use crate::scene::{LightFit, LightKind};
 
@@ -337,6 +338,27 @@ impl HairlabApp {
                     ui.selectable_value(&mut l.fit, LightFit::PerFrame, "per frame");
                     ui.selectable_value(&mut l.fit, LightFit::Bound, "bound");
                 });
+                let strands = &mut self.settings.render.light_strands;
+                ui.horizontal(|ui| {
+                    ui.label("strands").on_hover_text(
+                        "How every light pass and the exact reference draw the strands: lines, or light-facing \
+                         ribbons at least one texel wide with a coverage alpha (anti-aliased shadow maps, less \
+                         flicker in motion). render.light_strands",
+                    );
+                    for s in LightStrands::ALL {
+                        ui.selectable_value(strands, s, s.word());
+                    }
+                });
+                if *strands == LightStrands::Ribbons {
+                    let width = &mut self.settings.render.light_min_width;
+                    ui.horizontal(|ui| {
+                        ui.label("least width").on_hover_text(
+                            "Least ribbon width in light texels: a thinner strand is drawn this wide, its alpha \
+                             scaled by the covered fraction. render.light_min_width",
+                        );
+                        ui.add(egui::Slider::new(width, 1.0..=8.0));
+                    });
+                }
                 egui::Grid::new("light").num_columns(2).show(ui, |ui| {
                     row(ui, "azimuth°", egui::Slider::new(&mut l.azimuth_deg, 0.0..=360.0));
                     row(

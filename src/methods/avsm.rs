@@ -164,7 +164,8 @@ pub struct AvsmGpu {
 impl AvsmGpu {
     fn create(ctx: &MethodContext) -> Result<AvsmGpu, GpuError> {
         let device = &ctx.gpu.device;
-        let abuffer = ABuffer::new(ctx.gpu, ctx.frame_layout).named("avsm: A-buffer", "AVSM A-buffer");
+        let abuffer =
+            ABuffer::new(ctx.gpu, ctx.frame_layout, ctx.light).named("avsm: A-buffer", "AVSM A-buffer");
         // Binding numbers are those of shaders/avsm.wgsl and shaders/methods/avsm.wgsl: 0 nodes, 1 uniforms.
         let layout = |label, read_only, stages| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

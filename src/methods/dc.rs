@@ -16,9 +16,8 @@ use super::{
 };
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
-use crate::render::caster::draw_casters;
+use crate::render::caster::{LightStage, draw_casters};
 use crate::render::maps::{check_budget, cleared_attachments, texture_entry, uniform_entry};
-use crate::render::passes;
 use crate::visibility::dc::MAX_CLUSTERS;
 use crate::visibility::{DcParams, TexelModel};
 use bytemuck::{Pod, Zeroable};
@@ -119,6 +118,7 @@ struct DcPipelines {
 /// What does not depend on the parameters: layouts, pipelines, the uniform buffer.
 struct DcResources {
     module: wgpu::ShaderModule,
+    light: LightStage,
     depth_layout: wgpu::BindGroupLayout,
     clusters_layout: wgpu::BindGroupLayout,
     compute_layout: wgpu::BindGroupLayout,
@@ -163,7 +163,7 @@ fn view_entry(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_
 }
 
 impl DcResources {
-    fn new(gpu: &Gpu) -> DcResources {
+    fn new(gpu: &Gpu, light: &LightStage) -> DcResources {
         use wgpu::ShaderStages as S;
         use wgpu::TextureViewDimension::{D2, D2Array};
         let device = &gpu.device;
@@ -218,7 +218,7 @@ impl DcResources {
                 uniform_entry(UNIFORM_BINDING, look),
             ],
         );
-        let module = passes::shader_module(device, "hairlab.dc.shader", "dc.wgsl", None);
+        let module = light.module(device, "hairlab.dc.shader", "dc.wgsl");
         // The compute steps use group 1 only (group 0 is the light passes' frame uniforms).
         let compute_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hairlab.dc.compute_pipeline_layout"),
@@ -245,6 +245,7 @@ impl DcResources {
         });
         DcResources {
             module,
+            light: light.clone(),
             depth_layout,
             clusters_layout,
             compute_layout,
@@ -372,15 +373,8 @@ impl DcResources {
         if slot.is_some() {
             return;
         }
-        let pipeline_layout = |label, pass_layout| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(frame_layout), Some(pass_layout)],
-                immediate_size: 0,
-            })
-        };
-        let depth = pipeline_layout("hairlab.dc.depth_pipeline_layout", &self.depth_layout);
-        let clusters = pipeline_layout("hairlab.dc.clusters_pipeline_layout", &self.clusters_layout);
+        let depth = [frame_layout, &self.depth_layout];
+        let clusters = [frame_layout, &self.clusters_layout];
         let add = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
             dst_factor: wgpu::BlendFactor::One,
@@ -398,7 +392,7 @@ impl DcResources {
         let densities = vec![state; groups as usize];
         let module = &self.module;
         *slot = Some(DcPipelines {
-            kmeans: passes::light_pipeline(
+            kmeans: self.light.pipeline(
                 device,
                 "hairlab.dc.kmeans_pipeline",
                 &depth,
@@ -406,7 +400,7 @@ impl DcResources {
                 "fs_kmeans",
                 &sums,
             ),
-            variance: passes::light_pipeline(
+            variance: self.light.pipeline(
                 device,
                 "hairlab.dc.variance_pipeline",
                 &clusters,
@@ -414,7 +408,7 @@ impl DcResources {
                 "fs_variance",
                 &sums,
             ),
-            histogram: passes::light_pipeline(
+            histogram: self.light.pipeline(
                 device,
                 "hairlab.dc.histogram_pipeline",
                 &clusters,
@@ -479,7 +473,7 @@ fn compute_pass(
 
 impl DcGpu {
     fn create(ctx: &MethodContext) -> Result<DcGpu, GpuError> {
-        let res = DcResources::new(ctx.gpu);
+        let res = DcResources::new(ctx.gpu, ctx.light);
         let maps = res.make_maps(ctx, clusters(ctx.values).div_ceil(4))?;
         Ok(DcGpu { res, maps })
     }

@@ -164,8 +164,8 @@ impl DsmGpu {
     fn new(ctx: &MethodContext) -> DsmGpu {
         let gpu = ctx.gpu;
         let device = &gpu.device;
-        let abuffer =
-            ABuffer::new(gpu, ctx.frame_layout).named("dsm: A-buffer", "compressed deep shadow map A-buffer");
+        let abuffer = ABuffer::new(gpu, ctx.frame_layout, ctx.light)
+            .named("dsm: A-buffer", "compressed deep shadow map A-buffer");
         let cs = wgpu::ShaderStages::COMPUTE;
         // Binding numbers are those of shaders/dsm.wgsl (group 1) and shaders/methods/dsm.wgsl.
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

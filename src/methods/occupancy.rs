@@ -212,16 +212,13 @@ impl OccupancyResources {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let module = passes::shader_module(device, "hairlab.occupancy.shader", "occupancy.wgsl", None);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.occupancy.layout"),
-            bind_group_layouts: &[Some(ctx.frame_layout), Some(&pass_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = passes::light_pipeline(
+        let module = ctx
+            .light
+            .module(device, "hairlab.occupancy.shader", "occupancy.wgsl");
+        let pipeline = ctx.light.pipeline(
             device,
             "hairlab.occupancy.pipeline",
-            &layout,
+            &[ctx.frame_layout, &pass_layout],
             &module,
             "fs_main",
             &[passes::NullTarget::target_state()],

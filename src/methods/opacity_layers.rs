@@ -16,7 +16,6 @@ use crate::render::caster::draw_casters;
 use crate::render::maps::{
     AdditivePipelines, ArrayMap, LOOKUP_STAGES, texture_entry, uniform_buffer, uniform_entry,
 };
-use crate::render::passes;
 use bytemuck::Pod;
 
 /// Values one RGBA32F layer holds.
@@ -91,9 +90,16 @@ impl<U: Pod + Send> LayersGpu<U> {
             ],
         });
         let uniforms = uniform_buffer::<U>(device, &format!("{name}.uniforms"));
-        let module = passes::shader_module(device, &format!("hairlab.{name}.shader"), method.shader, None);
-        let pipelines =
-            AdditivePipelines::new(device, name, &[ctx.frame_layout, &pass_layout], module, "fs_main");
+        let module = ctx
+            .light
+            .module(device, &format!("hairlab.{name}.shader"), method.shader);
+        let pipelines = AdditivePipelines::new(
+            name,
+            ctx.light,
+            &[ctx.frame_layout, &pass_layout],
+            module,
+            "fs_main",
+        );
         let setup = (method.setup)(ctx.values);
         let pass_bind_group = pass_bind_group(ctx, name, &pass_layout, &uniforms);
         let maps = make_maps(ctx, name, &lookup_layout, &uniforms, layers_for(setup.values))?;

@@ -29,7 +29,7 @@ impl LightMethod for Reference {
     }
     fn create_gpu(&self, ctx: &MethodContext) -> Result<Box<dyn MethodGpu>, GpuError> {
         Ok(Box::new(ReferenceGpu {
-            abuffer: ABuffer::new(ctx.gpu, ctx.frame_layout),
+            abuffer: ABuffer::new(ctx.gpu, ctx.frame_layout, ctx.light),
         }))
     }
 }

@@ -1,15 +1,20 @@
-//! What tests, the inspector and `measure` read back from the renderer: the method's GPU lookup at chosen
-//! texels and depths, the exact references' lists (light space and eye space), the depth peel, the images and
-//! depth maps of the last frame, its eye depth complexity, and the memory held by part.
+//! What tests, the inspector, the window and `measure` read back from the renderer or ask it: the method's GPU
+//! lookup at chosen texels and depths, the exact references' lists (light space and eye space), the depth peel,
+//! the images and depth maps of the last frame, its eye depth complexity, the memory held by part, the GPU
+//! timings, the frame's matrices and light frame, and the renderer's sizes, generations and creation counts.
 
+use super::light_frame::LightFrame;
 use super::method::{LightMethod, MethodGpu, ParamValues};
 use super::passes::abuffer::RefFragment;
 use super::passes::depth_peel::DepthPeel;
+use super::scene_gpu::SceneGpu;
 use super::transparency::{self, TransparencyGpu};
-use super::{FrameInput, MemoryReport, RenderSettings, Renderer, held, passes, ts};
-use crate::gpu::timing::Phase;
+use super::{Creations, FrameInput, MemoryReport, RenderSettings, Renderer, frame, passes};
+use crate::gpu::Gpu;
+use crate::gpu::timing::PassTime;
 use crate::gpu::{GpuError, readback};
 use crate::scene::{Camera, Light};
+use glam::Mat4;
 
 impl Renderer {
     /// The exact eye reference's per-pixel fragment lists of `f`'s view (row-major pixels, each front to back
@@ -50,7 +55,7 @@ impl Renderer {
     /// Evaluates the method's GPU lookup (`visibility_at`) at `(texel x, texel y, light depth)` samples, on the
     /// maps of the last frame rendered with `method`.
     pub fn evaluate(&mut self, method: &dyn LightMethod, samples: &[[f32; 3]]) -> Result<Vec<f32>, GpuError> {
-        let method_gpu = held(&self.method, method)?;
+        let method_gpu = self.light.held(method)?;
         self.evaluate
             .run(&self.gpu, method, method_gpu, &self.bindings.scene_group, samples)
     }
@@ -65,57 +70,57 @@ impl Renderer {
         render: &RenderSettings,
     ) -> Result<Vec<Vec<RefFragment>>, GpuError> {
         self.ensure_map_size(render.map_resolution)?;
+        let device = self.gpu.device.clone();
+        self.light
+            .ensure_stage(&device, &self.bindings.frame_layout, render.light_strands);
         let u = self.frame_uniforms(camera, light, render, (1, 1), [0.0; 4]);
         self.gpu
             .queue
             .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
         let gpu = self.gpu.clone();
+        let casters = self.scene.casters(self.light.strands())?;
         let mut enc = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("hairlab.reference_lists.encoder"),
             });
-        self.light_depth.record(
-            &mut enc,
-            &self.light_maps,
-            &self.bindings.frame_group,
-            &self.scene.casters(),
-            ts(&mut self.timer, Phase::SharedLight, "light depth"),
-        );
-        let mut abuffer = match self.reference.take() {
+        self.light
+            .record_depth(&mut enc, &self.bindings.frame_group, &casters, &mut self.timer);
+        let mut abuffer = match self.light.reference.take() {
             Some(a) => a,
-            None => passes::abuffer::ABuffer::new(&gpu, &self.bindings.frame_layout),
+            None => passes::abuffer::ABuffer::new(&gpu, &self.bindings.frame_layout, &self.light.stage),
         };
-        let casters = self.scene.casters();
-        let resolution = self.light_maps.near.width();
+        let resolution = self.light.maps.near.width();
         let prepared = abuffer.prepare(&gpu, &self.bindings.frame_group, &casters, resolution, &mut None);
         if prepared.is_ok() {
             abuffer.record(&self.bindings.frame_group, &casters, &mut enc, &mut self.timer);
             self.submit(enc);
         }
         let lists = prepared.and_then(|()| abuffer.read_lists(&gpu));
-        self.reference = Some(abuffer);
+        self.light.reference = Some(abuffer);
         lists
     }
 
     /// Depth-peels the strands of the last frame's light view (the slow exact reference; see
     /// [`passes::depth_peel`]).
     pub fn depth_peel(&mut self, max_layers: u32) -> Result<passes::depth_peel::Peeled, GpuError> {
+        let casters = self.scene.casters(self.light.strands())?;
         let peel = self
+            .light
             .peel
-            .get_or_insert_with(|| DepthPeel::new(&self.gpu, &self.bindings.frame_layout));
+            .get_or_insert_with(|| DepthPeel::new(&self.gpu, &self.bindings.frame_layout, &self.light.stage));
         peel.peel(
             &self.gpu,
             &self.bindings.frame_group,
-            &self.scene.casters(),
-            self.light_maps.near.width(),
+            &casters,
+            self.light.maps.near.width(),
             max_layers,
         )
     }
 
     /// The GPU state of `method`, when it is the method of the last frame.
     pub fn method_gpu(&self, method: &dyn LightMethod) -> Option<&dyn MethodGpu> {
-        held(&self.method, method).ok()
+        self.light.held(method).ok()
     }
 
     /// Reads the final image back as tightly packed sRGB RGBA8.
@@ -137,9 +142,9 @@ impl Renderer {
     /// Reads a light-depth map back (`far == false`: nearest depths).
     pub fn read_light_depth(&self, far: bool) -> Result<Vec<f32>, GpuError> {
         let t = if far {
-            &self.light_maps.far
+            &self.light.maps.far
         } else {
-            &self.light_maps.near
+            &self.light.maps.near
         };
         Ok(bytemuck::pod_collect_to_vec(&readback::read_texture(
             &self.gpu, t, 4,
@@ -149,17 +154,18 @@ impl Renderer {
     /// GPU memory by part; the method and the eye transparency technique are the last frame's (their states are
     /// the only ones held).
     pub fn memory(&self) -> MemoryReport {
-        let (method_name, method, shared, build) = self.method.as_ref().map_or(("", 0, 0, 0), |(n, m)| {
-            (*n, m.memory_bytes(), m.shared_bytes(), m.build_bytes())
-        });
+        let (method_name, method, shared, build) =
+            self.light.method.as_ref().map_or(("", 0, 0, 0), |(n, m)| {
+                (*n, m.memory_bytes(), m.shared_bytes(), m.build_bytes())
+            });
         let (transparency_name, transparency_targets) = self
             .transparency
             .as_ref()
             .map_or(("", 0), |(n, t)| (*n, t.memory_bytes()));
         MemoryReport {
             geometry: self.scene.bytes,
-            light_depth_maps: self.light_maps.bytes(),
-            shadow_map: self.shadow_map.bytes(),
+            light_depth_maps: self.light.maps.bytes(),
+            shadow_map: self.light.shadow_map.bytes(),
             eye_targets: self.targets.bytes() + transparency_targets,
             transparency_name,
             transparency_targets,
@@ -167,7 +173,7 @@ impl Renderer {
             method_owned: method.saturating_sub(shared),
             method_shared: shared,
             method_build: build,
-            reference_lists: self.reference.as_ref().map_or(0, |a| a.memory_bytes()),
+            reference_lists: self.light.reference.as_ref().map_or(0, |a| a.memory_bytes()),
         }
     }
 
@@ -175,5 +181,92 @@ impl Renderer {
     /// tests (downcast to its type).
     pub fn transparency_gpu(&self) -> Option<&dyn TransparencyGpu> {
         self.transparency.as_ref().map(|(_, t)| t.as_ref())
+    }
+
+    /// The scene's generation ([`SceneGpu::generation`]): what caches of the geometry key on.
+    pub fn scene_generation(&self) -> u64 {
+        self.scene.generation()
+    }
+
+    /// How many GPU states the renderer has created so far, by kind.
+    pub fn creations(&self) -> Creations {
+        Creations {
+            pipelines: self.mesh_pass.pipelines_built() + self.hair_pass.pipelines_built(),
+            ..self.creations
+        }
+    }
+
+    /// Increases whenever the output texture is re-created (a viewer must re-register it).
+    pub fn targets_generation(&self) -> u64 {
+        self.targets_generation
+    }
+
+    /// `[near, far]` of the strands' distances from `camera`'s eye ([`frame::eye_depth_range`]).
+    pub fn eye_depth_range(&self, camera: &Camera) -> [f32; 2] {
+        frame::eye_depth_range(&self.scene, camera)
+    }
+
+    /// The light frame of the hair maps under `light.fit` ([`frame::hair_light_frame`]).
+    pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
+        frame::hair_light_frame(&self.scene, light)
+    }
+
+    /// Camera matrices for an image of `width`×`height`.
+    pub fn world_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
+        frame::world_to_clip(&self.scene, camera, width, height)
+    }
+
+    /// Newest per-pass GPU times (non-blocking; empty without timestamp support).
+    pub fn timings(&mut self) -> Vec<PassTime> {
+        match self.timer.as_mut() {
+            Some(t) => t.poll(&self.gpu.device).to_vec(),
+            None => Vec::new(),
+        }
+    }
+
+    /// Waits for the GPU and returns the last frame's per-pass times.
+    pub fn wait_timings(&mut self) -> Vec<PassTime> {
+        match self.timer.as_mut() {
+            Some(t) => t.wait(&self.gpu.device).to_vec(),
+            None => Vec::new(),
+        }
+    }
+
+    /// The final image of the last frame (Rgba8UnormSrgb).
+    pub fn output(&self) -> &wgpu::Texture {
+        &self.targets.color
+    }
+
+    /// The final image as egui should sample it (sRGB bytes, no decode).
+    pub fn display_view(&self) -> &wgpu::TextureView {
+        &self.targets.display_view
+    }
+
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// Side of the hair light maps.
+    pub fn map_resolution(&self) -> u32 {
+        self.light.maps.near.width()
+    }
+
+    /// The scene on the GPU: buffers, bounds, generation.
+    pub fn scene_gpu(&self) -> &SceneGpu {
+        &self.scene
+    }
+
+    /// The eye image's size.
+    pub fn eye_size(&self) -> (u32, u32) {
+        (self.targets.width, self.targets.height)
+    }
+
+    pub fn segment_count(&self) -> usize {
+        self.scene.segment_count()
+    }
+
+    /// The layout the light passes bind (the frame uniforms alone).
+    pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.bindings.frame_layout
     }
 }

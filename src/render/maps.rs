@@ -3,7 +3,7 @@
 //! writes. A method's GPU file keeps only what is its own (its shader, uniforms and pass structure).
 
 use crate::gpu::{Gpu, GpuError};
-use crate::render::passes;
+use crate::render::caster::LightStage;
 
 /// hairlab's budget for one method's light maps, in bytes: a limit of this workbench (it keeps a method from
 /// taking the whole GPU by accident), not of the GPU.
@@ -116,11 +116,12 @@ pub fn cleared_attachments<'a, V: std::borrow::Borrow<wgpu::TextureView>>(
         .collect()
 }
 
-/// Light pipelines (the shared light vertex stage, LineList) whose fragment stage adds into `n` RGBA32F targets
-/// (One/One blending), built on first use for each `n` in `1..=8`.
+/// Light pipelines (the shared light vertex stage, built for the casters' stage) whose fragment stage adds into
+/// `n` RGBA32F targets (One/One blending), built on first use for each `n` in `1..=8`.
 pub struct AdditivePipelines {
     label: String,
-    layout: wgpu::PipelineLayout,
+    light: LightStage,
+    groups: Vec<wgpu::BindGroupLayout>,
     module: wgpu::ShaderModule,
     entry: &'static str,
     pipelines: Vec<Option<wgpu::RenderPipeline>>,
@@ -132,21 +133,16 @@ impl AdditivePipelines {
 
     /// Pipelines of `module`'s fragment `entry` over bind groups `layouts` (group 0 the frame uniforms).
     pub fn new(
-        device: &wgpu::Device,
         label: &str,
+        light: &LightStage,
         layouts: &[&wgpu::BindGroupLayout],
         module: wgpu::ShaderModule,
         entry: &'static str,
     ) -> AdditivePipelines {
-        let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(&format!("hairlab.{label}.layout")),
-            bind_group_layouts: &groups,
-            immediate_size: 0,
-        });
         AdditivePipelines {
             label: label.to_string(),
-            layout,
+            light: light.clone(),
+            groups: layouts.iter().map(|l| (*l).clone()).collect(),
             module,
             entry,
             pipelines: vec![None; Self::MAX_TARGETS as usize],
@@ -156,13 +152,14 @@ impl AdditivePipelines {
     /// The pipeline writing `targets` (in `1..=8`) targets.
     pub fn get(&mut self, device: &wgpu::Device, targets: u32) -> &wgpu::RenderPipeline {
         let i = (targets.clamp(1, Self::MAX_TARGETS) - 1) as usize;
-        let (label, layout, module, entry) = (&self.label, &self.layout, &self.module, self.entry);
+        let (label, light, module, entry) = (&self.label, &self.light, &self.module, self.entry);
+        let groups: Vec<&wgpu::BindGroupLayout> = self.groups.iter().collect();
         self.pipelines[i].get_or_insert_with(|| {
             let state = Some(additive_target(wgpu::TextureFormat::Rgba32Float));
-            passes::light_pipeline(
+            light.pipeline(
                 device,
                 &format!("hairlab.{label}.pipeline"),
-                layout,
+                &groups,
                 module,
                 entry,
                 &vec![state; i + 1],

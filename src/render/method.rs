@@ -5,7 +5,7 @@
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
-use crate::render::caster::LightCaster;
+use crate::render::caster::{LightCaster, LightStage};
 use crate::render::passes::light_depth::LightDepthMaps;
 use std::collections::BTreeMap;
 
@@ -244,6 +244,8 @@ pub struct MethodContext<'a> {
     pub frame_bind_group: &'a wgpu::BindGroup,
     /// What the light passes draw (see [`crate::render::caster`]).
     pub casters: &'a [&'a dyn LightCaster],
+    /// The vertex stage of `casters`, which every light pipeline is built for.
+    pub light: &'a LightStage,
     /// Nearest and furthest strand depth per texel, already rendered this frame.
     pub light_maps: &'a LightDepthMaps,
     pub values: &'a ParamValues,

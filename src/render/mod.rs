@@ -1,6 +1,11 @@
 //! The renderer: light passes, the selected shadow method, the eye passes and the selected eye transparency
 //! technique's resolve, into one colour texture that the window shows and screenshots save. The GUI and
 //! `hairlab render` use the same code path.
+//!
+//! This file is the frame, top down ([`Renderer::render`]): the uniforms, the light side ([`light`]: light
+//! depth, the meshes' shadow map, the method's passes, all built for the frame's light caster), the opaque meshes,
+//! then the technique's passes and resolve over the eye targets. What the renderer is asked or read back lives in
+//! [`inspect`]; the scene's fur as input in [`fur`].
 
 pub mod caster;
 pub mod eye;
@@ -9,6 +14,7 @@ pub mod frame_bindings;
 pub mod fur;
 pub mod geometry;
 pub mod inspect;
+pub mod light;
 pub mod light_frame;
 pub mod maps;
 pub mod memory;
@@ -21,46 +27,24 @@ pub mod targets;
 pub mod transparency;
 pub mod uniforms;
 
-use crate::gpu::timing::{GpuTimer, PassTime, Phase};
+use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::scene::{Camera, Light, Scene};
 use frame_bindings::FrameBindings;
-use glam::{Mat4, Vec3};
-use light_frame::LightFrame;
-use method::{LightMethod, MethodContext, MethodGpu};
-use passes::depth_peel::DepthPeel;
+use glam::Vec3;
+use light::LightSide;
 use passes::hair::HairPass;
-use passes::light_depth::{LightDepthMaps, LightDepthPass};
+use passes::light_depth::LightDepthMaps;
 use passes::mesh::MeshPass;
-use passes::shadow_map::{ShadowMap, ShadowMapPass};
 use scene_gpu::SceneGpu;
 
 pub use frame::{FrameInput, footprint_per_w};
+pub use light::SHADOW_MAP_RESOLUTION;
 pub use memory::{Creations, MemoryReport};
-pub use render_settings::{AlphaMode, DEFAULT_STRAND_WIDTH, RenderSettings};
+pub use render_settings::{AlphaMode, DEFAULT_STRAND_WIDTH, LightStrands, RenderSettings};
 use targets::EyeTargets;
 use transparency::{EyeTransparency, TransparencyGpu};
 use uniforms::FrameUniforms;
-
-/// The held method state if it is `method`'s, or an error saying that `method` is not the last frame's.
-fn held<'a>(
-    state: &'a Option<(&'static str, Box<dyn MethodGpu>)>,
-    method: &dyn LightMethod,
-) -> Result<&'a dyn MethodGpu, GpuError> {
-    state
-        .as_ref()
-        .filter(|(n, _)| *n == method.name())
-        .map(|(_, m)| m.as_ref())
-        .ok_or_else(|| {
-            GpuError::Readback(format!(
-                "method '{}' is not the method of the last frame rendered",
-                method.name()
-            ))
-        })
-}
-
-/// Side of the opaque meshes' shadow map.
-pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
 
 pub struct Renderer {
     gpu: Gpu,
@@ -69,21 +53,14 @@ pub struct Renderer {
     /// Group [`geometry::RIBBON_GROUP`] of the ribbon pipelines, shared by every scene's geometry.
     ribbon_layout: wgpu::BindGroupLayout,
     scene: SceneGpu,
-    light_depth: LightDepthPass,
-    light_maps: LightDepthMaps,
-    shadow_map_pass: ShadowMapPass,
-    shadow_map: ShadowMap,
+    /// Light depth, the meshes' shadow map, the method's maps and the reference's passes.
+    light: LightSide,
     mesh_pass: MeshPass,
     hair_pass: HairPass,
     evaluate: passes::evaluate::EvaluatePass,
-    /// The GPU state of the method of the last frame; another method evicts it.
-    method: Option<(&'static str, Box<dyn MethodGpu>)>,
     /// The targets and resolve of the eye transparency technique of the last frame; another technique evicts
     /// them.
     transparency: Option<(&'static str, Box<dyn TransparencyGpu>)>,
-    /// The exact reference's fragment lists ([`Renderer::reference_lists`]), created on first use.
-    reference: Option<passes::abuffer::ABuffer>,
-    peel: Option<DepthPeel>,
     /// The float target of [`Renderer::render_capture`], created on first use.
     capture: Option<wgpu::Texture>,
     targets: EyeTargets,
@@ -99,28 +76,19 @@ pub struct Renderer {
 impl Renderer {
     pub fn new(gpu: &Gpu, scene: &Scene, map_resolution: u32) -> Result<Renderer, GpuError> {
         let device = &gpu.device;
-        gpu.check_texture_size("light map", map_resolution)?;
-        let light_maps = LightDepthMaps::new(device, map_resolution);
-        let shadow_map = ShadowMap::new(
-            device,
-            SHADOW_MAP_RESOLUTION.min(device.limits().max_texture_dimension_2d),
-        );
-        let bindings = FrameBindings::new(device, &light_maps, &shadow_map);
+        let maps = LightSide::maps(gpu, map_resolution)?;
+        let bindings = FrameBindings::new(device, &maps.0, &maps.1);
         let targets = EyeTargets::new(device, 16, 16);
         let ribbon_layout = geometry::ribbon_layout(device);
         let scene = SceneGpu::upload(gpu, scene, &ribbon_layout)?;
         Ok(Renderer {
             gpu: gpu.clone(),
-            light_depth: LightDepthPass::new(device, &bindings.frame_layout),
-            shadow_map_pass: ShadowMapPass::new(device, &bindings.frame_layout),
+            light: LightSide::new(device, &bindings.frame_layout, &ribbon_layout, maps),
             mesh_pass: MeshPass::new(&bindings.scene_layout),
             hair_pass: HairPass::new(&bindings.scene_layout),
             evaluate: passes::evaluate::EvaluatePass::new(device, &bindings.scene_layout),
-            method: None,
             transparency: None,
             capture: None,
-            reference: None,
-            peel: None,
             targets_generation: 0,
             fur: None,
             fur_generation: 0,
@@ -132,8 +100,6 @@ impl Renderer {
             bindings,
             ribbon_layout,
             scene,
-            light_maps,
-            shadow_map,
             targets,
         })
     }
@@ -156,26 +122,13 @@ impl Renderer {
         self.scene.set_fit_bound(bound);
     }
 
-    /// The scene's generation ([`SceneGpu::generation`]): what caches of the geometry key on.
-    pub fn scene_generation(&self) -> u64 {
-        self.scene.generation()
-    }
-
-    /// How many GPU states the renderer has created so far, by kind.
-    pub fn creations(&self) -> Creations {
-        Creations {
-            pipelines: self.mesh_pass.pipelines_built() + self.hair_pass.pipelines_built(),
-            ..self.creations
-        }
-    }
-
     fn ensure_map_size(&mut self, map_resolution: u32) -> Result<(), GpuError> {
         let device = &self.gpu.device;
-        if self.light_maps.near.width() != map_resolution {
+        if self.light.maps.near.width() != map_resolution {
             self.gpu.check_texture_size("light map", map_resolution)?;
-            self.light_maps = LightDepthMaps::new(device, map_resolution);
+            self.light.maps = LightDepthMaps::new(device, map_resolution);
             self.bindings
-                .rebind_scene(device, &self.light_maps, &self.shadow_map);
+                .rebind_scene(device, &self.light.maps, &self.light.shadow_map);
         }
         Ok(())
     }
@@ -187,41 +140,6 @@ impl Renderer {
             self.targets_generation += 1;
         }
         Ok(())
-    }
-
-    /// Gives the scene `fur` (its shell, volume and settings; `None`, or a mode of off: no fur). The technique
-    /// that shows fur builds its GPU state from it at the next frame; a frame with another technique is refused.
-    pub fn set_fur(
-        &mut self,
-        fur: Option<(
-            &crate::fur::settings::FurScene,
-            &crate::fur::settings::FurSettings,
-        )>,
-    ) -> Result<(), GpuError> {
-        self.fur = fur
-            .filter(|(_, s)| s.mode != crate::fur::settings::FurMode::Off)
-            .map(|(scene, settings)| {
-                self.fur_generation += 1;
-                fur::state::SceneFur {
-                    scene: scene.clone(),
-                    settings: settings.clone(),
-                    generation: self.fur_generation,
-                }
-            });
-        Ok(())
-    }
-
-    /// Changes the fur's rendering (mode, blending, `a`, `k`, march) without rebuilding its shell: the caller keeps
-    /// the shell's own settings (height, layers, levels, noise) those it was built with.
-    pub fn set_fur_rendering(&mut self, settings: &crate::fur::settings::FurSettings) {
-        if let Some(f) = &mut self.fur {
-            f.settings = settings.clone();
-        }
-    }
-
-    /// The fur the last frame's technique shows (its shell, its last lists, the volume's build time).
-    pub fn fur_state(&self) -> Option<fur::state::FurState<'_>> {
-        self.transparency.as_ref().and_then(|(_, t)| t.fur())
     }
 
     /// Makes the held technique state `technique`'s, sized to the eye targets.
@@ -253,26 +171,6 @@ impl Renderer {
         }
     }
 
-    /// Increases whenever the output texture is re-created (a viewer must re-register it).
-    pub fn targets_generation(&self) -> u64 {
-        self.targets_generation
-    }
-
-    /// `[near, far]` of the strands' distances from `camera`'s eye ([`frame::eye_depth_range`]).
-    pub fn eye_depth_range(&self, camera: &Camera) -> [f32; 2] {
-        frame::eye_depth_range(&self.scene, camera)
-    }
-
-    /// The light frame of the hair maps under `light.fit` ([`frame::hair_light_frame`]).
-    pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
-        frame::hair_light_frame(&self.scene, light)
-    }
-
-    /// Camera matrices for an image of `width`×`height`.
-    pub fn world_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
-        frame::world_to_clip(&self.scene, camera, width, height)
-    }
-
     fn frame_uniforms(
         &self,
         camera: &Camera,
@@ -289,8 +187,8 @@ impl Renderer {
                 render,
                 size,
                 method_params,
-                light_map_resolution: self.light_maps.near.width(),
-                shadow_map_resolution: self.shadow_map.texture.width(),
+                light_map_resolution: self.light.maps.near.width(),
+                shadow_map_resolution: self.light.shadow_map.texture.width(),
             },
         )
     }
@@ -337,7 +235,7 @@ impl Renderer {
         self.ensure_technique(technique)?;
         let mut enc = self.record_light_passes(f)?;
         let device = self.gpu.device.clone();
-        let method_gpu = held(&self.method, f.method)?;
+        let method_gpu = self.light.held(f.method)?;
         self.mesh_pass.record(
             &device,
             &mut enc,
@@ -448,110 +346,29 @@ impl Renderer {
 
     fn record_light_passes(&mut self, f: &FrameInput) -> Result<wgpu::CommandEncoder, GpuError> {
         self.ensure_map_size(f.render.map_resolution)?;
+        let device = self.gpu.device.clone();
+        self.light
+            .ensure_stage(&device, &self.bindings.frame_layout, f.render.light_strands);
         let u = self.uniforms(f);
         self.gpu
             .queue
             .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
-        let device = self.gpu.device.clone();
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.frame.encoder"),
         });
-        self.light_depth.record(
-            &mut enc,
-            &self.light_maps,
-            &self.bindings.frame_group,
-            &self.scene.casters(),
-            ts(&mut self.timer, Phase::SharedLight, "light depth"),
-        );
-        self.shadow_map_pass.record(
-            &mut enc,
-            &self.shadow_map,
-            &self.bindings.frame_group,
-            &self.scene,
-            ts(&mut self.timer, Phase::SharedLight, "mesh shadow map"),
-        );
-        let gpu = self.gpu.clone();
-        let casters = self.scene.casters();
-        let ctx = MethodContext {
-            gpu: &gpu,
-            frame_layout: &self.bindings.frame_layout,
-            frame_bind_group: &self.bindings.frame_group,
-            casters: &casters,
-            light_maps: &self.light_maps,
-            values: f.method_params,
-            hair_alpha: f.render.hair_alpha,
-        };
-        let name = f.method.name();
-        if self.method.as_ref().is_none_or(|(n, _)| *n != name) {
-            // Evict the previous method's maps before the new method allocates its own.
-            self.method = None;
-            self.method = Some((name, f.method.create_gpu(&ctx)?));
+        let (gpu, bindings) = (&self.gpu, &self.bindings);
+        if self
+            .light
+            .record(gpu, bindings, &self.scene, f, &mut enc, &mut self.timer)?
+        {
             self.creations.method_states += 1;
         }
-        if let Some((_, state)) = &mut self.method {
-            state.prepare(&ctx, &mut self.timer)?;
-            state.record(&ctx, &mut enc, &mut self.timer);
-        }
         Ok(enc)
-    }
-
-    /// Newest per-pass GPU times (non-blocking; empty without timestamp support).
-    pub fn timings(&mut self) -> Vec<PassTime> {
-        match self.timer.as_mut() {
-            Some(t) => t.poll(&self.gpu.device).to_vec(),
-            None => Vec::new(),
-        }
-    }
-
-    /// Waits for the GPU and returns the last frame's per-pass times.
-    pub fn wait_timings(&mut self) -> Vec<PassTime> {
-        match self.timer.as_mut() {
-            Some(t) => t.wait(&self.gpu.device).to_vec(),
-            None => Vec::new(),
-        }
-    }
-
-    /// The final image of the last frame (Rgba8UnormSrgb).
-    pub fn output(&self) -> &wgpu::Texture {
-        &self.targets.color
-    }
-
-    /// The final image as egui should sample it (sRGB bytes, no decode).
-    pub fn display_view(&self) -> &wgpu::TextureView {
-        &self.targets.display_view
-    }
-
-    pub fn gpu(&self) -> &Gpu {
-        &self.gpu
-    }
-
-    /// Side of the hair light maps.
-    pub fn map_resolution(&self) -> u32 {
-        self.light_maps.near.width()
-    }
-
-    /// The scene on the GPU: buffers, bounds, generation.
-    pub fn scene_gpu(&self) -> &SceneGpu {
-        &self.scene
-    }
-
-    /// The eye image's size.
-    pub fn eye_size(&self) -> (u32, u32) {
-        (self.targets.width, self.targets.height)
-    }
-
-    pub fn segment_count(&self) -> usize {
-        self.scene.segment_count()
-    }
-
-    /// The layout the light passes bind (the frame uniforms alone).
-    pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.bindings.frame_layout
     }
 }
 
 /// Timestamp writes for the next pass, when timing is on.
-fn ts<'a>(
+pub(crate) fn ts<'a>(
     timer: &'a mut Option<GpuTimer>,
     phase: Phase,
     name: &str,

@@ -1,6 +1,7 @@
 //! How a frame is rendered ([`RenderSettings`], the `[render]` preset section) and how a strand fragment's alpha
 //! is found ([`AlphaMode`]).
 
+pub use crate::render::caster::LightStrands;
 use serde::{Deserialize, Serialize};
 
 /// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
@@ -30,6 +31,14 @@ pub struct RenderSettings {
     pub pcf: bool,
     /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
     pub jitter: bool,
+    /// How every light pass and the exact reference draw the strands from the light: `lines`, or light-facing
+    /// `ribbons` at least one texel wide with a coverage alpha (the anti-aliasing engines apply in the shadow
+    /// view; [`LightStrands`]).
+    pub light_strands: LightStrands,
+    /// Least width of a light-space ribbon in light texels, 1..=8 (`ribbons` only): a strand thinner is drawn
+    /// this wide with its alpha scaled by the covered fraction, so its opacity spreads over more texels and a
+    /// sub-texel move changes each texel less.
+    pub light_min_width: f32,
 }
 
 impl Default for RenderSettings {
@@ -45,6 +54,8 @@ impl Default for RenderSettings {
             background: [0.12, 0.13, 0.15],
             pcf: false,
             jitter: false,
+            light_strands: LightStrands::Lines,
+            light_min_width: 1.0,
         }
     }
 }

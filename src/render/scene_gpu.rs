@@ -8,7 +8,9 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::caster::LightCaster;
+use super::caster::lines::StrandLines;
+use super::caster::ribbons::StrandRibbons;
+use super::caster::{LightCaster, LightStrands};
 use super::geometry::{
     HairVertex, MeshVertex, RIBBON_VERTICES_PER_SEGMENT, hair_indices, hair_vertices, write_tangents,
 };
@@ -42,9 +44,12 @@ pub struct SceneGpu {
     pub hair_index_count: u32,
     /// The layout of [`crate::render::geometry::RIBBON_GROUP`] (the renderer's).
     pub ribbon_layout: wgpu::BindGroupLayout,
-    /// The strand buffers bound with `ribbon_layout`, or the buffer that exceeds the storage
+    /// The strand buffers bound with `ribbon_layout` (drawn as light-facing ribbons), or the buffer that exceeds
+    /// the storage
     /// binding limit (name, bytes, limit).
-    ribbon_group: Result<wgpu::BindGroup, (&'static str, u64, u64)>,
+    ribbons: Result<StrandRibbons, (&'static str, u64, u64)>,
+    /// The strands drawn as lines.
+    lines: StrandLines,
     pub mesh_vertices: wgpu::Buffer,
     pub mesh_indices: wgpu::Buffer,
     pub mesh_index_count: u32,
@@ -145,12 +150,22 @@ impl SceneGpu {
             .iter()
             .fold(Aabb::EMPTY, |b, m| b.union(Aabb::from_points(&m.positions)));
         let strands = scene.strand_bounds();
+        let lines = StrandLines {
+            vertices: hair_vertices.clone(),
+            indices: hair_indices.clone(),
+            index_count: hi.len() as u32,
+        };
+        let ribbons = ribbon_group.map(|points| StrandRibbons {
+            points,
+            segment_count: hi.len() as u32 / 2,
+        });
         Ok(SceneGpu {
+            lines,
+            ribbons,
             hair_vertices,
             hair_indices,
             hair_index_count: hi.len() as u32,
             ribbon_layout: ribbon_layout.clone(),
-            ribbon_group,
             mesh_vertices: buf("hairlab.scene.mesh_vertices", bytemuck::cast_slice(&mv), v),
             mesh_indices: buf("hairlab.scene.mesh_indices", bytemuck::cast_slice(&mi), i),
             mesh_index_count: mi.len() as u32,
@@ -223,9 +238,13 @@ impl SceneGpu {
     }
 
     /// What every light pass draws from the light (the light-depth pass, the exact reference, each method's
-    /// passes): the one list, so a new caster is added here once.
-    pub fn casters(&self) -> [&dyn LightCaster; 1] {
-        [self]
+    /// passes), the strands drawn as `strands` says: the one list, so a new caster is added here once. The
+    /// casters of a frame share one vertex stage (the light pipelines are built for it).
+    pub fn casters(&self, strands: LightStrands) -> Result<[&dyn LightCaster; 1], GpuError> {
+        Ok(match strands {
+            LightStrands::Lines => [&self.lines],
+            LightStrands::Ribbons => [self.ribbons.as_ref().map_err(too_large)?],
+        })
     }
 
     /// Segments of the strands.
@@ -237,13 +256,7 @@ impl SceneGpu {
     /// saying which buffer exceeds the storage binding limit. A technique that draws ribbons checks it before
     /// recording.
     pub fn ribbons(&self) -> Result<&wgpu::BindGroup, GpuError> {
-        self.ribbon_group
-            .as_ref()
-            .map_err(|&(what, bytes, limit)| GpuError::TooLarge {
-                what: format!("the {what} bound as storage for ribbons"),
-                bytes,
-                limit,
-            })
+        self.ribbons.as_ref().map(|r| &r.points).map_err(too_large)
     }
 
     /// Vertices of a ribbon draw of every segment: [`RIBBON_VERTICES_PER_SEGMENT`] per segment.
@@ -252,19 +265,11 @@ impl SceneGpu {
     }
 }
 
-impl LightCaster for SceneGpu {
-    fn label(&self) -> &'static str {
-        "strands"
-    }
-
-    fn is_empty(&self) -> bool {
-        self.hair_index_count == 0
-    }
-
-    /// Every strand segment as a line (LineList, one index pair per segment).
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>) {
-        pass.set_vertex_buffer(0, self.hair_vertices.slice(..));
-        pass.set_index_buffer(self.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.hair_index_count, 0, instances);
+/// The error of a strand buffer too large to bind as storage for ribbons.
+fn too_large(&(what, bytes, limit): &(&'static str, u64, u64)) -> GpuError {
+    GpuError::TooLarge {
+        what: format!("the {what} bound as storage for ribbons"),
+        bytes,
+        limit,
     }
 }

@@ -32,6 +32,7 @@ mod gpu_render;
 mod groom_formats;
 mod hair_format;
 mod inspector_ui;
+mod light_ribbons;
 mod methods_gpu;
 mod motion;
 mod presets;

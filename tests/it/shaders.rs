@@ -2,10 +2,11 @@
 //! and vertex structs match the WGSL declarations.
 
 use hairlab::methods::registry;
+use hairlab::render::LightStrands;
 use hairlab::render::geometry::{HAIR_VERTEX_FIELDS, HairVertex, MeshVertex};
 use hairlab::render::transparency::registry as techniques;
 use hairlab::render::uniforms::{FRAME_UNIFORMS_FIELDS, FrameUniforms};
-use hairlab::shaders::{METHOD_PASSES, SOURCES, TECHNIQUE_PASSES, compose, compose_with};
+use hairlab::shaders::{METHOD_PASSES, SOURCES, TECHNIQUE_PASSES, compose, compose_light, compose_with};
 use std::path::Path;
 
 fn validate(label: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
@@ -22,36 +23,65 @@ fn validate(label: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
 
 fn pass_shaders() -> impl Iterator<Item = &'static str> {
     SOURCES.iter().map(|(p, _)| *p).filter(|p| {
-        !["common/", "methods/", "transparency/"]
+        !["common/", "methods/", "transparency/", "casters/"]
             .iter()
             .any(|d| p.starts_with(d))
     })
 }
 
+/// The build script embeds every WGSL file of `shaders/`, at any depth, under its path relative to it.
 #[test]
 fn every_shader_file_is_embedded() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    let mut on_disk = Vec::new();
-    for dir in ["", "common", "methods", "transparency", "fur", "motion"] {
-        for e in std::fs::read_dir(root.join(dir)).unwrap() {
+    fn walk(root: &Path, dir: &Path, out: &mut Vec<String>) {
+        for e in std::fs::read_dir(dir).unwrap() {
             let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "wgsl") {
-                on_disk.push(
-                    p.strip_prefix(&root)
-                        .unwrap()
-                        .to_string_lossy()
-                        .replace('\\', "/"),
-                );
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else if p.extension().is_some_and(|x| x == "wgsl") {
+                out.push(p.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/"));
             }
         }
     }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut on_disk = Vec::new();
+    walk(&root, &root, &mut on_disk);
     on_disk.sort();
     let mut embedded: Vec<String> = SOURCES.iter().map(|(p, _)| p.to_string()).collect();
     embedded.sort();
+    assert!(on_disk.len() >= 90, "only {} shader files", on_disk.len());
     assert_eq!(
         on_disk, embedded,
         "shaders/ and hairlab::shaders::SOURCES disagree"
     );
+}
+
+/// Every light pass (a shader taking the light vertex stage) composes and validates with every light caster's
+/// vertex stage, and its vertex entry reads what that caster provides.
+#[test]
+fn every_light_pass_validates_with_every_caster() {
+    let light_passes: Vec<&str> = pass_shaders()
+        .filter(|p| compose(p, None).is_ok_and(|src| src.contains("fn light_vertex(")))
+        .collect();
+    assert!(light_passes.len() >= 10, "only {light_passes:?}");
+    for strands in LightStrands::ALL {
+        let stage = strands.stage();
+        for pass in &light_passes {
+            let src = compose_light(pass, stage.wgsl).unwrap();
+            let (module, _) = validate(&format!("{pass} + {}", stage.wgsl), &src);
+            let vs = module.entry_points.iter().find(|e| e.name == "vs_main").unwrap();
+            let locations = vs.function.arguments.iter().filter(|a| {
+                matches!(a.binding, Some(naga::Binding::Location { .. }))
+                    || matches!(module.types[a.ty].inner, naga::TypeInner::Struct { ref members, .. }
+                        if members.iter().any(|m| matches!(m.binding, Some(naga::Binding::Location { .. }))))
+            });
+            assert_eq!(
+                locations.count() > 0,
+                stage.vertex_buffer.is_some(),
+                "{pass} + {}: vertex inputs against the caster's vertex buffer",
+                stage.wgsl
+            );
+        }
+    }
 }
 
 /// Every pass shader composes and validates: with every method's lookup where it takes one, with every eye

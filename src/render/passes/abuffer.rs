@@ -5,7 +5,7 @@
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
-use crate::render::caster::{LightCaster, draw_casters};
+use crate::render::caster::{LightCaster, LightStage, draw_casters};
 use crate::render::maps::storage_entry;
 use crate::visibility::Fragment;
 
@@ -65,7 +65,7 @@ pub struct ABuffer {
 }
 
 impl ABuffer {
-    pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout) -> ABuffer {
+    pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout, light: &LightStage) -> ABuffer {
         let device = &gpu.device;
         let frag = wgpu::ShaderStages::FRAGMENT;
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -81,18 +81,13 @@ impl ABuffer {
             label: Some("hairlab.abuffer.lookup_layout"),
             entries: &[storage_entry(0, look, true), storage_entry(1, look, true)],
         });
-        let module = super::shader_module(device, "hairlab.abuffer.shader", "abuffer.wgsl", None);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.abuffer.layout"),
-            bind_group_layouts: &[Some(frame_layout), Some(&pass_layout)],
-            immediate_size: 0,
-        });
+        let module = light.module(device, "hairlab.abuffer.shader", "abuffer.wgsl");
         let targets = [super::NullTarget::target_state()];
         let pipeline = |entry: &str| {
-            super::light_pipeline(
+            light.pipeline(
                 device,
                 "hairlab.abuffer.pipeline",
-                &layout,
+                &[frame_layout, &pass_layout],
                 &module,
                 entry,
                 &targets,

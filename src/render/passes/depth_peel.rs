@@ -4,7 +4,7 @@
 
 use super::abuffer::{RefFragment, copy_out};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::caster::{LightCaster, draw_casters};
+use crate::render::caster::{LightCaster, LightStage, draw_casters};
 
 pub struct DepthPeel {
     depth_pipeline: wgpu::RenderPipeline,
@@ -21,7 +21,7 @@ pub struct Peeled {
 }
 
 impl DepthPeel {
-    pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout) -> DepthPeel {
+    pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout, light: &LightStage) -> DepthPeel {
         let device = &gpu.device;
         let stages = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let entry = |binding| wgpu::BindGroupLayoutEntry {
@@ -38,7 +38,7 @@ impl DepthPeel {
             label: Some("hairlab.depth_peel.layout"),
             entries: &(0..6).map(entry).collect::<Vec<_>>(),
         });
-        let module = super::shader_module(device, "hairlab.depth_peel.shader", "depth_peel.wgsl", None);
+        let module = light.module(device, "hairlab.depth_peel.shader", "depth_peel.wgsl");
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hairlab.depth_peel.pipeline_layout"),
             bind_group_layouts: &[Some(frame_layout), Some(&layout)],
@@ -46,10 +46,10 @@ impl DepthPeel {
         });
         let targets = [super::NullTarget::target_state()];
         let pipeline = |e: &str| {
-            super::light_pipeline(
+            light.pipeline(
                 device,
                 "hairlab.depth_peel.pipeline",
-                &pipeline_layout,
+                &[frame_layout, &layout],
                 &module,
                 e,
                 &targets,

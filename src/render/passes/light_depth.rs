@@ -1,7 +1,7 @@
 //! Light-depth pass: nearest and furthest strand depth per light texel (R32Float, Min and Max blending), in the
 //! frame fitted to the strand bounds. Every shadow method starts from these maps.
 
-use crate::render::caster::{LightCaster, draw_casters};
+use crate::render::caster::{LightCaster, LightStage, draw_casters};
 
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -53,13 +53,12 @@ impl LightDepthMaps {
 }
 
 impl LightDepthPass {
-    pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> LightDepthPass {
-        let module = super::shader_module(device, "hairlab.light_depth.shader", "light_depth.wgsl", None);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.light_depth.layout"),
-            bind_group_layouts: &[Some(frame_layout)],
-            immediate_size: 0,
-        });
+    pub fn new(
+        device: &wgpu::Device,
+        frame_layout: &wgpu::BindGroupLayout,
+        light: &LightStage,
+    ) -> LightDepthPass {
+        let module = light.module(device, "hairlab.light_depth.shader", "light_depth.wgsl");
         let blend = |op| wgpu::BlendState {
             color: wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
@@ -83,10 +82,10 @@ impl LightDepthPass {
             target(wgpu::BlendOperation::Min),
             target(wgpu::BlendOperation::Max),
         ];
-        let pipeline = super::light_pipeline(
+        let pipeline = light.pipeline(
             device,
             "hairlab.light_depth.pipeline",
-            &layout,
+            &[frame_layout],
             &module,
             "fs_main",
             &targets,

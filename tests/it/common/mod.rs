@@ -183,10 +183,23 @@ pub fn values(params: &[(&str, f32)]) -> ParamValues {
 /// Every sample's |V_gpu - V_cpu| of [`gpu_cpu_difference`] (same scene, samples and checks).
 pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setup: Setup) -> Vec<f32> {
     let (s, scene) = setup_scene(setup);
-    let resolution = setup.resolution;
+    gpu_cpu_differences_in(gpu, method, params, &s, &scene, setup.strands >= 100)
+}
+
+/// [`gpu_cpu_differences`] on `scene` under `s` (its map resolution, its light casters); `deep`: the scene
+/// must shadow some texel below V = 1/2.
+pub fn gpu_cpu_differences_in(
+    gpu: &Gpu,
+    method: &str,
+    params: &[(&str, f32)],
+    s: &Settings,
+    scene: &hairlab::scene::Scene,
+    deep: bool,
+) -> Vec<f32> {
+    let resolution = s.render.map_resolution;
     let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let mut r = Renderer::new(gpu, &scene, resolution).unwrap();
-    let frame = |m: &str, params| light_frame(&s, registry::find(m).unwrap(), params);
+    let mut r = Renderer::new(gpu, scene, resolution).unwrap();
+    let frame = |m: &str, params| light_frame(s, registry::find(m).unwrap(), params);
     let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let m = registry::find(method).unwrap();
     // A full frame: the eye passes bind the method's maps too.
@@ -205,7 +218,7 @@ pub fn gpu_cpu_differences(gpu: &Gpu, method: &str, params: &[(&str, f32)], setu
         expected.extend(model.curve(&frags, &zs));
         samples.extend(zs.iter().map(|&z| [x, y, z]));
     }
-    if setup.strands >= 100 {
+    if deep {
         let deepest = lists
             .iter()
             .map(|l| l.iter().map(|f| optical_depth(f.alpha)).sum::<f32>())

@@ -9,6 +9,7 @@ mod lightmap_view;
 mod panels;
 pub mod pixel_inspector;
 pub mod texel_lab;
+pub mod timeline;
 mod transparency_panel;
 mod undo;
 mod viewport;
@@ -123,6 +124,8 @@ pub struct HairlabApp {
     undoer: egui::util::undoer::Undoer<Settings>,
     /// Whether the Help window (shortcuts) is open.
     help_open: bool,
+    /// The scene's motion and its playback (`timeline.rs`).
+    timeline: timeline::Timeline,
 }
 
 impl HairlabApp {
@@ -177,6 +180,7 @@ impl HairlabApp {
             wait_timings: false,
             undoer: undo::new_undoer(),
             help_open: false,
+            timeline: Default::default(),
         };
         app.rebuild_scene();
         app
@@ -227,9 +231,9 @@ impl HairlabApp {
     fn rebuild_scene(&mut self) {
         let scene_settings = self.settings.scene.clone();
         let start = Instant::now();
-        let built = scene_settings.build();
+        let built = self.settings.open_motion();
         self.scene_ms = start.elapsed().as_secs_f64() * 1e3;
-        let scene = match built {
+        let (scene, motion) = match built {
             Ok(s) => s,
             Err(e) => {
                 self.error(format!("{e:#}"));
@@ -253,6 +257,7 @@ impl HairlabApp {
         let Some(rs) = &self.render_state else {
             self.scene = Some(scene);
             self.built_scene = Some(scene_settings);
+            self.timeline.set_motion(motion, &self.settings.motion);
             return;
         };
         let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
@@ -272,6 +277,7 @@ impl HairlabApp {
                 ));
                 self.scene = Some(scene);
                 self.built_scene = Some(scene_settings);
+                self.timeline.set_motion(motion, &self.settings.motion);
                 self.last_rendered = None;
                 // The fur grows on the new scene's mesh.
                 self.built_fur = None;
@@ -450,6 +456,52 @@ impl HairlabApp {
         if frame && !ctx.egui_wants_keyboard_input() {
             self.frame_scene();
         }
+    }
+
+    /// Advances the timeline and moves the renderer's and the scene's strands to the frame it shows.
+    fn play_motion(&mut self, ctx: &egui::Context) {
+        self.timeline.keys(ctx);
+        self.timeline.advance(ctx.input(|i| i.stable_dt) as f64);
+        let frame = self.timeline.frame();
+        if let Some(points) = self.timeline.pending() {
+            let (renderer, scene) = (&mut self.renderer, &mut self.scene);
+            let result = points.and_then(|p| {
+                if let Some(r) = renderer.as_mut() {
+                    r.update_points(p)?;
+                }
+                if let Some(s) = scene.as_mut() {
+                    s.set_strand_points(p)?;
+                }
+                Ok(())
+            });
+            match result {
+                Ok(()) => {
+                    self.timeline.uploaded();
+                    self.last_rendered = None;
+                }
+                Err(e) => {
+                    self.timeline.failed();
+                    self.error(format!("motion frame {frame}: {e:#}"));
+                }
+            }
+        }
+        if self.timeline.is_playing() {
+            ctx.request_repaint();
+        }
+    }
+
+    /// The viewport's last frame, read back from the renderer (sRGB RGBA8).
+    pub fn viewport_image(&self) -> Option<image::RgbaImage> {
+        self.renderer.as_ref().and_then(|r| r.read_output().ok())
+    }
+
+    /// The timeline of the scene's motion.
+    pub fn timeline(&self) -> &timeline::Timeline {
+        &self.timeline
+    }
+
+    pub fn timeline_mut(&mut self) -> &mut timeline::Timeline {
+        &mut self.timeline
     }
 
     fn frame_scene(&mut self) {
@@ -689,7 +741,11 @@ impl eframe::App for HairlabApp {
         self.poll_dialog();
         self.handle_input(&ctx);
         self.undo_input(&ctx);
+        self.play_motion(&ctx);
         egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));
+        if self.timeline.is_moving() {
+            egui::Panel::bottom("timeline").show(ui, |ui| self.timeline.ui(ui));
+        }
         egui::Panel::left("controls")
             .resizable(true)
             .default_size(300.0)

@@ -40,6 +40,8 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("F12", "save hairlab-<time>.png in the working folder"),
     ("Ctrl+Z", "undo a settings change"),
     ("Ctrl+Shift+Z / Ctrl+Y", "redo"),
+    ("Space", "play / pause the scene's motion"),
+    ("Left / Right", "one motion frame back / forward"),
     ("F1", "this help"),
     ("Drop a file", ".toml: load a preset; otherwise open a scene"),
 ];
@@ -81,7 +83,9 @@ impl HairlabApp {
 
     fn restore(&mut self, settings: Settings) {
         self.settings = settings;
-        if self.built_scene.as_ref() != Some(&self.settings.scene) {
+        if self.built_scene.as_ref() != Some(&self.settings.scene)
+            || self.timeline.opened_with() != Some(&self.settings.motion)
+        {
             self.rebuild_scene();
         }
     }

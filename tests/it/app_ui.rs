@@ -452,3 +452,68 @@ fn undo_and_redo_step_through_settings_changed_in_the_ui() {
             .is_some()
     );
 }
+
+/// A preset with a motion plays in the window: the timeline bar shows; Right steps to frame k, whose strands are the
+/// motion's frame k (the same bits as a fresh simulation's, on the window's scene and drawn by its renderer);
+/// Space plays (the frame advances, the image changes) and pauses; scrubbing back lands on the same bits.
+#[test]
+fn the_window_plays_a_motion() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = hairlab::settings::Settings::load_preset(
+        "wind",
+        &[
+            "scene.generator.strands=200".into(),
+            "scene.generator.segments=8".into(),
+            "render.width=160".into(),
+            "render.height=120".into(),
+            "render.map_resolution=128".into(),
+            "motion.frames=12".into(),
+        ],
+    )
+    .unwrap();
+    let (_, mut fresh) = settings.open_motion().unwrap();
+    let frame3 = fresh.frame(3).unwrap().to_vec();
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 640.0])
+        .with_step_dt(1.0 / 30.0)
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    assert!(harness.state().timeline().is_moving());
+    assert_eq!(harness.state().timeline().frame_count(), 12);
+    harness.get_by_label("Play");
+    let image = |h: &Harness<'_, HairlabApp>| h.state().viewport_image().expect("a rendered frame");
+    let still = image(&harness);
+    for _ in 0..3 {
+        harness.key_combination(&[egui::Key::ArrowRight]);
+        harness.run();
+    }
+    assert_eq!(harness.state().timeline().frame(), 3);
+    assert_eq!(harness.state().scene().unwrap().strands.points, frame3);
+    let moved = image(&harness);
+    let differing = still.pixels().zip(moved.pixels()).filter(|(a, b)| a != b).count();
+    assert!(
+        differing > 50,
+        "frame 3 differs from frame 0 in only {differing} pixels"
+    );
+
+    harness.key_combination(&[egui::Key::Space]);
+    harness.run_steps(4);
+    let playing = harness.state().timeline().frame();
+    assert!(harness.state().timeline().is_playing());
+    assert!(playing > 3, "four steps of play left the frame at {playing}");
+    harness.key_combination(&[egui::Key::Space]);
+    harness.run();
+    assert!(!harness.state().timeline().is_playing());
+
+    harness.state_mut().timeline_mut().seek(3);
+    harness.run();
+    assert_eq!(harness.state().scene().unwrap().strands.points, frame3);
+    assert_eq!(
+        image(&harness),
+        moved,
+        "frame 3 scrubbed back to draws what frame 3 drew"
+    );
+}

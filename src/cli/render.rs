@@ -25,11 +25,11 @@ pub struct RenderArgs {
     /// Render frame K of the preset's motion (`[motion]`; frame 0 is the still scene of a simulation).
     #[arg(long, value_name = "K", conflicts_with = "frames")]
     pub frame: Option<u32>,
-    /// Render frames A up to B (exclusive) of the motion as a numbered PNG sequence `frame_0000.png` … in the
-    /// folder `--out`.
+    /// Render frames A up to B (exclusive) of the motion: as a numbered PNG sequence `frame_0000.png` … in the
+    /// folder `--out`, or, when `--out` ends in `.gif`, as one animated GIF at the motion's frame rate (looping).
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
-    /// Output PNG path (a folder with `--frames`).
+    /// Output PNG path (with `--frames`: a folder, or an animated `.gif`).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -50,8 +50,11 @@ pub fn parse_frame_range(text: &str) -> Result<std::ops::Range<u32>> {
 
 pub(super) fn render(a: &RenderArgs) -> Result<()> {
     let range = a.frames.as_deref().map(parse_frame_range).transpose()?;
+    let gif = range.is_some() && a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif"));
     if range.is_none() {
         crate::io::check_output(&a.out, "png")?;
+    } else if gif {
+        crate::io::check_output(&a.out, "gif")?;
     }
     let mut settings = Settings::load_preset(&a.preset, &a.set)?;
     // The image size flags apply after the preset and its overrides, and are checked as themselves.
@@ -68,6 +71,24 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
             let image = render_frame_image(&mut settings, a.frame.unwrap_or(0))?;
             crate::io::write_atomic(&a.out, &encode(&image)?)?;
             println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
+        }
+        Some(range) if gif => {
+            let frames: Vec<u32> = range.clone().collect();
+            let mut images = Vec::new();
+            render_frames(&mut settings, &frames, &mut |_, image| {
+                images.push(image);
+                Ok(())
+            })?;
+            crate::io::write_atomic(&a.out, &animated_gif(&images, settings.motion.fps)?)?;
+            println!(
+                "wrote frames {}..{} to {} as an animated GIF ({}×{}, {} fps)",
+                range.start,
+                range.end,
+                a.out.display(),
+                settings.render.width,
+                settings.render.height,
+                settings.motion.fps
+            );
         }
         Some(range) => {
             std::fs::create_dir_all(&a.out)
@@ -89,6 +110,23 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `images` as an animated GIF at `fps` frames per second, looping (each frame quantised to 256 colours).
+pub fn animated_gif(images: &[image::RgbaImage], fps: f32) -> Result<Vec<u8>> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = GifEncoder::new_with_speed(&mut bytes, 10);
+        encoder.set_repeat(Repeat::Infinite)?;
+        let delay = image::Delay::from_numer_denom_ms(1000, fps.max(1e-3).round().max(1.0) as u32);
+        encoder.encode_frames(
+            images
+                .iter()
+                .map(|i| image::Frame::from_parts(i.clone(), 0, 0, delay)),
+        )?;
+    }
+    Ok(bytes)
 }
 
 /// Renders frame `k` of `settings`' motion (a still preset has only its one scene, whatever `k`).

@@ -46,7 +46,8 @@ impl HairlabApp {
                 };
                 let info = technique.info();
                 ui.label(egui::RichText::new(info.paper).italics());
-                param_widgets(ui, "transparency_params", info.params, &mut t.params);
+                let source = ("transparency.params", info.paper);
+                param_widgets(ui, "transparency_params", info.params, &mut t.params, source);
                 let Some(r) = &self.renderer else { return };
                 let mem = r.memory();
                 if !mem.transparency_name.is_empty() {

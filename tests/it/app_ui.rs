@@ -517,3 +517,44 @@ fn the_window_plays_a_motion() {
         "frame 3 scrubbed back to draws what frame 3 drew"
     );
 }
+
+/// A method parameter's right-click menu resets it to its default; its tooltip states the default, the range,
+/// the preset key and the paper.
+#[test]
+fn a_parameter_resets_to_its_default() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut settings = common::small_settings(160, 120);
+    settings.method.name = "osm".into();
+    settings.method.params.insert("slices".into(), 7.0);
+    let method = hairlab::methods::registry::find("osm").unwrap();
+    let spec = method.params().iter().find(|p| p.key == "slices").unwrap();
+    let default = spec.default;
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 900.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    let slider = || egui::accesskit::Role::Slider;
+    harness.get_by_role_and_label(slider(), spec.label).hover();
+    harness.run();
+    let tip = format!("default {}; whole numbers 1 to 256", default as i64);
+    harness.get_by_label_contains(&tip);
+    harness.get_by_label_contains(&format!(
+        "method.params.slices (right-click: reset)\n{}",
+        method.info().paper
+    ));
+    harness
+        .get_by_role_and_label(slider(), spec.label)
+        .click_secondary();
+    harness.run();
+    harness
+        .get_by_label(&format!("Reset to default ({})", default as i64))
+        .click();
+    harness.run();
+    assert_eq!(
+        harness.state().settings().method.params.get("slices"),
+        Some(&default)
+    );
+}

@@ -34,6 +34,7 @@ mod hair_format;
 mod inspector_ui;
 mod methods_gpu;
 mod motion;
+mod motion_claims;
 mod presets;
 mod reference;
 mod ribbons;

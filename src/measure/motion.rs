@@ -213,12 +213,18 @@ pub fn measure_motion_on(
     let analyses = configs
         .iter()
         .map(|c| -> Result<_> {
-            Ok(match c.tuning {
-                Tuning::Fixed => None,
-                _ => registry::find(&c.config.name)
-                    .map_err(anyhow::Error::msg)?
-                    .analysis(),
-            })
+            if c.tuning == Tuning::Fixed {
+                return Ok(None);
+            }
+            let method = registry::find(&c.config.name).map_err(anyhow::Error::msg)?;
+            match method.analysis() {
+                Some(a) => Ok(Some(a)),
+                None => bail!(
+                    "'{}': {} has no analysis to choose a value",
+                    c.label(),
+                    method.name()
+                ),
+            }
         })
         .collect::<Result<Vec<_>>>()?;
     // The reference, frame by frame.
@@ -298,26 +304,23 @@ pub fn measure_motion_on(
                 image_flicker: None,
                 gpu_ms: ms,
             };
-            if let (Some(prev_frame), Some(prev_image)) = (tracked.last(), images.last()) {
-                let pair = Flicker::of(&[temporal::pops(prev_frame, &frame)]);
-                let (sum, n) = temporal::image_change_error(
-                    prev_image,
-                    &image,
-                    &reference_images[k - 1],
-                    &reference_images[k],
-                );
+            tracked.push(frame);
+            images.push(image);
+            if k > 0 {
+                let pair = Flicker::over(&tracked[k - 1..=k]);
                 row.flicker = Some(pair.mean);
                 row.flicker_p99 = Some(pair.p99);
                 row.pop_rate = Some(pair.pop_rate);
                 row.max_pop = Some(pair.max_pop);
-                row.image_flicker = Some(if n == 0 { 0.0 } else { (sum / n as f64).sqrt() });
+                row.image_flicker = Some(temporal::image_flicker(
+                    &images[k - 1..=k],
+                    &reference_images[k - 1..=k],
+                ));
             }
             map.push(row.map_error);
             shading.push(row.shading_error);
             gpu_ms.push(ms);
             frame_rows.push(row);
-            tracked.push(frame);
-            images.push(image);
         }
         rows.push(MotionRow {
             config: c.clone(),
@@ -360,9 +363,9 @@ fn input<'a>(
     }
 }
 
-/// Median GPU milliseconds per frame of the simulation's compute pass over `frames − 1` steps from frame 0
-/// (`None` without timestamp queries).
-fn gpu_sim_ms(gpu: &Gpu, sim: crate::motion::Simulation, frames: u32) -> Result<Option<f64>> {
+/// Median GPU milliseconds per frame of the simulation's compute pass ([`Phase::Simulation`]) over `frames − 1`
+/// steps from `sim`'s rest pose (`None` without timestamp queries).
+pub fn gpu_sim_ms(gpu: &Gpu, sim: crate::motion::Simulation, frames: u32) -> Result<Option<f64>> {
     let mut g = crate::motion::gpu::GpuSimulation::new(gpu, sim)?;
     let mut ms = Vec::with_capacity(frames as usize);
     for _ in 1..frames {

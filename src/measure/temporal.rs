@@ -151,7 +151,7 @@ impl Flicker {
 /// Sum of squared differences, over the RGB channels in `[0, 1]` of every pixel, of the frame-to-frame change
 /// of the method's image (`m0 → m1`) and the reference's (`r0 → r1`), and the channel count: the terms of
 /// [`image_flicker`]. The images must share one size.
-pub fn image_change_error(m0: &RgbaImage, m1: &RgbaImage, r0: &RgbaImage, r1: &RgbaImage) -> (f64, usize) {
+fn image_change_error(m0: &RgbaImage, m1: &RgbaImage, r0: &RgbaImage, r1: &RgbaImage) -> (f64, usize) {
     let mut sum = 0.0;
     let mut n = 0;
     for (((a0, a1), b0), b1) in m0.pixels().zip(m1.pixels()).zip(r0.pixels()).zip(r1.pixels()) {

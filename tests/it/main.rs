@@ -32,6 +32,7 @@ mod gpu_render;
 mod groom_formats;
 mod hair_format;
 mod inspector_ui;
+mod measure_motion;
 mod methods_gpu;
 mod motion;
 mod motion_claims;

@@ -3,6 +3,9 @@
 //! registered method. At the end of each full cycle (the same method held, so the same maps) it samples the
 //! process's resident memory and the renderer's GPU memory, and compares the last sample with the first. A method
 //! the renderer refuses on this scene (an error such as AVSM's list bound on a CPU adapter) is skipped and named.
+//! A preset with a `[motion]` plays it meanwhile, frame `k` of the soak drawing frame `k` of the simulation (a
+//! recording loops), through `Renderer::update_points`; a simulation's invariants are tracked over the whole run
+//! ([`MotionSoak`]).
 
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::registry;
@@ -26,6 +29,21 @@ pub struct Sample {
     pub gpu_bytes: u64,
 }
 
+/// A simulation's invariants over a soak: the worst of each over every frame ([`crate::motion::FrameStats`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MotionSoak {
+    /// Kinetic energy per point, its largest value and the frame that had it.
+    pub max_energy_per_point: f64,
+    pub max_energy_frame: u64,
+    /// The same over the last cycle of methods only: against the whole run's, whether the energy stays bounded.
+    pub last_cycle_max_energy_per_point: f64,
+    pub max_length_error: f32,
+    pub max_depth: f32,
+    pub max_root_error: f32,
+    /// Whether every point of every frame was finite.
+    pub finite: bool,
+}
+
 /// What a soak measured.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Soak {
@@ -33,6 +51,8 @@ pub struct Soak {
     pub cycles: Vec<Sample>,
     /// Methods refused on this scene, with the reason (once each).
     pub refused: Vec<(String, String)>,
+    /// The simulation's invariants, when the preset simulates.
+    pub motion: Option<MotionSoak>,
 }
 
 impl Soak {
@@ -77,7 +97,7 @@ pub fn soak(
         );
     }
     let mut s = settings.clone();
-    let scene = s.scene.build()?;
+    let (scene, mut motion) = s.open_motion()?;
     if s.camera.distance <= 0.0 {
         s.camera.frame(&scene.framing_bounds());
     }
@@ -89,8 +109,36 @@ pub fn soak(
         frames,
         cycles: Vec::new(),
         refused: Vec::new(),
+        motion: matches!(motion, crate::motion::Motion::Simulate(_)).then_some(MotionSoak {
+            finite: true,
+            ..MotionSoak::default()
+        }),
     };
+    let motion_frames = u64::from(motion.frame_count(&s.motion));
     for frame in 0..frames {
+        if !motion.is_still() {
+            let k = match motion {
+                crate::motion::Motion::Simulate(_) => frame,
+                _ => frame % motion_frames,
+            };
+            let k =
+                u32::try_from(k).map_err(|_| anyhow::anyhow!("--frames {frames}: more than 2³² frames"))?;
+            r.update_points(motion.frame(k)?)?;
+            if let (crate::motion::Motion::Simulate(sim), Some(m)) = (&motion, &mut out.motion) {
+                let st = sim.stats();
+                let energy = st.kinetic_energy / scene.strands.point_count().max(1) as f64;
+                if energy > m.max_energy_per_point {
+                    (m.max_energy_per_point, m.max_energy_frame) = (energy, frame);
+                }
+                if frame >= frames - cycle {
+                    m.last_cycle_max_energy_per_point = m.last_cycle_max_energy_per_point.max(energy);
+                }
+                m.max_length_error = m.max_length_error.max(st.max_length_error);
+                m.max_depth = m.max_depth.max(st.max_depth);
+                m.max_root_error = m.max_root_error.max(st.max_root_error);
+                m.finite &= st.finite;
+            }
+        }
         let method = methods[((frame / switch_every) % methods.len() as u64) as usize];
         let mut light = s.light;
         light.azimuth_deg = (light.azimuth_deg + frame as f32 * DEGREES_PER_FRAME).rem_euclid(360.0);

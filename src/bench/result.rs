@@ -91,11 +91,11 @@ pub const METRICS: &[Metric] = &[
         value: |m| m.image_psnr,
     },
     Metric {
-        name: "flicker",
-        header: "flicker",
-        axis: Some("flicker: frame-to-frame change of V beyond the reference's"),
+        name: "light_turn_flicker",
+        header: "lt flicker",
+        axis: Some("light-turn flicker: frame-to-frame change of V beyond the reference's"),
         percent: false,
-        value: |m| m.flicker,
+        value: |m| m.light_turn_flicker,
     },
 ];
 
@@ -112,8 +112,16 @@ pub fn accuracy_metrics() -> impl Iterator<Item = (&'static str, &'static str)> 
 /// The accuracy metric a new result shows.
 pub const DEFAULT_ACCURACY_METRIC: &str = "map_error";
 
-/// `name` as one of the [`accuracy_metrics`], or an error listing them.
+/// Metric names renamed since they were first accepted: (old, new).
+pub const RENAMED_METRICS: &[(&str, &str)] = &[("flicker", "light_turn_flicker")];
+
+/// `name` as one of the [`accuracy_metrics`] (a [`RENAMED_METRICS`] old name as its new one, saying so on
+/// stderr in one line), or an error listing them.
 pub fn parse_metric(name: &str) -> Result<&'static str, String> {
+    if let Some((old, new)) = RENAMED_METRICS.iter().find(|(old, _)| *old == name) {
+        eprintln!("metric '{old}' is now named '{new}' (the flicker under a turning light)");
+        return parse_metric(new);
+    }
     accuracy_metrics()
         .find(|(n, _)| *n == name)
         .map(|(n, _)| n)
@@ -308,6 +316,13 @@ mod tests {
             metrics: Vec::new(),
             device: String::new(),
         }
+    }
+
+    #[test]
+    fn the_old_flicker_name_is_read_as_the_light_turn_flicker() {
+        assert_eq!(parse_metric("flicker"), Ok("light_turn_flicker"));
+        assert_eq!(parse_metric("light_turn_flicker"), Ok("light_turn_flicker"));
+        assert!(accuracy_metrics().all(|(n, _)| n != "flicker"));
     }
 
     #[test]

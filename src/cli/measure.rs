@@ -41,6 +41,13 @@ pub struct MeasureArgs {
     /// virtual k = 32, 8, 4, 2.
     #[arg(long = "fur-config", value_name = "BLENDING[:k=K]", requires = "fur")]
     pub fur_configs: Vec<String>,
+    /// Measure the methods over the preset's motion (`[motion]`, frames 0..`--frames`): per-frame and temporal
+    /// errors (flicker, pops, image flicker) into `--out`'s `motion_summary.csv` and `motion_frames.csv`.
+    #[arg(long, conflicts_with_all = ["transparency", "fur"], requires = "out")]
+    pub motion: bool,
+    /// Output folder of `--motion`.
+    #[arg(long, requires = "motion")]
+    pub out: Option<std::path::PathBuf>,
 }
 
 /// A `--config` with `key=auto` pairs, resolved by the method's analysis to `name:key=value,...`; `None` when
@@ -218,6 +225,9 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
 
 pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
     use crate::measure::{MethodConfig, usual_configs};
+    if a.motion {
+        return super::measure_motion::run(&a.into());
+    }
     let settings = Settings::load_preset(&a.preset, &a.set)?;
     if a.fur {
         return measure_fur(a, &settings);

@@ -8,6 +8,7 @@ pub mod curve;
 pub mod generate;
 pub mod info;
 pub mod measure;
+pub mod measure_motion;
 pub mod render;
 pub mod simulate;
 pub mod soak;

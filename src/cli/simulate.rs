@@ -2,7 +2,7 @@
 //! frame, each written whole, or to one `.usda` file with time-sampled points, so it plays back with
 //! `--set motion.source=sequence --set motion.path=DIR` (or the `.usda` file). With
 //! no `--out` it only runs the frames and prints the simulation's invariants (segment lengths, head
-//! penetration, roots, energy) and its cost.
+//! penetration, roots, energy) and its cost; `--gpu` times the GPU compute pass too.
 
 use crate::motion::Motion;
 use crate::scene::hair::{HairFile, write_hair_file};
@@ -26,6 +26,10 @@ pub struct SimulateArgs {
     /// to write every frame into as time-sampled points (at `motion.fps` time codes per second).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Also step the simulation's GPU compute pass over the same frames and print its median GPU time per frame
+    /// (timestamp queries; the adapter policy's device).
+    #[arg(long)]
+    pub gpu: bool,
 }
 
 /// The file name of frame `k` in a baked folder of `frames` frames (zero-padded so names sort as frames).
@@ -47,6 +51,9 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
     let frames = a.frames.unwrap_or(motion.frame_count(&settings.motion));
     if frames == 0 {
         bail!("--frames must be at least 1");
+    }
+    if a.gpu && frames < 2 {
+        bail!("--gpu times the steps from frame 0: --frames must be at least 2");
     }
     let usda = a
         .out
@@ -118,6 +125,22 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
         println!(
             "worst relative segment-length error {len:.3e}; worst head penetration {depth:.3e}; worst root \
              error {root:.3e}; top speed {speed:.3} m/s; top kinetic energy {energy:.4e} (unit mass per point)"
+        );
+    }
+    if a.gpu
+        && let Motion::Simulate(sim) = motion
+    {
+        let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
+            crate::gpu::AdapterPreference::Hardware,
+        ))?;
+        let ms = crate::measure::motion::gpu_sim_ms(&gpu, *sim, frames)?;
+        println!(
+            "GPU compute pass: {} per frame (median of {} frames) on {}",
+            ms.map_or("n/a (no timestamp queries)".to_string(), |ms| format!(
+                "{ms:.3} ms"
+            )),
+            frames.saturating_sub(1),
+            crate::gpu::describe(&gpu.info)
         );
     }
     if let Some(file) = usda {

@@ -1,4 +1,5 @@
-//! `hairlab soak`: many frames while the light turns and the method changes; memory must not grow.
+//! `hairlab soak`: many frames while the light turns and the method changes (and a preset's motion plays); memory
+//! must not grow, and a simulation's invariants and energy are reported over the run.
 
 use crate::settings::Settings;
 use anyhow::Result;
@@ -32,6 +33,22 @@ pub(super) fn soak(a: &SoakArgs) -> Result<()> {
     })?;
     for (name, reason) in &r.refused {
         println!("{name} refused on this scene: {reason}");
+    }
+    if let Some(m) = &r.motion {
+        println!(
+            "simulation over {} frames: kinetic energy per point at most {:.4} (frame {}), {:.4} in the last cycle; \
+             worst relative segment-length error {:.2e}, depth inside the head {:.2e}, root error {:.2e}",
+            r.frames,
+            m.max_energy_per_point,
+            m.max_energy_frame,
+            m.last_cycle_max_energy_per_point,
+            m.max_length_error,
+            m.max_depth,
+            m.max_root_error
+        );
+        if !m.finite {
+            anyhow::bail!("the simulation produced a non-finite point");
+        }
     }
     let (resident, gpu) = r.growth();
     let pct = |g: f64| format!("{:+.2} %", 100.0 * g);

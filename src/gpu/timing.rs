@@ -15,6 +15,8 @@ const RING: usize = 3;
 /// filter on (a pass's name is for people, never matched).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Phase {
+    /// The strand simulation's compute pass (`motion::gpu`), before the frame's passes that draw its points.
+    Simulation,
     /// The light passes every method shares (light depth, the meshes' shadow map).
     SharedLight,
     /// The shadow method's own light passes (the exact reference's lists included).
@@ -31,7 +33,8 @@ pub enum Phase {
 
 impl Phase {
     /// Every phase, in frame order.
-    pub const ALL: [Phase; 6] = [
+    pub const ALL: [Phase; 7] = [
+        Phase::Simulation,
         Phase::SharedLight,
         Phase::Method,
         Phase::Meshes,
@@ -43,6 +46,7 @@ impl Phase {
     /// A short word for tables and the status line.
     pub fn label(self) -> &'static str {
         match self {
+            Phase::Simulation => "simulation",
             Phase::SharedLight => "shared light",
             Phase::Method => "method",
             Phase::Meshes => "meshes",
@@ -66,9 +70,14 @@ pub struct PassTime {
     pub ms: f64,
 }
 
-/// Total milliseconds of the passes of `phase` in `times`.
+/// Total milliseconds of the passes of `phase` in `times` (0, not the empty sum's −0, when there are none).
 pub fn phase_ms(times: &[PassTime], phase: Phase) -> f64 {
-    times.iter().filter(|t| t.phase == phase).map(|t| t.ms).sum()
+    times
+        .iter()
+        .filter(|t| t.phase == phase)
+        .map(|t| t.ms)
+        .sum::<f64>()
+        + 0.0
 }
 
 struct Slot {
@@ -92,6 +101,16 @@ impl TimerSpan {
             beginning_of_pass_write_index: Some(2 * self.index),
             end_of_pass_write_index: None,
         }
+    }
+
+    /// Timestamp writes of a compute pass of the span: the span's beginning when `first`, its end when `last`
+    /// (both for a span of one pass; `None` for a pass in between).
+    pub fn compute(&self, first: bool, last: bool) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        (first || last).then(|| wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: first.then_some(2 * self.index),
+            end_of_pass_write_index: last.then_some(2 * self.index + 1),
+        })
     }
 
     /// Timestamp writes of the span's last pass: its end.

@@ -5,6 +5,8 @@
 //! pass), so what is measured is what the GPU computes.
 
 pub mod fur;
+pub mod motion;
+pub mod temporal;
 pub mod transparency;
 
 use crate::gpu::timing::Phase;
@@ -68,13 +70,14 @@ pub struct Measurement {
     pub image_rmse: f64,
     pub image_psnr: f64,
     /// Mean frame-to-frame change of V at the visible hair points while the light turns by
-    /// [`FLICKER_STEP_DEG`] per frame, minus the reference's own change (design.md's flicker).
-    pub flicker: f64,
+    /// [`FLICKER_STEP_DEG`] per frame, minus the reference's own change (design.md's light-turn flicker; the
+    /// flicker of hair in motion is [`temporal`]'s).
+    pub light_turn_flicker: f64,
 }
 
-/// Light rotation per frame of the flicker measurement, in degrees of azimuth.
+/// Light rotation per frame of the light-turn flicker measurement, in degrees of azimuth.
 pub const FLICKER_STEP_DEG: f32 = 0.5;
-/// Frames of the flicker measurement.
+/// Frames of the light-turn flicker measurement.
 pub const FLICKER_FRAMES: usize = 5;
 /// Size of the images compared for the image error.
 pub const IMAGE_SIZE: (u32, u32) = (320, 240);
@@ -153,19 +156,7 @@ pub fn measure_on(
             fragments as f64 / occupied.len() as f64
         },
     };
-    // Samples and reference visibility, texel by texel.
-    let mut samples = Vec::new();
-    let mut reference = Vec::new();
-    let mut spans = Vec::with_capacity(occupied.len());
-    for &t in &occupied {
-        let frags: Vec<Fragment> = lists[t].iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
-        let zs = metrics::sample_depths(&frags, GRID_POINTS);
-        let start = samples.len();
-        let (x, y) = ((t as u32 % res) as f32, (t as u32 / res) as f32);
-        samples.extend(zs.iter().map(|&z| [x, y, z]));
-        reference.extend(visibility::Reference.curve(&frags, &zs));
-        spans.push(start..samples.len());
-    }
+    let texels = TexelSamples::of(&lists, res);
     // The hair points the camera sees, their reference visibility, the reference image, and the reference's
     // own frame-to-frame change under the turning light.
     let (w, h) = IMAGE_SIZE;
@@ -203,16 +194,7 @@ pub fn measure_on(
         progress(&c.label());
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
         let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames)?;
-        let v = evaluate_all(&mut r, method, &samples)?;
-        let texel_errors: Vec<f64> = spans
-            .iter()
-            .map(|span| {
-                span.clone()
-                    .map(|i| (v[i] - reference[i]).abs() as f64)
-                    .sum::<f64>()
-                    / span.len() as f64
-            })
-            .collect();
+        let texel_errors = texels.errors(&evaluate_all(&mut r, method, &texels.samples)?);
         let (memory_bytes, build_memory_bytes, geometry_passes) =
             r.method_gpu(method).map_or((0, 0, 0), |g| {
                 (g.memory_bytes(), g.build_bytes(), g.geometry_passes())
@@ -230,11 +212,7 @@ pub fn measure_on(
         let (image_rmse, image_psnr) = image_error(&r.read_output()?, &reference_image);
         out.push(Measurement {
             config: c.clone(),
-            map_error: if texel_errors.is_empty() {
-                0.0
-            } else {
-                texel_errors.iter().sum::<f64>() / texel_errors.len() as f64
-            },
+            map_error: map_error(&texel_errors),
             texel_errors: ErrorDistribution::of(&texel_errors),
             pass_ms: per_pass
                 .iter()
@@ -247,7 +225,7 @@ pub fn measure_on(
             shading_error,
             image_rmse,
             image_psnr,
-            flicker: mean_change(&frames_v) - reference_change,
+            light_turn_flicker: mean_change(&frames_v) - reference_change,
         });
     }
     Ok((stats, out))
@@ -339,7 +317,7 @@ pub fn time_configs(
     })
 }
 
-fn evaluate_all(
+pub(crate) fn evaluate_all(
     r: &mut Renderer,
     method: &dyn methods::ShadowMethod,
     samples: &[[f32; 3]],
@@ -370,13 +348,30 @@ pub fn visible_hair_points(
     s: &Settings,
     eye_depth: &[f32],
 ) -> Vec<glam::Vec3> {
+    visible_tracked_points(r, &scene.strands, &s.camera, eye_depth)
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect()
+}
+
+/// [`visible_hair_points`] of `strands` (as the renderer holds them) seen by `camera`, each with its
+/// tracked-point id ([`temporal::point_id`], [`temporal::midpoint_id`]); per strand its points, then its
+/// midpoints.
+pub fn visible_tracked_points(
+    r: &Renderer,
+    strands: &crate::scene::Strands,
+    camera: &crate::scene::Camera,
+    eye_depth: &[f32],
+) -> Vec<(u32, glam::Vec3)> {
     let (w, h) = IMAGE_SIZE;
-    let clip = r.world_to_clip(&s.camera, w, h);
+    let clip = r.world_to_clip(camera, w, h);
     let mut out = Vec::new();
-    for (start, n) in scene.strands.ranges() {
-        let pts = &scene.strands.points[start..start + n];
+    for (start, n) in strands.ranges() {
+        let pts = &strands.points[start..start + n];
+        let ids = (start..start + n).map(temporal::point_id);
+        let mid_ids = (start..start + n.saturating_sub(1)).map(temporal::midpoint_id);
         let mids = pts.windows(2).map(|p| (p[0] + p[1]) * 0.5);
-        for p in pts.iter().copied().chain(mids) {
+        for (id, p) in ids.zip(pts.iter().copied()).chain(mid_ids.zip(mids)) {
             let c = clip.project_point3(p);
             if c.x.abs() >= 1.0 || c.y.abs() >= 1.0 || !(0.0..=1.0).contains(&c.z) {
                 continue;
@@ -384,16 +379,72 @@ pub fn visible_hair_points(
             let px = (((c.x * 0.5 + 0.5) * w as f32) as usize).min(w as usize - 1);
             let py = (((0.5 - c.y * 0.5) * h as f32) as usize).min(h as usize - 1);
             if eye_depth.get(py * w as usize + px).is_some_and(|d| c.z <= *d) {
-                out.push(p);
+                out.push((id, p));
             }
         }
     }
     out
 }
 
+/// The map error's samples of one light view: every occupied texel's sample depths
+/// (`metrics::sample_depths` with [`GRID_POINTS`]) as `(texel x, texel y, depth)`, the reference's visibility
+/// at each, and each texel's range of samples.
+pub(crate) struct TexelSamples {
+    pub samples: Vec<[f32; 3]>,
+    pub reference: Vec<f32>,
+    pub spans: Vec<std::ops::Range<usize>>,
+}
+
+impl TexelSamples {
+    /// From the reference's per-texel lists of a `res`² map.
+    pub fn of(lists: &[Vec<crate::render::passes::abuffer::RefFragment>], res: u32) -> TexelSamples {
+        let mut out = TexelSamples {
+            samples: Vec::new(),
+            reference: Vec::new(),
+            spans: Vec::new(),
+        };
+        for (t, list) in lists.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+            let frags: Vec<Fragment> = list.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect();
+            let zs = metrics::sample_depths(&frags, GRID_POINTS);
+            let start = out.samples.len();
+            let (x, y) = ((t as u32 % res) as f32, (t as u32 / res) as f32);
+            out.samples.extend(zs.iter().map(|&z| [x, y, z]));
+            out.reference.extend(visibility::Reference.curve(&frags, &zs));
+            out.spans.push(start..out.samples.len());
+        }
+        out
+    }
+
+    /// Each occupied texel's mean `|V_m − V_ref|` over its samples, given the method's `v` at the samples.
+    pub fn errors(&self, v: &[f32]) -> Vec<f64> {
+        self.spans
+            .iter()
+            .map(|span| {
+                span.clone()
+                    .map(|i| (v[i] - self.reference[i]).abs() as f64)
+                    .sum::<f64>()
+                    / span.len() as f64
+            })
+            .collect()
+    }
+}
+
+/// The map error: the mean of the texel errors (0 when no texel holds fragments).
+pub(crate) fn map_error(texel_errors: &[f64]) -> f64 {
+    if texel_errors.is_empty() {
+        0.0
+    } else {
+        texel_errors.iter().sum::<f64>() / texel_errors.len() as f64
+    }
+}
+
 /// `(texel x, texel y, light depth)` of each point in the hair light frame of `light`. The frame is fitted to
 /// the strands, so every hair point lies inside the map (the clamp only guards the edge texel).
-fn light_samples(r: &Renderer, light: &crate::scene::Light, points: &[glam::Vec3]) -> Vec<[f32; 3]> {
+pub(crate) fn light_samples(
+    r: &Renderer,
+    light: &crate::scene::Light,
+    points: &[glam::Vec3],
+) -> Vec<[f32; 3]> {
     let frame = r.hair_light_frame(light);
     let clip = frame.world_to_clip();
     let res = r.map_resolution() as f32;
@@ -411,7 +462,7 @@ fn light_samples(r: &Renderer, light: &crate::scene::Light, points: &[glam::Vec3
 }
 
 /// Exact visibility at a sample from the reference lists.
-fn reference_visibility(
+pub(crate) fn reference_visibility(
     lists: &[Vec<crate::render::passes::abuffer::RefFragment>],
     res: u32,
     sample: &[f32; 3],

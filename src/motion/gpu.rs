@@ -2,9 +2,11 @@
 //! to the CPU model ([`super::sim`]) up to floating-point rounding: the substep's time-dependent values (root
 //! frame, sweep, wind per strand phase class, damping factor) are computed on the CPU by the same functions
 //! the CPU model calls; the per-point arithmetic runs on the GPU in the CPU model's order. The test
-//! `motion_gpu` states the tolerance and the measured difference.
+//! `motion_gpu` states the tolerance and the measured difference. A frame's substeps are timed as one entry of
+//! the phase [`Phase::Simulation`] (from the first substep's beginning to the last one's end).
 
 use super::sim::Simulation;
+use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback::read_buffer};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -35,6 +37,7 @@ pub struct GpuSimulation {
     strands: u32,
     points: usize,
     frame: u32,
+    timer: Option<GpuTimer>,
 }
 
 impl GpuSimulation {
@@ -138,6 +141,7 @@ impl GpuSimulation {
             strands: strand_count,
             points,
             frame: 0,
+            timer: GpuTimer::new(device, &gpu.queue),
         })
     }
 
@@ -189,10 +193,14 @@ impl GpuSimulation {
         }
     }
 
-    /// Advances one frame (`substeps` dispatches, one submission each).
+    /// Advances one frame (`substeps` dispatches, one submission each), timed when the device has timestamps.
     pub fn step_frame(&mut self, gpu: &Gpu) {
         let substeps = u64::from(self.sim.params().substeps);
         let first = u64::from(self.frame) * substeps;
+        let span = self
+            .timer
+            .as_mut()
+            .and_then(|t| t.span(Phase::Simulation, "motion: simulate"));
         for j in 0..substeps {
             gpu.queue
                 .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&self.params(first + j + 1)));
@@ -204,15 +212,27 @@ impl GpuSimulation {
             {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("hairlab.motion.substep"),
-                    timestamp_writes: None,
+                    timestamp_writes: span.as_ref().and_then(|s| s.compute(j == 0, j + 1 == substeps)),
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.group, &[]);
                 pass.dispatch_workgroups(self.strands.div_ceil(64), 1, 1);
             }
+            let last = j + 1 == substeps;
+            let resolved =
+                last && span.is_some() && self.timer.as_mut().is_some_and(|t| t.resolve(&mut encoder));
             gpu.queue.submit([encoder.finish()]);
+            if resolved && let Some(t) = self.timer.as_mut() {
+                t.after_submit();
+            }
         }
         self.frame += 1;
+    }
+
+    /// Blocks until the last stepped frame's timing is read back: its [`Phase::Simulation`] entry (`None` when
+    /// the device has no timestamp queries).
+    pub fn wait_timings(&mut self, gpu: &Gpu) -> Option<Vec<PassTime>> {
+        self.timer.as_mut().map(|t| t.wait(&gpu.device).to_vec())
     }
 
     /// Reads the current points back.

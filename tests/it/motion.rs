@@ -598,3 +598,24 @@ fn render_frames_as_an_animated_gif() {
     }
     assert_ne!(frames[0].buffer(), frames[3].buffer(), "the hair moves");
 }
+
+#[test]
+fn the_gpu_simulation_times_each_frame_as_one_simulation_phase_entry() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (_, m) = small("wind", &[]).open_motion().unwrap();
+    let Motion::Simulate(sim) = m else {
+        panic!("wind simulates")
+    };
+    let mut g = hairlab::motion::gpu::GpuSimulation::new(&gpu, *sim).unwrap();
+    for frame in 1..=2 {
+        g.step_frame(&gpu);
+        let times = g.wait_timings(&gpu);
+        assert_eq!(times.is_some(), gpu.timestamps_supported());
+        // A frame's substeps are one entry of the simulation phase (its duration is the bench's business).
+        if let Some(times) = times {
+            assert_eq!(times.len(), 1, "frame {frame}: {times:?}");
+            assert_eq!(times[0].phase, hairlab::gpu::timing::Phase::Simulation);
+            assert!(times[0].ms.is_finite(), "frame {frame}: {times:?}");
+        }
+    }
+}

@@ -15,12 +15,12 @@ fn run(gpu: &Gpu, preset: &str, overrides: &[&str], configs: &[&str]) -> Vec<Mea
     let (_, rows) = measure_on(gpu, &settings, &configs, 1, |_| {}).unwrap();
     for m in &rows {
         eprintln!(
-            "{preset} {overrides:?} {}: map error {:.5}, worst texel {:.4}, shading error {:.5}, flicker {:.5}",
+            "{preset} {overrides:?} {}: map error {:.5}, worst texel {:.4}, shading error {:.5}, light-turn flicker {:.5}",
             m.config.label(),
             m.map_error,
             m.texel_errors.worst,
             m.shading_error,
-            m.flicker
+            m.light_turn_flicker
         );
     }
     rows

@@ -1,0 +1,451 @@
+//! Methods measured over a motion (`measure --motion`): the preset's `[motion]` played frame by frame with one
+//! renderer, the points written through `Renderer::update_points` as `hairlab render --frames` does, and each
+//! frame's map error, shading error at the tracked hair points, image and GPU time compared with the exact
+//! reference of the same frame; the temporal metrics ([`super::temporal`]) follow the points across frames.
+//! Where the preset simulates, the simulation's own cost per frame is measured too: the CPU model's wall time and
+//! the GPU compute pass's ([`crate::motion::gpu`]) timestamps.
+
+use super::temporal::{self, Flicker, OverFrames, TrackedFrame};
+use super::{
+    IMAGE_SIZE, MethodConfig, TexelSamples, evaluate_all, light_samples, median, reference_visibility,
+};
+use crate::gpu::Gpu;
+use crate::gpu::timing::{Phase, phase_ms};
+use crate::methods::{self, ParamValues, registry};
+use crate::render::{FrameInput, Renderer};
+use crate::settings::Settings;
+use anyhow::{Result, bail};
+use glam::Vec3;
+use image::RgbaImage;
+use serde::Serialize;
+
+/// When a configuration's `auto` parameter is chosen by the method's analysis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tuning {
+    /// No `auto` parameter.
+    Fixed,
+    /// `key=auto`: chosen once, on frame 0's reference lists, and kept.
+    FirstFrame,
+    /// `key=auto-per-frame`: chosen again on every frame's reference lists.
+    EveryFrame,
+}
+
+/// One configuration of a motion measurement: a method configuration and, for a method with an analysis,
+/// when the analysis chooses the parameter marked `auto`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MotionConfig {
+    /// The fixed parameters.
+    pub config: MethodConfig,
+    pub tuning: Tuning,
+}
+
+/// The word of [`Tuning::FirstFrame`] and [`Tuning::EveryFrame`] in a configuration.
+const AUTO: &str = "auto";
+const AUTO_PER_FRAME: &str = "auto-per-frame";
+
+impl MotionConfig {
+    pub fn fixed(config: MethodConfig) -> MotionConfig {
+        MotionConfig {
+            config,
+            tuning: Tuning::Fixed,
+        }
+    }
+
+    /// `name:key=value,...`, where the key the method's analysis chooses may be `auto` (chosen on frame 0) or
+    /// `auto-per-frame` (chosen on every frame).
+    pub fn parse(text: &str) -> Result<MotionConfig> {
+        let (name, rest) = text.split_once(':').unwrap_or((text, ""));
+        let mut fixed = Vec::new();
+        let mut tuning = Tuning::Fixed;
+        for kv in rest.split(',').filter(|kv| !kv.trim().is_empty()) {
+            let (key, value) = kv.split_once('=').map_or((kv, ""), |(k, v)| (k.trim(), v.trim()));
+            let t = match value {
+                AUTO => Tuning::FirstFrame,
+                AUTO_PER_FRAME => Tuning::EveryFrame,
+                _ => {
+                    fixed.push(kv);
+                    continue;
+                }
+            };
+            let method = registry::find(name.trim()).map_err(anyhow::Error::msg)?;
+            let tunes = method.analysis().map(|a| a.tunes);
+            if tunes != Some(key) || tuning != Tuning::Fixed {
+                bail!(
+                    "'{text}': {} cannot choose '{key}' (its analysis chooses {}, once)",
+                    method.name(),
+                    tunes.unwrap_or("nothing")
+                );
+            }
+            tuning = t;
+        }
+        Ok(MotionConfig {
+            config: MethodConfig::parse(&format!("{name}:{}", fixed.join(",")))?,
+            tuning,
+        })
+    }
+
+    /// The configuration as [`MotionConfig::parse`] reads it (the chosen key last).
+    pub fn label(&self) -> String {
+        let base = self.config.label();
+        let word = match self.tuning {
+            Tuning::Fixed => return base,
+            Tuning::FirstFrame => AUTO,
+            Tuning::EveryFrame => AUTO_PER_FRAME,
+        };
+        let key = registry::find(&self.config.name)
+            .ok()
+            .and_then(|m| m.analysis())
+            .map_or("?", |a| a.tunes);
+        let sep = if self.config.params.is_empty() { ':' } else { ',' };
+        format!("{base}{sep}{key}={word}")
+    }
+}
+
+/// The configurations `measure --motion` reports when none is given: [`super::usual_configs`].
+pub fn usual_configs() -> Vec<MotionConfig> {
+    super::usual_configs()
+        .into_iter()
+        .map(MotionConfig::fixed)
+        .collect()
+}
+
+/// One frame of one configuration.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FrameRow {
+    pub config: String,
+    pub frame: u32,
+    pub map_error: f64,
+    pub shading_error: f64,
+    /// Tracked points the camera sees in this frame.
+    pub tracked_points: usize,
+    /// From the previous frame to this one (empty in frame 0): the pair's flicker figures and image flicker.
+    pub flicker: Option<f64>,
+    pub flicker_p99: Option<f64>,
+    pub pop_rate: Option<f64>,
+    pub max_pop: Option<f64>,
+    pub image_flicker: Option<f64>,
+    /// The method's own light passes, GPU milliseconds.
+    pub gpu_ms: f64,
+}
+
+/// One configuration over the motion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MotionRow {
+    pub config: MotionConfig,
+    pub map_error: OverFrames,
+    pub shading_error: OverFrames,
+    pub flicker: Flicker,
+    pub image_flicker: f64,
+    /// Median over the frames of the method's own light passes, GPU milliseconds.
+    pub gpu_ms: f64,
+    pub frames: Vec<FrameRow>,
+}
+
+/// The simulation's cost per frame on this scene (a simulated motion only).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimCost {
+    /// Median wall milliseconds of the CPU model per frame.
+    pub cpu_ms: f64,
+    /// Median GPU milliseconds of the compute pass per frame (its substeps), when the device has timestamps.
+    pub gpu_ms: Option<f64>,
+}
+
+/// What a motion measurement found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MotionMeasurement {
+    pub device: String,
+    pub strands: usize,
+    pub segments: usize,
+    pub frames: u32,
+    pub rows: Vec<MotionRow>,
+    pub sim: Option<SimCost>,
+}
+
+/// The exact reference's view of one frame.
+struct FrameReference {
+    ids: Vec<u32>,
+    samples: Vec<[f32; 3]>,
+    visibility: Vec<f32>,
+    texels: TexelSamples,
+    /// The analysis' choice on this frame, per configuration (empty for fixed ones).
+    tuned: Vec<ParamValues>,
+}
+
+/// Measures `configs` over frames `0..frames` of `settings`' motion on `gpu`. A still preset is refused: there
+/// is nothing temporal to measure.
+pub fn measure_motion_on(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[MotionConfig],
+    frames: u32,
+    mut progress: impl FnMut(&str),
+) -> Result<MotionMeasurement> {
+    let mut s = settings.clone();
+    let (mut scene, mut motion) = s.open_motion()?;
+    if motion.is_still() {
+        bail!("motion.source is \"none\": the preset has no motion to measure (try --preset wind)");
+    }
+    let count = motion.frame_count(&s.motion);
+    if frames < 2 || frames > count {
+        bail!("--frames {frames}: a motion measurement needs 2 to {count} frames (the motion's)");
+    }
+    if s.camera.distance <= 0.0 {
+        s.camera.frame(&scene.framing_bounds());
+    }
+    progress("the motion's frames");
+    let mut points: Vec<Vec<Vec3>> = Vec::with_capacity(frames as usize);
+    let mut cpu_ms = Vec::with_capacity(frames as usize);
+    for k in 0..frames {
+        let start = std::time::Instant::now();
+        points.push(motion.frame(k)?.to_vec());
+        cpu_ms.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    let sim = match motion {
+        crate::motion::Motion::Simulate(sim) => Some(SimCost {
+            cpu_ms: median(cpu_ms[1..].to_vec()),
+            gpu_ms: gpu_sim_ms(gpu, *sim, frames)?,
+        }),
+        _ => None,
+    };
+    scene.set_strand_points(&points[0])?;
+    let res = s.render.map_resolution;
+    let mut r = Renderer::new(gpu, &scene, res)?;
+    let analyses = configs
+        .iter()
+        .map(|c| -> Result<_> {
+            if c.tuning == Tuning::Fixed {
+                return Ok(None);
+            }
+            let method = registry::find(&c.config.name).map_err(anyhow::Error::msg)?;
+            match method.analysis() {
+                Some(a) => Ok(Some(a)),
+                None => bail!(
+                    "'{}': {} has no analysis to choose a value",
+                    c.label(),
+                    method.name()
+                ),
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    // The reference, frame by frame.
+    let empty = ParamValues::new();
+    let mut references: Vec<FrameReference> = Vec::with_capacity(points.len());
+    let mut reference_images = Vec::with_capacity(points.len());
+    for (k, p) in points.iter().enumerate() {
+        progress(&format!("{} frame {k}", registry::reference().name()));
+        scene.set_strand_points(p)?;
+        r.update_points(p)?;
+        r.render(&input(&s, registry::reference(), &empty))?;
+        r.wait_timings();
+        reference_images.push(r.read_output()?);
+        let mut tracked = super::visible_tracked_points(&r, &scene.strands, &s.camera, &r.read_eye_depth()?);
+        tracked.sort_by_key(|(id, _)| *id);
+        let (ids, at): (Vec<u32>, Vec<Vec3>) = tracked.into_iter().unzip();
+        let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
+        let samples = light_samples(&r, &s.light, &at);
+        let visibility = samples
+            .iter()
+            .map(|x| reference_visibility(&lists, res, x))
+            .collect();
+        let tuned = configs
+            .iter()
+            .zip(&analyses)
+            .enumerate()
+            .map(|(i, (c, a))| match (c.tuning, a) {
+                (Tuning::EveryFrame, Some(a)) => (a.run)(&lists, &c.config.params).apply,
+                (Tuning::FirstFrame, Some(a)) if k == 0 => (a.run)(&lists, &c.config.params).apply,
+                (Tuning::FirstFrame, Some(_)) => references[0].tuned[i].clone(),
+                _ => ParamValues::new(),
+            })
+            .collect();
+        references.push(FrameReference {
+            ids,
+            samples,
+            visibility,
+            texels: TexelSamples::of(&lists, res),
+            tuned,
+        });
+    }
+    let mut rows = Vec::with_capacity(configs.len());
+    for (ci, c) in configs.iter().enumerate() {
+        let label = c.label();
+        progress(&label);
+        let method = registry::find(&c.config.name).map_err(anyhow::Error::msg)?;
+        let (mut tracked, mut map, mut shading, mut gpu_ms) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut frame_rows: Vec<FrameRow> = Vec::with_capacity(points.len());
+        let mut images: Vec<RgbaImage> = Vec::with_capacity(points.len());
+        for (k, (p, reference)) in points.iter().zip(&references).enumerate() {
+            r.update_points(p)?;
+            let mut params = c.config.params.clone();
+            params.extend(reference.tuned[ci].iter().map(|(k, v)| (k.clone(), *v)));
+            r.render(&input(&s, method, &params))?;
+            let ms = phase_ms(&r.wait_timings(), Phase::Method);
+            let image = r.read_output()?;
+            let texel_errors =
+                reference
+                    .texels
+                    .errors(&evaluate_all(&mut r, method, &reference.texels.samples)?);
+            let frame = TrackedFrame {
+                ids: reference.ids.clone(),
+                method: evaluate_all(&mut r, method, &reference.samples)?,
+                reference: reference.visibility.clone(),
+            };
+            let mut row = FrameRow {
+                config: label.clone(),
+                frame: k as u32,
+                map_error: super::map_error(&texel_errors),
+                shading_error: temporal::shading_error(&frame),
+                tracked_points: frame.ids.len(),
+                flicker: None,
+                flicker_p99: None,
+                pop_rate: None,
+                max_pop: None,
+                image_flicker: None,
+                gpu_ms: ms,
+            };
+            tracked.push(frame);
+            images.push(image);
+            if k > 0 {
+                let pair = Flicker::over(&tracked[k - 1..=k]);
+                row.flicker = Some(pair.mean);
+                row.flicker_p99 = Some(pair.p99);
+                row.pop_rate = Some(pair.pop_rate);
+                row.max_pop = Some(pair.max_pop);
+                row.image_flicker = Some(temporal::image_flicker(
+                    &images[k - 1..=k],
+                    &reference_images[k - 1..=k],
+                ));
+            }
+            map.push(row.map_error);
+            shading.push(row.shading_error);
+            gpu_ms.push(ms);
+            frame_rows.push(row);
+        }
+        rows.push(MotionRow {
+            config: c.clone(),
+            map_error: OverFrames::of(&map),
+            shading_error: OverFrames::of(&shading),
+            flicker: Flicker::over(&tracked),
+            image_flicker: temporal::image_flicker(&images, &reference_images),
+            gpu_ms: median(gpu_ms),
+            frames: frame_rows,
+        });
+    }
+    Ok(MotionMeasurement {
+        device: crate::gpu::describe(&gpu.info),
+        strands: scene.strands.strand_count(),
+        segments: scene.strands.segment_count(),
+        frames,
+        rows,
+        sim,
+    })
+}
+
+/// A frame of `s`'s view at [`IMAGE_SIZE`] shaded with `method`, composited exactly (the reference technique),
+/// so that an image's error is its shadows' alone.
+fn input<'a>(
+    s: &'a Settings,
+    method: &'a dyn methods::ShadowMethod,
+    params: &'a ParamValues,
+) -> FrameInput<'a> {
+    let (width, height) = IMAGE_SIZE;
+    FrameInput {
+        camera: &s.camera,
+        light: &s.light,
+        render: &s.render,
+        method,
+        method_params: params,
+        technique: crate::render::transparency::registry::reference(),
+        technique_params: &s.transparency.params,
+        width,
+        height,
+    }
+}
+
+/// Median GPU milliseconds per frame of the simulation's compute pass ([`Phase::Simulation`]) over `frames − 1`
+/// steps from `sim`'s rest pose (`None` without timestamp queries).
+pub fn gpu_sim_ms(gpu: &Gpu, sim: crate::motion::Simulation, frames: u32) -> Result<Option<f64>> {
+    let mut g = crate::motion::gpu::GpuSimulation::new(gpu, sim)?;
+    let mut ms = Vec::with_capacity(frames as usize);
+    for _ in 1..frames {
+        g.step_frame(gpu);
+        ms.extend(g.wait_timings(gpu).map(|t| phase_ms(&t, Phase::Simulation)));
+    }
+    Ok((!ms.is_empty()).then(|| median(ms)))
+}
+
+/// One row of `motion_summary.csv`.
+#[derive(Serialize)]
+struct SummaryRow {
+    config: String,
+    map_error: f64,
+    shading_error: f64,
+    flicker: f64,
+    flicker_p99: f64,
+    pop_rate: f64,
+    max_pop: f64,
+    image_flicker: f64,
+    gpu_ms: f64,
+}
+
+impl MotionMeasurement {
+    /// `motion_summary.csv`: one row per configuration (the per-frame errors' means over the frames, the
+    /// flicker figures pooled over the frame pairs, the median GPU ms).
+    pub fn summary_csv(&self) -> Result<String> {
+        crate::bench::report::csv_text(
+            "motion_summary.csv",
+            self.rows.iter().map(|r| SummaryRow {
+                config: r.config.label(),
+                map_error: r.map_error.mean,
+                shading_error: r.shading_error.mean,
+                flicker: r.flicker.mean,
+                flicker_p99: r.flicker.p99,
+                pop_rate: r.flicker.pop_rate,
+                max_pop: r.flicker.max_pop,
+                image_flicker: r.image_flicker,
+                gpu_ms: r.gpu_ms,
+            }),
+        )
+    }
+
+    /// `motion_frames.csv`: one row per configuration and frame.
+    pub fn frames_csv(&self) -> Result<String> {
+        crate::bench::report::csv_text("motion_frames.csv", self.rows.iter().flat_map(|r| &r.frames))
+    }
+
+    /// The row of `config` (its [`MotionConfig::label`]).
+    pub fn row(&self, label: &str) -> Option<&MotionRow> {
+        self.rows.iter().find(|r| r.config.label() == label)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::LightMethod;
+    use crate::methods::bom::Bom;
+    use crate::methods::osm::Osm;
+
+    #[test]
+    fn configurations_mark_when_the_analysis_chooses() {
+        let (bom, osm) = (Bom.name(), Osm.name());
+        let c = MotionConfig::parse(&format!("{bom}:layers=4,split_ratio=auto")).unwrap();
+        assert_eq!(c.tuning, Tuning::FirstFrame);
+        assert_eq!(c.label(), format!("{bom}:layers=4,split_ratio=auto"));
+        let c = MotionConfig::parse(&format!("{bom}:split_ratio=auto-per-frame,layers=4")).unwrap();
+        assert_eq!(c.tuning, Tuning::EveryFrame);
+        assert_eq!(c.label(), format!("{bom}:layers=4,split_ratio=auto-per-frame"));
+        assert_eq!(MotionConfig::parse(&c.label()).unwrap(), c);
+        let c = MotionConfig::parse(&format!("{osm}:slices=16")).unwrap();
+        assert_eq!((c.tuning, c.label()), (Tuning::Fixed, format!("{osm}:slices=16")));
+        let e = MotionConfig::parse(&format!("{osm}:slices=auto"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("cannot choose 'slices'"), "{e}");
+        let e = MotionConfig::parse(&format!("{bom}:layers=auto"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("chooses split_ratio"), "{e}");
+    }
+}

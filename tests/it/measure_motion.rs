@@ -1,0 +1,151 @@
+//! `measure --motion` (`hairlab::measure::motion`): a motion that does not move gives no flicker, pop or image
+//! flicker for any method and the same errors every frame (the reference and the method are compared on the same
+//! frame, point by point); the CLI writes the two CSV files whole with their stated columns and refuses a preset
+//! without motion in one line.
+
+use crate::common::cli::{assert_fails, hairlab, stderr};
+use hairlab::gpu::Gpu;
+use hairlab::measure::motion::{MotionConfig, measure_motion_on};
+use hairlab::methods::LightMethod;
+use hairlab::methods::bom::Bom;
+use hairlab::methods::dom::Dom;
+use hairlab::methods::occupancy::Occupancy;
+use hairlab::methods::osm::Osm;
+use hairlab::scene::hair::{HairFile, write_hair_file};
+use hairlab::settings::Settings;
+
+const SMALL: [&str; 3] = [
+    "scene.generator.strands=300",
+    "scene.generator.segments=12",
+    "render.map_resolution=128",
+];
+
+#[test]
+fn a_motion_that_does_not_move_has_no_flicker_and_the_same_errors_every_frame() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let small: Vec<String> = SMALL.iter().map(|s| s.to_string()).collect();
+    let strands = Settings::load_preset("default", &small)
+        .unwrap()
+        .scene
+        .build()
+        .unwrap()
+        .strands;
+    let dir = tempfile::tempdir().unwrap();
+    for k in 0..3 {
+        write_hair_file(
+            &dir.path().join(format!("f{k}.hair")),
+            &HairFile::from_strands(&strands, "test").unwrap(),
+        )
+        .unwrap();
+    }
+    let mut set = small.clone();
+    set.push("motion.source=sequence".to_string());
+    set.push(format!("motion.path={}", dir.path().display()));
+    let settings = Settings::load_preset("default", &set).unwrap();
+    let configs: Vec<MotionConfig> = [
+        format!("{}:slices=16", Osm.name()),
+        format!("{}:layers=3", Dom.name()),
+        format!("{}:layers=4,split_ratio=auto-per-frame", Bom.name()),
+        Occupancy.name().to_string(),
+    ]
+    .iter()
+    .map(|c| MotionConfig::parse(c).unwrap())
+    .collect();
+    let m = measure_motion_on(&gpu, &settings, &configs, 3, |_| {}).unwrap();
+    for r in &m.rows {
+        let label = r.config.label();
+        let f = &r.flicker;
+        assert!(
+            r.frames.iter().all(|x| x.tracked_points > 1000),
+            "{label}: tracked points {:?}",
+            r.frames
+        );
+        assert_eq!(
+            f.points,
+            2 * r.frames[0].tracked_points,
+            "{label}: every point is tracked in both frames"
+        );
+        assert_eq!(
+            (f.mean, f.p99, f.pop_rate, f.max_pop, r.image_flicker),
+            (0.0, 0.0, 0.0, 0.0, 0.0),
+            "{label}: a still motion flickers"
+        );
+        // The errors are the method's, not zero, and the same bits every frame.
+        assert!(
+            r.map_error.mean > 1e-3 && r.shading_error.mean > 1e-3,
+            "{label}: {r:?}"
+        );
+        for x in &r.frames[1..] {
+            assert_eq!(
+                (x.map_error, x.shading_error),
+                (r.frames[0].map_error, r.frames[0].shading_error),
+                "{label} frame {}",
+                x.frame
+            );
+        }
+    }
+}
+
+#[test]
+fn the_cli_writes_both_csv_files_and_refuses_a_still_preset_in_one_line() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let (dom3, occ) = (format!("{}:layers=3", Dom.name()), Occupancy.name().to_string());
+    let o = hairlab(&[
+        "measure",
+        "--motion",
+        "--preset",
+        "stray-sweep",
+        "--set",
+        "scene.generator.strands=200",
+        "--set",
+        "render.map_resolution=64",
+        "--frames",
+        "3",
+        "--config",
+        &dom3,
+        "--config",
+        &occ,
+        "--out",
+        dir,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |name: &str| std::fs::read_to_string(out.path().join(name)).unwrap();
+    let summary = read("motion_summary.csv");
+    let lines: Vec<&str> = summary.lines().collect();
+    assert_eq!(
+        lines[0],
+        "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms"
+    );
+    assert_eq!(lines.len(), 3, "{summary}");
+    assert!(lines[1].starts_with(&format!("{dom3},")) && lines[2].starts_with(&format!("{occ},")));
+    let frames = read("motion_frames.csv");
+    let lines: Vec<&str> = frames.lines().collect();
+    assert_eq!(
+        lines[0],
+        "config,frame,map_error,shading_error,tracked_points,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms"
+    );
+    assert_eq!(lines.len(), 1 + 2 * 3, "{frames}");
+    // Frame 0 has no pair before it: its flicker columns are empty.
+    assert!(
+        lines[1].starts_with(&format!("{dom3},0,")) && lines[1].contains(",,,,,"),
+        "{}",
+        lines[1]
+    );
+    // Only the two files, no temporary left behind.
+    assert_eq!(std::fs::read_dir(out.path()).unwrap().count(), 2);
+
+    let o = hairlab(&["measure", "--motion", "--preset", "patch", "--out", dir]);
+    assert_fails(&o, &["no motion"]);
+    let o = hairlab(&[
+        "measure",
+        "--motion",
+        "--preset",
+        "stray-sweep",
+        "--frames",
+        "1",
+        "--out",
+        dir,
+    ]);
+    assert_fails(&o, &["--frames 1"]);
+}

@@ -1,0 +1,257 @@
+//! The motion claims (issue "Hair in motion"), measured on test-sized motion presets with `measure --motion`'s
+//! library (`hairlab::measure::motion`; design.md's temporal metrics) on lavapipe: MC-1 (Sintorn & Assarsson
+//! Fig. 4 in motion), MC-2 (Yuksel & Keyser: straight hair in motion), MC-4 (Voicu: Bounding Opacity Maps' split
+//! ratio chosen once or every frame) and MC-5 (the simulation's invariants over 10,000 frames, on the CPU model).
+//! Thresholds sit below the figures measured when the tests were written (stated beside each); a claim the
+//! measurement does not reproduce is asserted in the direction measured and says so. Reproduce a figure with the
+//! `hairlab measure --motion …` line beside it.
+
+use glam::Vec3;
+use hairlab::gpu::Gpu;
+use hairlab::measure::motion::{MotionConfig, MotionMeasurement, MotionRow, measure_motion_on};
+use hairlab::methods::LightMethod;
+use hairlab::methods::bom::Bom;
+use hairlab::methods::dom::Dom;
+use hairlab::methods::occupancy::Occupancy;
+use hairlab::methods::osm::Osm;
+use hairlab::motion::{Ellipsoid, Motion};
+use hairlab::scene::generate::HEAD_RADII;
+use hairlab::settings::Settings;
+
+fn measure(
+    gpu: &Gpu,
+    preset: &str,
+    overrides: &[&str],
+    configs: &[String],
+    frames: u32,
+) -> MotionMeasurement {
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let settings = Settings::load_preset(preset, &overrides).unwrap();
+    let configs: Vec<MotionConfig> = configs.iter().map(|c| MotionConfig::parse(c).unwrap()).collect();
+    let m = measure_motion_on(gpu, &settings, &configs, frames, |_| {}).unwrap();
+    eprint!(
+        "{}",
+        hairlab::cli::measure_motion::table(&format!("{preset} {overrides:?}"), &m)
+    );
+    m
+}
+
+fn row<'a>(m: &'a MotionMeasurement, label: &str) -> &'a MotionRow {
+    m.row(label).unwrap_or_else(|| panic!("no row {label}"))
+}
+
+/// MC-1, Sintorn & Assarsson Fig. 4 in motion: the stray strand sweeping in front of the clump restarts Deep
+/// Opacity Maps' layers wherever it passes, so the shadow on the clump pops; occupancy maps keep the whole depth
+/// range and change as the truth does.
+#[test]
+fn mc1_a_sweeping_stray_strand_pops_deep_opacity_maps_several_times_more_than_occupancy_maps() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (dom3, dom4, occ) = (
+        format!("{}:layers=3", Dom.name()),
+        format!("{}:layers=4", Dom.name()),
+        Occupancy.name().to_string(),
+    );
+    // hairlab measure --motion --preset stray-sweep --frames 12 --set scene.generator.strands=600
+    //   --set render.map_resolution=128 --config dom:layers=3 --config dom:layers=4 --config occupancy
+    let m = measure(
+        &gpu,
+        "stray-sweep",
+        &["scene.generator.strands=600", "render.map_resolution=128"],
+        &[dom3.clone(), dom4.clone(), occ.clone()],
+        12,
+    );
+    let pops = |label: &str| row(&m, label).flicker.pop_rate;
+    let (p3, p4, po) = (pops(&dom3), pops(&dom4), pops(&occ));
+    // Measured pop rate: DOM-3 0.80 %, DOM-4 0.82 %, occupancy 0.22 % (3.6x, 3.7x); flicker 0.00319, 0.00323
+    // against 0.00068 (4.7x).
+    assert!(
+        po > 0.0,
+        "occupancy maps never pop here: the claim's ratio is undefined"
+    );
+    assert!(
+        p3 > 2.5 * po,
+        "DOM-3 pop rate {p3} should be several times occupancy's {po}"
+    );
+    assert!(
+        p4 > 2.5 * po,
+        "DOM-4 pop rate {p4} should be several times occupancy's {po}"
+    );
+    let flicker = |label: &str| row(&m, label).flicker.mean;
+    assert!(
+        flicker(&dom3) > 3.0 * flicker(&occ),
+        "DOM-3 flicker {} against occupancy's {}",
+        flicker(&dom3),
+        flicker(&occ)
+    );
+}
+
+/// MC-2, Yuksel & Keyser 2008: opacity-map layering artifacts are "especially significant in animated
+/// sequences or straight hair", so on straight hair in motion OSM-16 should flicker more than DOM-3.
+/// NOT REPRODUCED: on `straight-motion` DOM-3's flicker is the larger (measured below); the test asserts the
+/// direction measured, so a change that makes the claim hold shows here.
+#[test]
+fn mc2_on_straight_hair_in_motion_dom3_flickers_at_least_as_much_as_osm16_claim_not_reproduced() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (osm16, dom3) = (
+        format!("{}:slices=16", Osm.name()),
+        format!("{}:layers=3", Dom.name()),
+    );
+    // hairlab measure --motion --preset straight-motion --frames 12 --set scene.generator.strands=800
+    //   --set render.map_resolution=128 --config osm:slices=16 --config dom:layers=3
+    let m = measure(
+        &gpu,
+        "straight-motion",
+        &["scene.generator.strands=800", "render.map_resolution=128"],
+        &[osm16.clone(), dom3.clone()],
+        12,
+    );
+    let (o, d) = (row(&m, &osm16), row(&m, &dom3));
+    // Measured flicker: OSM-16 0.0805, DOM-3 0.0939 (DOM-3 / OSM-16 = 1.17); pop rate 24.4 % and 26.8 %; image
+    // flicker 0.0298 and 0.0358.
+    assert!(
+        d.flicker.mean > 1.05 * o.flicker.mean,
+        "DOM-3 flicker {} against OSM-16's {}: the claim (OSM-16 above DOM-3) may now hold",
+        d.flicker.mean,
+        o.flicker.mean
+    );
+    assert!(
+        d.image_flicker > o.image_flicker,
+        "DOM-3 image flicker {} against OSM-16's {}",
+        d.image_flicker,
+        o.image_flicker
+    );
+}
+
+/// MC-4, Voicu: Bounding Opacity Maps' split ratio chosen by the analysis on frame 0 and kept, against chosen
+/// again on every frame, while the head turns. Measured: both choose alike until the turn is under way, then
+/// the per-frame choice changes and its map error drops below the kept ratio's.
+#[test]
+fn mc4_choosing_bounding_opacity_maps_split_ratio_every_frame_lowers_the_error_over_a_head_turn() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (once, every) = (
+        format!("{}:layers=4,split_ratio=auto", Bom.name()),
+        format!("{}:layers=4,split_ratio=auto-per-frame", Bom.name()),
+    );
+    // hairlab measure --motion --preset head-turn --frames 12 --set scene.generator.strands=600
+    //   --set render.map_resolution=128 --set motion.head_period=1
+    //   --config bom:layers=4,split_ratio=auto --config bom:layers=4,split_ratio=auto-per-frame
+    let m = measure(
+        &gpu,
+        "head-turn",
+        &[
+            "scene.generator.strands=600",
+            "render.map_resolution=128",
+            "motion.head_period=1",
+        ],
+        &[once.clone(), every.clone()],
+        12,
+    );
+    let (a, b) = (row(&m, &once), row(&m, &every));
+    // Frame 0: the same choice, so the same error, bit for bit.
+    assert_eq!(a.frames[0].map_error, b.frames[0].map_error);
+    // Measured map error over the 12 frames: kept 0.09689, per frame 0.08881 (0.917); frames 9–11: 0.0997–0.1021
+    // against 0.0680–0.0692.
+    assert!(
+        b.map_error.mean < 0.96 * a.map_error.mean,
+        "per-frame split ratio {} against kept {}",
+        b.map_error.mean,
+        a.map_error.mean
+    );
+    assert!(
+        b.frames
+            .iter()
+            .zip(&a.frames)
+            .all(|(x, y)| x.map_error <= y.map_error + 1e-9),
+        "the per-frame choice should never be worse than the kept one on a frame"
+    );
+}
+
+/// MC-5 over 10,000 frames, on the CPU model (`motion::sim`, the specification; the GPU pass equals it per
+/// frame, `motion::the_gpu_simulation_equals_the_cpu_model_over_a_run_of_frames`): a small head in gusty wind,
+/// shaking, keeps every segment at its rest length, every root on the moving scalp and every point out of the
+/// head up to a stated depth, with bounded kinetic energy; a second run is the same bits at every frame, and
+/// scrubbing back after the run lands on the same bits.
+#[test]
+fn mc5_the_simulation_keeps_its_invariants_over_ten_thousand_frames() {
+    const FRAMES: u32 = 10_000;
+    let settings = Settings::load_preset(
+        "wind",
+        &[
+            "scene.generator.strands=24".to_string(),
+            "scene.generator.segments=8".to_string(),
+            "motion.head=shake".to_string(),
+            "motion.head_period=1".to_string(),
+            format!("motion.frames={FRAMES}"),
+        ],
+    )
+    .unwrap();
+    let head = Ellipsoid {
+        center: Vec3::ZERO,
+        radii: HEAD_RADII,
+    };
+    let checksum = |p: &[Vec3]| {
+        p.iter()
+            .flat_map(|v| v.to_array())
+            .fold(0u64, |h, x| h.rotate_left(5) ^ u64::from(x.to_bits()))
+    };
+    let run = || {
+        let (scene, mut motion) = settings.open_motion().unwrap();
+        let starts: Vec<usize> = scene.strands.ranges().map(|(first, _)| first).collect();
+        let Motion::Simulate(sim) = &mut motion else {
+            panic!("wind simulates")
+        };
+        let n = scene.strands.point_count() as f64;
+        let (mut len, mut depth, mut root, mut scalp) = (0f32, 0f32, 0f32, 0f32);
+        let (mut first_energy, mut last_energy) = (0f64, 0f64);
+        let mut sums = Vec::with_capacity(FRAMES as usize);
+        let mut kept = Vec::new();
+        for k in 0..FRAMES {
+            let points = sim.frame(k).to_vec();
+            let st = sim.stats();
+            assert!(st.finite, "frame {k}: a non-finite point");
+            len = len.max(st.max_length_error);
+            depth = depth.max(st.max_depth);
+            root = root.max(st.max_root_error);
+            let pose = sim.head_pose_at_frame(k);
+            for &r in &starts {
+                scalp = scalp.max((head.level(pose.inverse_apply(points[r])) - 1.0).abs());
+            }
+            let e = st.kinetic_energy / n;
+            if k < 1000 {
+                first_energy = first_energy.max(e);
+            } else if k >= FRAMES - 1000 {
+                last_energy = last_energy.max(e);
+            }
+            sums.push(checksum(&points));
+            if k % 2500 == 1234 {
+                kept.push((k, points));
+            }
+        }
+        // Scrubbing back after the run: the same bits.
+        for (k, points) in &kept {
+            assert_eq!(sim.frame(*k), &points[..], "frame {k} scrubbed back to");
+        }
+        (sums, [len, depth, root, scalp], first_energy, last_energy)
+    };
+    let (sums, [len, depth, root, scalp], first_energy, last_energy) = run();
+    eprintln!(
+        "{FRAMES} frames: length {len:e}, depth {depth:e}, root {root:e}, scalp level {scalp:e}, energy per point \
+         first 1000 frames {first_energy}, last 1000 {last_energy}"
+    );
+    // Measured (x86-64, debug, 10,000 frames): length 4.8e-7, depth 8.0e-8 world units, root 7.5e-9, scalp level
+    // 4.8e-7, energy per point at most 0.576 (m/s)² in the first 1000 frames and 0.573 in the last 1000.
+    assert!(len < 1e-5, "worst relative segment-length error {len}");
+    assert!(
+        depth < 2e-4,
+        "worst depth inside the head {depth} (radii 0.09–0.115)"
+    );
+    assert!(root < 1e-6, "a root left its posed rest position by {root}");
+    assert!(scalp < 1e-5, "a root left the scalp: |level − 1| = {scalp}");
+    assert!(
+        last_energy < 2.0 * first_energy && last_energy < 10.0,
+        "kinetic energy per point: {first_energy} in the first 1000 frames, {last_energy} in the last"
+    );
+    let (again, ..) = run();
+    let differ = sums.iter().zip(&again).position(|(a, b)| a != b);
+    assert_eq!(differ, None, "a second run differs from frame {differ:?}");
+}

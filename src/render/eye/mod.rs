@@ -7,4 +7,7 @@
 
 pub mod bindings;
 pub mod lists;
+pub mod one_pass;
+pub mod passes;
 pub mod pipelines;
+pub mod targets;

@@ -20,10 +20,9 @@ use crate::fur::settings::{Blending, FurSettings, FurView};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::Binding;
 use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
-use crate::render::eye::pipelines::{self, GeometryPass};
+use crate::render::eye::pipelines;
 use crate::render::geometry::RIBBON_GROUP;
 use crate::render::method::{ParamValues, Role, UniformMirror};
-use crate::render::targets::EyeTargets;
 use crate::render::transparency::{
     EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
     TransparencyGpu,
@@ -150,19 +149,12 @@ impl FurGpu {
                 resolve_extra: &[Binding::Uniform],
             },
         )?;
-        let module =
-            crate::render::passes::shader_module(device, "hairlab.fur.ribbon_count", INFO.pass_wgsl[0], None);
-        let count_pipeline = pipelines::geometry(
+        let count_pipeline = pipelines::storage_pass(
             device,
-            &GeometryPass {
-                label: "hairlab.fur.ribbon_count",
-                module: &module,
-                layouts: &[setup.frame_layout, lists.count_layout()],
-                geometry: HairGeometry::Ribbons,
-                fragment: "fs_main",
-                targets: &[Some(EyeTargets::NULL)],
-                depth: None,
-            },
+            "hairlab.fur.ribbon_count",
+            INFO.pass_wgsl[0],
+            [setup.frame_layout, lists.count_layout()],
+            HairGeometry::Ribbons,
         );
         let mut gpu = FurGpu {
             lists,

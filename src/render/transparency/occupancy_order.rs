@@ -26,15 +26,17 @@
 //! f16. The buffers must fit the device's storage binding size (128 MiB on lavapipe: 8,388,608 pixels).
 
 use super::{
-    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
     PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
-use crate::render::eye::pipelines::{self, DepthTest, GeometryPass};
+use crate::render::eye::passes::{self, LinePass, Resolve};
+use crate::render::eye::pipelines::{self, DepthTest, GeometryPass, additive};
+use crate::render::eye::targets::{self, Textures};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, UniformMirror, value};
-use crate::render::passes::composite::CompositePass;
-use crate::render::passes::{abuffer::copy_out, shader_module};
+use crate::render::passes::abuffer::copy_out;
+use crate::render::passes::shader_module;
 use crate::render::targets::EyeTargets;
 use crate::transparency::occupancy_order::OccupancyOrderParams;
 use crate::transparency::{Compositor, ModelContext};
@@ -107,16 +109,10 @@ fn params(values: &ParamValues) -> OccupancyOrderParams {
     }
 }
 
-const fn accumulation(format: wgpu::TextureFormat) -> [wgpu::ColorTargetState; 1] {
-    [wgpu::ColorTargetState {
-        format,
-        blend: Some(ADDITIVE),
-        write_mask: wgpu::ColorWrites::ALL,
-    }]
-}
-
-static ACCUM_F32: [wgpu::ColorTargetState; 1] = accumulation(wgpu::TextureFormat::Rgba32Float);
-static ACCUM_F16: [wgpu::ColorTargetState; 1] = accumulation(wgpu::TextureFormat::Rgba16Float);
+static ACCUM_F32: [wgpu::ColorTargetState; 1] =
+    [additive(wgpu::TextureFormat::Rgba32Float, wgpu::ColorWrites::ALL)];
+static ACCUM_F16: [wgpu::ColorTargetState; 1] =
+    [additive(wgpu::TextureFormat::Rgba16Float, wgpu::ColorWrites::ALL)];
 
 static HAIR: [HairEntry; 2] = [
     HairEntry {
@@ -232,65 +228,38 @@ fn maps_group(occupancy_pass: bool) -> &'static [Binding] {
     }
 }
 
-/// A group of [`maps_group`]: the depth-range `textures`, the bitmap, slab and uniform `buffers`, and for the
-/// occupancy pass the meshes' depth.
-fn maps_bind_group(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::BindGroupLayout,
-    textures: [&wgpu::TextureView; 2],
-    buffers: [&wgpu::Buffer; 3],
-    mesh_depth: Option<&wgpu::TextureView>,
-) -> wgpu::BindGroup {
-    let views = textures.into_iter().map(wgpu::BindingResource::TextureView);
-    let mut resources: Vec<_> = views
-        .chain(buffers.iter().map(|b| b.as_entire_binding()))
-        .collect();
-    resources.extend(mesh_depth.map(wgpu::BindingResource::TextureView));
-    bindings::group(device, label, layout, &resources)
-}
-
-/// The viewport-sized maps, the accumulation target and the bind groups over them.
-struct OccupancyOrderMaps {
-    near: wgpu::TextureView,
-    far: wgpu::TextureView,
-    bits: wgpu::Buffer,
-    slabs: wgpu::Buffer,
-    accum: wgpu::TextureView,
-    accum_format: wgpu::TextureFormat,
-    hair_bind_group: wgpu::BindGroup,
-    resolve_bind_group: wgpu::BindGroup,
-    width: u32,
-    height: u32,
-}
-
-/// What does not depend on the viewport: pipelines, layouts, the resolve, the uniform buffer.
-struct Resources {
+/// Occupancy-ordered blending's GPU state, created with its maps (so they always exist).
+pub struct OccupancyOrderGpu {
     range_pipeline: wgpu::RenderPipeline,
     slabs_pipeline: wgpu::RenderPipeline,
     pass_layout: wgpu::BindGroupLayout,
     hair_layout: wgpu::BindGroupLayout,
-    resolve_layout: wgpu::BindGroupLayout,
-    resolve: CompositePass,
+    resolve: Resolve,
     uniforms: wgpu::Buffer,
+    /// The two depth ranges and the accumulation.
+    targets: Textures,
+    bits: wgpu::Buffer,
+    slabs: wgpu::Buffer,
 }
 
-/// Occupancy-ordered blending's GPU state, created with its maps (so they always exist).
-pub struct OccupancyOrderGpu {
-    res: Resources,
-    maps: OccupancyOrderMaps,
+/// The occupancy bitmap and the slab counts for a `size` viewport; refused beyond the device's storage binding
+/// size.
+fn map_buffers(gpu: &Gpu, (width, height): (u32, u32)) -> Result<[wgpu::Buffer; 2], GpuError> {
+    let what = format!(
+        "occupancy-order's occupancy bitmap and slab map at the {width}×{height} viewport \
+         ({BUFFER_BYTES_PER_PIXEL} bytes per pixel each; make the viewport smaller)"
+    );
+    let bytes = width as u64 * height as u64 * BUFFER_BYTES_PER_PIXEL;
+    Ok([
+        targets::storage(gpu, INFO.name, "bitmap", &what, bytes)?,
+        targets::storage(gpu, INFO.name, "slabs", &what, bytes)?,
+    ])
 }
 
-impl Resources {
-    fn new(setup: &EyeSetup) -> Resources {
+impl OccupancyOrderGpu {
+    fn new(setup: &EyeSetup) -> Result<OccupancyOrderGpu, GpuError> {
         let device = &setup.gpu.device;
         let pass_layout = bindings::layout(device, "hairlab.occupancy-order.pass_layout", maps_group(true));
-        let hair_layout = bindings::layout(device, "hairlab.occupancy-order.hair_layout", maps_group(false));
-        let resolve_layout = bindings::layout(
-            device,
-            "hairlab.occupancy-order.resolve_layout",
-            &[Binding::Texture, Binding::StorageRo, Binding::Uniform],
-        );
         let module = shader_module(
             device,
             "hairlab.occupancy-order.maps_shader",
@@ -311,191 +280,103 @@ impl Resources {
                 write_mask: wgpu::ColorWrites::RED,
             })
         };
-        let range_pipeline = pipelines::geometry(
-            device,
-            &GeometryPass {
-                label: "hairlab.occupancy-order.range_pipeline",
-                module: &module,
-                layouts: &[setup.frame_layout],
-                geometry: HairGeometry::Lines,
-                fragment: "fs_range",
-                targets: &[
+        let pass = |label, layouts, fragment, targets, depth| {
+            pipelines::geometry(
+                device,
+                &GeometryPass {
+                    label,
+                    module: &module,
+                    layouts,
+                    geometry: HairGeometry::Lines,
+                    fragment,
+                    targets,
+                    depth,
+                },
+            )
+        };
+        let size = (setup.width, setup.height);
+        let [bits, slabs] = map_buffers(setup.gpu, size)?;
+        Ok(OccupancyOrderGpu {
+            range_pipeline: pass(
+                "hairlab.occupancy-order.range_pipeline",
+                &[setup.frame_layout],
+                "fs_range",
+                &[
                     range_target(wgpu::BlendOperation::Min),
                     range_target(wgpu::BlendOperation::Max),
                 ],
-                depth: Some(DepthTest::Meshes),
-            },
-        );
-        // The slabs' entry tests the meshes' depth by hand, before its atomics.
-        let slabs_pipeline = pipelines::geometry(
-            device,
-            &GeometryPass {
-                label: "hairlab.occupancy-order.slabs_pipeline",
-                module: &module,
-                layouts: &[setup.frame_layout, &pass_layout],
-                geometry: HairGeometry::Lines,
-                fragment: "fs_slabs",
-                targets: &[Some(EyeTargets::NULL)],
-                depth: None,
-            },
-        );
-        let resolve = CompositePass::new(
-            device,
-            "hairlab.occupancy-order.resolve",
-            INFO.pass_wgsl[1],
-            &resolve_layout,
-            PREMULTIPLIED_OVER,
-        );
-        let uniforms = bindings::uniform(
-            device,
-            "hairlab.occupancy-order.uniforms",
-            std::mem::size_of::<OccupancyOrderUniforms>() as u64,
-        );
-        Resources {
-            range_pipeline,
-            slabs_pipeline,
+                Some(DepthTest::Meshes),
+            ),
+            // The slabs' entry tests the meshes' depth by hand, before its atomics.
+            slabs_pipeline: pass(
+                "hairlab.occupancy-order.slabs_pipeline",
+                &[setup.frame_layout, &pass_layout],
+                "fs_slabs",
+                &[Some(EyeTargets::NULL)],
+                None,
+            ),
             pass_layout,
-            hair_layout,
-            resolve_layout,
-            resolve,
-            uniforms,
-        }
-    }
-
-    /// Allocates the maps for a `width`×`height` viewport with an accumulation target of `accum_format`;
-    /// refuses buffers beyond the device's storage binding size.
-    fn make_maps(
-        &self,
-        gpu: &Gpu,
-        width: u32,
-        height: u32,
-        accum_format: wgpu::TextureFormat,
-    ) -> Result<OccupancyOrderMaps, GpuError> {
-        let device = &gpu.device;
-        let limits = device.limits();
-        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        let bytes = width as u64 * height as u64 * BUFFER_BYTES_PER_PIXEL;
-        if bytes > limit {
-            return Err(GpuError::TooLarge {
-                what: format!(
-                    "occupancy-order's occupancy bitmap and slab map at the {width}×{height} viewport \
-                     ({BUFFER_BYTES_PER_PIXEL} bytes per pixel each; make the viewport smaller)"
-                ),
-                bytes,
-                limit,
-            });
-        }
-        let texture = |label, format| bindings::texture(device, label, (width, height), format);
-        let near = texture("hairlab.occupancy-order.near", RANGE);
-        let far = texture("hairlab.occupancy-order.far", RANGE);
-        let accum = texture("hairlab.occupancy-order.accum", accum_format);
-        let buffer = |label| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        let bits = buffer("hairlab.occupancy-order.bitmap");
-        let slabs = buffer("hairlab.occupancy-order.slabs");
-        let hair_bind_group = maps_bind_group(
-            device,
-            "hairlab.occupancy-order.hair_bind_group",
-            &self.hair_layout,
-            [&near, &far],
-            [&bits, &slabs, &self.uniforms],
-            None,
-        );
-        let resolve_bind_group = bindings::group(
-            device,
-            "hairlab.occupancy-order.resolve_bind_group",
-            &self.resolve_layout,
-            &[
-                wgpu::BindingResource::TextureView(&accum),
-                slabs.as_entire_binding(),
-                self.uniforms.as_entire_binding(),
-            ],
-        );
-        Ok(OccupancyOrderMaps {
-            near,
-            far,
+            hair_layout: bindings::layout(device, "hairlab.occupancy-order.hair_layout", maps_group(false)),
+            resolve: Resolve::new(
+                device,
+                INFO.name,
+                INFO.pass_wgsl[1],
+                &[Binding::Texture, Binding::StorageRo, Binding::Uniform],
+                PREMULTIPLIED_OVER,
+            ),
+            uniforms: bindings::uniform(
+                device,
+                "hairlab.occupancy-order.uniforms",
+                std::mem::size_of::<OccupancyOrderUniforms>() as u64,
+            ),
+            targets: Textures::new(
+                device,
+                INFO.name,
+                &[
+                    ("near", RANGE),
+                    ("far", RANGE),
+                    ("accum", HAIR[0].targets[0].format),
+                ],
+                size,
+            ),
             bits,
             slabs,
-            accum,
-            accum_format,
-            hair_bind_group,
-            resolve_bind_group,
-            width,
-            height,
         })
-    }
-}
-
-impl OccupancyOrderGpu {
-    fn new(setup: &EyeSetup) -> Result<OccupancyOrderGpu, GpuError> {
-        let res = Resources::new(setup);
-        let maps = res.make_maps(setup.gpu, setup.width, setup.height, HAIR[0].targets[0].format)?;
-        Ok(OccupancyOrderGpu { res, maps })
     }
 
     /// The slab counts of the last frame, four u32 per pixel, row-major (occupancy-only: the total in the first):
     /// `n` of a pixel is their sum.
     pub fn read_slabs(&self, gpu: &Gpu) -> Result<Vec<[u32; 4]>, GpuError> {
-        Ok(bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.maps.slabs)?))
+        Ok(bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.slabs)?))
     }
 
-    /// Records one of the two map passes: `pipeline` over every strand segment into `attachments`, with the
-    /// meshes' depth attached for a pipeline that tests it (`group`: none, else the occupancy pass's).
-    fn record_map_pass(
-        frame: &mut EyeFrame<'_>,
-        pipeline: &wgpu::RenderPipeline,
-        group: Option<&wgpu::BindGroup>,
-        attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
-        name: &str,
-    ) {
-        let depth_view = &frame.targets.depth_view;
-        let timestamps = frame
-            .timer
-            .as_mut()
-            .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, name));
-        let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("hairlab.occupancy-order.map_pass"),
-            color_attachments: attachments,
-            depth_stencil_attachment: group.is_none().then_some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        let geometry = frame.geometry;
-        if geometry.hair_index_count == 0 {
-            return;
-        }
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        if let Some(group) = group {
-            pass.set_bind_group(1, group, &[]);
-        }
-        pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
-        pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
+    /// A group of [`maps_group`] over the maps; for the occupancy pass with the meshes' depth.
+    fn maps_bind_group(
+        &self,
+        device: &wgpu::Device,
+        mesh_depth: Option<&wgpu::TextureView>,
+    ) -> wgpu::BindGroup {
+        let (label, layout) = match mesh_depth {
+            Some(_) => ("hairlab.occupancy-order.pass_bind_group", &self.pass_layout),
+            None => ("hairlab.occupancy-order.hair_bind_group", &self.hair_layout),
+        };
+        let mut resources = vec![
+            wgpu::BindingResource::TextureView(self.targets.view(0)),
+            wgpu::BindingResource::TextureView(self.targets.view(1)),
+            self.bits.as_entire_binding(),
+            self.slabs.as_entire_binding(),
+            self.uniforms.as_entire_binding(),
+        ];
+        resources.extend(mesh_depth.map(wgpu::BindingResource::TextureView));
+        bindings::group(device, label, layout, &resources)
     }
 }
 
 impl TransparencyGpu for OccupancyOrderGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        let m = &self.maps;
-        if (m.width, m.height) != (width, height) {
-            self.maps = self.res.make_maps(gpu, width, height, m.accum_format)?;
+        if self.targets.size() != (width, height) {
+            [self.bits, self.slabs] = map_buffers(gpu, (width, height))?;
+            self.targets.resize(&gpu.device, (width, height));
         }
         Ok(())
     }
@@ -503,76 +384,61 @@ impl TransparencyGpu for OccupancyOrderGpu {
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         let p = params(frame.values);
         let hair = &HAIR[usize::from(p.half_precision)];
-        let format = hair.targets[0].format;
-        if self.maps.accum_format != format {
-            let (width, height) = (self.maps.width, self.maps.height);
-            self.maps = self.res.make_maps(frame.gpu, width, height, format)?;
-        }
+        self.targets
+            .set_format(&frame.gpu.device, 2, hair.targets[0].format);
         frame.gpu.queue.write_buffer(
-            &self.res.uniforms,
+            &self.uniforms,
             0,
             bytemuck::bytes_of(&OccupancyOrderUniforms::new(&p, frame.model.hair_alpha)),
         );
-        let (res, maps) = (&self.res, &self.maps);
-        Self::record_map_pass(
+        let [near, far, accum] = [0, 1, 2].map(|i| self.targets.view(i));
+        passes::record_lines(
             frame,
-            &res.range_pipeline,
-            None,
-            &[
-                cleared(&maps.near, [NEAR_CLEAR, 0.0, 0.0, 0.0]),
-                cleared(&maps.far, [0.0; 4]),
-            ],
-            "eye: depth range",
+            LinePass {
+                label: "hairlab.occupancy-order.range_pass",
+                timer: "eye: depth range",
+                pipeline: &self.range_pipeline,
+                group: None,
+                attachments: &[cleared(near, [NEAR_CLEAR, 0.0, 0.0, 0.0]), cleared(far, [0.0; 4])],
+                mesh_depth: true,
+            },
         );
-        frame.encoder.clear_buffer(&maps.bits, 0, None);
-        frame.encoder.clear_buffer(&maps.slabs, 0, None);
+        frame.encoder.clear_buffer(&self.bits, 0, None);
+        frame.encoder.clear_buffer(&self.slabs, 0, None);
         // The meshes' depth is tested by hand before the atomics (a fixed-function test after the shader would
         // not undo them); the depth view is the frame's, so the group is too.
-        let pass_group = maps_bind_group(
-            &frame.gpu.device,
-            "hairlab.occupancy-order.pass_bind_group",
-            &res.pass_layout,
-            [&maps.near, &maps.far],
-            [&maps.bits, &maps.slabs, &res.uniforms],
-            Some(&frame.targets.depth_view),
-        );
-        let null = [frame.targets.null_attachment()];
-        Self::record_map_pass(
+        let pass_group = self.maps_bind_group(&frame.gpu.device, Some(&frame.targets.depth_view));
+        passes::record_line_count(
             frame,
-            &res.slabs_pipeline,
-            Some(&pass_group),
-            &null,
+            "hairlab.occupancy-order.slabs_pass",
             "eye: occupancy + slabs",
+            &self.slabs_pipeline,
+            &pass_group,
         );
-        let attachments = [cleared(&maps.accum, [0.0; 4])];
+        let hair_group = self.maps_bind_group(&frame.gpu.device, None);
         frame.draw_hair(
             HairDrawPass {
                 entry: hair,
-                attachments: &attachments,
+                attachments: &[cleared(accum, [0.0; 4])],
                 depth: None,
-                group: Some((&res.hair_layout, &maps.hair_bind_group)),
+                group: Some((&self.hair_layout, &hair_group)),
                 rows: None,
             },
             "eye: hair",
         );
-        let timestamps = frame
-            .timer
-            .as_mut()
-            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-        res.resolve.record(
-            &mut frame.encoder,
-            frame.output,
-            &maps.resolve_bind_group,
-            timestamps,
+        self.resolve.record(
+            frame,
+            &[
+                wgpu::BindingResource::TextureView(accum),
+                self.slabs.as_entire_binding(),
+                self.uniforms.as_entire_binding(),
+            ],
         );
         Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
-        let m = &self.maps;
-        let texel =
-            2 * RANGE.block_copy_size(None).unwrap_or(4) + m.accum_format.block_copy_size(None).unwrap_or(16);
-        m.width as u64 * m.height as u64 * u64::from(texel) + m.bits.size() + m.slabs.size()
+        self.targets.bytes() + self.bits.size() + self.slabs.size()
     }
 
     fn geometry_passes(&self) -> u32 {

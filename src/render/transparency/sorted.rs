@@ -12,9 +12,9 @@ use super::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, PixelLists};
-use crate::render::eye::pipelines::{self, GeometryPass};
+use crate::render::eye::passes;
+use crate::render::eye::pipelines;
 use crate::render::method::{ParamValues, Role};
-use crate::render::targets::EyeTargets;
 use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
 pub use crate::render::eye::lists::{EyeNode, NODE_BYTES, SORT_SIZES, resolve_source};
@@ -62,7 +62,6 @@ pub struct SortedGpu {
 
 impl SortedGpu {
     fn new(setup: &EyeSetup) -> Result<SortedGpu, GpuError> {
-        let device = &setup.gpu.device;
         let lists = PixelLists::new(
             setup.gpu,
             setup.frame_layout,
@@ -74,24 +73,12 @@ impl SortedGpu {
                 resolve_extra: &[],
             },
         )?;
-        let module = crate::render::passes::shader_module(
-            device,
-            "hairlab.sorted.count_shader",
+        let count_pipeline = pipelines::storage_pass(
+            &setup.gpu.device,
+            "hairlab.sorted.count",
             INFO.pass_wgsl[0],
-            None,
-        );
-        let count_pipeline = pipelines::geometry(
-            device,
-            &GeometryPass {
-                label: "hairlab.sorted.count_pipeline",
-                module: &module,
-                layouts: &[setup.frame_layout, lists.count_layout()],
-                geometry: HairGeometry::Lines,
-                fragment: "fs_main",
-                targets: &[Some(EyeTargets::NULL)],
-                // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the count's side effects.
-                depth: None,
-            },
+            [setup.frame_layout, lists.count_layout()],
+            HairGeometry::Lines,
         );
         Ok(SortedGpu {
             lists,
@@ -110,7 +97,7 @@ impl TransparencyGpu for SortedGpu {
         let device = &frame.gpu.device;
         let count_group = self.lists.count_group(device, &frame.targets.depth_view);
         self.lists.clear_counts(&mut frame.encoder);
-        pipelines::record_line_count(
+        passes::record_line_count(
             frame,
             "hairlab.sorted.count_pass",
             "eye: count",

@@ -6,6 +6,7 @@
 //! knows a technique.
 
 pub mod bindings;
+pub mod complexity;
 pub mod lists;
 pub mod one_pass;
 pub mod passes;

@@ -23,9 +23,10 @@ use super::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
-use crate::render::eye::passes::{self, Resolve};
+use crate::render::eye::complexity::DepthComplexity;
+use crate::render::eye::passes::Resolve;
 use crate::render::eye::pipelines::{self, replace};
-use crate::render::eye::targets::{self, Textures};
+use crate::render::eye::targets::Textures;
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
 use crate::render::targets::EyeTargets;
 use crate::transparency::classic_peel::ClassicPeelParams;
@@ -112,41 +113,36 @@ impl EyeTransparency for DepthPeel {
 
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
-        let count_layout = bindings::layout(
-            device,
-            "hairlab.depth-peel.count_layout",
-            &[Binding::StorageRw, Binding::MeshDepth],
-        );
         let under_layout = bindings::layout(device, "hairlab.depth-peel.under_layout", &[Binding::Texture]);
-        let size = (setup.width, setup.height);
+        let under = crate::render::passes::shader_module(
+            device,
+            "hairlab.depth-peel.under.shader",
+            INFO.pass_wgsl[1],
+            None,
+        );
         Ok(Box::new(DepthPeelGpu {
+            complexity: DepthComplexity::new(setup, INFO.name, INFO.pass_wgsl[0])?,
             peel_layout: bindings::layout(
                 device,
                 "hairlab.depth-peel.peel_layout",
                 &[Binding::MeshDepth, Binding::Texture, Binding::Uniform],
             ),
-            count: pipelines::storage_pass(
+            under: pipelines::fullscreen(
                 device,
-                "hairlab.depth-peel.count",
-                INFO.pass_wgsl[0],
-                [setup.frame_layout, &count_layout],
-                HairGeometry::Lines,
+                "hairlab.depth-peel.under.pipeline",
+                &under,
+                &[&under_layout],
+                &[Some(wgpu::ColorTargetState {
+                    blend: Some(UNDER),
+                    ..replace(ACCUM, wgpu::ColorWrites::ALL)
+                })],
             ),
-            under: under_pipeline(device, &under_layout),
-            count_layout,
             under_layout,
             resolve: Resolve::of_textures(device, INFO.name, INFO.pass_wgsl[2], 1, PREMULTIPLIED_OVER),
             scale: bindings::uniform(device, "hairlab.depth-peel.scale", 16),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("hairlab.depth-peel.readback"),
-                size: 8,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            counts: counts(setup.gpu, size)?,
-            targets: Textures::new(device, INFO.name, &TARGETS, size),
+            targets: Textures::new(device, INFO.name, &TARGETS, (setup.width, setup.height)),
             layers: 0,
-            complexity: (0, 0),
+            last: (0, 0),
         }))
     }
 
@@ -155,112 +151,32 @@ impl EyeTransparency for DepthPeel {
     }
 }
 
-/// The full-screen "under" blend of a layer into the accumulation.
-fn under_pipeline(device: &wgpu::Device, texture_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
-    let module = crate::render::passes::shader_module(
-        device,
-        "hairlab.depth-peel.under.shader",
-        INFO.pass_wgsl[1],
-        None,
-    );
-    pipelines::fullscreen(
-        device,
-        "hairlab.depth-peel.under.pipeline",
-        &module,
-        &[texture_layout],
-        &[Some(wgpu::ColorTargetState {
-            blend: Some(UNDER),
-            ..replace(ACCUM, wgpu::ColorWrites::ALL)
-        })],
-    )
-}
-
-/// The deepest pixel's count, the total, then every pixel's count.
-fn counts(gpu: &Gpu, (width, height): (u32, u32)) -> Result<wgpu::Buffer, GpuError> {
-    targets::storage(
-        gpu,
-        INFO.name,
-        "counts",
-        &format!("depth peeling's per-pixel fragment counts at a {width}×{height} viewport"),
-        (width as u64 * height as u64 + 2) * 4,
-    )
-}
-
 struct DepthPeelGpu {
-    count_layout: wgpu::BindGroupLayout,
+    /// The count pass: the deepest pixel's fragment count is the frame's layer count.
+    complexity: DepthComplexity,
     peel_layout: wgpu::BindGroupLayout,
     under_layout: wgpu::BindGroupLayout,
-    count: wgpu::RenderPipeline,
     under: wgpu::RenderPipeline,
     resolve: Resolve,
     scale: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    counts: wgpu::Buffer,
     targets: Textures,
     /// Layers peeled in the last frame.
     layers: u32,
     /// The last frame's deepest pixel and total fragment count.
-    complexity: (u32, u64),
-}
-
-impl DepthPeelGpu {
-    /// Records the count pass, submits the frame so far and reads back the deepest pixel's fragment count and
-    /// the total.
-    fn count(&self, frame: &mut EyeFrame<'_>) -> Result<(u32, u32), GpuError> {
-        let count_bind_group = bindings::group(
-            &frame.gpu.device,
-            "hairlab.depth-peel.count_bind_group",
-            &self.count_layout,
-            &[
-                self.counts.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-            ],
-        );
-        frame.encoder.clear_buffer(&self.counts, 0, None);
-        passes::record_line_count(
-            frame,
-            "hairlab.depth-peel.count.pass",
-            "eye: depth complexity",
-            &self.count,
-            &count_bind_group,
-        );
-        frame
-            .encoder
-            .copy_buffer_to_buffer(&self.counts, 0, &self.readback, 0, 8);
-        frame.flush();
-        let bytes = crate::gpu::readback::read_buffer(frame.gpu, &self.readback)?;
-        let [deepest, total]: [u32; 2] = bytemuck::pod_read_unaligned(&bytes[..8]);
-        Ok((deepest, total))
-    }
-
-    /// Group 2 of the layer reading the previous layer's depth from `previous`.
-    fn peel_group(&self, frame: &EyeFrame<'_>, previous: &wgpu::TextureView) -> wgpu::BindGroup {
-        bindings::group(
-            &frame.gpu.device,
-            "hairlab.depth-peel.peel_bind_group",
-            &self.peel_layout,
-            &[
-                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-                wgpu::BindingResource::TextureView(previous),
-                self.scale.as_entire_binding(),
-            ],
-        )
-    }
+    last: (u32, u64),
 }
 
 impl TransparencyGpu for DepthPeelGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        if self.targets.size() != (width, height) {
-            self.counts = counts(gpu, (width, height))?;
-            self.targets.resize(&gpu.device, (width, height));
-        }
+        self.complexity.resize(gpu, (width, height))?;
+        self.targets.resize(&gpu.device, (width, height));
         Ok(())
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         self.layers = 0;
-        let (layers, total) = self.count(frame)?;
-        self.complexity = (layers, u64::from(total));
+        let (layers, total) = self.complexity.count(frame)?;
+        self.last = (layers, u64::from(total));
         let max_layers = value(frame.values, &MAX_LAYERS) as u32;
         if layers > max_layers {
             return Err(GpuError::Setting(format!(
@@ -278,7 +194,19 @@ impl TransparencyGpu for DepthPeelGpu {
             .write_buffer(&self.scale, 0, bytemuck::cast_slice(&scale));
         let [accum, layer, depth0, depth1, depth] = [0, 1, 2, 3, 4].map(|i| self.targets.view(i));
         let layer_depths = [depth0, depth1];
-        let groups = [self.peel_group(frame, depth1), self.peel_group(frame, depth0)];
+        // Group 2 of a layer: the meshes' depth, the previous layer's depth, `1 / S`.
+        let groups = [depth1, depth0].map(|previous| {
+            bindings::group(
+                &frame.gpu.device,
+                "hairlab.depth-peel.peel_bind_group",
+                &self.peel_layout,
+                &[
+                    wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                    wgpu::BindingResource::TextureView(previous),
+                    self.scale.as_entire_binding(),
+                ],
+            )
+        });
         let layer_group = bindings::group(
             &frame.gpu.device,
             "hairlab.depth-peel.layer_bind_group",
@@ -330,8 +258,7 @@ impl TransparencyGpu for DepthPeelGpu {
 
     fn memory_bytes(&self) -> u64 {
         let (width, height) = self.targets.size();
-        // The targets, and the counts at 4 B per pixel.
-        self.targets.bytes() + width as u64 * height as u64 * 4
+        self.targets.bytes() + width as u64 * height as u64 * DepthComplexity::BYTES_PER_PIXEL
     }
 
     fn geometry_passes(&self) -> u32 {
@@ -339,7 +266,7 @@ impl TransparencyGpu for DepthPeelGpu {
     }
 
     fn depth_complexity(&self) -> Option<(u32, u64)> {
-        Some(self.complexity)
+        Some(self.last)
     }
 }
 

@@ -19,9 +19,9 @@ use std::collections::HashMap;
 
 use super::bindings::{self, Binding};
 use super::pipelines;
+use crate::gpu::readback::copy_out;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::method::{ParamKind, ParamSpec};
-use crate::render::passes::abuffer::copy_out;
 use crate::render::passes::hair::{EntryDepth, HairEntry, HairGeometry};
 use crate::render::targets::EyeTargets;
 

@@ -308,7 +308,7 @@ impl TransparencyGpu for FurGpu {
         }
         frame.flush();
         let shell_total: Vec<u32> =
-            bytemuck::pod_collect_to_vec(&crate::render::passes::abuffer::copy_out(gpu, &self.shell_total)?);
+            bytemuck::pod_collect_to_vec(&crate::gpu::readback::copy_out(gpu, &self.shell_total)?);
         let plan = self
             .lists
             .plan(

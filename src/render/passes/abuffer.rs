@@ -4,6 +4,8 @@
 //! them to shade with exact visibility.
 
 use crate::gpu::timing::GpuTimer;
+// `methods::dsm` reads its allocation through this path.
+pub use crate::gpu::readback::copy_out;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, draw_casters};
 use crate::render::maps::storage_entry;
@@ -375,18 +377,4 @@ impl ABuffer {
         }
         Ok(lists)
     }
-}
-
-/// Copies a storage buffer into a mappable one and reads it.
-pub fn copy_out(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("hairlab.readback.staging"),
-        size: buffer.size(),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
-    gpu.queue.submit([enc.finish()]);
-    readback::read_buffer(gpu, &staging)
 }

@@ -2,7 +2,8 @@
 //! peels nothing. Slow (three geometry passes and a readback per layer) and used to verify the A-buffer, which
 //! must give the same per-texel lists; see `shaders/depth_peel.wgsl` for how depth ties are kept.
 
-use super::abuffer::{RefFragment, copy_out};
+use super::abuffer::RefFragment;
+use crate::gpu::readback::copy_out;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::caster::{LightCaster, draw_casters};
 

@@ -37,13 +37,13 @@ use super::{
     EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
     PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu,
 };
+use crate::gpu::readback::copy_out;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
 use crate::render::eye::passes::Resolve;
 use crate::render::eye::pipelines::additive;
 use crate::render::eye::targets::Textures;
 use crate::render::method::{ParamValues, Role, UniformMirror};
-use crate::render::passes::abuffer::copy_out;
 use crate::transparency::{Compositor, ModelContext};
 use maps::OccupancyMaps;
 use params::{PARAMS, params};

@@ -24,8 +24,7 @@ use crate::render::eye::pipelines;
 use crate::render::geometry::RIBBON_GROUP;
 use crate::render::method::{ParamValues, Role, UniformMirror};
 use crate::render::transparency::{
-    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
-    TransparencyGpu,
+    EyeFrame, EyeSetup, EyeTransparency, HairEntry, HairGeometry, TechniqueInfo, TransparencyGpu,
 };
 use crate::transparency::{Compositor, ModelContext};
 
@@ -348,17 +347,8 @@ impl TransparencyGpu for FurGpu {
         for &band in &plan.bands {
             self.lists.begin_band(&mut frame.encoder);
             if strands {
-                let null = [frame.targets.null_attachment()];
-                frame.draw_hair(
-                    HairDrawPass {
-                        entry: &FILL,
-                        attachments: &null,
-                        depth: None,
-                        group: Some((self.lists.fill_layout(), &fill_group)),
-                        rows: Some(band),
-                    },
-                    "fur: explicit fill",
-                );
+                self.lists
+                    .fill(frame, &FILL, &fill_group, band, "fur: explicit fill");
             }
             if let Some(shell) = shell {
                 let timestamps = frame
@@ -378,17 +368,7 @@ impl TransparencyGpu for FurGpu {
                     Some(band),
                 );
             }
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "fur: resolve"));
-            self.lists.resolve(
-                &mut frame.encoder,
-                frame.output,
-                timestamps,
-                band,
-                [frame.frame_bind_group, &resolve_group],
-            );
+            self.lists.resolve(frame, &resolve_group, band, "fur: resolve");
         }
         Ok(())
     }

@@ -6,10 +6,7 @@
 //! (`transparency/sorted.wgsl`, the list push), and the resolve (`transparency/sorted_resolve.wgsl`), which
 //! merge-sorts each pixel's nodes. Memory: 4 B/px heads + 4 B/px counts + 32 B per fragment of the largest band.
 
-use super::{
-    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
-    TransparencyGpu,
-};
+use super::{EyeFrame, EyeSetup, EyeTransparency, HairEntry, HairGeometry, TechniqueInfo, TransparencyGpu};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, PixelLists};
 use crate::render::eye::passes;
@@ -126,28 +123,8 @@ impl TransparencyGpu for SortedGpu {
         let resolve_group = self.lists.resolve_group(&frame.gpu.device, &[]);
         for band in bands {
             self.lists.begin_band(&mut frame.encoder);
-            let null = [frame.targets.null_attachment()];
-            frame.draw_hair(
-                HairDrawPass {
-                    entry: &FILL,
-                    attachments: &null,
-                    depth: None,
-                    group: Some((self.lists.fill_layout(), &fill_group)),
-                    rows: Some(band),
-                },
-                "eye: fill",
-            );
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-            self.lists.resolve(
-                &mut frame.encoder,
-                frame.output,
-                timestamps,
-                band,
-                [frame.frame_bind_group, &resolve_group],
-            );
+            self.lists.fill(frame, &FILL, &fill_group, band, "eye: fill");
+            self.lists.resolve(frame, &resolve_group, band, "eye: resolve");
         }
         Ok(())
     }

@@ -112,14 +112,23 @@ pub fn accuracy_metrics() -> impl Iterator<Item = (&'static str, &'static str)> 
 /// The accuracy metric a new result shows.
 pub const DEFAULT_ACCURACY_METRIC: &str = "map_error";
 
+/// A name that is none of the [`accuracy_metrics`].
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[error("unknown metric '{name}' (known: {known})")]
+pub struct UnknownMetric {
+    pub name: String,
+    /// The accuracy metrics' names, comma-separated.
+    pub known: String,
+}
+
 /// `name` as one of the [`accuracy_metrics`], or an error listing them.
-pub fn parse_metric(name: &str) -> Result<&'static str, String> {
+pub fn parse_metric(name: &str) -> Result<&'static str, UnknownMetric> {
     accuracy_metrics()
         .find(|(n, _)| *n == name)
         .map(|(n, _)| n)
-        .ok_or_else(|| {
-            let names: Vec<_> = accuracy_metrics().map(|(n, _)| n).collect();
-            format!("unknown metric '{name}' (known: {})", names.join(", "))
+        .ok_or_else(|| UnknownMetric {
+            name: name.to_owned(),
+            known: accuracy_metrics().map(|(n, _)| n).collect::<Vec<_>>().join(", "),
         })
 }
 

@@ -133,28 +133,15 @@ struct Slots {
 impl Slots {
     fn new(gpu: &Gpu, (width, height): (u32, u32), k: u32) -> Result<Slots, GpuError> {
         let words = width as u64 * height as u64 * k as u64;
-        for (what, bytes) in [("key words", words * 4), ("slots", words * 16)] {
-            targets::check_storage(
-                gpu,
-                &format!("ShortCut's {what} (K = {k}) at {width}x{height}"),
-                bytes,
-            )?;
-        }
+        let buffer = |name, what, bytes| {
+            let what = format!("ShortCut's {what} (K = {k}) at {width}x{height}");
+            targets::storage(gpu, INFO.name, name, &what, bytes)
+        };
+        let keys = buffer("keys", "key words", words * 4)?;
+        let slots = buffer("slots", "slots", words * 16)?;
         // Key words start empty (all ones) and slots at zero; each resolve resets them for the next frame.
-        let keys = wgpu::util::DeviceExt::create_buffer_init(
-            &gpu.device,
-            &wgpu::util::BufferInitDescriptor {
-                label: Some("hairlab.shortcut.keys"),
-                contents: &vec![0xff; words.max(1) as usize * 4],
-                usage: wgpu::BufferUsages::STORAGE,
-            },
-        );
-        let slots = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.shortcut.slots"),
-            size: words.max(1) * 16,
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
+        gpu.queue
+            .write_buffer(&keys, 0, &vec![0xff; keys.size() as usize]);
         Ok(Slots {
             keys,
             slots,

@@ -4,6 +4,7 @@
 
 use crate::methods::{self, ParamValues, registry};
 pub use crate::render::RenderSettings;
+use crate::render::method::{ParamError, UnknownName};
 use crate::render::transparency::{EyeTransparency, registry as techniques};
 use crate::scene::generate::GenParams;
 use crate::scene::{Camera, Light};
@@ -68,18 +69,41 @@ impl Default for RawMethodSettings {
     }
 }
 
+/// Why a parameter's word cannot be read: the method or technique is unknown, or the key or word is not one of
+/// its parameter's.
+#[derive(Debug, thiserror::Error)]
+pub enum WordError {
+    #[error(transparent)]
+    Name(#[from] UnknownName),
+    #[error(transparent)]
+    Param(#[from] ParamError),
+}
+
+/// A `[method]` or `[transparency]` parameter given as a word that cannot be read, naming its key.
+#[derive(Debug, thiserror::Error)]
+#[error("{section}.params.{key}: {error}")]
+pub struct ParamWordError {
+    pub section: &'static str,
+    pub key: String,
+    pub error: WordError,
+}
+
 /// Raw TOML parameters as values: numbers kept as they are (range checks come with [`Settings::validate`]), words
 /// looked up by `word` (a choice's options); errors name the key under `section`.
 fn params_from_raw(
     raw: std::collections::BTreeMap<String, RawValue>,
-    section: &str,
-    word: impl Fn(&str, &str) -> Result<f32, String>,
-) -> Result<ParamValues, String> {
+    section: &'static str,
+    word: impl Fn(&str, &str) -> Result<f32, WordError>,
+) -> Result<ParamValues, ParamWordError> {
     let mut params = ParamValues::new();
     for (k, v) in raw {
         let v = match v {
             RawValue::Number(x) => x,
-            RawValue::Word(w) => word(&k, &w).map_err(|e| format!("{section}.params.{k}: {e}"))?,
+            RawValue::Word(w) => word(&k, &w).map_err(|error| ParamWordError {
+                section,
+                key: k.clone(),
+                error,
+            })?,
         };
         params.insert(k, v);
     }
@@ -104,12 +128,12 @@ fn params_to_raw(
 }
 
 impl TryFrom<RawMethodSettings> for MethodSettings {
-    type Error = String;
+    type Error = ParamWordError;
 
-    fn try_from(raw: RawMethodSettings) -> Result<Self, String> {
+    fn try_from(raw: RawMethodSettings) -> Result<Self, ParamWordError> {
         let params = params_from_raw(raw.params, "method", |k, w| {
-            let method = registry::find(&raw.name).map_err(|e| e.to_string())?;
-            methods::parse_value(method, k, w).map_err(|e| e.to_string())
+            let method = registry::find(&raw.name)?;
+            Ok(methods::parse_value(method, k, w)?)
         })?;
         Ok(MethodSettings {
             name: raw.name,
@@ -160,13 +184,12 @@ impl Default for RawTransparencySettings {
 }
 
 impl TryFrom<RawTransparencySettings> for TransparencySettings {
-    type Error = String;
+    type Error = ParamWordError;
 
-    fn try_from(raw: RawTransparencySettings) -> Result<Self, String> {
+    fn try_from(raw: RawTransparencySettings) -> Result<Self, ParamWordError> {
         let params = params_from_raw(raw.params, "transparency", |k, w| {
-            let technique = techniques::find(&raw.name).map_err(|e| e.to_string())?;
-            let spec = techniques::spec(technique, k).map_err(|e| e.to_string())?;
-            spec.parse(w).map_err(|e| e.to_string())
+            let technique = techniques::find(&raw.name)?;
+            Ok(techniques::spec(technique, k)?.parse(w)?)
         })?;
         Ok(TransparencySettings {
             name: raw.name,

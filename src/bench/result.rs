@@ -115,9 +115,18 @@ pub const DEFAULT_ACCURACY_METRIC: &str = "map_error";
 /// Metric names renamed since they were first accepted: (old, new).
 pub const RENAMED_METRICS: &[(&str, &str)] = &[("flicker", "light_turn_flicker")];
 
+/// A name that is none of the [`accuracy_metrics`].
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[error("unknown metric '{name}' (known: {known})")]
+pub struct UnknownMetric {
+    pub name: String,
+    /// The accuracy metrics' names, comma-separated.
+    pub known: String,
+}
+
 /// `name` as one of the [`accuracy_metrics`] (a [`RENAMED_METRICS`] old name as its new one, saying so on
 /// stderr in one line), or an error listing them.
-pub fn parse_metric(name: &str) -> Result<&'static str, String> {
+pub fn parse_metric(name: &str) -> Result<&'static str, UnknownMetric> {
     if let Some((old, new)) = RENAMED_METRICS.iter().find(|(old, _)| *old == name) {
         eprintln!("metric '{old}' is now named '{new}' (the flicker under a turning light)");
         return parse_metric(new);
@@ -125,9 +134,9 @@ pub fn parse_metric(name: &str) -> Result<&'static str, String> {
     accuracy_metrics()
         .find(|(n, _)| *n == name)
         .map(|(n, _)| n)
-        .ok_or_else(|| {
-            let names: Vec<_> = accuracy_metrics().map(|(n, _)| n).collect();
-            format!("unknown metric '{name}' (known: {})", names.join(", "))
+        .ok_or_else(|| UnknownMetric {
+            name: name.to_owned(),
+            known: accuracy_metrics().map(|(n, _)| n).collect::<Vec<_>>().join(", "),
         })
 }
 

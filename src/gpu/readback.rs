@@ -1,4 +1,4 @@
-//! Reading textures back to the CPU (screenshots, tests).
+//! Reading textures and buffers back to the CPU (screenshots, lists, counts, tests).
 
 use super::{Gpu, GpuError};
 
@@ -67,4 +67,18 @@ pub fn read_buffer(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError
         .to_vec();
     buffer.unmap();
     Ok(out)
+}
+
+/// Copies a storage buffer (with `COPY_SRC`) into a mappable one and reads it whole.
+pub fn copy_out(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hairlab.readback.staging"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    gpu.queue.submit([enc.finish()]);
+    read_buffer(gpu, &staging)
 }

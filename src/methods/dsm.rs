@@ -22,10 +22,11 @@ use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
 };
+use crate::gpu::readback::copy_out;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, check_budget, storage_entry, uniform_buffer, uniform_entry};
-use crate::render::passes::{self, abuffer::ABuffer, abuffer::copy_out};
+use crate::render::passes::{self, abuffer::ABuffer};
 use crate::visibility::TexelModel;
 use crate::visibility::dsm::DsmParams;
 use bytemuck::{Pod, Zeroable};

@@ -8,6 +8,7 @@
 use super::sim::Simulation;
 use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback::read_buffer};
+use crate::render::pipelines::{self, ComputePass};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
@@ -74,62 +75,36 @@ impl GpuSimulation {
         let prev = init("hairlab.motion.prev", bytemuck::cast_slice(&flat), rw);
         let q = init("hairlab.motion.q", bytemuck::cast_slice(&flat), rw);
         let corr = init("hairlab.motion.corr", bytemuck::cast_slice(&flat), rw);
-        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
-        let write = wgpu::BufferBindingType::Storage { read_only: false };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.motion.layout"),
-            entries: &[
-                entry(0, wgpu::BufferBindingType::Uniform),
-                entry(1, read),
-                entry(2, read),
-                entry(3, read),
-                entry(4, write),
-                entry(5, write),
-                entry(6, write),
-                entry(7, write),
+        use crate::render::eye::bindings::{self, Binding::*};
+        let layout = bindings::layout_for(
+            device,
+            "hairlab.motion.layout",
+            wgpu::ShaderStages::COMPUTE,
+            &[
+                Uniform, StorageRo, StorageRo, StorageRo, StorageRw, StorageRw, StorageRw, StorageRw,
             ],
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.motion.group"),
-            layout: &layout,
-            entries: &[&uniforms, &rest_b, &len_b, &strands_b, &x, &prev, &q, &corr]
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
-        });
+        );
+        let group = pipelines::buffer_group(
+            device,
+            "hairlab.motion.group",
+            &layout,
+            &[&uniforms, &rest_b, &len_b, &strands_b, &x, &prev, &q, &corr],
+        );
         let source = crate::shaders::compose("motion/simulate.wgsl", None)
             .map_err(|e| GpuError::Setting(e.to_string()))?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("hairlab.motion.shader"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.motion.pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("hairlab.motion.pipeline"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("substep"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = pipelines::compute(
+            device,
+            &ComputePass {
+                label: "hairlab.motion.pipeline",
+                module: &module,
+                entry: "substep",
+                layouts: &[&layout],
+            },
+        );
         let (strand_count, points) = (ranges.len() as u32, rest.len());
         Ok(GpuSimulation {
             sim,

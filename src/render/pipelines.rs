@@ -2,6 +2,10 @@
 //! passes, the evaluation pass): each pipeline is built on first use and kept for every later frame with the same
 //! key. The key names everything the pipeline is built from besides the pass itself: the shadow method (its lookup
 //! and group-1 layout) and, for the hair pass, the eye transparency technique (its store function and targets).
+//!
+//! And the base descriptor of the compute passes ([`ComputePass`], in the style of the eye toolkit's
+//! `eye::pipelines`): a pass declares its module, entry and groups; its groups of buffers are declared as a list of
+//! bindings (`eye::bindings::layout_for`) and bound whole in order ([`buffer_group`]).
 
 use std::collections::HashMap;
 
@@ -82,6 +86,44 @@ impl<P> PipelineCache<P> {
         self.pipelines
             .retain(|k, _| k.technique.is_none_or(|(t, _)| t != technique));
     }
+}
+
+/// A compute pass as it declares itself.
+pub struct ComputePass<'a> {
+    pub label: &'a str,
+    pub module: &'a wgpu::ShaderModule,
+    pub entry: &'a str,
+    /// Groups 0.. of the pipeline.
+    pub layouts: &'a [&'a wgpu::BindGroupLayout],
+}
+
+/// The pipeline of `pass`.
+pub fn compute(device: &wgpu::Device, pass: &ComputePass) -> wgpu::ComputePipeline {
+    let layouts: Vec<_> = pass.layouts.iter().copied().map(Some).collect();
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(pass.label),
+        bind_group_layouts: &layouts,
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(pass.label),
+        layout: Some(&layout),
+        module: pass.module,
+        entry_point: Some(pass.entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// A group over `buffers`, each bound whole at bindings 0.. in order.
+pub fn buffer_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let resources: Vec<_> = buffers.iter().map(|b| b.as_entire_binding()).collect();
+    crate::render::eye::bindings::group(device, label, layout, &resources)
 }
 
 #[cfg(test)]

@@ -2,14 +2,50 @@
 //! panics on our input: the file is read bounded (`io::read_regular_file`); a `.glb`'s header
 //! and chunk lengths must agree with the file's size; buffer URIs are data URIs or relative paths to regular files
 //! inside the file's folder; and every buffer view and accessor a primitive reads lies inside its buffer, with a
-//! stride no smaller than its element and the component types the loader reads. Each failure is one message
-//! saying what is wrong and where (the loader prefixes the file).
+//! stride no smaller than its element and the component types the loader reads. Each failure is one
+//! [`GltfCheckError`] saying what is wrong and where (the loader prefixes the file).
 
 use std::path::{Component, Path};
 
 use gltf::accessor::{DataType, Dimensions};
 use gltf::buffer::Source;
 use gltf::mesh::Semantic;
+
+/// What a check found wrong in a glTF file, and where in it.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum GltfCheckError {
+    /// A `.glb`'s 12-byte header.
+    #[error("glb header: {0}")]
+    GlbHeader(String),
+    /// A `.glb` chunk's header or length.
+    #[error("glb chunk {chunk} at byte {at}: {problem}")]
+    GlbChunk {
+        chunk: usize,
+        at: usize,
+        problem: String,
+    },
+    /// The `.glb`'s chunk sequence.
+    #[error("glb: {0}")]
+    Glb(&'static str),
+    /// A buffer's URI.
+    #[error("buffer {buffer} ('{uri}'): {problem}")]
+    BufferUri {
+        buffer: usize,
+        uri: String,
+        problem: String,
+    },
+    /// An accessor a primitive reads (`at` names the mesh, primitive, attribute and accessor).
+    #[error("{at}: {problem}")]
+    Accessor { at: String, problem: String },
+    /// An index that names nothing.
+    #[error("{what} names {of} {index}, and there are {len}")]
+    MissingIndex {
+        what: String,
+        of: &'static str,
+        index: usize,
+        len: usize,
+    },
+}
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;
@@ -22,40 +58,48 @@ fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
 }
 
 /// Checks a binary glTF's 12-byte header and its chunks against the file's `bytes` (a text glTF passes).
-pub fn check_glb(bytes: &[u8]) -> Result<(), String> {
+pub fn check_glb(bytes: &[u8]) -> Result<(), GltfCheckError> {
     if bytes.get(..4) != Some(GLB_MAGIC) {
         return Ok(());
     }
     let (Some(version), Some(length)) = (u32_at(bytes, 4), u32_at(bytes, 8)) else {
-        return Err(format!("glb header: {} bytes, 12 needed", bytes.len()));
+        return Err(GltfCheckError::GlbHeader(format!(
+            "{} bytes, 12 needed",
+            bytes.len()
+        )));
     };
     if version != 2 {
-        return Err(format!("glb header: version {version}, only 2 is supported"));
+        return Err(GltfCheckError::GlbHeader(format!(
+            "version {version}, only 2 is supported"
+        )));
     }
     if length as usize != bytes.len() {
-        return Err(format!(
-            "glb header: declares {length} bytes, the file holds {}",
+        return Err(GltfCheckError::GlbHeader(format!(
+            "declares {length} bytes, the file holds {}",
             bytes.len()
-        ));
+        )));
     }
     let mut at = 12;
     let mut chunk = 0;
     while at < bytes.len() {
         let (Some(len), Some(kind)) = (u32_at(bytes, at), u32_at(bytes, at + 4)) else {
-            return Err(format!(
-                "glb chunk {chunk} at byte {at}: its 8-byte header is cut off"
-            ));
+            return Err(GltfCheckError::GlbChunk {
+                chunk,
+                at,
+                problem: "its 8-byte header is cut off".to_owned(),
+            });
         };
         let end = (at + 8).checked_add(len as usize).filter(|&e| e <= bytes.len());
         let Some(end) = end else {
-            return Err(format!(
-                "glb chunk {chunk} at byte {at}: declares {len} bytes, {} remain",
-                bytes.len() - at - 8
-            ));
+            return Err(GltfCheckError::GlbChunk {
+                chunk,
+                at,
+                problem: format!("declares {len} bytes, {} remain", bytes.len() - at - 8),
+            });
         };
         match (chunk, kind) {
             (0, CHUNK_JSON) | (1, CHUNK_BIN) => {}
-            (0, _) => return Err("glb: the first chunk is not JSON".to_owned()),
+            (0, _) => return Err(GltfCheckError::Glb("the first chunk is not JSON")),
             (1, _) => {}
             _ => {}
         }
@@ -63,14 +107,14 @@ pub fn check_glb(bytes: &[u8]) -> Result<(), String> {
         chunk += 1;
     }
     if chunk == 0 {
-        return Err("glb: no JSON chunk".to_owned());
+        return Err(GltfCheckError::Glb("no JSON chunk"));
     }
     Ok(())
 }
 
 /// Checks every buffer's URI: a data URI, or a relative path without `..` naming a regular file of at most
 /// `io::MAX_INPUT_BYTES` inside `dir`.
-pub fn check_buffer_uris(document: &gltf::Document, dir: &Path) -> Result<(), String> {
+pub fn check_buffer_uris(document: &gltf::Document, dir: &Path) -> Result<(), GltfCheckError> {
     for buffer in document.buffers() {
         let Source::Uri(uri) = buffer.source() else {
             continue;
@@ -78,28 +122,32 @@ pub fn check_buffer_uris(document: &gltf::Document, dir: &Path) -> Result<(), St
         if uri.starts_with("data:") {
             continue;
         }
-        let where_ = format!("buffer {} ('{uri}')", buffer.index());
+        let problem = |problem: String| GltfCheckError::BufferUri {
+            buffer: buffer.index(),
+            uri: uri.to_owned(),
+            problem,
+        };
         if uri.contains("://") || uri.starts_with('/') || uri.starts_with('\\') {
-            return Err(format!("{where_}: only relative buffer paths are read"));
+            return Err(problem("only relative buffer paths are read".to_owned()));
         }
         let rel = Path::new(uri);
         if rel
             .components()
             .any(|c| !matches!(c, Component::Normal(_) | Component::CurDir))
         {
-            return Err(format!("{where_}: leaves the file's folder"));
+            return Err(problem("leaves the file's folder".to_owned()));
         }
         let path = dir.join(rel);
-        let meta = std::fs::metadata(&path).map_err(|e| format!("{where_}: cannot read: {e}"))?;
+        let meta = std::fs::metadata(&path).map_err(|e| problem(format!("cannot read: {e}")))?;
         if !meta.is_file() {
-            return Err(format!("{where_}: not a regular file"));
+            return Err(problem("not a regular file".to_owned()));
         }
         if meta.len() > crate::io::MAX_INPUT_BYTES {
-            return Err(format!(
-                "{where_}: {} bytes, more than the {} bytes hairlab reads",
+            return Err(problem(format!(
+                "{} bytes, more than the {} bytes hairlab reads",
                 meta.len(),
                 crate::io::MAX_INPUT_BYTES
-            ));
+            )));
         }
     }
     Ok(())
@@ -118,7 +166,10 @@ fn component_bytes(t: DataType) -> usize {
 /// accessor inside its view (offset, stride and count), no sparse storage, and the types the loader reads
 /// (positions and normals: float VEC3; colours: VEC3/VEC4 of float or normalised unsigned bytes/shorts; indices:
 /// unsigned scalars).
-pub fn check_accessors(document: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+pub fn check_accessors(
+    document: &gltf::Document,
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), GltfCheckError> {
     for mesh in document.meshes() {
         for prim in mesh.primitives() {
             let where_ = format!("mesh {} primitive {}", mesh.index(), prim.index());
@@ -147,13 +198,16 @@ pub fn check_accessors(document: &gltf::Document, buffers: &[gltf::buffer::Data]
                 };
                 let at = format!("{where_}: {what} (accessor {})", a.index());
                 if !ok {
-                    return Err(format!(
-                        "{at}: {:?} {:?} is not a type this attribute can have",
-                        a.dimensions(),
-                        a.data_type()
-                    ));
+                    return Err(GltfCheckError::Accessor {
+                        at,
+                        problem: format!(
+                            "{:?} {:?} is not a type this attribute can have",
+                            a.dimensions(),
+                            a.data_type()
+                        ),
+                    });
                 }
-                check_accessor(&a, buffers).map_err(|e| format!("{at}: {e}"))?;
+                check_accessor(&a, buffers, &at)?;
             }
         }
     }
@@ -163,13 +217,13 @@ pub fn check_accessors(document: &gltf::Document, buffers: &[gltf::buffer::Data]
 /// Checks, on the raw JSON before the crate validates it, that every index the loader follows names something
 /// that exists (the crate's validation and wrappers index without checking): primitive attributes, indices and materials, accessor buffer views, view
 /// buffers, node meshes and children, scene nodes.
-pub fn check_indices(document: &gltf::Document) -> Result<(), String> {
+pub fn check_indices(document: &gltf::Document) -> Result<(), GltfCheckError> {
     let j = document.as_json();
-    let check = |what: String, index: usize, len: usize, of: &str| {
+    let check = |what: String, index: usize, len: usize, of: &'static str| {
         if index < len {
             Ok(())
         } else {
-            Err(format!("{what} names {of} {index}, and there are {len}"))
+            Err(GltfCheckError::MissingIndex { what, of, index, len })
         }
     };
     for (m, mesh) in j.meshes.iter().enumerate() {
@@ -238,47 +292,56 @@ pub fn check_indices(document: &gltf::Document) -> Result<(), String> {
     Ok(())
 }
 
-fn check_accessor(a: &gltf::Accessor, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+/// Checks accessor `a` against `buffers`; an error names it as `at`.
+fn check_accessor(
+    a: &gltf::Accessor,
+    buffers: &[gltf::buffer::Data],
+    at: &str,
+) -> Result<(), GltfCheckError> {
+    let problem = |problem: String| GltfCheckError::Accessor {
+        at: at.to_owned(),
+        problem,
+    };
     if a.sparse().is_some() {
-        return Err("sparse accessors are not supported".to_owned());
+        return Err(problem("sparse accessors are not supported".to_owned()));
     }
     let Some(view) = a.view() else {
-        return Err("has no buffer view".to_owned());
+        return Err(problem("has no buffer view".to_owned()));
     };
     let buffer = buffers
         .get(view.buffer().index())
-        .ok_or_else(|| format!("buffer view {} names a missing buffer", view.index()))?;
+        .ok_or_else(|| problem(format!("buffer view {} names a missing buffer", view.index())))?;
     let view_end = view.offset().checked_add(view.length());
     if view_end.is_none_or(|end| end > buffer.len()) {
-        return Err(format!(
+        return Err(problem(format!(
             "buffer view {} (bytes {}..+{}) lies outside its buffer of {} bytes",
             view.index(),
             view.offset(),
             view.length(),
             buffer.len()
-        ));
+        )));
     }
     let element = component_bytes(a.data_type()) * a.dimensions().multiplicity();
     let stride = view.stride().unwrap_or(element);
     if stride < element {
-        return Err(format!(
+        return Err(problem(format!(
             "byteStride {stride} is smaller than its {element}-byte element"
-        ));
+        )));
     }
     if a.count() == 0 {
-        return Err("has count 0 (glTF requires at least 1)".to_owned());
+        return Err(problem("has count 0 (glTF requires at least 1)".to_owned()));
     }
     let end = (a.count() - 1)
         .checked_mul(stride)
         .and_then(|s| s.checked_add(a.offset()))
         .and_then(|s| s.checked_add(element));
     if end.is_none_or(|end| end > view.length()) {
-        return Err(format!(
+        return Err(problem(format!(
             "{} elements of {element} bytes every {stride} from byte {} do not fit its buffer view of {} bytes",
             a.count(),
             a.offset(),
             view.length()
-        ));
+        )));
     }
     Ok(())
 }
@@ -306,28 +369,38 @@ mod tests {
         check_glb(&ok).unwrap();
         check_glb(b"{\"asset\":{}}").unwrap();
         let e = check_glb(&glb(4_294_967_284, &[(4, CHUNK_JSON, 4)])).unwrap_err();
-        assert_eq!(e, "glb header: declares 4294967284 bytes, the file holds 24");
+        assert_eq!(
+            e.to_string(),
+            "glb header: declares 4294967284 bytes, the file holds 24"
+        );
         let e = check_glb(&glb(11, &[])).unwrap_err();
-        assert_eq!(e, "glb header: declares 11 bytes, the file holds 12");
+        assert_eq!(e.to_string(), "glb header: declares 11 bytes, the file holds 12");
         let e = check_glb(&glb(12 + 8 + 4, &[(4_000_000, CHUNK_JSON, 4)])).unwrap_err();
-        assert_eq!(e, "glb chunk 0 at byte 12: declares 4000000 bytes, 4 remain");
+        assert_eq!(
+            e.to_string(),
+            "glb chunk 0 at byte 12: declares 4000000 bytes, 4 remain"
+        );
         let e = check_glb(&glb(12 + 8 + 4, &[(4, CHUNK_BIN, 4)])).unwrap_err();
-        assert_eq!(e, "glb: the first chunk is not JSON");
+        assert_eq!(e.to_string(), "glb: the first chunk is not JSON");
         let e = check_glb(&glb(12, &[])).unwrap_err();
-        assert_eq!(e, "glb: no JSON chunk");
+        assert_eq!(e.to_string(), "glb: no JSON chunk");
         let mut cut = glb(12 + 8 + 4 + 3, &[(4, CHUNK_JSON, 4)]);
         cut.extend_from_slice(&[1, 2, 3]);
         let e = check_glb(&cut).unwrap_err();
-        assert_eq!(e, "glb chunk 1 at byte 24: its 8-byte header is cut off");
+        assert_eq!(
+            e.to_string(),
+            "glb chunk 1 at byte 24: its 8-byte header is cut off"
+        );
         let mut v1 = ok.clone();
         v1[4] = 1;
         assert_eq!(
-            check_glb(&v1).unwrap_err(),
+            check_glb(&v1).unwrap_err().to_string(),
             "glb header: version 1, only 2 is supported"
         );
         assert!(
             check_glb(&ok[..7])
                 .unwrap_err()
+                .to_string()
                 .starts_with("glb header: 7 bytes")
         );
     }

@@ -102,19 +102,19 @@ fn load(path: &Path) -> Result<Scene, GltfError> {
         message,
     };
     let bytes = crate::io::read_regular_file(path).map_err(|e| malformed(format!("cannot read: {e}")))?;
-    gltf_check::check_glb(&bytes).map_err(malformed)?;
+    gltf_check::check_glb(&bytes).map_err(|e| malformed(e.to_string()))?;
     // The crate's own validation indexes without checking: our index checks come first.
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_err)?;
-    gltf_check::check_indices(&document).map_err(malformed)?;
+    gltf_check::check_indices(&document).map_err(|e| malformed(e.to_string()))?;
     let document = gltf::Document::from_json(document.into_json()).map_err(gltf_err)?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    gltf_check::check_buffer_uris(&document, dir).map_err(malformed)?;
+    gltf_check::check_buffer_uris(&document, dir).map_err(|e| malformed(e.to_string()))?;
     let buffers = gltf::import_buffers(&document, Some(dir), blob).map_err(gltf_err)?;
-    gltf_check::check_accessors(&document, &buffers).map_err(malformed)?;
+    gltf_check::check_accessors(&document, &buffers).map_err(|e| malformed(e.to_string()))?;
     let mut loader = Loader {
         path,
         buffers: &buffers,

@@ -16,30 +16,49 @@ use glam::Vec3;
 
 use super::Strands;
 
+/// Why frames cannot be written as one `.usda` layer.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum UsdaWriteError {
+    #[error("no frames to write")]
+    NoFrames,
+    #[error(
+        "frame {frame} has {strands} strands of {points} points, frame 0 has {first_strands} strands of \
+         {first_points} points; every frame of a .usda needs the same topology"
+    )]
+    Topology {
+        frame: usize,
+        strands: usize,
+        points: usize,
+        first_strands: usize,
+        first_points: usize,
+    },
+    #[error("frame {frame} has a point that is not finite: {point}")]
+    NotFinite { frame: usize, point: Vec3 },
+    #[error("timeCodesPerSecond {0} must be finite and positive")]
+    TimeCodesPerSecond(f64),
+}
+
 /// Encodes `frames` (at least one; every frame with the first frame's counts, arrays taken from the first frame)
 /// as a `.usda` layer: one frame gives a static `points`, several give `points.timeSamples` at time codes `0..n`
 /// played at `time_codes_per_second`. An error says which frame does not match.
-pub fn write_usda(frames: &[Strands], time_codes_per_second: f64) -> Result<String, String> {
-    let first = frames.first().ok_or("no frames to write")?;
-    for (i, f) in frames.iter().enumerate() {
+pub fn write_usda(frames: &[Strands], time_codes_per_second: f64) -> Result<String, UsdaWriteError> {
+    let first = frames.first().ok_or(UsdaWriteError::NoFrames)?;
+    for (frame, f) in frames.iter().enumerate() {
         if f.counts != first.counts || f.points.len() != first.points.len() {
-            return Err(format!(
-                "frame {i} has {} strands of {} points, frame 0 has {} strands of {} points; every frame of a \
-                 .usda needs the same topology",
-                f.counts.len(),
-                f.points.len(),
-                first.counts.len(),
-                first.points.len()
-            ));
+            return Err(UsdaWriteError::Topology {
+                frame,
+                strands: f.counts.len(),
+                points: f.points.len(),
+                first_strands: first.counts.len(),
+                first_points: first.points.len(),
+            });
         }
-        if let Some(p) = f.points.iter().find(|p| !p.is_finite()) {
-            return Err(format!("frame {i} has a point that is not finite: {p}"));
+        if let Some(&point) = f.points.iter().find(|p| !p.is_finite()) {
+            return Err(UsdaWriteError::NotFinite { frame, point });
         }
     }
     if !(time_codes_per_second.is_finite() && time_codes_per_second > 0.0) {
-        return Err(format!(
-            "timeCodesPerSecond {time_codes_per_second} must be finite and positive"
-        ));
+        return Err(UsdaWriteError::TimeCodesPerSecond(time_codes_per_second));
     }
     let mut s = String::new();
     s.push_str("#usda 1.0\n(\n    defaultPrim = \"Groom\"\n    metersPerUnit = 1\n    upAxis = \"Y\"\n");

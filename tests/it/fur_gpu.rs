@@ -28,12 +28,12 @@ use hairlab::fur::mesh::FurMesh;
 use hairlab::fur::shell::{Levels, Shell, ShellParams};
 use hairlab::fur::volume::{Volume, VolumeParams};
 use hairlab::gpu::Gpu;
+use hairlab::gpu::readback::copy_out;
 use hairlab::render::Renderer;
 use hairlab::render::fur::shell_gpu::{
     self, FUR_FACE_FIELDS, FUR_SHELL_UNIFORMS_FIELDS, FurFace, FurShellUniforms, KIND_SHELL, KIND_VIRTUAL,
     ShellGpu,
 };
-use hairlab::render::passes::abuffer::copy_out;
 use hairlab::render::targets::EyeTargets;
 use hairlab::render::transparency::sorted::EyeNode;
 use hairlab::render::uniforms::FrameUniforms;

@@ -8,11 +8,11 @@
 use crate::common::small_settings;
 use crate::transparency_gpu::eye_frame;
 use glam::Vec3;
+use hairlab::gpu::readback::copy_out;
 use hairlab::gpu::{Gpu, GpuError};
 use hairlab::render::Renderer;
 use hairlab::render::geometry::RIBBON_GROUP;
 use hairlab::render::method::{ParamValues, Role};
-use hairlab::render::passes::abuffer::copy_out;
 use hairlab::render::targets::EyeTargets;
 use hairlab::render::transparency::sorted::EyeNode;
 use hairlab::render::transparency::{

@@ -329,7 +329,9 @@ fn several_frames_round_trip_through_usda_frame_by_frame() {
     assert_eq!(f.time_codes, [0.0, 1.0]);
     assert_eq!(f.time_codes_per_second, 30.0);
     assert_eq!(f.frames, [a, b]);
-    let e = write_usda(&[Strands::default(), crate::groom_formats::uniform_groom()], 24.0).unwrap_err();
+    let e = write_usda(&[Strands::default(), crate::groom_formats::uniform_groom()], 24.0)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("frame 1"), "{e}");
 }
 

@@ -121,24 +121,6 @@ pub fn uniform(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
     })
 }
 
-/// A viewport-sized texture of `format` that a pass renders into and a later group reads, as its view.
-pub fn texture(
-    device: &wgpu::Device,
-    label: &str,
-    size: (u32, u32),
-    format: wgpu::TextureFormat,
-) -> wgpu::TextureView {
-    crate::render::targets::eye_texture(
-        device,
-        label,
-        size,
-        format,
-        wgpu::TextureUsages::TEXTURE_BINDING,
-        &[],
-    )
-    .create_view(&Default::default())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

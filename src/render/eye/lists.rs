@@ -19,11 +19,13 @@ use std::collections::HashMap;
 
 use super::bindings::{self, Binding};
 use super::pipelines;
+use crate::gpu::readback::copy_out;
+use crate::gpu::timing::Phase;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::method::{ParamKind, ParamSpec};
-use crate::render::passes::abuffer::copy_out;
-use crate::render::passes::hair::{EntryDepth, HairEntry, HairGeometry};
+use crate::render::passes::hair::{EntryDepth, HairDrawPass, HairEntry, HairGeometry};
 use crate::render::targets::EyeTargets;
+use crate::render::transparency::EyeFrame;
 
 /// Bytes of one list node (`common/eye_node.wgsl`).
 pub const NODE_BYTES: u64 = 32;
@@ -372,11 +374,6 @@ impl PixelLists {
         &self.plan
     }
 
-    /// The layout of the fill's group ([`FILL_GROUP`]).
-    pub fn fill_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.fill_layout
-    }
-
     /// Step 3: the fill's group over the planned buffers: heads, nodes, counters and the meshes' depth.
     pub fn fill_group(&self, device: &wgpu::Device, mesh_depth: &wgpu::TextureView) -> wgpu::BindGroup {
         let b = &self.buffers;
@@ -422,24 +419,48 @@ impl PixelLists {
         )
     }
 
-    /// Step 4: the resolve over rows `[y0, y1)` of `output` (of `format`, as planned), loaded and blended onto;
-    /// groups 0 and 1 from `groups`.
+    /// Step 3 of one band: the shaded hair through `entry` (a [`fill_entry`]) pushed onto the lists over rows
+    /// `band` only, with `group` (a [`PixelLists::fill_group`]) as group 2, timed as `timer`.
+    pub fn fill(
+        &self,
+        frame: &mut EyeFrame<'_>,
+        entry: &'static HairEntry,
+        group: &wgpu::BindGroup,
+        band: (u32, u32),
+        timer: &str,
+    ) {
+        let null = [frame.targets.null_attachment()];
+        frame.draw_hair(
+            HairDrawPass {
+                entry,
+                attachments: &null,
+                depth: None,
+                group: Some((&self.fill_layout, group)),
+                rows: Some(band),
+            },
+            timer,
+        );
+    }
+
+    /// Step 4: the resolve over rows `[y0, y1)` of the frame's output (of the format planned for), loaded and
+    /// blended onto; group 0 the frame's, group 1 `group` (a [`PixelLists::resolve_group`]); timed as `timer`.
     pub fn resolve(
         &self,
-        encoder: &mut wgpu::CommandEncoder,
-        (output, format): (&wgpu::TextureView, wgpu::TextureFormat),
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        frame: &mut EyeFrame<'_>,
+        group: &wgpu::BindGroup,
         (y0, y1): (u32, u32),
-        groups: [&wgpu::BindGroup; 2],
+        timer: &str,
     ) {
+        let (output, format) = frame.output;
+        let timestamps = frame.timer.as_mut().and_then(|t| t.pass(Phase::Resolve, timer));
         pipelines::record_fullscreen(
-            encoder,
+            &mut frame.encoder,
             "hairlab.lists.resolve_pass",
             output,
             timestamps,
             Some((self.buffers.width, y0, y1)),
             &self.resolves[&(self.plan.size, format)],
-            &groups,
+            &[frame.frame_bind_group, group],
         );
     }
 

@@ -85,6 +85,31 @@ pub fn geometry(device: &wgpu::Device, pass: &GeometryPass) -> wgpu::RenderPipel
     })
 }
 
+/// A storage-only pass over the strands (the count passes' shape): `wgsl`'s `vs_main` and `fs_main`, group 0 the
+/// frame's and group 1 `group`, into the never-written null target; the entry tests the meshes' depth by hand
+/// (`common/mesh_depth.wgsl`), before its atomics, which a fixed-function test after the shader would not undo.
+pub fn storage_pass(
+    device: &wgpu::Device,
+    label: &str,
+    wgsl: &str,
+    layouts: [&wgpu::BindGroupLayout; 2],
+    geometry: HairGeometry,
+) -> wgpu::RenderPipeline {
+    let module = crate::render::passes::shader_module(device, &format!("{label}.shader"), wgsl, None);
+    self::geometry(
+        device,
+        &GeometryPass {
+            label: &format!("{label}.pipeline"),
+            module: &module,
+            layouts: &layouts,
+            geometry,
+            fragment: "fs_main",
+            targets: &[Some(EyeTargets::NULL)],
+            depth: None,
+        },
+    )
+}
+
 /// A full-screen pass of `module` (`vs_main` the full-screen triangle, `fs_main`) over groups `layouts`,
 /// writing `targets`.
 pub fn fullscreen(
@@ -134,6 +159,43 @@ pub fn over_target(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
         } else {
             wgpu::ColorWrites::ALL
         },
+    }
+}
+
+/// A colour target of `format` written unblended, `write_mask` channels.
+pub const fn replace(format: wgpu::TextureFormat, write_mask: wgpu::ColorWrites) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format,
+        blend: None,
+        write_mask,
+    }
+}
+
+/// A colour target summed One/One (colour and alpha) into `format`, `write_mask` channels written: the
+/// accumulations of the order-independent techniques.
+pub const fn additive(format: wgpu::TextureFormat, write_mask: wgpu::ColorWrites) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format,
+        blend: Some(crate::render::transparency::ADDITIVE),
+        write_mask,
+    }
+}
+
+/// A revealage target of `format`: its red channel multiplied by `1 - src` (Zero/OneMinusSrc), so that cleared to
+/// 1 it ends as the product of every fragment's `1 - alpha`.
+pub const fn revealage(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
+    const PRODUCT: wgpu::BlendComponent = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::OneMinusSrc,
+        operation: wgpu::BlendOperation::Add,
+    };
+    wgpu::ColorTargetState {
+        format,
+        blend: Some(wgpu::BlendState {
+            color: PRODUCT,
+            alpha: PRODUCT,
+        }),
+        write_mask: wgpu::ColorWrites::RED,
     }
 }
 
@@ -188,36 +250,4 @@ pub fn record_fullscreen(
         pass.set_bind_group(i as u32, *g, &[]);
     }
     pass.draw(0..3, 0..1);
-}
-
-/// Records a storage-only pass over the strands as lines (the count passes' shape): into the never-written null
-/// target, the meshes tested by hand, group 0 the frame and group 1 `group`; nothing drawn without strands.
-pub fn record_line_count(
-    frame: &mut crate::render::transparency::EyeFrame<'_>,
-    label: &str,
-    timer: &str,
-    pipeline: &wgpu::RenderPipeline,
-    group: &wgpu::BindGroup,
-) {
-    let timestamps = frame
-        .timer
-        .as_mut()
-        .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, timer));
-    let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[frame.targets.null_attachment()],
-        depth_stencil_attachment: None,
-        timestamp_writes: timestamps,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    let geometry = frame.geometry;
-    if geometry.hair_index_count > 0 {
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_bind_group(1, group, &[]);
-        pass.set_vertex_buffer(0, geometry.hair_vertices.slice(..));
-        pass.set_index_buffer(geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..geometry.hair_index_count, 0, 0..1);
-    }
 }

@@ -16,6 +16,7 @@ use bytemuck::{Pod, Zeroable};
 use crate::fur::shell::Shell;
 use crate::fur::volume::VolumeParams;
 use crate::gpu::{Gpu, GpuError};
+use crate::render::pipelines::{self, ComputePass};
 
 /// Bytes of one stored sub-element, `(τ.xyz, ρ)`.
 pub const SUB_ELEMENT_BYTES: u64 = 16;
@@ -125,19 +126,6 @@ pub fn check_volume_fits(gpu: &Gpu, shell: &Shell) -> Result<(), GpuError> {
     Ok(())
 }
 
-fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 /// The stored volume of `shell` under `params`, computed on the GPU: a new buffer (`STORAGE | COPY_SRC`) of
 /// 16 B per sub-element, `faces` the shell's uploaded [`super::shell_gpu::faces`]. The pass is submitted to
 /// the queue (later submissions see its result); a volume over the binding limit is refused first
@@ -209,44 +197,30 @@ pub fn compute_volume(
         usage: storage | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let read_only = wgpu::BufferBindingType::Storage { read_only: true };
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("hairlab.fur.density.layout"),
-        entries: &[
-            entry(0, wgpu::BufferBindingType::Uniform),
-            entry(1, read_only),
-            entry(2, read_only),
-            entry(3, read_only),
-            entry(4, wgpu::BufferBindingType::Storage { read_only: false }),
-        ],
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("hairlab.fur.density.group"),
-        layout: &layout,
-        entries: &[&uniforms, faces, &normals, &heights, &volume]
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect::<Vec<_>>(),
-    });
+    use crate::render::eye::bindings::{self, Binding::*};
+    let layout = bindings::layout_for(
+        device,
+        "hairlab.fur.density.layout",
+        wgpu::ShaderStages::COMPUTE,
+        &[Uniform, StorageRo, StorageRo, StorageRo, StorageRw],
+    );
+    let group = pipelines::buffer_group(
+        device,
+        "hairlab.fur.density.group",
+        &layout,
+        &[&uniforms, faces, &normals, &heights, &volume],
+    );
     let module =
         crate::render::passes::shader_module(device, "hairlab.fur.density.shader", DENSITY_WGSL, None);
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("hairlab.fur.density.pipeline_layout"),
-        bind_group_layouts: &[Some(&layout)],
-        immediate_size: 0,
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("hairlab.fur.density.pipeline"),
-        layout: Some(&pipeline_layout),
-        module: &module,
-        entry_point: Some("cs_volume"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let pipeline = pipelines::compute(
+        device,
+        &ComputePass {
+            label: "hairlab.fur.density.pipeline",
+            module: &module,
+            entry: "cs_volume",
+            layouts: &[&layout],
+        },
+    );
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("hairlab.fur.density.encoder"),
     });

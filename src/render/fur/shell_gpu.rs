@@ -22,8 +22,8 @@ use glam::{Mat4, Vec2, Vec3};
 use crate::fur::march::{self, Emit, EntryTriangle, MarchParams, MarchStats};
 use crate::fur::shell::Shell;
 use crate::fur::volume::Volume;
+use crate::gpu::readback::copy_out;
 use crate::gpu::{Gpu, GpuError};
-use crate::render::passes::abuffer::copy_out;
 use crate::render::targets::EyeTargets;
 
 use super::density;

@@ -20,13 +20,11 @@ use crate::fur::settings::{Blending, FurSettings, FurView};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::Binding;
 use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
-use crate::render::eye::pipelines::{self, GeometryPass};
+use crate::render::eye::pipelines;
 use crate::render::geometry::RIBBON_GROUP;
 use crate::render::method::{ParamValues, Role, UniformMirror};
-use crate::render::targets::EyeTargets;
 use crate::render::transparency::{
-    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
-    TransparencyGpu,
+    EyeFrame, EyeSetup, EyeTransparency, HairEntry, HairGeometry, TechniqueInfo, TransparencyGpu,
 };
 use crate::transparency::{Compositor, ModelContext};
 
@@ -150,19 +148,12 @@ impl FurGpu {
                 resolve_extra: &[Binding::Uniform],
             },
         )?;
-        let module =
-            crate::render::passes::shader_module(device, "hairlab.fur.ribbon_count", INFO.pass_wgsl[0], None);
-        let count_pipeline = pipelines::geometry(
+        let count_pipeline = pipelines::storage_pass(
             device,
-            &GeometryPass {
-                label: "hairlab.fur.ribbon_count",
-                module: &module,
-                layouts: &[setup.frame_layout, lists.count_layout()],
-                geometry: HairGeometry::Ribbons,
-                fragment: "fs_main",
-                targets: &[Some(EyeTargets::NULL)],
-                depth: None,
-            },
+            "hairlab.fur.ribbon_count",
+            INFO.pass_wgsl[0],
+            [setup.frame_layout, lists.count_layout()],
+            HairGeometry::Ribbons,
         );
         let mut gpu = FurGpu {
             lists,
@@ -316,7 +307,7 @@ impl TransparencyGpu for FurGpu {
         }
         frame.flush();
         let shell_total: Vec<u32> =
-            bytemuck::pod_collect_to_vec(&crate::render::passes::abuffer::copy_out(gpu, &self.shell_total)?);
+            bytemuck::pod_collect_to_vec(&crate::gpu::readback::copy_out(gpu, &self.shell_total)?);
         let plan = self
             .lists
             .plan(
@@ -356,17 +347,8 @@ impl TransparencyGpu for FurGpu {
         for &band in &plan.bands {
             self.lists.begin_band(&mut frame.encoder);
             if strands {
-                let null = [frame.targets.null_attachment()];
-                frame.draw_hair(
-                    HairDrawPass {
-                        entry: &FILL,
-                        attachments: &null,
-                        depth: None,
-                        group: Some((self.lists.fill_layout(), &fill_group)),
-                        rows: Some(band),
-                    },
-                    "fur: explicit fill",
-                );
+                self.lists
+                    .fill(frame, &FILL, &fill_group, band, "fur: explicit fill");
             }
             if let Some(shell) = shell {
                 let timestamps = frame
@@ -386,17 +368,7 @@ impl TransparencyGpu for FurGpu {
                     Some(band),
                 );
             }
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "fur: resolve"));
-            self.lists.resolve(
-                &mut frame.encoder,
-                frame.output,
-                timestamps,
-                band,
-                [frame.frame_bind_group, &resolve_group],
-            );
+            self.lists.resolve(frame, &resolve_group, band, "fur: resolve");
         }
         Ok(())
     }

@@ -3,6 +3,7 @@
 //! read back and sorted, are the exact per-texel fragment lists of the reference; the eye passes can also walk
 //! them to shade with exact visibility.
 
+use crate::gpu::readback::copy_out;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, LightStage, draw_casters};
@@ -370,18 +371,4 @@ impl ABuffer {
         }
         Ok(lists)
     }
-}
-
-/// Copies a storage buffer into a mappable one and reads it.
-pub fn copy_out(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("hairlab.readback.staging"),
-        size: buffer.size(),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
-    gpu.queue.submit([enc.finish()]);
-    readback::read_buffer(gpu, &staging)
 }

@@ -2,7 +2,6 @@
 //! (`common/fullscreen.wgsl`) runs the technique's resolve shader, which reads the technique's targets through
 //! group 0 and blends its result onto the opaque colour image.
 
-use crate::render::eye::bindings::{self, Binding};
 use crate::render::eye::pipelines;
 use crate::render::targets::{CAPTURE_FORMAT, EyeTargets};
 
@@ -65,23 +64,4 @@ impl CompositePass {
             &[bind_group],
         );
     }
-}
-
-/// A group-0 layout of `count` unfilterable float textures at bindings 0.., read by a resolve's fragment stage.
-pub fn texture_layout(device: &wgpu::Device, label: &str, count: u32) -> wgpu::BindGroupLayout {
-    bindings::layout(device, label, &vec![Binding::Texture; count as usize])
-}
-
-/// The bind group of a [`texture_layout`] over `views`, in binding order.
-pub fn texture_bind_group(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::BindGroupLayout,
-    views: &[&wgpu::TextureView],
-) -> wgpu::BindGroup {
-    let resources: Vec<_> = views
-        .iter()
-        .map(|v| wgpu::BindingResource::TextureView(v))
-        .collect();
-    bindings::group(device, label, layout, &resources)
 }

@@ -2,9 +2,11 @@
 //! peels nothing. Slow (three geometry passes and a readback per layer) and used to verify the A-buffer, which
 //! must give the same per-texel lists; see `shaders/depth_peel.wgsl` for how depth ties are kept.
 
-use super::abuffer::{RefFragment, copy_out};
+use super::abuffer::RefFragment;
+use crate::gpu::readback::copy_out;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::caster::{LightCaster, LightStage, draw_casters};
+use crate::render::pipelines::{self, ComputePass};
 
 pub struct DepthPeel {
     depth_pipeline: wgpu::RenderPipeline,
@@ -23,27 +25,13 @@ pub struct Peeled {
 impl DepthPeel {
     pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout, light: &LightStage) -> DepthPeel {
         let device = &gpu.device;
-        let stages = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
-        let entry = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: stages,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: false },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hairlab.depth_peel.layout"),
-            entries: &(0..6).map(entry).collect::<Vec<_>>(),
-        });
+        let layout = crate::render::eye::bindings::layout_for(
+            device,
+            "hairlab.depth_peel.layout",
+            wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+            &[crate::render::eye::bindings::Binding::StorageRw; 6],
+        );
         let module = light.module(device, "hairlab.depth_peel.shader", "depth_peel.wgsl");
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hairlab.depth_peel.pipeline_layout"),
-            bind_group_layouts: &[Some(frame_layout), Some(&layout)],
-            immediate_size: 0,
-        });
         let targets = [super::NullTarget::target_state()];
         let pipeline = |e: &str| {
             light.pipeline(
@@ -55,14 +43,15 @@ impl DepthPeel {
                 &targets,
             )
         };
-        let advance_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("hairlab.depth_peel.advance"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_advance"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let advance_pipeline = pipelines::compute(
+            device,
+            &ComputePass {
+                label: "hairlab.depth_peel.advance",
+                module: &module,
+                entry: "cs_advance",
+                layouts: &[frame_layout, &layout],
+            },
+        );
         DepthPeel {
             depth_pipeline: pipeline("fs_depth"),
             segment_pipeline: pipeline("fs_segment"),
@@ -107,18 +96,8 @@ impl DepthPeel {
             &layer,
             &peeled,
         ];
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.depth_peel.bind_group"),
-            layout: &self.layout,
-            entries: &buffers
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
-        });
+        let bind_group =
+            pipelines::buffer_group(device, "hairlab.depth_peel.bind_group", &self.layout, &buffers);
         let target = super::NullTarget::new(device, resolution);
         let none = vec![u32::MAX; texels as usize];
         gpu.queue

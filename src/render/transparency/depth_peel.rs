@@ -23,10 +23,12 @@ use super::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
-use crate::render::eye::pipelines::{self, GeometryPass};
+use crate::render::eye::complexity::DepthComplexity;
+use crate::render::eye::passes::Resolve;
+use crate::render::eye::pipelines::{self, replace};
+use crate::render::eye::targets::Textures;
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
-use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
-use crate::render::targets::{EyeTargets, eye_texture};
+use crate::render::targets::EyeTargets;
 use crate::transparency::classic_peel::ClassicPeelParams;
 use crate::transparency::{Compositor, ModelContext};
 
@@ -34,8 +36,15 @@ pub const LAYER: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub const LAYER_DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 pub const ACCUM: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// Bytes per pixel of everything the technique holds (see the module doc).
-const BYTES_PER_PIXEL: u64 = 4 + 4 + 16 + 2 * 4 + 16;
+/// The targets: the accumulation (read by the resolve), the layer (read by the under blend), the two layer
+/// depths (written alternately, each read by the next layer) and the technique's own depth.
+const TARGETS: [(&str, wgpu::TextureFormat); 5] = [
+    ("accum", ACCUM),
+    ("layer", LAYER),
+    ("layer_depth0", LAYER_DEPTH),
+    ("layer_depth1", LAYER_DEPTH),
+    ("depth", EyeTargets::DEPTH),
+];
 
 const MAX_LAYERS: ParamSpec = ParamSpec {
     key: "max_layers",
@@ -48,16 +57,8 @@ const MAX_LAYERS: ParamSpec = ParamSpec {
 static HAIR: HairEntry = HairEntry {
     entry: "fs_peel",
     targets: &[
-        wgpu::ColorTargetState {
-            format: LAYER,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        },
-        wgpu::ColorTargetState {
-            format: LAYER_DEPTH,
-            blend: None,
-            write_mask: wgpu::ColorWrites::RED,
-        },
+        replace(LAYER, wgpu::ColorWrites::ALL),
+        replace(LAYER_DEPTH, wgpu::ColorWrites::RED),
     ],
     depth: EntryDepth::Own,
     geometry: HairGeometry::Lines,
@@ -112,46 +113,36 @@ impl EyeTransparency for DepthPeel {
 
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
-        let count_layout = bindings::layout(
+        let under_layout = bindings::layout(device, "hairlab.depth-peel.under_layout", &[Binding::Texture]);
+        let under = crate::render::passes::shader_module(
             device,
-            "hairlab.depth-peel.count_layout",
-            &[Binding::StorageRw, Binding::MeshDepth],
+            "hairlab.depth-peel.under.shader",
+            INFO.pass_wgsl[1],
+            None,
         );
-        let peel_layout = bindings::layout(
-            device,
-            "hairlab.depth-peel.peel_layout",
-            &[Binding::MeshDepth, Binding::Texture, Binding::Uniform],
-        );
-        let texture_layout = texture_layout(device, "hairlab.depth-peel.texture_layout", 1);
-        let count = count_pipeline(device, setup.frame_layout, &count_layout);
-        let under = under_pipeline(device, &texture_layout);
-        let resolve = CompositePass::new(
-            device,
-            "hairlab.depth-peel.resolve",
-            INFO.pass_wgsl[2],
-            &texture_layout,
-            PREMULTIPLIED_OVER,
-        );
-        let scale = bindings::uniform(device, "hairlab.depth-peel.scale", 16);
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.depth-peel.readback"),
-            size: 8,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let targets = Targets::new(setup.gpu, &texture_layout, setup.width, setup.height)?;
         Ok(Box::new(DepthPeelGpu {
-            count_layout,
-            peel_layout,
-            texture_layout,
-            count,
-            under,
-            resolve,
-            scale,
-            readback,
-            targets,
+            complexity: DepthComplexity::new(setup, INFO.name, INFO.pass_wgsl[0])?,
+            peel_layout: bindings::layout(
+                device,
+                "hairlab.depth-peel.peel_layout",
+                &[Binding::MeshDepth, Binding::Texture, Binding::Uniform],
+            ),
+            under: pipelines::fullscreen(
+                device,
+                "hairlab.depth-peel.under.pipeline",
+                &under,
+                &[&under_layout],
+                &[Some(wgpu::ColorTargetState {
+                    blend: Some(UNDER),
+                    ..replace(ACCUM, wgpu::ColorWrites::ALL)
+                })],
+            ),
+            under_layout,
+            resolve: Resolve::of_textures(device, INFO.name, INFO.pass_wgsl[2], 1, PREMULTIPLIED_OVER),
+            scale: bindings::uniform(device, "hairlab.depth-peel.scale", 16),
+            targets: Textures::new(device, INFO.name, &TARGETS, (setup.width, setup.height)),
             layers: 0,
-            complexity: (0, 0),
+            last: (0, 0),
         }))
     }
 
@@ -160,209 +151,32 @@ impl EyeTransparency for DepthPeel {
     }
 }
 
-/// The count pass: the strands through the shared eye vertex stage, the meshes' depth tested by hand before the
-/// atomics (a fixed-function test after the shader would not undo them), into the never-written null target.
-fn count_pipeline(
-    device: &wgpu::Device,
-    frame_layout: &wgpu::BindGroupLayout,
-    count_layout: &wgpu::BindGroupLayout,
-) -> wgpu::RenderPipeline {
-    let module = crate::render::passes::shader_module(
-        device,
-        "hairlab.depth-peel.count.shader",
-        INFO.pass_wgsl[0],
-        None,
-    );
-    pipelines::geometry(
-        device,
-        &GeometryPass {
-            label: "hairlab.depth-peel.count.pipeline",
-            module: &module,
-            layouts: &[frame_layout, count_layout],
-            geometry: HairGeometry::Lines,
-            fragment: "fs_main",
-            targets: &[Some(EyeTargets::NULL)],
-            depth: None,
-        },
-    )
-}
-
-/// The full-screen "under" blend of a layer into the accumulation.
-fn under_pipeline(device: &wgpu::Device, texture_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
-    let module = crate::render::passes::shader_module(
-        device,
-        "hairlab.depth-peel.under.shader",
-        INFO.pass_wgsl[1],
-        None,
-    );
-    pipelines::fullscreen(
-        device,
-        "hairlab.depth-peel.under.pipeline",
-        &module,
-        &[texture_layout],
-        &[Some(wgpu::ColorTargetState {
-            format: ACCUM,
-            blend: Some(UNDER),
-            write_mask: wgpu::ColorWrites::ALL,
-        })],
-    )
-}
-
-/// Everything sized to the viewport.
-struct Targets {
-    /// The deepest pixel's count, the total, then every pixel's count.
-    counts: wgpu::Buffer,
-    depth_view: wgpu::TextureView,
-    layer: wgpu::TextureView,
-    layer_bind_group: wgpu::BindGroup,
-    /// The two layer-depth targets, written alternately.
-    layer_depths: [wgpu::TextureView; 2],
-    accum: wgpu::TextureView,
-    accum_bind_group: wgpu::BindGroup,
-    width: u32,
-    height: u32,
-}
-
-impl Targets {
-    fn new(
-        gpu: &Gpu,
-        texture_layout: &wgpu::BindGroupLayout,
-        width: u32,
-        height: u32,
-    ) -> Result<Targets, GpuError> {
-        let device = &gpu.device;
-        let limits = device.limits();
-        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        let bytes = (width as u64 * height as u64 + 2) * 4;
-        if bytes > limit {
-            return Err(GpuError::TooLarge {
-                what: format!("depth peeling's per-pixel fragment counts at a {width}×{height} viewport"),
-                bytes,
-                limit,
-            });
-        }
-        let counts = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.depth-peel.counts"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let view = |label, format| bindings::texture(device, label, (width, height), format);
-        let depth_view = eye_texture(
-            device,
-            "hairlab.depth-peel.depth",
-            (width, height),
-            EyeTargets::DEPTH,
-            wgpu::TextureUsages::empty(),
-            &[],
-        )
-        .create_view(&Default::default());
-        let layer = view("hairlab.depth-peel.layer", LAYER);
-        let layer_depths = [
-            view("hairlab.depth-peel.layer_depth0", LAYER_DEPTH),
-            view("hairlab.depth-peel.layer_depth1", LAYER_DEPTH),
-        ];
-        let accum = view("hairlab.depth-peel.accum", ACCUM);
-        let layer_bind_group = texture_bind_group(
-            device,
-            "hairlab.depth-peel.layer_bind_group",
-            texture_layout,
-            &[&layer],
-        );
-        let accum_bind_group = texture_bind_group(
-            device,
-            "hairlab.depth-peel.accum_bind_group",
-            texture_layout,
-            &[&accum],
-        );
-        Ok(Targets {
-            counts,
-            depth_view,
-            layer_bind_group,
-            layer,
-            layer_depths,
-            accum_bind_group,
-            accum,
-            width,
-            height,
-        })
-    }
-}
-
 struct DepthPeelGpu {
-    count_layout: wgpu::BindGroupLayout,
+    /// The count pass: the deepest pixel's fragment count is the frame's layer count.
+    complexity: DepthComplexity,
     peel_layout: wgpu::BindGroupLayout,
-    texture_layout: wgpu::BindGroupLayout,
-    count: wgpu::RenderPipeline,
+    under_layout: wgpu::BindGroupLayout,
     under: wgpu::RenderPipeline,
-    resolve: CompositePass,
+    resolve: Resolve,
     scale: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    targets: Targets,
+    targets: Textures,
     /// Layers peeled in the last frame.
     layers: u32,
     /// The last frame's deepest pixel and total fragment count.
-    complexity: (u32, u64),
-}
-
-impl DepthPeelGpu {
-    /// Records the count pass, submits the frame so far and reads back the deepest pixel's fragment count and
-    /// the total.
-    fn count(&self, frame: &mut EyeFrame<'_>) -> Result<(u32, u32), GpuError> {
-        let t = &self.targets;
-        let count_bind_group = bindings::group(
-            &frame.gpu.device,
-            "hairlab.depth-peel.count_bind_group",
-            &self.count_layout,
-            &[
-                t.counts.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-            ],
-        );
-        frame.encoder.clear_buffer(&t.counts, 0, None);
-        pipelines::record_line_count(
-            frame,
-            "hairlab.depth-peel.count.pass",
-            "eye: depth complexity",
-            &self.count,
-            &count_bind_group,
-        );
-        frame
-            .encoder
-            .copy_buffer_to_buffer(&t.counts, 0, &self.readback, 0, 8);
-        frame.flush();
-        let bytes = crate::gpu::readback::read_buffer(frame.gpu, &self.readback)?;
-        let [deepest, total]: [u32; 2] = bytemuck::pod_read_unaligned(&bytes[..8]);
-        Ok((deepest, total))
-    }
-
-    /// Group 2 of the layer reading the previous layer's depth from `previous`.
-    fn peel_group(&self, frame: &EyeFrame<'_>, previous: &wgpu::TextureView) -> wgpu::BindGroup {
-        bindings::group(
-            &frame.gpu.device,
-            "hairlab.depth-peel.peel_bind_group",
-            &self.peel_layout,
-            &[
-                wgpu::BindingResource::TextureView(&frame.targets.depth_view),
-                wgpu::BindingResource::TextureView(previous),
-                self.scale.as_entire_binding(),
-            ],
-        )
-    }
+    last: (u32, u64),
 }
 
 impl TransparencyGpu for DepthPeelGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        if (self.targets.width, self.targets.height) != (width, height) {
-            self.targets = Targets::new(gpu, &self.texture_layout, width, height)?;
-        }
+        self.complexity.resize(gpu, (width, height))?;
+        self.targets.resize(&gpu.device, (width, height));
         Ok(())
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         self.layers = 0;
-        let (layers, total) = self.count(frame)?;
-        self.complexity = (layers, u64::from(total));
+        let (layers, total) = self.complexity.count(frame)?;
+        self.last = (layers, u64::from(total));
         let max_layers = value(frame.values, &MAX_LAYERS) as u32;
         if layers > max_layers {
             return Err(GpuError::Setting(format!(
@@ -378,11 +192,27 @@ impl TransparencyGpu for DepthPeelGpu {
             .gpu
             .queue
             .write_buffer(&self.scale, 0, bytemuck::cast_slice(&scale));
-        let t = &self.targets;
-        let groups = [
-            self.peel_group(frame, &t.layer_depths[1]),
-            self.peel_group(frame, &t.layer_depths[0]),
-        ];
+        let [accum, layer, depth0, depth1, depth] = [0, 1, 2, 3, 4].map(|i| self.targets.view(i));
+        let layer_depths = [depth0, depth1];
+        // Group 2 of a layer: the meshes' depth, the previous layer's depth, `1 / S`.
+        let groups = [depth1, depth0].map(|previous| {
+            bindings::group(
+                &frame.gpu.device,
+                "hairlab.depth-peel.peel_bind_group",
+                &self.peel_layout,
+                &[
+                    wgpu::BindingResource::TextureView(&frame.targets.depth_view),
+                    wgpu::BindingResource::TextureView(previous),
+                    self.scale.as_entire_binding(),
+                ],
+            )
+        });
+        let layer_group = bindings::group(
+            &frame.gpu.device,
+            "hairlab.depth-peel.layer_bind_group",
+            &self.under_layout,
+            &[wgpu::BindingResource::TextureView(layer)],
+        );
         let span = frame.timer.as_mut().and_then(|timer| {
             timer.span(
                 crate::gpu::timing::Phase::EyeHair,
@@ -392,10 +222,7 @@ impl TransparencyGpu for DepthPeelGpu {
         // Nothing accumulated, everything transmitted; no layer before the first.
         frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hairlab.depth-peel.clear.pass"),
-            color_attachments: &[
-                cleared(&t.accum, [0.0, 0.0, 0.0, 1.0]),
-                cleared(&t.layer_depths[1], [0.0; 4]),
-            ],
+            color_attachments: &[cleared(accum, [0.0, 0.0, 0.0, 1.0]), cleared(depth1, [0.0; 4])],
             depth_stencil_attachment: None,
             timestamp_writes: span.as_ref().map(|s| s.first()),
             occlusion_query_set: None,
@@ -403,13 +230,13 @@ impl TransparencyGpu for DepthPeelGpu {
         });
         for k in 0..layers as usize {
             let attachments = [
-                cleared(&t.layer, [0.0; 4]),
-                cleared(&t.layer_depths[k % 2], [f32::MAX as f64, 0.0, 0.0, 0.0]),
+                cleared(layer, [0.0; 4]),
+                cleared(layer_depths[k % 2], [f32::MAX as f64, 0.0, 0.0, 0.0]),
             ];
             frame.draw_hair_untimed(HairDrawPass {
                 entry: &HAIR,
                 attachments: &attachments,
-                depth: Some((&t.depth_view, Some(1.0))),
+                depth: Some((depth, Some(1.0))),
                 group: Some((&self.peel_layout, &groups[k % 2])),
                 rows: None,
             });
@@ -417,25 +244,21 @@ impl TransparencyGpu for DepthPeelGpu {
             pipelines::record_fullscreen(
                 &mut frame.encoder,
                 "hairlab.depth-peel.under.pass",
-                &t.accum,
+                accum,
                 span.as_ref().filter(|_| last).map(|s| s.last()),
                 None,
                 &self.under,
-                &[&t.layer_bind_group],
+                &[&layer_group],
             );
         }
+        self.resolve.record_textures(frame, &[accum]);
         self.layers = layers;
-        let timestamps = frame
-            .timer
-            .as_mut()
-            .and_then(|timer| timer.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-        self.resolve
-            .record(&mut frame.encoder, frame.output, &t.accum_bind_group, timestamps);
         Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
-        self.targets.width as u64 * self.targets.height as u64 * BYTES_PER_PIXEL
+        let (width, height) = self.targets.size();
+        self.targets.bytes() + width as u64 * height as u64 * DepthComplexity::BYTES_PER_PIXEL
     }
 
     fn geometry_passes(&self) -> u32 {
@@ -443,7 +266,7 @@ impl TransparencyGpu for DepthPeelGpu {
     }
 
     fn depth_complexity(&self) -> Option<(u32, u64)> {
-        Some(self.complexity)
+        Some(self.last)
     }
 }
 

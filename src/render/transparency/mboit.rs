@@ -7,14 +7,15 @@
 //! CPU model: [`crate::transparency::Mboit`].
 
 use super::{
-    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
     PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
-use crate::render::eye::pipelines::{self, DepthTest, GeometryPass};
+use crate::render::eye::passes::{self, LinePass, Resolve};
+use crate::render::eye::pipelines::{self, DepthTest, GeometryPass, additive};
+use crate::render::eye::targets::Textures;
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
-use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
 use crate::transparency::{Compositor, MboitParams, ModelContext};
 use crate::visibility::msm::DEFAULT_OVERESTIMATION;
 use bytemuck::{Pod, Zeroable};
@@ -22,11 +23,7 @@ use bytemuck::{Pod, Zeroable};
 /// Format of the moment targets and the weighted colour sum.
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-const ADD: wgpu::ColorTargetState = wgpu::ColorTargetState {
-    format: FORMAT,
-    blend: Some(ADDITIVE),
-    write_mask: wgpu::ColorWrites::ALL,
-};
+const ADD: wgpu::ColorTargetState = additive(FORMAT, wgpu::ColorWrites::ALL);
 
 static HAIR: HairEntry = HairEntry {
     entry: "fs_main",
@@ -140,25 +137,14 @@ impl MboitUniforms {
     }
 }
 
-/// The viewport-sized targets and the bind groups reading them.
-struct Targets {
-    low: wgpu::TextureView,
-    high: wgpu::TextureView,
-    accum: wgpu::TextureView,
-    hair_group: wgpu::BindGroup,
-    resolve_group: wgpu::BindGroup,
-    width: u32,
-    height: u32,
-}
-
 struct MboitGpu {
     uniforms: wgpu::Buffer,
     moments_group: wgpu::BindGroup,
     moments_pipeline: wgpu::RenderPipeline,
     hair_layout: wgpu::BindGroupLayout,
-    resolve_layout: wgpu::BindGroupLayout,
-    resolve: CompositePass,
-    targets: Targets,
+    resolve: Resolve,
+    /// The weighted colour sum, then the moments `(b_0, b x, b x², b x³)` and the higher ones.
+    targets: Textures,
 }
 
 impl MboitGpu {
@@ -175,11 +161,6 @@ impl MboitGpu {
             "hairlab.mboit.moments_group",
             &moments_layout,
             &[uniforms.as_entire_binding()],
-        );
-        let hair_layout = bindings::layout(
-            device,
-            "hairlab.mboit.hair_layout",
-            &[Binding::Uniform, Binding::Texture, Binding::Texture],
         );
         let module = crate::render::passes::shader_module(
             device,
@@ -200,87 +181,33 @@ impl MboitGpu {
                 depth: Some(DepthTest::Meshes),
             },
         );
-        let resolve_layout = texture_layout(device, "hairlab.mboit.resolve_layout", 2);
-        let resolve = CompositePass::new(
-            device,
-            "hairlab.mboit.resolve",
-            INFO.pass_wgsl[1],
-            &resolve_layout,
-            PREMULTIPLIED_OVER,
-        );
-        let targets = Targets::new(
-            device,
-            &uniforms,
-            &hair_layout,
-            &resolve_layout,
-            setup.width,
-            setup.height,
-        );
         MboitGpu {
-            uniforms,
             moments_group,
             moments_pipeline,
-            hair_layout,
-            resolve_layout,
-            resolve,
-            targets,
-        }
-    }
-}
-
-impl Targets {
-    fn new(
-        device: &wgpu::Device,
-        uniforms: &wgpu::Buffer,
-        hair_layout: &wgpu::BindGroupLayout,
-        resolve_layout: &wgpu::BindGroupLayout,
-        width: u32,
-        height: u32,
-    ) -> Targets {
-        let view = |label| bindings::texture(device, label, (width, height), FORMAT);
-        let low = view("hairlab.mboit.moments_low");
-        let high = view("hairlab.mboit.moments_high");
-        let accum = view("hairlab.mboit.accum");
-        let hair_group = bindings::group(
-            device,
-            "hairlab.mboit.hair_group",
-            hair_layout,
-            &[
-                uniforms.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&low),
-                wgpu::BindingResource::TextureView(&high),
-            ],
-        );
-        let resolve_group = texture_bind_group(
-            device,
-            "hairlab.mboit.resolve_group",
-            resolve_layout,
-            &[&accum, &low],
-        );
-        Targets {
-            low,
-            high,
-            accum,
-            hair_group,
-            resolve_group,
-            width,
-            height,
+            hair_layout: bindings::layout(
+                device,
+                "hairlab.mboit.hair_layout",
+                &[Binding::Uniform, Binding::Texture, Binding::Texture],
+            ),
+            resolve: Resolve::of_textures(device, INFO.name, INFO.pass_wgsl[1], 2, PREMULTIPLIED_OVER),
+            targets: Textures::new(
+                device,
+                INFO.name,
+                &[
+                    ("accum", FORMAT),
+                    ("moments_low", FORMAT),
+                    ("moments_high", FORMAT),
+                ],
+                (setup.width, setup.height),
+            ),
+            uniforms,
         }
     }
 }
 
 impl TransparencyGpu for MboitGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        if (self.targets.width, self.targets.height) != (width, height) {
-            self.targets = Targets::new(
-                &gpu.device,
-                &self.uniforms,
-                &self.hair_layout,
-                &self.resolve_layout,
-                width,
-                height,
-            );
-        }
+        self.targets.resize(&gpu.device, (width, height));
         Ok(())
     }
 
@@ -290,65 +217,44 @@ impl TransparencyGpu for MboitGpu {
             .gpu
             .queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
-        {
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|t| t.pass(crate::gpu::timing::Phase::EyeHair, "eye: moments"));
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hairlab.mboit.moments_pass"),
-                color_attachments: &[
-                    cleared(&self.targets.low, [0.0; 4]),
-                    cleared(&self.targets.high, [0.0; 4]),
-                ],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &frame.targets.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if frame.geometry.hair_index_count > 0 {
-                pass.set_pipeline(&self.moments_pipeline);
-                pass.set_bind_group(0, frame.frame_bind_group, &[]);
-                pass.set_bind_group(1, &self.moments_group, &[]);
-                pass.set_vertex_buffer(0, frame.geometry.hair_vertices.slice(..));
-                pass.set_index_buffer(frame.geometry.hair_indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..frame.geometry.hair_index_count, 0, 0..1);
-            }
-        }
-        let attachments = [cleared(&self.targets.accum, [0.0; 4])];
+        let [accum, low, high] = [0, 1, 2].map(|i| self.targets.view(i));
+        passes::record_lines(
+            frame,
+            LinePass {
+                label: "hairlab.mboit.moments_pass",
+                timer: "eye: moments",
+                pipeline: &self.moments_pipeline,
+                group: Some(&self.moments_group),
+                attachments: &[cleared(low, [0.0; 4]), cleared(high, [0.0; 4])],
+                mesh_depth: true,
+            },
+        );
+        let hair_group = bindings::group(
+            &frame.gpu.device,
+            "hairlab.mboit.hair_group",
+            &self.hair_layout,
+            &[
+                self.uniforms.as_entire_binding(),
+                wgpu::BindingResource::TextureView(low),
+                wgpu::BindingResource::TextureView(high),
+            ],
+        );
         frame.draw_hair(
             HairDrawPass {
                 entry: &HAIR,
-                attachments: &attachments,
+                attachments: &[cleared(accum, [0.0; 4])],
                 depth: None,
-                group: Some((&self.hair_layout, &self.targets.hair_group)),
+                group: Some((&self.hair_layout, &hair_group)),
                 rows: None,
             },
             "eye: hair",
         );
-        let timestamps = frame
-            .timer
-            .as_mut()
-            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-        self.resolve.record(
-            &mut frame.encoder,
-            frame.output,
-            &self.targets.resolve_group,
-            timestamps,
-        );
+        self.resolve.record_textures(frame, &[accum, low]);
         Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
-        let texel = FORMAT.block_copy_size(None).map_or(16, u64::from);
-        self.targets.width as u64 * self.targets.height as u64 * 3 * texel + self.uniforms.size()
+        self.targets.bytes() + self.uniforms.size()
     }
 
     fn geometry_passes(&self) -> u32 {

@@ -9,13 +9,15 @@
 use super::depth_peel::depth_scale;
 use super::{
     EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, PREMULTIPLIED_OVER,
-    TechniqueInfo, TransparencyGpu, cleared,
+    TechniqueInfo, TransparencyGpu,
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
+use crate::render::eye::passes::Resolve;
+use crate::render::eye::pipelines::replace;
+use crate::render::eye::targets::Textures;
 use crate::render::method::{ParamValues, Role};
-use crate::render::passes::composite::{CompositePass, texture_bind_group, texture_layout};
-use crate::render::targets::{EyeTargets, eye_texture};
+use crate::render::targets::EyeTargets;
 use crate::transparency::opaque::OpaqueParams;
 use crate::transparency::{Compositor, ModelContext};
 
@@ -23,11 +25,7 @@ pub const NEAREST: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 static HAIR: HairEntry = HairEntry {
     entry: "fs_main",
-    targets: &[wgpu::ColorTargetState {
-        format: NEAREST,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    }],
+    targets: &[replace(NEAREST, wgpu::ColorWrites::ALL)],
     depth: EntryDepth::Own,
     geometry: super::HairGeometry::Lines,
 };
@@ -56,28 +54,21 @@ impl EyeTransparency for Opaque {
 
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError> {
         let device = &setup.gpu.device;
-        let layout = texture_layout(device, "hairlab.opaque.resolve_bind_group_layout", 1);
-        // The technique's own depth (the nearest hair), read where the meshes' depth would be.
-        let hair_layout = bindings::layout(
-            device,
-            "hairlab.opaque.hair_layout",
-            &[Binding::MeshDepth, Binding::Uniform],
-        );
-        let scale = bindings::uniform(device, "hairlab.opaque.scale", 16);
-        let resolve = CompositePass::new(
-            device,
-            "hairlab.opaque.resolve",
-            INFO.pass_wgsl[0],
-            &layout,
-            PREMULTIPLIED_OVER,
-        );
-        let targets = Targets::new(device, &layout, setup.width, setup.height);
         Ok(Box::new(OpaqueGpu {
-            layout,
-            hair_layout,
-            scale,
-            resolve,
-            targets,
+            // The technique's own depth (the nearest hair), read where the meshes' depth would be.
+            hair_layout: bindings::layout(
+                device,
+                "hairlab.opaque.hair_layout",
+                &[Binding::MeshDepth, Binding::Uniform],
+            ),
+            scale: bindings::uniform(device, "hairlab.opaque.scale", 16),
+            resolve: Resolve::of_textures(device, INFO.name, INFO.pass_wgsl[0], 1, PREMULTIPLIED_OVER),
+            targets: Textures::new(
+                device,
+                INFO.name,
+                &[("nearest", NEAREST), ("depth", EyeTargets::DEPTH)],
+                (setup.width, setup.height),
+            ),
         }))
     }
 
@@ -86,60 +77,18 @@ impl EyeTransparency for Opaque {
     }
 }
 
-/// The nearest colour and the depth target at one viewport size, and the resolve's bind group.
-struct Targets {
-    nearest: wgpu::TextureView,
-    depth_view: wgpu::TextureView,
-    bind_group: wgpu::BindGroup,
-    width: u32,
-    height: u32,
-}
-
-impl Targets {
-    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, width: u32, height: u32) -> Targets {
-        let nearest = eye_texture(
-            device,
-            "hairlab.opaque.nearest",
-            (width, height),
-            NEAREST,
-            wgpu::TextureUsages::TEXTURE_BINDING,
-            &[],
-        )
-        .create_view(&Default::default());
-        let depth_view = eye_texture(
-            device,
-            "hairlab.opaque.depth",
-            (width, height),
-            EyeTargets::DEPTH,
-            wgpu::TextureUsages::empty(),
-            &[],
-        )
-        .create_view(&Default::default());
-        let bind_group = texture_bind_group(device, "hairlab.opaque.resolve_bind_group", layout, &[&nearest]);
-        Targets {
-            nearest,
-            depth_view,
-            bind_group,
-            width,
-            height,
-        }
-    }
-}
-
 struct OpaqueGpu {
-    layout: wgpu::BindGroupLayout,
     /// Group 2 of the hair entry: the meshes' depth and `1 / S`.
     hair_layout: wgpu::BindGroupLayout,
     scale: wgpu::Buffer,
-    resolve: CompositePass,
-    targets: Targets,
+    resolve: Resolve,
+    /// The nearest colour and the technique's depth.
+    targets: Textures,
 }
 
 impl TransparencyGpu for OpaqueGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        if (self.targets.width, self.targets.height) != (width, height) {
-            self.targets = Targets::new(&gpu.device, &self.layout, width, height);
-        }
+        self.targets.resize(&gpu.device, (width, height));
         Ok(())
     }
 
@@ -159,29 +108,22 @@ impl TransparencyGpu for OpaqueGpu {
             ],
         );
         let t = &self.targets;
-        let attachments = [cleared(&t.nearest, [0.0; 4])];
         frame.draw_hair(
             HairDrawPass {
                 entry: &HAIR,
-                attachments: &attachments,
-                depth: Some((&t.depth_view, Some(1.0))),
+                attachments: &t.cleared(&[[0.0; 4]]),
+                depth: Some((t.view(1), Some(1.0))),
                 group: Some((&self.hair_layout, &group)),
                 rows: None,
             },
             "eye: hair",
         );
-        let timestamps = frame
-            .timer
-            .as_mut()
-            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-        self.resolve
-            .record(&mut frame.encoder, frame.output, &t.bind_group, timestamps);
+        self.resolve.record_textures(frame, &[t.view(0)]);
         Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
-        let texel = NEAREST.block_copy_size(None).unwrap_or(0) + 4;
-        self.targets.width as u64 * self.targets.height as u64 * u64::from(texel)
+        self.targets.bytes()
     }
 
     fn geometry_passes(&self) -> u32 {

@@ -12,15 +12,15 @@
 //! them stay in front is the arrival order too. CPU model: [`crate::transparency::ShortcutParams`].
 
 use super::{
-    ADDITIVE, EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
-    PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu, cleared,
+    EntryDepth, EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry,
+    PREMULTIPLIED_OVER, TechniqueInfo, TransparencyGpu,
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::{self, Binding};
-use crate::render::eye::pipelines::{self, GeometryPass};
+use crate::render::eye::passes::{self, Resolve};
+use crate::render::eye::pipelines::{self, additive, revealage};
+use crate::render::eye::targets::{self, Textures};
 use crate::render::method::{ParamKind, ParamSpec, ParamValues, Role, value};
-use crate::render::passes::composite::CompositePass;
-use crate::render::targets::EyeTargets;
 use crate::transparency::shortcut::K_RANGE;
 use crate::transparency::{Compositor, ModelContext, ShortcutParams};
 use bytemuck::{Pod, Zeroable};
@@ -30,29 +30,9 @@ pub const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Bytes per pixel and kept fragment: a key word and an RGBA32F slot.
 const SLOT_BYTES: u64 = 4 + 16;
 
-const REVEAL: wgpu::BlendComponent = wgpu::BlendComponent {
-    src_factor: wgpu::BlendFactor::Zero,
-    dst_factor: wgpu::BlendFactor::OneMinusSrc,
-    operation: wgpu::BlendOperation::Add,
-};
-
 static HAIR: HairEntry = HairEntry {
     entry: "fs_main",
-    targets: &[
-        wgpu::ColorTargetState {
-            format: TAIL,
-            blend: Some(ADDITIVE),
-            write_mask: wgpu::ColorWrites::ALL,
-        },
-        wgpu::ColorTargetState {
-            format: REVEALAGE,
-            blend: Some(wgpu::BlendState {
-                color: REVEAL,
-                alpha: REVEAL,
-            }),
-            write_mask: wgpu::ColorWrites::RED,
-        },
-    ],
+    targets: &[additive(TAIL, wgpu::ColorWrites::ALL), revealage(REVEALAGE)],
     depth: EntryDepth::Manual,
     geometry: HairGeometry::Lines,
 };
@@ -142,78 +122,30 @@ pub struct ShortcutUniforms {
     pub pad0: u32,
 }
 
-/// The resources of one viewport size and K.
-struct Buffers {
+/// The key words and slots of one viewport size and K.
+struct Slots {
     keys: wgpu::Buffer,
     slots: wgpu::Buffer,
-    tail: wgpu::TextureView,
-    revealage: wgpu::TextureView,
-    resolve_group: wgpu::BindGroup,
-    width: u32,
-    height: u32,
+    size: (u32, u32),
     k: u32,
 }
 
-impl Buffers {
-    fn new(
-        gpu: &Gpu,
-        uniforms: &wgpu::Buffer,
-        resolve_layout: &wgpu::BindGroupLayout,
-        (width, height): (u32, u32),
-        k: u32,
-    ) -> Result<Buffers, GpuError> {
-        let device = &gpu.device;
+impl Slots {
+    fn new(gpu: &Gpu, (width, height): (u32, u32), k: u32) -> Result<Slots, GpuError> {
         let words = width as u64 * height as u64 * k as u64;
-        let binding = device.limits().max_storage_buffer_binding_size;
-        for (what, bytes) in [("key words", words * 4), ("slots", words * 16)] {
+        let buffer = |name, what, bytes| {
             let what = format!("ShortCut's {what} (K = {k}) at {width}x{height}");
-            gpu.check_buffer_size(&what, bytes)?;
-            if bytes > binding {
-                return Err(GpuError::TooLarge {
-                    what,
-                    bytes,
-                    limit: binding,
-                });
-            }
-        }
+            targets::storage(gpu, INFO.name, name, &what, bytes)
+        };
+        let keys = buffer("keys", "key words", words * 4)?;
+        let slots = buffer("slots", "slots", words * 16)?;
         // Key words start empty (all ones) and slots at zero; each resolve resets them for the next frame.
-        let keys = wgpu::util::DeviceExt::create_buffer_init(
-            device,
-            &wgpu::util::BufferInitDescriptor {
-                label: Some("hairlab.shortcut.keys"),
-                contents: &vec![0xff; words.max(1) as usize * 4],
-                usage: wgpu::BufferUsages::STORAGE,
-            },
-        );
-        let slots = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.shortcut.slots"),
-            size: words.max(1) * 16,
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let view = |label, format| bindings::texture(device, label, (width, height), format);
-        let tail = view("hairlab.shortcut.tail", TAIL);
-        let revealage = view("hairlab.shortcut.revealage", REVEALAGE);
-        let resolve_group = bindings::group(
-            device,
-            "hairlab.shortcut.resolve_group",
-            resolve_layout,
-            &[
-                uniforms.as_entire_binding(),
-                keys.as_entire_binding(),
-                slots.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&tail),
-                wgpu::BindingResource::TextureView(&revealage),
-            ],
-        );
-        Ok(Buffers {
+        gpu.queue
+            .write_buffer(&keys, 0, &vec![0xff; keys.size() as usize]);
+        Ok(Slots {
             keys,
             slots,
-            tail,
-            revealage,
-            resolve_group,
-            width,
-            height,
+            size: (width, height),
             k,
         })
     }
@@ -223,102 +155,82 @@ struct ShortcutGpu {
     uniforms: wgpu::Buffer,
     depths_layout: wgpu::BindGroupLayout,
     hair_layout: wgpu::BindGroupLayout,
-    resolve_layout: wgpu::BindGroupLayout,
     depths_pipeline: wgpu::RenderPipeline,
-    resolve: CompositePass,
-    buffers: Buffers,
+    resolve: Resolve,
+    slots: Slots,
+    /// The tail and its revealage.
+    targets: Textures,
 }
 
 impl ShortcutGpu {
     fn new(setup: &EyeSetup) -> Result<ShortcutGpu, GpuError> {
         let device = &setup.gpu.device;
-        let uniforms = bindings::uniform(
-            device,
-            "hairlab.shortcut.uniforms",
-            std::mem::size_of::<ShortcutUniforms>() as u64,
-        );
         use Binding::{MeshDepth, StorageRw, Texture, Uniform};
         let depths_layout = bindings::layout(
             device,
             "hairlab.shortcut.depths_layout",
             &[Uniform, StorageRw, MeshDepth],
         );
-        let hair_layout = bindings::layout(
+        let depths_pipeline = pipelines::storage_pass(
             device,
-            "hairlab.shortcut.hair_layout",
-            &[Uniform, StorageRw, StorageRw, MeshDepth],
-        );
-        let resolve_layout = bindings::layout(
-            device,
-            "hairlab.shortcut.resolve_layout",
-            &[Uniform, StorageRw, StorageRw, Texture, Texture],
-        );
-        let module = crate::render::passes::shader_module(
-            device,
-            "hairlab.shortcut.depths_shader",
+            "hairlab.shortcut.depths",
             INFO.pass_wgsl[0],
-            None,
+            [setup.frame_layout, &depths_layout],
+            HairGeometry::Lines,
         );
-        let depths_pipeline = pipelines::geometry(
-            device,
-            &GeometryPass {
-                label: "hairlab.shortcut.depths_pipeline",
-                module: &module,
-                layouts: &[setup.frame_layout, &depths_layout],
-                geometry: HairGeometry::Lines,
-                fragment: "fs_main",
-                targets: &[Some(EyeTargets::NULL)],
-                // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the atomics.
-                depth: None,
-            },
-        );
-        let resolve = CompositePass::new(
-            device,
-            "hairlab.shortcut.resolve",
-            INFO.pass_wgsl[1],
-            &resolve_layout,
-            PREMULTIPLIED_OVER,
-        );
-        let buffers = Buffers::new(
-            setup.gpu,
-            &uniforms,
-            &resolve_layout,
-            (setup.width, setup.height),
-            ShortcutParams::default().k,
-        )?;
+        let size = (setup.width, setup.height);
         Ok(ShortcutGpu {
-            uniforms,
+            uniforms: bindings::uniform(
+                device,
+                "hairlab.shortcut.uniforms",
+                std::mem::size_of::<ShortcutUniforms>() as u64,
+            ),
             depths_layout,
-            hair_layout,
-            resolve_layout,
+            hair_layout: bindings::layout(
+                device,
+                "hairlab.shortcut.hair_layout",
+                &[Uniform, StorageRw, StorageRw, MeshDepth],
+            ),
             depths_pipeline,
-            resolve,
-            buffers,
+            resolve: Resolve::new(
+                device,
+                INFO.name,
+                INFO.pass_wgsl[1],
+                &[Uniform, StorageRw, StorageRw, Texture, Texture],
+                PREMULTIPLIED_OVER,
+            ),
+            slots: Slots::new(setup.gpu, size, ShortcutParams::default().k)?,
+            targets: Textures::new(
+                device,
+                INFO.name,
+                &[("tail", TAIL), ("revealage", REVEALAGE)],
+                size,
+            ),
         })
     }
 
-    /// Re-creates the buffers for `size` and `k` when either changed.
+    /// Re-creates the key words and slots for `size` and `k` when either changed, and the targets for `size`.
     fn ensure(&mut self, gpu: &Gpu, size: (u32, u32), k: u32) -> Result<(), GpuError> {
-        let b = &self.buffers;
-        if (b.width, b.height, b.k) != (size.0, size.1, k) {
-            self.buffers = Buffers::new(gpu, &self.uniforms, &self.resolve_layout, size, k)?;
+        if (self.slots.size, self.slots.k) != (size, k) {
+            self.slots = Slots::new(gpu, size, k)?;
         }
+        self.targets.resize(&gpu.device, size);
         Ok(())
     }
 }
 
 impl TransparencyGpu for ShortcutGpu {
     fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
-        self.ensure(gpu, (width, height), self.buffers.k)
+        self.ensure(gpu, (width, height), self.slots.k)
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         let p = params(frame.values);
         let k = p.k() as u32;
-        self.ensure(frame.gpu, (self.buffers.width, self.buffers.height), k)?;
+        self.ensure(frame.gpu, self.slots.size, k)?;
         let u = ShortcutUniforms {
             k,
-            width: self.buffers.width,
+            width: self.slots.size.0,
             average_front: u32::from(p.average_front),
             pad0: 0,
         };
@@ -327,64 +239,60 @@ impl TransparencyGpu for ShortcutGpu {
             .queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
         let device = &frame.gpu.device;
-        let b = &self.buffers;
+        let (uniforms, keys, slots) = (
+            self.uniforms.as_entire_binding(),
+            self.slots.keys.as_entire_binding(),
+            self.slots.slots.as_entire_binding(),
+        );
         let mesh_depth = wgpu::BindingResource::TextureView(&frame.targets.depth_view);
         let depths_group = bindings::group(
             device,
             "hairlab.shortcut.depths_group",
             &self.depths_layout,
-            &[
-                self.uniforms.as_entire_binding(),
-                b.keys.as_entire_binding(),
-                mesh_depth.clone(),
-            ],
+            &[uniforms.clone(), keys.clone(), mesh_depth.clone()],
         );
         let hair_group = bindings::group(
             device,
             "hairlab.shortcut.hair_group",
             &self.hair_layout,
-            &[
-                self.uniforms.as_entire_binding(),
-                b.keys.as_entire_binding(),
-                b.slots.as_entire_binding(),
-                mesh_depth,
-            ],
+            &[uniforms.clone(), keys.clone(), slots.clone(), mesh_depth],
         );
-        pipelines::record_line_count(
+        passes::record_line_count(
             frame,
             "hairlab.shortcut.depths_pass",
             "eye: k nearest",
             &self.depths_pipeline,
             &depths_group,
         );
-        // Nothing in the tail, everything revealed.
-        let attachments = [
-            cleared(&b.tail, [0.0; 4]),
-            cleared(&b.revealage, [1.0, 0.0, 0.0, 0.0]),
-        ];
+        let [tail, revealage] = [0, 1].map(|i| self.targets.view(i));
         frame.draw_hair(
             HairDrawPass {
                 entry: &HAIR,
-                attachments: &attachments,
+                // Nothing in the tail, everything revealed.
+                attachments: &self.targets.cleared(&[[0.0; 4], [1.0, 0.0, 0.0, 0.0]]),
                 depth: None,
                 group: Some((&self.hair_layout, &hair_group)),
                 rows: None,
             },
             "eye: hair",
         );
-        let timestamps = frame
-            .timer
-            .as_mut()
-            .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-        self.resolve
-            .record(&mut frame.encoder, frame.output, &b.resolve_group, timestamps);
+        self.resolve.record(
+            frame,
+            &[
+                uniforms,
+                keys,
+                slots,
+                wgpu::BindingResource::TextureView(tail),
+                wgpu::BindingResource::TextureView(revealage),
+            ],
+        );
         Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
-        let b = &self.buffers;
-        let pixels = b.width as u64 * b.height as u64;
-        pixels * (b.k as u64 * SLOT_BYTES + 16 + 4) + self.uniforms.size()
+        let (width, height) = self.slots.size;
+        let pixels = width as u64 * height as u64;
+        pixels * self.slots.k as u64 * SLOT_BYTES + self.targets.bytes() + self.uniforms.size()
     }
 
     fn geometry_passes(&self) -> u32 {

@@ -6,15 +6,12 @@
 //! (`transparency/sorted.wgsl`, the list push), and the resolve (`transparency/sorted_resolve.wgsl`), which
 //! merge-sorts each pixel's nodes. Memory: 4 B/px heads + 4 B/px counts + 32 B per fragment of the largest band.
 
-use super::{
-    EyeFrame, EyeSetup, EyeTransparency, HairDrawPass, HairEntry, HairGeometry, TechniqueInfo,
-    TransparencyGpu,
-};
+use super::{EyeFrame, EyeSetup, EyeTransparency, HairEntry, HairGeometry, TechniqueInfo, TransparencyGpu};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, PixelLists};
-use crate::render::eye::pipelines::{self, GeometryPass};
+use crate::render::eye::passes;
+use crate::render::eye::pipelines;
 use crate::render::method::{ParamValues, Role};
-use crate::render::targets::EyeTargets;
 use crate::transparency::{Compositor, EyeFragment, ModelContext};
 
 pub use crate::render::eye::lists::{EyeNode, NODE_BYTES, SORT_SIZES, resolve_source};
@@ -62,7 +59,6 @@ pub struct SortedGpu {
 
 impl SortedGpu {
     fn new(setup: &EyeSetup) -> Result<SortedGpu, GpuError> {
-        let device = &setup.gpu.device;
         let lists = PixelLists::new(
             setup.gpu,
             setup.frame_layout,
@@ -74,24 +70,12 @@ impl SortedGpu {
                 resolve_extra: &[],
             },
         )?;
-        let module = crate::render::passes::shader_module(
-            device,
-            "hairlab.sorted.count_shader",
+        let count_pipeline = pipelines::storage_pass(
+            &setup.gpu.device,
+            "hairlab.sorted.count",
             INFO.pass_wgsl[0],
-            None,
-        );
-        let count_pipeline = pipelines::geometry(
-            device,
-            &GeometryPass {
-                label: "hairlab.sorted.count_pipeline",
-                module: &module,
-                layouts: &[setup.frame_layout, lists.count_layout()],
-                geometry: HairGeometry::Lines,
-                fragment: "fs_main",
-                targets: &[Some(EyeTargets::NULL)],
-                // The meshes are tested by hand (`common/mesh_depth.wgsl`), before the count's side effects.
-                depth: None,
-            },
+            [setup.frame_layout, lists.count_layout()],
+            HairGeometry::Lines,
         );
         Ok(SortedGpu {
             lists,
@@ -110,7 +94,7 @@ impl TransparencyGpu for SortedGpu {
         let device = &frame.gpu.device;
         let count_group = self.lists.count_group(device, &frame.targets.depth_view);
         self.lists.clear_counts(&mut frame.encoder);
-        pipelines::record_line_count(
+        passes::record_line_count(
             frame,
             "hairlab.sorted.count_pass",
             "eye: count",
@@ -139,28 +123,8 @@ impl TransparencyGpu for SortedGpu {
         let resolve_group = self.lists.resolve_group(&frame.gpu.device, &[]);
         for band in bands {
             self.lists.begin_band(&mut frame.encoder);
-            let null = [frame.targets.null_attachment()];
-            frame.draw_hair(
-                HairDrawPass {
-                    entry: &FILL,
-                    attachments: &null,
-                    depth: None,
-                    group: Some((self.lists.fill_layout(), &fill_group)),
-                    rows: Some(band),
-                },
-                "eye: fill",
-            );
-            let timestamps = frame
-                .timer
-                .as_mut()
-                .and_then(|t| t.pass(crate::gpu::timing::Phase::Resolve, "eye: resolve"));
-            self.lists.resolve(
-                &mut frame.encoder,
-                frame.output,
-                timestamps,
-                band,
-                [frame.frame_bind_group, &resolve_group],
-            );
+            self.lists.fill(frame, &FILL, &fill_group, band, "eye: fill");
+            self.lists.resolve(frame, &resolve_group, band, "eye: resolve");
         }
         Ok(())
     }

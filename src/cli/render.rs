@@ -173,6 +173,12 @@ pub fn render_frames(
         }
         scene.set_strand_points(motion.frame(first)?)?;
     }
+    // Under `light.fit = bound` every frame's hair maps are fitted to the whole motion's box, whichever frames
+    // are rendered.
+    let fit_bound = match settings.light.fit {
+        crate::scene::LightFit::Bound if !motion.is_still() => Some(motion.bound(&settings.motion)?),
+        _ => None,
+    };
     let scene_ms = start.elapsed().as_secs_f64() * 1e3;
     let fur = crate::fur::settings::FurScene::build(&scene, &settings.fur).map_err(anyhow::Error::msg)?;
     for w in fur.iter().flat_map(|f| &f.warnings) {
@@ -180,6 +186,7 @@ pub fn render_frames(
     }
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let mut renderer = Renderer::new(&gpu, &scene, settings.render.map_resolution)?;
+    renderer.set_fit_bound(fit_bound);
     renderer.set_fur(fur.as_ref().map(|f| (f, &settings.fur)))?;
     let method = registry::find(&settings.method.name).map_err(anyhow::Error::msg)?;
     let input = FrameInput {

@@ -200,6 +200,11 @@ pub fn measure_motion_on(
         points.push(motion.frame(k)?.to_vec());
         cpu_ms.push(start.elapsed().as_secs_f64() * 1e3);
     }
+    // Under `light.fit = bound` every frame's hair maps are fitted to the whole motion's box.
+    let fit_bound = match s.light.fit {
+        crate::scene::LightFit::Bound => Some(motion.bound(&s.motion)?),
+        crate::scene::LightFit::PerFrame => None,
+    };
     let sim = match motion {
         crate::motion::Motion::Simulate(sim) => Some(SimCost {
             cpu_ms: median(cpu_ms[1..].to_vec()),
@@ -210,6 +215,7 @@ pub fn measure_motion_on(
     scene.set_strand_points(&points[0])?;
     let res = s.render.map_resolution;
     let mut r = Renderer::new(gpu, &scene, res)?;
+    r.set_fit_bound(fit_bound);
     let analyses = configs
         .iter()
         .map(|c| -> Result<_> {

@@ -2,7 +2,8 @@
 
 use super::{
     BenchResult, DEFAULT_SCALING_SEGMENTS, Progress, ScalingResult, TerminalProgress, parse_methods,
-    parse_metric, prepare_out_dir, run, run_scaling, scaling_configs, write_results, write_scaling,
+    parse_metric, prepare_out_dir, run_each, run_scaling, scaling_configs, write_results, write_scaling,
+    write_tables,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
@@ -100,21 +101,37 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
         }
         return Ok(());
     }
-    let mut result = run(
+    // Ctrl-C stops after the configuration in progress; results.csv and results.json are rewritten whole after
+    // each one.
+    let interrupted = crate::cli::interrupt::flag();
+    let mut write = |partial: &BenchResult| {
+        let mut partial = partial.clone();
+        partial.metric = metric;
+        write_tables(&a.out, &partial).map(|_| ())
+    };
+    let result = run_each(
         &settings,
         &a.preset,
         &methods,
         a.frames,
-        usize::MAX,
-        &never,
+        interrupted,
         &mut progress,
-    )?
-    .context("the bench was cancelled")?;
-    result.metric = metric;
+        &mut write,
+    )?;
     drop(bar);
+    let Some(mut result) = result else {
+        return Err(crate::cli::interrupt::Interrupted { done: 0 }.into());
+    };
+    result.metric = metric;
     print_table(&result);
     for f in write_results(&a.out, &result)? {
         println!("wrote {}", f.display());
+    }
+    if result.cancelled {
+        return Err(crate::cli::interrupt::Interrupted {
+            done: result.rows.len(),
+        }
+        .into());
     }
     Ok(())
 }
@@ -165,16 +182,17 @@ fn print_transparency(b: &super::transparency::TransparencyBench) {
     );
     let front = b.front();
     println!(
-        "{:<40} {:>10} {:>10} {:>8} {:>10} {:>5}  pareto",
-        "configuration", "GPU ms", "hair RMSE", "SSIM", "memory MiB", "geom"
+        "{:<40} {:>10} {:>10} {:>8} {:>9} {:>10} {:>5}  pareto",
+        "configuration", "GPU ms", "hair RMSE", "SSIM", "FLIP hair", "memory MiB", "geom"
     );
     for (i, r) in b.rows.iter().enumerate() {
         println!(
-            "{:<40} {:>10.3} {:>10.5} {:>8.4} {:>10.2} {:>5}  {}",
+            "{:<40} {:>10.3} {:>10.5} {:>8.4} {:>9.4} {:>10.2} {:>5}  {}",
             r.config.label(),
             r.total_ms(),
             r.metrics.rmse_hair,
             r.metrics.ssim_hair,
+            r.metrics.flip.mean_hair,
             r.memory_bytes as f64 / (1024.0 * 1024.0),
             r.geometry_passes,
             if front.contains(&i) { "*" } else { "" }

@@ -91,6 +91,13 @@ pub const METRICS: &[Metric] = &[
         value: |m| m.image_psnr,
     },
     Metric {
+        name: "flip",
+        header: "FLIP",
+        axis: Some("FLIP: mean perceived difference from the reference image"),
+        percent: false,
+        value: |m| m.image_flip,
+    },
+    Metric {
         name: "flicker",
         header: "flicker",
         axis: Some("flicker: frame-to-frame change of V beyond the reference's"),

@@ -4,6 +4,9 @@ use crate::methods::registry;
 use crate::settings::Settings;
 use anyhow::Result;
 use clap::Args;
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::sync::atomic::Ordering;
 
 #[derive(Args, Debug)]
 pub struct MeasureArgs {
@@ -41,6 +44,18 @@ pub struct MeasureArgs {
     /// virtual k = 32, 8, 4, 2.
     #[arg(long = "fur-config", value_name = "BLENDING[:k=K]", requires = "fur")]
     pub fur_configs: Vec<String>,
+    /// Output folder (created): results.csv and results.json, rewritten after each configuration (Ctrl-C stops
+    /// after the one in progress and keeps them), and the speed_vs_accuracy chart, as `bench` writes them;
+    /// transparency.* with --transparency, fur.* with --fur.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Prints the paths of files written.
+fn print_written(files: &[PathBuf]) {
+    for f in files {
+        println!("wrote {}", f.display());
+    }
 }
 
 /// A `--config` with `key=auto` pairs, resolved by the method's analysis to `name:key=value,...`; `None` when
@@ -71,7 +86,7 @@ pub(super) fn auto_config(settings: &Settings, text: &str) -> Result<Option<Stri
 }
 
 pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Result<()> {
-    use crate::measure::transparency::{TechniqueConfig, all_configs, measure};
+    use crate::measure::transparency::{TechniqueConfig, all_configs};
     let configs = if a.techniques.is_empty() {
         all_configs()
     } else {
@@ -80,9 +95,24 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
             .map(|t| TechniqueConfig::parse(t))
             .collect::<Result<_>>()?
     };
-    let (stats, rows) = measure(settings, &configs, a.frames, |what| {
-        eprintln!("measuring {what}…")
-    })?;
+    if let Some(dir) = &a.out {
+        crate::bench::prepare_out_dir(dir)?;
+    }
+    let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
+        crate::gpu::AdapterPreference::Hardware,
+    ))?;
+    let (stats, rows) =
+        crate::measure::transparency::measure_on(&gpu, settings, &configs, a.frames, |what| {
+            eprintln!("measuring {what}…")
+        })?;
+    let bench = crate::bench::transparency::TransparencyBench {
+        preset: a.preset.clone(),
+        device: crate::gpu::describe(&gpu.info),
+        frames: a.frames,
+        stats,
+        rows,
+    };
+    let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
         "preset {}: {} strands, {} segments; view {}x{} (shadows: {}): {} hair pixels, {} fragments, eye depth \
          complexity max {} mean {:.1}",
@@ -104,12 +134,16 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
         .unwrap_or(0)
         .max(9);
     println!(
-        "{:<width$} {:>9} {:>7} {:>9} {:>7} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>6} {:>9} {:>8} {:>5}  passes",
+        "{:<width$} {:>9} {:>7} {:>9} {:>7} {:>7} {:>9} {:>7} {:>7} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>6} {:>9} {:>8} {:>5}  passes",
         "technique",
         "hair RMSE",
         "PSNR",
         "all RMSE",
         "SSIM",
+        "FLIP",
+        "FLIP hair",
+        "F p95",
+        "F p99",
         "max",
         "p99",
         ">1",
@@ -121,17 +155,21 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
         "MiB",
         "geom"
     );
-    for m in &rows {
+    for m in rows {
         let e = &m.metrics;
         let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
         println!(
-            "{:<width$} {:>9.5} {:>7.2} {:>9.5} {:>7.4} {:>6.0} {:>6.0} {:>4.1}% {:>5.1}% {:>5.1}% {:>6.3} {:>6.3} {:>9.3} \
-             {:>8.2} {:>5}  {}",
+            "{:<width$} {:>9.5} {:>7.2} {:>9.5} {:>7.4} {:>7.4} {:>9.4} {:>7.4} {:>7.4} {:>6.0} {:>6.0} {:>4.1}% {:>5.1}% \
+             {:>5.1}% {:>6.3} {:>6.3} {:>9.3} {:>8.2} {:>5}  {}",
             m.config.label(),
             e.rmse_hair,
             e.psnr_hair,
             e.rmse,
             e.ssim_hair,
+            e.flip.mean,
+            e.flip.mean_hair,
+            e.flip.p95_hair,
+            e.flip.p99_hair,
             e.max_error,
             e.p99,
             100.0 * e.share_over[0],
@@ -144,6 +182,9 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
             m.geometry_passes,
             passes.join(", ")
         );
+    }
+    if let Some(dir) = &a.out {
+        print_written(&bench.write(dir)?);
     }
     Ok(())
 }
@@ -161,6 +202,9 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
             .map(|c| FurConfig::parse(c))
             .collect::<Result<_>>()?
     };
+    if let Some(dir) = &a.out {
+        crate::bench::prepare_out_dir(dir)?;
+    }
     let (stats, rows) = measure(settings, &configs, a.frames)?;
     println!(
         "preset {}: {} triangles, {} sub-elements, {} guard hairs; view {}x{}: {} fur pixels; mode {}, \
@@ -175,10 +219,14 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
         settings.fur.mode.word()
     );
     println!(
-        "{:<16} {:>10} {:>8} {:>10} {:>10} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "{:<16} {:>10} {:>8} {:>7} {:>9} {:>7} {:>7} {:>10} {:>10} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10}",
         "blending",
         "RMSE",
         "max",
+        "FLIP",
+        "FLIP fur",
+        "F p95",
+        "F p99",
         "explicit",
         "shell",
         "deepest",
@@ -193,10 +241,15 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
     for r in &rows {
         let t = &r.table;
         println!(
-            "{:<16} {:>10.6} {:>8.5} {:>10} {:>10} {:>7} {:>10.3} {:>10.3} {:>10.3} {:>10.3} {:>10.3}",
+            "{:<16} {:>10.6} {:>8.5} {:>7.4} {:>9.4} {:>7.4} {:>7.4} {:>10} {:>10} {:>7} {:>10.3} {:>10.3} {:>10.3} \
+             {:>10.3} {:>10.3}",
             r.config.label(),
             r.rmse,
             r.max_error,
+            r.flip.mean,
+            r.flip.mean_hair,
+            r.flip.p95_hair,
+            r.flip.p99_hair,
             r.explicit_fragments,
             r.shell_fragments,
             r.deepest,
@@ -213,6 +266,15 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
         stats.height,
         reference.render(None)
     );
+    if let Some(dir) = &a.out {
+        let bench = crate::bench::fur::FurBench {
+            preset: a.preset.clone(),
+            frames: a.frames,
+            stats,
+            rows,
+        };
+        print_written(&bench.write(dir)?);
+    }
     Ok(())
 }
 
@@ -244,9 +306,30 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
     if configs.is_empty() {
         configs = usual_configs();
     }
-    let (stats, rows) = crate::measure::measure(&settings, &configs, a.frames, |what| {
-        eprintln!("measuring {what}…")
-    })?;
+    if let Some(dir) = &a.out {
+        crate::bench::prepare_out_dir(dir)?;
+    }
+    // Ctrl-C stops after the configuration in progress; with --out, results.csv and results.json are rewritten
+    // whole after each one.
+    let interrupted = crate::cli::interrupt::flag();
+    let mut written = Ok(());
+    let (stats, rows) = crate::measure::measure_each(
+        &settings,
+        &configs,
+        a.frames,
+        |what| eprintln!("measuring {what}…"),
+        |stats, so_far| {
+            if let Some(dir) = &a.out {
+                written = crate::bench::write_tables(dir, &bench_result(a, stats, so_far, true)).map(|_| ());
+            }
+            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )?;
+    written?;
     println!(
         "preset {}: {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity max {} mean {:.1}",
         a.preset,
@@ -301,5 +384,35 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
          >0.05, >0.1: share of occupied texels above; \
          build: what the method builds its maps from each frame"
     );
+    let cancelled = rows.len() < configs.len();
+    if let Some(dir) = &a.out {
+        print_written(&crate::bench::write_results(
+            dir,
+            &bench_result(a, &stats, &rows, cancelled),
+        )?);
+    }
+    if cancelled {
+        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
+    }
     Ok(())
+}
+
+/// `measure`'s rows as a bench result, for `bench`'s writers.
+fn bench_result(
+    a: &MeasureArgs,
+    stats: &crate::measure::SceneStats,
+    rows: &[crate::measure::Measurement],
+    cancelled: bool,
+) -> crate::bench::BenchResult {
+    crate::bench::BenchResult {
+        preset: a.preset.clone(),
+        stats: stats.clone(),
+        frames: a.frames,
+        rows: rows
+            .iter()
+            .map(|m| crate::bench::BenchRow::from_measurement(m, "", &stats.device))
+            .collect(),
+        cancelled,
+        metric: crate::bench::DEFAULT_ACCURACY_METRIC,
+    }
 }

@@ -8,47 +8,161 @@ use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
+/// `hairlab measure`: a mode as a subcommand, each with only its own options; today's flags (`measure
+/// --transparency`, `--fur`, or none for the shadow methods) still work, hidden, and print the new spelling.
+/// A new mode is one [`MeasureMode`] variant with its `Args` and a match arm in [`measure`].
 #[derive(Args, Debug)]
+#[command(
+    args_conflicts_with_subcommands = true,
+    after_help = "`hairlab measure` with no mode measures the shadow methods, as `hairlab measure shadows`."
+)]
 pub struct MeasureArgs {
+    #[command(subcommand)]
+    pub mode: Option<MeasureMode>,
+    #[command(flatten)]
+    pub legacy: LegacyMeasureArgs,
+}
+
+#[derive(clap::Subcommand, Debug)]
+pub enum MeasureMode {
+    /// Shadow methods against the exact reference: depth complexity, map error and its spread over the texels,
+    /// shading, image (RMSE, PSNR, FLIP) and flicker errors, GPU time per pass (median), memory, geometry
+    /// passes.
+    Shadows(ShadowsArgs),
+    /// Eye transparency techniques against the exact sorted composite: image metrics over all and hair pixels
+    /// (RMSE, PSNR, SSIM, FLIP, …), GPU ms, memory, geometry passes.
+    Transparency(TransparencyArgs),
+    /// A fur preset's blendings against the fur reference (virtual fragments of one march step, no early
+    /// exit): RMSE of (H, 1 - T) and FLIP over fur pixels, fragments, and the paper's Table 1 for each.
+    Fur(FurArgs),
+}
+
+/// The scene and the timing, shared by every mode.
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
     /// Preset: built-in name, `presets/<name>.toml`, or a path.
     #[arg(long, default_value = "default")]
     pub preset: String,
     /// Override any preset value, e.g. `--set render.map_resolution=512` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Timed frames per configuration (after one warm-up frame).
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ShadowsArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Method configurations `name` or `name:key=value,...` (repeatable); `bom:layers=K,split_ratio=auto` uses
     /// the automatic split ratio. Default: the usual settings of every registered method (OSM 16/64/256, DOM 3/7,
     /// BOM 4/8, DC 4, occupancy).
     #[arg(long = "config", value_name = "METHOD[:K=V,...]")]
     pub configs: Vec<String>,
-    /// Timed frames per configuration (after one warm-up frame).
-    #[arg(long, default_value_t = 5)]
-    pub frames: u32,
-    /// Measure the eye transparency techniques against the exact reference (`sorted`) instead of the shadow
-    /// methods: image metrics over all and hair pixels, GPU ms, memory, geometry passes.
-    #[arg(long)]
-    pub transparency: bool,
-    /// Technique configurations `name` or `name:key=value,...` for `--transparency` (repeatable); default: every
-    /// registered technique.
-    #[arg(
-        long = "technique",
-        value_name = "TECHNIQUE[:K=V,...]",
-        requires = "transparency"
-    )]
-    pub techniques: Vec<String>,
-    /// Measure a fur preset's blendings against the fur reference (virtual fragments of one march step, no
-    /// early exit): RMSE of (H, 1 - T) over fur pixels, fragments, and the paper's Table 1 for each.
-    #[arg(long, conflicts_with = "transparency")]
-    pub fur: bool,
-    /// Blendings for `--fur`: `naive`, `simplified` or `virtual:k=K` (repeatable); default naive, simplified,
-    /// virtual k = 32, 8, 4, 2.
-    #[arg(long = "fur-config", value_name = "BLENDING[:k=K]", requires = "fur")]
-    pub fur_configs: Vec<String>,
     /// Output folder (created): results.csv and results.json, rewritten after each configuration (Ctrl-C stops
-    /// after the one in progress and keeps them), and the speed_vs_accuracy chart, as `bench` writes them;
-    /// transparency.* with --transparency, fur.* with --fur.
+    /// after the one in progress and keeps them), and the speed_vs_accuracy chart, as `bench` writes them.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct TransparencyArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Technique configurations `name` or `name:key=value,...` (repeatable); default: every registered
+    /// technique.
+    #[arg(long = "technique", value_name = "TECHNIQUE[:K=V,...]")]
+    pub techniques: Vec<String>,
+    /// Output folder (created): transparency.csv, transparency.json and the chart, as `bench transparency`
+    /// writes them.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct FurArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Blendings: `naive`, `simplified` or `virtual:k=K` (repeatable); default naive, simplified, virtual
+    /// k = 32, 8, 4, 2.
+    #[arg(long = "fur-config", value_name = "BLENDING[:k=K]")]
+    pub fur_configs: Vec<String>,
+    /// Output folder (created): fur.csv and fur.json, as `bench fur` writes them.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Today's spellings of `measure` (no mode: the shadow methods; `--transparency`; `--fur`), hidden from the help.
+#[derive(Args, Debug)]
+pub struct LegacyMeasureArgs {
+    #[arg(long, default_value = "default", hide = true)]
+    pub preset: String,
+    #[arg(long = "set", value_name = "KEY=VALUE", hide = true)]
+    pub set: Vec<String>,
+    #[arg(long = "config", hide = true, conflicts_with_all = ["transparency", "fur"])]
+    pub configs: Vec<String>,
+    #[arg(long, default_value_t = 5, hide = true)]
+    pub frames: u32,
+    #[arg(long, hide = true)]
+    pub transparency: bool,
+    #[arg(long = "technique", hide = true)]
+    pub techniques: Vec<String>,
+    #[arg(long, conflicts_with = "transparency", hide = true)]
+    pub fur: bool,
+    #[arg(long = "fur-config", hide = true)]
+    pub fur_configs: Vec<String>,
+    #[arg(long, hide = true)]
+    pub out: Option<PathBuf>,
+}
+
+impl LegacyMeasureArgs {
+    /// The mode these flags spell, and the line naming its new spelling (none for plain `measure`); a mode's
+    /// option without its mode flag is refused, naming both.
+    pub fn mode(&self) -> Result<(MeasureMode, Option<&'static str>)> {
+        if !self.techniques.is_empty() && !self.transparency {
+            anyhow::bail!(
+                "--technique needs --transparency (now `hairlab measure transparency --technique …`)"
+            );
+        }
+        if !self.fur_configs.is_empty() && !self.fur {
+            anyhow::bail!("--fur-config needs --fur (now `hairlab measure fur --fur-config …`)");
+        }
+        let scene = SceneArgs {
+            preset: self.preset.clone(),
+            set: self.set.clone(),
+            frames: self.frames,
+        };
+        let out = self.out.clone();
+        if self.transparency {
+            let a = TransparencyArgs {
+                scene,
+                techniques: self.techniques.clone(),
+                out,
+            };
+            Ok((
+                MeasureMode::Transparency(a),
+                Some("`hairlab measure --transparency` is now `hairlab measure transparency`"),
+            ))
+        } else if self.fur {
+            let a = FurArgs {
+                scene,
+                fur_configs: self.fur_configs.clone(),
+                out,
+            };
+            Ok((
+                MeasureMode::Fur(a),
+                Some("`hairlab measure --fur` is now `hairlab measure fur`"),
+            ))
+        } else {
+            let a = ShadowsArgs {
+                scene,
+                configs: self.configs.clone(),
+                out,
+            };
+            Ok((MeasureMode::Shadows(a), None))
+        }
+    }
 }
 
 /// Prints the paths of files written.
@@ -85,7 +199,8 @@ pub(super) fn auto_config(settings: &Settings, text: &str) -> Result<Option<Stri
     Ok(Some(crate::measure::MethodConfig::new(base.name, values).label()))
 }
 
-pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Result<()> {
+pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
+    let settings = &Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     use crate::measure::transparency::{TechniqueConfig, all_configs};
     let configs = if a.techniques.is_empty() {
         all_configs()
@@ -102,13 +217,13 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
         crate::gpu::AdapterPreference::Hardware,
     ))?;
     let (stats, rows) =
-        crate::measure::transparency::measure_on(&gpu, settings, &configs, a.frames, |what| {
+        crate::measure::transparency::measure_on(&gpu, settings, &configs, a.scene.frames, |what| {
             eprintln!("measuring {what}…")
         })?;
     let bench = crate::bench::transparency::TransparencyBench {
-        preset: a.preset.clone(),
+        preset: a.scene.preset.clone(),
         device: crate::gpu::describe(&gpu.info),
-        frames: a.frames,
+        frames: a.scene.frames,
         stats,
         rows,
     };
@@ -116,7 +231,7 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
     println!(
         "preset {}: {} strands, {} segments; view {}x{} (shadows: {}): {} hair pixels, {} fragments, eye depth \
          complexity max {} mean {:.1}",
-        a.preset,
+        a.scene.preset,
         stats.strands,
         stats.segments,
         stats.width,
@@ -189,11 +304,9 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
     Ok(())
 }
 
-pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
+pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
+    let settings = &Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     use crate::measure::fur::{FurConfig, measure, usual_configs};
-    if !a.configs.is_empty() {
-        anyhow::bail!("--config names shadow methods; with --fur use --fur-config");
-    }
     let configs = if a.fur_configs.is_empty() {
         usual_configs()
     } else {
@@ -205,11 +318,11 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
     if let Some(dir) = &a.out {
         crate::bench::prepare_out_dir(dir)?;
     }
-    let (stats, rows) = measure(settings, &configs, a.frames)?;
+    let (stats, rows) = measure(settings, &configs, a.scene.frames)?;
     println!(
         "preset {}: {} triangles, {} sub-elements, {} guard hairs; view {}x{}: {} fur pixels; mode {}, \
          reference virtual k=1 with no early exit",
-        a.preset,
+        a.scene.preset,
         stats.triangles,
         stats.sub_elements,
         stats.strands,
@@ -268,8 +381,8 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
     );
     if let Some(dir) = &a.out {
         let bench = crate::bench::fur::FurBench {
-            preset: a.preset.clone(),
-            frames: a.frames,
+            preset: a.scene.preset.clone(),
+            frames: a.scene.frames,
             stats,
             rows,
         };
@@ -279,17 +392,28 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
 }
 
 pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
-    use crate::measure::{MethodConfig, usual_configs};
-    let settings = Settings::load_preset(&a.preset, &a.set)?;
-    if a.fur {
-        return measure_fur(a, &settings);
-    }
-    if a.transparency {
-        if !a.configs.is_empty() {
-            anyhow::bail!("--config names shadow methods; with --transparency use --technique");
+    let legacy;
+    let mode = match &a.mode {
+        Some(mode) => mode,
+        None => {
+            let (mode, note) = a.legacy.mode()?;
+            if let Some(note) = note {
+                eprintln!("note: {note}");
+            }
+            legacy = mode;
+            &legacy
         }
-        return measure_transparency(a, &settings);
+    };
+    match mode {
+        MeasureMode::Shadows(a) => measure_shadows(a),
+        MeasureMode::Transparency(a) => measure_transparency(a),
+        MeasureMode::Fur(a) => measure_fur(a),
     }
+}
+
+pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
+    use crate::measure::{MethodConfig, usual_configs};
+    let settings = Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     let mut configs = Vec::new();
     for c in &a.configs {
         // `name:...,key=auto`: the method's analysis chooses `key` on this scene (e.g. Bounding Opacity Maps'
@@ -316,7 +440,7 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
     let (stats, rows) = crate::measure::measure_each(
         &settings,
         &configs,
-        a.frames,
+        a.scene.frames,
         |what| eprintln!("measuring {what}…"),
         |stats, so_far| {
             if let Some(dir) = &a.out {
@@ -332,7 +456,7 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
     written?;
     println!(
         "preset {}: {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity max {} mean {:.1}",
-        a.preset,
+        a.scene.preset,
         stats.strands,
         stats.segments,
         stats.map_resolution,
@@ -399,15 +523,15 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
 
 /// `measure`'s rows as a bench result, for `bench`'s writers.
 fn bench_result(
-    a: &MeasureArgs,
+    a: &ShadowsArgs,
     stats: &crate::measure::SceneStats,
     rows: &[crate::measure::Measurement],
     cancelled: bool,
 ) -> crate::bench::BenchResult {
     crate::bench::BenchResult {
-        preset: a.preset.clone(),
+        preset: a.scene.preset.clone(),
         stats: stats.clone(),
-        frames: a.frames,
+        frames: a.scene.frames,
         rows: rows
             .iter()
             .map(|m| crate::bench::BenchRow::from_measurement(m, "", &stats.device))

@@ -600,6 +600,11 @@ fn bench_transparency_writes_every_techniques_sweep_and_the_peel_ratio() {
         stdout.contains("t(depth peel) / t(occupancy order) = "),
         "{stdout}"
     );
+    assert!(
+        stderr(&o).contains("note: `hairlab bench --transparency` is now `hairlab bench transparency`"),
+        "{}",
+        stderr(&o)
+    );
     let csv = std::fs::read_to_string(out.join("transparency.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
@@ -706,7 +711,7 @@ fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let mut args = vec!["bench", "--preset", "default", "--methods", "osm"];
+    let mut args = vec!["bench", "shadows", "--preset", "default", "--methods", "osm"];
     args.extend_from_slice(TINY);
     args.extend(["--frames", "40", "--out", out.to_str().unwrap()]);
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
@@ -719,7 +724,12 @@ fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
     // The first configuration's rows are written; then Ctrl-C.
     let csv = out.join("results.csv");
     let start = std::time::Instant::now();
+    let mut child = child;
     while !csv.exists() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "hairlab ended before writing results.csv"
+        );
         assert!(start.elapsed().as_secs() < 600, "no results.csv after 10 minutes");
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
@@ -749,7 +759,8 @@ fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
     let errors = error_lines(&o);
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
-        errors[0].contains("interrupted") && errors[0].contains(&format!("after {} configurations", rows.len())),
+        errors[0].contains("interrupted")
+            && errors[0].contains(&format!("after {} configurations", rows.len())),
         "{errors:?}"
     );
 }
@@ -762,13 +773,23 @@ fn measure_out_writes_results_like_bench() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("m");
-    let mut args = vec!["measure", "--config", "osm:slices=16", "--config", "osm:slices=64"];
+    let mut args = vec![
+        "measure",
+        "shadows",
+        "--config",
+        "osm:slices=16",
+        "--config",
+        "osm:slices=64",
+    ];
     args.extend_from_slice(TINY);
     args.extend(["--frames", "1", "--out", out.to_str().unwrap()]);
     let o = hairlab(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let (header, rows) = read_csv(&out.join("results.csv"));
-    let labels: Vec<&str> = rows.iter().map(|r| r[column(&header, "label")].as_str()).collect();
+    let labels: Vec<&str> = rows
+        .iter()
+        .map(|r| r[column(&header, "label")].as_str())
+        .collect();
     assert_eq!(labels, ["osm:slices=16", "osm:slices=64"]);
     for f in ["results.json", "speed_vs_accuracy.png", "speed_vs_accuracy.svg"] {
         assert!(out.join(f).is_file(), "{f}");

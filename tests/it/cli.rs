@@ -1,7 +1,7 @@
 //! The command line as a user runs it: success paths write whole files; bad input gives one error line naming
 //! the file and the problem, a non-zero exit, and no output file.
 
-use crate::common::cli::{assert_fails, hairlab, stderr};
+use crate::common::cli::{assert_fails, error_lines, hairlab, stderr};
 use clap::ValueEnum;
 use hairlab::scene::generate::{GenKind, GenParams, HairStyle, generate};
 use hairlab::scene::hair::read_hair_file;
@@ -840,6 +840,24 @@ fn hairlab_80(args: &[&str]) -> std::process::Output {
         .expect("run hairlab")
 }
 
+/// Every help page: `hairlab`'s and each subcommand's and mode's, as argument lists.
+fn help_pages() -> Vec<Vec<String>> {
+    use clap::CommandFactory;
+    fn walk(cmd: &clap::Command, path: &[String], out: &mut Vec<Vec<String>>) {
+        let mut page = path.to_vec();
+        page.push("--help".to_string());
+        out.push(page);
+        for sub in cmd.get_subcommands().filter(|c| c.get_name() != "help") {
+            let mut next = path.to_vec();
+            next.push(sub.get_name().to_string());
+            walk(sub, &next, out);
+        }
+    }
+    let mut out = Vec::new();
+    walk(&hairlab::cli::Cli::command(), &[], &mut out);
+    out
+}
+
 /// The subcommands `hairlab --help` lists.
 fn subcommands() -> Vec<String> {
     use clap::CommandFactory;
@@ -852,9 +870,14 @@ fn subcommands() -> Vec<String> {
 
 #[test]
 fn every_help_page_fits_80_columns_and_names_the_environment() {
-    let mut pages = vec![vec!["--help".to_string()]];
-    pages.extend(subcommands().into_iter().map(|s| vec![s, "--help".to_string()]));
-    assert!(pages.len() > 10, "{pages:?}");
+    let pages = help_pages();
+    for mode in [
+        ["measure", "shadows"],
+        ["bench", "transparency"],
+        ["bench", "scaling"],
+    ] {
+        assert!(pages.iter().any(|p| p.len() > 2 && p[..2] == mode), "{pages:?}");
+    }
     for page in &pages {
         let args: Vec<&str> = page.iter().map(String::as_str).collect();
         let o = hairlab_80(&args);
@@ -945,4 +968,82 @@ fn adapter_flag_chooses_by_name_and_names_an_unknown_one() {
     }
     let o = hairlab(&["--adapter", "no-such-gpu-xyz", "measure", "--frames", "1"]);
     assert_fails(&o, &["no-such-gpu-xyz", "hairlab adapters"]);
+}
+
+#[test]
+fn mode_help_pages_list_only_their_own_options() {
+    let page = |args: &[&str]| String::from_utf8_lossy(&hairlab_80(args).stdout).into_owned();
+    let shadows = page(&["measure", "shadows", "--help"]);
+    assert!(
+        shadows.contains("--config") && shadows.contains("--out"),
+        "{shadows}"
+    );
+    for other in ["--technique", "--fur-config", "--transparency", "--fur "] {
+        assert!(
+            !shadows.contains(other),
+            "measure shadows lists {other}: {shadows}"
+        );
+    }
+    let eye = page(&["bench", "transparency", "--help"]);
+    assert!(eye.contains("--out") && eye.contains("--frames"), "{eye}");
+    for other in ["--metric", "--methods", "--max-segments", "--scaling"] {
+        assert!(!eye.contains(other), "bench transparency lists {other}: {eye}");
+    }
+    let measure = page(&["measure", "--help"]);
+    for mode in ["shadows", "transparency", "fur"] {
+        assert!(measure.contains(mode), "{measure}");
+    }
+}
+
+#[test]
+fn conflicting_and_ignored_flags_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b");
+    let out = out.to_str().unwrap();
+    // A mode's page has no other mode's options.
+    assert_fails(
+        &hairlab(&["measure", "fur", "--technique", "wboit"]),
+        &["--technique"],
+    );
+    assert_fails(
+        &hairlab(&["bench", "transparency", "--metric", "flip", "--out", out]),
+        &["--metric"],
+    );
+    // Today's flags: what the chosen mode would ignore is refused, naming both flags.
+    assert_fails(
+        &hairlab(&["bench", "--scaling", "--metric", "flip", "--out", out]),
+        &["--metric", "--scaling"],
+    );
+    assert_fails(
+        &hairlab(&["bench", "--transparency", "--methods", "osm", "--out", out]),
+        &["--methods", "--transparency"],
+    );
+    assert_fails(
+        &hairlab(&["bench", "--max-segments", "1000", "--out", out]),
+        &["--max-segments", "--scaling"],
+    );
+    assert_fails(
+        &hairlab(&["measure", "--fur", "--config", "osm:slices=16"]),
+        &["--config", "--fur"],
+    );
+    assert_fails(
+        &hairlab(&["measure", "--technique", "wboit"]),
+        &["--technique", "--transparency"],
+    );
+    assert!(!Path::new(out).exists(), "nothing written");
+}
+
+#[test]
+fn old_mode_flags_still_run_and_name_the_new_spelling() {
+    // `default` has no fur: both spellings fail the same way, the old one after naming the new.
+    let old = hairlab(&["measure", "--fur"]);
+    let new = hairlab(&["measure", "fur"]);
+    assert_eq!(error_lines(&old), error_lines(&new));
+    assert_fails(&new, &["fur.mode is off"]);
+    assert!(
+        stderr(&old).contains("note: `hairlab measure --fur` is now `hairlab measure fur`"),
+        "{}",
+        stderr(&old)
+    );
+    assert!(!stderr(&new).contains("note:"), "{}", stderr(&new));
 }

@@ -701,20 +701,32 @@ fn fur_bench_writes_every_blending_with_table_1() {
     assert_eq!(json["time_rows"].as_array().unwrap().len(), 7);
 }
 
-/// Ctrl-C (SIGINT to the `hairlab` process) stops `bench` after the configuration in progress: results.csv and
-/// results.json hold every finished configuration, whole and in sweep order, and the run exits 130 saying how
-/// many.
+/// Ctrl-C (SIGINT to the `hairlab` process) stops `bench shadows` and `measure shadows` after the configuration
+/// in progress: results.csv and results.json hold every finished configuration, whole and in order, and the run
+/// exits 130 saying how many.
 #[test]
 fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
     if Gpu::for_tests().is_none() {
         return;
     }
+    let sweep = [4, 8, 16, 32, 64, 128, 256].map(|n| format!("osm:slices={n}"));
+    sigint_after_the_first_row(&["bench", "shadows", "--methods", "osm"], &sweep);
+    let mut measure = vec!["measure", "shadows"];
+    for c in &sweep {
+        measure.extend(["--config", c.as_str()]);
+    }
+    sigint_after_the_first_row(&measure, &sweep);
+}
+
+/// Runs `hairlab ARGS` (the tiny scene, 40 timed frames, `--out`) until results.csv appears, sends SIGINT, and
+/// checks what it left: fewer rows than `labels`, each whole, in that order.
+fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let mut args = vec!["bench", "shadows", "--preset", "default", "--methods", "osm"];
+    let mut args = args.to_vec();
     args.extend_from_slice(TINY);
     args.extend(["--frames", "40", "--out", out.to_str().unwrap()]);
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
         .args(&args)
         .env("RUST_LOG", "warn")
         .stdout(std::process::Stdio::piped())
@@ -724,7 +736,6 @@ fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
     // The first configuration's rows are written; then Ctrl-C.
     let csv = out.join("results.csv");
     let start = std::time::Instant::now();
-    let mut child = child;
     while !csv.exists() {
         assert!(
             child.try_wait().unwrap().is_none(),
@@ -739,14 +750,13 @@ fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
         .unwrap();
     assert!(kill.success());
     let o = child.wait_with_output().unwrap();
-    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(130), "{args:?}: {}", stderr(&o));
     let (header, rows) = read_csv(&csv);
-    let sweep = [4, 8, 16, 32, 64, 128, 256].map(|n| format!("osm:slices={n}"));
     assert!(
-        !rows.is_empty() && rows.len() < sweep.len(),
+        !rows.is_empty() && rows.len() < labels.len(),
         "stopped after the configuration in progress: {rows:?}"
     );
-    for (r, expected) in rows.iter().zip(&sweep) {
+    for (r, expected) in rows.iter().zip(labels) {
         assert_eq!(r.len(), header.len(), "a whole row: {r:?}");
         assert_eq!(&r[column(&header, "label")], expected);
         let error: f64 = r[column(&header, "map_error")].parse().unwrap();

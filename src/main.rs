@@ -14,6 +14,9 @@ fn main() -> ExitCode {
         .filter_module("eframe", log::LevelFilter::Warn)
         .init();
     let cli = Cli::parse();
+    if let Some(adapter) = &cli.adapter {
+        hairlab::gpu::set_adapter_choice(adapter);
+    }
     if cli.command.is_some()
         && std::env::var_os("XDG_RUNTIME_DIR").is_none()
         && std::env::var_os("NODEVICE_SELECT").is_none()
@@ -27,6 +30,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<hairlab::cli::interrupt::Interrupted>() => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(hairlab::cli::interrupt::EXIT_CODE)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
@@ -52,14 +59,23 @@ fn open_window(preset: Option<String>, overrides: &[String]) -> anyhow::Result<(
 /// print "XDG_RUNTIME_DIR is invalid or not set" (twice) on every GPU run. Choosing the GPU that drives a display
 /// means nothing without one, so the command runs again with the layer switched off (`NODEVICE_SELECT=1`; the
 /// environment cannot be changed safely inside a running process). Returns its exit code, or `None` when it could
-/// not be started (the command then runs here, noise and all).
+/// not be started (the command then runs here, noise and all). A SIGINT sent to this process alone is passed on
+/// to the command (Ctrl-C on a terminal reaches both), which stops cleanly (`hairlab::cli::interrupt`).
 fn rerun_without_device_select() -> Option<ExitCode> {
     let exe = std::env::current_exe().ok()?;
-    let status = std::process::Command::new(exe)
+    let mut child = std::process::Command::new(exe)
         .args(std::env::args_os().skip(1))
         .env("NODEVICE_SELECT", "1")
-        .status()
+        .spawn()
         .ok()?;
+    let pid = child.id().to_string();
+    let forward = move || {
+        let _ = std::process::Command::new("kill").args(["-INT", &pid]).status();
+    };
+    if let Err(e) = ctrlc::set_handler(forward) {
+        log::warn!("Ctrl-C will not reach the command: {e}");
+    }
+    let status = child.wait().ok()?;
     Some(match status.code() {
         Some(0) => ExitCode::SUCCESS,
         Some(c) => ExitCode::from(u8::try_from(c).unwrap_or(1)),

@@ -560,7 +560,7 @@ fn metrics_grid(ui: &mut egui::Ui, frames: &CompareFrames) {
                 ui.strong(format!("{} · {}", k + 1, img.label));
             }
             ui.end_row();
-            let rows: [MetricRow; 12] = [
+            let rows: [MetricRow; 16] = [
                 ("RMSE all", |m| format!("{:.5}", m.rmse)),
                 ("PSNR all dB", |m| format!("{:.2}", m.psnr)),
                 ("RMSE hair", |m| format!("{:.5}", m.rmse_hair)),
@@ -573,6 +573,10 @@ fn metrics_grid(ui: &mut egui::Ui, frames: &CompareFrames) {
                 ("> 4/255", |m| format!("{:.2} %", 100.0 * m.share_over[1])),
                 ("> 8/255", |m| format!("{:.2} %", 100.0 * m.share_over[2])),
                 ("contrast retention", |m| format!("{:.3}", m.contrast_retention)),
+                ("FLIP all", |m| format!("{:.4}", m.flip.mean)),
+                ("FLIP hair", |m| format!("{:.4}", m.flip.mean_hair)),
+                ("FLIP hair p95", |m| format!("{:.4}", m.flip.p95_hair)),
+                ("FLIP hair p99", |m| format!("{:.4}", m.flip.p99_hair)),
             ];
             for (name, value) in rows {
                 ui.label(name);

@@ -2,22 +2,69 @@
 
 use super::{
     BenchResult, DEFAULT_SCALING_SEGMENTS, Progress, ScalingResult, TerminalProgress, parse_methods,
-    parse_metric, prepare_out_dir, run, run_scaling, scaling_configs, write_results, write_scaling,
+    parse_metric, prepare_out_dir, run_each, run_scaling, scaling_configs, write_results, write_scaling,
+    write_tables,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
-/// The `bench` subcommand's arguments.
+/// `hairlab bench`: a mode as a subcommand, each with only its own options; today's flags (`bench --scaling`,
+/// `--transparency`, `--fur`, or none for the shadow methods' sweep) still work, hidden, and print the new
+/// spelling.
 #[derive(clap::Args, Debug)]
+#[command(
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true,
+    after_help = "`hairlab bench --out DIR` with no mode sweeps the shadow methods, as `hairlab bench shadows`."
+)]
 pub struct BenchArgs {
+    #[command(subcommand)]
+    pub mode: Option<BenchMode>,
+    #[command(flatten)]
+    pub legacy: LegacyBenchArgs,
+}
+
+#[derive(clap::Subcommand, Debug)]
+pub enum BenchMode {
+    /// Sweep every method's parameters and chart GPU time against an accuracy metric: results.csv,
+    /// results.json, speed_vs_accuracy.png/.svg (Pareto front marked).
+    Shadows(ShadowsBenchArgs),
+    /// Every eye transparency technique's sweep against the exact sorted composite (GPU ms of its own passes
+    /// against hair-pixel RMSE), and the speed ratio of depth peeling to occupancy ordering: transparency.csv,
+    /// transparency.json, transparency_speed_vs_accuracy.png/.svg.
+    Transparency(ModeBenchArgs),
+    /// A fur preset's blendings against the fur reference (`measure fur`'s rows): fur.csv and fur.json, with
+    /// the paper's Table 1 rows per blending.
+    Fur(ModeBenchArgs),
+    /// Each method's scaling configurations timed (light passes only) over the strand density from × 0.25,
+    /// doubled until the scene has --max-segments segments (and at least to × 4); GPU ms per segment fitted
+    /// with R²: scaling.csv, scaling_points.csv, scaling.png, scaling.svg.
+    Scaling(ScalingBenchArgs),
+}
+
+/// The scene, the timing and the output folder, shared by every mode.
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchScene {
     /// Preset: built-in name, `presets/<name>.toml`, or a path.
     #[arg(long, default_value = "default")]
     pub preset: String,
     /// Override any preset value, e.g. `--set render.map_resolution=256` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Timed frames per configuration (after one warm-up frame).
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
+    /// Output folder (created).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct ShadowsBenchArgs {
+    #[command(flatten)]
+    pub scene: BenchScene,
     /// Methods to sweep, comma-separated (default: every registered method with a sweep; an unknown name is
     /// answered with the list).
     #[arg(long, value_delimiter = ',', value_name = "METHOD,...")]
@@ -27,46 +74,144 @@ pub struct BenchArgs {
     #[arg(long, default_value = super::DEFAULT_ACCURACY_METRIC,
           value_parser = clap::builder::PossibleValuesParser::new(super::accuracy_metrics().map(|(n, _)| n)))]
     pub metric: String,
-    /// Timed frames per configuration (after one warm-up frame).
-    #[arg(long, default_value_t = 5)]
-    pub frames: u32,
-    /// Scaling mode: each method's scaling configurations timed (light passes only) over the strand density
-    /// from × 0.25, doubled until the scene has --max-segments segments (and at least to × 4); fitted GPU ms
-    /// per segment with R² (writes scaling.csv, scaling_points.csv, scaling.png, scaling.svg).
-    #[arg(long)]
-    pub scaling: bool,
-    /// Eye transparency mode: every technique's sweep against the exact sorted composite on the preset's view
-    /// (GPU ms of its own passes against hair-pixel RMSE; writes transparency.csv, transparency.json,
-    /// transparency_speed_vs_accuracy.png/.svg) and the speed ratio of depth peeling to occupancy ordering.
-    #[arg(long, conflicts_with = "scaling")]
-    pub transparency: bool,
-    /// Measure a fur preset's blendings against the fur reference (`measure --fur`'s rows) into `fur.csv` and
-    /// `fur.json`: error, fragments and the paper's Table 1 rows per blending.
-    #[arg(long, conflicts_with_all = ["scaling", "transparency"])]
-    pub fur: bool,
-    /// The segment count the scaling mode reaches.
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct ModeBenchArgs {
+    #[command(flatten)]
+    pub scene: BenchScene,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct ScalingBenchArgs {
+    #[command(flatten)]
+    pub scene: BenchScene,
+    /// Methods whose scaling configurations are timed, comma-separated (default: all).
+    #[arg(long, value_delimiter = ',', value_name = "METHOD,...")]
+    pub methods: Vec<String>,
+    /// The segment count the densities reach.
     #[arg(long, default_value_t = DEFAULT_SCALING_SEGMENTS)]
     pub max_segments: usize,
-    /// Output folder (created): results.csv, results.json, speed_vs_accuracy.png, speed_vs_accuracy.svg.
-    #[arg(long)]
-    pub out: PathBuf,
+}
+
+/// Today's spellings of `bench`, hidden from the help; every mode runs through them. A flag that the chosen
+/// mode would ignore is refused, naming both.
+#[derive(clap::Args, Debug, Clone)]
+pub struct LegacyBenchArgs {
+    #[arg(long, default_value = "default", hide = true)]
+    pub preset: String,
+    #[arg(long = "set", hide = true)]
+    pub set: Vec<String>,
+    #[arg(long, value_delimiter = ',', hide = true, conflicts_with_all = ["transparency", "fur"])]
+    pub methods: Vec<String>,
+    #[arg(long, default_value = super::DEFAULT_ACCURACY_METRIC, hide = true,
+          conflicts_with_all = ["scaling", "transparency", "fur"],
+          value_parser = clap::builder::PossibleValuesParser::new(super::accuracy_metrics().map(|(n, _)| n)))]
+    pub metric: String,
+    #[arg(long, default_value_t = 5, hide = true)]
+    pub frames: u32,
+    #[arg(long, hide = true)]
+    pub scaling: bool,
+    #[arg(long, conflicts_with = "scaling", hide = true)]
+    pub transparency: bool,
+    #[arg(long, conflicts_with_all = ["scaling", "transparency"], hide = true)]
+    pub fur: bool,
+    #[arg(long, hide = true)]
+    pub max_segments: Option<usize>,
+    #[arg(long, hide = true, required = true)]
+    pub out: Option<PathBuf>,
+}
+
+impl LegacyBenchArgs {
+    fn of(scene: &BenchScene) -> LegacyBenchArgs {
+        LegacyBenchArgs {
+            preset: scene.preset.clone(),
+            set: scene.set.clone(),
+            methods: Vec::new(),
+            metric: super::DEFAULT_ACCURACY_METRIC.to_string(),
+            frames: scene.frames,
+            scaling: false,
+            transparency: false,
+            fur: false,
+            max_segments: None,
+            out: Some(scene.out.clone()),
+        }
+    }
+
+    /// The line naming the new spelling of these flags (none for the plain sweep).
+    fn note(&self) -> Option<&'static str> {
+        if self.scaling {
+            Some("`hairlab bench --scaling` is now `hairlab bench scaling`")
+        } else if self.transparency {
+            Some("`hairlab bench --transparency` is now `hairlab bench transparency`")
+        } else if self.fur {
+            Some("`hairlab bench --fur` is now `hairlab bench fur`")
+        } else {
+            None
+        }
+    }
+}
+
+impl BenchMode {
+    /// The mode as the flags that run it.
+    fn flags(&self) -> LegacyBenchArgs {
+        match self {
+            BenchMode::Shadows(a) => LegacyBenchArgs {
+                methods: a.methods.clone(),
+                metric: a.metric.clone(),
+                ..LegacyBenchArgs::of(&a.scene)
+            },
+            BenchMode::Transparency(a) => LegacyBenchArgs {
+                transparency: true,
+                ..LegacyBenchArgs::of(&a.scene)
+            },
+            BenchMode::Fur(a) => LegacyBenchArgs {
+                fur: true,
+                ..LegacyBenchArgs::of(&a.scene)
+            },
+            BenchMode::Scaling(a) => LegacyBenchArgs {
+                scaling: true,
+                methods: a.methods.clone(),
+                max_segments: Some(a.max_segments),
+                ..LegacyBenchArgs::of(&a.scene)
+            },
+        }
+    }
 }
 
 /// `hairlab bench`.
-pub fn run_cli(a: &BenchArgs) -> Result<()> {
+pub fn run_cli(args: &BenchArgs) -> Result<()> {
+    let a = match &args.mode {
+        Some(mode) => mode.flags(),
+        None => {
+            if args.legacy.max_segments.is_some() && !args.legacy.scaling {
+                bail!("--max-segments needs --scaling (now `hairlab bench scaling --max-segments N`)");
+            }
+            if let Some(note) = args.legacy.note() {
+                eprintln!("note: {note}");
+            }
+            args.legacy.clone()
+        }
+    };
+    let a = &a;
+    let out = a
+        .out
+        .clone()
+        .context("--out DIR: the output folder is required")?;
+    let max_segments = a.max_segments.unwrap_or(DEFAULT_SCALING_SEGMENTS);
     let methods = parse_methods(&a.methods)?;
     let metric = parse_metric(&a.metric).map_err(|e| anyhow::anyhow!("--metric: {e}"))?;
     if !(1..=1000).contains(&a.frames) {
         bail!("--frames must be in 1..=1000 (got {})", a.frames);
     }
     let settings = Settings::load_preset(&a.preset, &a.set)?;
-    prepare_out_dir(&a.out)?;
+    prepare_out_dir(&out)?;
     let never = AtomicBool::new(false);
     let mut bar = TerminalProgress::new();
     let mut progress = |p: Progress| bar.update(&p);
     if a.fur {
         let b = super::fur::FurBench::run(&settings, &a.preset, a.frames)?;
-        for f in b.write(&a.out)? {
+        for f in b.write(&out)? {
             println!("wrote {}", f.display());
         }
         return Ok(());
@@ -76,7 +221,7 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
             eprintln!("measuring {what}…")
         })?;
         print_transparency(&b);
-        for f in b.write(&a.out)? {
+        for f in b.write(&out)? {
             println!("wrote {}", f.display());
         }
         return Ok(());
@@ -88,33 +233,49 @@ pub fn run_cli(a: &BenchArgs) -> Result<()> {
             &a.preset,
             &configs,
             a.frames,
-            a.max_segments,
+            max_segments,
             &never,
             &mut progress,
         )?
         .context("the scaling run was cancelled")?;
         drop(bar);
         print_scaling(&r);
-        for f in write_scaling(&a.out, &r)? {
+        for f in write_scaling(&out, &r)? {
             println!("wrote {}", f.display());
         }
         return Ok(());
     }
-    let mut result = run(
+    // Ctrl-C stops after the configuration in progress; results.csv and results.json are rewritten whole after
+    // each one.
+    let interrupted = crate::cli::interrupt::flag();
+    let mut write = |partial: &BenchResult| {
+        let mut partial = partial.clone();
+        partial.metric = metric;
+        write_tables(&out, &partial).map(|_| ())
+    };
+    let result = run_each(
         &settings,
         &a.preset,
         &methods,
         a.frames,
-        usize::MAX,
-        &never,
+        interrupted,
         &mut progress,
-    )?
-    .context("the bench was cancelled")?;
-    result.metric = metric;
+        &mut write,
+    )?;
     drop(bar);
+    let Some(mut result) = result else {
+        return Err(crate::cli::interrupt::Interrupted { done: 0 }.into());
+    };
+    result.metric = metric;
     print_table(&result);
-    for f in write_results(&a.out, &result)? {
+    for f in write_results(&out, &result)? {
         println!("wrote {}", f.display());
+    }
+    if result.cancelled {
+        return Err(crate::cli::interrupt::Interrupted {
+            done: result.rows.len(),
+        }
+        .into());
     }
     Ok(())
 }
@@ -165,16 +326,17 @@ fn print_transparency(b: &super::transparency::TransparencyBench) {
     );
     let front = b.front();
     println!(
-        "{:<40} {:>10} {:>10} {:>8} {:>10} {:>5}  pareto",
-        "configuration", "GPU ms", "hair RMSE", "SSIM", "memory MiB", "geom"
+        "{:<40} {:>10} {:>10} {:>8} {:>9} {:>10} {:>5}  pareto",
+        "configuration", "GPU ms", "hair RMSE", "SSIM", "FLIP hair", "memory MiB", "geom"
     );
     for (i, r) in b.rows.iter().enumerate() {
         println!(
-            "{:<40} {:>10.3} {:>10.5} {:>8.4} {:>10.2} {:>5}  {}",
+            "{:<40} {:>10.3} {:>10.5} {:>8.4} {:>9.4} {:>10.2} {:>5}  {}",
             r.config.label(),
             r.total_ms(),
             r.metrics.rmse_hair,
             r.metrics.ssim_hair,
+            r.metrics.flip.mean_hair,
             r.memory_bytes as f64 / (1024.0 * 1024.0),
             r.geometry_passes,
             if front.contains(&i) { "*" } else { "" }

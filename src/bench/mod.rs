@@ -28,12 +28,15 @@ pub use chart::{CHART_SIZE, method_color, scaling_chart, speed_accuracy_chart};
 pub use cli::{BenchArgs, run_cli};
 pub use report::{
     prepare_out_dir, scaling_csv, scaling_points_csv, to_csv, to_json, write_results, write_scaling,
+    write_tables,
 };
 pub use result::{
     BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, METRICS, Metric, ScalingFit, ScalingPoint,
     ScalingRefusal, ScalingResult, accuracy_metrics, error_metrics, frame_totals, metric_axis, parse_metric,
 };
-pub use run::{Progress, TerminalProgress, measure_configs, run, run_scaling};
+pub use run::{
+    Progress, TerminalProgress, measure_configs, measure_configs_each, run, run_each, run_scaling,
+};
 pub use stats::{Spread, fit_line, pareto_front};
 pub use sweep::{
     BenchConfig, DEFAULT_SCALING_SEGMENTS, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,

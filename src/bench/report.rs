@@ -277,6 +277,18 @@ pub(crate) fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<V
     Ok(out)
 }
 
+/// Writes `results.csv` and `results.json` into `dir` (created), each atomically: what a run writes after each
+/// configuration, so that an interrupted run leaves every finished one.
+pub fn write_tables(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
+    write_files(
+        dir,
+        vec![
+            ("results.csv".to_string(), to_csv(result)?.into_bytes()),
+            ("results.json".to_string(), to_json(result)?.into_bytes()),
+        ],
+    )
+}
+
 /// Writes `results.csv`, `results.json`, `speed_vs_accuracy.png` and `speed_vs_accuracy.svg` into `dir`
 /// (created), each atomically; returns their paths.
 pub fn write_results(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {

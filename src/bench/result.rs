@@ -91,6 +91,13 @@ pub const METRICS: &[Metric] = &[
         value: |m| m.image_psnr,
     },
     Metric {
+        name: "flip",
+        header: "FLIP",
+        axis: Some("FLIP: mean perceived difference from the reference image"),
+        percent: false,
+        value: |m| m.image_flip,
+    },
+    Metric {
         name: "light_turn_flicker",
         header: "lt flicker",
         axis: Some("light-turn flicker: frame-to-frame change of V beyond the reference's"),

@@ -1,5 +1,5 @@
-//! Running the bench: the configurations measured in chunks (cancellable between chunks), the scaling mode's
-//! densities, and progress reports (a bar on the terminal).
+//! Running the bench: the configurations measured in chunks (cancellable between configurations), the scaling
+//! mode's densities, and progress reports (a bar on the terminal).
 
 use super::{
     BenchConfig, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,
@@ -22,7 +22,8 @@ pub struct Progress {
 }
 
 /// Measures `configs` on `settings`' scene, `chunk` configurations per `measure` call (each call renders the
-/// reference again; cancelling takes effect between calls). `None` when cancelled before any row.
+/// reference again; cancelling takes effect after the configuration in progress). `None` when cancelled before
+/// any row.
 pub fn measure_configs(
     settings: &Settings,
     preset: &str,
@@ -31,6 +32,29 @@ pub fn measure_configs(
     chunk: usize,
     cancel: &AtomicBool,
     progress: &mut dyn FnMut(Progress),
+) -> Result<Option<BenchResult>> {
+    measure_configs_each(
+        settings,
+        preset,
+        configs,
+        frames,
+        chunk,
+        cancel,
+        progress,
+        &mut |_| Ok(()),
+    )
+}
+
+/// [`measure_configs`], handing the result so far to `finished` after each configuration (to write it).
+pub fn measure_configs_each(
+    settings: &Settings,
+    preset: &str,
+    configs: &[BenchConfig],
+    frames: u32,
+    chunk: usize,
+    cancel: &AtomicBool,
+    progress: &mut dyn FnMut(Progress),
+    finished: &mut dyn FnMut(&BenchResult) -> Result<()>,
 ) -> Result<Option<BenchResult>> {
     let start = Instant::now();
     let total = configs.len();
@@ -43,18 +67,50 @@ pub fn measure_configs(
         let methods: Vec<MethodConfig> = group.iter().map(|c| c.config.clone()).collect();
         let first = rows.len();
         let mut next = 0;
-        let (s, measured) = measure::measure(settings, &methods, frames, |label| {
-            // `measure` names the configuration it starts, or a phase of its own (the reference).
-            if group.get(next).is_some_and(|c| c.config.label() == label) {
-                next += 1;
-            }
-            progress(Progress {
-                done: first + next.saturating_sub(1),
-                total,
-                label: label.to_string(),
-                elapsed: start.elapsed(),
-            });
-        })?;
+        let mut written = Ok(());
+        let (s, measured) = measure::measure_each(
+            settings,
+            &methods,
+            frames,
+            |label| {
+                // `measure` names the configuration it starts, or a phase of its own (the reference).
+                if group.get(next).is_some_and(|c| c.config.label() == label) {
+                    next += 1;
+                }
+                progress(Progress {
+                    done: first + next.saturating_sub(1),
+                    total,
+                    label: label.to_string(),
+                    elapsed: start.elapsed(),
+                });
+            },
+            |s, so_far| {
+                let partial = BenchResult {
+                    preset: preset.to_string(),
+                    stats: s.clone(),
+                    frames,
+                    rows: rows
+                        .iter()
+                        .cloned()
+                        .chain(
+                            so_far
+                                .iter()
+                                .zip(group)
+                                .map(|(m, c)| BenchRow::from_measurement(m, &c.note, &s.device)),
+                        )
+                        .collect(),
+                    cancelled: true,
+                    metric: DEFAULT_ACCURACY_METRIC,
+                };
+                written = finished(&partial);
+                if written.is_err() || cancel.load(Ordering::Relaxed) {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            },
+        )?;
+        written?;
         rows.extend(
             measured
                 .iter()
@@ -95,6 +151,32 @@ pub fn run(
     };
     let configs = sweep_configs(methods, &tuned);
     measure_configs(settings, preset, &configs, frames, chunk, cancel, progress)
+}
+
+/// [`run`] with [`measure_configs_each`]'s `finished`.
+pub fn run_each(
+    settings: &Settings,
+    preset: &str,
+    methods: &[&str],
+    frames: u32,
+    cancel: &AtomicBool,
+    progress: &mut dyn FnMut(Progress),
+    finished: &mut dyn FnMut(&BenchResult) -> Result<()>,
+) -> Result<Option<BenchResult>> {
+    let Some(tuned) = tune_analysed(settings, methods, cancel, progress)? else {
+        return Ok(None);
+    };
+    let configs = sweep_configs(methods, &tuned);
+    measure_configs_each(
+        settings,
+        preset,
+        &configs,
+        frames,
+        usize::MAX,
+        cancel,
+        progress,
+        finished,
+    )
 }
 
 /// Times `configs` (light passes only: no reference, no error) at the generator's strand density ×

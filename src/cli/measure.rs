@@ -4,50 +4,193 @@ use crate::methods::registry;
 use crate::settings::Settings;
 use anyhow::Result;
 use clap::Args;
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::sync::atomic::Ordering;
 
+/// `hairlab measure`: a mode as a subcommand, each with only its own options; today's flags (`measure
+/// --transparency`, `--fur`, or none for the shadow methods) still work, hidden, and print the new spelling.
+/// A new mode is one [`MeasureMode`] variant with its `Args` and a match arm in [`measure`].
 #[derive(Args, Debug)]
+#[command(
+    args_conflicts_with_subcommands = true,
+    after_help = "`hairlab measure` with no mode measures the shadow methods, as `hairlab measure shadows`."
+)]
 pub struct MeasureArgs {
+    #[command(subcommand)]
+    pub mode: Option<MeasureMode>,
+    #[command(flatten)]
+    pub legacy: LegacyMeasureArgs,
+}
+
+#[derive(clap::Subcommand, Debug)]
+pub enum MeasureMode {
+    /// Shadow methods against the exact reference: depth complexity, map error and its spread over the texels,
+    /// shading, image (RMSE, PSNR, FLIP) and flicker errors, GPU time per pass (median), memory, geometry
+    /// passes.
+    Shadows(ShadowsArgs),
+    /// Eye transparency techniques against the exact sorted composite: image metrics over all and hair pixels
+    /// (RMSE, PSNR, SSIM, FLIP, …), GPU ms, memory, geometry passes.
+    Transparency(TransparencyArgs),
+    /// A fur preset's blendings against the fur reference (virtual fragments of one march step, no early
+    /// exit): RMSE of (H, 1 - T) and FLIP over fur pixels, fragments, and the paper's Table 1 for each.
+    Fur(FurArgs),
+    /// Shadow methods over a preset's motion against the exact reference of every frame: per-frame map and
+    /// shading errors, flicker, pop rate, image flicker, GPU ms; `motion_summary.csv` and `motion_frames.csv`.
+    Motion(super::measure_motion::MeasureMotionArgs),
+}
+
+/// The scene and the timing, shared by every mode.
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
     /// Preset: built-in name, `presets/<name>.toml`, or a path.
     #[arg(long, default_value = "default")]
     pub preset: String,
     /// Override any preset value, e.g. `--set render.map_resolution=512` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Timed frames per configuration (after one warm-up frame).
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ShadowsArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Method configurations `name` or `name:key=value,...` (repeatable); `bom:layers=K,split_ratio=auto` uses
     /// the automatic split ratio. Default: the usual settings of every registered method (OSM 16/64/256, DOM 3/7,
     /// BOM 4/8, DC 4, occupancy).
     #[arg(long = "config", value_name = "METHOD[:K=V,...]")]
     pub configs: Vec<String>,
-    /// Timed frames per configuration (after one warm-up frame).
-    #[arg(long, default_value_t = 5)]
-    pub frames: u32,
-    /// Measure the eye transparency techniques against the exact reference (`sorted`) instead of the shadow
-    /// methods: image metrics over all and hair pixels, GPU ms, memory, geometry passes.
-    #[arg(long)]
-    pub transparency: bool,
-    /// Technique configurations `name` or `name:key=value,...` for `--transparency` (repeatable); default: every
-    /// registered technique.
-    #[arg(
-        long = "technique",
-        value_name = "TECHNIQUE[:K=V,...]",
-        requires = "transparency"
-    )]
+    /// Output folder (created): results.csv and results.json, rewritten after each configuration (Ctrl-C stops
+    /// after the one in progress and keeps them), and the speed_vs_accuracy chart, as `bench` writes them.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct TransparencyArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Technique configurations `name` or `name:key=value,...` (repeatable); default: every registered
+    /// technique.
+    #[arg(long = "technique", value_name = "TECHNIQUE[:K=V,...]")]
     pub techniques: Vec<String>,
-    /// Measure a fur preset's blendings against the fur reference (virtual fragments of one march step, no
-    /// early exit): RMSE of (H, 1 - T) over fur pixels, fragments, and the paper's Table 1 for each.
-    #[arg(long, conflicts_with = "transparency")]
-    pub fur: bool,
-    /// Blendings for `--fur`: `naive`, `simplified` or `virtual:k=K` (repeatable); default naive, simplified,
-    /// virtual k = 32, 8, 4, 2.
-    #[arg(long = "fur-config", value_name = "BLENDING[:k=K]", requires = "fur")]
+    /// Output folder (created): transparency.csv, transparency.json and the chart, as `bench transparency`
+    /// writes them.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct FurArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Blendings: `naive`, `simplified` or `virtual:k=K` (repeatable); default naive, simplified, virtual
+    /// k = 32, 8, 4, 2.
+    #[arg(long = "fur-config", value_name = "BLENDING[:k=K]")]
     pub fur_configs: Vec<String>,
-    /// Measure the methods over the preset's motion (`[motion]`, frames 0..`--frames`): per-frame and temporal
-    /// errors (flicker, pops, image flicker) into `--out`'s `motion_summary.csv` and `motion_frames.csv`.
-    #[arg(long, conflicts_with_all = ["transparency", "fur"], requires = "out")]
+    /// Output folder (created): fur.csv and fur.json, as `bench fur` writes them.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Today's spellings of `measure` (no mode: the shadow methods; `--transparency`; `--fur`), hidden from the help.
+#[derive(Args, Debug)]
+pub struct LegacyMeasureArgs {
+    #[arg(long, default_value = "default", hide = true)]
+    pub preset: String,
+    #[arg(long = "set", value_name = "KEY=VALUE", hide = true)]
+    pub set: Vec<String>,
+    #[arg(long = "config", hide = true, conflicts_with_all = ["transparency", "fur"])]
+    pub configs: Vec<String>,
+    #[arg(long, default_value_t = 5, hide = true)]
+    pub frames: u32,
+    #[arg(long, hide = true)]
+    pub transparency: bool,
+    #[arg(long = "technique", hide = true)]
+    pub techniques: Vec<String>,
+    #[arg(long, conflicts_with = "transparency", hide = true)]
+    pub fur: bool,
+    #[arg(long = "fur-config", hide = true)]
+    pub fur_configs: Vec<String>,
+    #[arg(long, conflicts_with_all = ["transparency", "fur"], hide = true)]
     pub motion: bool,
-    /// Output folder of `--motion`.
-    #[arg(long, requires = "motion")]
-    pub out: Option<std::path::PathBuf>,
+    #[arg(long, hide = true)]
+    pub out: Option<PathBuf>,
+}
+
+impl LegacyMeasureArgs {
+    /// The mode these flags spell, and the line naming its new spelling (none for plain `measure`); a mode's
+    /// option without its mode flag is refused, naming both.
+    pub fn mode(&self) -> Result<(MeasureMode, Option<&'static str>)> {
+        if !self.techniques.is_empty() && !self.transparency {
+            anyhow::bail!(
+                "--technique needs --transparency (now `hairlab measure transparency --technique …`)"
+            );
+        }
+        if !self.fur_configs.is_empty() && !self.fur {
+            anyhow::bail!("--fur-config needs --fur (now `hairlab measure fur --fur-config …`)");
+        }
+        let scene = SceneArgs {
+            preset: self.preset.clone(),
+            set: self.set.clone(),
+            frames: self.frames,
+        };
+        let out = self.out.clone();
+        if self.motion {
+            let out = out.ok_or_else(|| {
+                anyhow::anyhow!("--motion needs --out DIR (now `hairlab measure motion --out DIR`)")
+            })?;
+            let a = super::measure_motion::MeasureMotionArgs {
+                preset: scene.preset,
+                set: scene.set,
+                configs: self.configs.clone(),
+                frames: scene.frames,
+                out,
+            };
+            return Ok((
+                MeasureMode::Motion(a),
+                Some("`hairlab measure --motion` is now `hairlab measure motion`"),
+            ));
+        }
+        if self.transparency {
+            let a = TransparencyArgs {
+                scene,
+                techniques: self.techniques.clone(),
+                out,
+            };
+            Ok((
+                MeasureMode::Transparency(a),
+                Some("`hairlab measure --transparency` is now `hairlab measure transparency`"),
+            ))
+        } else if self.fur {
+            let a = FurArgs {
+                scene,
+                fur_configs: self.fur_configs.clone(),
+                out,
+            };
+            Ok((
+                MeasureMode::Fur(a),
+                Some("`hairlab measure --fur` is now `hairlab measure fur`"),
+            ))
+        } else {
+            let a = ShadowsArgs {
+                scene,
+                configs: self.configs.clone(),
+                out,
+            };
+            Ok((MeasureMode::Shadows(a), None))
+        }
+    }
+}
+
+/// Prints the paths of files written.
+fn print_written(files: &[PathBuf]) {
+    for f in files {
+        println!("wrote {}", f.display());
+    }
 }
 
 /// A `--config` with `key=auto` pairs, resolved by the method's analysis to `name:key=value,...`; `None` when
@@ -77,8 +220,9 @@ pub(super) fn auto_config(settings: &Settings, text: &str) -> Result<Option<Stri
     Ok(Some(crate::measure::MethodConfig::new(base.name, values).label()))
 }
 
-pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Result<()> {
-    use crate::measure::transparency::{TechniqueConfig, all_configs, measure};
+pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
+    let settings = &Settings::load_preset(&a.scene.preset, &a.scene.set)?;
+    use crate::measure::transparency::{TechniqueConfig, all_configs};
     let configs = if a.techniques.is_empty() {
         all_configs()
     } else {
@@ -87,13 +231,28 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
             .map(|t| TechniqueConfig::parse(t))
             .collect::<Result<_>>()?
     };
-    let (stats, rows) = measure(settings, &configs, a.frames, |what| {
-        eprintln!("measuring {what}…")
-    })?;
+    if let Some(dir) = &a.out {
+        crate::bench::prepare_out_dir(dir)?;
+    }
+    let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
+        crate::gpu::AdapterPreference::Hardware,
+    ))?;
+    let (stats, rows) =
+        crate::measure::transparency::measure_on(&gpu, settings, &configs, a.scene.frames, |what| {
+            eprintln!("measuring {what}…")
+        })?;
+    let bench = crate::bench::transparency::TransparencyBench {
+        preset: a.scene.preset.clone(),
+        device: crate::gpu::describe(&gpu.info),
+        frames: a.scene.frames,
+        stats,
+        rows,
+    };
+    let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
         "preset {}: {} strands, {} segments; view {}x{} (shadows: {}): {} hair pixels, {} fragments, eye depth \
          complexity max {} mean {:.1}",
-        a.preset,
+        a.scene.preset,
         stats.strands,
         stats.segments,
         stats.width,
@@ -111,12 +270,16 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
         .unwrap_or(0)
         .max(9);
     println!(
-        "{:<width$} {:>9} {:>7} {:>9} {:>7} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>6} {:>9} {:>8} {:>5}  passes",
+        "{:<width$} {:>9} {:>7} {:>9} {:>7} {:>7} {:>9} {:>7} {:>7} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>6} {:>9} {:>8} {:>5}  passes",
         "technique",
         "hair RMSE",
         "PSNR",
         "all RMSE",
         "SSIM",
+        "FLIP",
+        "FLIP hair",
+        "F p95",
+        "F p99",
         "max",
         "p99",
         ">1",
@@ -128,17 +291,21 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
         "MiB",
         "geom"
     );
-    for m in &rows {
+    for m in rows {
         let e = &m.metrics;
         let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
         println!(
-            "{:<width$} {:>9.5} {:>7.2} {:>9.5} {:>7.4} {:>6.0} {:>6.0} {:>4.1}% {:>5.1}% {:>5.1}% {:>6.3} {:>6.3} {:>9.3} \
-             {:>8.2} {:>5}  {}",
+            "{:<width$} {:>9.5} {:>7.2} {:>9.5} {:>7.4} {:>7.4} {:>9.4} {:>7.4} {:>7.4} {:>6.0} {:>6.0} {:>4.1}% {:>5.1}% \
+             {:>5.1}% {:>6.3} {:>6.3} {:>9.3} {:>8.2} {:>5}  {}",
             m.config.label(),
             e.rmse_hair,
             e.psnr_hair,
             e.rmse,
             e.ssim_hair,
+            e.flip.mean,
+            e.flip.mean_hair,
+            e.flip.p95_hair,
+            e.flip.p99_hair,
             e.max_error,
             e.p99,
             100.0 * e.share_over[0],
@@ -152,14 +319,15 @@ pub(super) fn measure_transparency(a: &MeasureArgs, settings: &Settings) -> Resu
             passes.join(", ")
         );
     }
+    if let Some(dir) = &a.out {
+        print_written(&bench.write(dir)?);
+    }
     Ok(())
 }
 
-pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
+pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
+    let settings = &Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     use crate::measure::fur::{FurConfig, measure, usual_configs};
-    if !a.configs.is_empty() {
-        anyhow::bail!("--config names shadow methods; with --fur use --fur-config");
-    }
     let configs = if a.fur_configs.is_empty() {
         usual_configs()
     } else {
@@ -168,11 +336,14 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
             .map(|c| FurConfig::parse(c))
             .collect::<Result<_>>()?
     };
-    let (stats, rows) = measure(settings, &configs, a.frames)?;
+    if let Some(dir) = &a.out {
+        crate::bench::prepare_out_dir(dir)?;
+    }
+    let (stats, rows) = measure(settings, &configs, a.scene.frames)?;
     println!(
         "preset {}: {} triangles, {} sub-elements, {} guard hairs; view {}x{}: {} fur pixels; mode {}, \
          reference virtual k=1 with no early exit",
-        a.preset,
+        a.scene.preset,
         stats.triangles,
         stats.sub_elements,
         stats.strands,
@@ -182,10 +353,14 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
         settings.fur.mode.word()
     );
     println!(
-        "{:<16} {:>10} {:>8} {:>10} {:>10} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "{:<16} {:>10} {:>8} {:>7} {:>9} {:>7} {:>7} {:>10} {:>10} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10}",
         "blending",
         "RMSE",
         "max",
+        "FLIP",
+        "FLIP fur",
+        "F p95",
+        "F p99",
         "explicit",
         "shell",
         "deepest",
@@ -200,10 +375,15 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
     for r in &rows {
         let t = &r.table;
         println!(
-            "{:<16} {:>10.6} {:>8.5} {:>10} {:>10} {:>7} {:>10.3} {:>10.3} {:>10.3} {:>10.3} {:>10.3}",
+            "{:<16} {:>10.6} {:>8.5} {:>7.4} {:>9.4} {:>7.4} {:>7.4} {:>10} {:>10} {:>7} {:>10.3} {:>10.3} {:>10.3} \
+             {:>10.3} {:>10.3}",
             r.config.label(),
             r.rmse,
             r.max_error,
+            r.flip.mean,
+            r.flip.mean_hair,
+            r.flip.p95_hair,
+            r.flip.p99_hair,
             r.explicit_fragments,
             r.shell_fragments,
             r.deepest,
@@ -220,24 +400,42 @@ pub(super) fn measure_fur(a: &MeasureArgs, settings: &Settings) -> Result<()> {
         stats.height,
         reference.render(None)
     );
+    if let Some(dir) = &a.out {
+        let bench = crate::bench::fur::FurBench {
+            preset: a.scene.preset.clone(),
+            frames: a.scene.frames,
+            stats,
+            rows,
+        };
+        print_written(&bench.write(dir)?);
+    }
     Ok(())
 }
 
 pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
-    use crate::measure::{MethodConfig, usual_configs};
-    if a.motion {
-        return super::measure_motion::run(&a.into());
-    }
-    let settings = Settings::load_preset(&a.preset, &a.set)?;
-    if a.fur {
-        return measure_fur(a, &settings);
-    }
-    if a.transparency {
-        if !a.configs.is_empty() {
-            anyhow::bail!("--config names shadow methods; with --transparency use --technique");
+    let legacy;
+    let mode = match &a.mode {
+        Some(mode) => mode,
+        None => {
+            let (mode, note) = a.legacy.mode()?;
+            if let Some(note) = note {
+                eprintln!("note: {note}");
+            }
+            legacy = mode;
+            &legacy
         }
-        return measure_transparency(a, &settings);
+    };
+    match mode {
+        MeasureMode::Shadows(a) => measure_shadows(a),
+        MeasureMode::Transparency(a) => measure_transparency(a),
+        MeasureMode::Fur(a) => measure_fur(a),
+        MeasureMode::Motion(a) => super::measure_motion::run(a),
     }
+}
+
+pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
+    use crate::measure::{MethodConfig, usual_configs};
+    let settings = Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     let mut configs = Vec::new();
     for c in &a.configs {
         // `name:...,key=auto`: the method's analysis chooses `key` on this scene (e.g. Bounding Opacity Maps'
@@ -254,12 +452,33 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
     if configs.is_empty() {
         configs = usual_configs();
     }
-    let (stats, rows) = crate::measure::measure(&settings, &configs, a.frames, |what| {
-        eprintln!("measuring {what}…")
-    })?;
+    if let Some(dir) = &a.out {
+        crate::bench::prepare_out_dir(dir)?;
+    }
+    // Ctrl-C stops after the configuration in progress; with --out, results.csv and results.json are rewritten
+    // whole after each one.
+    let interrupted = crate::cli::interrupt::flag();
+    let mut written = Ok(());
+    let (stats, rows) = crate::measure::measure_each(
+        &settings,
+        &configs,
+        a.scene.frames,
+        |what| eprintln!("measuring {what}…"),
+        |stats, so_far| {
+            if let Some(dir) = &a.out {
+                written = crate::bench::write_tables(dir, &bench_result(a, stats, so_far, true)).map(|_| ());
+            }
+            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )?;
+    written?;
     println!(
         "preset {}: {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity max {} mean {:.1}",
-        a.preset,
+        a.scene.preset,
         stats.strands,
         stats.segments,
         stats.map_resolution,
@@ -311,5 +530,35 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
          >0.05, >0.1: share of occupied texels above; \
          build: what the method builds its maps from each frame"
     );
+    let cancelled = rows.len() < configs.len();
+    if let Some(dir) = &a.out {
+        print_written(&crate::bench::write_results(
+            dir,
+            &bench_result(a, &stats, &rows, cancelled),
+        )?);
+    }
+    if cancelled {
+        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
+    }
     Ok(())
+}
+
+/// `measure`'s rows as a bench result, for `bench`'s writers.
+fn bench_result(
+    a: &ShadowsArgs,
+    stats: &crate::measure::SceneStats,
+    rows: &[crate::measure::Measurement],
+    cancelled: bool,
+) -> crate::bench::BenchResult {
+    crate::bench::BenchResult {
+        preset: a.scene.preset.clone(),
+        stats: stats.clone(),
+        frames: a.scene.frames,
+        rows: rows
+            .iter()
+            .map(|m| crate::bench::BenchRow::from_measurement(m, "", &stats.device))
+            .collect(),
+        cancelled,
+        metric: crate::bench::DEFAULT_ACCURACY_METRIC,
+    }
 }

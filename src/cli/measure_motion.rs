@@ -31,19 +31,6 @@ pub struct MeasureMotionArgs {
     pub out: PathBuf,
 }
 
-impl From<&super::measure::MeasureArgs> for MeasureMotionArgs {
-    /// `measure --motion`'s arguments (`--out` is required with `--motion`).
-    fn from(a: &super::measure::MeasureArgs) -> MeasureMotionArgs {
-        MeasureMotionArgs {
-            preset: a.preset.clone(),
-            set: a.set.clone(),
-            configs: a.configs.clone(),
-            frames: a.frames,
-            out: a.out.clone().unwrap_or_default(),
-        }
-    }
-}
-
 /// Measures, prints the table and writes the two CSV files.
 pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     let settings = Settings::load_preset(&a.preset, &a.set)?;

@@ -2,11 +2,15 @@
 //! subcommand, `hairlab` opens the workbench window. Every failure is one line naming the file and the problem,
 //! and a non-zero exit; outputs are written whole.
 
+pub mod adapters;
+pub mod compare;
 pub mod composite;
 pub mod convert;
 pub mod curve;
 pub mod generate;
 pub mod info;
+pub mod interrupt;
+pub mod manual;
 pub mod measure;
 pub mod measure_motion;
 pub mod render;
@@ -15,6 +19,7 @@ pub mod soak;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use compare::CompareArgs;
 use composite::CompositeArgs;
 pub use composite::parse_pixel_csv;
 use convert::ConvertArgs;
@@ -22,6 +27,7 @@ use curve::CurveArgs;
 pub use curve::{parse_fragments_csv, read_fragments_csv};
 use generate::GenArgs;
 use info::InfoArgs;
+use manual::{CompletionsArgs, ManArgs};
 use measure::MeasureArgs;
 use render::RenderArgs;
 pub use render::render_image;
@@ -35,10 +41,14 @@ use soak::SoakArgs;
     version,
     about = "A workbench for real-time hair self-shadowing methods."
 )]
-#[command(after_help = "With no subcommand, hairlab opens the workbench window.")]
+#[command(max_term_width = 100, after_help = ENVIRONMENT)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// The GPU adapter: `software`, `hardware`, or a part of its name, any case (`hairlab adapters` lists them);
+    /// wins over HAIRLAB_ADAPTER.
+    #[arg(long, global = true, value_name = "NAME")]
+    pub adapter: Option<String>,
     /// Preset for the window (built-in name, `presets/<name>.toml`, or a path); default: the last session's.
     #[arg(long, global = false)]
     pub preset: Option<String>,
@@ -46,6 +56,19 @@ pub struct Cli {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
 }
+
+/// What `hairlab --help` says after the options: the window, and the environment variables hairlab reads.
+pub const ENVIRONMENT: &str = "With no subcommand, hairlab opens the workbench window.
+
+Environment:
+  HAIRLAB_ADAPTER=NAME   the GPU adapter, as --adapter (which wins)
+  WGPU_BACKEND=LIST      the wgpu backends searched for adapters, e.g. vulkan
+                         or vulkan,gl (default: Vulkan, Metal, DX12)
+  RUST_LOG=FILTER        log verbosity (env_logger; default: info)
+Tests only (cargo test):
+  HAIRLAB_SKIP_GPU_TESTS=1     skip the GPU tests when no adapter exists
+  HAIRLAB_UPDATE_SNAPSHOTS=1   rewrite the image snapshots
+  HAIRLAB_FUZZ_CASES=N, HAIRLAB_FUZZ_SEED=N   the file-format fuzzing run";
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
@@ -65,6 +88,9 @@ pub enum Command {
     /// Composite one pixel's eye fragments (CSV rows `depth,r,g,b,alpha`, linear colour) through a transparency
     /// technique's CPU model and print the linear RGB result `r,g,b`: the eye-space twin of `curve`.
     Composite(CompositeArgs),
+    /// Print every image metric of B.png against the reference A.png: RMSE, PSNR, SSIM, the error distribution,
+    /// contrast and FLIP, over all pixels and over a hair mask; `--flip-map` writes FLIP's heat map.
+    Compare(CompareArgs),
     /// Measure methods against the exact reference on a preset's scene: depth complexity, map error, GPU time
     /// per pass (median), memory, geometry passes.
     Measure(MeasureArgs),
@@ -78,6 +104,12 @@ pub enum Command {
     /// that plays back with `--set motion.source=sequence --set motion.path=DIR`; prints the simulation's
     /// invariants and cost.
     Simulate(SimulateArgs),
+    /// List the GPU adapters wgpu finds and mark the one hairlab uses (see --adapter).
+    Adapters,
+    /// Print shell completions for bash, zsh, fish, elvish or PowerShell.
+    Completions(CompletionsArgs),
+    /// Print the man page, or write every subcommand's page into a folder.
+    Man(ManArgs),
 }
 
 /// Runs a subcommand.
@@ -89,9 +121,13 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Convert(a) => convert::convert(&a),
         Command::Curve(a) => curve::curve(&a),
         Command::Composite(a) => composite::composite(&a),
+        Command::Compare(a) => compare::compare_images(&a),
         Command::Measure(a) => measure::measure(&a),
         Command::Bench(a) => crate::bench::run_cli(&a),
         Command::Soak(a) => soak::soak(&a),
         Command::Simulate(a) => simulate::simulate(&a),
+        Command::Adapters => adapters::adapters(),
+        Command::Completions(a) => manual::completions(&a),
+        Command::Man(a) => manual::man(&a),
     }
 }

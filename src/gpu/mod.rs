@@ -1,17 +1,22 @@
 //! Device and adapter policy, buffer limits, per-pass GPU timing and readback.
 //!
 //! Policy: prefer a hardware adapter and fall back to a software one (Mesa lavapipe); tests and
-//! `HAIRLAB_ADAPTER=software` prefer the software adapter. An adapter must support the features every pass needs.
+//! `HAIRLAB_ADAPTER=software` prefer the software adapter. Any other `HAIRLAB_ADAPTER` value, or the command
+//! line's `--adapter NAME` (which wins over the variable), chooses the adapter whose name contains it (any case).
+//! An adapter must support the features every pass needs.
 
 pub mod readback;
 pub mod timing;
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Features every hairlab pass needs: min/max blending of R32Float light-depth targets.
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::FLOAT32_BLENDABLE;
 /// Features used when present: per-pass GPU timing.
 pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY;
+
+/// Environment variable that chooses the adapter: `software`, `hardware`, or a part of its name.
+pub const ADAPTER_ENV: &str = "HAIRLAB_ADAPTER";
 
 /// Environment variable that lets a machine with no GPU adapter skip the GPU tests explicitly.
 pub const SKIP_GPU_TESTS_ENV: &str = "HAIRLAB_SKIP_GPU_TESTS";
@@ -24,6 +29,8 @@ pub const INSTALL_HINT: &str =
 pub enum GpuError {
     #[error("no GPU adapter found ({INSTALL_HINT})")]
     NoAdapter,
+    #[error("no GPU adapter's name contains '{name}' (found: {found}); `hairlab adapters` lists them")]
+    NoNamedAdapter { name: String, found: String },
     #[error("no adapter supports {missing:?} (found: {found}); {INSTALL_HINT}")]
     MissingFeatures { missing: wgpu::Features, found: String },
     #[error("cannot open the GPU device on {adapter}: {cause}")]
@@ -56,14 +63,37 @@ pub enum AdapterPreference {
 }
 
 impl AdapterPreference {
-    /// `HAIRLAB_ADAPTER=software|hardware` overrides `default`.
+    /// `--adapter` or `HAIRLAB_ADAPTER` set to `software` or `hardware` overrides `default`.
     pub fn from_env_or(default: AdapterPreference) -> AdapterPreference {
-        match std::env::var("HAIRLAB_ADAPTER").as_deref() {
-            Ok("software") => AdapterPreference::Software,
-            Ok("hardware") => AdapterPreference::Hardware,
+        match adapter_choice().as_deref() {
+            Some("software") => AdapterPreference::Software,
+            Some("hardware") => AdapterPreference::Hardware,
             _ => default,
         }
     }
+}
+
+/// `--adapter`'s value, set once by the command line.
+static ADAPTER_FLAG: OnceLock<String> = OnceLock::new();
+
+/// Makes `choice` (`software`, `hardware` or a part of an adapter's name) the adapter choice of this process, over
+/// `HAIRLAB_ADAPTER`; the first call wins.
+pub fn set_adapter_choice(choice: &str) {
+    let _ = ADAPTER_FLAG.set(choice.to_string());
+}
+
+/// The adapter choice: `--adapter`, else `HAIRLAB_ADAPTER`, else none.
+pub fn adapter_choice() -> Option<String> {
+    ADAPTER_FLAG
+        .get()
+        .cloned()
+        .or_else(|| std::env::var(ADAPTER_ENV).ok())
+        .filter(|v| !v.trim().is_empty())
+}
+
+/// The adapter name part chosen: an [`adapter_choice`] other than `software` and `hardware`.
+pub fn adapter_name_choice() -> Option<String> {
+    adapter_choice().filter(|v| v != "software" && v != "hardware")
 }
 
 fn rank(info: &wgpu::AdapterInfo, pref: AdapterPreference) -> u32 {
@@ -81,7 +111,17 @@ fn rank(info: &wgpu::AdapterInfo, pref: AdapterPreference) -> u32 {
     }
 }
 
-/// Picks the adapter by policy among those with [`REQUIRED_FEATURES`].
+/// The adapters whose name contains `name`, any case.
+pub fn adapters_named<'a>(adapters: &'a [wgpu::Adapter], name: &str) -> Vec<&'a wgpu::Adapter> {
+    let name = name.to_lowercase();
+    adapters
+        .iter()
+        .filter(|a| a.get_info().name.to_lowercase().contains(&name))
+        .collect()
+}
+
+/// Picks the adapter by policy among those with [`REQUIRED_FEATURES`] (and, when one is chosen, the name of
+/// [`adapter_name_choice`]).
 pub fn select_adapter(
     adapters: &[wgpu::Adapter],
     pref: AdapterPreference,
@@ -89,8 +129,25 @@ pub fn select_adapter(
     if adapters.is_empty() {
         return Err(GpuError::NoAdapter);
     }
-    adapters
-        .iter()
+    let named: Vec<&wgpu::Adapter> = match adapter_name_choice() {
+        Some(name) => {
+            let named = adapters_named(adapters, &name);
+            if named.is_empty() {
+                return Err(GpuError::NoNamedAdapter {
+                    name,
+                    found: adapters
+                        .iter()
+                        .map(|a| a.get_info().name)
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                });
+            }
+            named
+        }
+        None => adapters.iter().collect(),
+    };
+    named
+        .into_iter()
         .filter(|a| a.features().contains(REQUIRED_FEATURES))
         .min_by_key(|a| rank(&a.get_info(), pref))
         .cloned()
@@ -129,6 +186,15 @@ pub fn backends() -> wgpu::Backends {
     wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY)
 }
 
+/// Every adapter of [`backends`], with no window.
+pub fn enumerate_adapters() -> Vec<wgpu::Adapter> {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: backends(),
+        ..wgpu::InstanceDescriptor::new_without_display_handle_from_env()
+    });
+    pollster::block_on(instance.enumerate_adapters(backends()))
+}
+
 /// A device with its queue and what hairlab knows about it.
 #[derive(Clone)]
 pub struct Gpu {
@@ -145,11 +211,7 @@ impl Gpu {
 
     /// Opens a device with no window, by the adapter policy.
     pub fn headless(pref: AdapterPreference) -> Result<Gpu, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: backends(),
-            ..wgpu::InstanceDescriptor::new_without_display_handle_from_env()
-        });
-        let adapters = pollster::block_on(instance.enumerate_adapters(backends()));
+        let adapters = enumerate_adapters();
         let adapter = select_adapter(&adapters, pref)?;
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(adapter.request_device(&device_descriptor(&adapter)))

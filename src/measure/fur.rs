@@ -1,6 +1,7 @@
 //! Fur figures (Andersen et al. 2016): the paper's Table 1 for the last frame a renderer drew with fur, and
 //! `measure --fur`: each blending against the reference (virtual fragments of one step, no early exit) —
-//! image error over fur pixels, Table 1 per blending, fragments.
+//! image error over fur pixels (of `(H, 1 − T)`, and FLIP of the fur over black), Table 1 per blending,
+//! fragments.
 
 use std::time::Instant;
 
@@ -131,6 +132,9 @@ pub struct FurMeasurement {
     /// RMSE of (H, 1 − T) against the reference over fur pixels (either image covered), and its maximum.
     pub rmse: f64,
     pub max_error: f32,
+    /// FLIP of the fur over black ([`over_black`]) against the reference's: over all pixels, and over the fur
+    /// pixels (either image covered) as the hair pixels.
+    pub flip: crate::transparency::FlipMetrics,
     /// Table 1 with each GPU row the median over the timed frames.
     pub table: Table1,
     pub explicit_fragments: u64,
@@ -150,6 +154,27 @@ pub struct FurSceneStats {
     pub reference: Table1,
     /// The adapter, in words.
     pub device: String,
+}
+
+/// The fur over black as an 8-bit sRGB image: each pixel's premultiplied linear `H` clamped to `[0, 1]` and
+/// sRGB-encoded (IEC 61966-2-1), row-major `(H, 1 − T)` of a `width`-wide capture.
+pub fn over_black(capture: &[[f32; 4]], width: u32, height: u32) -> image::RgbaImage {
+    let encode = |c: f32| {
+        let c = c.clamp(0.0, 1.0);
+        let v = if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (v * 255.0).round() as u8
+    };
+    image::RgbaImage::from_fn(width, height, |x, y| {
+        let p = capture
+            .get(y as usize * width as usize + x as usize)
+            .copied()
+            .unwrap_or_default();
+        image::Rgba([encode(p[0]), encode(p[1]), encode(p[2]), 255])
+    })
 }
 
 /// Per-pixel (H, 1 − T) error of `image` against `reference` over the pixels either covers.
@@ -243,6 +268,7 @@ pub fn measure(
         Ok((table, r.render_capture(&input)?))
     };
     let (reference_table, reference_image) = run(&mut r)?;
+    let reference_over_black = over_black(&reference_image, s.render.width, s.render.height);
     let mut out = Vec::with_capacity(configs.len());
     for c in configs {
         let fs = FurSettings {
@@ -258,10 +284,22 @@ pub fn measure(
             .map(|l| l.stats())
             .unwrap_or_default();
         let (rmse, max_error, _) = image_error(&image, &reference_image);
+        let width = s.render.width as usize;
+        let covered = |x: u32, y: u32| {
+            let i = y as usize * width + x as usize;
+            let alpha = |v: &[[f32; 4]]| v.get(i).is_some_and(|p| p[3] != 0.0);
+            alpha(&image) || alpha(&reference_image)
+        };
+        let flip = crate::transparency::FlipMap::new(
+            &over_black(&image, s.render.width, s.render.height),
+            &reference_over_black,
+        )
+        .metrics(covered);
         out.push(FurMeasurement {
             config: *c,
             rmse,
             max_error,
+            flip,
             table,
             explicit_fragments: stats.explicit,
             shell_fragments: stats.shell,
@@ -282,4 +320,24 @@ pub fn measure(
         },
         out,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::over_black;
+
+    #[test]
+    fn over_black_encodes_premultiplied_linear_colour_as_srgb() {
+        // sRGB of linear 0.5 is 1.055 · 0.5^(1/2.4) − 0.055 = 0.735357 → 187.52 → 188; 0.002 is on the linear
+        // segment: 12.92 · 0.002 · 255 = 6.59 → 7; out-of-range values clamp. Alpha (1 − T) is not drawn.
+        let capture = [
+            [0.5, 0.002, 0.0, 0.3],
+            [1.0, 2.0, -1.0, 1.0],
+            [0.0, 0.0, 0.0, 0.0],
+        ];
+        let img = over_black(&capture, 3, 1);
+        assert_eq!(img.get_pixel(0, 0).0, [188, 7, 0, 255]);
+        assert_eq!(img.get_pixel(1, 0).0, [255, 255, 0, 255]);
+        assert_eq!(img.get_pixel(2, 0).0, [0, 0, 0, 255]);
+    }
 }

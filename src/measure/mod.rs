@@ -16,6 +16,7 @@ use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::visibility::{self, ErrorDistribution, Fragment, TexelModel, metrics};
 use anyhow::Result;
+use std::ops::ControlFlow;
 
 pub use crate::selection::MethodConfig;
 
@@ -69,6 +70,8 @@ pub struct Measurement {
     /// RMSE (RGB in [0,1]) and PSNR (dB) of the final image against the image shaded with the reference.
     pub image_rmse: f64,
     pub image_psnr: f64,
+    /// FLIP of the final image against the image shaded with the reference, the mean over all pixels.
+    pub image_flip: f64,
     /// Mean frame-to-frame change of V at the visible hair points while the light turns by
     /// [`FLICKER_STEP_DEG`] per frame, minus the reference's own change (design.md's light-turn flicker; the
     /// flicker of hair in motion is [`temporal`]'s).
@@ -104,8 +107,22 @@ pub fn measure(
     frames: u32,
     progress: impl FnMut(&str),
 ) -> Result<(SceneStats, Vec<Measurement>)> {
+    measure_each(settings, configs, frames, progress, |_, _| {
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`measure`], handing the measurements so far to `finished` after each configuration; `Break` stops there
+/// (Ctrl-C: the configurations finished so far are returned).
+pub fn measure_each(
+    settings: &Settings,
+    configs: &[MethodConfig],
+    frames: u32,
+    progress: impl FnMut(&str),
+    finished: impl FnMut(&SceneStats, &[Measurement]) -> ControlFlow<()>,
+) -> Result<(SceneStats, Vec<Measurement>)> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    measure_on(&gpu, settings, configs, frames, progress)
+    measure_on_each(&gpu, settings, configs, frames, progress, finished)
 }
 
 /// [`measure`] on a given device (tests pass the software adapter).
@@ -114,7 +131,21 @@ pub fn measure_on(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
+    progress: impl FnMut(&str),
+) -> Result<(SceneStats, Vec<Measurement>)> {
+    measure_on_each(gpu, settings, configs, frames, progress, |_, _| {
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`measure_each`] on a given device.
+pub fn measure_on_each(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[MethodConfig],
+    frames: u32,
     mut progress: impl FnMut(&str),
+    mut finished: impl FnMut(&SceneStats, &[Measurement]) -> ControlFlow<()>,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     let mut s = settings.clone();
     let scene = s.scene.build()?;
@@ -209,7 +240,11 @@ pub fn measure_on(
         }
         let shading_error = mean_abs_diff(&frames_v[0], reference_shading);
         r.render(&full(method, &c.params, &s.light))?;
-        let (image_rmse, image_psnr) = image_error(&r.read_output()?, &reference_image);
+        let image = r.read_output()?;
+        let (image_rmse, image_psnr) = image_error(&image, &reference_image);
+        let image_flip = crate::transparency::FlipMap::new(&image, &reference_image)
+            .metrics(|_, _| false)
+            .mean;
         out.push(Measurement {
             config: c.clone(),
             map_error: map_error(&texel_errors),
@@ -225,8 +260,12 @@ pub fn measure_on(
             shading_error,
             image_rmse,
             image_psnr,
+            image_flip,
             light_turn_flicker: mean_change(&frames_v) - reference_change,
         });
+        if finished(&stats, &out).is_break() {
+            break;
+        }
     }
     Ok((stats, out))
 }

@@ -21,11 +21,14 @@
 //!   hair pixels, image over reference — below 1 is "dull" (TC-3); **mean_luminance_ratio**: the mean linear
 //!   luminance over the hair pixels, image over reference. Both are 1 where both are 0, ∞ where only the
 //!   reference's is 0.
+//! - **FLIP** ([`super::flip`]; Andersson et al., HPG 2020): the mean over all pixels and over the hair pixels, and
+//!   the 95th and 99th percentiles over the hair pixels.
 //!
 //! The hair mask is row-major over the image's width and height; an empty mask gives the identity values
-//! (RMSE 0, PSNR ∞, SSIM 1, p99 and shares 0, ratios 1). Images of different sizes are compared over their
+//! (RMSE 0, PSNR ∞, SSIM 1, p99, shares and hair FLIP 0, ratios 1). Images of different sizes are compared over their
 //! common top-left rectangle, and mask entries beyond the mask's length count as background.
 
+use super::flip::{FlipMap, FlipMetrics};
 use image::RgbaImage;
 
 /// Max-channel error thresholds, in 1/255 steps, of [`ImageMetrics::share_over`].
@@ -57,6 +60,8 @@ pub struct ImageMetrics {
     pub contrast_retention: f64,
     /// Mean linear luminance over the hair pixels, image over reference.
     pub mean_luminance_ratio: f64,
+    /// FLIP over all pixels and over the hair pixels.
+    pub flip: FlipMetrics,
 }
 
 /// The common size of two images.
@@ -217,6 +222,7 @@ pub fn compare(image: &RgbaImage, reference: &RgbaImage, hair: &[bool]) -> Image
         share_over,
         contrast_retention,
         mean_luminance_ratio,
+        flip: FlipMap::new(image, reference).metrics(is_hair),
     }
 }
 
@@ -379,6 +385,7 @@ mod tests {
         );
         assert_eq!((m.max_error, m.p99, m.share_over), (0.0, 0.0, [0.0; 3]));
         assert_eq!((m.contrast_retention, m.mean_luminance_ratio), (1.0, 1.0));
+        assert_eq!(m.flip, FlipMetrics::default());
     }
 
     #[test]
@@ -458,6 +465,28 @@ mod tests {
     }
 
     const SKIMAGE_PATTERN_SSIM: f64 = 0.946_361_529_130_138;
+
+    #[test]
+    fn ssim_matches_scikit_image_on_the_fixture_pairs() {
+        // `python tests/fixtures/flip/reference.py` (scikit-image 0.26.0): structural_similarity(luma(a), luma(b),
+        // gaussian_weights=True, sigma=1.5, use_sample_covariance=False, data_range=1.0) on the float64 luma of
+        // `tests/fixtures/flip/<name>_a.png` and `<name>_b.png`.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/flip");
+        for (name, expected) in [
+            ("pattern", 0.958_947_998_834_157),
+            ("strands", -0.221_951_821_230_348_35),
+            ("noise", 0.447_599_741_073_244_35),
+        ] {
+            let load = |s: &str| {
+                let path = dir.join(format!("{name}_{s}.png"));
+                image::open(&path)
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+                    .to_rgba8()
+            };
+            let value = ssim(&load("a"), &load("b"));
+            assert!((value - expected).abs() < 1e-9, "{name}: {value}");
+        }
+    }
 
     #[test]
     fn hair_ssim_ignores_differences_far_from_the_hair() {

@@ -18,6 +18,7 @@
 
 pub mod classic_peel;
 pub mod exact;
+pub mod flip;
 pub mod mboit;
 pub mod metrics;
 pub mod occupancy_order;
@@ -28,6 +29,7 @@ pub mod weighted_average;
 
 pub use classic_peel::ClassicPeelParams;
 pub use exact::ExactParams;
+pub use flip::{FlipMap, FlipMetrics};
 pub use mboit::{Mboit, MboitParams};
 pub use metrics::{ImageMetrics, compare, ssim};
 pub use occupancy_order::{OccupancyOrder, OccupancyOrderParams};

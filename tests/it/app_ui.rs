@@ -199,6 +199,9 @@ fn compare_view_renders_four_labelled_images_and_their_metrics() {
     assert!(m.rmse_hair > 0.0 && m.rmse_hair > m.rmse, "{m:?}");
     assert!(harness.query_by_label("RMSE hair").is_some());
     assert!(harness.query_by_label("contrast retention").is_some());
+    // FLIP beside them: the hair differs, so its hair mean is above the all-pixel one (no difference elsewhere).
+    assert!(m.flip.mean_hair > m.flip.mean && m.flip.mean > 0.0, "{m:?}");
+    assert!(harness.query_by_label("FLIP hair").is_some());
 }
 
 #[test]

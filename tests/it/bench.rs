@@ -265,6 +265,7 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
         "gpu_ms_max",
         "memory_bytes",
         "map_error",
+        "flip",
         "device",
     ] {
         column(&header, name);
@@ -278,6 +279,7 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
         );
         assert!(med > 0.0 && min == med && max == med, "one frame: {r:?}");
         assert!(!r[column(&header, "device")].is_empty());
+        assert!((0.0..=1.0).contains(&num(r, "flip")), "FLIP is in [0, 1]: {r:?}");
     }
     // OSM's memory doubles with the slices, and its map error falls from 4 to 256 slices.
     let osm: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "osm").collect();
@@ -598,6 +600,11 @@ fn bench_transparency_writes_every_techniques_sweep_and_the_peel_ratio() {
         stdout.contains("t(depth peel) / t(occupancy order) = "),
         "{stdout}"
     );
+    assert!(
+        stderr(&o).contains("note: `hairlab bench --transparency` is now `hairlab bench transparency`"),
+        "{}",
+        stderr(&o)
+    );
     let csv = std::fs::read_to_string(out.join("transparency.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
@@ -612,6 +619,10 @@ fn bench_transparency_writes_every_techniques_sweep_and_the_peel_ratio() {
         .find(|f| f[col("configuration")] == "sorted")
         .expect("the reference row");
     assert_eq!(reference[col("rmse_hair")].parse::<f64>().unwrap(), 0.0);
+    // FLIP of the reference against itself: no difference anywhere.
+    for name in ["flip", "flip_hair", "flip_p95_hair", "flip_p99_hair"] {
+        assert_eq!(reference[col(name)].parse::<f64>().unwrap(), 0.0, "{name}");
+    }
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("transparency.json")).unwrap()).unwrap();
     assert!(
@@ -673,9 +684,124 @@ fn fur_bench_writes_every_blending_with_table_1() {
             r.config.label(),
             r.rmse
         );
+        let f = r.flip;
+        assert!(
+            (0.0..=1.0).contains(&f.mean) && f.p95_hair <= f.p99_hair && f.p99_hair <= 1.0,
+            "{}: {f:?}",
+            r.config.label()
+        );
     }
+    assert!(
+        b.rows.iter().any(|r| r.flip.mean_hair > 0.0),
+        "some blending differs from the reference on the fur pixels"
+    );
     let json: serde_json::Value = serde_json::from_str(&b.to_json().unwrap()).unwrap();
     assert_eq!(json["view"], serde_json::json!([96, 72]));
     assert_eq!(json["triangles"], 3584);
     assert_eq!(json["time_rows"].as_array().unwrap().len(), 7);
+}
+
+/// Ctrl-C (SIGINT to the `hairlab` process) stops `bench shadows` and `measure shadows` after the configuration
+/// in progress: results.csv and results.json hold every finished configuration, whole and in order, and the run
+/// exits 130 saying how many.
+#[test]
+fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let sweep = [4, 8, 16, 32, 64, 128, 256].map(|n| format!("osm:slices={n}"));
+    sigint_after_the_first_row(&["bench", "shadows", "--methods", "osm"], &sweep);
+    let mut measure = vec!["measure", "shadows"];
+    for c in &sweep {
+        measure.extend(["--config", c.as_str()]);
+    }
+    sigint_after_the_first_row(&measure, &sweep);
+}
+
+/// Runs `hairlab ARGS` (the tiny scene, 40 timed frames, `--out`) until results.csv appears, sends SIGINT, and
+/// checks what it left: fewer rows than `labels`, each whole, in that order.
+fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = args.to_vec();
+    args.extend_from_slice(TINY);
+    args.extend(["--frames", "40", "--out", out.to_str().unwrap()]);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(&args)
+        .env("RUST_LOG", "warn")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first configuration's rows are written; then Ctrl-C.
+    let csv = out.join("results.csv");
+    let start = std::time::Instant::now();
+    while !csv.exists() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "hairlab ended before writing results.csv"
+        );
+        assert!(start.elapsed().as_secs() < 600, "no results.csv after 10 minutes");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{args:?}: {}", stderr(&o));
+    let (header, rows) = read_csv(&csv);
+    assert!(
+        !rows.is_empty() && rows.len() < labels.len(),
+        "stopped after the configuration in progress: {rows:?}"
+    );
+    for (r, expected) in rows.iter().zip(labels) {
+        assert_eq!(r.len(), header.len(), "a whole row: {r:?}");
+        assert_eq!(&r[column(&header, "label")], expected);
+        let error: f64 = r[column(&header, "map_error")].parse().unwrap();
+        assert!(error.is_finite() && error > 0.0, "{r:?}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(rows.len()), "{json}");
+    assert!(out.join("speed_vs_accuracy.png").is_file());
+    let errors = error_lines(&o);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].contains("interrupted")
+            && errors[0].contains(&format!("after {} configurations", rows.len())),
+        "{errors:?}"
+    );
+}
+
+/// `measure --out DIR` writes what `bench` writes, one row per configuration.
+#[test]
+fn measure_out_writes_results_like_bench() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m");
+    let mut args = vec![
+        "measure",
+        "shadows",
+        "--config",
+        "osm:slices=16",
+        "--config",
+        "osm:slices=64",
+    ];
+    args.extend_from_slice(TINY);
+    args.extend(["--frames", "1", "--out", out.to_str().unwrap()]);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (header, rows) = read_csv(&out.join("results.csv"));
+    let labels: Vec<&str> = rows
+        .iter()
+        .map(|r| r[column(&header, "label")].as_str())
+        .collect();
+    assert_eq!(labels, ["osm:slices=16", "osm:slices=64"]);
+    for f in ["results.json", "speed_vs_accuracy.png", "speed_vs_accuracy.svg"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
 }

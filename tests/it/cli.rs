@@ -1,7 +1,7 @@
 //! The command line as a user runs it: success paths write whole files; bad input gives one error line naming
 //! the file and the problem, a non-zero exit, and no output file.
 
-use crate::common::cli::{assert_fails, hairlab, stderr};
+use crate::common::cli::{assert_fails, error_lines, hairlab, stderr};
 use clap::ValueEnum;
 use hairlab::scene::generate::{GenKind, GenParams, HairStyle, generate};
 use hairlab::scene::hair::read_hair_file;
@@ -739,4 +739,311 @@ fn render_draws_fur_and_prints_table_1() {
         ],
     );
     assert!(!out.exists(), "no output on failure");
+}
+
+/// `compare`'s printed value of `name`.
+fn printed(o: &std::process::Output, name: &str) -> f64 {
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    stdout
+        .lines()
+        .find_map(|l| {
+            let mut words = l.split_whitespace();
+            (words.next() == Some(name)).then(|| words.next().unwrap().parse().unwrap())
+        })
+        .unwrap_or_else(|| panic!("no {name} in {stdout}"))
+}
+
+fn flip_fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/flip")
+        .join(name)
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+#[test]
+fn compare_prints_every_image_metric_and_writes_the_flip_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("flip.png");
+    let (a, b, mask) = (
+        flip_fixture("strands_a.png"),
+        flip_fixture("strands_b.png"),
+        flip_fixture("strands_mask.png"),
+    );
+    let o = hairlab(&[
+        "compare",
+        &a,
+        &b,
+        "--mask",
+        &mask,
+        "--flip-map",
+        map.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // NVIDIA's and scikit-image's values for this pair and mask (`tests/fixtures/flip/reference.py`).
+    assert!((printed(&o, "flip") - 0.187_431_14).abs() < 1e-3);
+    assert!((printed(&o, "flip_hair") - 0.203_148_66).abs() < 1e-3);
+    assert!((printed(&o, "flip_p99_hair") - 0.597_611_90).abs() < 1e-3);
+    assert!((printed(&o, "ssim") + 0.221_951_82).abs() < 1e-5);
+    for name in [
+        "rmse",
+        "psnr",
+        "rmse_hair",
+        "ssim_hair",
+        "p99",
+        "contrast_retention",
+        "flip_p95_hair",
+    ] {
+        assert!(printed(&o, name).is_finite(), "{name}");
+    }
+    let heat = image::open(&map).unwrap();
+    assert_eq!((heat.width(), heat.height()), (32, 24));
+    // Without a mask every pixel is hair; an image against itself has no error.
+    let o = hairlab(&["compare", &a, &a]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        (printed(&o, "flip"), printed(&o, "rmse"), printed(&o, "ssim")),
+        (0.0, 0.0, 1.0)
+    );
+}
+
+#[test]
+fn compare_names_missing_unreadable_and_mismatched_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("flip.png");
+    let map_arg = map.to_str().unwrap();
+    let a = flip_fixture("strands_a.png");
+    let missing = dir.path().join("missing.png");
+    let o = hairlab(&["compare", &a, missing.to_str().unwrap(), "--flip-map", map_arg]);
+    assert_fails(&o, &["missing.png", "cannot read"]);
+    let garbage = dir.path().join("garbage.png");
+    std::fs::write(&garbage, b"not a png").unwrap();
+    let o = hairlab(&["compare", garbage.to_str().unwrap(), &a, "--flip-map", map_arg]);
+    assert_fails(&o, &["garbage.png", "not a readable image"]);
+    let small = dir.path().join("small.png");
+    image::RgbaImage::new(8, 8).save(&small).unwrap();
+    let o = hairlab(&["compare", &a, small.to_str().unwrap(), "--flip-map", map_arg]);
+    assert_fails(&o, &["small.png", "8x8", "strands_a.png", "32x24", "same size"]);
+    let o = hairlab(&["compare", &a, &a, "--mask", small.to_str().unwrap()]);
+    assert_fails(&o, &["small.png", "8x8", "same size"]);
+    assert!(!map.exists(), "no heat map after a failure");
+}
+
+/// `hairlab ARGS` with `COLUMNS=80`: what a terminal 80 columns wide shows.
+fn hairlab_80(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(args)
+        .env("COLUMNS", "80")
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("run hairlab")
+}
+
+/// Every help page: `hairlab`'s and each subcommand's and mode's, as argument lists.
+fn help_pages() -> Vec<Vec<String>> {
+    use clap::CommandFactory;
+    fn walk(cmd: &clap::Command, path: &[String], out: &mut Vec<Vec<String>>) {
+        let mut page = path.to_vec();
+        page.push("--help".to_string());
+        out.push(page);
+        for sub in cmd.get_subcommands().filter(|c| c.get_name() != "help") {
+            let mut next = path.to_vec();
+            next.push(sub.get_name().to_string());
+            walk(sub, &next, out);
+        }
+    }
+    let mut out = Vec::new();
+    walk(&hairlab::cli::Cli::command(), &[], &mut out);
+    out
+}
+
+/// The subcommands `hairlab --help` lists.
+fn subcommands() -> Vec<String> {
+    use clap::CommandFactory;
+    hairlab::cli::Cli::command()
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .filter(|n| n != "help")
+        .collect()
+}
+
+#[test]
+fn every_help_page_fits_80_columns_and_names_the_environment() {
+    let pages = help_pages();
+    for mode in [
+        ["measure", "shadows"],
+        ["bench", "transparency"],
+        ["bench", "scaling"],
+    ] {
+        assert!(pages.iter().any(|p| p.len() > 2 && p[..2] == mode), "{pages:?}");
+    }
+    for page in &pages {
+        let args: Vec<&str> = page.iter().map(String::as_str).collect();
+        let o = hairlab_80(&args);
+        assert!(o.status.success(), "{page:?}: {}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout);
+        for line in text.lines() {
+            assert!(
+                line.chars().count() <= 80,
+                "{page:?}: {} columns: {line:?}",
+                line.chars().count()
+            );
+        }
+    }
+    let top = String::from_utf8_lossy(&hairlab_80(&["--help"]).stdout).into_owned();
+    for var in [
+        "HAIRLAB_ADAPTER",
+        "WGPU_BACKEND",
+        "HAIRLAB_SKIP_GPU_TESTS",
+        "HAIRLAB_UPDATE_SNAPSHOTS",
+        "HAIRLAB_FUZZ_CASES",
+        "RUST_LOG",
+        "--adapter",
+    ] {
+        assert!(top.contains(var), "--help does not name {var}: {top}");
+    }
+}
+
+#[test]
+fn completions_and_man_pages_cover_every_subcommand() {
+    let o = hairlab(&["completions", "bash"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bash = String::from_utf8_lossy(&o.stdout).into_owned();
+    let o = hairlab(&["man"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(page.contains(".TH hairlab"), "{page}");
+    let dir = tempfile::tempdir().unwrap();
+    let o = hairlab(&["man", "--out", dir.path().to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("hairlab.1").is_file());
+    for sub in subcommands() {
+        assert!(
+            bash.contains(&format!("hairlab__subcmd__{sub}")),
+            "bash completion lacks {sub}"
+        );
+        let file = dir.path().join(format!("hairlab-{sub}.1"));
+        let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        assert!(
+            text.contains(".TH hairlab") && text.contains(&sub),
+            "{}",
+            file.display()
+        );
+    }
+    let o = hairlab(&["completions", "tcsh"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("tcsh"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn adapter_flag_chooses_by_name_and_names_an_unknown_one() {
+    if hairlab::gpu::Gpu::for_tests().is_none() {
+        return;
+    }
+    let o = hairlab(&["adapters"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let list = String::from_utf8_lossy(&o.stdout).into_owned();
+    let chosen: Vec<&str> = list.lines().filter(|l| l.starts_with("* ")).collect();
+    assert_eq!(chosen.len(), 1, "{list}");
+    // Every adapter can be chosen by its own name (its first word, which `describe` starts with).
+    let adapters: Vec<&str> = list
+        .lines()
+        .filter(|l| l.starts_with("  ") || l.starts_with("* "))
+        .collect();
+    let unusable = |l: &str| l.contains("unusable");
+    for line in adapters.iter().filter(|l| !unusable(l)) {
+        let name = line[2..].split_whitespace().next().unwrap();
+        let o = hairlab(&["--adapter", name, "adapters"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let again = String::from_utf8_lossy(&o.stdout).into_owned();
+        let marked = again.lines().find(|l| l.starts_with("* ")).unwrap_or_default();
+        assert!(
+            marked.to_lowercase().contains(&name.to_lowercase()),
+            "--adapter {name}: {again}"
+        );
+    }
+    let o = hairlab(&["--adapter", "no-such-gpu-xyz", "measure", "--frames", "1"]);
+    assert_fails(&o, &["no-such-gpu-xyz", "hairlab adapters"]);
+}
+
+#[test]
+fn mode_help_pages_list_only_their_own_options() {
+    let page = |args: &[&str]| String::from_utf8_lossy(&hairlab_80(args).stdout).into_owned();
+    let shadows = page(&["measure", "shadows", "--help"]);
+    assert!(
+        shadows.contains("--config") && shadows.contains("--out"),
+        "{shadows}"
+    );
+    for other in ["--technique", "--fur-config", "--transparency", "--fur "] {
+        assert!(
+            !shadows.contains(other),
+            "measure shadows lists {other}: {shadows}"
+        );
+    }
+    let eye = page(&["bench", "transparency", "--help"]);
+    assert!(eye.contains("--out") && eye.contains("--frames"), "{eye}");
+    for other in ["--metric", "--methods", "--max-segments", "--scaling"] {
+        assert!(!eye.contains(other), "bench transparency lists {other}: {eye}");
+    }
+    let measure = page(&["measure", "--help"]);
+    for mode in ["shadows", "transparency", "fur"] {
+        assert!(measure.contains(mode), "{measure}");
+    }
+}
+
+#[test]
+fn conflicting_and_ignored_flags_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b");
+    let out = out.to_str().unwrap();
+    // A mode's page has no other mode's options.
+    assert_fails(
+        &hairlab(&["measure", "fur", "--technique", "wboit"]),
+        &["--technique"],
+    );
+    assert_fails(
+        &hairlab(&["bench", "transparency", "--metric", "flip", "--out", out]),
+        &["--metric"],
+    );
+    // Today's flags: what the chosen mode would ignore is refused, naming both flags.
+    assert_fails(
+        &hairlab(&["bench", "--scaling", "--metric", "flip", "--out", out]),
+        &["--metric", "--scaling"],
+    );
+    assert_fails(
+        &hairlab(&["bench", "--transparency", "--methods", "osm", "--out", out]),
+        &["--methods", "--transparency"],
+    );
+    assert_fails(
+        &hairlab(&["bench", "--max-segments", "1000", "--out", out]),
+        &["--max-segments", "--scaling"],
+    );
+    assert_fails(
+        &hairlab(&["measure", "--fur", "--config", "osm:slices=16"]),
+        &["--config", "--fur"],
+    );
+    assert_fails(
+        &hairlab(&["measure", "--technique", "wboit"]),
+        &["--technique", "--transparency"],
+    );
+    assert!(!Path::new(out).exists(), "nothing written");
+}
+
+#[test]
+fn old_mode_flags_still_run_and_name_the_new_spelling() {
+    // `default` has no fur: both spellings fail the same way, the old one after naming the new.
+    let old = hairlab(&["measure", "--fur"]);
+    let new = hairlab(&["measure", "fur"]);
+    assert_eq!(error_lines(&old), error_lines(&new));
+    assert_fails(&new, &["fur.mode is off"]);
+    assert!(
+        stderr(&old).contains("note: `hairlab measure --fur` is now `hairlab measure fur`"),
+        "{}",
+        stderr(&old)
+    );
+    assert!(!stderr(&new).contains("note:"), "{}", stderr(&new));
 }

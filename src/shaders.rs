@@ -19,6 +19,8 @@ pub const SOURCES: &[(&str, &str)] = embed![
     "common/frame.wgsl",
     "common/scene_bindings.wgsl",
     "common/kajiya_kay.wgsl",
+    "common/marschner.wgsl",
+    "common/strand_shading.wgsl",
     "common/light_vertex.wgsl",
     "common/method_lookup.wgsl",
     "common/cumulative_targets.wgsl",

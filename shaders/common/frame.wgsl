@@ -19,7 +19,8 @@ struct FrameUniforms {
     spot_cos_half_angle: f32,
     // Light colour times intensity.
     light_color: vec3<f32>,
-    pad0: u32,
+    // The strand shading model (`render.shading`; see common/strand_shading.wgsl).
+    shading_model: u32,
     // Hair colour for strands without per-point colour.
     hair_color: vec3<f32>,
     // Global hair alpha.

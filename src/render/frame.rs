@@ -118,7 +118,7 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         light_position: hair.position.to_array(),
         spot_cos_half_angle: (f.light.cone_deg.to_radians() * 0.5).cos(),
         light_color: f.light.color.map(|c| c * intensity),
-        pad0: 0,
+        shading_model: f.render.shading.uniform(),
         hair_color: f.render.hair_color,
         hair_alpha: f.render.hair_alpha,
         light_near: hair.near,

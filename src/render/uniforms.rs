@@ -23,7 +23,8 @@ pub struct FrameUniforms {
     pub spot_cos_half_angle: f32,
     /// Light colour times intensity.
     pub light_color: [f32; 3],
-    pub pad0: u32,
+    /// The strand shading model, [`crate::shading::ShadingModel::uniform`] (`render.shading`).
+    pub shading_model: u32,
     /// Hair colour for strands without per-point colour.
     pub hair_color: [f32; 3],
     pub hair_alpha: f32,
@@ -79,7 +80,7 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
             offset_of!(FrameUniforms, spot_cos_half_angle),
         ),
         ("light_color", offset_of!(FrameUniforms, light_color)),
-        ("pad0", offset_of!(FrameUniforms, pad0)),
+        ("shading_model", offset_of!(FrameUniforms, shading_model)),
         ("hair_color", offset_of!(FrameUniforms, hair_color)),
         ("hair_alpha", offset_of!(FrameUniforms, hair_alpha)),
         ("light_near", offset_of!(FrameUniforms, light_near)),

@@ -4,10 +4,11 @@
 
 const MARSCHNER_ETA: f32 = 1.55;
 const MARSCHNER_PI: f32 = 3.14159265358979;
-// α_p and β_p of R, TT, TRT in radians: α_R = −5°, α_TT = −α_R/2, α_TRT = −3α_R/2; β_R = 7.5°, β_TT = β_R/2,
-// β_TRT = 2β_R.
-const MARSCHNER_ALPHA: vec3<f32> = vec3<f32>(-0.0872664626, 0.0436332313, 0.1308996939);
-const MARSCHNER_BETA: vec3<f32> = vec3<f32>(0.1308996939, 0.0654498469, 0.2617993878);
+// Standard deviation 2 sin β_p and centre 2 sin α_p of the Gaussians of R, TT, TRT in sin θ_i + sin θ_o
+// (α_R = −5°, α_TT = −α_R/2, α_TRT = −3α_R/2; β_R = 7.5°, β_TT = β_R/2, β_TRT = 2β_R): `marschner::WIDTH`
+// and `marschner::CENTRE`, a test compares them.
+const MARSCHNER_WIDTH: vec3<f32> = vec3<f32>(0.2610524, 0.13080627, 0.5176381);
+const MARSCHNER_CENTRE: vec3<f32> = vec3<f32>(-0.17431149, 0.08723877, 0.2610524);
 const MARSCHNER_BETA_N: f32 = 0.3;
 const MARSCHNER_MIN_COLOUR: f32 = 1e-3;
 
@@ -28,7 +29,7 @@ fn marschner_fresnel(cos_theta: f32) -> f32 {
     return f0 + (1.0 - f0) * m * m * m * m * m;
 }
 
-// σ_a per unit fibre radius from a linear hair colour (Chiang et al. 2016, eq. 9, β_n = 0.3).
+// σ_a per unit fibre radius from a linear hair colour (Chiang et al. 2016's fit, β_n = 0.3).
 fn marschner_absorption(colour: vec3<f32>) -> vec3<f32> {
     let b = MARSCHNER_BETA_N;
     let d = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * b * b * b + 5.574 * b * b * b * b
@@ -38,13 +39,20 @@ fn marschner_absorption(colour: vec3<f32>) -> vec3<f32> {
 }
 
 fn marschner_m(p: u32, x: f32) -> f32 {
-    return marschner_gaussian(2.0 * sin(MARSCHNER_BETA[p]), x - 2.0 * sin(MARSCHNER_ALPHA[p]));
+    return marschner_gaussian(MARSCHNER_WIDTH[p], x - MARSCHNER_CENTRE[p]);
 }
 
-fn marschner_lobes(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, sigma_a: vec3<f32>) -> MarschnerLobes {
+fn marschner_lobes(
+    tangent: vec3<f32>,
+    to_light: vec3<f32>,
+    to_eye: vec3<f32>,
+    sigma_a: vec3<f32>,
+) -> MarschnerLobes {
     let sin_i = clamp(dot(tangent, to_light), -1.0, 1.0);
     let sin_o = clamp(dot(tangent, to_eye), -1.0, 1.0);
-    let cos_d = max(cos(0.5 * abs(asin(sin_o) - asin(sin_i))), 1e-4);
+    let cos_i = sqrt(1.0 - sin_i * sin_i);
+    let cos_o = sqrt(1.0 - sin_o * sin_o);
+    let cos_d = max(sqrt(max(0.5 + 0.5 * (cos_o * cos_i + sin_o * sin_i), 0.0)), 1e-4);
     let lp = to_light - sin_i * tangent;
     let vp = to_eye - sin_o * tangent;
     let cos_phi = clamp(dot(lp, vp) / sqrt(max(dot(lp, lp) * dot(vp, vp), 1e-12)), -1.0, 1.0);

@@ -17,21 +17,25 @@
 //! - η = 1.55, cuticle tilt α_R = −5° and width β_R = 7.5° (Marschner et al. 2003, Table 1: η 1.55,
 //!   α_R −10° … −5°, β_R 5° … 10°); α_TT = −α_R/2, α_TRT = −3α_R/2, β_TT = β_R/2, β_TRT = 2β_R (same table).
 //! - `M_p = g(2 sin β_p; sin θ_i + sin θ_o − 2 sin α_p)`, a unit Gaussian in `sin θ_o` (Karis 2016 slide
-//!   "Longitudinal scattering": the argument `sin θ_i + sin θ_o` for `2 sin θ_h`; d'Eon et al. 2011 §4 on
-//!   normalising `M_p` over the sphere). Karis's view-dependent R shift is left out: it is not reciprocal.
-//! - `N_R = ¼ cos(φ/2)`, `A_R = F(√(½(1 + ω_i·ω_o)))` (Karis 2016, "R" slide; Marschner 2003 eq. 9's
-//!   Fresnel at the half angle); `F` is Schlick's approximation with `F0 = ((1−η)/(1+η))²` (Karis 2016).
-//! - Modified index `η' = 1.19 / cos θ_d + 0.36 cos θ_d` (Karis 2016's fit of Marschner 2003 eq. 4's Bravais
-//!   index for η = 1.55).
+//!   "Longitudinal scattering": the argument `sin θ_i + sin θ_o` for `2 sin θ_h`; d'Eon et al. 2011 on
+//!   normalising `M_p` over the sphere).
+//! - `N_R = ¼ cos(φ/2)`, `A_R = F(√(½(1 + ω_i·ω_o)))` (Karis 2016, "R" slide: the Fresnel factor at half
+//!   the angle between ω_i and ω_o); `F` is Schlick's approximation with `F0 = ((1−η)/(1+η))²` (Karis 2016).
+//! - Modified index `η' = 1.19 / cos θ_d + 0.36 cos θ_d` (Karis 2016's fit of Marschner 2003's Bravais index
+//!   for η = 1.55).
 //! - TT: `h = cos(φ/2) (1 + (0.6 − 0.8 cos φ)/η')`, `N_TT = exp(−3.65 cos φ − 3.98)`,
 //!   `A_TT = (1 − F(cos θ_d √(1 − h²)))² T_TT` (Karis 2016, "TT" slide).
 //! - TRT: `h = √3/2`, `N_TRT = exp(17 cos φ − 16.78)`, `A_TRT = (1 − f)² f T_TRT`, `f = F(cos θ_d / 2)` (Karis
 //!   2016, "TRT" slide).
-//! - Absorption `T = exp(−σ_a · 2 cos γ_t / cos θ_d)` per passage through the fibre (unit radius), `sin γ_t =
-//!   h / η'` (Marschner 2003 §4.2 / d'Eon 2011 eq. 11, with Karis's `cos θ_t ≈ cos θ_d`); TRT passes twice.
-//! - `σ_a` from the hair colour `c`: `σ_a = (ln c / (5.969 − 0.215 β_n + 2.532 β_n² − 10.73 β_n³ + 5.574 β_n⁴
-//!   + 0.245 β_n⁵))²` at azimuthal roughness β_n = 0.3 (Chiang et al. 2016, eq. 9). That mapping is fitted for
-//!   a fibre's multiple scattering; with single scattering only, a hair coloured `c` looks lighter than `c`.
+//! - Absorption `T = exp(−σ_a · 2 cos γ_t / cos θ_d)` per passage through the fibre (unit radius),
+//!   `sin γ_t = h / η'` (Marschner 2003's absorption along the refracted path, as d'Eon 2011 and pbrt-v3
+//!   evaluate it, with Karis's `cos θ_t ≈ cos θ_d`); TRT passes twice.
+//! - `σ_a` from the hair colour `c`: `σ_a = (ln c / (5.969 − 0.215 β_n + 2.532 β_n² − 10.73 β_n³ +
+//!   5.574 β_n⁴ + 0.245 β_n⁵))²` at azimuthal roughness β_n = 0.3 (Chiang et al. 2016's fit of σ_a to a
+//!   target colour). That fit is made for a fibre's multiple scattering; with single scattering only, a hair
+//!   coloured `c` looks lighter than `c` in TT and TRT.
+//! - Left out of Karis's forms, as not reciprocal or not normalised: the R lobe's view-dependent shift and its
+//!   `cos(φ/2)`-scaled width, and the multiple-scattering diffuse term.
 //!
 //! Energy (white furnace, σ_a = 0): `∫ S dω_o` is at most 1.0015 over θ_i ∈ [−85°, 85°] (measured by
 //! `tests::white_furnace_stays_bounded`; Karis's fitted `N_TT`, `N_TRT` are not exactly normalised).
@@ -51,6 +55,11 @@ pub const BETA_N: f32 = 0.3;
 /// Lobe shifts `α_p` and widths `β_p` of R, TT, TRT (Marschner et al. 2003, Table 1).
 pub const ALPHA: [f32; 3] = [ALPHA_R, -ALPHA_R / 2.0, -3.0 * ALPHA_R / 2.0];
 pub const BETA: [f32; 3] = [BETA_R, BETA_R / 2.0, 2.0 * BETA_R];
+/// Standard deviation `2 sin β_p` and centre `2 sin α_p` of each lobe's Gaussian in `sin θ_i + sin θ_o`, as
+/// literals so that the GPU need not evaluate `sin` (Vulkan allows it an absolute error of 2⁻¹¹); a test checks
+/// them against [`ALPHA`] and [`BETA`], another against `shaders/common/marschner.wgsl`.
+pub const WIDTH: [f32; 3] = [0.261_052_4, 0.130_806_27, 0.517_638_1];
+pub const CENTRE: [f32; 3] = [-0.174_311_49, 0.087_238_77, 0.261_052_4];
 /// The darkest and lightest colour channel the absorption takes (`ln 0` is infinite; above 1 would be gain).
 const MIN_COLOUR: f32 = 1e-3;
 
@@ -81,7 +90,7 @@ pub fn fresnel(cos_theta: f32) -> f32 {
     f0 + (1.0 - f0) * m * m * m * m * m
 }
 
-/// Absorption coefficient per unit fibre radius from a linear hair colour (Chiang et al. 2016, eq. 9).
+/// Absorption coefficient per unit fibre radius from a linear hair colour (Chiang et al. 2016's fit).
 pub fn absorption(colour: Vec3) -> Vec3 {
     let b = BETA_N;
     let d = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * b * b * b
@@ -95,13 +104,19 @@ pub fn absorption(colour: Vec3) -> Vec3 {
 pub fn lobes(tangent: Vec3, to_light: Vec3, to_eye: Vec3, sigma_a: Vec3) -> Lobes {
     let sin_i = tangent.dot(to_light).clamp(-1.0, 1.0);
     let sin_o = tangent.dot(to_eye).clamp(-1.0, 1.0);
-    let cos_d = (0.5 * (sin_o.asin() - sin_i.asin()).abs()).cos().max(1e-4);
+    // cos θ_d = cos((θ_o − θ_i)/2) = √(½(1 + cos θ_o cos θ_i + sin θ_o sin θ_i)), without asin and cos (Vulkan
+    // allows those a few thousand ulps).
+    let (cos_i, cos_o) = ((1.0 - sin_i * sin_i).sqrt(), (1.0 - sin_o * sin_o).sqrt());
+    let cos_d = (0.5 + 0.5 * (cos_o * cos_i + sin_o * sin_i))
+        .max(0.0)
+        .sqrt()
+        .max(1e-4);
     let lp = to_light - sin_i * tangent;
     let vp = to_eye - sin_o * tangent;
     let cos_phi = (lp.dot(vp) / (lp.dot(lp) * vp.dot(vp)).max(1e-12).sqrt()).clamp(-1.0, 1.0);
     let cos_half_phi = (0.5 + 0.5 * cos_phi).sqrt();
     let x = sin_i + sin_o;
-    let m = |p: usize| gaussian(2.0 * BETA[p].sin(), x - 2.0 * ALPHA[p].sin());
+    let m = |p: usize| gaussian(WIDTH[p], x - CENTRE[p]);
     let eta_prime = 1.19 / cos_d + 0.36 * cos_d;
     let a = 1.0 / eta_prime;
 
@@ -194,7 +209,7 @@ mod tests {
     }
 
     /// `S(ω_i, ω_o) = S(ω_o, ω_i)` on 2000 pairs of directions, coloured and white, to f32 rounding
-    /// (relative 1e-5: asin and the azimuth are evaluated in the other order; measured 0, bit-exact).
+    /// (relative 1e-5, for the sums taken in the other order; measured 0, bit-exact).
     #[test]
     fn reciprocal() {
         let mut rng = crate::rng::SplitMix64::new(3);
@@ -216,7 +231,7 @@ mod tests {
     }
 
     /// The R lobe peaks at `sin θ_o = 2 sin α_R − sin θ_i` (the specular direction tilted towards the root by
-    /// 2|α_R|, Marschner et al. 2003 §4.3) in the plane of incidence, for θ_i within 20° of normal incidence
+    /// 2|α_R|, Marschner et al. 2003) in the plane of incidence, for θ_i within 20° of normal incidence
     /// (further out the Fresnel factor's rise towards grazing pulls the peak outwards). Scanned every 0.01°;
     /// measured within 0.04°.
     #[test]
@@ -258,6 +273,36 @@ mod tests {
         assert!(back.tt.x > 100.0 * front.tt.x, "{back:?} vs {front:?}");
         assert!(back.tt.x > 10.0 * (back.r + back.trt.x), "{back:?}");
         assert!(front.r + front.trt.x > front.tt.x, "{front:?}");
+    }
+
+    /// The Gaussians' literal widths and centres are `2 sin β_p` and `2 sin α_p`, and the WGSL holds the same
+    /// literals.
+    #[test]
+    fn lobe_constants_match_the_angles_and_the_wgsl() {
+        for p in 0..3 {
+            assert!((WIDTH[p] - 2.0 * BETA[p].sin()).abs() < 1e-7, "width {p}");
+            assert!((CENTRE[p] - 2.0 * ALPHA[p].sin()).abs() < 1e-7, "centre {p}");
+        }
+        let src = crate::shaders::compose("common/marschner.wgsl", None).unwrap();
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        for (name, values) in [("MARSCHNER_WIDTH", WIDTH), ("MARSCHNER_CENTRE", CENTRE)] {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("{name} missing"));
+            let naga::Expression::Compose { ref components, .. } = module.global_expressions[c.init] else {
+                panic!("{name} is not a vec3 literal");
+            };
+            let wgsl: Vec<f32> = components
+                .iter()
+                .map(|&h| match module.global_expressions[h] {
+                    naga::Expression::Literal(naga::Literal::F32(v)) => v,
+                    ref e => panic!("{name}: {e:?}"),
+                })
+                .collect();
+            assert_eq!(wgsl, values, "{name}");
+        }
     }
 
     /// Hand-computed pieces: the Gaussian's peak, Schlick's F0 for η = 1.55 and its grazing limit, and

@@ -14,11 +14,12 @@ use hairlab::settings::Settings;
 use hairlab::shading::{ShadingModel, marschner};
 
 /// GPU = CPU tolerance on each lobe value `s`: `|s_gpu − s_cpu| ≤ ABS_TOL + REL_TOL · |s_cpu|`. The lobes
-/// reach ~2 (TT's peak) and the TRT lobe's `exp(17 cos φ − 16.78)` turns an ulp of `cos φ` into ~2e-6
-/// relative; lavapipe's `asin`, `exp` and `log` differ from Rust's in the last bits. Measured (printed by the
-/// test): max relative difference 1.9e-6 over 4418 directions, max absolute 2.4e-6.
-const ABS_TOL: f32 = 1e-5;
-const REL_TOL: f32 = 1e-4;
+/// reach ~2 (TT's peak); the TRT lobe's `exp(17 cos φ − 16.78)` turns an ulp of `cos φ` into ~1e-6 relative,
+/// and Vulkan allows `exp` 3 + 2|x| ulps. The model avoids `asin`, `sin` and `cos`, which Vulkan lets drift by
+/// thousands of ulps (the Gaussians' widths and centres are literals, `cos θ_d` is taken through square roots).
+/// Measured on lavapipe (printed by the test): max |Δ| = 7.2e-7, max relative 9.4e-7 over 4270 directions.
+const ABS_TOL: f32 = 2e-6;
+const REL_TOL: f32 = 1e-5;
 
 /// Per probe: the lobes of [`marschner::lobes`] with the absorption of the colour, the summed shading and the
 /// absorption itself.
@@ -187,15 +188,21 @@ fn wgsl_marschner_equals_the_cpu_model() {
     assert!(peak > 1.0, "no probe reached the TT peak: {peak}");
 }
 
-/// The mean over pixels of the captured premultiplied hair colour `H` (sum of the channels).
-fn mean_colour(capture: &[[f32; 4]]) -> f64 {
-    capture.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>() / capture.len() as f64
+/// A capture's premultiplied hair colour `H` as luminance (Rec. 709 weights), per hair pixel (coverage > 0).
+fn hair_luminance(capture: &[[f32; 4]]) -> Vec<f32> {
+    capture
+        .iter()
+        .filter(|p| p[3] > 0.0)
+        .map(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
+        .collect()
 }
 
 /// Renders `s` under both shading models with the method and technique of `s`; checks that the Marschner
-/// capture is finite and not black and differs from the Kajiya-Kay one, and that coverage is the same (the
-/// shading model changes colour only). Returns the two mean colours.
-fn both_models(gpu: &Gpu, s: &Settings, what: &str) -> (f64, f64) {
+/// capture is finite and not black, that coverage is the same (the shading model changes colour only), and that
+/// the colour differs from Kajiya-Kay's in at least a quarter of the hair pixels (those in a shadow keep only
+/// the ambient term, the same under both: 41 % to 61 % differ on the test scenes). Returns the two
+/// captures' hair luminances.
+fn both_models(gpu: &Gpu, s: &Settings, what: &str) -> (Vec<f32>, Vec<f32>) {
     let scene = s.scene.build().unwrap();
     let mut r = Renderer::new(gpu, &scene, s.render.map_resolution).unwrap();
     let method = registry::find(&s.method.name).unwrap();
@@ -228,11 +235,20 @@ fn both_models(gpu: &Gpu, s: &Settings, what: &str) -> (f64, f64) {
         .zip(&m)
         .filter(|(a, b)| (0..3).any(|i| (a[i] - b[i]).abs() > 1e-2))
         .count();
+    println!("{what}: {changed} of {covered} hair pixels differ");
     assert!(
-        changed * 2 > covered,
+        changed * 4 >= covered,
         "{what}: only {changed} of {covered} hair pixels differ from Kajiya-Kay"
     );
-    (mean_colour(&kk), mean_colour(&m))
+    (hair_luminance(&kk), hair_luminance(&m))
+}
+
+fn mean(v: &[f32]) -> f32 {
+    v.iter().sum::<f32>() / v.len().max(1) as f32
+}
+
+fn max(v: &[f32]) -> f32 {
+    v.iter().copied().fold(0.0, f32::max)
 }
 
 /// The back-lit preset shrunk to a test scene: 7200 segments, 96×72.
@@ -262,8 +278,7 @@ fn every_shadow_method_renders_under_marschner() {
         let mut s = base.clone();
         s.method.name = method.name().into();
         s.method.params.clear();
-        let (kk, m) = both_models(&gpu, &s, method.name());
-        println!("{}: mean H kajiya-kay {kk:.4}, marschner {m:.4}", method.name());
+        both_models(&gpu, &s, method.name());
     }
 }
 
@@ -277,29 +292,49 @@ fn every_transparency_technique_renders_under_marschner() {
         let mut s = base.clone();
         s.transparency.name = technique.name().into();
         s.transparency.params.clear();
-        let (kk, m) = both_models(&gpu, &s, technique.name());
-        println!(
-            "{}: mean H kajiya-kay {kk:.4}, marschner {m:.4}",
-            technique.name()
-        );
+        both_models(&gpu, &s, technique.name());
     }
 }
 
-/// Back-lit, the transmitted lobe makes the Marschner head brighter than the Kajiya-Kay one, whose diffuse
-/// and cone terms do not depend on which side of the hair the light is; front-lit (the default preset) the
-/// order turns round. Both models see the same visibility (the preset's shadow method), so the comparison is
-/// the shading's alone.
+/// Back-lit, the transmitted lobe makes the hair at the silhouette glow brighter than anything Kajiya-Kay's
+/// diffuse and cone terms reach (they do not depend on which side of the hair the light is): the brightest
+/// Marschner pixel is over 1.5 times the brightest Kajiya-Kay pixel and at least 1 % of the hair pixels are
+/// brighter than it (measured: 1.019 against 0.369, 79 of 1285 pixels). Front-lit (the default preset)
+/// Marschner's single scattering is darker on average (measured mean luminance 0.0168 against 0.0421). Both
+/// models see the same visibility (the preset's shadow method), so the comparison is the shading's alone.
 #[test]
 fn back_light_glows_only_under_marschner() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let back = small_back_lit();
-    let (kk, m) = both_models(&gpu, &back, "back-lit");
-    println!("back-lit: mean H kajiya-kay {kk:.4}, marschner {m:.4}");
-    assert!(m > 1.5 * kk, "back-lit: marschner {m} vs kajiya-kay {kk}");
+    let (kk, m) = both_models(&gpu, &small_back_lit(), "back-lit");
+    let brightest = max(&kk);
+    let glowing = m.iter().filter(|&&y| y > brightest).count();
+    println!(
+        "back-lit: hair luminance mean {:.4} / {:.4}, max {brightest:.4} / {:.4} (kajiya-kay / marschner); \
+         {glowing} of {} marschner pixels above the kajiya-kay maximum",
+        mean(&kk),
+        mean(&m),
+        max(&m),
+        m.len()
+    );
+    assert!(max(&m) > 1.5 * brightest, "back-lit: {} vs {brightest}", max(&m));
+    assert!(
+        glowing * 100 >= m.len(),
+        "back-lit: {glowing} of {} glow",
+        m.len()
+    );
     let mut front = common::small_settings(96, 72);
     let scene = front.scene.build().unwrap();
     front.camera.frame(&scene.framing_bounds());
     let (kk, m) = both_models(&gpu, &front, "front-lit");
-    println!("front-lit: mean H kajiya-kay {kk:.4}, marschner {m:.4}");
-    assert!(m < kk, "front-lit: marschner {m} vs kajiya-kay {kk}");
+    println!(
+        "front-lit: hair luminance mean kajiya-kay {:.4}, marschner {:.4}",
+        mean(&kk),
+        mean(&m)
+    );
+    assert!(
+        mean(&m) < mean(&kk),
+        "front-lit: marschner {} vs kajiya-kay {}",
+        mean(&m),
+        mean(&kk)
+    );
 }

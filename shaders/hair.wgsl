@@ -1,9 +1,10 @@
-// Eye pass for hair: strands as lines (vs_main) or camera-facing ribbons (vs_ribbon), Kajiya-Kay shading,
+// Eye pass for hair: strands as lines (vs_main) or camera-facing ribbons (vs_ribbon), the strand shading model
+// of `render.shading` (common/strand_shading.wgsl),
 // shadowed by the selected method's visibility and by opaque meshes; the eye transparency technique's entry
 // points (pasted at #include_technique) store what `shade_hair` returns.
 #include "common/eye_vertex.wgsl"
 #include "common/scene_bindings.wgsl"
-#include "common/kajiya_kay.wgsl"
+#include "common/strand_shading.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
 #include_technique
@@ -73,7 +74,7 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     let l = light_dir(world);
     let v = hair_visibility(world) * mesh_visibility(world, 1);
     var out: ShadedHair;
-    out.color = kajiya_kay(t, l, to_eye, in.color) * light_radiance(world) * v + in.color * 0.08;
+    out.color = strand_shading(t, l, to_eye, in.color) * light_radiance(world) * v + in.color * 0.08;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

@@ -16,6 +16,7 @@ pub mod scene;
 pub mod selection;
 pub mod settings;
 pub mod shaders;
+pub mod shading;
 pub mod soak;
 pub mod transparency;
 pub mod visibility;
@@ -43,6 +44,7 @@ mod tests {
             "transparency",
             "fur",
             "motion",
+            "shading",
         ]
         .iter()
         .map(|d| root.join(d))

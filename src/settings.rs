@@ -252,6 +252,8 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
     ("head-turn", include_str!("../presets/head-turn.toml")),
     ("stray-sweep", include_str!("../presets/stray-sweep.toml")),
     ("straight-motion", include_str!("../presets/straight-motion.toml")),
+    ("back-lit", include_str!("../presets/back-lit.toml")),
+    ("rim-lit", include_str!("../presets/rim-lit.toml")),
 ];
 
 impl SceneSettings {
@@ -661,6 +663,27 @@ mod tests {
             format!("{e:#}").contains("render.alpha") && format!("{e:#}").contains("coverage"),
             "{e:#}"
         );
+    }
+
+    #[test]
+    fn shading_model_is_read_by_its_word_and_bad_words_name_the_key() {
+        use crate::shading::ShadingModel;
+        assert_eq!(Settings::default().render.shading, ShadingModel::KajiyaKay);
+        for model in ShadingModel::ALL {
+            let set = format!("render.shading={}", model.word());
+            let s = Settings::from_toml_with("", "test", &[set]).unwrap();
+            assert_eq!(s.render.shading, model);
+            assert_eq!(Settings::from_toml(&s.to_toml(), "roundtrip").unwrap(), s);
+        }
+        let e = Settings::from_toml_with("", "x.toml", &["render.shading=phong".into()]).unwrap_err();
+        let text = format!("{e:#}");
+        assert!(
+            text.contains("x.toml") && text.contains("render.shading"),
+            "{text}"
+        );
+        for model in ShadingModel::ALL {
+            assert!(text.contains(model.word()), "{text}");
+        }
     }
 
     #[test]

@@ -47,6 +47,11 @@ struct FrameUniforms {
     // perspective, 1 for the orthographic directional light frame).
     eye_footprint: f32,
     light_footprint: f32,
+    // The strand shading model (`render.shading`; see common/strand_shading.wgsl).
+    shading_model: u32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

@@ -3,7 +3,7 @@
 // triangles (B.3 #6) are rasterised, and each fragment marches its pixel's eye ray through the prisms. A port
 // of `src/fur/march.rs`, function for function: `prism_locate` is `Shell::locate`, `walk` is `march::locate`,
 // `light_transmittance` and `march_group` are the march (one call per group of k steps, so that the count
-// and the fill entry share it), `kajiya_kay` is `common/kajiya_kay.wgsl` = `march::kajiya_kay`.
+// and the fill entry share it), `kajiya_kay` is `common/kajiya_kay.wgsl` = `shading::kajiya_kay`.
 // `fs_count` adds the fragments it would emit to its pixel's count (and the total) and the march's statistics
 // to `stats`; `fs_fill` appends them to the eye lists as `EyeNode`s of kind 1 (SHELL) or 2 (VIRTUAL).
 #include "common/frame.wgsl"

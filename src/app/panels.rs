@@ -337,6 +337,19 @@ impl HairlabApp {
                     row(ui, "jitter", egui::Checkbox::without_text(&mut r.jitter)).on_hover_text(
                         "move each lookup by up to half a light texel (Sintorn & Assarsson §3.3)",
                     );
+                    let label = ui.label("shading");
+                    egui::ComboBox::from_id_salt("shading")
+                        .selected_text(r.shading.label())
+                        .show_ui(ui, |ui| {
+                            for model in crate::shading::ShadingModel::ALL {
+                                ui.selectable_value(&mut r.shading, model, model.label())
+                                    .on_hover_text(model.description());
+                            }
+                        })
+                        .response
+                        .labelled_by(label.id)
+                        .on_hover_text("the strand shading model (render.shading)");
+                    ui.end_row();
                     ui.label("hair colour");
                     ui.color_edit_button_rgb(&mut r.hair_color);
                     ui.end_row();

@@ -477,8 +477,10 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
     )?;
     written?;
     println!(
-        "preset {}: {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity max {} mean {:.1}",
+        "preset {} (shading {}): {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity \
+         max {} mean {:.1}",
         a.scene.preset,
+        settings.render.shading.word(),
         stats.strands,
         stats.segments,
         stats.map_resolution,
@@ -528,7 +530,8 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
     println!(
         "texel error = mean |V - V_ref| over a texel's samples; p50/p95/p99/worst over the occupied texels; \
          >0.05, >0.1: share of occupied texels above; \
-         build: what the method builds its maps from each frame"
+         build: what the method builds its maps from each frame; img RMSE: against the reference image under \
+         the same shading model"
     );
     let cancelled = rows.len() < configs.len();
     if let Some(dir) = &a.out {

@@ -27,11 +27,8 @@ use glam::Vec3;
 use super::mesh::NONE;
 use super::shell::{Location, Shell};
 use super::volume::Volume;
+use crate::shading::kajiya_kay::kajiya_kay;
 
-/// Kajiya–Kay constants, as `shaders/common/kajiya_kay.wgsl`.
-const KK_DIFFUSE: f32 = 0.75;
-const KK_SPECULAR: f32 = 0.35;
-const KK_EXPONENT: f32 = 60.0;
 /// A sample this close outside a side (in barycentrics) counts as inside: without it a ray running exactly
 /// along an edge sees `λ ≈ −10⁻⁹` from both faces and hops between them until it is lost (measured: a ray
 /// along one of the cylinder's rings).
@@ -42,16 +39,6 @@ pub const STEPS_PER_THICKNESS: u32 = 32;
 pub const MAX_STEPS: u32 = 256;
 /// Default transmittance cut-off `ε_T` (B.3 #7; 0 for the reference).
 pub const EPSILON_T: f32 = 1e-3;
-
-/// Kajiya–Kay shading (the phase function): diffuse `∝ sin(τ, l)`, specular `cos(cone angle)^p`.
-pub fn kajiya_kay(tangent: Vec3, to_light: Vec3, to_eye: Vec3, base: Vec3) -> Vec3 {
-    let t_l = tangent.dot(to_light).clamp(-1.0, 1.0);
-    let t_e = tangent.dot(to_eye).clamp(-1.0, 1.0);
-    let sin_tl = (1.0 - t_l * t_l).sqrt();
-    let sin_te = (1.0 - t_e * t_e).sqrt();
-    let specular = KK_SPECULAR * (t_l * t_e + sin_tl * sin_te).max(0.0).powf(KK_EXPONENT);
-    base * (KK_DIFFUSE * sin_tl) + Vec3::splat(specular)
-}
 
 /// What to emit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -516,18 +503,6 @@ pub fn composite(fragments: &[Fragment], background: Vec3) -> (Vec3, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn kajiya_kay_by_hand() {
-        // τ ⟂ l and τ ⟂ e: sin = 1, the cone term cos = 1 ⇒ 0.75·base + 0.35.
-        let c = kajiya_kay(Vec3::Y, Vec3::X, Vec3::Z, Vec3::new(1.0, 0.5, 0.0));
-        assert!(
-            (c - Vec3::new(1.1, 0.725, 0.35)).abs().max_element() < 1e-6,
-            "{c}"
-        );
-        // τ ∥ l: no diffuse; the cone term is t_l·t_e = 0 ⇒ black.
-        assert_eq!(kajiya_kay(Vec3::X, Vec3::X, Vec3::Z, Vec3::ONE), Vec3::ZERO);
-    }
 
     #[test]
     fn bad_march_parameters_name_their_key() {

@@ -133,6 +133,10 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         strand_width: f.render.strand_width,
         eye_footprint: footprint_per_w(&view_to_clip(scene, f.camera, width, height), width, height),
         light_footprint: footprint_per_w(&hair.view_to_clip, resolution, resolution),
+        shading_model: f.render.shading.uniform(),
+        pad1: 0,
+        pad2: 0,
+        pad3: 0,
     }
 }
 

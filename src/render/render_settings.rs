@@ -1,7 +1,8 @@
-//! How a frame is rendered ([`RenderSettings`], the `[render]` preset section) and how a strand fragment's alpha
-//! is found ([`AlphaMode`]).
+//! How a frame is rendered ([`RenderSettings`], the `[render]` preset section), how a strand fragment's alpha
+//! is found ([`AlphaMode`]) and how it is shaded ([`ShadingModel`]).
 
 pub use crate::render::caster::LightStrands;
+pub use crate::shading::ShadingModel;
 use serde::{Deserialize, Serialize};
 
 /// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
@@ -24,6 +25,8 @@ pub struct RenderSettings {
     /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
     /// mode, at the same `hair_alpha`.
     pub strand_width: f32,
+    /// How a lit strand point is shaded ([`ShadingModel`]: `kajiya-kay` or `marschner`).
+    pub shading: ShadingModel,
     /// Colour of strands without their own colour (linear RGB).
     pub hair_color: [f32; 3],
     pub background: [f32; 3],
@@ -50,6 +53,7 @@ impl Default for RenderSettings {
             hair_alpha: 0.35,
             alpha: AlphaMode::Constant,
             strand_width: DEFAULT_STRAND_WIDTH,
+            shading: ShadingModel::KajiyaKay,
             hair_color: [0.30, 0.18, 0.09],
             background: [0.12, 0.13, 0.15],
             pcf: false,

@@ -51,6 +51,11 @@ pub struct FrameUniforms {
     pub eye_footprint: f32,
     /// World size of one hair light-map texel per unit of light clip w.
     pub light_footprint: f32,
+    /// The strand shading model, [`crate::shading::ShadingModel::uniform`] (`render.shading`).
+    pub shading_model: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+    pub pad3: u32,
 }
 
 /// Field names and byte offsets, in declaration order, for the layout test.
@@ -101,5 +106,9 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
         ("strand_width", offset_of!(FrameUniforms, strand_width)),
         ("eye_footprint", offset_of!(FrameUniforms, eye_footprint)),
         ("light_footprint", offset_of!(FrameUniforms, light_footprint)),
+        ("shading_model", offset_of!(FrameUniforms, shading_model)),
+        ("pad1", offset_of!(FrameUniforms, pad1)),
+        ("pad2", offset_of!(FrameUniforms, pad2)),
+        ("pad3", offset_of!(FrameUniforms, pad3)),
     ]
 };

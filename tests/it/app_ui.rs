@@ -117,6 +117,30 @@ fn open_compare(harness: &mut Harness<'_, HairlabApp>) {
     panic!("the compare window does not settle");
 }
 
+/// The Render section's shading selector offers every strand shading model and switches `render.shading`.
+#[test]
+fn render_section_switches_the_shading_model() {
+    use hairlab::shading::ShadingModel;
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness = tall_harness();
+    harness.run();
+    assert_eq!(harness.state().settings().render.shading, ShadingModel::KajiyaKay);
+    harness.get_by_label("shading").click();
+    harness.run();
+    for model in ShadingModel::ALL {
+        assert!(
+            harness.query_all_by_label(model.label()).next().is_some(),
+            "{} is not offered",
+            model.word()
+        );
+    }
+    harness.get_by_label(ShadingModel::Marschner.label()).click();
+    harness.run();
+    assert_eq!(harness.state().settings().render.shading, ShadingModel::Marschner);
+}
+
 #[test]
 fn transparency_section_lists_every_technique_and_switches_it() {
     if Gpu::for_tests().is_none() {

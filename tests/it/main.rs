@@ -42,6 +42,7 @@ mod reference;
 mod ribbons;
 mod scene_gpu;
 mod shaders;
+mod shading;
 mod stability;
 mod stability_avsm;
 mod stability_dsm;

@@ -134,13 +134,13 @@ impl HairlabApp {
         let mut open = self.about_open;
         egui::Window::new("About")
             .open(&mut open)
-            .default_width(560.0)
+            .default_size([560.0, 560.0])
             .show(ctx, |ui| {
                 ui.heading(format!("hairlab {}", env!("CARGO_PKG_VERSION")));
                 ui.label(format!("Adapter: {}", self.adapter));
                 ui.label(format!("Licence: {}", env!("CARGO_PKG_LICENSE")));
                 ui.separator();
-                egui::ScrollArea::vertical().max_height(600.0).show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
                     ui.heading("Shadow methods");
                     for m in methods::all() {
                         entry_ui(ui, m.name(), m.label());

@@ -135,6 +135,8 @@ impl HairlabApp {
         egui::Window::new("About")
             .open(&mut open)
             .default_size([560.0, 560.0])
+            // Beside the side panel, not over it.
+            .default_pos([340.0, 40.0])
             .show(ctx, |ui| {
                 ui.heading(format!("hairlab {}", env!("CARGO_PKG_VERSION")));
                 ui.label(format!("Adapter: {}", self.adapter));

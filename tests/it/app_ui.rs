@@ -559,8 +559,8 @@ fn a_parameter_resets_to_its_default() {
     );
 }
 
-/// The About window shows hairlab's version and the adapter in use, and the first method's "Copy BibTeX" puts that
-/// method's entry of `docs/citations.bib` on the clipboard (egui's copy command in the frame's output).
+/// The About window opens from the Help window and from its button, shows hairlab's version and the adapter in
+/// use, and the first method's "Copy BibTeX" puts that method's entry of `docs/citations.bib` on the clipboard (egui's copy command in the frame's output).
 #[test]
 fn about_window_shows_the_version_and_the_adapter_and_copies_a_bibtex_entry() {
     use egui::accesskit::Role;
@@ -571,12 +571,23 @@ fn about_window_shows_the_version_and_the_adapter_and_copies_a_bibtex_entry() {
     let adapter = hairlab::gpu::describe(&gpu.info);
     let mut harness = tall_harness();
     harness.run();
-    harness.get_by_label("About").click();
+    let version = format!("hairlab {}", env!("CARGO_PKG_VERSION"));
+    let shows_version =
+        |h: &Harness<'_, HairlabApp>| h.query(By::new().role(Role::Label).value(&version)).is_some();
+    // From the Help window (F1), then the About button next to Help closes and reopens it.
+    harness.key_press(egui::Key::F1);
     harness.run();
-    for text in [
-        format!("hairlab {}", env!("CARGO_PKG_VERSION")),
-        format!("Adapter: {adapter}"),
-    ] {
+    harness.get_by_label("About hairlab").click();
+    harness.run();
+    assert!(shows_version(&harness), "About hairlab in Help did not open it");
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, "About").click();
+    harness.run();
+    assert!(!shows_version(&harness), "the About button did not close it");
+    harness.get_by_role_and_label(Role::Button, "About").click();
+    harness.run();
+    for text in [version.clone(), format!("Adapter: {adapter}")] {
         assert!(
             harness.query(By::new().role(Role::Label).value(&text)).is_some(),
             "the About window does not show {text:?}"

@@ -1,6 +1,7 @@
 //! The workbench window: an eframe app with the wgpu viewport in the centre, parameter panels on the left and a
 //! status line at the bottom. Settings persist between runs; presets load and save the same struct.
 
+mod about;
 mod bench_panel;
 pub mod compare_view;
 mod fur_panel;
@@ -124,6 +125,8 @@ pub struct HairlabApp {
     undoer: egui::util::undoer::Undoer<Settings>,
     /// Whether the Help window (shortcuts) is open.
     help_open: bool,
+    /// Whether the About window (version, adapter, citations) is open (`about.rs`).
+    about_open: bool,
     /// The scene's motion and its playback (`timeline.rs`).
     timeline: timeline::Timeline,
 }
@@ -180,6 +183,7 @@ impl HairlabApp {
             wait_timings: false,
             undoer: undo::new_undoer(),
             help_open: false,
+            about_open: false,
             timeline: Default::default(),
         };
         app.rebuild_scene();
@@ -759,6 +763,7 @@ impl eframe::App for HairlabApp {
         self.bench_window(&ctx);
         self.transparency_windows(&ctx);
         self.help_window(&ctx);
+        self.about_window(&ctx);
         self.feed_undoer(&ctx);
         if let Some(path) = self.screenshot_request.take() {
             self.save_screenshot(path);

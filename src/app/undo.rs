@@ -125,7 +125,7 @@ impl HairlabApp {
         }
     }
 
-    /// The Undo, Redo and Help buttons.
+    /// The Undo, Redo, Help and About buttons.
     pub(super) fn undo_buttons(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             let can_undo = self.can_undo();
@@ -151,6 +151,13 @@ impl HairlabApp {
             {
                 self.help_open = !self.help_open;
             }
+            if ui
+                .button("About")
+                .on_hover_text("version, adapter, and every method's and technique's citation")
+                .clicked()
+            {
+                self.about_open = !self.about_open;
+            }
         });
     }
 
@@ -171,6 +178,9 @@ impl HairlabApp {
                             ui.end_row();
                         }
                     });
+                if ui.button("About hairlab").clicked() {
+                    self.about_open = true;
+                }
             });
         self.help_open = open;
     }

@@ -585,3 +585,74 @@ fn a_parameter_resets_to_its_default() {
         Some(&default)
     );
 }
+
+/// The About window opens from the Help window and from its button, shows hairlab's version and the adapter in
+/// use, and the first method's "Copy BibTeX" puts that method's entry of `docs/citations.bib` on the clipboard (egui's copy command in the frame's output).
+#[test]
+fn about_window_shows_the_version_and_the_adapter_and_copies_a_bibtex_entry() {
+    use egui::accesskit::Role;
+    use egui_kittest::kittest::By;
+    let Some(gpu) = Gpu::for_tests() else {
+        return;
+    };
+    let adapter = hairlab::gpu::describe(&gpu.info);
+    let mut harness = tall_harness();
+    harness.run();
+    let version = format!("hairlab {}", env!("CARGO_PKG_VERSION"));
+    let shows_version =
+        |h: &Harness<'_, HairlabApp>| h.query(By::new().role(Role::Label).value(&version)).is_some();
+    // From the Help window (F1), then the About button next to Help closes and reopens it.
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    harness.get_by_label("About hairlab").click();
+    harness.run();
+    assert!(shows_version(&harness), "About hairlab in Help did not open it");
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, "About").click();
+    harness.run();
+    assert!(!shows_version(&harness), "the About button did not close it");
+    harness.get_by_role_and_label(Role::Button, "About").click();
+    harness.run();
+    for text in [version.clone(), format!("Adapter: {adapter}")] {
+        assert!(
+            harness.query(By::new().role(Role::Label).value(&text)).is_some(),
+            "the About window does not show {text:?}"
+        );
+    }
+
+    let bib = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/citations.bib"))
+        .expect("docs/citations.bib");
+    let first = hairlab::methods::registry::all()[0].name();
+    let head = bib
+        .lines()
+        .find(|l| l.starts_with('@') && l.ends_with(&format!("{{{first},")))
+        .unwrap_or_else(|| panic!("docs/citations.bib has no entry '{first}'"));
+    harness
+        .get_all_by_label("Copy BibTeX")
+        .next()
+        .expect("a Copy BibTeX button")
+        .click();
+    // The click lands in the next frame; collect every frame's copy commands until the output settles.
+    let mut copied = Vec::new();
+    for _ in 0..4 {
+        harness.step();
+        copied.extend(
+            harness
+                .output()
+                .platform_output
+                .commands
+                .iter()
+                .filter_map(|c| match c {
+                    egui::OutputCommand::CopyText(text) => Some(text.clone()),
+                    _ => None,
+                }),
+        );
+    }
+    assert_eq!(copied.len(), 1, "copied {copied:?}");
+    assert!(
+        copied[0].starts_with(head) && copied[0].ends_with('}'),
+        "copied {:?}, expected the entry starting {head:?}",
+        copied[0]
+    );
+}

@@ -11,6 +11,8 @@
 @group(0) @binding(0) var<uniform> resolve: LayerBuildUniforms;
 @group(0) @binding(1) var<storage, read_write> resolve_counters: array<u32>;
 @group(0) @binding(2) var<storage, read_write> layer_carry: array<u32>;
+@group(0) @binding(3) var resolve_near: texture_2d<f32>;
+@group(0) @binding(4) var resolve_far: texture_2d<f32>;
 
 struct ResolveFragment {
     @builtin(position) clip: vec4<f32>,
@@ -53,33 +55,46 @@ fn stored_value(c: u32) -> f32 {
     }
 }
 
+// The next entry e: its counter added to the running sum c (and zeroed) when e lies in the band, then its
+// stored value.
+fn next_entry(e: u32, band_end: u32, band_first: u32, t: u32, c: ptr<function, u32>) -> f32 {
+    if e < band_end {
+        let i = (e - band_first) * resolve.resolution * resolve.resolution + t;
+        *c = min(*c + resolve_counters[i], LAYER_SATURATION);
+        resolve_counters[i] = 0u;
+    }
+    return stored_value(*c);
+}
+
+// Four entries from e on, in order.
+fn next4(e: u32, band_end: u32, band_first: u32, t: u32, c: ptr<function, u32>) -> vec4<f32> {
+    let x = next_entry(e, band_end, band_first, t, c);
+    let y = next_entry(e + 1u, band_end, band_first, t, c);
+    let z = next_entry(e + 2u, band_end, band_first, t, c);
+    let w = next_entry(e + 3u, band_end, band_first, t, c);
+    return vec4<f32>(x, y, z, w);
+}
+
 @fragment
 fn fs_resolve(f: ResolveFragment) -> CumulativeTargets {
     let p = vec2<u32>(f.clip.xy);
-    let texels = resolve.resolution * resolve.resolution;
+    // A texel without fragments (the light-depth pass's clear values, far < near) has no counts: its entries
+    // keep the targets' clear value 0, which every storage reads as optical depth 0.
+    if textureLoad(resolve_far, p, 0).r < textureLoad(resolve_near, p, 0).r {
+        discard;
+    }
     let t = p.y * resolve.resolution + p.x;
     let band_first = (f.first / resolve.band) * resolve.band;
     let band_end = min(band_first + resolve.band, resolve.entries);
     var c = select(layer_carry[t], 0u, f.first == 0u);
-    var v: array<f32, 32>;
-    for (var j = 0u; j < 32u; j++) {
-        let e = f.first + j;
-        if e < band_end {
-            let i = (e - band_first) * texels + t;
-            c = min(c + resolve_counters[i], LAYER_SATURATION);
-            resolve_counters[i] = 0u;
-        }
-        v[j] = stored_value(c);
-    }
+    let t0 = next4(f.first, band_end, band_first, t, &c);
+    let t1 = next4(f.first + 4u, band_end, band_first, t, &c);
+    let t2 = next4(f.first + 8u, band_end, band_first, t, &c);
+    let t3 = next4(f.first + 12u, band_end, band_first, t, &c);
+    let t4 = next4(f.first + 16u, band_end, band_first, t, &c);
+    let t5 = next4(f.first + 20u, band_end, band_first, t, &c);
+    let t6 = next4(f.first + 24u, band_end, band_first, t, &c);
+    let t7 = next4(f.first + 28u, band_end, band_first, t, &c);
     layer_carry[t] = c;
-    return CumulativeTargets(
-        vec4<f32>(v[0], v[1], v[2], v[3]),
-        vec4<f32>(v[4], v[5], v[6], v[7]),
-        vec4<f32>(v[8], v[9], v[10], v[11]),
-        vec4<f32>(v[12], v[13], v[14], v[15]),
-        vec4<f32>(v[16], v[17], v[18], v[19]),
-        vec4<f32>(v[20], v[21], v[22], v[23]),
-        vec4<f32>(v[24], v[25], v[26], v[27]),
-        vec4<f32>(v[28], v[29], v[30], v[31]),
-    );
+    return CumulativeTargets(t0, t1, t2, t3, t4, t5, t6, t7);
 }

@@ -6,7 +6,7 @@
 //!
 //! GPU: the start and end depths are the shared near and far maps of the light-depth pass (the thesis's two
 //! depth maps), read by texel, not stored again. The layers live in an array texture of `ceil(K / 4)` layers,
-//! all written in ONE geometry pass: with `build = targets` (the default) by `ceil(K / 4)` RGBA32F colour
+//! all written in ONE geometry pass: with `build = targets` (what the default `auto` takes with f32 storage) by `ceil(K / 4)` RGBA32F colour
 //! targets (8 at most, thesis §3.4) with additive blending, a fragment adding its optical depth to its layer
 //! and every later one; with `build = atomic` by fixed-point storage atomics per (texel, layer) and a
 //! full-screen resolve into the `storage` format (f32, f16 or u8; `visibility::opacity_layers`). The split
@@ -19,7 +19,7 @@
 //! reference's fragment lists, off the per-frame path (the thesis reads the layers back for it, and does not
 //! run it every frame either).
 
-use super::opacity_layers::{self, LayerMethod, LayerSetup, LayersGpu, STORAGE};
+use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE};
 use super::{
     Analysis, AnalysisResult, LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec,
     ParamValues, Role, ShadowMethod, SweepPoint, UniformMirror, value,
@@ -49,7 +49,6 @@ const SPLIT_RATIO: ParamSpec = ParamSpec {
     },
     default: 0.0,
 };
-const BUILD: ParamSpec = opacity_layers::build_spec(1.0);
 const PARAMS: &[ParamSpec] = &[LAYERS, SPLIT_RATIO, BUILD, STORAGE];
 
 pub struct Bom;
@@ -65,7 +64,7 @@ fn bom_params(values: &ParamValues) -> BomParams {
 fn bom_setup(values: &ParamValues) -> LayerSetup<BomUniforms> {
     let p = bom_params(values);
     let layers = p.layer_count() as u32;
-    let build = opacity_layers::build(values, &BUILD);
+    let build = opacity_layers::build(values, layers);
     LayerSetup {
         values: layers,
         build,
@@ -126,9 +125,10 @@ impl LightMethod for Bom {
 
 impl ShadowMethod for Bom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        let params = bom_params(values);
         Box::new(Layered {
-            params: bom_params(values),
-            build: opacity_layers::build(values, &BUILD),
+            params,
+            build: opacity_layers::build(values, params.layer_count() as u32),
         })
     }
     fn sweep(&self) -> Vec<SweepPoint> {
@@ -145,7 +145,7 @@ impl ShadowMethod for Bom {
                 ..SweepPoint::fixed(&[layers])
             });
             if k == 4 {
-                out.extend(opacity_layers::build_variants(&[layers], &BUILD));
+                out.extend(opacity_layers::build_variants(&[layers], k));
             }
         }
         out

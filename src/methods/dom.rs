@@ -6,7 +6,7 @@
 //! GPU: `z0` is the shared near map of the light-depth pass (the paper's first pass), read by texel, not stored
 //! again (the paper keeps it in the first channel of its single RGBA target); the far map is read only by the
 //! stretch option. The layers live in an array texture of `ceil(K / 4)` layers (4 opacity layers per texel
-//! each), all written in ONE geometry pass (the paper's second pass): with `build = targets` (the default) by
+//! each), all written in ONE geometry pass (the paper's second pass): with `build = targets` (what the default `auto` takes with f32 storage) by
 //! `ceil(K / 4)` RGBA32F colour targets with additive blending, a fragment adding its optical depth to its
 //! layer and every later one; with `build = atomic` by fixed-point storage atomics per (texel, layer) and a
 //! full-screen resolve into the `storage` format (f32, f16 or u8: 16, 8 or 4 bytes per texel per 4 layers;
@@ -15,7 +15,7 @@
 //! the far map (4 bytes): DOM-3 takes 5 MiB at 512². The GPU side is `methods::opacity_layers` with this
 //! method's shader and uniforms.
 
-use super::opacity_layers::{self, LayerMethod, LayerSetup, LayersGpu, STORAGE, VALUES_PER_LAYER};
+use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE, VALUES_PER_LAYER};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
@@ -65,7 +65,6 @@ const BEYOND: ParamSpec = ParamSpec {
     },
     default: 1.0,
 };
-const BUILD: ParamSpec = opacity_layers::build_spec(1.0);
 const PARAMS: &[ParamSpec] = &[LAYERS, DEPTH_SPAN, SPACING, BEYOND, BUILD, STORAGE];
 
 pub struct Dom;
@@ -100,7 +99,7 @@ fn dom_setup(values: &ParamValues) -> LayerSetup<DomUniforms> {
         BeyondLastLayer::Stretch => 2,
     };
     let layers = p.layer_count() as u32;
-    let build = opacity_layers::build(values, &BUILD);
+    let build = opacity_layers::build(values, layers);
     LayerSetup {
         values: layers,
         build,
@@ -178,9 +177,10 @@ impl LightMethod for Dom {
 
 impl ShadowMethod for Dom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
+        let params = dom_params(values);
         Box::new(Layered {
-            params: dom_params(values),
-            build: opacity_layers::build(values, &BUILD),
+            params,
+            build: opacity_layers::build(values, params.layer_count() as u32),
         })
     }
     /// Each of [`SWEEP_LAYERS`] with the linear and the uniform spacing, the other build and the f16 and u8
@@ -192,7 +192,7 @@ impl ShadowMethod for Dom {
                 (0..2).map(move |s| SweepPoint::fixed(&[("layers", k as f32), ("spacing", s as f32)]))
             })
             .collect();
-        points.extend(opacity_layers::build_variants(&[("layers", 3.0)], &BUILD));
+        points.extend(opacity_layers::build_variants(&[("layers", 3.0)], 3));
         points.push(SweepPoint {
             values: unreal_config(),
             analysed: false,

@@ -39,24 +39,25 @@ use bytemuck::{Pod, Zeroable};
 /// Values one array layer holds.
 pub const VALUES_PER_LAYER: u32 = 4;
 
-/// The `build` parameter's options, in [`build`]'s order.
-const BUILD_OPTIONS: &[&str] = &["atomic", "targets"];
+/// Entries one geometry pass of the colour-target build writes (8 RGBA32F targets).
+pub const ENTRIES_PER_TARGETS_PASS: u32 = VALUES_PER_LAYER * AdditivePipelines::MAX_TARGETS;
 
-/// The `build` parameter of a method of the opacity-layer family, `default` the index of its default option
-/// (0 atomic, 1 targets).
-pub const fn build_spec(default: f32) -> ParamSpec {
-    ParamSpec {
-        key: "build",
-        label: "build",
-        help: "how the layers are filled: atomic = one geometry pass adding fixed-point optical depth to \
-               per-(texel, entry) counters with storage atomics, then a resolve into the storage format; \
-               targets = additive blending into RGBA32F colour targets, 32 entries per geometry pass",
-        kind: ParamKind::Choice {
-            options: BUILD_OPTIONS,
-        },
-        default,
-    }
-}
+/// The `build` parameter of the opacity-layer family. `auto` takes the colour targets when they need one
+/// geometry pass (at most 32 entries) and f32 storage, the atomic build otherwise: measured on lavapipe
+/// (docs/design.md), the targets' single pass is cheaper than the atomic count pass plus its resolve
+/// (OSM-16, DOM-3, BOM-4), while from two target passes on the atomic build wins (OSM-64, OSM-256).
+pub const BUILD: ParamSpec = ParamSpec {
+    key: "build",
+    label: "build",
+    help: "how the layers are filled: atomic = one geometry pass adding fixed-point optical depth to \
+           per-(texel, entry) counters with storage atomics, then a resolve into the storage format; \
+           targets = additive blending into RGBA32F colour targets, 32 entries per geometry pass; auto = targets \
+           when one such pass holds every entry and storage is f32, else atomic",
+    kind: ParamKind::Choice {
+        options: &["auto", "atomic", "targets"],
+    },
+    default: 0.0,
+};
 
 /// The `storage` parameter: what one entry of the map takes with the atomic build (the colour-target build
 /// always stores f32).
@@ -71,27 +72,35 @@ pub const STORAGE: ParamSpec = ParamSpec {
     default: 0.0,
 };
 
-/// The build chosen by `values` (`spec` the method's [`build_spec`]).
-pub fn build(values: &ParamValues, spec: &ParamSpec) -> LayerBuild {
-    if value(values, spec) as usize == 1 {
-        return LayerBuild::Targets;
-    }
+/// The build `values` choose for a map of `entries` entries per texel.
+pub fn build(values: &ParamValues, entries: u32) -> LayerBuild {
     let storage = LayerStorage::ALL
         .get(value(values, &STORAGE) as usize)
         .copied()
         .unwrap_or_default();
-    LayerBuild::Atomic(storage)
+    match value(values, &BUILD) as usize {
+        1 => LayerBuild::Atomic(storage),
+        2 => LayerBuild::Targets,
+        _ if entries > ENTRIES_PER_TARGETS_PASS || storage != LayerStorage::F32 => {
+            LayerBuild::Atomic(storage)
+        }
+        _ => LayerBuild::Targets,
+    }
 }
 
-/// Bench points that vary the build of `base` (a sweep point of the method whose `build` parameter is
-/// `build`): the other build, then the atomic build with f16 and with u8 storage.
-pub fn build_variants(base: &[(&str, f32)], build: &ParamSpec) -> Vec<SweepPoint> {
+/// Bench points that vary the build of `base`, a sweep point with `entries` entries per texel: the build that
+/// `auto` does not take, then the atomic build with f16 and with u8 storage.
+pub fn build_variants(base: &[(&str, f32)], entries: u32) -> Vec<SweepPoint> {
     let with = |extra: &[(&str, f32)]| {
         let pairs: Vec<(&str, f32)> = base.iter().chain(extra).copied().collect();
         SweepPoint::fixed(&pairs)
     };
-    let mut points = vec![with(&[(build.key, 1.0 - build.default)])];
-    points.extend([1.0, 2.0].map(|s| with(&[(build.key, 0.0), (STORAGE.key, s)])));
+    let other = match build(&ParamValues::new(), entries) {
+        LayerBuild::Targets => 1.0,
+        LayerBuild::Atomic(_) => 2.0,
+    };
+    let mut points = vec![with(&[(BUILD.key, other)])];
+    points.extend([1.0, 2.0].map(|s| with(&[(STORAGE.key, s)])));
     points
 }
 
@@ -499,6 +508,8 @@ fn atomic_pipelines(
             uniform_entry(0, frag),
             storage_entry(1, frag, false),
             storage_entry(2, frag, false),
+            texture_entry(3, frag, wgpu::TextureViewDimension::D2),
+            texture_entry(4, frag, wgpu::TextureViewDimension::D2),
         ],
     });
     let resolve_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -639,6 +650,14 @@ fn atomic_buffers(
             wgpu::BindGroupEntry {
                 binding: 2,
                 resource: carry.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(near),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::TextureView(far),
             },
         ],
     });
@@ -801,11 +820,23 @@ mod tests {
         let names: Vec<&str> = LayerStorage::ALL.iter().map(|s| s.name()).collect();
         assert_eq!(STORAGE.options(), names.as_slice());
         for (i, s) in LayerStorage::ALL.into_iter().enumerate() {
-            let values = ParamValues::from([("storage".to_string(), i as f32)]);
-            assert_eq!(build(&values, &build_spec(0.0)), LayerBuild::Atomic(s));
-            assert_eq!(build(&values, &build_spec(1.0)), LayerBuild::Targets);
+            let values =
+                |b: f32| ParamValues::from([("build".to_string(), b), ("storage".to_string(), i as f32)]);
+            assert_eq!(build(&values(1.0), 4), LayerBuild::Atomic(s));
+            assert_eq!(build(&values(2.0), 4), LayerBuild::Targets);
         }
-        assert_eq!(build_spec(0.0).option(1.0), Some("targets"));
+        assert_eq!(BUILD.option(2.0), Some("targets"));
+    }
+
+    #[test]
+    fn auto_takes_the_targets_for_one_pass_of_f32_and_the_atomic_build_otherwise() {
+        let none = ParamValues::new();
+        assert_eq!(build(&none, 1), LayerBuild::Targets);
+        assert_eq!(build(&none, 32), LayerBuild::Targets);
+        assert_eq!(build(&none, 33), LayerBuild::Atomic(LayerStorage::F32));
+        assert_eq!(build(&none, 256), LayerBuild::Atomic(LayerStorage::F32));
+        let u8 = ParamValues::from([("storage".to_string(), 2.0)]);
+        assert_eq!(build(&u8, 3), LayerBuild::Atomic(LayerStorage::U8));
     }
 
     #[test]
@@ -823,14 +854,15 @@ mod tests {
     }
 
     #[test]
-    fn build_variants_flip_the_default_build_and_add_the_small_storages() {
-        let v = build_variants(&[("slices", 64.0)], &build_spec(0.0));
+    fn build_variants_take_the_other_build_and_the_small_storages() {
+        let v = build_variants(&[("slices", 64.0)], 64);
         let get = |i: usize, k: &str| v[i].values.get(k).copied();
         assert_eq!(v.len(), 3);
-        assert_eq!((get(0, "slices"), get(0, "build")), (Some(64.0), Some(1.0)));
-        assert_eq!((get(1, "build"), get(1, "storage")), (Some(0.0), Some(1.0)));
-        assert_eq!((get(2, "build"), get(2, "storage")), (Some(0.0), Some(2.0)));
-        let v = build_variants(&[], &build_spec(1.0));
-        assert_eq!(v[0].values.get("build"), Some(&0.0));
+        // 64 entries: auto is atomic, the variant is the targets.
+        assert_eq!((get(0, "slices"), get(0, "build")), (Some(64.0), Some(2.0)));
+        assert_eq!((get(1, "build"), get(1, "storage")), (None, Some(1.0)));
+        assert_eq!((get(2, "build"), get(2, "storage")), (None, Some(2.0)));
+        let v = build_variants(&[], 3);
+        assert_eq!(v[0].values.get("build"), Some(&1.0));
     }
 }

@@ -4,7 +4,8 @@
 //! is `visibility::osm`.
 //!
 //! GPU (`methods::opacity_layers` with this method's shader and uniforms): the slices live in an array texture
-//! (4 slices per layer). `build = atomic` (the default): one geometry pass adds each fragment's fixed-point
+//! (4 slices per layer). `build = auto` (the default) takes the colour targets up to 32 slices with f32
+//! storage and the atomic build otherwise. `build = atomic`: one geometry pass adds each fragment's fixed-point
 //! optical depth to its (texel, slice) counter with storage atomics, and full-screen resolve passes sum the
 //! counters into the map, so OSM-256 costs the light-depth pass plus one geometry pass (two at 512² on
 //! lavapipe, whose 128 MiB storage binding holds 128 slices of counters); `storage` = f32, f16 or u8 takes 4,
@@ -12,7 +13,7 @@
 //! blending into RGBA32F colour targets, 8 targets × 4 channels = 32 slices per geometry pass, so OSM-256
 //! takes 8 geometry passes. Quantisation and storage are part of the CPU model (`visibility::opacity_layers`).
 
-use super::opacity_layers::{self, LayerMethod, LayerSetup, LayersGpu, STORAGE};
+use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
@@ -33,7 +34,6 @@ const SLICES: ParamSpec = ParamSpec {
     kind: ParamKind::Int { min: 1, max: 256 },
     default: 16.0,
 };
-const BUILD: ParamSpec = opacity_layers::build_spec(0.0);
 const PARAMS: &[ParamSpec] = &[SLICES, BUILD, STORAGE];
 
 pub struct Osm;
@@ -90,7 +90,7 @@ impl ShadowMethod for Osm {
             params: OsmParams {
                 slices: slices(values),
             },
-            build: opacity_layers::build(values, &BUILD),
+            build: opacity_layers::build(values, slices(values).clamp(1, MAX_SLICES)),
         })
     }
     /// Each of [`SWEEP_SLICES`], then at 16, 64 and 256 slices the other build and the f16 and u8 storages.
@@ -100,7 +100,7 @@ impl ShadowMethod for Osm {
             .map(|&n| SweepPoint::fixed(&[("slices", n as f32)]))
             .collect();
         for n in [16.0, 64.0, 256.0] {
-            points.extend(opacity_layers::build_variants(&[("slices", n)], &BUILD));
+            points.extend(opacity_layers::build_variants(&[("slices", n)], n as u32));
         }
         points
     }
@@ -130,7 +130,7 @@ pub struct OsmUniforms {
 /// The slice count and uniforms for `values` (the map holds `ceil(N / 4)` RGBA layers).
 fn osm_setup(values: &ParamValues) -> LayerSetup<OsmUniforms> {
     let n = slices(values).clamp(1, MAX_SLICES);
-    let build = opacity_layers::build(values, &BUILD);
+    let build = opacity_layers::build(values, n);
     LayerSetup {
         values: n,
         depth_maps: 0,

@@ -189,11 +189,14 @@ impl<P: LayeredModel> Model for Layered<P> {
 }
 
 impl<P: LayeredModel> TexelModel for Layered<P> {
-    /// The parameters' label, with `atomic-<storage>` for the atomic build.
+    /// The parameters' label, with the storage when it is not f32 (both builds store f32 sums of the same
+    /// optical depths, equal within the quantisation of 2^-17 per fragment).
     fn label(&self) -> String {
         match self.build {
-            LayerBuild::Targets => self.params.label(),
-            LayerBuild::Atomic(s) => format!("{} atomic-{}", self.params.label(), s.name()),
+            LayerBuild::Atomic(s) if s != LayerStorage::F32 => {
+                format!("{} {}", self.params.label(), s.name())
+            }
+            _ => self.params.label(),
         }
     }
 
@@ -275,6 +278,22 @@ mod tests {
                 assert!((a - t).abs() < 1e-6, "{s:?}: {atomic:?}");
             }
         }
+    }
+
+    #[test]
+    fn labels_name_the_storage_when_not_f32() {
+        let params = super::super::OsmParams { slices: 16 };
+        let label = |build| Layered { params, build }.label();
+        assert_eq!(label(LayerBuild::Targets), params.label());
+        assert_eq!(label(LayerBuild::Atomic(LayerStorage::F32)), params.label());
+        assert_eq!(
+            label(LayerBuild::Atomic(LayerStorage::F16)),
+            format!("{} f16", params.label())
+        );
+        assert_eq!(
+            label(LayerBuild::Atomic(LayerStorage::U8)),
+            format!("{} u8", params.label())
+        );
     }
 
     #[test]

@@ -144,9 +144,6 @@ impl ShadowMethod for Bom {
                 analysed: true,
                 ..SweepPoint::fixed(&[layers])
             });
-            if k == 4 {
-                out.extend(opacity_layers::build_variants(&[layers], k));
-            }
         }
         out
     }

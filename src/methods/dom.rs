@@ -183,8 +183,7 @@ impl ShadowMethod for Dom {
             build: opacity_layers::build(values, params.layer_count() as u32),
         })
     }
-    /// Each of [`SWEEP_LAYERS`] with the linear and the uniform spacing, the other build and the f16 and u8
-    /// storages at 3 layers, then Unreal's configuration.
+    /// Each of [`SWEEP_LAYERS`] with the linear and the uniform spacing, then Unreal's configuration.
     fn sweep(&self) -> Vec<SweepPoint> {
         let mut points: Vec<SweepPoint> = SWEEP_LAYERS
             .iter()
@@ -192,7 +191,6 @@ impl ShadowMethod for Dom {
                 (0..2).map(move |s| SweepPoint::fixed(&[("layers", k as f32), ("spacing", s as f32)]))
             })
             .collect();
-        points.extend(opacity_layers::build_variants(&[("layers", 3.0)], 3));
         points.push(SweepPoint {
             values: unreal_config(),
             analysed: false,

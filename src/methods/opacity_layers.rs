@@ -24,7 +24,7 @@
 //! atomic build the counters (3) and [`LayerBuildUniforms`] (4); the lookup's group 1 is the array view (0) and
 //! the uniform (1).
 
-use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, SweepPoint, UniformMirror, value};
+use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, UniformMirror, value};
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::caster::draw_casters;
@@ -86,22 +86,6 @@ pub fn build(values: &ParamValues, entries: u32) -> LayerBuild {
         }
         _ => LayerBuild::Targets,
     }
-}
-
-/// Bench points that vary the build of `base`, a sweep point with `entries` entries per texel: the build that
-/// `auto` does not take, then the atomic build with f16 and with u8 storage.
-pub fn build_variants(base: &[(&str, f32)], entries: u32) -> Vec<SweepPoint> {
-    let with = |extra: &[(&str, f32)]| {
-        let pairs: Vec<(&str, f32)> = base.iter().chain(extra).copied().collect();
-        SweepPoint::fixed(&pairs)
-    };
-    let other = match build(&ParamValues::new(), entries) {
-        LayerBuild::Targets => 1.0,
-        LayerBuild::Atomic(_) => 2.0,
-    };
-    let mut points = vec![with(&[(BUILD.key, other)])];
-    points.extend([1.0, 2.0].map(|s| with(&[(STORAGE.key, s)])));
-    points
 }
 
 /// What the lookup multiplies a stored value by (the methods' uniform field `unit`).
@@ -851,18 +835,5 @@ mod tests {
         assert_eq!(band_size("osm", 2896, 16, 128 * MIB).unwrap(), 4);
         let e = band_size("osm", 4096, 16, 128 * MIB).unwrap_err().to_string();
         assert!(e.contains("build = atomic") && e.contains("4096²"), "{e}");
-    }
-
-    #[test]
-    fn build_variants_take_the_other_build_and_the_small_storages() {
-        let v = build_variants(&[("slices", 64.0)], 64);
-        let get = |i: usize, k: &str| v[i].values.get(k).copied();
-        assert_eq!(v.len(), 3);
-        // 64 entries: auto is atomic, the variant is the targets.
-        assert_eq!((get(0, "slices"), get(0, "build")), (Some(64.0), Some(2.0)));
-        assert_eq!((get(1, "build"), get(1, "storage")), (None, Some(1.0)));
-        assert_eq!((get(2, "build"), get(2, "storage")), (None, Some(2.0)));
-        let v = build_variants(&[], 3);
-        assert_eq!(v[0].values.get("build"), Some(&1.0));
     }
 }

@@ -93,16 +93,11 @@ impl ShadowMethod for Osm {
             build: opacity_layers::build(values, slices(values).clamp(1, MAX_SLICES)),
         })
     }
-    /// Each of [`SWEEP_SLICES`], then at 16, 64 and 256 slices the other build and the f16 and u8 storages.
     fn sweep(&self) -> Vec<SweepPoint> {
-        let mut points: Vec<SweepPoint> = SWEEP_SLICES
+        SWEEP_SLICES
             .iter()
             .map(|&n| SweepPoint::fixed(&[("slices", n as f32)]))
-            .collect();
-        for n in [16.0, 64.0, 256.0] {
-            points.extend(opacity_layers::build_variants(&[("slices", n)], n as u32));
-        }
-        points
+            .collect()
     }
     fn scaling_configs(&self) -> Vec<ParamValues> {
         [16, 64]

@@ -42,10 +42,13 @@ pub const VALUES_PER_LAYER: u32 = 4;
 /// Entries one geometry pass of the colour-target build writes (8 RGBA32F targets).
 pub const ENTRIES_PER_TARGETS_PASS: u32 = VALUES_PER_LAYER * AdditivePipelines::MAX_TARGETS;
 
-/// The `build` parameter of the opacity-layer family. `auto` takes the colour targets when they need one
-/// geometry pass (at most 32 entries) and f32 storage, the atomic build otherwise: measured on lavapipe
-/// (docs/design.md), the targets' single pass is cheaper than the atomic count pass plus its resolve
-/// (OSM-16, DOM-3, BOM-4), while from two target passes on the atomic build wins (OSM-64, OSM-256).
+/// Most entries `build = auto` gives to the colour targets (two geometry passes).
+pub const AUTO_TARGETS_MAX_ENTRIES: u32 = 2 * ENTRIES_PER_TARGETS_PASS;
+
+/// The `build` parameter of the opacity-layer family. `auto` takes the colour targets up to
+/// [`AUTO_TARGETS_MAX_ENTRIES`] entries with f32 storage, the atomic build otherwise: measured on lavapipe
+/// (docs/design.md), one or two target passes cost less than the atomic count pass plus its resolve passes
+/// (OSM-16, DOM-3, BOM-4; OSM-64 in one of two runs), eight (OSM-256) cost 1.5 times as much.
 pub const BUILD: ParamSpec = ParamSpec {
     key: "build",
     label: "build",

@@ -55,7 +55,7 @@ pub const BUILD: ParamSpec = ParamSpec {
     help: "how the layers are filled: atomic = one geometry pass adding fixed-point optical depth to \
            per-(texel, entry) counters with storage atomics, then a resolve into the storage format; \
            targets = additive blending into RGBA32F colour targets, 32 entries per geometry pass; auto = targets \
-           when one such pass holds every entry and storage is f32, else atomic",
+           up to 64 entries with f32 storage, else atomic",
     kind: ParamKind::Choice {
         options: &["auto", "atomic", "targets"],
     },

@@ -84,7 +84,7 @@ pub fn build(values: &ParamValues, entries: u32) -> LayerBuild {
     match value(values, &BUILD) as usize {
         1 => LayerBuild::Atomic(storage),
         2 => LayerBuild::Targets,
-        _ if entries > ENTRIES_PER_TARGETS_PASS || storage != LayerStorage::F32 => {
+        _ if entries > AUTO_TARGETS_MAX_ENTRIES || storage != LayerStorage::F32 => {
             LayerBuild::Atomic(storage)
         }
         _ => LayerBuild::Targets,
@@ -816,11 +816,11 @@ mod tests {
     }
 
     #[test]
-    fn auto_takes_the_targets_for_one_pass_of_f32_and_the_atomic_build_otherwise() {
+    fn auto_takes_the_targets_up_to_two_passes_of_f32_and_the_atomic_build_otherwise() {
         let none = ParamValues::new();
         assert_eq!(build(&none, 1), LayerBuild::Targets);
-        assert_eq!(build(&none, 32), LayerBuild::Targets);
-        assert_eq!(build(&none, 33), LayerBuild::Atomic(LayerStorage::F32));
+        assert_eq!(build(&none, 64), LayerBuild::Targets);
+        assert_eq!(build(&none, 65), LayerBuild::Atomic(LayerStorage::F32));
         assert_eq!(build(&none, 256), LayerBuild::Atomic(LayerStorage::F32));
         let u8 = ParamValues::from([("storage".to_string(), 2.0)]);
         assert_eq!(build(&u8, 3), LayerBuild::Atomic(LayerStorage::U8));

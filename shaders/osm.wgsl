@@ -1,32 +1,23 @@
 // Opacity Shadow Maps (Kim & Neumann 2001, as described by Yuksel & Keyser 2008 §2 and Voicu §3): N uniform
-// slices over the strands' whole light range [0,1]. Each geometry pass fills 32 slices: 8 RGBA32F targets
-// (array layers) with additive blending; a fragment adds its optical depth to its slice and every later one,
-// so each stored value is the optical depth accumulated up to the slice's far plane (visibility::osm).
-#include "common/frame.wgsl"
-#include "common/light_vertex.wgsl"
-#include "common/cumulative_targets.wgsl"
-#include "common/visibility.wgsl"
+// slices over the strands' whole light range [0,1]; a fragment's optical depth goes to its slice and every
+// later one, so each stored value is the optical depth accumulated up to the slice's far plane
+// (visibility::osm). fs_main: the colour-target build (32 slices per geometry pass); fs_count: the atomic
+// build (one geometry pass per band of slices) (common/layer_pass.wgsl).
+#include "common/layer_pass.wgsl"
 #include "common/osm_uniforms.wgsl"
 
 @group(1) @binding(0) var<uniform> osm: OsmUniforms;
 
-struct OsmFragment {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) depth: f32,
-    @location(1) alpha: f32,
-    // First slice this geometry pass writes (the instance index selects the pass).
-    @location(2) @interpolate(flat) first_slice: u32,
-}
-
-@vertex
-fn vs_main(v: LightVertexIn, @builtin(instance_index) pass_index: u32) -> OsmFragment {
-    let l = light_vertex(v);
-    return OsmFragment(l.clip, l.depth, l.alpha, pass_index * 32u);
+fn osm_slice(f: LayerFragment) -> u32 {
+    return slice_index(fragment_depth(f.depth) * f32(osm.slices), osm.slices);
 }
 
 @fragment
-fn fs_main(f: OsmFragment) -> CumulativeTargets {
-    let n = osm.slices;
-    let i = slice_index(fragment_depth(f.depth) * f32(n), n);
-    return cumulative(i, f.first_slice, optical_depth(f.alpha));
+fn fs_main(f: LayerFragment) -> CumulativeTargets {
+    return layer_targets(f, osm_slice(f), osm.slices);
+}
+
+@fragment
+fn fs_count(f: LayerFragment) {
+    layer_count(f, osm_slice(f), osm.slices);
 }

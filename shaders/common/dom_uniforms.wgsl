@@ -6,6 +6,7 @@ struct DomUniforms {
     layers: u32,
     // 0: ignore fragments beyond the last layer, 1: add them to the last layer, 2: stretch the layers to far.
     beyond: u32,
+    // What the lookup multiplies a stored value by to get optical depth (1, or 255/32 for u8 storage).
+    unit: f32,
     pad0: u32,
-    pad1: u32,
 }

@@ -11,7 +11,7 @@
 @group(1) @binding(1) var<uniform> bom_lookup: BomUniforms;
 
 fn bom_layer(texel: vec2<i32>, k: u32) -> f32 {
-    return textureLoad(bom_layers, texel, i32(k / 4u), 0)[k % 4u];
+    return textureLoad(bom_layers, texel, i32(k / 4u), 0)[k % 4u] * bom_lookup.unit;
 }
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {

@@ -15,7 +15,7 @@ fn dom_lookup_end(k: u32) -> f32 {
 }
 
 fn dom_layer(texel: vec2<i32>, k: u32) -> f32 {
-    return textureLoad(dom_layers, texel, i32(k / 4u), 0)[k % 4u];
+    return textureLoad(dom_layers, texel, i32(k / 4u), 0)[k % 4u] * dom_lookup.unit;
 }
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {

@@ -8,7 +8,7 @@
 @group(1) @binding(1) var<uniform> osm_lookup: OsmUniforms;
 
 fn osm_plane(texel: vec2<i32>, i: u32) -> f32 {
-    return textureLoad(osm_planes, texel, i32(i / 4u), 0)[i % 4u];
+    return textureLoad(osm_planes, texel, i32(i / 4u), 0)[i % 4u] * osm_lookup.unit;
 }
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {

@@ -5,18 +5,21 @@
 //! the split coordinate. The CPU model is `visibility::bom`.
 //!
 //! GPU: the start and end depths are the shared near and far maps of the light-depth pass (the thesis's two
-//! depth maps), read by texel, not stored again. The layers live in an RGBA32F array texture of `ceil(K / 4)`
-//! layers, all written by ONE geometry pass with `ceil(K / 4)` colour targets (8 at most, thesis §3.4) and
-//! additive blending: a fragment adds its optical depth to its layer and every later one. The split function is
-//! evaluated in the shaders (the thesis's lookup texture of §5.2.2 is not needed). The GPU side is
-//! `methods::opacity_layers` with this method's shader and uniforms. Memory: 16 bytes per texel per 4
-//! layers plus the near and far maps it reads (8 bytes): BOM-4 takes 6 MiB at 512², BOM-32 34 MiB.
+//! depth maps), read by texel, not stored again. The layers live in an array texture of `ceil(K / 4)` layers,
+//! all written in ONE geometry pass: with `build = targets` (what the default `auto` takes with f32 storage) by `ceil(K / 4)` RGBA32F colour
+//! targets (8 at most, thesis §3.4) with additive blending, a fragment adding its optical depth to its layer
+//! and every later one; with `build = atomic` by fixed-point storage atomics per (texel, layer) and a
+//! full-screen resolve into the `storage` format (f32, f16 or u8; `visibility::opacity_layers`). The split
+//! function is evaluated in the shaders (the thesis's lookup texture of §5.2.2 is not needed). The GPU side is
+//! `methods::opacity_layers` with this method's shader and uniforms. Memory (f32): 16 bytes per texel per 4
+//! layers plus the near and far maps it reads (8 bytes): BOM-4 takes 6 MiB at 512², BOM-32 34 MiB; f16 and u8
+//! halve and quarter the layers' part.
 //!
 //! The automatic split ratio (§5.2.3-5.2.4) is [`automatic_split_ratio`]: an on-demand computation over the
 //! reference's fragment lists, off the per-frame path (the thesis reads the layers back for it, and does not
 //! run it every frame either).
 
-use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu};
+use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE};
 use super::{
     Analysis, AnalysisResult, LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec,
     ParamValues, Role, ShadowMethod, SweepPoint, UniformMirror, value,
@@ -24,6 +27,7 @@ use super::{
 use crate::gpu::GpuError;
 use crate::render::passes::abuffer::RefFragment;
 use crate::visibility::bom::search_split_ratio;
+use crate::visibility::opacity_layers::Layered;
 use crate::visibility::{BomParams, Fragment, SplitCriterion, SplitSearch, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
@@ -45,7 +49,7 @@ const SPLIT_RATIO: ParamSpec = ParamSpec {
     },
     default: 0.0,
 };
-const PARAMS: &[ParamSpec] = &[LAYERS, SPLIT_RATIO];
+const PARAMS: &[ParamSpec] = &[LAYERS, SPLIT_RATIO, BUILD, STORAGE];
 
 pub struct Bom;
 
@@ -60,13 +64,16 @@ fn bom_params(values: &ParamValues) -> BomParams {
 fn bom_setup(values: &ParamValues) -> LayerSetup<BomUniforms> {
     let p = bom_params(values);
     let layers = p.layer_count() as u32;
+    let build = opacity_layers::build(values, layers);
     LayerSetup {
         values: layers,
+        build,
         // The start and end depths.
         depth_maps: 2,
         uniforms: BomUniforms {
             layers,
             split_ratio: p.ratio(),
+            unit: opacity_layers::unit(build),
             ..Zeroable::zeroed()
         },
     }
@@ -100,8 +107,8 @@ impl LightMethod for Bom {
             BomUniforms {
                 layers,
                 split_ratio,
-                pad0,
-                pad1
+                unit,
+                pad0
             }
         ))
     }
@@ -118,7 +125,11 @@ impl LightMethod for Bom {
 
 impl ShadowMethod for Bom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
-        Box::new(bom_params(values))
+        let params = bom_params(values);
+        Box::new(Layered {
+            params,
+            build: opacity_layers::build(values, params.layer_count() as u32),
+        })
     }
     fn sweep(&self) -> Vec<SweepPoint> {
         let mut out = Vec::new();
@@ -160,8 +171,9 @@ pub struct BomUniforms {
     pub layers: u32,
     /// `BomParams::ratio()`: in `[0, 1]`.
     pub split_ratio: f32,
+    /// What the lookup multiplies a stored value by ([`opacity_layers::unit`]).
+    pub unit: f32,
     pub pad0: u32,
-    pub pad1: u32,
 }
 
 /// Automatic split ratio (thesis §5.2.3-5.2.4, Algorithm 5.2.3.1) for `layers` layers over a whole rendered
@@ -180,7 +192,7 @@ pub fn automatic_split_ratio(lists: &[Vec<RefFragment>], layers: u32) -> SplitSe
 
 /// The automatic split ratio as a method-panel analysis: scores every ratio, applies the least correlated.
 fn split_ratio_analysis(lists: &[Vec<RefFragment>], values: &ParamValues) -> AnalysisResult {
-    let layers = value(values, &PARAMS[0]) as u32;
+    let layers = value(values, &LAYERS) as u32;
     let search = automatic_split_ratio(lists, layers);
     // The search steps by 0.1: keep the ratio on that grid so that it prints and compares exactly.
     let best = (search.best(SplitCriterion::CrossCorrelation) * 10.0).round() / 10.0;

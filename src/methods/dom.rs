@@ -5,20 +5,24 @@
 //!
 //! GPU: `z0` is the shared near map of the light-depth pass (the paper's first pass), read by texel, not stored
 //! again (the paper keeps it in the first channel of its single RGBA target); the far map is read only by the
-//! stretch option. The layers live in an RGBA32F array texture of `ceil(K / 4)` layers (4 opacity layers per
-//! texel each), all written by ONE geometry pass with `ceil(K / 4)` colour targets and additive blending (the
-//! paper's second pass): a fragment adds its optical depth to its layer and every later one. The ends `d_k`
-//! are a uniform filled from `visibility::dom::layer_ends`. Memory: 16 bytes per texel per 4 layers, plus the
-//! near map it reads (4 bytes) and, for the stretch, the far map (4 bytes): DOM-3 takes 5 MiB at 512².
-//! The GPU side is `methods::opacity_layers` with this method's shader and uniforms.
+//! stretch option. The layers live in an array texture of `ceil(K / 4)` layers (4 opacity layers per texel
+//! each), all written in ONE geometry pass (the paper's second pass): with `build = targets` (what the default `auto` takes with f32 storage) by
+//! `ceil(K / 4)` RGBA32F colour targets with additive blending, a fragment adding its optical depth to its
+//! layer and every later one; with `build = atomic` by fixed-point storage atomics per (texel, layer) and a
+//! full-screen resolve into the `storage` format (f32, f16 or u8: 16, 8 or 4 bytes per texel per 4 layers;
+//! `visibility::opacity_layers`). The ends `d_k` are a uniform filled from `visibility::dom::layer_ends`.
+//! Memory (f32): 16 bytes per texel per 4 layers, plus the near map it reads (4 bytes) and, for the stretch,
+//! the far map (4 bytes): DOM-3 takes 5 MiB at 512². The GPU side is `methods::opacity_layers` with this
+//! method's shader and uniforms.
 
-use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu, VALUES_PER_LAYER};
+use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE, VALUES_PER_LAYER};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
 };
 use crate::gpu::GpuError;
 use crate::visibility::dom::{MAX_LAYERS, layer_ends};
+use crate::visibility::opacity_layers::Layered;
 use crate::visibility::{BeyondLastLayer, DomParams, LayerSpacing, TexelModel};
 use bytemuck::{Pod, Zeroable};
 
@@ -61,7 +65,7 @@ const BEYOND: ParamSpec = ParamSpec {
     },
     default: 1.0,
 };
-const PARAMS: &[ParamSpec] = &[LAYERS, DEPTH_SPAN, SPACING, BEYOND];
+const PARAMS: &[ParamSpec] = &[LAYERS, DEPTH_SPAN, SPACING, BEYOND, BUILD, STORAGE];
 
 pub struct Dom;
 
@@ -95,8 +99,10 @@ fn dom_setup(values: &ParamValues) -> LayerSetup<DomUniforms> {
         BeyondLastLayer::Stretch => 2,
     };
     let layers = p.layer_count() as u32;
+    let build = opacity_layers::build(values, layers);
     LayerSetup {
         values: layers,
+        build,
         // z0, and the far depth for the stretch.
         depth_maps: if p.beyond == BeyondLastLayer::Stretch {
             2
@@ -107,6 +113,7 @@ fn dom_setup(values: &ParamValues) -> LayerSetup<DomUniforms> {
             ends,
             layers,
             beyond,
+            unit: opacity_layers::unit(build),
             ..Zeroable::zeroed()
         },
     }
@@ -152,8 +159,8 @@ impl LightMethod for Dom {
                 ends,
                 layers,
                 beyond,
-                pad0,
-                pad1
+                unit,
+                pad0
             }
         ))
     }
@@ -170,7 +177,11 @@ impl LightMethod for Dom {
 
 impl ShadowMethod for Dom {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
-        Box::new(dom_params(values))
+        let params = dom_params(values);
+        Box::new(Layered {
+            params,
+            build: opacity_layers::build(values, params.layer_count() as u32),
+        })
     }
     /// Each of [`SWEEP_LAYERS`] with the linear and the uniform spacing, then Unreal's configuration.
     fn sweep(&self) -> Vec<SweepPoint> {
@@ -207,6 +218,7 @@ pub struct DomUniforms {
     pub layers: u32,
     /// 0 ignore, 1 add to the last layer, 2 stretch (the `beyond` parameter).
     pub beyond: u32,
+    /// What the lookup multiplies a stored value by ([`opacity_layers::unit`]).
+    pub unit: f32,
     pub pad0: u32,
-    pub pad1: u32,
 }

@@ -9,7 +9,7 @@
 //! and uniforms. `SWEEP_TERMS` (2, 3, 4, 8, 16) are the bench's term counts, each with both windows; the GPU =
 //! CPU tolerance (2e-5) is stated with its measurement at `INFO`.
 
-use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu};
+use super::opacity_layers::{LayerBuild, LayerMethod, LayerSetup, LayersGpu};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
@@ -148,6 +148,7 @@ fn fom_setup(values: &ParamValues) -> LayerSetup<FomUniforms> {
     LayerSetup {
         values: p.coefficient_count() as u32,
         depth_maps: 0,
+        build: LayerBuild::Targets,
         uniforms: FomUniforms {
             terms: p.term_count() as u32,
             window: p.window.index(),

@@ -11,7 +11,7 @@
 //! layer 0 `b_0..b_3`, layer 1 `b_4..b_6`), 32 bytes per texel for either moment count, filled by one additive
 //! geometry pass with 2 targets. f32 storage, so no quantisation transform.
 
-use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu};
+use super::opacity_layers::{LayerBuild, LayerMethod, LayerSetup, LayersGpu};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
@@ -153,6 +153,7 @@ fn msm_setup(values: &ParamValues) -> LayerSetup<MsmUniforms> {
     LayerSetup {
         values: 1 + p.moment_count() as u32,
         depth_maps: 0,
+        build: LayerBuild::Targets,
         uniforms: MsmUniforms {
             moments: p.moment_count() as u32,
             bias: p.bias,

@@ -1,25 +1,112 @@
-//! The GPU side shared by every method that stores `K` values per texel in RGBA32F layers filled by additive
-//! light passes: Opacity Shadow Maps (`K` slices over the whole light range), Deep Opacity Maps and Bounding
-//! Opacity Maps (`K` layers placed per texel from the shared near/far maps), Fourier opacity maps (`2K + 1`
-//! Fourier coefficients) and moment shadow maps (the power moments). Each keeps only its shader, its uniforms
-//! and its setup; the map, the pipelines and the passes are here.
+//! The GPU side shared by every method that stores `K` values per texel in array layers: Opacity Shadow Maps
+//! (`K` slices over the whole light range), Deep Opacity Maps and Bounding Opacity Maps (`K` layers placed per
+//! texel from the shared near/far maps), Fourier opacity maps (`2K + 1` Fourier coefficients) and moment shadow
+//! maps (the power moments). Each keeps only its shader, its uniforms and its setup; the map, the pipelines and
+//! the passes are here.
 //!
-//! Layout: an [`ArrayMap`] of `ceil(K / 4)` layers (4 values per RGBA texel), written by `ceil(layers / 8)`
-//! geometry passes of at most 8 colour targets; pass `p` draws with instance index `p` so that the shader knows
-//! which targets it writes. The light pass's group 1 is the uniform (binding 0) and the near (1) and far (2)
-//! light-depth maps; the lookup's group 1 is the array view (0) and the uniform (1).
+//! Layout: an [`ArrayMap`] of `ceil(K / 4)` layers (4 values per texel). Two builds fill it
+//! ([`LayerBuild`], the `build` parameter of OSM, DOM and BOM; the CPU side is `visibility::opacity_layers`):
+//!
+//! - **targets** (every method): RGBA32F layers written by `ceil(layers / 8)` geometry passes of at most 8
+//!   colour targets with additive blending; pass `p` draws with instance index `p` so that the shader knows
+//!   which targets it writes (`fs_main`).
+//! - **atomic** (the opacity-layer family, one entry per fragment): ONE geometry pass (`fs_count`, through the
+//!   shared light vertex stage) in which each fragment adds its u32 fixed-point optical depth to the counter of
+//!   its `(texel, entry)` in a storage buffer (4 bytes per entry and texel, build memory), then full-screen
+//!   resolve passes (`shaders/layer_resolve.wgsl`, 32 entries each) that sum the counters front to back into
+//!   the map in the `storage` parameter's format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per
+//!   entry). When the counters of all entries exceed the device's storage binding limit (128 MiB on lavapipe:
+//!   OSM-256 at 512² needs 256 MiB), the entries are built in bands of a multiple of 4 (one geometry pass per
+//!   band), the running sum carried from band to band; a map whose 4 entries alone exceed it (above 2896² at
+//!   128 MiB) is refused with an error naming the `build` parameter.
+//!
+//! The light pass's group 1 is the uniform (binding 0), the near (1) and far (2) light-depth maps, and for the
+//! atomic build the counters (3) and [`LayerBuildUniforms`] (4); the lookup's group 1 is the array view (0) and
+//! the uniform (1).
 
-use super::{MethodContext, MethodGpu, ParamValues};
-use crate::gpu::GpuError;
-use crate::gpu::timing::GpuTimer;
+use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, UniformMirror, value};
+use crate::gpu::timing::{GpuTimer, Phase};
+use crate::gpu::{Gpu, GpuError};
 use crate::render::caster::draw_casters;
 use crate::render::maps::{
-    AdditivePipelines, ArrayMap, LOOKUP_STAGES, texture_entry, uniform_buffer, uniform_entry,
+    AdditivePipelines, ArrayMap, LOOKUP_STAGES, check_budget, storage_entry, texture_entry, uniform_buffer,
+    uniform_entry,
 };
-use bytemuck::Pod;
+use crate::render::passes::NullTarget;
+pub use crate::visibility::opacity_layers::{LayerBuild, LayerStorage};
+use bytemuck::{Pod, Zeroable};
 
-/// Values one RGBA32F layer holds.
+/// Values one array layer holds.
 pub const VALUES_PER_LAYER: u32 = 4;
+
+/// Entries one geometry pass of the colour-target build writes (8 RGBA32F targets).
+pub const ENTRIES_PER_TARGETS_PASS: u32 = VALUES_PER_LAYER * AdditivePipelines::MAX_TARGETS;
+
+/// Most entries `build = auto` gives to the colour targets (two geometry passes).
+pub const AUTO_TARGETS_MAX_ENTRIES: u32 = 2 * ENTRIES_PER_TARGETS_PASS;
+
+/// The `build` parameter of the opacity-layer family. `auto` takes the colour targets up to
+/// [`AUTO_TARGETS_MAX_ENTRIES`] entries with f32 storage, the atomic build otherwise: measured on lavapipe
+/// (docs/design.md), one or two target passes cost less than the atomic count pass plus its resolve passes
+/// (OSM-16, DOM-3, BOM-4; OSM-64 in one of two runs), eight (OSM-256) cost 1.5 times as much.
+pub const BUILD: ParamSpec = ParamSpec {
+    key: "build",
+    label: "build",
+    help: "how the layers are filled: atomic = one geometry pass adding fixed-point optical depth to \
+           per-(texel, entry) counters with storage atomics, then a resolve into the storage format; \
+           targets = additive blending into RGBA32F colour targets, 32 entries per geometry pass; auto = targets \
+           up to 64 entries with f32 storage, else atomic",
+    kind: ParamKind::Choice {
+        options: &["auto", "atomic", "targets"],
+    },
+    default: 0.0,
+};
+
+/// The `storage` parameter: what one entry of the map takes with the atomic build (the colour-target build
+/// always stores f32).
+pub const STORAGE: ParamSpec = ParamSpec {
+    key: "storage",
+    label: "storage",
+    help: "bytes per stored entry with build = atomic: f32 = 4, f16 = 2 (11 significant bits), u8 = 1 (optical \
+           depth in steps of 1/32, saturating at 7.97); build = targets always stores f32",
+    kind: ParamKind::Choice {
+        options: &["f32", "f16", "u8"],
+    },
+    default: 0.0,
+};
+
+/// The build `values` choose for a map of `entries` entries per texel.
+pub fn build(values: &ParamValues, entries: u32) -> LayerBuild {
+    let storage = LayerStorage::ALL
+        .get(value(values, &STORAGE) as usize)
+        .copied()
+        .unwrap_or_default();
+    match value(values, &BUILD) as usize {
+        1 => LayerBuild::Atomic(storage),
+        2 => LayerBuild::Targets,
+        _ if entries > AUTO_TARGETS_MAX_ENTRIES || storage != LayerStorage::F32 => {
+            LayerBuild::Atomic(storage)
+        }
+        _ => LayerBuild::Targets,
+    }
+}
+
+/// What the lookup multiplies a stored value by (the methods' uniform field `unit`).
+pub fn unit(build: LayerBuild) -> f32 {
+    match build {
+        LayerBuild::Targets => 1.0,
+        LayerBuild::Atomic(s) => s.unit(),
+    }
+}
+
+/// The map's texel format for `build`.
+pub fn map_format(build: LayerBuild) -> wgpu::TextureFormat {
+    match build {
+        LayerBuild::Targets | LayerBuild::Atomic(LayerStorage::F32) => wgpu::TextureFormat::Rgba32Float,
+        LayerBuild::Atomic(LayerStorage::F16) => wgpu::TextureFormat::Rgba16Float,
+        LayerBuild::Atomic(LayerStorage::U8) => wgpu::TextureFormat::Rgba8Unorm,
+    }
+}
 
 /// What tells one layered method's GPU side from another's.
 pub struct LayerMethod<U> {
@@ -27,7 +114,8 @@ pub struct LayerMethod<U> {
     pub name: &'static str,
     /// What a stored value is called in pass timings (`slices`, `layers`).
     pub unit: &'static str,
-    /// The light-pass shader: `vs_main`, `fs_main` writing up to 8 RGBA32F outputs.
+    /// The light-pass shader: `vs_main`, `fs_main` writing up to 8 RGBA32F outputs, and `fs_count` (the
+    /// atomic build, `common/layer_pass.wgsl`) for the methods whose setup may ask for it.
     pub shader: &'static str,
     pub setup: fn(&ParamValues) -> LayerSetup<U>,
 }
@@ -39,8 +127,63 @@ pub struct LayerSetup<U> {
     /// Shared light-depth maps (4 bytes per texel each) the lookup reads: counted in the method's memory, and
     /// reported as shared.
     pub depth_maps: u32,
+    /// How the map is filled ([`LayerBuild::Targets`] for methods without `fs_count`).
+    pub build: LayerBuild,
     /// Read by both the light pass and the lookup.
     pub uniforms: U,
+}
+
+/// Mirrors `LayerBuildUniforms` in `shaders/common/layer_build_uniforms.wgsl` (the atomic build's count and
+/// resolve passes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct LayerBuildUniforms {
+    pub resolution: u32,
+    pub entries: u32,
+    /// Entries per band: all of them, or a multiple of 4.
+    pub band: u32,
+    /// 0 f32, 1 f16, 2 u8.
+    pub storage: u32,
+}
+
+/// The WGSL mirror of [`LayerBuildUniforms`], for the layout test.
+pub fn build_uniforms_mirror() -> UniformMirror {
+    crate::uniform_mirror!(
+        "LayerBuildUniforms",
+        LayerBuildUniforms {
+            resolution,
+            entries,
+            band,
+            storage
+        }
+    )
+}
+
+/// Entries per band of the atomic build for `entries` entries at `resolution`²: all of them when their
+/// counters (4 bytes per entry and texel) fit in one storage binding of at most `limit` bytes, else the largest
+/// multiple of 4 that fits; an error naming the `build` parameter when not even 4 fit.
+pub fn band_size(name: &str, resolution: u32, entries: u32, limit: u64) -> Result<u32, GpuError> {
+    let per_entry = resolution as u64 * resolution as u64 * 4;
+    if entries as u64 * per_entry <= limit {
+        return Ok(entries);
+    }
+    let step = VALUES_PER_LAYER as u64;
+    let band = limit / per_entry / step * step;
+    if band == 0 {
+        return Err(GpuError::Setting(format!(
+            "{name}: build = atomic with {entries} entries at a {resolution}² map needs {} bytes of counters for \
+             a band of {step} entries, more than this GPU's storage binding limit of {limit} bytes; use \
+             build = targets or a smaller render.map_resolution",
+            step * per_entry
+        )));
+    }
+    Ok(band as u32)
+}
+
+/// The largest storage binding the atomic build's counters may take on `gpu`.
+fn storage_limit(gpu: &Gpu) -> u64 {
+    let limits = gpu.device.limits();
+    limits.max_storage_buffer_binding_size.min(limits.max_buffer_size)
 }
 
 /// The light pass's group 1, for the light-depth maps it was made with.
@@ -56,15 +199,50 @@ struct Maps {
     lookup_bind_group: wgpu::BindGroup,
 }
 
+/// The atomic build's pipelines, made on first use.
+struct AtomicPipelines {
+    pass_layout: wgpu::BindGroupLayout,
+    count: wgpu::RenderPipeline,
+    resolve_layout: wgpu::BindGroupLayout,
+    resolve_pipeline_layout: wgpu::PipelineLayout,
+    resolve_module: wgpu::ShaderModule,
+    /// Resolve pipelines by target format and count.
+    resolve: Vec<(wgpu::TextureFormat, u32, wgpu::RenderPipeline)>,
+    uniforms: wgpu::Buffer,
+}
+
+/// The atomic build's buffers for one resolution, entry count and band.
+struct AtomicBuffers {
+    resolution: u32,
+    entries: u32,
+    band: u32,
+    counters: wgpu::Buffer,
+    carry: wgpu::Buffer,
+    null_target: NullTarget,
+    near: wgpu::TextureView,
+    far: wgpu::TextureView,
+    pass_bind_group: wgpu::BindGroup,
+    resolve_bind_group: wgpu::BindGroup,
+}
+
+impl AtomicBuffers {
+    fn bytes(&self) -> u64 {
+        self.counters.size() + self.carry.size() + self.null_target.bytes()
+    }
+}
+
 /// GPU state of a layered method; created with its maps for the current parameters, so it always has them.
 pub struct LayersGpu<U> {
     method: LayerMethod<U>,
     pass_layout: wgpu::BindGroupLayout,
     lookup_layout: wgpu::BindGroupLayout,
+    module: wgpu::ShaderModule,
     pipelines: AdditivePipelines,
     uniforms: wgpu::Buffer,
     pass_bind_group: PassBindGroup,
     maps: Maps,
+    atomic: Option<AtomicPipelines>,
+    buffers: Option<AtomicBuffers>,
     setup: LayerSetup<U>,
 }
 
@@ -97,23 +275,388 @@ impl<U: Pod + Send> LayersGpu<U> {
             name,
             ctx.light,
             &[ctx.frame_layout, &pass_layout],
-            module,
+            module.clone(),
             "fs_main",
         );
         let setup = (method.setup)(ctx.values);
         let pass_bind_group = pass_bind_group(ctx, name, &pass_layout, &uniforms);
-        let maps = make_maps(ctx, name, &lookup_layout, &uniforms, layers_for(setup.values))?;
-        Ok(LayersGpu {
+        let maps = make_maps(ctx, name, &lookup_layout, &uniforms, &setup)?;
+        let mut gpu = LayersGpu {
             method,
             pass_layout,
             lookup_layout,
+            module,
             pipelines,
             uniforms,
             pass_bind_group,
             maps,
+            atomic: None,
+            buffers: None,
             setup,
-        })
+        };
+        gpu.prepare_atomic(ctx)?;
+        Ok(gpu)
     }
+
+    /// Makes the atomic build's pipelines and buffers when the setup asks for that build and they are missing
+    /// or stale; drops the buffers otherwise.
+    fn prepare_atomic(&mut self, ctx: &MethodContext) -> Result<(), GpuError> {
+        let LayerBuild::Atomic(storage) = self.setup.build else {
+            self.buffers = None;
+            return Ok(());
+        };
+        let name = self.method.name;
+        let resolution = ctx.map_resolution();
+        let entries = self.setup.values;
+        let band = match band_size(name, resolution, entries, storage_limit(ctx.gpu)) {
+            Ok(band) => band,
+            Err(e) => {
+                self.buffers = None;
+                return Err(e);
+            }
+        };
+        let atomic = match &mut self.atomic {
+            Some(a) => a,
+            slot => slot.insert(atomic_pipelines(ctx, name, &self.module, ctx.frame_layout)),
+        };
+        let views = (&ctx.light_maps.near_view, &ctx.light_maps.far_view);
+        let stale = self.buffers.as_ref().is_none_or(|b| {
+            b.resolution != resolution
+                || b.entries != entries
+                || b.band != band
+                || b.near != *views.0
+                || b.far != *views.1
+        });
+        if stale {
+            self.buffers = None;
+            self.buffers = Some(atomic_buffers(
+                ctx,
+                name,
+                atomic,
+                &self.uniforms,
+                (resolution, entries, band),
+            )?);
+        }
+        let u = LayerBuildUniforms {
+            resolution,
+            entries,
+            band,
+            storage: LayerStorage::ALL.iter().position(|s| *s == storage).unwrap_or(0) as u32,
+        };
+        ctx.gpu
+            .queue
+            .write_buffer(&atomic.uniforms, 0, bytemuck::bytes_of(&u));
+        Ok(())
+    }
+
+    /// Records the atomic build: per band, the counting geometry pass and the resolve passes of its entries.
+    fn record_atomic(
+        &mut self,
+        ctx: &MethodContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
+        let (name, unit) = (self.method.name, self.method.unit);
+        let (Some(atomic), Some(buffers)) = (self.atomic.as_mut(), self.buffers.as_ref()) else {
+            return;
+        };
+        let map = &self.maps.map;
+        let values = self.setup.values;
+        for b in 0..values.div_ceil(buffers.band) {
+            let first = b * buffers.band;
+            let end = (first + buffers.band).min(values);
+            let ts = timer
+                .as_mut()
+                .and_then(|t| t.pass(Phase::Method, format!("{name}: count {unit} {first}-{}", end - 1)));
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(&format!("hairlab.{name}.count")),
+                color_attachments: &[buffers.null_target.attachment()],
+                depth_stencil_attachment: None,
+                timestamp_writes: ts,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            draw_casters(
+                &mut pass,
+                &atomic.count,
+                ctx.frame_bind_group,
+                Some(&buffers.pass_bind_group),
+                ctx.casters,
+                b..b + 1,
+            );
+            drop(pass);
+            // Resolve passes of at most 32 entries (8 targets) inside the band; `first` is a multiple of 4.
+            let mut e = first;
+            while e < end {
+                let count = (end - e)
+                    .div_ceil(VALUES_PER_LAYER)
+                    .min(AdditivePipelines::MAX_TARGETS);
+                let layer = e / VALUES_PER_LAYER;
+                let pipeline = resolve_pipeline(&ctx.gpu.device, name, atomic, map.format, count);
+                let next = e + count * VALUES_PER_LAYER;
+                let last = next.min(end) - 1;
+                let ts = timer
+                    .as_mut()
+                    .and_then(|t| t.pass(Phase::Method, format!("{name}: resolve {unit} {e}-{last}")));
+                let attachments = map.attachments(layer, count);
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(&format!("hairlab.{name}.resolve")),
+                    color_attachments: &attachments,
+                    depth_stencil_attachment: None,
+                    timestamp_writes: ts,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &buffers.resolve_bind_group, &[]);
+                pass.draw(0..3, e..e + 1);
+                drop(pass);
+                e = next;
+            }
+        }
+    }
+
+    /// Records the colour-target build: `ceil(layers / 8)` additive geometry passes.
+    fn record_targets(
+        &mut self,
+        ctx: &MethodContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
+        let (name, unit) = (self.method.name, self.method.unit);
+        let layers = self.maps.map.layers;
+        let values = self.setup.values;
+        let per_pass = AdditivePipelines::MAX_TARGETS;
+        for p in 0..layers.div_ceil(per_pass) {
+            let first = p * per_pass;
+            let count = (layers - first).min(per_pass);
+            let pipeline = self.pipelines.get(&ctx.gpu.device, count);
+            let attachments = self.maps.map.attachments(first, count);
+            let last = ((first + count) * VALUES_PER_LAYER).min(values) - 1;
+            let ts = timer.as_mut().and_then(|t| {
+                t.pass(
+                    Phase::Method,
+                    format!("{name}: {unit} {}-{last}", first * VALUES_PER_LAYER),
+                )
+            });
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(&format!("hairlab.{name}.pass")),
+                color_attachments: &attachments,
+                depth_stencil_attachment: None,
+                timestamp_writes: ts,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            draw_casters(
+                &mut pass,
+                pipeline,
+                ctx.frame_bind_group,
+                Some(&self.pass_bind_group.bind_group),
+                ctx.casters,
+                p..p + 1,
+            );
+        }
+    }
+}
+
+/// The atomic build's bind-group layouts, count pipeline and resolve module.
+fn atomic_pipelines(
+    ctx: &MethodContext,
+    name: &str,
+    module: &wgpu::ShaderModule,
+    frame_layout: &wgpu::BindGroupLayout,
+) -> AtomicPipelines {
+    let device = &ctx.gpu.device;
+    let frag = wgpu::ShaderStages::FRAGMENT;
+    let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(&format!("hairlab.{name}.count_layout")),
+        entries: &[
+            uniform_entry(0, frag),
+            texture_entry(1, frag, wgpu::TextureViewDimension::D2),
+            texture_entry(2, frag, wgpu::TextureViewDimension::D2),
+            storage_entry(3, frag, false),
+            uniform_entry(4, frag),
+        ],
+    });
+    let count = ctx.light.pipeline(
+        device,
+        &format!("hairlab.{name}.count_pipeline"),
+        &[frame_layout, &pass_layout],
+        module,
+        "fs_count",
+        &[NullTarget::target_state()],
+    );
+    let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(&format!("hairlab.{name}.resolve_layout")),
+        entries: &[
+            uniform_entry(0, frag),
+            storage_entry(1, frag, false),
+            storage_entry(2, frag, false),
+            texture_entry(3, frag, wgpu::TextureViewDimension::D2),
+            texture_entry(4, frag, wgpu::TextureViewDimension::D2),
+        ],
+    });
+    let resolve_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("hairlab.{name}.resolve_pipeline_layout")),
+        bind_group_layouts: &[Some(&resolve_layout)],
+        immediate_size: 0,
+    });
+    let resolve_module = crate::render::passes::shader_module(
+        device,
+        &format!("hairlab.{name}.resolve_shader"),
+        "layer_resolve.wgsl",
+        None,
+    );
+    AtomicPipelines {
+        pass_layout,
+        count,
+        resolve_layout,
+        resolve_pipeline_layout,
+        resolve_module,
+        resolve: Vec::new(),
+        uniforms: uniform_buffer::<LayerBuildUniforms>(device, &format!("{name}.build_uniforms")),
+    }
+}
+
+/// The resolve pipeline writing `count` targets of `format`, made on first use.
+fn resolve_pipeline<'a>(
+    device: &wgpu::Device,
+    name: &str,
+    atomic: &'a mut AtomicPipelines,
+    format: wgpu::TextureFormat,
+    count: u32,
+) -> &'a wgpu::RenderPipeline {
+    let i = match atomic
+        .resolve
+        .iter()
+        .position(|(f, c, _)| *f == format && *c == count)
+    {
+        Some(i) => i,
+        None => {
+            let target = Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            });
+            let targets = vec![target; count as usize];
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&format!("hairlab.{name}.resolve_pipeline")),
+                layout: Some(&atomic.resolve_pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &atomic.resolve_module,
+                    entry_point: Some("vs_resolve"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &atomic.resolve_module,
+                    entry_point: Some("fs_resolve"),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            atomic.resolve.push((format, count, pipeline));
+            atomic.resolve.len() - 1
+        }
+    };
+    &atomic.resolve[i].2
+}
+
+/// The counters (one band), the carry and the bind groups of the atomic build.
+fn atomic_buffers(
+    ctx: &MethodContext,
+    name: &str,
+    atomic: &AtomicPipelines,
+    method_uniforms: &wgpu::Buffer,
+    (resolution, entries, band): (u32, u32, u32),
+) -> Result<AtomicBuffers, GpuError> {
+    let gpu: &Gpu = ctx.gpu;
+    let device = &gpu.device;
+    let texels = resolution as u64 * resolution as u64;
+    let counter_bytes = texels * band as u64 * 4;
+    let what = || format!("{name} counters of {band} entries at {resolution}²");
+    check_budget(what, counter_bytes)?;
+    gpu.check_buffer_size(&what(), counter_bytes)?;
+    let storage = |label: &str, size: u64| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(&format!("hairlab.{name}.{label}")),
+            size,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        })
+    };
+    let counters = storage("counters", counter_bytes);
+    let carry = storage("carry", texels * 4);
+    let (near, far) = (&ctx.light_maps.near_view, &ctx.light_maps.far_view);
+    let pass_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(&format!("hairlab.{name}.count_bind_group")),
+        layout: &atomic.pass_layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: method_uniforms.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(near),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(far),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: counters.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: atomic.uniforms.as_entire_binding(),
+            },
+        ],
+    });
+    let resolve_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(&format!("hairlab.{name}.resolve_bind_group")),
+        layout: &atomic.resolve_layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: atomic.uniforms.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: counters.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: carry.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(near),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::TextureView(far),
+            },
+        ],
+    });
+    Ok(AtomicBuffers {
+        resolution,
+        entries,
+        band,
+        counters,
+        carry,
+        null_target: NullTarget::new(device, resolution),
+        near: near.clone(),
+        far: far.clone(),
+        pass_bind_group,
+        resolve_bind_group,
+    })
 }
 
 /// Array layers holding `values` values.
@@ -121,14 +664,20 @@ fn layers_for(values: u32) -> u32 {
     values.max(1).div_ceil(VALUES_PER_LAYER)
 }
 
-fn make_maps(
+fn make_maps<U>(
     ctx: &MethodContext,
     name: &str,
     lookup_layout: &wgpu::BindGroupLayout,
     uniforms: &wgpu::Buffer,
-    layers: u32,
+    setup: &LayerSetup<U>,
 ) -> Result<Maps, GpuError> {
-    let map = ArrayMap::new(ctx.gpu, &format!("{name}.layers"), ctx.map_resolution(), layers)?;
+    let map = ArrayMap::with_format(
+        ctx.gpu,
+        &format!("{name}.layers"),
+        ctx.map_resolution(),
+        layers_for(setup.values),
+        map_format(setup.build),
+    )?;
     let lookup_bind_group = ctx.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(&format!("hairlab.{name}.lookup_bind_group")),
         layout: lookup_layout,
@@ -186,13 +735,18 @@ impl<U: Pod + Send> MethodGpu for LayersGpu<U> {
         let name = self.method.name;
         self.setup = (self.method.setup)(ctx.values);
         let layers = layers_for(self.setup.values);
-        if self.maps.map.resolution != ctx.map_resolution() || self.maps.map.layers != layers {
-            self.maps = make_maps(ctx, name, &self.lookup_layout, &self.uniforms, layers)?;
+        let m = &self.maps.map;
+        if m.resolution != ctx.map_resolution()
+            || m.layers != layers
+            || m.format != map_format(self.setup.build)
+        {
+            self.maps = make_maps(ctx, name, &self.lookup_layout, &self.uniforms, &self.setup)?;
         }
         let p = &self.pass_bind_group;
         if p.near != ctx.light_maps.near_view || p.far != ctx.light_maps.far_view {
             self.pass_bind_group = pass_bind_group(ctx, name, &self.pass_layout, &self.uniforms);
         }
+        self.prepare_atomic(ctx)?;
         ctx.gpu
             .queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&self.setup.uniforms));
@@ -205,38 +759,9 @@ impl<U: Pod + Send> MethodGpu for LayersGpu<U> {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) {
-        let (name, unit) = (self.method.name, self.method.unit);
-        let layers = self.maps.map.layers;
-        let values = self.setup.values;
-        let per_pass = AdditivePipelines::MAX_TARGETS;
-        for p in 0..layers.div_ceil(per_pass) {
-            let first = p * per_pass;
-            let count = (layers - first).min(per_pass);
-            let pipeline = self.pipelines.get(&ctx.gpu.device, count);
-            let attachments = self.maps.map.attachments(first, count);
-            let last = ((first + count) * VALUES_PER_LAYER).min(values) - 1;
-            let ts = timer.as_mut().and_then(|t| {
-                t.pass(
-                    crate::gpu::timing::Phase::Method,
-                    format!("{name}: {unit} {}-{last}", first * VALUES_PER_LAYER),
-                )
-            });
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(&format!("hairlab.{name}.pass")),
-                color_attachments: &attachments,
-                depth_stencil_attachment: None,
-                timestamp_writes: ts,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            draw_casters(
-                &mut pass,
-                pipeline,
-                ctx.frame_bind_group,
-                Some(&self.pass_bind_group.bind_group),
-                ctx.casters,
-                p..p + 1,
-            );
+        match self.setup.build {
+            LayerBuild::Targets => self.record_targets(ctx, encoder, timer),
+            LayerBuild::Atomic(_) => self.record_atomic(ctx, encoder, timer),
         }
     }
 
@@ -257,7 +782,58 @@ impl<U: Pod + Send> MethodGpu for LayersGpu<U> {
         r * r * self.setup.depth_maps as u64 * 4
     }
 
+    /// The atomic build's counters, running sums and null target.
+    fn build_bytes(&self) -> u64 {
+        self.buffers.as_ref().map_or(0, AtomicBuffers::bytes)
+    }
+
     fn geometry_passes(&self) -> u32 {
-        self.maps.map.layers.div_ceil(AdditivePipelines::MAX_TARGETS)
+        match (&self.buffers, self.setup.build) {
+            (Some(b), LayerBuild::Atomic(_)) => self.setup.values.div_ceil(b.band),
+            _ => self.maps.map.layers.div_ceil(AdditivePipelines::MAX_TARGETS),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn storage_options_are_the_storages_in_order() {
+        let names: Vec<&str> = LayerStorage::ALL.iter().map(|s| s.name()).collect();
+        assert_eq!(STORAGE.options(), names.as_slice());
+        for (i, s) in LayerStorage::ALL.into_iter().enumerate() {
+            let values =
+                |b: f32| ParamValues::from([("build".to_string(), b), ("storage".to_string(), i as f32)]);
+            assert_eq!(build(&values(1.0), 4), LayerBuild::Atomic(s));
+            assert_eq!(build(&values(2.0), 4), LayerBuild::Targets);
+        }
+        assert_eq!(BUILD.option(2.0), Some("targets"));
+    }
+
+    #[test]
+    fn auto_takes_the_targets_up_to_two_passes_of_f32_and_the_atomic_build_otherwise() {
+        let none = ParamValues::new();
+        assert_eq!(build(&none, 1), LayerBuild::Targets);
+        assert_eq!(build(&none, 64), LayerBuild::Targets);
+        assert_eq!(build(&none, 65), LayerBuild::Atomic(LayerStorage::F32));
+        assert_eq!(build(&none, 256), LayerBuild::Atomic(LayerStorage::F32));
+        let u8 = ParamValues::from([("storage".to_string(), 2.0)]);
+        assert_eq!(build(&u8, 3), LayerBuild::Atomic(LayerStorage::U8));
+    }
+
+    #[test]
+    fn bands_fit_the_storage_binding() {
+        const MIB: u64 = 1 << 20;
+        // OSM-256 at 512²: 1 MiB of counters per slice, 128 slices per 128 MiB band.
+        assert_eq!(band_size("osm", 512, 256, 128 * MIB).unwrap(), 128);
+        assert_eq!(band_size("osm", 512, 128, 128 * MIB).unwrap(), 128);
+        assert_eq!(band_size("osm", 512, 100, 128 * MIB).unwrap(), 100);
+        // 2048²: 16 MiB per entry, bands of 8; 2896² is the largest with a band of 4 (31.99 MiB per entry).
+        assert_eq!(band_size("osm", 2048, 16, 128 * MIB).unwrap(), 8);
+        assert_eq!(band_size("osm", 2896, 16, 128 * MIB).unwrap(), 4);
+        let e = band_size("osm", 4096, 16, 128 * MIB).unwrap_err().to_string();
+        assert!(e.contains("build = atomic") && e.contains("4096²"), "{e}");
     }
 }

@@ -3,16 +3,23 @@
 //! depth accumulated up to a slice's far plane, and `V(z)` interpolates linearly between planes. The CPU model
 //! is `visibility::osm`.
 //!
-//! GPU: the slices live in an RGBA32F array texture (4 slices per layer). One geometry pass fills 8 layers
-//! (8 colour targets × 4 channels = 32 slices) with additive blending, so `N` slices take `ceil(N / 32)`
-//! geometry passes: OSM-256 takes 8. The GPU side is `methods::opacity_layers` with this method's shader and uniforms.
+//! GPU (`methods::opacity_layers` with this method's shader and uniforms): the slices live in an array texture
+//! (4 slices per layer). `build = auto` (the default) takes the colour targets up to 64 slices with f32
+//! storage and the atomic build otherwise (measured, `docs/design.md`). `build = atomic`: one geometry pass adds each fragment's fixed-point
+//! optical depth to its (texel, slice) counter with storage atomics, and full-screen resolve passes sum the
+//! counters into the map, so OSM-256 costs the light-depth pass plus one geometry pass (two at 512² on
+//! lavapipe, whose 128 MiB storage binding holds 128 slices of counters); `storage` = f32, f16 or u8 takes 4,
+//! 2 or 1 bytes per slice and texel (OSM-256 at 512²: 256, 128 or 64 MiB). `build = targets`: additive
+//! blending into RGBA32F colour targets, 8 targets × 4 channels = 32 slices per geometry pass, so OSM-256
+//! takes 8 geometry passes. Quantisation and storage are part of the CPU model (`visibility::opacity_layers`).
 
-use super::opacity_layers::{LayerMethod, LayerSetup, LayersGpu};
+use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
     SweepPoint, UniformMirror, value,
 };
 use crate::gpu::GpuError;
+use crate::visibility::opacity_layers::Layered;
 use crate::visibility::osm::MAX_SLICES;
 use crate::visibility::{OsmParams, TexelModel};
 use bytemuck::{Pod, Zeroable};
@@ -20,18 +27,19 @@ use bytemuck::{Pod, Zeroable};
 /// Slices one geometry pass fills (8 RGBA32F targets).
 pub const SLICES_PER_PASS: u32 = 32;
 
-const PARAMS: &[ParamSpec] = &[ParamSpec {
+const SLICES: ParamSpec = ParamSpec {
     key: "slices",
     label: "slices",
     help: "uniform slices across the strands' light-depth range (1..=256)",
     kind: ParamKind::Int { min: 1, max: 256 },
     default: 16.0,
-}];
+};
+const PARAMS: &[ParamSpec] = &[SLICES, BUILD, STORAGE];
 
 pub struct Osm;
 
 fn slices(values: &ParamValues) -> u32 {
-    value(values, &PARAMS[0]) as u32
+    value(values, &SLICES) as u32
 }
 
 static INFO: MethodInfo = MethodInfo {
@@ -59,9 +67,9 @@ impl LightMethod for Osm {
             "OsmUniforms",
             OsmUniforms {
                 slices,
+                unit,
                 pad0,
-                pad1,
-                pad2
+                pad1
             }
         ))
     }
@@ -78,8 +86,11 @@ impl LightMethod for Osm {
 
 impl ShadowMethod for Osm {
     fn model(&self, values: &ParamValues, _hair_alpha: f32) -> Box<dyn TexelModel> {
-        Box::new(OsmParams {
-            slices: slices(values),
+        Box::new(Layered {
+            params: OsmParams {
+                slices: slices(values),
+            },
+            build: opacity_layers::build(values, slices(values).clamp(1, MAX_SLICES)),
         })
     }
     fn sweep(&self) -> Vec<SweepPoint> {
@@ -105,19 +116,23 @@ impl ShadowMethod for Osm {
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct OsmUniforms {
     pub slices: u32,
+    /// What the lookup multiplies a stored value by ([`opacity_layers::unit`]).
+    pub unit: f32,
     pub pad0: u32,
     pub pad1: u32,
-    pub pad2: u32,
 }
 
 /// The slice count and uniforms for `values` (the map holds `ceil(N / 4)` RGBA layers).
 fn osm_setup(values: &ParamValues) -> LayerSetup<OsmUniforms> {
     let n = slices(values).clamp(1, MAX_SLICES);
+    let build = opacity_layers::build(values, n);
     LayerSetup {
         values: n,
         depth_maps: 0,
+        build,
         uniforms: OsmUniforms {
             slices: n,
+            unit: opacity_layers::unit(build),
             ..Zeroable::zeroed()
         },
     }

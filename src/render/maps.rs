@@ -24,22 +24,39 @@ pub fn check_budget(what: impl FnOnce() -> String, bytes: u64) -> Result<(), Gpu
 /// Bytes of one RGBA32F texel.
 pub const RGBA32F_BYTES: u64 = 16;
 
-/// An RGBA32F array texture of `layers` square layers: one 2D view per layer (the colour targets of the light
-/// passes) and one array view (what the lookup reads).
+/// An array texture of `layers` square layers (RGBA32F unless made [`ArrayMap::with_format`]): one 2D view per
+/// layer (the colour targets of the light passes) and one array view (what the lookup reads).
 pub struct ArrayMap {
     pub texture: wgpu::Texture,
     pub layer_views: Vec<wgpu::TextureView>,
     pub array_view: wgpu::TextureView,
     pub resolution: u32,
     pub layers: u32,
+    pub format: wgpu::TextureFormat,
 }
 
 impl ArrayMap {
-    /// Allocates the map (`hairlab.<label>`), within [`MAP_BUDGET_BYTES`].
+    /// Allocates an RGBA32F map (`hairlab.<label>`), within [`MAP_BUDGET_BYTES`].
     pub fn new(gpu: &Gpu, label: &str, resolution: u32, layers: u32) -> Result<ArrayMap, GpuError> {
-        let bytes = Self::bytes_for(resolution, layers);
+        Self::with_format(gpu, label, resolution, layers, wgpu::TextureFormat::Rgba32Float)
+    }
+
+    /// Allocates a map of `format` (a colour format whose texels read as float), within [`MAP_BUDGET_BYTES`].
+    pub fn with_format(
+        gpu: &Gpu,
+        label: &str,
+        resolution: u32,
+        layers: u32,
+        format: wgpu::TextureFormat,
+    ) -> Result<ArrayMap, GpuError> {
+        let bytes = Self::bytes_of(resolution, layers, format);
         check_budget(
-            || format!("{label} of {layers} RGBA32F layers at {resolution}²"),
+            || {
+                format!(
+                    "{label} of {layers} {} layers at {resolution}²",
+                    format_name(format)
+                )
+            },
             bytes,
         )?;
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -52,7 +69,7 @@ impl ArrayMap {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
+            format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
@@ -78,21 +95,38 @@ impl ArrayMap {
             array_view,
             resolution,
             layers,
+            format,
         })
     }
 
-    /// Bytes a map of `layers` layers at `resolution`² takes.
+    /// Bytes an RGBA32F map of `layers` layers at `resolution`² takes.
     pub fn bytes_for(resolution: u32, layers: u32) -> u64 {
         resolution as u64 * resolution as u64 * layers as u64 * RGBA32F_BYTES
     }
 
+    /// Bytes a map of `format` takes.
+    pub fn bytes_of(resolution: u32, layers: u32, format: wgpu::TextureFormat) -> u64 {
+        let texel = format.block_copy_size(None).map_or(RGBA32F_BYTES, u64::from);
+        resolution as u64 * resolution as u64 * layers as u64 * texel
+    }
+
     pub fn bytes(&self) -> u64 {
-        Self::bytes_for(self.resolution, self.layers)
+        Self::bytes_of(self.resolution, self.layers, self.format)
     }
 
     /// Colour attachments for layers `first..first + count`, cleared to zero.
     pub fn attachments(&self, first: u32, count: u32) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
         cleared_attachments(&self.layer_views[first as usize..(first + count) as usize])
+    }
+}
+
+/// A map format's name in messages: `RGBA32F`, `RGBA16F`, `RGBA8`, else wgpu's.
+fn format_name(format: wgpu::TextureFormat) -> String {
+    match format {
+        wgpu::TextureFormat::Rgba32Float => "RGBA32F".to_string(),
+        wgpu::TextureFormat::Rgba16Float => "RGBA16F".to_string(),
+        wgpu::TextureFormat::Rgba8Unorm => "RGBA8".to_string(),
+        other => format!("{other:?}"),
     }
 }
 

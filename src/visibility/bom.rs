@@ -37,11 +37,14 @@
 //! - `t = select(select(0.0, 1.0, z > near), (z - near) / (far - near), far > near)`, then
 //!   `t = clamp(t, 0, 1)`;
 //! - `s = clamp((1.0 - r) * t + r * (log2(1.0 + 254.0 * t) / log2(255.0)), 0.0, 1.0)`;
-//! - build, per fragment: `k = min(u32(max(floor(s * f32(K)), 0.0)), K - 1u)`; add `b` to layers `k..K`;
+//! - build, per fragment: `k = min(u32(max(floor(s * f32(K)), 0.0)), K - 1u)`; add `b` to layers `k..K` (by
+//!   additive blending, or in fixed point with atomics and a resolve into the chosen storage: [`build_with`],
+//!   `visibility::opacity_layers`);
 //! - lookup: if `!(t_unclamped > 0.0)`: `V = 1`; else `x = s * f32(K)`, `j` as above,
 //!   `f = clamp(x - f32(j), 0, 1)`, `prev = select(0.0, L[max(j, 1u) - 1u], j > 0u)`,
 //!   `omega = min(prev + (L[j] - prev) * f, L[j])`, `V = exp(-omega)`.
 
+use super::opacity_layers::{LayerBuild, LayeredModel, accumulate};
 use super::{
     Fragment, Model, Stored, TexelModel, depth_range, lerp_up, list, relative_depth, slice_index,
     transmittance, valid,
@@ -110,21 +113,25 @@ pub struct BomTexel {
     pub layers: Vec<f32>,
 }
 
-/// Builds a BOM texel: each fragment adds `b` to its layer and all later ones.
+/// Builds a BOM texel: each fragment adds `b` to its layer and all later ones (the colour-target build).
 pub fn build(params: &BomParams, fragments: &[Fragment]) -> BomTexel {
+    build_with(params, LayerBuild::Targets, fragments)
+}
+
+/// Builds a BOM texel the way `layers` does (`visibility::opacity_layers`).
+pub fn build_with(params: &BomParams, layers: LayerBuild, fragments: &[Fragment]) -> BomTexel {
     let (near, far) = depth_range(fragments);
     let k_count = params.layer_count();
     let r = params.ratio();
-    let mut layers = vec![0.0f32; k_count];
-    for f in valid(fragments) {
+    let entries = valid(fragments).map(|f| {
         let s = split(relative_depth(f.depth, near, far), r);
-        let k = slice_index(s * k_count as f32, k_count);
-        let b = f.optical_depth();
-        for l in &mut layers[k..] {
-            *l += b;
-        }
+        (slice_index(s * k_count as f32, k_count), f.optical_depth())
+    });
+    BomTexel {
+        near,
+        far,
+        layers: accumulate(layers, k_count, entries),
     }
-    BomTexel { near, far, layers }
 }
 
 /// `V(z)`: 1 up to `near`, then linear interpolation between layer boundaries in the split coordinate. `K` is
@@ -186,9 +193,22 @@ impl TexelModel for BomParams {
     }
 
     fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
-        let t = build(self, fragments);
+        Some(self.describe(&build(self, fragments), self.label()))
+    }
+}
+
+impl LayeredModel for BomParams {
+    fn build_with(&self, build: LayerBuild, fragments: &[Fragment]) -> BomTexel {
+        build_with(self, build, fragments)
+    }
+
+    fn entries(texel: &BomTexel) -> &[f32] {
+        &texel.layers
+    }
+
+    fn describe(&self, t: &BomTexel, label: String) -> Stored {
         let k = t.layers.len();
-        let mut s = Stored::new(self.label());
+        let mut s = Stored::new(label);
         s.boundaries.push(t.near);
         s.knots.push([t.near, 1.0]);
         if t.far > t.near {
@@ -206,7 +226,7 @@ impl TexelModel for BomParams {
         ));
         s.summary
             .push(format!("layer optical depths {}", list(&t.layers)));
-        Some(s)
+        s
     }
 }
 

@@ -37,12 +37,14 @@
 //! - `scale = 1.0` for Ignore/AddToLast, `scale = max(1.0, (far - near) / dK)` for Stretch;
 //! - build, per fragment: `dz = z - near`; its layer is the first `k` (0-based) with `dz < scale * d[k]`;
 //!   with none: Ignore drops the fragment, AddToLast and Stretch use `K - 1` (for Stretch this only catches
-//!   rounding at `far`); add `b` to layers `k..K`;
+//!   rounding at `far`); add `b` to layers `k..K` (by additive blending, or in fixed point with atomics and a
+//!   resolve into the chosen storage: [`build_with`], `visibility::opacity_layers`);
 //! - lookup: `dz = z - near`; if `!(dz > 0.0)`: `V = 1`; else the first `k` with `dz < scale * d[k]`:
 //!   `lo = select(0.0, scale * d[max(k, 1u) - 1u], k > 0u)`, `f = (dz - lo) / (scale * d[k] - lo)`,
 //!   `prev = select(0.0, L[max(k, 1u) - 1u], k > 0u)`, `omega = min(prev + (L[k] - prev) * f, L[k])`; with no
 //!   such `k`, `omega = L[K - 1]`; `V = exp(-omega)`.
 
+use super::opacity_layers::{LayerBuild, LayeredModel, accumulate};
 use super::{Fragment, Model, Stored, TexelModel, depth_range, lerp_up, list, transmittance, valid};
 
 /// Largest number of layers.
@@ -169,25 +171,30 @@ fn layer_of(dz: f32, ends: &[f32], scale: f32) -> Option<usize> {
     ends.iter().position(|&e| dz < scale * e)
 }
 
-/// Builds a DOM texel: each fragment adds `b` to its layer and all later ones.
+/// Builds a DOM texel: each fragment adds `b` to its layer and all later ones (the colour-target build).
 pub fn build(params: &DomParams, fragments: &[Fragment]) -> DomTexel {
+    build_with(params, LayerBuild::Targets, fragments)
+}
+
+/// Builds a DOM texel the way `layers` does (`visibility::opacity_layers`).
+pub fn build_with(params: &DomParams, layers: LayerBuild, fragments: &[Fragment]) -> DomTexel {
     let (near, far) = depth_range(fragments);
     let (ends, k_count) = ends_array(params);
     let ends = &ends[..k_count];
     let s = scale(params, ends, near, far);
-    let mut layers = vec![0.0f32; ends.len()];
-    for f in valid(fragments) {
+    let entries = valid(fragments).filter_map(|f| {
         let k = match (layer_of(f.depth - near, ends, s), params.beyond) {
             (Some(k), _) => k,
-            (None, BeyondLastLayer::Ignore) => continue,
+            (None, BeyondLastLayer::Ignore) => return None,
             (None, _) => ends.len() - 1,
         };
-        let b = f.optical_depth();
-        for l in &mut layers[k..] {
-            *l += b;
-        }
+        Some((k, f.optical_depth()))
+    });
+    DomTexel {
+        near,
+        far,
+        layers: accumulate(layers, ends.len(), entries),
     }
-    DomTexel { near, far, layers }
 }
 
 /// `V(z)`: 1 up to `z0`, then linear interpolation between the layer boundaries. A texel whose layer count is
@@ -238,13 +245,26 @@ impl TexelModel for DomParams {
     }
 
     fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
-        let t = build(self, fragments);
+        Some(self.describe(&build(self, fragments), self.label()))
+    }
+}
+
+impl LayeredModel for DomParams {
+    fn build_with(&self, build: LayerBuild, fragments: &[Fragment]) -> DomTexel {
+        build_with(self, build, fragments)
+    }
+
+    fn entries(texel: &DomTexel) -> &[f32] {
+        &texel.layers
+    }
+
+    fn describe(&self, t: &DomTexel, label: String) -> Stored {
         let ends = layer_ends(self);
         let scale = match (self.beyond, ends.last()) {
             (BeyondLastLayer::Stretch, Some(&d)) => ((t.far - t.near) / d).max(1.0),
             _ => 1.0,
         };
-        let mut s = Stored::new(self.label());
+        let mut s = Stored::new(label);
         s.boundaries.push(t.near);
         s.knots.push([t.near, 1.0]);
         for (e, b) in ends.iter().zip(&t.layers) {
@@ -259,7 +279,7 @@ impl TexelModel for DomParams {
         ));
         s.summary
             .push(format!("layer optical depths {}", list(&t.layers)));
-        Some(s)
+        s
     }
 }
 

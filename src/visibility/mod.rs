@@ -33,6 +33,7 @@ pub mod fom;
 pub mod metrics;
 pub mod msm;
 pub mod occupancy;
+pub mod opacity_layers;
 pub mod osm;
 pub mod reference;
 

@@ -12,12 +12,14 @@
 //! guaranteed.
 //!
 //! GPU contract (per texel, `N` f32 values, e.g. `N/4` RGBA32F targets or an array texture):
-//! - build, per fragment (additive blending): `i = min(u32(max(floor(z * f32(N)), 0.0)), N - 1u)`; add `b` to
-//!   slices `i..N` (a fragment adds to its slice and all later ones);
+//! - build, per fragment: `i = min(u32(max(floor(z * f32(N)), 0.0)), N - 1u)`; add `b` to slices `i..N` (a
+//!   fragment adds to its slice and all later ones) — by additive blending, or in fixed point with atomics and
+//!   a resolve into the chosen storage ([`build_with`], `visibility::opacity_layers`);
 //! - lookup: `x = z * f32(N)`, `j = min(u32(max(floor(x), 0.0)), N - 1u)`, `f = clamp(x - f32(j), 0.0, 1.0)`,
 //!   `prev = select(0.0, S[max(j, 1u) - 1u], j > 0u)`, `omega = min(prev + (S[j] - prev) * f, S[j])`,
 //!   `V = exp(-omega)`.
 
+use super::opacity_layers::{LayerBuild, LayeredModel, accumulate};
 use super::{Fragment, Model, Stored, TexelModel, lerp_up, slice_index, transmittance, valid};
 
 /// Largest number of slices.
@@ -52,18 +54,18 @@ pub struct OsmTexel {
     pub planes: Vec<f32>,
 }
 
-/// Builds an OSM texel: each fragment adds `b` to its slice and all later ones.
+/// Builds an OSM texel: each fragment adds `b` to its slice and all later ones (the colour-target build).
 pub fn build(params: &OsmParams, fragments: &[Fragment]) -> OsmTexel {
+    build_with(params, LayerBuild::Targets, fragments)
+}
+
+/// Builds an OSM texel the way `layers` does (`visibility::opacity_layers`).
+pub fn build_with(params: &OsmParams, layers: LayerBuild, fragments: &[Fragment]) -> OsmTexel {
     let n = params.slice_count();
-    let mut planes = vec![0.0f32; n];
-    for f in valid(fragments) {
-        let b = f.optical_depth();
-        let i = slice_index(f.depth * n as f32, n);
-        for p in &mut planes[i..] {
-            *p += b;
-        }
+    let entries = valid(fragments).map(|f| (slice_index(f.depth * n as f32, n), f.optical_depth()));
+    OsmTexel {
+        planes: accumulate(layers, n, entries),
     }
-    OsmTexel { planes }
 }
 
 /// `V(z)`: linear interpolation of the accumulated optical depth between the planes enclosing `z`. `N` is the
@@ -106,9 +108,22 @@ impl TexelModel for OsmParams {
     }
 
     fn stored(&self, fragments: &[Fragment]) -> Option<Stored> {
-        let t = build(self, fragments);
+        Some(self.describe(&build(self, fragments), self.label()))
+    }
+}
+
+impl LayeredModel for OsmParams {
+    fn build_with(&self, build: LayerBuild, fragments: &[Fragment]) -> OsmTexel {
+        build_with(self, build, fragments)
+    }
+
+    fn entries(texel: &OsmTexel) -> &[f32] {
+        &texel.planes
+    }
+
+    fn describe(&self, t: &OsmTexel, label: String) -> Stored {
         let n = t.planes.len();
-        let mut s = Stored::new(self.label());
+        let mut s = Stored::new(label);
         s.boundaries = (0..=n).map(|k| k as f32 / n as f32).collect();
         s.knots.push([0.0, 1.0]);
         s.knots.extend(
@@ -120,7 +135,7 @@ impl TexelModel for OsmParams {
         s.summary.push(format!(
             "{n} slice planes over the whole light range; each stores the optical depth in front of it"
         ));
-        Some(s)
+        s
     }
 }
 

@@ -28,6 +28,7 @@ mod gpu_dsm;
 mod gpu_fom;
 mod gpu_msm;
 mod gpu_occupancy;
+mod gpu_opacity_layers;
 mod gpu_render;
 mod groom_formats;
 mod hair_format;

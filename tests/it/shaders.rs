@@ -369,6 +369,18 @@ fn fur_density_structs_match_wgsl_layout() {
     );
 }
 
+/// The opacity-layer family's atomic build uniforms against its count passes (the family's light shaders) and
+/// its resolve pass.
+#[test]
+fn opacity_layer_build_uniforms_match_wgsl_layout() {
+    let u = hairlab::methods::opacity_layers::build_uniforms_mirror();
+    let wgsl: Vec<_> = ["osm.wgsl", "dom.wgsl", "bom.wgsl", "layer_resolve.wgsl"]
+        .iter()
+        .map(|p| (*p, None, u.wgsl_name))
+        .collect();
+    check_mirror(u.size, &u.fields, &wgsl);
+}
+
 /// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its
 /// lookup composed into the evaluation pass).
 #[test]

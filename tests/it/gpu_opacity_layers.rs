@@ -1,0 +1,120 @@
+//! The opacity-layer family's two builds on the GPU (`methods::opacity_layers`, CPU side
+//! `visibility::opacity_layers`): GPU = CPU for the colour-target build and for the atomic build in every
+//! storage, the atomic build in bands when its counters exceed a storage binding, the refusal when not even a
+//! band of 4 entries fits, and the memory the report counts for each storage.
+
+use crate::common::{Setup, gpu_cpu_difference, render_method_light};
+use hairlab::gpu::{Gpu, GpuError};
+use hairlab::methods::registry;
+
+/// The family's stated `gpu_tolerance`. Measured max |ΔV| on lavapipe, the 300-strand head at 64² (OSM-64,
+/// DOM-3, BOM-4), every build and storage: 1.8e-7 (targets: f32 sums in another order; atomic: integer sums, so
+/// only `exp` and the rounding of `b = -ln(1 - alpha)` in WGSL against Rust's, and the u8 unorm read); OSM-256
+/// atomic in two bands at 512²: 1.8e-7.
+const TOLERANCE: f32 = 1e-4;
+
+/// Each method of the family with its entry-count parameter at a usual value.
+const FAMILY: [(&str, &str, f32); 3] = [
+    ("osm", "slices", 64.0),
+    ("dom", "layers", 3.0),
+    ("bom", "layers", 4.0),
+];
+
+/// `(build, storage)` (build 1 atomic, 2 targets): targets, then atomic with f32, f16 and u8.
+const BUILDS: [(f32, f32); 4] = [(2.0, 0.0), (1.0, 0.0), (1.0, 1.0), (1.0, 2.0)];
+
+#[test]
+fn both_builds_and_every_storage_gpu_equal_cpu() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for (method, key, n) in FAMILY {
+        for (build, storage) in BUILDS {
+            let params = [(key, n), ("build", build), ("storage", storage)];
+            let (worst, samples) = gpu_cpu_difference(&gpu, method, &params, Setup::new(300, 64));
+            eprintln!("{method} {params:?}: {samples} samples, max |ΔV| {worst:.3e}");
+            assert!(samples > 5000, "{method}: only {samples} samples");
+            assert!(worst <= TOLERANCE, "{method} {params:?}: max |ΔV| = {worst}");
+        }
+    }
+}
+
+/// OSM-256 at 512²: 256 slices of 4-byte counters over 262 144 texels take 256 MiB, twice lavapipe's 128 MiB
+/// storage binding, so the atomic build counts in two bands of 128 slices (one geometry pass each), the running
+/// sum carried across; the result is the CPU model's all the same.
+#[test]
+fn banded_atomic_build_gpu_equals_cpu() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let params = [("slices", 256.0), ("build", 1.0)];
+    let (worst, samples) = gpu_cpu_difference(&gpu, "osm", &params, Setup::new(60, 512));
+    eprintln!("osm-256 atomic at 512²: {samples} samples, max |ΔV| {worst:.3e}");
+    assert!(samples > 5000, "only {samples} samples");
+    assert!(worst <= TOLERANCE, "max |ΔV| = {worst}");
+    let limits = gpu.device.limits();
+    let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    let per_slice = 512 * 512 * 4;
+    // Bands are the largest multiple of 4 slices whose counters fit in one binding.
+    let bands = if 256 * per_slice <= limit {
+        1
+    } else {
+        256u64.div_ceil(limit / per_slice / 4 * 4)
+    };
+    let (r, result) = render_method_light(&gpu, "osm", &params, 60, 512);
+    result.unwrap();
+    let m = r.method_gpu(registry::find("osm").unwrap()).unwrap();
+    assert_eq!(m.geometry_passes() as u64, bands, "limit {limit}");
+    if limit == 128 << 20 {
+        assert_eq!(bands, 2, "lavapipe's binding holds 128 slices");
+    }
+}
+
+/// A map whose counters of 4 entries alone exceed a storage binding is refused with one error naming the
+/// method, the `build` parameter and the resolution, and nothing is held: OSM-16 (u8, so that the map itself
+/// stays within hairlab's budget) at 4096² needs 64 MiB of counters per slice.
+#[test]
+fn atomic_build_beyond_a_band_of_four_is_refused_naming_the_key() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let limits = gpu.device.limits();
+    let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    let params = [("slices", 16.0), ("build", 1.0), ("storage", 2.0)];
+    let (r, result) = render_method_light(&gpu, "osm", &params, 20, 4096);
+    if 4 * 4096 * 4096 * 4 > limit {
+        match result {
+            Err(GpuError::Setting(msg)) => {
+                assert!(
+                    msg.contains("osm") && msg.contains("build = atomic") && msg.contains("4096²"),
+                    "{msg}"
+                );
+            }
+            other => panic!("expected a Setting error, got {other:?}"),
+        }
+        assert!(
+            r.method_gpu(registry::find("osm").unwrap()).is_none(),
+            "no maps held"
+        );
+    } else {
+        result.unwrap();
+    }
+}
+
+/// The memory report per storage, worked out by hand for OSM-64 at 64² (4096 texels, 16 layers of 4 slices):
+/// the map takes 16, 8 or 4 bytes per texel and layer; the atomic build's counters (4 bytes per slice and
+/// texel), running sums (4 bytes per texel) and null target (1 byte per texel) are build memory.
+#[test]
+fn memory_report_counts_each_storage() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let texels = 64 * 64;
+    for (build, storage, map_bytes, build_bytes) in [
+        (2.0, 0.0, texels * 16 * 16, 0),
+        (1.0, 0.0, texels * 16 * 16, texels * (64 * 4 + 4 + 1)),
+        (1.0, 1.0, texels * 16 * 8, texels * (64 * 4 + 4 + 1)),
+        (1.0, 2.0, texels * 16 * 4, texels * (64 * 4 + 4 + 1)),
+    ] {
+        let params = [("slices", 64.0), ("build", build), ("storage", storage)];
+        let (r, result) = render_method_light(&gpu, "osm", &params, 20, 64);
+        result.unwrap();
+        let m = r.method_gpu(registry::find("osm").unwrap()).unwrap();
+        assert_eq!(m.memory_bytes(), map_bytes, "{params:?}");
+        assert_eq!(m.build_bytes(), build_bytes, "{params:?}");
+        let passes = if build == 2.0 { 2 } else { 1 };
+        assert_eq!(m.geometry_passes(), passes, "{params:?}");
+    }
+}

@@ -24,29 +24,7 @@ fn ribbons(s: &mut Settings, min_width: f32) {
 fn abuffer_equals_depth_peeling_under_ribbons() {
     let Some(gpu) = Gpu::for_tests() else { return };
     for min_width in [1.0, 2.5] {
-        let mut s = common::small_settings(8, 8);
-        s.scene.generator.strands = 150;
-        s.scene.generator.segments = 8;
-        s.render.map_resolution = 48;
-        ribbons(&mut s, min_width);
-        let scene = s.scene.build().unwrap();
-        s.camera.frame(&scene.framing_bounds());
-        let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
-        let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
-        let peeled = r.depth_peel(4096).unwrap();
-        let total: usize = lists.iter().map(Vec::len).sum();
-        let max = lists.iter().map(Vec::len).max().unwrap();
-        assert!(
-            total > 1000 && max > 5,
-            "test scene too thin: {total} fragments, depth complexity {max}"
-        );
-        assert_eq!(peeled.layers as usize, max);
-        for (t, (a, p)) in lists.iter().zip(&peeled.lists).enumerate() {
-            assert_eq!(
-                a, p,
-                "least width {min_width}: texel {t}: A-buffer and depth peel disagree"
-            );
-        }
+        crate::reference::assert_abuffer_equals_depth_peeling(&gpu, |s| ribbons(s, min_width));
     }
 }
 
@@ -61,22 +39,7 @@ fn every_method_gpu_equals_cpu_under_ribbons() {
     for m in registry::all() {
         let info = m.info();
         let d = common::gpu_cpu_differences_in(&gpu, info.name, &[], &s, &scene, true);
-        let worst = d.iter().copied().fold(0.0f32, f32::max);
-        let beyond = d.iter().filter(|&&x| x > info.gpu_tolerance).count();
-        eprintln!(
-            "{} under ribbons: {} samples, max |ΔV| {worst:.3e}, {beyond} beyond {:.0e}",
-            info.name,
-            d.len(),
-            info.gpu_tolerance
-        );
-        assert!(d.len() > 5000, "{}: only {} samples", info.name, d.len());
-        assert!(
-            beyond as f64 <= info.gpu_outliers * d.len() as f64,
-            "{}: {beyond} of {} samples beyond {} (max {worst})",
-            info.name,
-            d.len(),
-            info.gpu_tolerance
-        );
+        crate::methods_gpu::assert_within_stated_tolerance(info, "under ribbons", &d);
     }
 }
 

@@ -44,24 +44,30 @@ fn every_registered_method_gpu_equals_cpu() {
         for values in configs {
             let params: Vec<(&str, f32)> = values.iter().map(|(k, v)| (k.as_str(), *v)).collect();
             let d = gpu_cpu_differences(&gpu, info.name, &params, Setup::new(300, 64));
-            let worst = d.iter().copied().fold(0.0f32, f32::max);
-            let beyond = d.iter().filter(|&&x| x > info.gpu_tolerance).count();
-            eprintln!(
-                "{} {values:?}: {} samples, max |ΔV| {worst:.3e}, {beyond} beyond {:.0e}",
-                info.name,
-                d.len(),
-                info.gpu_tolerance
-            );
-            assert!(d.len() > 5000, "{}: only {} samples", info.name, d.len());
-            assert!(
-                beyond as f64 <= info.gpu_outliers * d.len() as f64,
-                "{} {values:?}: {beyond} of {} samples beyond {} (max {worst})",
-                info.name,
-                d.len(),
-                info.gpu_tolerance
-            );
+            assert_within_stated_tolerance(info, &format!("{values:?}"), &d);
         }
     }
+}
+
+/// `d`, a method's |V_gpu - V_cpu| samples (`what`: the configuration), holds more than 5000 samples and at
+/// most the method's `gpu_outliers` share of them beyond its `gpu_tolerance`; prints the maximum.
+pub fn assert_within_stated_tolerance(info: &hairlab::methods::MethodInfo, what: &str, d: &[f32]) {
+    let worst = d.iter().copied().fold(0.0f32, f32::max);
+    let beyond = d.iter().filter(|&&x| x > info.gpu_tolerance).count();
+    eprintln!(
+        "{} {what}: {} samples, max |ΔV| {worst:.3e}, {beyond} beyond {:.0e}",
+        info.name,
+        d.len(),
+        info.gpu_tolerance
+    );
+    assert!(d.len() > 5000, "{}: only {} samples", info.name, d.len());
+    assert!(
+        beyond as f64 <= info.gpu_outliers * d.len() as f64,
+        "{} {what}: {beyond} of {} samples beyond {} (max {worst})",
+        info.name,
+        d.len(),
+        info.gpu_tolerance
+    );
 }
 
 /// A method's maps beyond hairlab's map budget are refused before anything is allocated, with one error naming

@@ -12,11 +12,7 @@
 //! GPU state, built from the scene's fur ([`SceneFur`]) when its generation changes; without fur it draws the
 //! guard hairs alone, whose typed lists every blending composites exactly.
 
-use std::time::Instant;
-
-use crate::fur::blend::{self, Typed};
-use crate::fur::march::MarchParams;
-use crate::fur::settings::{Blending, FurSettings, FurView};
+use crate::fur::blend::Typed;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::eye::bindings::Binding;
 use crate::render::eye::lists::{self, BAND_KIB, ListNames, ListSpec, NODE_BYTES, PixelLists};
@@ -28,9 +24,10 @@ use crate::render::transparency::{
 };
 use crate::transparency::{Compositor, ModelContext};
 
-use super::shell_gpu::ShellGpu;
+pub use super::held::FurResolveUniforms;
+use super::held::{HeldFur, typed_fragments};
 pub use super::state::FurListStats;
-use super::state::{FurLists, FurState, SceneFur};
+use super::state::{FurLists, FurState};
 
 /// The guard hairs' fill: the exact reference's list push, on camera-facing ribbons (B.6).
 static FILL: HairEntry = lists::fill_entry(HairGeometry::Ribbons);
@@ -84,39 +81,6 @@ impl EyeTransparency for FurTechnique {
     }
 }
 
-/// Mirrors `FurResolveUniforms` in `shaders/fur/resolve.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable, PartialEq)]
-pub struct FurResolveUniforms {
-    pub blending: u32,
-    pub attenuation: f32,
-    pub view: u32,
-    pub deepest: u32,
-}
-
-fn view_code(v: FurView) -> u32 {
-    match v {
-        FurView::Shaded => 0,
-        FurView::Types => 1,
-        FurView::Fragments => 2,
-    }
-}
-
-fn blending_code(b: Blending) -> u32 {
-    match b {
-        Blending::Naive => 0,
-        Blending::Simplified => 1,
-        Blending::Virtual => 2,
-    }
-}
-
-/// The shell on the GPU, the generation of the scene's fur it was built from and its build time.
-struct HeldShell {
-    gpu: ShellGpu,
-    generation: u64,
-    volume_ms: f64,
-}
-
 pub struct FurGpu {
     lists: PixelLists,
     /// The guard hairs' count pass over their ribbons (`fur/ribbon_count.wgsl`).
@@ -125,10 +89,8 @@ pub struct FurGpu {
     uniforms: wgpu::Buffer,
     /// The shell count's total, copied before the strands add theirs.
     shell_total: wgpu::Buffer,
-    shell: Option<HeldShell>,
-    /// The fur's settings and march of the next frame (light from the frame); the defaults without fur.
-    settings: FurSettings,
-    march: Option<MarchParams>,
+    /// The scene's fur: its shell, settings and march.
+    fur: HeldFur,
     stats: FurListStats,
     /// Whether a frame has been drawn (its lists can be read).
     drawn: bool,
@@ -165,40 +127,12 @@ impl FurGpu {
                 std::mem::size_of::<FurResolveUniforms>() as u64,
             ),
             shell_total: crate::render::eye::bindings::storage(device, "hairlab.fur.shell_total", 4),
-            shell: None,
-            settings: FurSettings::default(),
-            march: None,
+            fur: HeldFur::default(),
             stats: FurListStats::default(),
             drawn: false,
         };
         gpu.update(setup)?;
         Ok(gpu)
-    }
-
-    /// Brings the shell up to the scene's fur: built when its generation is new, dropped when the scene has none.
-    fn sync_fur(&mut self, gpu: &Gpu, fur: Option<&SceneFur>) -> Result<(), GpuError> {
-        let Some(fur) = fur else {
-            self.shell = None;
-            self.settings = FurSettings::default();
-            self.march = None;
-            return Ok(());
-        };
-        if self.shell.as_ref().map(|s| s.generation) != Some(fur.generation) {
-            self.shell = None;
-            let start = Instant::now();
-            let shell = ShellGpu::new(gpu, &self.frame_layout, &fur.scene.shell, &fur.scene.volume)?;
-            self.shell = Some(HeldShell {
-                gpu: shell,
-                generation: fur.generation,
-                volume_ms: start.elapsed().as_secs_f64() * 1e3,
-            });
-        }
-        self.settings = fur.settings.clone();
-        self.march = Some(
-            fur.settings
-                .march_params(&fur.scene.shell, glam::Vec3::Y, glam::Vec3::ONE),
-        );
-        Ok(())
     }
 }
 
@@ -208,25 +142,7 @@ impl FurLists for FurGpu {
     }
 
     fn typed_lists(&self, gpu: &Gpu) -> Result<Vec<Vec<Typed>>, GpuError> {
-        Ok(self
-            .lists
-            .read(gpu)?
-            .into_iter()
-            .map(|nodes| {
-                let mut out: Vec<Typed> = nodes
-                    .into_iter()
-                    .map(|n| Typed {
-                        depth: n.depth,
-                        id: n.segment,
-                        kind: n.kind,
-                        colour: glam::Vec3::new(n.r, n.g, n.b),
-                        alpha: n.alpha,
-                    })
-                    .collect();
-                blend::front_to_back(&mut out);
-                out
-            })
-            .collect())
+        Ok(self.lists.read(gpu)?.into_iter().map(typed_fragments).collect())
     }
 }
 
@@ -237,29 +153,20 @@ impl TransparencyGpu for FurGpu {
 
     fn update(&mut self, setup: &EyeSetup) -> Result<(), GpuError> {
         self.resize(setup.gpu, setup.width, setup.height)?;
-        self.sync_fur(setup.gpu, setup.scene_fur)
+        self.fur.sync(setup.gpu, &self.frame_layout, setup.scene_fur)
     }
 
     fn record(&mut self, frame: &mut EyeFrame<'_>) -> Result<(), GpuError> {
         let (width, height) = self.lists.size();
         let pixels = width as u64 * height as u64;
-        let mode = self.settings.mode;
-        let held = self.shell.as_ref().map(|s| &s.gpu);
+        let mode = self.fur.settings.mode;
+        let held = self.fur.shell.as_ref().map(|s| &s.gpu);
         let shell = held.filter(|_| mode.shell());
         // Without fur the guard hairs are all there is.
-        let strands = (self.shell.is_none() || mode.strands()) && frame.geometry.hair_index_count > 0;
+        let strands = (self.fur.shell.is_none() || mode.strands()) && frame.geometry.hair_index_count > 0;
         let gpu = frame.gpu;
         let device = &gpu.device;
-        if let (Some(held), Some(march)) = (held, &self.march) {
-            held.set_params(
-                &gpu.queue,
-                &MarchParams {
-                    to_light: frame.light.to_light(),
-                    light: glam::Vec3::from_array(frame.light.color) * frame.light.intensity,
-                    ..*march
-                },
-            );
-        }
+        self.fur.light(&gpu.queue, frame.light);
         // Counts: the shell's first (its total copied aside), then the strands'.
         let counts = self.lists.clear_counts(&mut frame.encoder);
         if let Some(held) = held {
@@ -324,12 +231,7 @@ impl TransparencyGpu for FurGpu {
         gpu.queue.write_buffer(
             &self.uniforms,
             0,
-            bytemuck::bytes_of(&FurResolveUniforms {
-                blending: blending_code(self.settings.blending),
-                attenuation: self.settings.attenuation_per_unit(),
-                view: view_code(self.settings.view),
-                deepest: plan.deepest,
-            }),
+            bytemuck::bytes_of(&FurResolveUniforms::new(&self.fur.settings, plan.deepest)),
         );
         self.stats = FurListStats {
             explicit: plan.fragments - u64::from(shell_total[0]),
@@ -386,7 +288,7 @@ impl TransparencyGpu for FurGpu {
     }
 
     fn fur(&self) -> Option<FurState<'_>> {
-        self.shell.as_ref().map(|s| FurState {
+        self.fur.shell.as_ref().map(|s| FurState {
             shell: &s.gpu,
             lists: self.drawn.then_some(self as &dyn FurLists),
             volume_ms: s.volume_ms,

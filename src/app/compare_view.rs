@@ -1,7 +1,8 @@
 //! The compare view: the occupancy paper's Fig. 2 layout — four eye transparency techniques side by side
 //! (reference | selected | weighted average | opaque by default, each slot any registered technique), each
 //! labelled with its GPU time and frame rate, and the difference heat map `|slot − slot 1|` (max channel, in
-//! 1/255 steps, times a gain of ×1…×64) with every image metric of `transparency::metrics::compare` beside it.
+//! 1/255 steps, times a gain of ×1…×64) or FLIP's map of the slot against the first, with every image metric of
+//! `transparency::metrics::compare` beside it.
 //!
 //! The frames are rendered on demand (a button, or when the settings change while "auto" is on and no drag is
 //! under way) with the current settings at the aspect of `render.width`×`render.height`, through the window's
@@ -286,13 +287,15 @@ pub struct CompareView {
     /// The slot (1…3) the difference view compares with the first.
     pub diff_slot: usize,
     pub gain: f32,
+    /// The map shown under the images: the scaled difference, or FLIP's.
+    pub flip_map: bool,
     frames: Option<CompareFrames>,
     /// Counts renders (the pixel inspector's cache key).
     generation: u64,
     rendered: Option<CompareKey>,
     error: Option<String>,
     textures: Vec<egui::TextureHandle>,
-    diff: Option<((usize, u32, u64), egui::TextureHandle)>,
+    diff: Option<((usize, u32, u64, bool), egui::TextureHandle)>,
     rects: [Option<egui::Rect>; 4],
 }
 
@@ -305,6 +308,7 @@ impl Default for CompareView {
             auto: true,
             diff_slot: 1,
             gain: 8.0,
+            flip_map: false,
             frames: None,
             generation: 0,
             rendered: None,
@@ -467,21 +471,35 @@ impl CompareView {
                             }
                         });
                 });
-                ui.add(
-                    egui::Slider::new(&mut self.gain, GAIN_RANGE)
-                        .logarithmic(true)
-                        .text("gain ×"),
-                );
-                let key = (self.diff_slot, self.gain.to_bits(), self.generation);
-                if self.diff.as_ref().is_none_or(|(k, _)| *k != key) {
-                    let d = difference_image(
-                        &frames.images[self.diff_slot].image,
-                        &frames.images[0].image,
-                        self.gain,
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut self.flip_map, false, "difference");
+                    ui.selectable_value(&mut self.flip_map, true, "FLIP map");
+                });
+                if !self.flip_map {
+                    ui.add(
+                        egui::Slider::new(&mut self.gain, GAIN_RANGE)
+                            .logarithmic(true)
+                            .text("gain ×"),
                     );
-                    let tex = ui
-                        .ctx()
-                        .load_texture("compare_difference", color_image(&d), NEAREST);
+                }
+                let key = (
+                    self.diff_slot,
+                    self.gain.to_bits(),
+                    self.generation,
+                    self.flip_map,
+                );
+                if self.diff.as_ref().is_none_or(|(k, _)| *k != key) {
+                    let (test, reference) = (&frames.images[self.diff_slot].image, &frames.images[0].image);
+                    let image = if self.flip_map {
+                        let map = crate::transparency::FlipMap::new(test, reference).heat_map();
+                        egui::ColorImage::from_rgb(
+                            [map.width() as usize, map.height() as usize],
+                            map.as_raw(),
+                        )
+                    } else {
+                        color_image(&difference_image(test, reference, self.gain))
+                    };
+                    let tex = ui.ctx().load_texture("compare_difference", image, NEAREST);
                     self.diff = Some((key, tex));
                 }
                 if let Some((_, tex)) = &self.diff {
@@ -491,13 +509,20 @@ impl CompareView {
                     let size = image_size(width, frames.width, frames.height);
                     let r = ui.add(egui::Image::new((tex.id(), size)).sense(egui::Sense::click()));
                     pick = clicked_pixel(&r, frames.width, frames.height);
-                    ui.label(format!(
-                        "|{} − {}| max channel × {:.0} (white: ≥ {:.0}/255)",
-                        frames.images[self.diff_slot].label,
-                        frames.images[0].label,
-                        self.gain,
-                        255.0 / self.gain
-                    ));
+                    ui.label(if self.flip_map {
+                        format!(
+                            "FLIP of {} against {} (magma: black 0, light yellow the largest)",
+                            frames.images[self.diff_slot].label, frames.images[0].label
+                        )
+                    } else {
+                        format!(
+                            "|{} − {}| max channel × {:.0} (white: ≥ {:.0}/255)",
+                            frames.images[self.diff_slot].label,
+                            frames.images[0].label,
+                            self.gain,
+                            255.0 / self.gain
+                        )
+                    });
                 }
             });
             metrics_grid(ui, frames);

@@ -226,6 +226,15 @@ fn compare_view_renders_four_labelled_images_and_their_metrics() {
     // FLIP beside them: the hair differs, so its hair mean is above the all-pixel one (no difference elsewhere).
     assert!(m.flip.mean_hair > m.flip.mean && m.flip.mean > 0.0, "{m:?}");
     assert!(harness.query_by_label("FLIP hair").is_some());
+    // The FLIP map in place of the difference.
+    let caption = format!(
+        "FLIP of {} against {}",
+        frames.images[1].label, frames.images[0].label
+    );
+    harness.get_by_label("FLIP map").click();
+    harness.run();
+    assert!(harness.state().compare().flip_map);
+    harness.get_by_label_contains(&caption);
 }
 
 #[test]

@@ -826,14 +826,14 @@ mod tests {
     #[test]
     fn bands_fit_the_storage_binding() {
         const MIB: u64 = 1 << 20;
-        // OSM-256 at 512²: 1 MiB of counters per slice, 128 slices per 128 MiB band.
-        assert_eq!(band_size("osm", 512, 256, 128 * MIB).unwrap(), 128);
-        assert_eq!(band_size("osm", 512, 128, 128 * MIB).unwrap(), 128);
-        assert_eq!(band_size("osm", 512, 100, 128 * MIB).unwrap(), 100);
+        // 256 entries (OSM-256) at 512²: 1 MiB of counters per slice, 128 slices per 128 MiB band.
+        assert_eq!(band_size("layers", 512, 256, 128 * MIB).unwrap(), 128);
+        assert_eq!(band_size("layers", 512, 128, 128 * MIB).unwrap(), 128);
+        assert_eq!(band_size("layers", 512, 100, 128 * MIB).unwrap(), 100);
         // 2048²: 16 MiB per entry, bands of 8; 2896² is the largest with a band of 4 (31.99 MiB per entry).
-        assert_eq!(band_size("osm", 2048, 16, 128 * MIB).unwrap(), 8);
-        assert_eq!(band_size("osm", 2896, 16, 128 * MIB).unwrap(), 4);
-        let e = band_size("osm", 4096, 16, 128 * MIB).unwrap_err().to_string();
+        assert_eq!(band_size("layers", 2048, 16, 128 * MIB).unwrap(), 8);
+        assert_eq!(band_size("layers", 2896, 16, 128 * MIB).unwrap(), 4);
+        let e = band_size("layers", 4096, 16, 128 * MIB).unwrap_err().to_string();
         assert!(e.contains("build = atomic") && e.contains("4096²"), "{e}");
     }
 }

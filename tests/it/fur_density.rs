@@ -58,55 +58,14 @@ fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
 
 /// Runs the probe on `points`; returns its output words.
 fn probe(gpu: &Gpu, points: &[[f32; 4]]) -> Vec<[u32; 4]> {
-    use wgpu::util::DeviceExt;
-    let device = &gpu.device;
-    let src = hairlab::shaders::compose("common/fur_noise.wgsl", None).unwrap() + PROBE;
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("fur_density.probe"),
-        source: wgpu::ShaderSource::Wgsl(src.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("fur_density.probe"),
-        layout: None,
-        module: &module,
-        entry_point: Some("cs_probe"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("fur_density.points"),
-        contents: bytemuck::cast_slice(points),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("fur_density.out"),
-        size: (points.len() * 16) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((points.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    bytemuck::pod_collect_to_vec(&copy_out(gpu, &output).unwrap())
+    let bytes = crate::common::run_probe(
+        gpu,
+        ("common/fur_noise.wgsl", PROBE, "fur_density.probe"),
+        bytemuck::cast_slice(points),
+        points.len(),
+        16,
+    );
+    bytemuck::pod_collect_to_vec(&bytes)
 }
 
 /// FT-U8, the noise alone: 2^16 points over [−50, 50]³ (the clump field's range on a 10 cm mesh at f = 400

@@ -5,7 +5,6 @@
 use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
-use hairlab::gpu::readback::copy_out;
 use hairlab::methods::registry;
 use hairlab::render::Renderer;
 use hairlab::render::transparency::registry as techniques;
@@ -52,56 +51,15 @@ fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
 
 /// Runs the probe on `(tangent, to_light, to_eye, colour)` rows; returns 16 floats per row.
 fn probe(gpu: &Gpu, rows: &[[Vec3; 4]]) -> Vec<[f32; 16]> {
-    use wgpu::util::DeviceExt;
-    let device = &gpu.device;
-    let src = hairlab::shaders::compose("common/marschner.wgsl", None).unwrap() + PROBE;
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("shading.probe"),
-        source: wgpu::ShaderSource::Wgsl(src.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("shading.probe"),
-        layout: None,
-        module: &module,
-        entry_point: Some("cs_probe"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
     let packed: Vec<[f32; 4]> = rows.iter().flatten().map(|v| v.extend(0.0).to_array()).collect();
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("shading.probes"),
-        contents: bytemuck::cast_slice(&packed),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("shading.out"),
-        size: (rows.len() * 64) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((rows.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    bytemuck::pod_collect_to_vec(&copy_out(gpu, &output).unwrap())
+    let bytes = common::run_probe(
+        gpu,
+        ("common/marschner.wgsl", PROBE, "shading.probe"),
+        bytemuck::cast_slice(&packed),
+        rows.len(),
+        64,
+    );
+    bytemuck::pod_collect_to_vec(&bytes)
 }
 
 /// The probe directions: 4096 random triples (tangent, light, eye) with random colours; the lobes' peaks in

@@ -256,3 +256,64 @@ pub fn render_method_light(
     let result = r.render_light(&light_frame(&s, registry::find(method).unwrap(), &values));
     (r, result)
 }
+
+/// Runs the compute entry `cs_probe` of `probe` (WGSL with bindings 0: the input, 1: the output, 64 items per
+/// workgroup), appended to the shared shader file `shared`, over `items` items of `input`, and reads back
+/// `out_bytes` bytes per item: how a test evaluates a shared WGSL function against its CPU model.
+pub fn run_probe(
+    gpu: &Gpu,
+    (shared, probe, label): (&str, &str, &str),
+    input: &[u8],
+    items: usize,
+    out_bytes: u64,
+) -> Vec<u8> {
+    use wgpu::util::DeviceExt;
+    let device = &gpu.device;
+    let src = hairlab::shaders::compose(shared, None).unwrap() + probe;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(src.into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module: &module,
+        entry_point: Some("cs_probe"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: input,
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: items as u64 * out_bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((items as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    hairlab::gpu::readback::copy_out(gpu, &output).unwrap()
+}

@@ -10,6 +10,7 @@ mod lightmap_view;
 mod panels;
 pub mod pixel_inspector;
 pub mod texel_lab;
+pub mod time_view;
 pub mod timeline;
 mod transparency_panel;
 mod undo;
@@ -17,6 +18,7 @@ mod viewport;
 
 use crate::gpu::timing::{PassTime, Phase, phase_ms};
 use crate::gpu::{self, AdapterPreference};
+use crate::measure::temporal::FollowedPoint;
 use crate::methods::registry;
 use crate::render::Renderer;
 use crate::scene::Scene;
@@ -129,6 +131,8 @@ pub struct HairlabApp {
     about_open: bool,
     /// The scene's motion and its playback (`timeline.rs`).
     timeline: timeline::Timeline,
+    /// The picked hair point followed over the motion (`time_view.rs`).
+    time_view: time_view::TimeView,
 }
 
 impl HairlabApp {
@@ -185,6 +189,7 @@ impl HairlabApp {
             help_open: false,
             about_open: false,
             timeline: Default::default(),
+            time_view: Default::default(),
         };
         app.rebuild_scene();
         app
@@ -499,6 +504,21 @@ impl HairlabApp {
         self.renderer.as_ref().and_then(|r| r.read_output().ok())
     }
 
+    /// Where the world point `p` shows in the viewport (window points), when it lies in front of the camera.
+    pub fn viewport_position(&self, p: glam::Vec3) -> Option<egui::Pos2> {
+        let (rect, r) = (self.viewport_rect?, self.renderer.as_ref()?);
+        let size = rect.size();
+        let c = r.world_to_clip(
+            &self.settings.camera,
+            size.x.max(1.0) as u32,
+            size.y.max(1.0) as u32,
+        ) * p.extend(1.0);
+        (c.w > 0.0).then(|| {
+            let ndc = c.truncate() / c.w;
+            rect.min + egui::vec2((ndc.x * 0.5 + 0.5) * size.x, (0.5 - ndc.y * 0.5) * size.y)
+        })
+    }
+
     /// The timeline of the scene's motion.
     pub fn timeline(&self) -> &timeline::Timeline {
         &self.timeline
@@ -601,6 +621,61 @@ impl HairlabApp {
         }
     }
 
+    /// Opens the time view on the hair point picked for the texel inspector and measures it.
+    fn open_time_view(&mut self, ctx: &egui::Context) {
+        let (Some(pick), Some(scene)) = (self.inspector.shown_pick(), &self.scene) else {
+            return self.error("time view: pick a hair point in the viewport first");
+        };
+        if !self.timeline.is_moving() {
+            return self
+                .error("time view: the scene has no motion (try the wind, head-turn or stray-sweep preset)");
+        }
+        let point = FollowedPoint::on_segment(&scene.strands.points, pick.segment, pick.world);
+        self.time_view
+            .follow(point, &scene.strands, self.timeline.frame_count());
+        self.start_time_view(ctx);
+    }
+
+    fn start_time_view(&mut self, ctx: &egui::Context) {
+        let Some(rs) = &self.render_state else {
+            return self.error("time view: no GPU renderer");
+        };
+        let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
+        self.time_view.start(gpu, &self.settings, ctx);
+    }
+
+    /// The time view's window while it is open (its measurement runs on a worker thread).
+    fn time_view_window(&mut self, ctx: &egui::Context) {
+        self.time_view.poll();
+        if !self.time_view.open {
+            return;
+        }
+        let mut open = true;
+        let (frame, count) = (self.timeline.frame(), self.timeline.frame_count());
+        let area = self.viewport_rect.unwrap_or_else(|| ctx.content_rect());
+        let action = egui::Window::new("Time view")
+            .open(&mut open)
+            .default_pos([area.left() + 8.0, area.top() + 8.0])
+            .default_size([(area.width() - 16.0).clamp(400.0, 760.0), 520.0])
+            .show(ctx, |ui| self.time_view.ui(ui, frame, count))
+            .and_then(|r| r.inner)
+            .flatten();
+        if !open {
+            self.time_view.cancel();
+        }
+        self.time_view.open = open;
+        match action {
+            Some(time_view::TimeViewAction::Run) => self.start_time_view(ctx),
+            Some(time_view::TimeViewAction::Seek(k)) => self.timeline.seek(k),
+            None => {}
+        }
+    }
+
+    /// The time view (for tests and scripts).
+    pub fn time_view(&self) -> &time_view::TimeView {
+        &self.time_view
+    }
+
     /// Writes every curve shown (see [`inspector::TexelCurves::csv`]) to `path`; the outcome goes to the status
     /// line.
     pub fn export_inspector_csv(&mut self, path: &std::path::Path) {
@@ -677,6 +752,7 @@ impl HairlabApp {
         match action {
             Some(InspectorAction::ExportCsv) => self.open_dialog(DialogPurpose::ExportCurves, ctx),
             Some(InspectorAction::OpenLightMap) => self.light_map.open = true,
+            Some(InspectorAction::TimeView) => self.open_time_view(ctx),
             None => {}
         }
         let mut open = self.light_map.open;
@@ -760,6 +836,7 @@ impl eframe::App for HairlabApp {
             .frame(egui::Frame::NONE)
             .show(ui, |ui| self.viewport(ui));
         self.inspector_windows(&ctx);
+        self.time_view_window(&ctx);
         self.bench_window(&ctx);
         self.transparency_windows(&ctx);
         self.help_window(&ctx);

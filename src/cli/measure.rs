@@ -148,6 +148,7 @@ impl LegacyMeasureArgs {
                 set: scene.set,
                 configs: self.configs.clone(),
                 frames: scene.frames,
+                point: None,
                 out,
             };
             return Ok((

@@ -3,7 +3,8 @@
 //! `motion_frames.csv`.
 
 use crate::gpu::{AdapterPreference, Gpu};
-use crate::measure::motion::{MotionConfig, MotionMeasurement, measure_motion_on, usual_configs};
+use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs};
+use crate::measure::temporal::FollowedPoint;
 use crate::settings::Settings;
 use anyhow::Result;
 use clap::Args;
@@ -26,6 +27,11 @@ pub struct MeasureMotionArgs {
     /// Frames of the motion played, 0..N (at least 2).
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
+    /// Follow one hair point over the frames (the window's time view): the segment starting at global strand
+    /// point FIRST, at parameter T in [0, 1] along it (default 0.5). Writes `motion_point.csv`: each
+    /// configuration's and the reference's visibility at the point per frame, and the pops.
+    #[arg(long, value_name = "FIRST[:T]", value_parser = FollowedPoint::parse)]
+    pub point: Option<FollowedPoint>,
     /// Folder for `motion_summary.csv` and `motion_frames.csv` (created).
     #[arg(long)]
     pub out: PathBuf,
@@ -43,14 +49,21 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
             .collect::<Result<_>>()?
     };
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let m = measure_motion_on(&gpu, &settings, &configs, a.frames, |what| {
+    let options = MotionOptions {
+        follow: a.point,
+        cancel: None,
+    };
+    let m = measure_motion(&gpu, &settings, &configs, a.frames, options, &mut |what, _| {
         eprintln!("measuring {what}…")
     })?;
     print!("{}", table(&a.preset, &m));
-    let files = vec![
+    let mut files = vec![
         ("motion_summary.csv".to_string(), m.summary_csv()?.into_bytes()),
         ("motion_frames.csv".to_string(), m.frames_csv()?.into_bytes()),
     ];
+    if let Some(csv) = m.point_csv()? {
+        files.push(("motion_point.csv".to_string(), csv.into_bytes()));
+    }
     for path in crate::bench::report::write_files(&a.out, files)? {
         println!("wrote {}", path.display());
     }

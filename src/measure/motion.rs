@@ -5,7 +5,7 @@
 //! Where the preset simulates, the simulation's own cost per frame is measured too: the CPU model's wall time and
 //! the GPU compute pass's ([`crate::motion::gpu`]) timestamps.
 
-use super::temporal::{self, Flicker, OverFrames, TrackedFrame};
+use super::temporal::{self, Flicker, FollowedPoint, OverFrames, TrackedFrame};
 use super::{
     IMAGE_SIZE, MethodConfig, TexelSamples, evaluate_all, light_samples, median, reference_visibility,
 };
@@ -18,6 +18,7 @@ use anyhow::{Result, bail};
 use glam::Vec3;
 use image::RgbaImage;
 use serde::Serialize;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// When a configuration's `auto` parameter is chosen by the method's analysis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -139,6 +140,8 @@ pub struct MotionRow {
     /// Median over the frames of the method's own light passes, GPU milliseconds.
     pub gpu_ms: f64,
     pub frames: Vec<FrameRow>,
+    /// The method's visibility at the followed point, per frame ([`MotionOptions::follow`]; else empty).
+    pub followed: Vec<f32>,
 }
 
 /// The simulation's cost per frame on this scene (a simulated motion only).
@@ -159,7 +162,23 @@ pub struct MotionMeasurement {
     pub frames: u32,
     pub rows: Vec<MotionRow>,
     pub sim: Option<SimCost>,
+    /// The followed point and the reference's visibility at it, per frame.
+    pub followed: Option<(FollowedPoint, Vec<f32>)>,
 }
+
+/// What a motion measurement does beyond its configurations.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MotionOptions<'a> {
+    /// A hair point whose visibility is recorded every frame, for the reference and each configuration.
+    pub follow: Option<FollowedPoint>,
+    /// Set (from another thread) to stop the measurement, which then fails with [`Cancelled`].
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+/// A measurement stopped through [`MotionOptions::cancel`].
+#[derive(Debug, thiserror::Error)]
+#[error("the motion measurement was cancelled")]
+pub struct Cancelled;
 
 /// The exact reference's view of one frame.
 struct FrameReference {
@@ -169,6 +188,8 @@ struct FrameReference {
     texels: TexelSamples,
     /// The analysis' choice on this frame, per configuration (empty for fixed ones).
     tuned: Vec<ParamValues>,
+    /// The followed point's light sample and the reference's visibility there.
+    followed: Option<([f32; 3], f32)>,
 }
 
 /// Measures `configs` over frames `0..frames` of `settings`' motion on `gpu`. A still preset is refused: there
@@ -180,6 +201,35 @@ pub fn measure_motion_on(
     frames: u32,
     mut progress: impl FnMut(&str),
 ) -> Result<MotionMeasurement> {
+    measure_motion(
+        gpu,
+        settings,
+        configs,
+        frames,
+        MotionOptions::default(),
+        &mut |what, _| progress(what),
+    )
+}
+
+/// [`measure_motion_on`] with `options`; `progress` is told what is measured and the share of the work done.
+pub fn measure_motion(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[MotionConfig],
+    frames: u32,
+    options: MotionOptions<'_>,
+    progress: &mut dyn FnMut(&str, f32),
+) -> Result<MotionMeasurement> {
+    let steps = (frames as usize * (configs.len() + 2)) as f32;
+    let mut done = 0usize;
+    let mut step = |what: &str| -> Result<()> {
+        if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return Err(Cancelled.into());
+        }
+        progress(what, done as f32 / steps);
+        done += 1;
+        Ok(())
+    };
     let mut s = settings.clone();
     let (mut scene, mut motion) = s.open_motion()?;
     if motion.is_still() {
@@ -192,10 +242,13 @@ pub fn measure_motion_on(
     if s.camera.distance <= 0.0 {
         s.camera.frame(&scene.framing_bounds());
     }
-    progress("the motion's frames");
+    if let Some(f) = options.follow {
+        f.check(&scene.strands).map_err(anyhow::Error::msg)?;
+    }
     let mut points: Vec<Vec<Vec3>> = Vec::with_capacity(frames as usize);
     let mut cpu_ms = Vec::with_capacity(frames as usize);
     for k in 0..frames {
+        step(&format!("motion frame {k}"))?;
         let start = std::time::Instant::now();
         points.push(motion.frame(k)?.to_vec());
         cpu_ms.push(start.elapsed().as_secs_f64() * 1e3);
@@ -238,7 +291,7 @@ pub fn measure_motion_on(
     let mut references: Vec<FrameReference> = Vec::with_capacity(points.len());
     let mut reference_images = Vec::with_capacity(points.len());
     for (k, p) in points.iter().enumerate() {
-        progress(&format!("{} frame {k}", registry::reference().name()));
+        step(&format!("{} frame {k}", registry::reference().name()))?;
         scene.set_strand_points(p)?;
         r.update_points(p)?;
         r.render(&input(&s, registry::reference(), &empty))?;
@@ -264,24 +317,30 @@ pub fn measure_motion_on(
                 _ => ParamValues::new(),
             })
             .collect();
+        let followed = options.follow.map(|f| {
+            let sample = light_samples(&r, &s.light, &[f.at(p)])[0];
+            (sample, reference_visibility(&lists, res, &sample))
+        });
         references.push(FrameReference {
             ids,
             samples,
             visibility,
             texels: TexelSamples::of(&lists, res),
             tuned,
+            followed,
         });
     }
     let mut rows = Vec::with_capacity(configs.len());
     for (ci, c) in configs.iter().enumerate() {
         let label = c.label();
-        progress(&label);
         let method = registry::find(&c.config.name).map_err(anyhow::Error::msg)?;
         let (mut tracked, mut map, mut shading, mut gpu_ms) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut frame_rows: Vec<FrameRow> = Vec::with_capacity(points.len());
         let mut images: Vec<RgbaImage> = Vec::with_capacity(points.len());
+        let mut followed = Vec::new();
         for (k, (p, reference)) in points.iter().zip(&references).enumerate() {
+            step(&format!("{label} frame {k}"))?;
             r.update_points(p)?;
             let mut params = c.config.params.clone();
             params.extend(reference.tuned[ci].iter().map(|(k, v)| (k.clone(), *v)));
@@ -292,9 +351,15 @@ pub fn measure_motion_on(
                 reference
                     .texels
                     .errors(&evaluate_all(&mut r, method, &reference.texels.samples)?);
+            let mut samples = reference.samples.clone();
+            samples.extend(reference.followed.map(|(sample, _)| sample));
+            let mut method_v = evaluate_all(&mut r, method, &samples)?;
+            if reference.followed.is_some() {
+                followed.extend(method_v.pop());
+            }
             let frame = TrackedFrame {
                 ids: reference.ids.clone(),
-                method: evaluate_all(&mut r, method, &reference.samples)?,
+                method: method_v,
                 reference: reference.visibility.clone(),
             };
             let mut row = FrameRow {
@@ -336,6 +401,7 @@ pub fn measure_motion_on(
             image_flicker: temporal::image_flicker(&images, &reference_images),
             gpu_ms: median(gpu_ms),
             frames: frame_rows,
+            followed,
         });
     }
     Ok(MotionMeasurement {
@@ -345,6 +411,13 @@ pub fn measure_motion_on(
         frames,
         rows,
         sim,
+        followed: options.follow.map(|f| {
+            let v = references
+                .iter()
+                .filter_map(|r| r.followed.map(|(_, v)| v))
+                .collect();
+            (f, v)
+        }),
     })
 }
 
@@ -379,6 +452,16 @@ pub fn gpu_sim_ms(gpu: &Gpu, sim: crate::motion::Simulation, frames: u32) -> Res
         ms.extend(g.wait_timings(gpu).map(|t| phase_ms(&t, Phase::Simulation)));
     }
     Ok((!ms.is_empty()).then(|| median(ms)))
+}
+
+/// One row of `motion_point.csv`.
+#[derive(Serialize)]
+struct PointRow {
+    config: String,
+    frame: u32,
+    v: f32,
+    reference: f32,
+    pop: Option<f64>,
 }
 
 /// One row of `motion_summary.csv`.
@@ -418,6 +501,29 @@ impl MotionMeasurement {
     /// `motion_frames.csv`: one row per configuration and frame.
     pub fn frames_csv(&self) -> Result<String> {
         crate::bench::report::csv_text("motion_frames.csv", self.rows.iter().flat_map(|r| &r.frames))
+    }
+
+    /// `motion_point.csv` (with a followed point): one row per configuration and frame, the method's and the
+    /// reference's visibility at the point and the pop from the previous frame (empty in frame 0).
+    pub fn point_csv(&self) -> Result<Option<String>> {
+        let Some((_, reference)) = &self.followed else {
+            return Ok(None);
+        };
+        let rows = self.rows.iter().flat_map(|r| {
+            let label = r.config.label();
+            r.followed.iter().enumerate().map(move |(f, &v)| PointRow {
+                config: label.clone(),
+                frame: f as u32,
+                v,
+                reference: reference[f],
+                pop: (f > 0).then(|| {
+                    let dm = f64::from(v) - f64::from(r.followed[f - 1]);
+                    let dr = f64::from(reference[f]) - f64::from(reference[f - 1]);
+                    (dm - dr).abs()
+                }),
+            })
+        });
+        crate::bench::report::csv_text("motion_point.csv", rows).map(Some)
     }
 
     /// The row of `config` (its [`MotionConfig::label`]).

@@ -30,6 +30,92 @@ pub fn midpoint_id(j: usize) -> u32 {
     2 * j as u32 + 1
 }
 
+/// One hair point followed across the frames of a motion by its place on its strand (the time view of the
+/// texel inspector, `measure motion --point`): the segment from global strand point `first` to `first + 1`, at
+/// parameter `t` in `[0, 1]` along it. The motion keeps the topology, so the place names the same hair in every
+/// frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FollowedPoint {
+    pub first: u32,
+    pub t: f32,
+}
+
+impl FollowedPoint {
+    /// The place of `world` on the segment starting at point `first` of `points` (projected onto the segment).
+    pub fn on_segment(points: &[glam::Vec3], first: u32, world: glam::Vec3) -> FollowedPoint {
+        let (a, b) = (points[first as usize], points[first as usize + 1]);
+        let d = b - a;
+        let t = if d.length_squared() > 0.0 {
+            ((world - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        FollowedPoint { first, t }
+    }
+
+    /// `FIRST[:T]`, the global index of the segment's first point and the parameter (0.5 when omitted).
+    pub fn parse(text: &str) -> Result<FollowedPoint, String> {
+        let (first, t) = text.split_once(':').unwrap_or((text, "0.5"));
+        let first = first
+            .trim()
+            .parse::<u32>()
+            .map_err(|_| format!("--point '{text}': expected FIRST[:T] with FIRST a strand point index"))?;
+        let t = t.trim().parse::<f32>().ok().filter(|t| (0.0..=1.0).contains(t));
+        let t = t.ok_or_else(|| format!("--point '{text}': T must be a number in [0, 1]"))?;
+        Ok(FollowedPoint { first, t })
+    }
+
+    /// Checks that the point is a segment of `strands` (its first point is not a strand's last).
+    pub fn check(&self, strands: &crate::scene::Strands) -> Result<(), String> {
+        let first = self.first as usize;
+        let on_segment = strands
+            .ranges()
+            .any(|(start, n)| (start..(start + n).saturating_sub(1)).contains(&first));
+        if on_segment {
+            Ok(())
+        } else {
+            Err(format!(
+                "point {first}: not the first point of a segment (the scene has {} strand points in {} strands)",
+                strands.point_count(),
+                strands.strand_count()
+            ))
+        }
+    }
+
+    /// The point in a frame's strand points.
+    pub fn at(&self, points: &[glam::Vec3]) -> glam::Vec3 {
+        let i = self.first as usize;
+        points[i].lerp(points[i + 1], self.t)
+    }
+
+    /// `(strand, s)`: the strand holding the point and its parametric position along it in `[0, 1]` (root 0).
+    pub fn on_strand(&self, strands: &crate::scene::Strands) -> Option<(usize, f32)> {
+        let first = self.first as usize;
+        strands.ranges().enumerate().find_map(|(k, (start, n))| {
+            (start..(start + n).saturating_sub(1))
+                .contains(&first)
+                .then(|| (k, ((first - start) as f32 + self.t) / (n - 1) as f32))
+        })
+    }
+
+    pub fn label(&self) -> String {
+        format!("{}:{}", self.first, self.t)
+    }
+}
+
+/// One followed point's visibility over the frames: the reference's, a method's, and the method's pops
+/// (frame `f` ≥ 1 and `|ΔV_m − ΔV_ref|` from frame `f − 1`, where it exceeds [`POP_THRESHOLD`]).
+pub fn followed_pops(method: &[f32], reference: &[f32]) -> Vec<(usize, f64)> {
+    (1..method.len().min(reference.len()))
+        .filter_map(|f| {
+            let dm = f64::from(method[f]) - f64::from(method[f - 1]);
+            let dr = f64::from(reference[f]) - f64::from(reference[f - 1]);
+            let pop = (dm - dr).abs();
+            (pop > POP_THRESHOLD).then_some((f, pop))
+        })
+        .collect()
+}
+
 /// One frame's tracked points: ids ascending, with the method's and the reference's visibility at each.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TrackedFrame {
@@ -188,6 +274,58 @@ mod tests {
             method: method.to_vec(),
             reference: reference.to_vec(),
         }
+    }
+
+    #[test]
+    fn a_followed_point_is_a_place_on_its_strand() {
+        use glam::Vec3;
+        // Two strands: points 0..3 (3 segments) and 3..5 (1 segment).
+        let strands = crate::scene::Strands {
+            points: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(3.0, 0.0, 0.0),
+                Vec3::Y,
+                Vec3::new(0.0, 3.0, 0.0),
+            ],
+            counts: vec![4, 2],
+            thickness: None,
+            alpha: None,
+            color: None,
+        };
+        let p = FollowedPoint::on_segment(&strands.points, 1, Vec3::new(1.25, 0.5, 0.0));
+        assert_eq!(p, FollowedPoint { first: 1, t: 0.25 });
+        assert_eq!(p.at(&strands.points), Vec3::new(1.25, 0.0, 0.0));
+        // Segment 1 of 3 at a quarter: (1 + 0.25) / 3 along strand 0.
+        assert_eq!(p.on_strand(&strands), Some((0, 1.25 / 3.0)));
+        let q = FollowedPoint { first: 4, t: 0.5 };
+        assert_eq!(q.on_strand(&strands), Some((1, 0.5)));
+        assert_eq!(q.at(&strands.points), Vec3::new(0.0, 2.0, 0.0));
+        // A strand's last point starts no segment.
+        assert!(FollowedPoint { first: 3, t: 0.0 }.check(&strands).is_err());
+        assert!(FollowedPoint { first: 5, t: 0.0 }.check(&strands).is_err());
+        assert!(q.check(&strands).is_ok());
+        assert_eq!(
+            FollowedPoint::parse("7:0.75"),
+            Ok(FollowedPoint { first: 7, t: 0.75 })
+        );
+        assert_eq!(FollowedPoint::parse("7"), Ok(FollowedPoint { first: 7, t: 0.5 }));
+        assert!(FollowedPoint::parse("7:1.5").unwrap_err().contains("[0, 1]"));
+        assert!(FollowedPoint::parse("x").unwrap_err().contains("FIRST[:T]"));
+    }
+
+    #[test]
+    fn followed_pops_are_the_frames_where_the_method_changes_unlike_the_truth() {
+        // Reference 1, 0.9, 0.9, 0.5; method 1, 0.6, 0.9, 0.5: |−0.4 + 0.1| = 0.3 at frame 1, |0.3 − 0| = 0.3 at
+        // frame 2, |−0.4 + 0.4| = 0 at frame 3.
+        let pops = followed_pops(&[1.0, 0.6, 0.9, 0.5], &[1.0, 0.9, 0.9, 0.5]);
+        assert_eq!(pops.len(), 2);
+        assert_eq!((pops[0].0, pops[1].0), (1, 2));
+        assert!(
+            (pops[0].1 - 0.3).abs() < 1e-6 && (pops[1].1 - 0.3).abs() < 1e-6,
+            "{pops:?}"
+        );
     }
 
     #[test]

@@ -665,3 +665,111 @@ fn about_window_shows_the_version_and_the_adapter_and_copies_a_bibtex_entry() {
         copied[0]
     );
 }
+
+/// The texel inspector's time view: a hair point clicked in the viewport and followed with "Time view" over the
+/// motion's frames on a worker thread while the window keeps drawing and answering; its figures are those
+/// `measure motion --point` computes for the same point; Cancel stops a run and keeps the figures shown.
+#[test]
+fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
+    use hairlab::measure::motion::{MotionConfig, MotionOptions, measure_motion};
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = hairlab::settings::Settings::load_preset(
+        "wind",
+        &[
+            "scene.generator.strands=150".into(),
+            "scene.generator.segments=8".into(),
+            "render.width=160".into(),
+            "render.height=120".into(),
+            "render.map_resolution=64".into(),
+            "motion.frames=4".into(),
+        ],
+    )
+    .unwrap();
+    let mut harness = Harness::builder()
+        .with_size([1100.0, 760.0])
+        .with_step_dt(1.0 / 30.0)
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    // The nearest segment midpoint to the viewport's centre among the strands' middle segments, clicked.
+    let app = harness.state();
+    let strands = &app.scene().unwrap().strands;
+    let centre = app
+        .viewport_position(glam::Vec3::from(app.settings().camera.target))
+        .expect("the camera target shows");
+    let pos = strands
+        .ranges()
+        .filter_map(|(start, n)| {
+            let i = start + n / 2;
+            app.viewport_position((strands.points[i] + strands.points[i + 1]) * 0.5)
+        })
+        .min_by(|a, b| a.distance(centre).total_cmp(&b.distance(centre)))
+        .unwrap();
+    harness.hover_at(pos);
+    harness.step();
+    harness.drag_at(pos);
+    harness.step();
+    harness.drop_at(pos);
+    harness.run();
+    assert!(
+        harness.state().inspector().open,
+        "a click on hair opens the inspector"
+    );
+    harness.get_by_label("Time view").click();
+    harness.step();
+    assert!(
+        harness.state().time_view().is_running(),
+        "the time view measures on a worker"
+    );
+    // The window keeps drawing and answering while it runs: a timeline step lands.
+    harness.key_combination(&[egui::Key::ArrowRight]);
+    harness.step();
+    assert_eq!(harness.state().timeline().frame(), 1);
+    let mut waited = 0;
+    while harness.state().time_view().is_running() {
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        harness.step();
+        waited += 1;
+        assert!(waited < 3000, "the time view did not finish in 10 minutes");
+    }
+    let view = harness.state().time_view();
+    let point = view.point().expect("a followed point");
+    let shown = view.result().expect("the time view's figures").clone();
+    let (followed, reference) = shown.followed.clone().expect("the followed series");
+    assert_eq!(followed, point);
+    assert_eq!(reference.len(), 4);
+    assert!(shown.rows.iter().all(|r| r.followed.len() == 4));
+    // The headless measurement of the same point gives the same figures, bit for bit.
+    let configs = hairlab::measure::motion::usual_configs();
+    let gpu = Gpu::for_tests().unwrap();
+    let options = MotionOptions {
+        follow: Some(point),
+        cancel: None,
+    };
+    let measured = harness.state().settings().clone();
+    let headless = measure_motion(&gpu, &measured, &configs, 4, options, &mut |_, _| {}).unwrap();
+    assert_eq!(headless.followed.as_ref().unwrap().1, reference);
+    for (a, b) in headless.rows.iter().zip(&shown.rows) {
+        assert_eq!(a.config, b.config);
+        assert_eq!(a.followed, b.followed, "{}", a.config.label());
+    }
+    assert_eq!(
+        configs.iter().map(MotionConfig::label).collect::<Vec<_>>(),
+        shown.rows.iter().map(|r| r.config.label()).collect::<Vec<_>>()
+    );
+    // Cancel stops a new run at once and keeps the figures shown.
+    harness.get_by_label("Run").click();
+    harness.step();
+    assert!(harness.state().time_view().is_running());
+    // The progress bar and its Cancel button are drawn from the next frame on.
+    harness.step();
+    harness.get_by_label("Cancel").click();
+    harness.step();
+    assert!(!harness.state().time_view().is_running());
+    assert_eq!(
+        harness.state().time_view().result().unwrap().followed,
+        shown.followed
+    );
+}

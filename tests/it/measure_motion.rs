@@ -5,7 +5,8 @@
 
 use crate::common::cli::{assert_fails, hairlab, stderr};
 use hairlab::gpu::Gpu;
-use hairlab::measure::motion::{MotionConfig, measure_motion_on};
+use hairlab::measure::motion::{MotionConfig, MotionOptions, measure_motion};
+use hairlab::measure::temporal::{FollowedPoint, followed_pops};
 use hairlab::methods::LightMethod;
 use hairlab::methods::bom::Bom;
 use hairlab::methods::dom::Dom;
@@ -51,7 +52,24 @@ fn a_motion_that_does_not_move_has_no_flicker_and_the_same_errors_every_frame() 
     .iter()
     .map(|c| MotionConfig::parse(c).unwrap())
     .collect();
-    let m = measure_motion_on(&gpu, &settings, &configs, 3, |_| {}).unwrap();
+    // Strand 0's middle segment (12 segments: points 0..=12), followed.
+    let options = MotionOptions {
+        follow: Some(FollowedPoint { first: 6, t: 0.5 }),
+        cancel: None,
+    };
+    let m = measure_motion(&gpu, &settings, &configs, 3, options, &mut |_, _| {}).unwrap();
+    let (_, reference) = m.followed.clone().expect("the followed point's series");
+    assert_eq!(reference.len(), 3);
+    assert!(reference.iter().all(|v| *v == reference[0]), "{reference:?}");
+    for r in &m.rows {
+        let label = r.config.label();
+        assert!(
+            r.followed.len() == 3 && r.followed.iter().all(|v| *v == r.followed[0]),
+            "{label}: the followed point's V moves in a still motion: {:?}",
+            r.followed
+        );
+        assert!(followed_pops(&r.followed, &reference).is_empty());
+    }
     for r in &m.rows {
         let label = r.config.label();
         let f = &r.flicker;
@@ -148,4 +166,51 @@ fn the_cli_writes_both_csv_files_and_refuses_a_still_preset_in_one_line() {
         dir,
     ]);
     assert_fails(&o, &["--frames 1"]);
+}
+
+/// `measure motion --point FIRST:T` writes `motion_point.csv` (a row per configuration and frame, the pop empty
+/// in frame 0) beside the other two files; a point that starts no segment is one clear error.
+#[test]
+fn the_cli_follows_one_point_and_refuses_a_point_off_the_strands() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let dom3 = format!("{}:layers=3", Dom.name());
+    let args = |point: &'static str| {
+        vec![
+            "measure".to_string(),
+            "motion".into(),
+            "--preset".into(),
+            "wind".into(),
+            "--set".into(),
+            "scene.generator.strands=100".into(),
+            "--set".into(),
+            "render.map_resolution=64".into(),
+            "--frames".into(),
+            "3".into(),
+            "--config".into(),
+            dom3.clone(),
+            "--point".into(),
+            point.into(),
+            "--out".into(),
+            dir.into(),
+        ]
+    };
+    let run = |a: Vec<String>| hairlab(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let o = run(args("5:0.25"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(out.path().join("motion_point.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], "config,frame,v,reference,pop");
+    assert_eq!(lines.len(), 1 + 3, "{csv}");
+    assert!(
+        lines[1].starts_with(&format!("{dom3},0,")) && lines[1].ends_with(','),
+        "{}",
+        lines[1]
+    );
+    assert!(!lines[2].ends_with(','), "frame 1 has a pop: {}", lines[2]);
+    assert_eq!(std::fs::read_dir(out.path()).unwrap().count(), 3);
+    let o = run(args("99999999"));
+    assert_fails(&o, &["point 99999999", "not the first point of a segment"]);
+    let o = run(args("5:2"));
+    assert_fails(&o, &["--point '5:2'", "[0, 1]"]);
 }

@@ -102,6 +102,8 @@ pub enum InspectorAction {
     ExportCsv,
     /// Show the light-map window.
     OpenLightMap,
+    /// Follow the picked hair point over the motion (the time view).
+    TimeView,
 }
 
 /// The inspector's state (the window's contents, the cached fragment lists and curves).
@@ -345,6 +347,14 @@ impl Inspector {
                 .clicked()
             {
                 action = Some(InspectorAction::ExportCsv);
+            }
+            if self.shown_pick().is_some()
+                && ui
+                    .button("Time view")
+                    .on_hover_text("the picked hair point's V over the motion's frames, every method against the reference")
+                    .clicked()
+            {
+                action = Some(InspectorAction::TimeView);
             }
         });
         match self.source {

@@ -1,0 +1,313 @@
+//! The texel inspector's **time view**, the temporal twin of its `V(z)` plot: the hair point picked in the
+//! viewport followed over the motion's frames by its place on its strand (strand and parametric position), each
+//! method's visibility at it against the exact reference with its pops marked (`|ΔV − ΔV_ref| > 0.1` from the
+//! previous frame), and under it each method's whole-map error per frame as a strip chart. A line marks the
+//! timeline's frame; a click on either chart moves the timeline there. The figures are those of
+//! `hairlab measure motion --point FIRST:T` (`motion_point.csv`, `motion_frames.csv`): the same
+//! [`measure_motion`] runs on a worker thread with its own renderer, so the window keeps answering, a progress bar
+//! shows how far it is, and Cancel stops it and keeps the previous figures.
+
+use super::inspector::method_color;
+use crate::gpu::Gpu;
+use crate::measure::MethodConfig;
+use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs};
+use crate::measure::temporal::{FollowedPoint, followed_pops};
+use crate::methods::registry;
+use crate::scene::Strands;
+use crate::settings::Settings;
+use egui::Color32;
+use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoints, Points, VLine};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, mpsc};
+use std::time::Instant;
+
+/// Frames measured when the view opens, at most (the motion's own count when shorter).
+const DEFAULT_FRAMES: u32 = 12;
+
+/// What the worker tells the window.
+enum Message {
+    Progress(String, f32),
+    Done(Result<MotionMeasurement, String>),
+}
+
+/// A measurement under way.
+struct Running {
+    messages: mpsc::Receiver<Message>,
+    cancel: Arc<AtomicBool>,
+    what: String,
+    done: f32,
+    started: Instant,
+}
+
+/// What the view asks of the app.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeViewAction {
+    /// Measure the followed point over the chosen frames.
+    Run,
+    /// Move the timeline to this frame.
+    Seek(u32),
+}
+
+/// The time view's state.
+#[derive(Default)]
+pub struct TimeView {
+    pub open: bool,
+    point: Option<FollowedPoint>,
+    /// The point's strand and parametric position along it.
+    place: Option<(usize, f32)>,
+    /// Frames `0..frames` are measured.
+    frames: u32,
+    /// Every method's usual configurations, or only the selected method as set.
+    every_method: bool,
+    running: Option<Running>,
+    result: Option<MotionMeasurement>,
+    error: Option<String>,
+}
+
+impl TimeView {
+    /// Follows the point `point` of `strands` over the first frames of a motion of `frame_count` frames.
+    pub fn follow(&mut self, point: FollowedPoint, strands: &Strands, frame_count: u32) {
+        self.cancel();
+        self.open = true;
+        self.point = Some(point);
+        self.place = point.on_strand(strands);
+        self.frames = frame_count.clamp(2, DEFAULT_FRAMES);
+        if self.result.is_none() && self.error.is_none() {
+            self.every_method = true;
+        }
+    }
+
+    /// The point followed.
+    pub fn point(&self) -> Option<FollowedPoint> {
+        self.point
+    }
+
+    /// The last finished measurement.
+    pub fn result(&self) -> Option<&MotionMeasurement> {
+        self.result.as_ref()
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// The configurations measured: every method's usual ones, or the selected method as `settings` set it.
+    fn configs(&self, settings: &Settings) -> Vec<MotionConfig> {
+        if self.every_method {
+            return usual_configs();
+        }
+        let m = &settings.method;
+        vec![MotionConfig::fixed(MethodConfig::new(
+            m.name.clone(),
+            m.params.clone(),
+        ))]
+    }
+
+    /// Starts measuring the followed point over frames `0..frames` of `settings`' motion on `gpu` (a previous
+    /// run is cancelled).
+    pub fn start(&mut self, gpu: Gpu, settings: &Settings, ctx: &egui::Context) {
+        let Some(point) = self.point else { return };
+        self.cancel();
+        self.error = None;
+        let (tx, rx) = mpsc::channel();
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (settings, configs, frames) = (settings.clone(), self.configs(settings), self.frames);
+        let (stop, ctx) = (cancel.clone(), ctx.clone());
+        std::thread::spawn(move || {
+            let options = MotionOptions {
+                follow: Some(point),
+                cancel: Some(&stop),
+            };
+            let mut progress = |what: &str, done: f32| {
+                let _ = tx.send(Message::Progress(what.to_string(), done));
+                ctx.request_repaint();
+            };
+            let result = measure_motion(&gpu, &settings, &configs, frames, options, &mut progress);
+            let _ = tx.send(Message::Done(result.map_err(|e| format!("{e:#}"))));
+            ctx.request_repaint();
+        });
+        self.running = Some(Running {
+            messages: rx,
+            cancel,
+            what: "starting".to_string(),
+            done: 0.0,
+            started: Instant::now(),
+        });
+    }
+
+    /// Stops the measurement under way; the previous figures stay.
+    pub fn cancel(&mut self) {
+        if let Some(r) = self.running.take() {
+            r.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// Takes the worker's messages; a finished measurement replaces the figures.
+    pub fn poll(&mut self) {
+        let Some(r) = &mut self.running else { return };
+        while let Ok(m) = r.messages.try_recv() {
+            match m {
+                Message::Progress(what, done) => (r.what, r.done) = (what, done),
+                Message::Done(result) => {
+                    match result {
+                        Ok(m) => self.result = Some(m),
+                        Err(e) => self.error = Some(e),
+                    }
+                    self.running = None;
+                    return;
+                }
+            }
+        }
+    }
+
+    /// The window's contents; `frame` is the timeline's frame and `frame_count` the motion's.
+    pub fn ui(&mut self, ui: &mut egui::Ui, frame: u32, frame_count: u32) -> Option<TimeViewAction> {
+        let mut action = None;
+        let Some(point) = self.point else {
+            ui.label(
+                "Pick a hair point in the viewport (the texel inspector's click), then open the time view.",
+            );
+            return None;
+        };
+        match self.place {
+            Some((strand, s)) => ui.label(format!(
+                "strand {strand} at {:.0} % of its length (segment from point {}, t = {:.2})",
+                100.0 * s,
+                point.first,
+                point.t
+            )),
+            None => ui.label(format!("segment from point {}, t = {:.2}", point.first, point.t)),
+        };
+        ui.horizontal(|ui| {
+            ui.label("frames 0 ..");
+            ui.add(egui::DragValue::new(&mut self.frames).range(2..=frame_count.max(2)));
+            ui.checkbox(&mut self.every_method, "every method")
+                .on_hover_text("every method's usual configurations; unticked, the selected method as set");
+            if let Some(r) = &self.running {
+                let elapsed = r.started.elapsed().as_secs_f32();
+                let left = if r.done > 0.01 {
+                    format!(", {:.0} s left", elapsed * (1.0 - r.done) / r.done)
+                } else {
+                    String::new()
+                };
+                ui.add(
+                    egui::ProgressBar::new(r.done)
+                        .desired_width(220.0)
+                        .text(format!("{}{left}", r.what)),
+                );
+                if ui.button("Cancel").clicked() {
+                    self.cancel();
+                }
+            } else if ui.button("Run").clicked() {
+                action = Some(TimeViewAction::Run);
+            }
+            if let Some(csv) = self.result.as_ref().and_then(|m| m.point_csv().ok().flatten())
+                && ui
+                    .button("Copy CSV")
+                    .on_hover_text("motion_point.csv to the clipboard")
+                    .clicked()
+            {
+                ui.ctx().copy_text(csv);
+            }
+        });
+        if let Some(e) = &self.error {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        let Some(m) = &self.result else {
+            return action;
+        };
+        let seek = charts(ui, m, frame);
+        action.or(seek.map(TimeViewAction::Seek))
+    }
+}
+
+/// A configuration's colour: its method's.
+fn color_of(label: &str) -> Color32 {
+    let name = label.split(':').next().unwrap_or(label);
+    registry::find(name).map_or(Color32::GRAY, method_color)
+}
+
+fn frame_series(values: impl Iterator<Item = f64>) -> PlotPoints<'static> {
+    values.enumerate().map(|(f, v)| [f as f64, v]).collect()
+}
+
+/// The visibility-over-time chart and the whole-map error strip chart; a click on either gives its frame.
+fn charts(ui: &mut egui::Ui, m: &MotionMeasurement, frame: u32) -> Option<u32> {
+    let text = ui.visuals().text_color();
+    let mut seek = None;
+    let height = (ui.available_height() * 0.62).max(160.0);
+    let legend = || {
+        Legend::default()
+            .text_style(egui::TextStyle::Small)
+            .position(egui_plot::Corner::RightTop)
+    };
+    let mut clicked = |p: &egui_plot::PlotUi<'_>| {
+        if p.response().clicked()
+            && let Some(c) = p.pointer_coordinate()
+        {
+            seek = Some(c.x.round().clamp(0.0, f64::from(m.frames - 1)) as u32);
+        }
+    };
+    Plot::new("time_view_visibility")
+        .legend(legend())
+        .height(height)
+        .x_axis_label("frame")
+        .y_axis_label("V at the point")
+        .include_y(0.0)
+        .include_y(1.05)
+        .show(ui, |p| {
+            if let Some((_, reference)) = &m.followed {
+                p.line(
+                    Line::new(
+                        registry::reference().name(),
+                        frame_series(reference.iter().map(|&v| f64::from(v))),
+                    )
+                    .color(text)
+                    .width(2.0),
+                );
+                for r in &m.rows {
+                    let label = r.config.label();
+                    let color = color_of(&label);
+                    p.line(
+                        Line::new(
+                            label.clone(),
+                            frame_series(r.followed.iter().map(|&v| f64::from(v))),
+                        )
+                        .color(color)
+                        .width(1.5),
+                    );
+                    let pops: PlotPoints = followed_pops(&r.followed, reference)
+                        .into_iter()
+                        .map(|(f, _)| [f as f64, f64::from(r.followed[f])])
+                        .collect();
+                    p.points(
+                        Points::new(format!("{label} pops"), pops)
+                            .shape(MarkerShape::Circle)
+                            .filled(false)
+                            .radius(6.0)
+                            .color(color),
+                    );
+                }
+            }
+            p.vline(VLine::new("timeline frame", f64::from(frame)).color(Color32::YELLOW));
+            clicked(p);
+        });
+    Plot::new("time_view_map_error")
+        .legend(legend())
+        .height((ui.available_height() - 8.0).max(100.0))
+        .x_axis_label("frame")
+        .y_axis_label("map error")
+        .include_y(0.0)
+        .show(ui, |p| {
+            for r in &m.rows {
+                let label = r.config.label();
+                p.line(
+                    Line::new(label.clone(), frame_series(r.frames.iter().map(|f| f.map_error)))
+                        .color(color_of(&label)),
+                );
+            }
+            p.vline(VLine::new("timeline frame", f64::from(frame)).color(Color32::YELLOW));
+            clicked(p);
+        });
+    seek
+}

@@ -4,6 +4,7 @@
 mod about;
 mod bench_panel;
 pub mod compare_view;
+pub mod export_animation;
 mod fur_panel;
 pub mod inspector;
 mod lightmap_view;
@@ -133,6 +134,8 @@ pub struct HairlabApp {
     timeline: timeline::Timeline,
     /// The picked hair point followed over the motion (`time_view.rs`).
     time_view: time_view::TimeView,
+    /// The motion exported as a PNG sequence or a GIF (`export_animation.rs`).
+    animation_export: export_animation::AnimationExport,
 }
 
 impl HairlabApp {
@@ -190,6 +193,7 @@ impl HairlabApp {
             about_open: false,
             timeline: Default::default(),
             time_view: Default::default(),
+            animation_export: Default::default(),
         };
         app.rebuild_scene();
         app
@@ -671,6 +675,34 @@ impl HairlabApp {
         }
     }
 
+    /// The animation export window while it is open (its frames render on a worker thread).
+    fn animation_export_window(&mut self, ctx: &egui::Context) {
+        self.animation_export.poll();
+        if !self.animation_export.open {
+            return;
+        }
+        let mut open = true;
+        let count = self.timeline.frame_count();
+        let (settings, rs) = (&self.settings, &self.render_state);
+        let gpu = || {
+            rs.as_ref()
+                .map(|rs| gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()))
+        };
+        let export = &mut self.animation_export;
+        egui::Window::new("Export animation")
+            .open(&mut open)
+            .show(ctx, |ui| export.ui(ui, count, settings, gpu));
+        if !open {
+            self.animation_export.cancel();
+        }
+        self.animation_export.open = open;
+    }
+
+    /// The animation export (for tests and scripts).
+    pub fn animation_export_mut(&mut self) -> &mut export_animation::AnimationExport {
+        &mut self.animation_export
+    }
+
     /// The time view (for tests and scripts).
     pub fn time_view(&self) -> &time_view::TimeView {
         &self.time_view
@@ -824,7 +856,13 @@ impl eframe::App for HairlabApp {
         self.play_motion(&ctx);
         egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));
         if self.timeline.is_moving() {
-            egui::Panel::bottom("timeline").show(ui, |ui| self.timeline.ui(ui));
+            let export = egui::Panel::bottom("timeline")
+                .show(ui, |ui| self.timeline.ui(ui))
+                .inner;
+            if export {
+                self.animation_export
+                    .show(self.timeline.frame_count(), &self.settings);
+            }
         }
         egui::Panel::left("controls")
             .resizable(true)
@@ -837,6 +875,7 @@ impl eframe::App for HairlabApp {
             .show(ui, |ui| self.viewport(ui));
         self.inspector_windows(&ctx);
         self.time_view_window(&ctx);
+        self.animation_export_window(&ctx);
         self.bench_window(&ctx);
         self.transparency_windows(&ctx);
         self.help_window(&ctx);

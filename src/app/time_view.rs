@@ -179,8 +179,9 @@ impl TimeView {
             None => ui.label(format!("segment from point {}, t = {:.2}", point.first, point.t)),
         };
         ui.horizontal(|ui| {
-            ui.label("frames 0 ..");
-            ui.add(egui::DragValue::new(&mut self.frames).range(2..=frame_count.max(2)));
+            let label = ui.label("frames 0 ..");
+            ui.add(egui::DragValue::new(&mut self.frames).range(2..=frame_count.max(2)))
+                .labelled_by(label.id);
             ui.checkbox(&mut self.every_method, "every method")
                 .on_hover_text("every method's usual configurations; unticked, the selected method as set");
             if let Some(r) = &self.running {

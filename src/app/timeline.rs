@@ -182,7 +182,9 @@ impl Timeline {
     }
 
     /// The timeline bar: play/pause, step, scrub, loop, speed, frame and time.
-    pub fn ui(&mut self, ui: &mut egui::Ui) {
+    /// The bar; returns whether the animation export was asked for.
+    pub fn ui(&mut self, ui: &mut egui::Ui) -> bool {
+        let mut export = false;
         ui.horizontal(|ui| {
             let play = if self.playing { "Pause" } else { "Play" };
             if ui.button(play).on_hover_text("play / pause (Space)").clicked() {
@@ -222,7 +224,12 @@ impl Timeline {
                 last as f32 / self.fps,
                 self.fps
             ));
+            export = ui
+                .button("Export…")
+                .on_hover_text("the motion's frames as a PNG sequence or an animated GIF")
+                .clicked();
         });
+        export
     }
 }
 

@@ -773,3 +773,79 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
         shown.followed
     );
 }
+
+/// The timeline's Export…: frames of the motion at a chosen size as a PNG sequence and as an animated GIF,
+/// rendered on a worker thread; the files are the CLI's (`render --frames A..B`) bit for bit.
+#[test]
+fn the_window_exports_the_motion_as_the_cli_does() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = hairlab::settings::Settings::load_preset(
+        "wind",
+        &[
+            "scene.generator.strands=150".into(),
+            "scene.generator.segments=8".into(),
+            "render.width=160".into(),
+            "render.height=120".into(),
+            "render.map_resolution=64".into(),
+            "motion.frames=4".into(),
+        ],
+    )
+    .unwrap();
+    let mut harness = Harness::builder()
+        .with_size([1100.0, 700.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    harness.get_by_label("Export…").click();
+    harness.run();
+    let dir = tempfile::tempdir().unwrap();
+    let mut export = |harness: &mut Harness<'_, HairlabApp>, gif: bool, path: std::path::PathBuf| {
+        let e = harness.state_mut().animation_export_mut();
+        assert!(e.open, "Export… opens the export window");
+        (e.start, e.end, e.width, e.height, e.gif) = (1, 3, 96, 72, gif);
+        e.path = path.display().to_string();
+        harness.get_by_label("Export").click();
+        harness.step();
+        let mut waited = 0;
+        while harness.state_mut().animation_export_mut().is_running() {
+            std::thread::sleep(std::time::Duration::from_millis(100));
+            harness.step();
+            waited += 1;
+            assert!(waited < 3000, "the export did not finish in 5 minutes");
+        }
+        let outcome = harness.state_mut().animation_export_mut().outcome().cloned();
+        assert!(matches!(outcome, Some(Ok(_))), "{outcome:?}");
+    };
+    export(&mut harness, false, dir.path().join("frames"));
+    export(&mut harness, true, dir.path().join("anim.gif"));
+    // The CLI's frames for the window's settings at the chosen size.
+    let mut s = harness.state().settings().clone();
+    (s.render.width, s.render.height) = (96, 72);
+    let mut cli = Vec::new();
+    hairlab::cli::render::render_frames(&mut s, &[1, 2], &mut |_, image| {
+        cli.push(image);
+        Ok(())
+    })
+    .unwrap();
+    let names: Vec<String> = {
+        let mut n: Vec<String> = std::fs::read_dir(dir.path().join("frames"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(names, ["frame_0001.png", "frame_0002.png"]);
+    for (name, expected) in names.iter().zip(&cli) {
+        let png = image::open(dir.path().join("frames").join(name))
+            .unwrap()
+            .to_rgba8();
+        assert_eq!(png.dimensions(), (96, 72));
+        assert!(png == *expected, "{name} differs from the CLI's frame");
+    }
+    let gif = std::fs::read(dir.path().join("anim.gif")).unwrap();
+    let cli_gif = hairlab::cli::render::animated_gif(&cli, s.motion.fps).unwrap();
+    assert!(gif == cli_gif, "the window's GIF differs from the CLI's");
+}

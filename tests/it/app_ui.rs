@@ -801,7 +801,7 @@ fn the_window_exports_the_motion_as_the_cli_does() {
     harness.get_by_label("Export…").click();
     harness.run();
     let dir = tempfile::tempdir().unwrap();
-    let mut export = |harness: &mut Harness<'_, HairlabApp>, gif: bool, path: std::path::PathBuf| {
+    let export = |harness: &mut Harness<'_, HairlabApp>, gif: bool, path: std::path::PathBuf| {
         let e = harness.state_mut().animation_export_mut();
         assert!(e.open, "Export… opens the export window");
         (e.start, e.end, e.width, e.height, e.gif) = (1, 3, 96, 72, gif);

@@ -94,7 +94,7 @@ pub fn table(preset: &str, m: &MotionMeasurement) -> String {
         .unwrap_or(0)
         .max(6);
     out += &format!(
-        "{:<width$} {:>8} {:>8} {:>12} {:>8} {:>8} {:>12} {:>8} {:>8} {:>7} {:>8} {:>8} {:>8}\n",
+        "{:<width$} {:>8} {:>8} {:>12} {:>8} {:>8} {:>12} {:>8} {:>8} {:>7} {:>8} {:>8} {:>8} {:>8}\n",
         "method",
         "map err",
         "map p95",
@@ -107,13 +107,14 @@ pub fn table(preset: &str, m: &MotionMeasurement) -> String {
         "pops",
         "max pop",
         "img flk",
-        "GPU ms"
+        "GPU ms",
+        "FLIP"
     );
     for r in &m.rows {
         let worst = |o: &crate::measure::temporal::OverFrames| format!("{:.5}@{}", o.worst, o.worst_frame);
         out += &format!(
             "{:<width$} {:>8.5} {:>8.5} {:>12} {:>8.5} {:>8.5} {:>12} {:>8.5} {:>8.5} {:>6.2}% {:>8.4} {:>8.5} \
-             {:>8.3}\n",
+             {:>8.3} {:>8.5}\n",
             r.config.label(),
             r.map_error.mean,
             r.map_error.p95,
@@ -126,12 +127,14 @@ pub fn table(preset: &str, m: &MotionMeasurement) -> String {
             100.0 * r.flicker.pop_rate,
             r.flicker.max_pop,
             r.image_flicker,
-            r.gpu_ms
+            r.gpu_ms,
+            r.image_flip
         );
     }
     out += "map err, shading: mean over the frames (p95, worst and its frame beside); flicker: mean |ΔV − ΔV_ref| \
             between consecutive frames at the tracked points (p99 beside); pops: share of tracked points per frame \
             pair with |ΔV − ΔV_ref| > 0.1; img flk: RMSE of the image's frame-to-frame change against the \
-            reference's; GPU ms: the method's light passes, median over the frames\n";
+            reference's; GPU ms: the method's light passes, median over the frames; FLIP: the image's FLIP against the reference's, \
+            mean over the pixels and the frames\n";
     out
 }

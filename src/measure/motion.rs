@@ -127,6 +127,8 @@ pub struct FrameRow {
     pub image_flicker: Option<f64>,
     /// The method's own light passes, GPU milliseconds.
     pub gpu_ms: f64,
+    /// FLIP of the frame's image against the reference's (mean over all pixels, as `measure`'s image column).
+    pub image_flip: f64,
 }
 
 /// One configuration over the motion.
@@ -139,6 +141,8 @@ pub struct MotionRow {
     pub image_flicker: f64,
     /// Median over the frames of the method's own light passes, GPU milliseconds.
     pub gpu_ms: f64,
+    /// Mean over the frames of [`FrameRow::image_flip`].
+    pub image_flip: f64,
     pub frames: Vec<FrameRow>,
     /// The method's visibility at the followed point, per frame ([`MotionOptions::follow`]; else empty).
     pub followed: Vec<f32>,
@@ -374,6 +378,9 @@ pub fn measure_motion(
                 max_pop: None,
                 image_flicker: None,
                 gpu_ms: ms,
+                image_flip: crate::transparency::FlipMap::new(&image, &reference_images[k])
+                    .metrics(|_, _| false)
+                    .mean,
             };
             tracked.push(frame);
             images.push(image);
@@ -400,6 +407,7 @@ pub fn measure_motion(
             flicker: Flicker::over(&tracked),
             image_flicker: temporal::image_flicker(&images, &reference_images),
             gpu_ms: median(gpu_ms),
+            image_flip: frame_rows.iter().map(|f| f.image_flip).sum::<f64>() / frame_rows.len().max(1) as f64,
             frames: frame_rows,
             followed,
         });
@@ -476,6 +484,7 @@ struct SummaryRow {
     max_pop: f64,
     image_flicker: f64,
     gpu_ms: f64,
+    image_flip: f64,
 }
 
 impl MotionMeasurement {
@@ -494,6 +503,7 @@ impl MotionMeasurement {
                 max_pop: r.flicker.max_pop,
                 image_flicker: r.image_flicker,
                 gpu_ms: r.gpu_ms,
+                image_flip: r.image_flip,
             }),
         )
     }

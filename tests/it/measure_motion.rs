@@ -90,13 +90,17 @@ fn a_motion_that_does_not_move_has_no_flicker_and_the_same_errors_every_frame() 
         );
         // The errors are the method's, not zero, and the same bits every frame.
         assert!(
-            r.map_error.mean > 1e-3 && r.shading_error.mean > 1e-3,
+            r.map_error.mean > 1e-3 && r.shading_error.mean > 1e-3 && r.image_flip > 0.0,
             "{label}: {r:?}"
         );
         for x in &r.frames[1..] {
             assert_eq!(
-                (x.map_error, x.shading_error),
-                (r.frames[0].map_error, r.frames[0].shading_error),
+                (x.map_error, x.shading_error, x.image_flip),
+                (
+                    r.frames[0].map_error,
+                    r.frames[0].shading_error,
+                    r.frames[0].image_flip
+                ),
                 "{label} frame {}",
                 x.frame
             );
@@ -133,7 +137,7 @@ fn the_cli_writes_both_csv_files_and_refuses_a_still_preset_in_one_line() {
     let lines: Vec<&str> = summary.lines().collect();
     assert_eq!(
         lines[0],
-        "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms"
+        "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms,image_flip"
     );
     assert_eq!(lines.len(), 3, "{summary}");
     assert!(lines[1].starts_with(&format!("{dom3},")) && lines[2].starts_with(&format!("{occ},")));
@@ -141,7 +145,7 @@ fn the_cli_writes_both_csv_files_and_refuses_a_still_preset_in_one_line() {
     let lines: Vec<&str> = frames.lines().collect();
     assert_eq!(
         lines[0],
-        "config,frame,map_error,shading_error,tracked_points,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms"
+        "config,frame,map_error,shading_error,tracked_points,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms,image_flip"
     );
     assert_eq!(lines.len(), 1 + 2 * 3, "{frames}");
     // Frame 0 has no pair before it: its flicker columns are empty.

@@ -42,6 +42,10 @@ pub enum BenchMode {
     /// doubled until the scene has --max-segments segments (and at least to × 4); GPU ms per segment fitted
     /// with R²: scaling.csv, scaling_points.csv, scaling.png, scaling.svg.
     Scaling(ScalingBenchArgs),
+    /// Each configuration over a preset's motion (`measure motion`'s rows) charted as GPU time against a
+    /// temporal metric (--metric: flicker, flicker-p99, pop-rate, image-flicker) with the Pareto front:
+    /// motion_summary.csv, motion_frames.csv, motion_speed_vs_<metric>.png/.svg.
+    Motion(super::motion::MotionBenchArgs),
 }
 
 /// The scene, the timing and the output folder, shared by every mode.
@@ -153,9 +157,10 @@ impl LegacyBenchArgs {
 }
 
 impl BenchMode {
-    /// The mode as the flags that run it.
-    fn flags(&self) -> LegacyBenchArgs {
-        match self {
+    /// The mode as the flags that run it (none for a mode that has no flag spelling: motion).
+    fn flags(&self) -> Option<LegacyBenchArgs> {
+        Some(match self {
+            BenchMode::Motion(_) => return None,
             BenchMode::Shadows(a) => LegacyBenchArgs {
                 methods: a.methods.clone(),
                 metric: a.metric.clone(),
@@ -175,14 +180,15 @@ impl BenchMode {
                 max_segments: Some(a.max_segments),
                 ..LegacyBenchArgs::of(&a.scene)
             },
-        }
+        })
     }
 }
 
 /// `hairlab bench`.
 pub fn run_cli(args: &BenchArgs) -> Result<()> {
     let a = match &args.mode {
-        Some(mode) => mode.flags(),
+        Some(BenchMode::Motion(m)) => return super::motion::run(m),
+        Some(mode) => mode.flags().context("a bench mode without flags")?,
         None => {
             if args.legacy.max_segments.is_some() && !args.legacy.scaling {
                 bail!("--max-segments needs --scaling (now `hairlab bench scaling --max-segments N`)");

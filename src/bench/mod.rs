@@ -17,6 +17,7 @@
 pub mod chart;
 pub mod cli;
 pub mod fur;
+pub mod motion;
 pub mod report;
 pub mod result;
 pub mod run;

@@ -3,7 +3,7 @@
 //! `motion_frames.csv`.
 
 use crate::gpu::{AdapterPreference, Gpu};
-use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs};
+use crate::measure::motion::{MotionConfig, MotionOptions, measure_motion, usual_configs};
 use crate::measure::temporal::FollowedPoint;
 use crate::settings::Settings;
 use anyhow::Result;
@@ -56,7 +56,7 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     let m = measure_motion(&gpu, &settings, &configs, a.frames, options, &mut |what, _| {
         eprintln!("measuring {what}…")
     })?;
-    print!("{}", table(&a.preset, &m));
+    print!("{}", m.table(&a.preset));
     let mut files = vec![
         ("motion_summary.csv".to_string(), m.summary_csv()?.into_bytes()),
         ("motion_frames.csv".to_string(), m.frames_csv()?.into_bytes()),
@@ -68,73 +68,4 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     Ok(())
-}
-
-/// The summary table: one line per configuration.
-pub fn table(preset: &str, m: &MotionMeasurement) -> String {
-    let mut out = format!(
-        "preset {preset}: {} strands, {} segments, frames 0..{} on {}\n",
-        m.strands, m.segments, m.frames, m.device
-    );
-    if let Some(sim) = &m.sim {
-        out += &format!(
-            "simulation per frame: CPU model {:.3} ms, GPU compute {}\n",
-            sim.cpu_ms,
-            sim.gpu_ms
-                .map_or("n/a (no timestamp queries)".to_string(), |ms| format!(
-                    "{ms:.3} ms"
-                ))
-        );
-    }
-    let width = m
-        .rows
-        .iter()
-        .map(|r| r.config.label().chars().count())
-        .max()
-        .unwrap_or(0)
-        .max(6);
-    out += &format!(
-        "{:<width$} {:>8} {:>8} {:>12} {:>8} {:>8} {:>12} {:>8} {:>8} {:>7} {:>8} {:>8} {:>8} {:>8}\n",
-        "method",
-        "map err",
-        "map p95",
-        "map worst@f",
-        "shading",
-        "sh. p95",
-        "sh. worst@f",
-        "flicker",
-        "flk p99",
-        "pops",
-        "max pop",
-        "img flk",
-        "GPU ms",
-        "FLIP"
-    );
-    for r in &m.rows {
-        let worst = |o: &crate::measure::temporal::OverFrames| format!("{:.5}@{}", o.worst, o.worst_frame);
-        out += &format!(
-            "{:<width$} {:>8.5} {:>8.5} {:>12} {:>8.5} {:>8.5} {:>12} {:>8.5} {:>8.5} {:>6.2}% {:>8.4} {:>8.5} \
-             {:>8.3} {:>8.5}\n",
-            r.config.label(),
-            r.map_error.mean,
-            r.map_error.p95,
-            worst(&r.map_error),
-            r.shading_error.mean,
-            r.shading_error.p95,
-            worst(&r.shading_error),
-            r.flicker.mean,
-            r.flicker.p99,
-            100.0 * r.flicker.pop_rate,
-            r.flicker.max_pop,
-            r.image_flicker,
-            r.gpu_ms,
-            r.image_flip
-        );
-    }
-    out += "map err, shading: mean over the frames (p95, worst and its frame beside); flicker: mean |ΔV − ΔV_ref| \
-            between consecutive frames at the tracked points (p99 beside); pops: share of tracked points per frame \
-            pair with |ΔV − ΔV_ref| > 0.1; img flk: RMSE of the image's frame-to-frame change against the \
-            reference's; GPU ms: the method's light passes, median over the frames; FLIP: the image's FLIP against the reference's, \
-            mean over the pixels and the frames\n";
-    out
 }

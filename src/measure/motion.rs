@@ -536,6 +536,77 @@ impl MotionMeasurement {
         crate::bench::report::csv_text("motion_point.csv", rows).map(Some)
     }
 
+    /// The summary table: one line per configuration.
+    pub fn table(&self, preset: &str) -> String {
+        let m = self;
+        let mut out = format!(
+            "preset {preset}: {} strands, {} segments, frames 0..{} on {}\n",
+            m.strands, m.segments, m.frames, m.device
+        );
+        if let Some(sim) = &m.sim {
+            out += &format!(
+                "simulation per frame: CPU model {:.3} ms, GPU compute {}\n",
+                sim.cpu_ms,
+                sim.gpu_ms
+                    .map_or("n/a (no timestamp queries)".to_string(), |ms| format!(
+                        "{ms:.3} ms"
+                    ))
+            );
+        }
+        let width = m
+            .rows
+            .iter()
+            .map(|r| r.config.label().chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(6);
+        out += &format!(
+            "{:<width$} {:>8} {:>8} {:>12} {:>8} {:>8} {:>12} {:>8} {:>8} {:>7} {:>8} {:>8} {:>8} {:>8}\n",
+            "method",
+            "map err",
+            "map p95",
+            "map worst@f",
+            "shading",
+            "sh. p95",
+            "sh. worst@f",
+            "flicker",
+            "flk p99",
+            "pops",
+            "max pop",
+            "img flk",
+            "GPU ms",
+            "FLIP"
+        );
+        for r in &m.rows {
+            let worst =
+                |o: &crate::measure::temporal::OverFrames| format!("{:.5}@{}", o.worst, o.worst_frame);
+            out += &format!(
+                "{:<width$} {:>8.5} {:>8.5} {:>12} {:>8.5} {:>8.5} {:>12} {:>8.5} {:>8.5} {:>6.2}% {:>8.4} {:>8.5} \
+                 {:>8.3} {:>8.5}\n",
+                r.config.label(),
+                r.map_error.mean,
+                r.map_error.p95,
+                worst(&r.map_error),
+                r.shading_error.mean,
+                r.shading_error.p95,
+                worst(&r.shading_error),
+                r.flicker.mean,
+                r.flicker.p99,
+                100.0 * r.flicker.pop_rate,
+                r.flicker.max_pop,
+                r.image_flicker,
+                r.gpu_ms,
+                r.image_flip
+            );
+        }
+        out += "map err, shading: mean over the frames (p95, worst and its frame beside); flicker: mean |ΔV − ΔV_ref| \
+                between consecutive frames at the tracked points (p99 beside); pops: share of tracked points per frame \
+                pair with |ΔV − ΔV_ref| > 0.1; img flk: RMSE of the image's frame-to-frame change against the \
+                reference's; GPU ms: the method's light passes, median over the frames; FLIP: the image's FLIP against the reference's, \
+                mean over the pixels and the frames\n";
+        out
+    }
+
     /// The row of `config` (its [`MotionConfig::label`]).
     pub fn row(&self, label: &str) -> Option<&MotionRow> {
         self.rows.iter().find(|r| r.config.label() == label)

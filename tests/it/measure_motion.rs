@@ -218,3 +218,59 @@ fn the_cli_follows_one_point_and_refuses_a_point_off_the_strands() {
     let o = run(args("5:2"));
     assert_fails(&o, &["--point '5:2'", "[0, 1]"]);
 }
+
+/// `bench motion` charts GPU time against the chosen temporal metric with the Pareto front and writes the two
+/// CSV files and the chart whole.
+#[test]
+fn bench_motion_writes_the_csv_files_and_the_chart() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let (dom3, osm16) = (
+        format!("{}:layers=3", Dom.name()),
+        format!("{}:slices=16", Osm.name()),
+    );
+    let o = hairlab(&[
+        "bench",
+        "motion",
+        "--preset",
+        "wind",
+        "--set",
+        "scene.generator.strands=100",
+        "--set",
+        "render.map_resolution=64",
+        "--frames",
+        "3",
+        "--config",
+        &dom3,
+        "--config",
+        &osm16,
+        "--metric",
+        "pop-rate",
+        "--out",
+        dir,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("Pareto front of GPU ms against pop_rate"),
+        "{stdout}"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(out.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "motion_frames.csv",
+            "motion_speed_vs_pop_rate.png",
+            "motion_speed_vs_pop_rate.svg",
+            "motion_summary.csv"
+        ]
+    );
+    let png = image::open(out.path().join("motion_speed_vs_pop_rate.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (1200, 800));
+    let summary = std::fs::read_to_string(out.path().join("motion_summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 3, "{summary}");
+}

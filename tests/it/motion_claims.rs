@@ -29,10 +29,7 @@ fn measure(
     let settings = Settings::load_preset(preset, &overrides).unwrap();
     let configs: Vec<MotionConfig> = configs.iter().map(|c| MotionConfig::parse(c).unwrap()).collect();
     let m = measure_motion_on(gpu, &settings, &configs, frames, |_| {}).unwrap();
-    eprint!(
-        "{}",
-        hairlab::cli::measure_motion::table(&format!("{preset} {overrides:?}"), &m)
-    );
+    eprint!("{}", m.table(&format!("{preset} {overrides:?}")));
     m
 }
 

@@ -27,6 +27,26 @@ struct Params {
     wind: [[f32; 4]; 20],
 }
 
+/// The root frame's pose for the guide-and-follow pass (`shaders/motion/follow.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FollowParams {
+    head_rot: [f32; 4],
+    pivot: [f32; 4],
+    translation: [f32; 4],
+    head_center: [f32; 4],
+    head_radii: [f32; 4],
+    counts: [u32; 4],
+}
+
+/// The guide-and-follow pass: after a frame's substeps, the followers rebuilt from their guides.
+struct FollowPass {
+    uniforms: wgpu::Buffer,
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    followers: u32,
+}
+
 /// The simulation's state on the GPU, stepped frame by frame from frame 0.
 pub struct GpuSimulation {
     sim: Simulation,
@@ -39,6 +59,7 @@ pub struct GpuSimulation {
     points: usize,
     frame: u32,
     timer: Option<GpuTimer>,
+    follow: Option<FollowPass>,
 }
 
 impl GpuSimulation {
@@ -50,7 +71,13 @@ impl GpuSimulation {
         let flat: Vec<f32> = rest.iter().flat_map(|p| p.to_array()).collect();
         let bytes = (flat.len() * 4).max(16) as u64;
         gpu.check_buffer_size("simulation points", bytes)?;
-        let strands: Vec<u32> = ranges.iter().flat_map(|&(f, n)| [f as u32, n as u32]).collect();
+        // A follower is not stepped (its count reads 0); the follow pass rebuilds it.
+        let simulated = |s: usize| sim.follow().is_none_or(|f| f.simulated[s]);
+        let strands: Vec<u32> = ranges
+            .iter()
+            .enumerate()
+            .flat_map(|(s, &(f, n))| [f as u32, if simulated(s) { n as u32 } else { 0 }])
+            .collect();
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             let mut padded = contents.to_vec();
             padded.resize(padded.len().max(16), 0);
@@ -105,6 +132,10 @@ impl GpuSimulation {
                 layouts: &[&layout],
             },
         );
+        let follow = match sim.follow() {
+            Some(f) => Some(follow_pass(gpu, f, ranges, &rest_b, &x)?),
+            None => None,
+        };
         let (strand_count, points) = (ranges.len() as u32, rest.len());
         Ok(GpuSimulation {
             sim,
@@ -117,6 +148,7 @@ impl GpuSimulation {
             points,
             frame: 0,
             timer: GpuTimer::new(device, &gpu.queue),
+            follow,
         })
     }
 
@@ -176,6 +208,21 @@ impl GpuSimulation {
             .timer
             .as_mut()
             .and_then(|t| t.span(Phase::Simulation, "motion: simulate"));
+        if let Some(f) = &self.follow {
+            let pose = self.sim.head_pose_at_frame(self.frame + 1);
+            let head = self.sim.collider();
+            let (center, radii) = head.map_or((Vec3::ZERO, Vec3::ONE), |e| (e.center, e.radii));
+            let params = FollowParams {
+                head_rot: pose.rotation.to_array(),
+                pivot: pose.pivot.extend(0.0).to_array(),
+                translation: pose.translation.extend(0.0).to_array(),
+                head_center: center.extend(if head.is_some() { 1.0 } else { 0.0 }).to_array(),
+                head_radii: radii.extend(0.0).to_array(),
+                counts: [f.followers, 0, 0, 0],
+            };
+            gpu.queue
+                .write_buffer(&f.uniforms, 0, bytemuck::bytes_of(&params));
+        }
         for j in 0..substeps {
             gpu.queue
                 .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&self.params(first + j + 1)));
@@ -184,16 +231,26 @@ impl GpuSimulation {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("hairlab.motion.encoder"),
                 });
+            let last = j + 1 == substeps;
             {
+                let ends = last && self.follow.is_none();
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("hairlab.motion.substep"),
-                    timestamp_writes: span.as_ref().and_then(|s| s.compute(j == 0, j + 1 == substeps)),
+                    timestamp_writes: span.as_ref().and_then(|s| s.compute(j == 0, ends)),
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.group, &[]);
                 pass.dispatch_workgroups(self.strands.div_ceil(64), 1, 1);
             }
-            let last = j + 1 == substeps;
+            if let (true, Some(f)) = (last, &self.follow) {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("hairlab.motion.follow"),
+                    timestamp_writes: span.as_ref().and_then(|s| s.compute(false, true)),
+                });
+                pass.set_pipeline(&f.pipeline);
+                pass.set_bind_group(0, &f.group, &[]);
+                pass.dispatch_workgroups(f.followers.div_ceil(64), 1, 1);
+            }
             let resolved =
                 last && span.is_some() && self.timer.as_mut().is_some_and(|t| t.resolve(&mut encoder));
             gpu.queue.submit([encoder.finish()]);
@@ -234,4 +291,83 @@ impl GpuSimulation {
             .map(|c| Vec3::new(c[0], c[1], c[2]))
             .collect())
     }
+}
+
+/// The follow pass for `follow`'s followers over the strands `ranges`, reading the rest points `rest` and writing
+/// the points `x`.
+fn follow_pass(
+    gpu: &Gpu,
+    follow: &super::follow::Follow,
+    ranges: &[(usize, usize)],
+    rest: &wgpu::Buffer,
+    x: &wgpu::Buffer,
+) -> Result<FollowPass, GpuError> {
+    let device = &gpu.device;
+    let mut table: Vec<u32> = Vec::with_capacity(follow.followers.len() * 8);
+    let mut weights: Vec<f32> = Vec::with_capacity(follow.followers.len() * 4);
+    for (f, guides) in &follow.followers {
+        let (first, n) = ranges[*f];
+        table.extend([first as u32, n as u32]);
+        for g in 0..super::follow::NEIGHBOURS {
+            let (range, w) = guides.get(g).map_or(((0, 0), 0.0), |&(s, w)| (ranges[s], w));
+            table.extend([range.0 as u32, range.1 as u32]);
+            weights.push(w);
+        }
+        weights.push(0.0);
+    }
+    let bytes = |v: &[u8]| {
+        let mut padded = v.to_vec();
+        padded.resize(padded.len().max(16), 0);
+        padded
+    };
+    gpu.check_buffer_size("follower table", (table.len() * 4) as u64)?;
+    let init = |label: &str, contents: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: &bytes(contents),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let table_b = init("hairlab.motion.follow.table", bytemuck::cast_slice(&table));
+    let weights_b = init("hairlab.motion.follow.weights", bytemuck::cast_slice(&weights));
+    let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hairlab.motion.follow.params"),
+        size: std::mem::size_of::<FollowParams>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    use crate::render::eye::bindings::{self, Binding::*};
+    let layout = bindings::layout_for(
+        device,
+        "hairlab.motion.follow.layout",
+        wgpu::ShaderStages::COMPUTE,
+        &[Uniform, StorageRo, StorageRo, StorageRo, StorageRw],
+    );
+    let group = pipelines::buffer_group(
+        device,
+        "hairlab.motion.follow.group",
+        &layout,
+        &[&uniforms, rest, &table_b, &weights_b, x],
+    );
+    let source =
+        crate::shaders::compose("motion/follow.wgsl", None).map_err(|e| GpuError::Setting(e.to_string()))?;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("hairlab.motion.follow.shader"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let pipeline = pipelines::compute(
+        device,
+        &ComputePass {
+            label: "hairlab.motion.follow.pipeline",
+            module: &module,
+            entry: "follow",
+            layouts: &[&layout],
+        },
+    );
+    Ok(FollowPass {
+        uniforms,
+        pipeline,
+        group,
+        followers: follow.followers.len() as u32,
+    })
 }

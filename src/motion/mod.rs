@@ -5,6 +5,7 @@
 //!
 //! A lower layer: it reads scenes and files, never the settings module (which holds a [`MotionSettings`]).
 
+pub mod follow;
 pub mod gpu;
 pub mod sequence;
 pub mod sim;
@@ -92,6 +93,9 @@ pub struct MotionSettings {
     pub sweep_amplitude: f32,
     /// Collide with the generated head (when the scene is the generator's head).
     pub collide: bool,
+    /// Share of the strands simulated, in (0, 1]: every `round(1 / guides)`-th strand is a guide, the others
+    /// follow their nearest guides (`follow.rs`); 1 simulates every strand.
+    pub guides: f32,
 }
 
 impl Default for MotionSettings {
@@ -117,6 +121,7 @@ impl Default for MotionSettings {
             sweep_strands: 1,
             sweep_amplitude: 0.05,
             collide: true,
+            guides: 1.0,
         }
     }
 }
@@ -189,6 +194,12 @@ impl MotionSettings {
             bail!(
                 "motion.wind_dir must be three finite numbers, not all zero (got {:?})",
                 self.wind_dir
+            );
+        }
+        if !(self.guides > 0.0 && self.guides <= 1.0) {
+            bail!(
+                "motion.guides must be in (0, 1]: the share of the strands simulated (got {:?})",
+                self.guides
             );
         }
         if self.sweep_strands == 0 {

@@ -24,7 +24,7 @@ pub fn base_heights(strand: &[Vec3]) -> Vec<f32> {
 /// The darkening factor at height `height` under undercoat `shell_height` thick of extinction `sigma` (per world
 /// unit, already times `β`): `exp(−sigma · max(shell_height − height, 0))`, 1 above the undercoat.
 pub fn darkening(height: f32, shell_height: f32, sigma: f32) -> f32 {
-    (-sigma * (shell_height - height).max(0.0)).exp()
+    crate::visibility::transmittance(sigma * (shell_height - height).max(0.0))
 }
 
 #[cfg(test)]

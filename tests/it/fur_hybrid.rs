@@ -25,8 +25,8 @@ const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 
 /// GPU = CPU tolerance on each darkening factor `d ∈ [0, 1]`: `|d_gpu − d_cpu| ≤ DARK_TOL · max(d_cpu, 1e-3)`.
-/// Vulkan allows `exp(x)` 3 + 2|x| ulps; the exponents reach −16 (35 ulps ≈ 4.2e-6 relative). The test prints
-/// the measured maximum; it had not yet run on lavapipe when this tolerance was set (derived, not measured).
+/// Vulkan allows `exp(x)` 3 + 2|x| ulps; the exponents reach −16 (35 ulps ≈ 4.2e-6 relative). Measured on
+/// lavapipe (printed by the test): max relative 9.1e-7 over 4099 rows.
 const DARK_TOL: f32 = 1e-5;
 
 const PROBE: &str = r#"
@@ -83,8 +83,8 @@ fn wgsl_guard_darkening_equals_the_cpu_model() {
 
 /// GPU = CPU tolerance on each channel `c` of the environment's shading: `|c_gpu − c_cpu| ≤ ENV_ABS + ENV_REL ·
 /// |c_cpu|`: 16 lights' sums of the models' lobes, each within the Marschner probe's 2e-6 + 1e-5 relative
-/// (tests/it/shading.rs): 16 × (2e-6 + 1e-5 · 2) radiance-weighted stays below 3e-5. The test prints the measured
-/// maximum; it had not yet run on lavapipe when this tolerance was set (derived, not measured).
+/// (tests/it/shading.rs): 16 × (2e-6 + 1e-5 · 2) radiance-weighted stays below 3e-5. Measured on lavapipe
+/// (printed by the test): max |Δ| 9.5e-7 (Kajiya–Kay) and 3.6e-7 (Marschner) over 1024 rows each.
 const ENV_ABS: f32 = 3e-5;
 const ENV_REL: f32 = 1e-4;
 
@@ -257,10 +257,11 @@ fn mean_diff(a: &[[f32; 4]], b: &[[f32; 4]], pixels: &[bool]) -> f64 {
 /// Fig. 9 a/b/c on the `fur-hat` preset. Above the shell (pixels the implicit fur leaves empty) the hybrid shows
 /// the guard hairs as the explicit fur does; over the undercoat it is the implicit fur wherever no guard hair
 /// crosses the pixel, and guard hairs cross a visible share of it; the explicit fur alone shows the skin.
-/// Thresholds: set from the preset's 480×360 `hairlab render` images (4000 guard hairs; there, per max channel of
-/// the 8-bit images: 22824 hat pixels, 8.8 % more beyond the undercoat in the hybrid, the hybrid equal to the
-/// explicit fur there within 6.5e-7, 52 % of the undercoat crossed by guard hairs with a mean difference of 0.070)
-/// and scaled down for 600 hairs at 160×120; this test prints its own figures.
+/// Measured on lavapipe (printed by the test), each beside its threshold: 2693 undercoat pixels (> 1500); 176
+/// more, 0.065 of them, beyond the undercoat in the hybrid (> 0.03), equal to the explicit fur there (0, < 1e-4);
+/// guard hairs cross 0.475 of the undercoat (> 0.25), the hybrid differs from the implicit by 0.0118 there
+/// (> 0.008) and by 0 elsewhere (< 1e-6); bare skin 0.525 of the undercoat's pixels in the explicit fur (> 0.3),
+/// 0 in the hybrid (< 0.01).
 #[test]
 fn fig_9_hybrid_is_the_undercoat_with_guard_hairs_standing_above_it() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -272,7 +273,7 @@ fn fig_9_hybrid_is_the_undercoat_with_guard_hairs_standing_above_it() {
     let covered = |c: &[f32; 4]| c[3] > 2.0 / 255.0;
     let undercoat: Vec<bool> = implicit.iter().map(covered).collect();
     let n_undercoat = undercoat.iter().filter(|&&u| u).count();
-    assert!(n_undercoat > 1000, "{n_undercoat} undercoat pixels");
+    assert!(n_undercoat > 1500, "{n_undercoat} undercoat pixels");
     // (c) against (a) above the shell: hybrid pixels the undercoat leaves empty.
     let above: Vec<bool> = hybrid
         .iter()
@@ -306,26 +307,27 @@ fn fig_9_hybrid_is_the_undercoat_with_guard_hairs_standing_above_it() {
     );
     assert!(above_share > 0.03, "above the shell: {above_share}");
     assert!(
-        above_vs_explicit < 0.01,
+        above_vs_explicit < 1e-4,
         "hybrid vs explicit above the shell: {above_vs_explicit}"
     );
     assert!(
-        crossed_share > 0.15,
+        crossed_share > 0.25,
         "guard hairs over the undercoat: {crossed_share}"
     );
     assert!(
-        crossing > 0.005,
+        crossing > 0.008,
         "hybrid vs implicit where guard hairs cross: {crossing}"
     );
-    assert!(apart < 1e-4, "hybrid vs implicit elsewhere: {apart}");
+    assert!(apart < 1e-6, "hybrid vs implicit elsewhere: {apart}");
     assert!(
-        skin_explicit > 0.05 && skin_hybrid < 0.02,
+        skin_explicit > 0.3 && skin_hybrid < 0.01,
         "bare skin: {skin_explicit} vs {skin_hybrid}"
     );
 }
 
 /// The guard hairs' base darkening on the GPU: with `fur.base_darkening` on, no guard-hair pixel of the explicit
-/// fur is brighter than without it, and the image is darker on the whole.
+/// fur is brighter than without it, and the image is darker on the whole. Measured on lavapipe: summed H 87.5
+/// with it against 183.2 without (< 0.6 of it), no pixel brightened.
 #[test]
 fn base_darkening_darkens_guard_hairs_and_never_brightens_them() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -353,5 +355,5 @@ fn base_darkening_darkens_guard_hairs_and_never_brightens_them() {
         "base darkening: summed H {sum_dark:.3} (on) vs {sum_plain:.3} (off), most brightened pixel {brighter:.2e}"
     );
     assert!(brighter <= 1e-6, "a pixel brightened by {brighter}");
-    assert!(sum_dark < 0.9 * sum_plain, "{sum_dark} vs {sum_plain}");
+    assert!(sum_dark < 0.6 * sum_plain, "{sum_dark} vs {sum_plain}");
 }

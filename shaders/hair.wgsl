@@ -1,10 +1,14 @@
 // Eye pass for hair: strands as lines (vs_main) or camera-facing ribbons (vs_ribbon), the strand shading model
-// of `render.shading` (common/strand_shading.wgsl),
+// of `render.shading` (common/strand_shading.wgsl), darkened towards the base when they are fur's guard hairs
+// (common/guard_darkening.wgsl; 1 without fur) and lit by their environment's lights when fur asks for more
+// than one (common/env_lights.wgsl; the shadow method's visibility towards the scene's light scales them),
 // shadowed by the selected method's visibility and by opaque meshes; the eye transparency technique's entry
 // points (pasted at #include_technique) store what `shade_hair` returns.
 #include "common/eye_vertex.wgsl"
 #include "common/scene_bindings.wgsl"
 #include "common/strand_shading.wgsl"
+#include "common/guard_darkening.wgsl"
+#include "common/env_lights.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
 #include_technique
@@ -17,6 +21,7 @@ struct VertexIn {
     @location(3) thickness: f32,
     // rgb colour; a = 1 when the strand carries its own colour, 0 to use the global hair colour.
     @location(4) color: vec4<f32>,
+    @location(5) base_height: f32,
 }
 
 // EyePoint's fields (WGSL has no nested stage structs) and the shading inputs.
@@ -27,6 +32,7 @@ struct VertexOut {
     @location(2) @interpolate(flat) segment: u32,
     @location(3) tangent: vec3<f32>,
     @location(4) color: vec3<f32>,
+    @location(5) base_height: f32,
 }
 
 @vertex
@@ -39,6 +45,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.segment = p.segment;
     out.tangent = v.tangent;
     out.color = mix(frame.hair_color, v.color.rgb, v.color.a);
+    out.base_height = v.base_height;
     return out;
 }
 
@@ -55,6 +62,7 @@ fn vs_ribbon(@builtin(vertex_index) index: u32) -> VertexOut {
     out.segment = p.segment;
     out.tangent = point.tangent;
     out.color = mix(frame.hair_color, point.color.rgb, point.color.a);
+    out.base_height = point.base_height;
     return out;
 }
 
@@ -73,8 +81,13 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     let to_eye = normalize(frame.eye_position - world);
     let l = light_dir(world);
     let v = hair_visibility(world) * mesh_visibility(world, 1);
+    var lit = strand_shading(t, l, to_eye, in.color) * light_radiance(world);
+    if frame.env_count > 1u {
+        lit = env_shading(t, to_eye, in.color);
+    }
+    let dark = guard_darkening(in.base_height, frame.guard_shell_height, frame.guard_sigma);
     var out: ShadedHair;
-    out.color = strand_shading(t, l, to_eye, in.color) * light_radiance(world) * v + in.color * 0.08;
+    out.color = (lit * v + in.color * 0.08) * dark;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

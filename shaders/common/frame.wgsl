@@ -49,9 +49,15 @@ struct FrameUniforms {
     light_footprint: f32,
     // The strand shading model (`render.shading`; see common/strand_shading.wgsl).
     shading_model: u32,
-    pad1: u32,
-    pad2: u32,
-    pad3: u32,
+    // Guard hairs' base darkening (common/guard_darkening.wgsl): the undercoat's extinction per world unit
+    // times `fur.base_darkening` (0 without guard hairs), and its height.
+    guard_sigma: f32,
+    guard_shell_height: f32,
+    // Lights of the guard hairs' environment (common/env_lights.wgsl): 0 or 1 for the scene's light alone; per
+    // light the unit direction towards it and its radiance (xyz).
+    env_count: u32,
+    env_to_light: array<vec4<f32>, 64>,
+    env_radiance: array<vec4<f32>, 64>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

@@ -12,6 +12,9 @@ struct HairPoint {
     thickness: f32,
     // rgb colour; a = 1 when the strand carries its own colour.
     color: vec4<f32>,
+    // Height above the strand's root along its first segment (common/guard_darkening.wgsl's input).
+    base_height: f32,
+    pad: array<f32, 3>,
 }
 
 // Group 3 of every ribbon pipeline (`render::geometry::RIBBON_GROUP`): the strand points, and the LineList

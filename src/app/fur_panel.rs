@@ -113,6 +113,16 @@ impl HairlabApp {
                     }
                     Blending::Naive => {}
                 }
+                ui.add(egui::Slider::new(&mut f.base_darkening, 0.0..=4.0).text("guard base darkening β"))
+                    .on_hover_text("guard hairs darkened towards the base by the undercoat column above them, exp(−β σ₀ depth); 0: off");
+                ui.add(
+                    egui::Slider::new(
+                        &mut f.env_lights,
+                        1..=crate::fur::environment::MAX_ENV_LIGHTS as u32,
+                    )
+                    .text("guard-hair lights"),
+                )
+                .on_hover_text("directional lights sampled from a sky around the light for the guard hairs (the paper's 16); 1: the light alone");
                 ui.separator();
                 ui.add(
                     egui::Slider::new(&mut f.height, 0.001..=0.05)

@@ -2,12 +2,14 @@
 //! strands"), the CPU half: a base mesh welded, oriented and neighboured ([`mesh`]), extruded into a prismatic
 //! shell with dynamic resolution ([`shell`]), its sub-elements indexed by eqs. (1)–(3) ([`index`]), the simplex
 //! noise ([`noise`]) the volume densities and tangents come from ([`volume`]), the ray march through them
-//! ([`march`]), the combination of typed fragments ([`blend`]), the `[fur]` settings with the fur of a scene
+//! ([`march`]), the combination of typed fragments ([`blend`]), the guard hairs' base darkening ([`darkening`]) and environment of lights ([`environment`]), the `[fur]` settings with the fur of a scene
 //! ([`settings`]) and the paper's Table 1 for a frame ([`table`]). The paper's base meshes and the guard hairs'
 //! styling are scene data (`crate::scene::fur_shapes`, `crate::scene::style`). These functions are the
 //! specification the GPU ray march mirrors.
 
 pub mod blend;
+pub mod darkening;
+pub mod environment;
 pub mod index;
 pub mod march;
 pub mod mesh;

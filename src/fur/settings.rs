@@ -135,6 +135,12 @@ pub struct FurSettings {
     pub density: f32,
     /// Undercoat colour (Kajiya–Kay base, linear).
     pub colour: [f32; 3],
+    /// Guard hairs' base darkening `β` ([`super::darkening`]): the multiple of the undercoat's extinction
+    /// `σ_0` a guard hair is darkened by below the shell's top (1: the undercoat's own; 0: off).
+    pub base_darkening: f32,
+    /// Directional lights of the guard hairs' environment ([`super::environment`]; the paper's 16): 1 is the
+    /// scene's light alone; the undercoat always takes the scene's light.
+    pub env_lights: u32,
     /// Clump noise frequency, cycles per world unit.
     pub noise_frequency: f32,
     /// Clump threshold in [-1, 1] (higher: thinner clumps).
@@ -167,6 +173,8 @@ impl Default for FurSettings {
             light_steps: 8,
             density: 8.0,
             colour: [0.45, 0.3, 0.2],
+            base_darkening: 1.0,
+            env_lights: 1,
             noise_frequency: clumps.frequency,
             noise_threshold: clumps.threshold,
             noise_softness: clumps.softness,
@@ -204,6 +212,12 @@ impl FurSettings {
             "density",
             self.density,
             self.density >= 0.0,
+            "must be finite and ≥ 0",
+        )?;
+        finite(
+            "base_darkening",
+            self.base_darkening,
+            self.base_darkening >= 0.0,
             "must be finite and ≥ 0",
         )?;
         finite(
@@ -248,7 +262,13 @@ impl FurSettings {
         count("max_level", self.max_level, 0, MAX_LEVEL)?;
         count("steps_per_thickness", self.steps_per_thickness, 1, 1024)?;
         count("max_steps", self.max_steps, 1, 4096)?;
-        count("light_steps", self.light_steps, 0, 256)
+        count("light_steps", self.light_steps, 0, 256)?;
+        count(
+            "env_lights",
+            self.env_lights,
+            1,
+            super::environment::MAX_ENV_LIGHTS as u32,
+        )
     }
 
     pub fn shell_params(&self) -> ShellParams {
@@ -299,6 +319,11 @@ impl FurSettings {
             },
             ..base
         }
+    }
+
+    /// The guard hairs' base darkening per world unit: `β σ_0 = base_darkening · density / height`.
+    pub fn guard_sigma(&self) -> f32 {
+        self.base_darkening * self.density / self.height
     }
 
     /// Simplified blending's `a` per world unit.
@@ -392,6 +417,14 @@ mod tests {
         assert_eq!(
             bad(|s| s.epsilon_t = 1.0),
             "invalid fur.epsilon_t = 1: must be in [0, 1)"
+        );
+        assert_eq!(
+            bad(|s| s.env_lights = 0),
+            "invalid fur.env_lights = 0: must be in 1..=64"
+        );
+        assert_eq!(
+            bad(|s| s.base_darkening = -0.5),
+            "invalid fur.base_darkening = -0.5: must be finite and ≥ 0"
         );
         assert_eq!(
             bad(|s| s.colour = [0.1, f32::INFINITY, 0.1]),

@@ -134,9 +134,11 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         eye_footprint: footprint_per_w(&view_to_clip(scene, f.camera, width, height), width, height),
         light_footprint: footprint_per_w(&hair.view_to_clip, resolution, resolution),
         shading_model: f.render.shading.uniform(),
-        pad1: 0,
-        pad2: 0,
-        pad3: 0,
+        guard_sigma: 0.0,
+        guard_shell_height: 0.0,
+        env_count: 0,
+        env_to_light: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
+        env_radiance: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     }
 }
 

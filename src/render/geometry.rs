@@ -18,11 +18,16 @@ pub struct HairVertex {
     pub thickness: f32,
     /// rgb, a = 1 when the strand has its own colour.
     pub color: [f32; 4],
+    /// Height above the strand's root along its first segment ([`crate::fur::darkening::base_heights`]), the
+    /// guard hairs' base darkening's input; the scene's as loaded (moving hair keeps its rest heights).
+    pub base_height: f32,
+    pub pad: [f32; 3],
 }
 
 impl HairVertex {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] =
-        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Float32, 4 => Float32x4];
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Float32, 4 => Float32x4, 5 => Float32
+    ];
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<HairVertex>() as u64,
@@ -42,6 +47,8 @@ pub const HAIR_VERTEX_FIELDS: &[(&str, usize)] = {
         ("tangent", offset_of!(HairVertex, tangent)),
         ("thickness", offset_of!(HairVertex, thickness)),
         ("color", offset_of!(HairVertex, color)),
+        ("base_height", offset_of!(HairVertex, base_height)),
+        ("pad", offset_of!(HairVertex, pad)),
     ]
 };
 
@@ -109,9 +116,17 @@ pub fn hair_vertices(scene: &Scene) -> Vec<HairVertex> {
                 tangent: [0.0; 3],
                 thickness: s.thickness.as_ref().map_or(1.0, |t| t[k]),
                 color: [color.x, color.y, color.z, has_color],
+                base_height: 0.0,
+                pad: [0.0; 3],
             }
         })
         .collect();
+    for (start, n) in s.ranges() {
+        let heights = crate::fur::darkening::base_heights(&s.points[start..start + n]);
+        for (v, h) in out[start..start + n].iter_mut().zip(heights) {
+            v.base_height = h;
+        }
+    }
     write_tangents(&mut out, s.ranges());
     out
 }

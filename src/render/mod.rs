@@ -180,7 +180,7 @@ impl Renderer {
         size: (u32, u32),
         method_params: [f32; 4],
     ) -> FrameUniforms {
-        frame::uniforms(
+        let mut u = frame::uniforms(
             &self.scene,
             &frame::UniformInputs {
                 camera,
@@ -191,7 +191,25 @@ impl Renderer {
                 light_map_resolution: self.light.maps.near.width(),
                 shadow_map_resolution: self.light.shadow_map.texture.width(),
             },
-        )
+        );
+        if let Some(f) = self.fur.as_ref().filter(|f| f.settings.mode.strands()) {
+            u.guard_sigma = f.settings.guard_sigma();
+            u.guard_shell_height = f.settings.height;
+            let n = f.settings.env_lights as usize;
+            if n > 1 {
+                let sky = crate::fur::environment::Sky {
+                    to_sun: light.to_light(),
+                    radiance: glam::Vec3::from_array(light.color) * light.intensity,
+                };
+                let lights = sky.lights(n.min(crate::fur::environment::MAX_ENV_LIGHTS));
+                u.env_count = lights.len() as u32;
+                for (i, l) in lights.iter().enumerate() {
+                    u.env_to_light[i] = l.to_light.extend(0.0).to_array();
+                    u.env_radiance[i] = l.radiance.extend(0.0).to_array();
+                }
+            }
+        }
+        u
     }
 
     fn uniforms(&self, f: &FrameInput) -> FrameUniforms {

@@ -53,9 +53,16 @@ pub struct FrameUniforms {
     pub light_footprint: f32,
     /// The strand shading model, [`crate::shading::ShadingModel::uniform`] (`render.shading`).
     pub shading_model: u32,
-    pub pad1: u32,
-    pub pad2: u32,
-    pub pad3: u32,
+    /// Guard hairs' base darkening ([`crate::fur::darkening`]): `fur.base_darkening` times the undercoat's
+    /// extinction per world unit, 0 without guard hairs (`fur.mode` off or implicit).
+    pub guard_sigma: f32,
+    /// The undercoat's height `h_0` the darkening is measured from.
+    pub guard_shell_height: f32,
+    /// Lights of the guard hairs' environment ([`crate::fur::environment`]): 0 or 1 for the scene's light alone.
+    pub env_count: u32,
+    /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
+    pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
+    pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
 }
 
 /// Field names and byte offsets, in declaration order, for the layout test.
@@ -107,8 +114,13 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
         ("eye_footprint", offset_of!(FrameUniforms, eye_footprint)),
         ("light_footprint", offset_of!(FrameUniforms, light_footprint)),
         ("shading_model", offset_of!(FrameUniforms, shading_model)),
-        ("pad1", offset_of!(FrameUniforms, pad1)),
-        ("pad2", offset_of!(FrameUniforms, pad2)),
-        ("pad3", offset_of!(FrameUniforms, pad3)),
+        ("guard_sigma", offset_of!(FrameUniforms, guard_sigma)),
+        (
+            "guard_shell_height",
+            offset_of!(FrameUniforms, guard_shell_height),
+        ),
+        ("env_count", offset_of!(FrameUniforms, env_count)),
+        ("env_to_light", offset_of!(FrameUniforms, env_to_light)),
+        ("env_radiance", offset_of!(FrameUniforms, env_radiance)),
     ]
 };

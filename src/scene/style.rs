@@ -6,9 +6,9 @@
 //! exponentially towards the hair strand tips", with `s = j / segments` the point's fraction of the strand's
 //! steps (its arc-length fraction for every unclumped generated strand, whose steps are all equally long).
 //!
-//! Shadowing is our choice over the paper's local darkening near the base mesh: guard hairs are ordinary
-//! [`Strands`], so every light-space shadow method of hairlab draws and shadows them like any other hair.
-//! Everything is deterministic from the generator's seed.
+//! Guard hairs are ordinary [`Strands`], so every light-space shadow method of hairlab draws and shadows them
+//! like any other hair; with fur on they are also darkened towards the base, the paper's local self-shadowing
+//! ([`crate::fur::darkening`]). Everything is deterministic from the generator's seed.
 
 use super::Strands;
 

@@ -14,6 +14,7 @@ mod docs;
 mod fur_density;
 mod fur_gpu;
 mod fur_guard;
+mod fur_hybrid;
 mod fur_march;
 mod fur_shell;
 mod fur_typed;

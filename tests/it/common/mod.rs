@@ -260,9 +260,34 @@ pub fn render_method_light(
 /// Runs the compute entry `cs_probe` of `probe` (WGSL with bindings 0: the input, 1: the output, 64 items per
 /// workgroup), appended to the shared shader file `shared`, over `items` items of `input`, and reads back
 /// `out_bytes` bytes per item: how a test evaluates a shared WGSL function against its CPU model.
-pub fn run_probe(
+pub fn run_probe(gpu: &Gpu, spec: (&str, &str, &str), input: &[u8], items: usize, out_bytes: u64) -> Vec<u8> {
+    probe_pass(gpu, spec, None, input, items, out_bytes)
+}
+
+/// [`run_probe`] for a shared file that reads the frame uniforms: `frame` bound at group 0 (binding 0, as every
+/// pass binds it), the probe's input and output at group 1 (bindings 0 and 1).
+pub fn run_probe_with_frame(
+    gpu: &Gpu,
+    spec: (&str, &str, &str),
+    frame: &hairlab::render::uniforms::FrameUniforms,
+    input: &[u8],
+    items: usize,
+    out_bytes: u64,
+) -> Vec<u8> {
+    probe_pass(
+        gpu,
+        spec,
+        Some(bytemuck::bytes_of(frame)),
+        input,
+        items,
+        out_bytes,
+    )
+}
+
+fn probe_pass(
     gpu: &Gpu,
     (shared, probe, label): (&str, &str, &str),
+    frame: Option<&[u8]>,
     input: &[u8],
     items: usize,
     out_bytes: u64,
@@ -293,9 +318,10 @@ pub fn run_probe(
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+    let io_group = u32::from(frame.is_some());
+    let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
-        layout: &pipeline.get_bind_group_layout(0),
+        layout: &pipeline.get_bind_group_layout(io_group),
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
@@ -307,11 +333,29 @@ pub fn run_probe(
             },
         ],
     });
+    let frame_group = frame.map(|bytes| {
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
+        })
+    });
     let mut encoder = device.create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());
         pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        if let Some(g) = &frame_group {
+            pass.set_bind_group(0, g, &[]);
+        }
+        pass.set_bind_group(io_group, &io, &[]);
         pass.dispatch_workgroups((items as u32).div_ceil(64), 1, 1);
     }
     gpu.queue.submit([encoder.finish()]);

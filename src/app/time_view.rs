@@ -193,7 +193,7 @@ impl TimeView {
                 };
                 ui.add(
                     egui::ProgressBar::new(r.done)
-                        .desired_width(220.0)
+                        .desired_width(340.0)
                         .text(format!("{}{left}", r.what)),
                 );
                 if ui.button("Cancel").clicked() {
@@ -281,8 +281,9 @@ fn charts(ui: &mut egui::Ui, m: &MotionMeasurement, frame: u32) -> Option<u32> {
                         .into_iter()
                         .map(|(f, _)| [f as f64, f64::from(r.followed[f])])
                         .collect();
+                    // Unnamed: the pops share their configuration's colour and stay out of the legend.
                     p.points(
-                        Points::new(format!("{label} pops"), pops)
+                        Points::new("", pops)
                             .shape(MarkerShape::Circle)
                             .filled(false)
                             .radius(6.0)

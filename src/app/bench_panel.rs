@@ -6,6 +6,7 @@
 //! shadow method.
 
 use super::HairlabApp;
+use super::jobs::{self, JobStatus};
 use crate::bench::chart::{Chart, Mark};
 use crate::bench::{self, BenchResult, BenchRow, Progress};
 use egui_plot::{GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, Points};
@@ -88,6 +89,30 @@ impl HairlabApp {
     /// Whether a sweep is running.
     pub fn bench_running(&self) -> bool {
         self.bench.job.is_some()
+    }
+
+    /// The sweep under way, for the progress bar of every job (`jobs.rs`).
+    pub(super) fn bench_status(&self) -> Option<JobStatus> {
+        let job = self.bench.job.as_ref()?;
+        let (stage, fraction, elapsed) = match &job.progress {
+            Some(p) => (
+                format!("{}/{} {}", (p.done + 1).min(p.total.max(1)), p.total, p.label),
+                if p.total > 0 {
+                    p.done as f32 / p.total as f32
+                } else {
+                    0.0
+                },
+                p.elapsed,
+            ),
+            None => ("starting".to_string(), 0.0, std::time::Duration::ZERO),
+        };
+        Some(jobs::external_status(
+            "bench",
+            stage,
+            fraction,
+            elapsed,
+            job.cancel.clone(),
+        ))
     }
 
     /// Where the point of result row `row` was drawn in the last frame, in screen points.

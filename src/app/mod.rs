@@ -7,6 +7,7 @@ pub mod compare_view;
 pub mod export_animation;
 mod fur_panel;
 pub mod inspector;
+pub mod jobs;
 mod lightmap_view;
 mod panels;
 pub mod pixel_inspector;
@@ -26,11 +27,12 @@ use crate::scene::Scene;
 use crate::settings::SceneSettings;
 use crate::settings::Settings;
 use inspector::{Inspector, InspectorAction, InspectorDeps, ListsKey, SceneTexel};
+use jobs::{Job, JobGate, JobStatus, PATIENCE, Poll};
 use lightmap_view::{LightMapDeps, LightMapView};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 const SETTINGS_KEY: &str = "hairlab.settings";
 
@@ -72,6 +74,21 @@ enum DialogPurpose {
     LoadPreset,
     SavePreset,
     ExportCurves,
+}
+
+/// A scene being built (`open_motion`) on a worker thread: what it builds and, when done, the scene and its
+/// motion with the time taken (ms), or the error.
+struct SceneJob {
+    job: Job<Result<(Scene, crate::motion::Motion, f64), String>>,
+    scene: SceneSettings,
+    motion: crate::motion::MotionSettings,
+}
+
+/// A method's analysis on a worker thread: the method, the analysis' label, and its job.
+struct AnalysisJob {
+    method: &'static str,
+    label: &'static str,
+    job: Job<crate::methods::AnalysisResult>,
 }
 
 /// A message for the status line.
@@ -136,6 +153,16 @@ pub struct HairlabApp {
     time_view: time_view::TimeView,
     /// The motion exported as a PNG sequence or a GIF (`export_animation.rs`).
     animation_export: export_animation::AnimationExport,
+    /// The context the jobs' workers wake when they report (`jobs.rs`).
+    egui_ctx: egui::Context,
+    /// The scene being built, and the analysis being run, off the UI thread.
+    scene_job: Option<SceneJob>,
+    analysis_job: Option<AnalysisJob>,
+    /// Jobs started while this is set wait for it to open (a test hook).
+    job_gate: Option<JobGate>,
+    /// When the input settled (`jobs::Settle`), and whether it has this frame.
+    settle: jobs::Settle,
+    settled: bool,
 }
 
 impl HairlabApp {
@@ -194,6 +221,12 @@ impl HairlabApp {
             timeline: Default::default(),
             time_view: Default::default(),
             animation_export: Default::default(),
+            egui_ctx: cc.egui_ctx.clone(),
+            scene_job: None,
+            analysis_job: None,
+            job_gate: None,
+            settle: Default::default(),
+            settled: true,
         };
         app.rebuild_scene();
         app
@@ -239,26 +272,91 @@ impl HairlabApp {
         self.message = Some(Message { text, error: true });
     }
 
-    /// Builds the scene from the settings (generator or file) and uploads it. On failure the previous scene stays
-    /// and the error is shown.
+    /// Starts building the scene from the settings (generator or file) on a worker thread, replacing a build
+    /// under way for other settings, and applies it when it is done within [`PATIENCE`] (later frames apply it
+    /// otherwise). Until then the window shows the previous scene.
     fn rebuild_scene(&mut self) {
-        let scene_settings = self.settings.scene.clone();
-        let start = Instant::now();
-        let built = self.settings.open_motion();
-        self.scene_ms = start.elapsed().as_secs_f64() * 1e3;
-        let (scene, motion) = match built {
-            Ok(s) => s,
-            Err(e) => {
-                self.error(format!("{e:#}"));
-                if self.scene.is_some() {
-                    // Keep showing the previous scene and its settings.
-                    if let Some(prev) = self.built_scene.clone() {
-                        self.settings.scene = prev;
+        let (scene, motion) = (self.settings.scene.clone(), self.settings.motion.clone());
+        if self
+            .scene_job
+            .as_ref()
+            .is_some_and(|j| j.scene == scene && j.motion == motion)
+        {
+            return;
+        }
+        let settings = self.settings.clone();
+        let what = if scene.file.is_some() {
+            "loading the strands"
+        } else {
+            "growing the strands"
+        };
+        let job = Job::spawn("scene", &self.egui_ctx, self.job_gate.clone(), move |ctl| {
+            let start = Instant::now();
+            if !ctl.step(what, 0.0) {
+                return None;
+            }
+            let progress = ctl.clone();
+            let built = crate::scene::progress::observed(
+                move |f| progress.step(what, 0.9 * f),
+                || settings.open_motion(),
+            )?;
+            ctl.step("preparing the motion", 0.95).then_some(())?;
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            Some(built.map(|(s, m)| (s, m, ms)).map_err(|e| format!("{e:#}")))
+        });
+        self.scene_job = Some(SceneJob { job, scene, motion });
+        self.poll_scene_job(PATIENCE);
+    }
+
+    /// Applies the scene job's result when it is done (waiting up to `patience`); a cancelled job leaves the
+    /// previous scene and puts back the settings it was built with.
+    fn poll_scene_job(&mut self, patience: Duration) {
+        let Some(j) = &self.scene_job else { return };
+        match j.job.wait(patience) {
+            Poll::Running => {}
+            Poll::Done(result) => {
+                let Some(j) = self.scene_job.take() else { return };
+                match result {
+                    Ok((scene, motion, ms)) => self.apply_scene(scene, motion, ms, j.scene, &j.motion),
+                    Err(e) => {
+                        self.error(e);
+                        self.restore_built_scene();
                     }
                 }
-                return;
             }
-        };
+            Poll::Gone => {
+                let cancelled = j.job.cancelled();
+                self.scene_job = None;
+                self.restore_built_scene();
+                if cancelled {
+                    self.info("scene: cancelled; the previous scene stays");
+                } else {
+                    self.error("scene: the worker stopped without a result");
+                }
+            }
+        }
+    }
+
+    /// Puts back the scene and motion settings of the scene on screen (when there is one).
+    fn restore_built_scene(&mut self) {
+        if let Some(prev) = self.built_scene.clone() {
+            self.settings.scene = prev;
+            if let Some(m) = self.timeline.opened_with() {
+                self.settings.motion = m.clone();
+            }
+        }
+    }
+
+    /// Uploads a built scene and makes it the one on screen; on failure the previous scene stays.
+    fn apply_scene(
+        &mut self,
+        scene: Scene,
+        motion: crate::motion::Motion,
+        ms: f64,
+        scene_settings: SceneSettings,
+        motion_settings: &crate::motion::MotionSettings,
+    ) {
+        self.scene_ms = ms;
         if self.settings.camera.distance <= 0.0
             || self
                 .built_scene
@@ -270,7 +368,7 @@ impl HairlabApp {
         let Some(rs) = &self.render_state else {
             self.scene = Some(scene);
             self.built_scene = Some(scene_settings);
-            self.timeline.set_motion(motion, &self.settings.motion);
+            self.timeline.set_motion(motion, motion_settings);
             return;
         };
         let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
@@ -290,7 +388,7 @@ impl HairlabApp {
                 ));
                 self.scene = Some(scene);
                 self.built_scene = Some(scene_settings);
-                self.timeline.set_motion(motion, &self.settings.motion);
+                self.timeline.set_motion(motion, motion_settings);
                 self.last_rendered = None;
                 // The fur grows on the new scene's mesh.
                 self.built_fur = None;
@@ -298,10 +396,54 @@ impl HairlabApp {
             }
             Err(e) => {
                 self.error(format!("cannot upload the scene: {e}"));
-                if let Some(prev) = self.built_scene.clone() {
-                    self.settings.scene = prev;
-                }
+                self.restore_built_scene();
             }
+        }
+    }
+
+    /// Makes jobs started from now on wait at each of their steps until the returned gate opens: a test hook
+    /// that holds a job at a point the test chooses.
+    pub fn hold_jobs(&mut self) -> JobGate {
+        let gate = JobGate::default();
+        self.job_gate = Some(gate.clone());
+        gate
+    }
+
+    /// Every job under way (scene, analysis, whole-map statistics, bench), as the progress bar shows them.
+    pub fn jobs(&self) -> Vec<JobStatus> {
+        let mut all: Vec<JobStatus> = self.scene_job.iter().map(|j| j.job.status()).collect();
+        all.extend(self.analysis_job.iter().map(|j| j.job.status()));
+        all.extend(self.inspector.job_status());
+        all.extend(self.bench_status());
+        all
+    }
+
+    /// Waits for the scene, analysis and whole-map statistics jobs under way and applies their results (for
+    /// scripts and tests that need a finished state).
+    pub fn finish_jobs(&mut self) {
+        const FOREVER: Duration = Duration::from_secs(24 * 3600);
+        self.poll_scene_job(FOREVER);
+        self.poll_analysis_job(FOREVER);
+        self.poll_map_stats(FOREVER);
+    }
+
+    /// Takes the results of the jobs that finished (waiting up to `patience` for each).
+    fn poll_jobs(&mut self, patience: Duration) {
+        self.poll_scene_job(patience);
+        self.poll_analysis_job(patience);
+        self.poll_map_stats(patience);
+    }
+
+    /// Starts the whole-map statistics job of the inspector and gives it [`PATIENCE`] to finish.
+    fn start_map_stats(&mut self, ctx: &egui::Context) {
+        if self.inspector.compute_map_stats(ctx, self.job_gate.clone()) {
+            self.poll_map_stats(PATIENCE);
+        }
+    }
+
+    fn poll_map_stats(&mut self, patience: Duration) {
+        if let Some(m) = self.inspector.poll_map_stats(patience) {
+            self.info(m);
         }
     }
 
@@ -389,8 +531,8 @@ impl HairlabApp {
         }
     }
 
-    /// Runs a method's on-demand analysis on the exact fragment lists of the current light view and applies the
-    /// parameters it picks.
+    /// Reads the exact fragment lists of the current light view and runs a method's on-demand analysis on
+    /// them as a job; the parameters it picks are applied when it is done.
     fn run_analysis(
         &mut self,
         method: &'static dyn crate::methods::ShadowMethod,
@@ -399,18 +541,51 @@ impl HairlabApp {
         let Some(r) = self.renderer.as_mut() else { return };
         match inspector::read_reference_lists(r, &self.settings) {
             Ok(lists) => {
-                let result = (a.run)(&lists, &self.settings.method.params);
-                self.settings.method.params.extend(result.apply.clone());
-                self.info(format!("{}: {}", a.label, result.summary));
-                self.analysis = Some((method.name(), result));
+                let (params, run) = (self.settings.method.params.clone(), a.run);
+                let job = Job::spawn(a.label, &self.egui_ctx, self.job_gate.clone(), move |ctl| {
+                    ctl.step("analysing the fragment lists", 0.0).then_some(())?;
+                    Some(run(&lists, &params))
+                });
+                self.analysis_job = Some(AnalysisJob {
+                    method: method.name(),
+                    label: a.label,
+                    job,
+                });
+                self.poll_analysis_job(PATIENCE);
             }
             Err(e) => self.error(format!("{}: {e}", a.label)),
         }
     }
 
+    /// Applies the analysis job's parameters when it is done (waiting up to `patience`) and the method is still
+    /// the one it analysed.
+    fn poll_analysis_job(&mut self, patience: Duration) {
+        let Some(j) = &self.analysis_job else { return };
+        match j.job.wait(patience) {
+            Poll::Running => {}
+            Poll::Done(result) => {
+                let (method, label) = (j.method, j.label);
+                self.analysis_job = None;
+                if self.settings.method.name != method {
+                    self.info(format!(
+                        "{label}: the method changed meanwhile; its result is dropped"
+                    ));
+                    return;
+                }
+                self.settings.method.params.extend(result.apply.clone());
+                self.info(format!("{label}: {}", result.summary));
+                self.analysis = Some((method, result));
+            }
+            Poll::Gone => {
+                let label = j.label;
+                self.analysis_job = None;
+                self.info(format!("{label}: cancelled"));
+            }
+        }
+    }
+
     fn open_scene_file(&mut self, path: PathBuf) {
         self.settings.scene.file = Some(path);
-        self.settings.camera.distance = 0.0;
         self.rebuild_scene();
     }
 
@@ -572,8 +747,7 @@ impl HairlabApp {
         if self.compare.open {
             let area = self.viewport_rect.unwrap_or_else(|| ctx.content_rect());
             let size = self.compare.size(&self.settings.render);
-            let dragging = ctx.input(|i| i.pointer.any_down());
-            if self.compare.auto && !dragging && self.compare.stale(&self.settings, size) {
+            if self.compare.auto && self.settled && self.compare.stale(&self.settings, size) {
                 self.render_compare(size, ctx);
             }
             let mut open = self.compare.open;
@@ -761,8 +935,7 @@ impl HairlabApp {
         if !(self.inspector.open || self.light_map.open) {
             return;
         }
-        let dragging = ctx.input(|i| i.pointer.any_down());
-        self.refresh_lists(!dragging);
+        self.refresh_lists(self.settled);
         self.update_curves();
         // First placement: the inspector along the bottom of the viewport, the light map in its top right corner,
         // so that the hair stays in view for picking.
@@ -785,6 +958,7 @@ impl HairlabApp {
             Some(InspectorAction::ExportCsv) => self.open_dialog(DialogPurpose::ExportCurves, ctx),
             Some(InspectorAction::OpenLightMap) => self.light_map.open = true,
             Some(InspectorAction::TimeView) => self.open_time_view(ctx),
+            Some(InspectorAction::ComputeMapStats) => self.start_map_stats(ctx),
             None => {}
         }
         let mut open = self.light_map.open;
@@ -805,6 +979,18 @@ impl HairlabApp {
         self.light_map.open = open;
         if let Some(texel) = clicked {
             self.inspector.select(SceneTexel { texel, picked: None });
+        }
+    }
+
+    /// Decides, once per frame, whether the input has settled (`jobs::Settle`): the one place that holds back
+    /// the exact reference lists and the compare renders during a drag, an orbit or a run of changes, and
+    /// asks for the frame that runs them once it settles.
+    fn note_input(&mut self, ctx: &egui::Context) {
+        let (down, now) = ctx.input(|i| (i.pointer.any_down(), i.time));
+        let left = self.settle.note(&self.settings, down, now);
+        self.settled = left == 0.0;
+        if !self.settled && !down {
+            ctx.request_repaint_after(Duration::from_secs_f64(left));
         }
     }
 
@@ -850,11 +1036,18 @@ impl HairlabApp {
 impl eframe::App for HairlabApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        self.poll_jobs(Duration::ZERO);
         self.poll_dialog();
         self.handle_input(&ctx);
         self.undo_input(&ctx);
         self.play_motion(&ctx);
         egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));
+        let jobs = self.jobs();
+        if !jobs.is_empty() {
+            egui::Panel::bottom("jobs").show(ui, |ui| jobs::jobs_bar(ui, &jobs, self.snapshot_mode));
+            // The time left counts down between the workers' reports.
+            ctx.request_repaint_after(Duration::from_millis(250));
+        }
         if self.timeline.is_moving() {
             let export = egui::Panel::bottom("timeline")
                 .show(ui, |ui| self.timeline.ui(ui))
@@ -873,6 +1066,7 @@ impl eframe::App for HairlabApp {
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ui, |ui| self.viewport(ui));
+        self.note_input(&ctx);
         self.inspector_windows(&ctx);
         self.time_view_window(&ctx);
         self.animation_export_window(&ctx);

@@ -35,12 +35,24 @@ impl HairlabApp {
             return;
         };
         if self.renderer.is_none() {
+            // The first scene may still be building (its progress bar is below).
+            let (text, color) = if self.scene_job.is_some() {
+                (
+                    "building the scene — see its progress below",
+                    ui.visuals().text_color(),
+                )
+            } else {
+                (
+                    "no scene loaded — see the message below",
+                    ui.visuals().error_fg_color,
+                )
+            };
             ui.painter().text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
-                "no scene loaded — see the message below",
+                text,
                 egui::FontId::proportional(16.0),
-                ui.visuals().error_fg_color,
+                color,
             );
             return;
         }

@@ -495,12 +495,17 @@ fn many_clumps(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
 }
 
 /// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping,
-/// and colours the strands when `p.strand_colors` is set.
+/// and colours the strands when `p.strand_colors` is set. Reports its progress to [`super::progress`].
 fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> Strands {
     let per = p.segments as usize + 1;
     let mut points = Vec::with_capacity(roots.len() * per);
     let mut color = Vec::with_capacity(if p.strand_colors { roots.len() * per } else { 0 });
+    let mut grown = 0;
     for (i, root) in roots.iter().enumerate() {
+        if i % super::progress::BATCH == 0 && !super::progress::step(i as f32 / roots.len() as f32) {
+            break;
+        }
+        grown = i + 1;
         let mut rng = Rng::stream(p.seed, i as u64 + 1);
         grow_strand(p, gravity, root, head, &mut rng, &mut points);
         if p.strand_colors {
@@ -509,6 +514,8 @@ fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> 
             color.extend(std::iter::repeat_n((BROWN * tint).min(Vec3::ONE), per));
         }
     }
+    // A stopped build (`progress::observed`) keeps the strands grown so far.
+    let roots = &roots[..grown];
     clump(p, roots, head, &mut points);
     Strands {
         points,

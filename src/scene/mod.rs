@@ -10,6 +10,7 @@ pub mod gltf_load;
 pub mod hair;
 pub mod load;
 pub mod pick;
+pub mod progress;
 pub mod style;
 pub mod tfx;
 pub mod usc_data;

@@ -849,3 +849,109 @@ fn the_window_exports_the_motion_as_the_cli_does() {
     let cli_gif = hairlab::cli::render::animated_gif(&cli, s.motion.fps).unwrap();
     assert!(gif == cli_gif, "the window's GIF differs from the CLI's");
 }
+/// A scene build is a job: while a test gate holds it at its first step, the window keeps drawing and answering
+/// (a build on the UI thread would never return from the frame while the gate is shut), its progress bar and
+/// Cancel show, the previous scene stays on screen; Cancel leaves the previous scene and settings; a build let
+/// through applies its scene.
+#[test]
+fn a_long_job_keeps_the_window_interactive_and_cancel_restores_the_scene() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = common::small_settings(320, 240);
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 640.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    let points_before = harness
+        .state()
+        .scene()
+        .expect("scene loaded")
+        .strands
+        .points
+        .clone();
+    assert_eq!(points_before.len(), 600 * 13);
+    let settings_before = harness.state().settings().clone();
+    let gate = harness.state_mut().hold_jobs();
+
+    harness.get_by_label("straight").click();
+    // One frame takes the click and starts the job, the next shows its progress bar.
+    harness.step();
+    harness.step();
+    let jobs = harness.state().jobs();
+    assert_eq!(jobs.len(), 1, "one scene job");
+    assert_eq!(jobs[0].name, "scene");
+    assert!(
+        harness.query_by_label_contains("growing the strands").is_none(),
+        "held before its first step"
+    );
+    assert!(
+        harness.query_by_label_contains("starting 0%").is_some(),
+        "the progress bar shows"
+    );
+    // The window answers while the job is held: the Help window opens and closes, frames keep coming.
+    assert!(harness.query_by_label("Drop a file").is_none());
+    harness.get_by_label("Help").click();
+    harness.step();
+    harness.step();
+    assert!(
+        harness.query_by_label("Drop a file").is_some(),
+        "Help opened during the job"
+    );
+    harness.key_press(egui::Key::F1);
+    harness.step();
+    harness.step();
+    assert!(
+        harness.query_by_label("Drop a file").is_none(),
+        "Help closed during the job"
+    );
+    assert_eq!(
+        harness.state().scene().unwrap().strands.points,
+        points_before,
+        "the previous scene stays on screen"
+    );
+    assert_eq!(harness.state().jobs().len(), 1, "still held");
+
+    // Cancel: the previous scene and settings, exactly.
+    harness.get_by_label("Cancel").click();
+    harness.step();
+    harness.run();
+    assert!(harness.state().jobs().is_empty());
+    assert_eq!(harness.state().scene().unwrap().strands.points, points_before);
+    assert!(
+        *harness.state().settings() == settings_before,
+        "the settings before the change"
+    );
+    assert!(
+        harness
+            .state()
+            .message()
+            .is_some_and(|(m, err)| !err && m.contains("cancelled")),
+        "{:?}",
+        harness.state().message()
+    );
+    assert!(
+        harness.query_by_label("Cancel").is_none(),
+        "the progress bar is gone"
+    );
+
+    // The same change again, let through: its scene replaces the previous one.
+    harness.get_by_label("straight").click();
+    harness.step();
+    assert_eq!(harness.state().jobs().len(), 1);
+    gate.open();
+    harness.state_mut().finish_jobs();
+    harness.run();
+    assert!(harness.state().jobs().is_empty());
+    assert_eq!(
+        harness.state().settings().scene.generator.style,
+        HairStyle::Straight
+    );
+    let points_after = &harness.state().scene().unwrap().strands.points;
+    assert_eq!(points_after.len(), 600 * 13);
+    assert_ne!(
+        *points_after, points_before,
+        "straight hair, not the wavy scene before"
+    );
+}

@@ -172,6 +172,9 @@ fn inspector_plots_pins_exports_and_compares() {
     harness.get_by_label("Whole map").click();
     harness.run();
     harness.get_by_label("Compute").click();
+    // A job: one frame takes the click and starts it; wait for it and apply its result.
+    harness.step();
+    harness.state_mut().finish_jobs();
     harness.run();
     let stats = harness.state().inspector().map_stats().expect("computed").clone();
     let occupied = lists_occupied(&harness);

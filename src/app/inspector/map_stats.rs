@@ -1,10 +1,11 @@
 //! The inspector's map statistics: how each plotted method's texel errors spread over the whole light map
 //! (`visibility::metrics::map_error` and its `ErrorDistribution`: mean, 50th/95th/99th percentile, worst texel,
-//! share of texels above 0.05 and 0.1), computed on demand from the CPU models on the exact fragment lists —
+//! share of texels above 0.05 and 0.1), computed on demand (a job, `app/jobs.rs`) from the CPU models on the exact fragment lists —
 //! the figures `measure` reads through the GPU lookups, for the methods on the plot.
 
 use super::curves::PlotModel;
 use super::lists::ReferenceLists;
+use crate::app::jobs::{Job, JobGate};
 use crate::visibility::{Fragment, MapError, metrics};
 use egui::Color32;
 
@@ -29,24 +30,35 @@ pub struct MapStats {
 }
 
 impl MapStats {
-    /// The map error of each of `models` over `lists`.
-    pub fn compute(lists: &ReferenceLists, models: &[PlotModel]) -> MapStats {
+    /// Starts computing the map error of each of `models` over `lists` on a worker thread, one method per
+    /// step of its progress.
+    pub fn start(
+        lists: &ReferenceLists,
+        models: Vec<PlotModel>,
+        ctx: &egui::Context,
+        gate: Option<JobGate>,
+    ) -> Job<MapStats> {
         let map: Vec<Vec<Fragment>> = lists
             .lists
             .iter()
             .map(|l| l.iter().map(|f| Fragment::new(f.depth, f.alpha)).collect())
             .collect();
-        MapStats {
-            generation: lists.generation,
-            rows: models
-                .iter()
-                .map(|m| MethodMapError {
-                    label: m.model.label(),
-                    color: m.color,
+        let generation = lists.generation;
+        Job::spawn("whole-map statistics", ctx, gate, move |ctl| {
+            let mut rows = Vec::with_capacity(models.len());
+            for (i, m) in models.iter().enumerate() {
+                let label = m.model.label();
+                if !ctl.step(&label, i as f32 / models.len() as f32) {
+                    return None;
+                }
+                rows.push(MethodMapError {
                     error: metrics::map_error(m.model.as_ref(), &map, GRID_POINTS),
-                })
-                .collect(),
-        }
+                    label,
+                    color: m.color,
+                });
+            }
+            Some(MapStats { generation, rows })
+        })
     }
 
     /// Whether these statistics are of `models` (by label) on `lists`.

@@ -20,6 +20,7 @@ pub use lists::{ListsKey, ReferenceLists, read_reference_lists};
 pub use map_stats::{MapStats, MethodMapError};
 pub(super) use plot::series;
 
+use super::jobs::{Job, JobGate, JobStatus, Poll};
 use super::texel_lab::LabSettings;
 use crate::methods::registry;
 use crate::render::passes::abuffer::RefFragment;
@@ -104,6 +105,8 @@ pub enum InspectorAction {
     OpenLightMap,
     /// Follow the picked hair point over the motion (the time view).
     TimeView,
+    /// Compute the whole-map statistics (a job).
+    ComputeMapStats,
 }
 
 /// The inspector's state (the window's contents, the cached fragment lists and curves).
@@ -123,6 +126,7 @@ pub struct Inspector {
     curves: Option<(CurvesInput, TexelCurves)>,
     lab_error: Option<String>,
     map_stats: Option<MapStats>,
+    map_stats_job: Option<Job<MapStats>>,
 }
 
 impl Inspector {
@@ -147,17 +151,45 @@ impl Inspector {
         self.map_stats.as_ref().filter(|s| s.is_of(lists, &models))
     }
 
-    /// Computes [`Inspector::map_stats`] (the CPU models of the plotted methods over every texel of the lists);
-    /// `false` when there are no lists or no method on the plot.
-    pub fn compute_map_stats(&mut self) -> bool {
+    /// Starts computing [`Inspector::map_stats`] (the CPU models of the plotted methods over every texel of the
+    /// lists) as a job, replacing one under way; `false` when there are no lists or no method on the plot.
+    pub fn compute_map_stats(&mut self, ctx: &egui::Context, gate: Option<JobGate>) -> bool {
         let models = self.plotted_models();
         match self.lists() {
             Some(lists) if !models.is_empty() => {
-                self.map_stats = Some(MapStats::compute(lists, &models));
+                self.map_stats_job = Some(MapStats::start(lists, models, ctx, gate));
                 true
             }
             _ => false,
         }
+    }
+
+    /// Takes the whole-map statistics when their job finished, waiting up to `patience`; what happened, for the
+    /// status line, when the job ended.
+    pub fn poll_map_stats(&mut self, patience: std::time::Duration) -> Option<String> {
+        let job = self.map_stats_job.as_ref()?;
+        match job.wait(patience) {
+            Poll::Running => None,
+            Poll::Done(stats) => {
+                self.map_stats_job = None;
+                self.map_stats = Some(stats);
+                Some("whole-map statistics computed".to_string())
+            }
+            Poll::Gone => {
+                let cancelled = job.cancelled();
+                self.map_stats_job = None;
+                Some(if cancelled {
+                    "whole-map statistics cancelled".to_string()
+                } else {
+                    "whole-map statistics: the worker stopped without a result".to_string()
+                })
+            }
+        }
+    }
+
+    /// The whole-map statistics job under way.
+    pub fn job_status(&self) -> Option<JobStatus> {
+        self.map_stats_job.as_ref().map(Job::status)
     }
 
     /// The models of the methods on the plot.
@@ -401,7 +433,7 @@ impl Inspector {
             });
         });
         if compute {
-            self.compute_map_stats();
+            action = Some(InspectorAction::ComputeMapStats);
         }
         action
     }

@@ -5,6 +5,7 @@
 #include "common/eye_vertex.wgsl"
 #include "common/scene_bindings.wgsl"
 #include "common/strand_shading.wgsl"
+#include "common/visibility.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
 #include_technique
@@ -72,9 +73,12 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     let t = normalize(in.tangent);
     let to_eye = normalize(frame.eye_position - world);
     let l = light_dir(world);
-    let v = hair_visibility(world) * mesh_visibility(world, 1);
+    // The method's V and the hair count it stands for (at the global hair alpha; with 3x3 PCF, of the filtered V).
+    let v = hair_visibility(world);
+    let count = count_from_visibility(v, frame.hair_alpha);
     var out: ShadedHair;
-    out.color = strand_shading(t, l, to_eye, in.color) * light_radiance(world) * v + in.color * 0.08;
+    out.color = strand_lit(t, l, to_eye, in.color, v, count) * light_radiance(world) * mesh_visibility(world, 1)
+        + in.color * 0.08;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

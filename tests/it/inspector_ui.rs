@@ -129,6 +129,10 @@ fn inspector_plots_pins_exports_and_compares() {
         t.reference.last()
     );
     assert!(t.depths[0] < t.near && *t.depths.last().unwrap() > t.far);
+    // The hair count beside V: no strand in front before the nearest fragment, every fragment beyond the
+    // furthest; OSM-4's count is -ln V / b of its own curve at the scene's hair alpha.
+    assert_eq!(t.reference_count[0], 0.0);
+    assert_eq!(*t.reference_count.last().unwrap(), t.fragments.len() as f32);
     // The reference has no error; OSM-4, the selected method, has some.
     let r = t.reference_error.unwrap();
     assert_eq!((r.mean, r.max), (0.0, 0.0));
@@ -149,6 +153,18 @@ fn inspector_plots_pins_exports_and_compares() {
             .len()
             == 5
     );
+
+    for (c, v) in osm.counts.iter().zip(&osm.values) {
+        let want = hairlab::visibility::count_from_visibility(*v, t.hair_alpha);
+        assert!((c - want).abs() < 1e-6, "{c} vs {want}");
+    }
+    // The "count" toggle plots n(z) in place of V(z), and "V" brings V back.
+    harness.get_by_label("count").click();
+    harness.run();
+    assert!(harness.state().inspector().show_count);
+    harness.get_by_label("V").click();
+    harness.run();
+    assert!(!harness.state().inspector().show_count);
 
     // Every method at once, then pin this texel and go back to the densest one.
     harness.get_by_label("every method").click();

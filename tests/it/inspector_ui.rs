@@ -225,10 +225,17 @@ fn inspector_plots_pins_exports_and_compares() {
     harness.state_mut().export_inspector_csv(&path);
     let text = std::fs::read_to_string(&path).expect("CSV written");
     let mut lines = text.lines();
-    // The header: depth, the reference, every curve shown (in plot order), then the pin's.
-    let mut header = vec!["depth".to_string(), "reference".to_string()];
-    header.extend(labels.iter().cloned());
-    header.extend(["pin1 reference".to_string(), "pin1 osm-4".to_string()]);
+    // The header: depth, the reference, every curve shown (in plot order), then the pin's; each curve followed by
+    // its hair count.
+    let curve_and_count = |name: String| {
+        let count = format!("{name} count");
+        [name, count]
+    };
+    let mut header = vec!["depth".to_string()];
+    header.extend(curve_and_count("reference".into()));
+    header.extend(labels.iter().cloned().flat_map(curve_and_count));
+    header.extend(curve_and_count("pin1 reference".into()));
+    header.extend(curve_and_count("pin1 osm-4".into()));
     assert_eq!(lines.next().unwrap(), header.join(","));
     let rows: Vec<Vec<f32>> = lines
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
@@ -246,7 +253,15 @@ fn inspector_plots_pins_exports_and_compares() {
     let cur = curves.current.as_ref().unwrap();
     for (i, z) in cur.depths.iter().enumerate() {
         let row = rows.iter().find(|r| r[0] == *z).expect("a row per plotted depth");
-        assert_eq!((row[1], row[2]), (cur.reference[i], cur.methods[0].values[i]));
+        assert_eq!(
+            (row[1], row[2], row[3], row[4]),
+            (
+                cur.reference[i],
+                cur.reference_count[i],
+                cur.methods[0].values[i],
+                cur.methods[0].counts[i]
+            )
+        );
     }
     assert!(
         harness

@@ -178,8 +178,8 @@ fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
 /// GPU = CPU: dual scattering on the Marschner probe directions and colours, each at a hair count and the
 /// visibility of that many strands of alpha 0.35 (`n` = 0, 0.5, 1, 3, 10, 40, cycling), with the same tolerance
 /// form as the lobes (`|Δ| ≤ 2e-6 + 1e-5 |F|`: the table lookup and `pow(ā_f, n)` add a few ulps to the
-/// lobes' own); and the count read back from that visibility within `1e-5 + 1e-5 n`. The test prints the
-/// maxima it measures.
+/// lobes' own); and the count read back from that visibility within `1e-5 + 1e-5 n`. Measured on lavapipe
+/// (printed by the test): max |ΔF| = 5.96e-7, max relative 3.57e-6 over 4270 probes; max |Δn| = 3.81e-6.
 #[test]
 fn wgsl_dual_scattering_equals_the_cpu_model() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -396,7 +396,8 @@ fn back_light_glows_only_under_marschner() {
 
 /// The eye pass under `dual-scattering`, with the reference's exact visibility (so its count is that of the exact
 /// `V`): every term dual scattering adds to the Marschner lobes is non-negative, so no hair pixel is darker than
-/// under `marschner` (beyond 1e-5 of rounding) and the hair as a whole is lighter; coverage is unchanged.
+/// under `marschner` (beyond 1e-5 of rounding) and the hair as a whole is lighter (measured: mean hair
+/// luminance 0.0965 → 0.0989 on this 600-strand back-lit scene); coverage is unchanged.
 #[test]
 fn dual_scattering_lightens_the_marschner_image() {
     let Some(gpu) = Gpu::for_tests() else { return };

@@ -9,6 +9,7 @@
 #include "common/strand_shading.wgsl"
 #include "common/guard_darkening.wgsl"
 #include "common/env_lights.wgsl"
+#include "common/visibility.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
 #include_technique
@@ -80,14 +81,18 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     let t = normalize(in.tangent);
     let to_eye = normalize(frame.eye_position - world);
     let l = light_dir(world);
-    let v = hair_visibility(world) * mesh_visibility(world, 1);
-    var lit = strand_shading(t, l, to_eye, in.color) * light_radiance(world);
+    // The method's V and the hair count it stands for (at the global hair alpha; with 3x3 PCF, of the filtered V).
+    let v = hair_visibility(world);
+    let count = count_from_visibility(v, frame.hair_alpha);
+    let mesh = mesh_visibility(world, 1);
+    var lit = strand_lit(t, l, to_eye, in.color, v, count) * light_radiance(world) * mesh;
     if frame.env_count > 1u {
-        lit = env_shading(t, to_eye, in.color);
+        // Guard hairs under the environment's lights, shadowed by the method's V towards the scene light.
+        lit = env_shading(t, to_eye, in.color) * v * mesh;
     }
     let dark = guard_darkening(in.base_height, frame.guard_shell_height, frame.guard_sigma);
     var out: ShadedHair;
-    out.color = (lit * v + in.color * 0.08) * dark;
+    out.color = (lit + in.color * 0.08) * dark;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

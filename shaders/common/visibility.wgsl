@@ -26,3 +26,10 @@ fn lerp_up(a: f32, b: f32, f: f32) -> f32 {
 fn transmittance(omega: f32) -> f32 {
     return exp(-omega);
 }
+
+// Hair count: the strands of opacity `hair_alpha` in front of a point of visibility `v`, -ln V / b(alpha), with
+// V floored at the smallest normal f32 and 0 for b = 0 (`visibility::count_from_visibility`).
+fn count_from_visibility(v: f32, hair_alpha: f32) -> f32 {
+    let b = optical_depth(hair_alpha);
+    return select(0.0, max(-log(max(v, 1.17549435e-38)), 0.0) / b, b > 0.0);
+}

@@ -67,6 +67,23 @@ pub struct ShadowsArgs {
     /// after the one in progress and keeps them), and the speed_vs_accuracy chart, as `bench` writes them.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Also the image error (RMSE, FLIP) of every configuration under each of these shading models
+    /// (`kajiya-kay,marschner,…`), each against the reference image under the same model: a second table, and
+    /// shading.csv in the output folder.
+    #[arg(long, value_name = "MODEL,...", value_delimiter = ',', value_parser = parse_shading)]
+    pub shading: Vec<crate::shading::ShadingModel>,
+}
+
+/// A shading model by its word (`render.shading`'s values).
+fn parse_shading(word: &str) -> Result<crate::shading::ShadingModel, String> {
+    use crate::shading::ShadingModel;
+    ShadingModel::ALL
+        .into_iter()
+        .find(|m| m.word() == word)
+        .ok_or_else(|| {
+            let words: Vec<&str> = ShadingModel::ALL.iter().map(|m| m.word()).collect();
+            format!("unknown shading model {word:?} (one of {})", words.join(", "))
+        })
 }
 
 #[derive(Args, Debug, Clone)]
@@ -181,6 +198,7 @@ impl LegacyMeasureArgs {
                 scene,
                 configs: self.configs.clone(),
                 out,
+                shading: Vec::new(),
             };
             Ok((MeasureMode::Shadows(a), None))
         }
@@ -541,8 +559,54 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
             &bench_result(a, &stats, &rows, cancelled),
         )?);
     }
+    if !cancelled && !a.shading.is_empty() {
+        shading_table(a, &settings, &configs)?;
+    }
     if cancelled {
         return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
+    }
+    Ok(())
+}
+
+/// `--shading`: every configuration's image error under each shading model, printed as a table (and
+/// shading.csv with `--out`).
+fn shading_table(
+    a: &ShadowsArgs,
+    settings: &Settings,
+    configs: &[crate::measure::MethodConfig],
+) -> Result<()> {
+    use crate::gpu::{AdapterPreference, Gpu};
+    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    let rows = crate::measure::shading::shading_errors_on(&gpu, settings, configs, &a.shading, |m| {
+        eprintln!("shading {m}…")
+    })?;
+    let width = rows
+        .iter()
+        .map(|r| r.config.label().chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(6);
+    let mut header = format!("{:<width$}", "method");
+    for m in &a.shading {
+        header += &format!(
+            " {:>24} {:>24}",
+            format!("{} img RMSE", m.word()),
+            format!("{} FLIP", m.word())
+        );
+    }
+    println!("\nimage error per shading model (each against the reference image under the same model)");
+    println!("{header}");
+    for r in &rows {
+        let mut line = format!("{:<width$}", r.config.label());
+        for e in &r.errors {
+            line += &format!(" {:>24.5} {:>24.5}", e.image_rmse, e.image_flip);
+        }
+        println!("{line}");
+    }
+    if let Some(dir) = &a.out {
+        let path = dir.join("shading.csv");
+        crate::io::write_atomic(&path, crate::measure::shading::csv(&a.shading, &rows).as_bytes())?;
+        print_written(&[path]);
     }
     Ok(())
 }

@@ -6,6 +6,7 @@
 
 pub mod fur;
 pub mod motion;
+pub mod shading;
 pub mod temporal;
 pub mod transparency;
 

@@ -3,13 +3,19 @@
 //! here (the specification) and one WGSL file (`shaders/common/<model>.wgsl`), selected in the eye pass by
 //! `frame.shading_model` through `shaders/common/strand_shading.wgsl`.
 
+pub mod dual_scattering;
 pub mod kajiya_kay;
 pub mod marschner;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-/// The registered strand shading models (`render.shading = "kajiya-kay" | "marschner"`).
+/// The registered strand shading models (`render.shading = "kajiya-kay" | "marschner" | "dual-scattering"`).
+///
+/// Dual scattering is a model of its own rather than a flag on Marschner: it is what `render.shading` selects,
+/// the panels and `measure --shading` list, and the one uniform value the eye pass branches on; a flag would
+/// be a second setting, a second uniform and a combination (Kajiya-Kay with dual scattering) that means
+/// nothing.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ShadingModel {
@@ -18,17 +24,25 @@ pub enum ShadingModel {
     KajiyaKay,
     /// Marschner et al. 2003 R, TT and TRT lobes in Karis 2016's practical form ([`marschner`]).
     Marschner,
+    /// The Marschner lobes plus Zinke et al. 2008's multiple scattering from the method's hair count
+    /// ([`dual_scattering`]).
+    DualScattering,
 }
 
 impl ShadingModel {
     /// Every model, in the order of their uniform values.
-    pub const ALL: [ShadingModel; 2] = [ShadingModel::KajiyaKay, ShadingModel::Marschner];
+    pub const ALL: [ShadingModel; 3] = [
+        ShadingModel::KajiyaKay,
+        ShadingModel::Marschner,
+        ShadingModel::DualScattering,
+    ];
 
     /// The word presets and `--set render.shading=…` use.
     pub fn word(self) -> &'static str {
         match self {
             ShadingModel::KajiyaKay => "kajiya-kay",
             ShadingModel::Marschner => "marschner",
+            ShadingModel::DualScattering => "dual-scattering",
         }
     }
 
@@ -37,6 +51,7 @@ impl ShadingModel {
         match self {
             ShadingModel::KajiyaKay => "Kajiya-Kay",
             ShadingModel::Marschner => "Marschner",
+            ShadingModel::DualScattering => "Dual scattering",
         }
     }
 
@@ -46,6 +61,9 @@ impl ShadingModel {
             ShadingModel::KajiyaKay => "diffuse cylinder and specular cone (Kajiya & Kay 1989)",
             ShadingModel::Marschner => {
                 "R, TT and TRT lobes with absorption from the hair colour (Marschner et al. 2003, Karis 2016)"
+            }
+            ShadingModel::DualScattering => {
+                "Marschner plus multiple scattering from the shadow method's hair count (Zinke et al. 2008)"
             }
         }
     }
@@ -63,11 +81,15 @@ impl ShadingModel {
 
     /// The CPU model: the radiance a hair point with `tangent` (unit, root to tip) and base colour `colour`
     /// sends towards `to_eye` per unit of radiance arriving from `to_light` (both unit, pointing away from the
-    /// point), what `strand_shading()` returns on the GPU.
+    /// point), what `strand_shading()` returns on the GPU; dual scattering with nothing in front (`V = 1`, no
+    /// strand).
     pub fn shade(self, tangent: Vec3, to_light: Vec3, to_eye: Vec3, colour: Vec3) -> Vec3 {
         match self {
             ShadingModel::KajiyaKay => kajiya_kay::kajiya_kay(tangent, to_light, to_eye, colour),
             ShadingModel::Marschner => marschner::marschner(tangent, to_light, to_eye, colour),
+            ShadingModel::DualScattering => {
+                dual_scattering::dual_scattering(tangent, to_light, to_eye, colour, 1.0, 0.0)
+            }
         }
     }
 }

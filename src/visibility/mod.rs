@@ -22,6 +22,12 @@
 //!   primitive order a rasteriser-ordered implementation would see), never by the input order.
 //! - Shared f32 expressions the GPU must use: [`optical_depth`], [`relative_depth`], [`slice_index`],
 //!   [`lerp_up`].
+//! - Hair count (what Unreal's deep opacity map stores and its dual scattering reads, Zinke et al. 2008): the
+//!   number of fragments in front of `z` ([`TexelModel::count_curve`]). A strand that crosses a texel twice
+//!   counts twice: light passes through the fibre twice, exactly as `V_ref` multiplies in both fragments'
+//!   `1 - alpha`. Exact for the reference; occupancy maps count occupied slots; every other method's count is
+//!   [`count_from_visibility`] of its own `V` at the scene's hair alpha (exact for the summed-opacity methods
+//!   when every fragment has that alpha).
 
 pub mod adsm;
 pub mod avsm;
@@ -142,6 +148,19 @@ pub fn transmittance(omega: f32) -> f32 {
     (-omega).exp()
 }
 
+/// The hair count a visibility `v` stands for when every strand has opacity `hair_alpha`:
+/// `-ln V / b(alpha)` ([`optical_depth`]), with `V` floored at the smallest normal f32 (so an opaque `V = 0`
+/// gives a finite count) and 0 for a transparent hair (`b = 0`). GPU: `count_from_visibility` in
+/// `shaders/common/visibility.wgsl`, the same expression.
+pub fn count_from_visibility(v: f32, hair_alpha: f32) -> f32 {
+    let b = optical_depth(hair_alpha);
+    if b > 0.0 {
+        (-v.max(f32::MIN_POSITIVE).ln()).max(0.0) / b
+    } else {
+        0.0
+    }
+}
+
 /// A method model: its parameters build one texel from the texel's fragments and answer visibility queries.
 pub trait Model {
     /// Exactly what the GPU stores per texel.
@@ -204,6 +223,16 @@ pub trait TexelModel: Send + Sync + std::fmt::Debug {
     fn label(&self) -> String;
     /// Builds the texel from `fragments` once and evaluates `V` at every depth of `zs`.
     fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32>;
+    /// The hair count at every depth of `zs`: how many strands lie in front (see the module's conventions). By
+    /// default [`count_from_visibility`] of [`TexelModel::curve`] with the scene's uniform `hair_alpha` (where
+    /// fragments' alphas differ, the count of strands of that alpha that give the same `V`); a method that
+    /// stores a count answers from it.
+    fn count_curve(&self, fragments: &[Fragment], zs: &[f32], hair_alpha: f32) -> Vec<f32> {
+        self.curve(fragments, zs)
+            .into_iter()
+            .map(|v| count_from_visibility(v, hair_alpha))
+            .collect()
+    }
     /// The per-texel values the method stores besides near/far, in the GPU's order (for the light-map view).
     fn stored_values(&self, _fragments: &[Fragment]) -> Vec<f32> {
         Vec::new()
@@ -276,6 +305,30 @@ mod tests {
         assert_eq!(slice_index(f32::NAN, 4), 0);
         assert_eq!(slice_index(1e30, 4), 3);
         assert_eq!(slice_index(5.0, 0), 0);
+    }
+
+    /// `-ln V / b` by hand: alpha 0.5 (b = ln 2): V = 1/8 is 3 strands, V = 1 none; alpha 0.75 (b = 2 ln 2):
+    /// V = 1/16 is 2; V = 0 is floored at 2^-126, i.e. 126 strands of alpha 0.5; a transparent hair counts 0.
+    #[test]
+    fn count_from_visibility_by_hand() {
+        assert!((count_from_visibility(0.125, 0.5) - 3.0).abs() < 1e-5);
+        assert_eq!(count_from_visibility(1.0, 0.5), 0.0);
+        assert!((count_from_visibility(0.0625, 0.75) - 2.0).abs() < 1e-5);
+        assert!((count_from_visibility(0.0, 0.5) - 126.0).abs() < 1e-3);
+        assert_eq!(count_from_visibility(0.3, 0.0), 0.0);
+    }
+
+    /// The default count of a model is `-ln V / b` of its own curve: a method whose `V` is 1/4 after one
+    /// fragment of alpha 0.75 counts 2 strands of alpha 0.5 (and 1 of alpha 0.75).
+    #[test]
+    fn default_count_reads_the_models_visibility() {
+        let osm = osm::OsmParams { slices: 4 };
+        let f = [Fragment::new(0.0, 0.75), Fragment::new(1.0, 0.75)];
+        // OSM's first plane at z = 0.25 holds the fragment at 0 (b = 2 ln 2): V = 1/4 there.
+        assert!((osm.curve(&f, &[0.25])[0] - 0.25).abs() < 1e-6);
+        let counts = osm.count_curve(&f, &[0.25, 0.25], 0.5);
+        assert!((counts[0] - 2.0).abs() < 1e-5, "{counts:?}");
+        assert!((osm.count_curve(&f, &[0.25], 0.75)[0] - 1.0).abs() < 1e-5);
     }
 
     #[test]

@@ -181,6 +181,12 @@ impl TexelModel for OccupancyParams {
         super::model_curve(self, fragments, zs)
     }
 
+    /// The order estimate `o(z)` itself (§3.2): the count the map stores, whatever the alphas.
+    fn count_curve(&self, fragments: &[Fragment], zs: &[f32], _hair_alpha: f32) -> Vec<f32> {
+        let texel = build(self, fragments);
+        zs.iter().map(|&z| order(self, &texel, z)).collect()
+    }
+
     fn stored_values(&self, fragments: &[Fragment]) -> Vec<f32> {
         build(self, fragments).slabs.iter().map(|&c| c as f32).collect()
     }
@@ -285,6 +291,21 @@ mod tests {
         assert!((v(0.1) - 2f32.powf(-2.4)).abs() < 1e-6);
         assert!((v(0.25) - 1.0 / 16.0).abs() < 1e-7);
         assert_eq!(v(0.0), 1.0);
+    }
+
+    /// The count is the order estimate, not `-ln V / b`: with alpha 0.9 fragments and a model built for
+    /// alpha 0.5, the hand values of `hand_computed_order_and_visibility` (4/3 at 0.05, 2.4 at 0.1, 4 at 0.25)
+    /// whatever hair alpha the caller passes.
+    #[test]
+    fn count_is_the_order_estimate() {
+        let f: Vec<Fragment> = texel_fragments()
+            .iter()
+            .map(|f| Fragment::new(f.depth, 0.9))
+            .collect();
+        let counts = OccupancyParams::new(0.5).count_curve(&f, &[0.05, 0.1, 0.25], 0.9);
+        for (got, want) in counts.iter().zip([4.0 / 3.0, 2.4, 4.0]) {
+            assert!((got - want).abs() < 1e-5, "{counts:?}");
+        }
     }
 
     #[test]

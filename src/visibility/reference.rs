@@ -17,6 +17,11 @@ pub fn visibility(fragments: &[Fragment], z: f32) -> f32 {
     (-omega).exp() as f32
 }
 
+/// Exact hair count at depth `z`: the number of fragments with depth `< z` (the fragments `V_ref(z)` sums).
+pub fn count(fragments: &[Fragment], z: f32) -> usize {
+    valid(fragments).filter(|f| f.depth < z).count()
+}
+
 /// `(depth, b)` of every fragment (finite depths only), sorted by depth; fragments at equal depths keep their
 /// input order.
 pub fn sorted_optical_depths(fragments: &[Fragment]) -> Vec<(f32, f32)> {
@@ -79,6 +84,14 @@ impl TexelModel for Reference {
     fn curve(&self, fragments: &[Fragment], zs: &[f32]) -> Vec<f32> {
         super::model_curve(self, fragments, zs)
     }
+
+    /// Exact: [`count`], whatever the alphas.
+    fn count_curve(&self, fragments: &[Fragment], zs: &[f32], _hair_alpha: f32) -> Vec<f32> {
+        let texel = self.build(fragments);
+        zs.iter()
+            .map(|&z| texel.depths.partition_point(|&d| d < z) as f32)
+            .collect()
+    }
 }
 
 #[cfg(test)]
@@ -94,6 +107,21 @@ mod tests {
             Fragment::new(0.1, 0.5),
             Fragment::new(0.3, 0.75),
         ]
+    }
+
+    /// Three strands at depths 0.2, 0.5 and 0.8 (alphas 0.3, 0.6, 0.9, the count ignores them): 0 strands in
+    /// front at 0.1 and at 0.2 itself (a fragment does not count itself), 1 at 0.3, 2 at 0.6, 3 at 0.9.
+    #[test]
+    fn count_by_hand() {
+        let f = [
+            Fragment::new(0.5, 0.6),
+            Fragment::new(0.2, 0.3),
+            Fragment::new(0.8, 0.9),
+        ];
+        let zs = [0.1, 0.2, 0.3, 0.6, 0.9];
+        assert_eq!(Reference.count_curve(&f, &zs, 0.5), [0.0, 0.0, 1.0, 2.0, 3.0]);
+        let direct: Vec<usize> = zs.iter().map(|&z| count(&f, z)).collect();
+        assert_eq!(direct, [0, 0, 1, 2, 3]);
     }
 
     #[test]

@@ -129,6 +129,10 @@ fn inspector_plots_pins_exports_and_compares() {
         t.reference.last()
     );
     assert!(t.depths[0] < t.near && *t.depths.last().unwrap() > t.far);
+    // The hair count beside V: no strand in front before the nearest fragment, every fragment beyond the
+    // furthest; OSM-4's count is -ln V / b of its own curve at the scene's hair alpha.
+    assert_eq!(t.reference_count[0], 0.0);
+    assert_eq!(*t.reference_count.last().unwrap(), t.fragments.len() as f32);
     // The reference has no error; OSM-4, the selected method, has some.
     let r = t.reference_error.unwrap();
     assert_eq!((r.mean, r.max), (0.0, 0.0));
@@ -149,6 +153,18 @@ fn inspector_plots_pins_exports_and_compares() {
             .len()
             == 5
     );
+
+    for (c, v) in osm.counts.iter().zip(&osm.values) {
+        let want = hairlab::visibility::count_from_visibility(*v, t.hair_alpha);
+        assert!((c - want).abs() < 1e-6, "{c} vs {want}");
+    }
+    // The "count" toggle plots n(z) in place of V(z), and "V" brings V back.
+    harness.get_by_label("count").click();
+    harness.run();
+    assert!(harness.state().inspector().show_count);
+    harness.get_by_label("V").click();
+    harness.run();
+    assert!(!harness.state().inspector().show_count);
 
     // Every method at once, then pin this texel and go back to the densest one.
     harness.get_by_label("every method").click();
@@ -212,10 +228,17 @@ fn inspector_plots_pins_exports_and_compares() {
     harness.state_mut().export_inspector_csv(&path);
     let text = std::fs::read_to_string(&path).expect("CSV written");
     let mut lines = text.lines();
-    // The header: depth, the reference, every curve shown (in plot order), then the pin's.
-    let mut header = vec!["depth".to_string(), "reference".to_string()];
-    header.extend(labels.iter().cloned());
-    header.extend(["pin1 reference".to_string(), "pin1 osm-4".to_string()]);
+    // The header: depth, the reference, every curve shown (in plot order), then the pin's; each curve followed by
+    // its hair count.
+    let curve_and_count = |name: String| {
+        let count = format!("{name} count");
+        [name, count]
+    };
+    let mut header = vec!["depth".to_string()];
+    header.extend(curve_and_count("reference".into()));
+    header.extend(labels.iter().cloned().flat_map(curve_and_count));
+    header.extend(curve_and_count("pin1 reference".into()));
+    header.extend(curve_and_count("pin1 osm-4".into()));
     assert_eq!(lines.next().unwrap(), header.join(","));
     let rows: Vec<Vec<f32>> = lines
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
@@ -233,7 +256,15 @@ fn inspector_plots_pins_exports_and_compares() {
     let cur = curves.current.as_ref().unwrap();
     for (i, z) in cur.depths.iter().enumerate() {
         let row = rows.iter().find(|r| r[0] == *z).expect("a row per plotted depth");
-        assert_eq!((row[1], row[2]), (cur.reference[i], cur.methods[0].values[i]));
+        assert_eq!(
+            (row[1], row[2], row[3], row[4]),
+            (
+                cur.reference[i],
+                cur.reference_count[i],
+                cur.methods[0].values[i],
+                cur.methods[0].counts[i]
+            )
+        );
     }
     assert!(
         harness

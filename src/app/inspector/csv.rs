@@ -19,8 +19,8 @@ impl TexelCurves {
         zs
     }
 
-    /// CSV `depth,reference,<method>...,pin1 reference,pin1 <method>...`: every curve shown, evaluated at
-    /// [`TexelCurves::csv_depths`].
+    /// CSV `depth,reference,reference count,<method>,<method> count...,pin1 reference,pin1 reference count,...`:
+    /// every curve shown and its hair count beside it, evaluated at [`TexelCurves::csv_depths`].
     pub fn csv(&self) -> String {
         let zs = self.csv_depths();
         let mut header = vec!["depth".to_string()];
@@ -34,9 +34,13 @@ impl TexelCurves {
         for (prefix, t) in texels {
             header.push(format!("{prefix}reference"));
             columns.push(visibility::Reference.curve(&t.fragments, &zs));
+            header.push(format!("{prefix}reference count"));
+            columns.push(visibility::Reference.count_curve(&t.fragments, &zs, t.hair_alpha));
             for m in &t.methods {
                 header.push(format!("{prefix}{}", m.label));
                 columns.push(m.model.model.curve(&t.fragments, &zs));
+                header.push(format!("{prefix}{} count", m.label));
+                columns.push(m.model.model.count_curve(&t.fragments, &zs, t.hair_alpha));
             }
         }
         let mut out = header.join(",");
@@ -78,7 +82,9 @@ mod tests {
             far: fragment.0,
             depths: depths.to_vec(),
             reference: Vec::new(),
+            reference_count: Vec::new(),
             reference_error: None,
+            hair_alpha: 0.5,
             methods: Vec::new(),
             color: None,
         }
@@ -93,12 +99,20 @@ mod tests {
         };
         let text = curves.csv();
         let mut lines = text.lines();
-        assert_eq!(lines.next(), Some("depth,reference,pin1 reference"));
+        assert_eq!(
+            lines.next(),
+            Some("depth,reference,reference count,pin1 reference,pin1 reference count")
+        );
         let rows: Vec<Vec<f32>> = lines
             .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
             .collect();
-        // V(z) = exp(-sum of b) over the fragments before z: 1 before the fragment, 1 - alpha after it.
-        let want = [[0.1, 1.0, 1.0], [0.3, 0.5, 0.25], [0.4, 0.5, 0.25]];
+        // V(z) = exp(-sum of b) over the fragments before z: 1 before the fragment, 1 - alpha after it; the count
+        // beside each: 0 strands in front, then 1.
+        let want = [
+            [0.1, 1.0, 0.0, 1.0, 0.0],
+            [0.3, 0.5, 1.0, 0.25, 1.0],
+            [0.4, 0.5, 1.0, 0.25, 1.0],
+        ];
         assert_eq!(rows.len(), want.len());
         for (row, want) in rows.iter().zip(want) {
             for (got, want) in row.iter().zip(want) {

@@ -36,6 +36,8 @@ pub struct MethodCurve {
     pub model: PlotModel,
     /// `V` at [`TexelPlot::depths`].
     pub values: Vec<f32>,
+    /// The method's hair count at [`TexelPlot::depths`] ([`TexelModel::count_curve`]).
+    pub counts: Vec<f32>,
     /// Texel error against the reference (`metrics::texel_error`, default grid); `None` for an empty texel.
     pub error: Option<TexelError>,
     /// The method chosen in the side panel (its stored structure is drawn).
@@ -55,8 +57,12 @@ pub struct TexelPlot {
     /// The exact reference at [`TexelPlot::depths`] (a step curve: each fragment depth `d` is sampled at `d`
     /// and just after it).
     pub reference: Vec<f32>,
+    /// The exact hair count at [`TexelPlot::depths`]: fragments in front.
+    pub reference_count: Vec<f32>,
     /// The reference's own texel error (0 by definition: a check of the metric).
     pub reference_error: Option<TexelError>,
+    /// The uniform hair alpha the methods' counts are read at ([`visibility::count_from_visibility`]).
+    pub hair_alpha: f32,
     pub methods: Vec<MethodCurve>,
     /// A pin's colour.
     pub color: Option<Color32>,
@@ -178,7 +184,9 @@ fn texel_plot(
         near,
         far,
         reference: visibility::Reference.curve(f, &depths),
+        reference_count: visibility::Reference.count_curve(f, &depths, input.hair_alpha),
         reference_error: metrics::texel_error(&visibility::Reference, f, grid),
+        hair_alpha: input.hair_alpha,
         methods: models
             .iter()
             .enumerate()
@@ -186,6 +194,7 @@ fn texel_plot(
                 label: m.model.label(),
                 model: m.clone(),
                 values: m.model.curve(f, &depths),
+                counts: m.model.count_curve(f, &depths, input.hair_alpha),
                 error: metrics::texel_error(m.model.as_ref(), f, grid),
                 selected: selected == Some(i),
             })
@@ -261,6 +270,13 @@ mod tests {
         let i = plot.depths.iter().position(|&z| z == 0.3).unwrap();
         assert!((plot.reference[i] - 0.5).abs() < 1e-6 && (plot.reference[i + 1] - 0.25).abs() < 1e-6);
         assert_eq!(plot.reference_error.unwrap().max, 0.0);
+        // The counts beside: 1 strand in front at 0.3 (the fragment at 0.2), 2 just after; OSM's count is
+        // -ln V / ln 2 of its own curve.
+        assert_eq!((plot.reference_count[i], plot.reference_count[i + 1]), (1.0, 2.0));
+        let m = &plot.methods[0];
+        for (c, v) in m.counts.iter().zip(&m.values) {
+            assert!((c - visibility::count_from_visibility(*v, 0.5)).abs() < 1e-6);
+        }
         assert!(plot.methods[0].error.unwrap().mean > 0.0);
 
         let empty = ParamValues::new();

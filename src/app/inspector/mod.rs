@@ -1,5 +1,6 @@
 //! The texel inspector: one light-map texel's exact fragments, the reference visibility `V(z)` and the methods'
-//! reconstructions of it, with what each method stores drawn on the plot and the texel's error figures.
+//! reconstructions of it, with what each method stores drawn on the plot and the texel's error figures; or,
+//! with the "V / count" toggle, the hair count `n(z)` of the reference and of each method (`count_plot`).
 //!
 //! A texel is chosen by clicking hair in the viewport (`scene::pick`), by clicking the light-map view
 //! (`lightmap_view.rs`), or made up in the synthetic texel lab (`texel_lab.rs`). Texels can be pinned for
@@ -8,6 +9,7 @@
 //! (`curves`), their drawing (`plot`), the whole-map statistics (`map_stats`) and the CSV export (`csv`); [`Inspector::ui`] draws the window from its own
 //! state and the [`InspectorDeps`] it is given.
 
+mod count_plot;
 mod csv;
 mod curves;
 mod lists;
@@ -119,6 +121,8 @@ pub struct Inspector {
     pub selected: Option<SceneTexel>,
     /// Plot every method with a CPU model, not only the selected one.
     pub show_all: bool,
+    /// Plot the hair count `n(z)` in place of `V(z)`.
+    pub show_count: bool,
     pub lab: LabSettings,
     pins: Vec<Pin>,
     pins_made: usize,
@@ -366,6 +370,12 @@ impl Inspector {
             ui.separator();
             ui.checkbox(&mut self.show_all, "every method")
                 .on_hover_text("plot every method with a CPU model (the others at their default parameters)");
+            ui.selectable_value(&mut self.show_count, false, "V")
+                .on_hover_text("plot the visibility V(z)");
+            ui.selectable_value(&mut self.show_count, true, "count").on_hover_text(
+                "plot the hair count n(z): strands in front (exact for the reference; occupancy maps count \
+                 occupied slots; the others -ln V / b(α) at the scene's hair alpha)",
+            );
             if ui
                 .button("Pin")
                 .on_hover_text("keep this texel's curves on the plot")
@@ -413,13 +423,18 @@ impl Inspector {
         };
         let stats = self.map_stats();
         let scene = self.source == Source::Scene;
+        let show_count = self.show_count;
         let mut compute = false;
         ui.horizontal_top(|ui| {
             let side = 250.0;
             let width = (ui.available_width() - side).max(200.0);
             ui.vertical(|ui| {
                 ui.set_width(width);
-                plot::plot(ui, curves, height);
+                if show_count {
+                    count_plot::plot(ui, curves, height);
+                } else {
+                    plot::plot(ui, curves, height);
+                }
             });
             ui.vertical(|ui| {
                 ui.set_width(side - 10.0);

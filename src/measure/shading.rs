@@ -1,0 +1,141 @@
+//! The image error of each shadow method under each strand shading model (`measure shadows --shading a,b`):
+//! how much a method's error grows when the shading it is judged under changes, e.g. when Marschner's
+//! transmitted lobe (TT) lights the hair from behind. For every model the reference image is shaded with that
+//! model, so each figure is the shadows' error alone under that shading. The visibility error at the visible
+//! hair points (`Measurement::shading_error`) does not depend on the shading model and is not repeated here.
+
+use super::{IMAGE_SIZE, MethodConfig, image_error};
+use crate::gpu::Gpu;
+use crate::methods::{ParamValues, ShadowMethod, registry};
+use crate::render::{FrameInput, Renderer};
+use crate::settings::Settings;
+use crate::shading::ShadingModel;
+use anyhow::Result;
+
+/// One method's image error under one shading model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingError {
+    pub model: ShadingModel,
+    /// RMSE (RGB in [0,1]) of the image against the reference image under the same model.
+    pub image_rmse: f64,
+    /// Mean FLIP over all pixels against the same reference image.
+    pub image_flip: f64,
+}
+
+/// One configuration's errors, one per shading model asked for, in the order asked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadingRow {
+    pub config: MethodConfig,
+    pub errors: Vec<ShadingError>,
+}
+
+/// Renders the scene of `settings` at [`IMAGE_SIZE`] under each of `models`, with the reference and with each
+/// of `configs`, and compares each method's image with the reference image of the same model.
+pub fn shading_errors_on(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[MethodConfig],
+    models: &[ShadingModel],
+    mut progress: impl FnMut(&str),
+) -> Result<Vec<ShadingRow>> {
+    let mut s = settings.clone();
+    let scene = s.scene.build()?;
+    if s.camera.distance <= 0.0 {
+        s.camera.frame(&scene.framing_bounds());
+    }
+    let mut r = Renderer::new(gpu, &scene, s.render.map_resolution)?;
+    let technique = crate::render::transparency::registry::reference();
+    let empty = ParamValues::new();
+    let mut rows: Vec<ShadingRow> = configs
+        .iter()
+        .map(|c| ShadingRow {
+            config: c.clone(),
+            errors: Vec::new(),
+        })
+        .collect();
+    for &model in models {
+        progress(model.word());
+        let mut render = s.render.clone();
+        render.shading = model;
+        let (w, h) = IMAGE_SIZE;
+        let mut image =
+            |method: &'static dyn ShadowMethod, params: &ParamValues| -> Result<image::RgbaImage> {
+                r.render(&FrameInput {
+                    camera: &s.camera,
+                    light: &s.light,
+                    render: &render,
+                    method,
+                    method_params: params,
+                    technique,
+                    technique_params: &s.transparency.params,
+                    width: w,
+                    height: h,
+                })?;
+                Ok(r.read_output()?)
+            };
+        let reference = image(registry::reference(), &empty)?;
+        for row in &mut rows {
+            let method = registry::find(&row.config.name).map_err(anyhow::Error::msg)?;
+            let shaded = image(method, &row.config.params)?;
+            let (image_rmse, _) = image_error(&shaded, &reference);
+            let image_flip = crate::transparency::FlipMap::new(&shaded, &reference)
+                .metrics(|_, _| false)
+                .mean;
+            row.errors.push(ShadingError {
+                model,
+                image_rmse,
+                image_flip,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// CSV `method,<model> img RMSE,<model> FLIP,...`: one row per configuration.
+pub fn csv(models: &[ShadingModel], rows: &[ShadingRow]) -> String {
+    let mut out = String::from("method");
+    for m in models {
+        out += &format!(",{} img RMSE,{} FLIP", m.word(), m.word());
+    }
+    out.push('\n');
+    for row in rows {
+        out += &row.config.label();
+        for e in &row.errors {
+            out += &format!(",{},{}", e.image_rmse, e.image_flip);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CSV holds one column pair per model, in the order asked, and one row per configuration.
+    #[test]
+    fn csv_has_a_column_pair_per_model() {
+        let models = [ShadingModel::KajiyaKay, ShadingModel::Marschner];
+        let config = MethodConfig::new(registry::reference().name(), ParamValues::new());
+        let rows = [ShadingRow {
+            config: config.clone(),
+            errors: models
+                .iter()
+                .zip([(0.5, 0.25), (0.125, 0.75)])
+                .map(|(&model, (image_rmse, image_flip))| ShadingError {
+                    model,
+                    image_rmse,
+                    image_flip,
+                })
+                .collect(),
+        }];
+        let text = csv(&models, &rows);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0],
+            "method,kajiya-kay img RMSE,kajiya-kay FLIP,marschner img RMSE,marschner FLIP"
+        );
+        assert_eq!(lines[1], format!("{},0.5,0.25,0.125,0.75", config.label()));
+        assert_eq!(lines.len(), 2);
+    }
+}

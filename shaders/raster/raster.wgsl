@@ -16,8 +16,8 @@ fn texel_space(c: vec4<f32>, res: f32) -> vec2<f32> {
     return vec2<f32>((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
 }
 
-// Counts segment `s`'s fragments, and writes them from `base` on when `write`.
-fn raster_segment(s: u32, write: bool, base: u32) -> u32 {
+// Counts segment `s`'s fragments, and writes them from `base` on when `emit`.
+fn raster_segment(s: u32, emit: bool, base: u32) -> u32 {
     let i0 = ribbon_segments[2u * s];
     let p0 = ribbon_points[i0];
     let p1 = ribbon_points[ribbon_segments[2u * s + 1u]];
@@ -44,7 +44,7 @@ fn raster_segment(s: u32, write: bool, base: u32) -> u32 {
     let dv = bv - av;
     let lo = max(floor(min(au, bu) - 0.5), 0.0);
     let hi = min(ceil(max(au, bu) - 0.5), res - 1.0);
-    if du == 0.0 || !(lo <= hi) {
+    if du == 0.0 || lo > hi {
         return 0u;
     }
     let n = u32(hi - lo) + 1u;
@@ -59,7 +59,7 @@ fn raster_segment(s: u32, write: bool, base: u32) -> u32 {
         if !(jv >= 0.0 && jv < res) {
             continue;
         }
-        if write {
+        if emit {
             let x = u32(select(iu, jv, major_y));
             let y = u32(select(jv, iu, major_y));
             raster_stream[base + k] = RasterFragment(y * resolution + x, d0 + t * (d1 - d0), a0 + t * (a1 - a0), i0);
@@ -94,6 +94,6 @@ fn fill(
 ) {
     let s = segment_of(group, groups, local);
     if s < arrayLength(&raster_counts) - 1u {
-        raster_segment(s, true, raster_counts[s]);
+        _ = raster_segment(s, true, raster_counts[s]);
     }
 }

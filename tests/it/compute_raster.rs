@@ -19,8 +19,9 @@ fn compute(s: &mut Settings) {
 }
 
 /// The stream of a 300-strand head at 64² (both alpha modes) against the CPU model run on the same frame
-/// uniforms and strand points: the same texels and segments in the same order, depth and alpha within 1e-5
-/// (float contraction may differ between the CPU and the shader compiler; measured max: see the printed line).
+/// uniforms and strand points: the same texels and segments in the same order, depth and alpha within 1e-6
+/// (float contraction may differ between the CPU and the shader compiler; measured on lavapipe: 6555
+/// fragments, depth 3.0e-7, alpha 0 in both modes).
 #[test]
 fn gpu_stream_equals_cpu_model() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -118,7 +119,9 @@ fn segments(lists: &[Vec<RefFragment>]) -> Vec<Vec<u32>> {
 /// texels whose covering segments differ, and the ratio of fragment totals. Under the major-axis rule a segment
 /// of length L texels covers L·max(|cos θ|, |sin θ|) texels; hardware lines cover that many too, or about L
 /// when drawn as one-texel-wide rectangles (Vulkan's lines when not strict), 1 / 0.90 as many on average over
-/// directions: the totals lie within [0.8, 1.1] of each other either way. Measured: see the printed lines.
+/// directions: the totals lie within [0.8, 1.1] of each other either way. Measured on lavapipe: 64², 55.5 % of
+/// 1166 covered texels differ, totals 0.901; 256², 24.3 % of 12747 differ, totals 0.892 (its lines are
+/// rectangles).
 #[test]
 fn compute_coverage_against_hardware_lines() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -143,7 +146,7 @@ fn compute_coverage_against_hardware_lines() {
         );
         assert!(covered > 100, "{resolution}²: test scene too thin");
         assert!(
-            (0.9..=1.1).contains(&ratio),
+            (0.8..=1.1).contains(&ratio),
             "{resolution}²: fragment totals {ratio}"
         );
     }

@@ -12,8 +12,8 @@
 //! stage computes them) interpolated linearly in `t`; the segment id is its first point. Fragments come in
 //! segment order, each segment's from `a` to `b`. A segment with an endpoint at or behind the light's plane
 //! (clip w ≤ 0) covers nothing; depth is not clipped (the hair frame is fitted to the strands).
-//! The model of Unreal Engine 5's compute strand rasteriser (`HairStrandsVisibilityRasterCompute`) reduced to
-//! the light-fragment contract.
+//! After the compute strand rasterisers of Unreal Engine 5 (`HairStrandsVisibilityRasterCompute`) and Frostbite
+//! (Tafuri 2019; `docs/citations.md`), reduced to the light-fragment contract.
 
 use crate::render::geometry::HairVertex;
 use crate::render::uniforms::FrameUniforms;
@@ -59,18 +59,18 @@ pub fn cover(a: Vec2, b: Vec2, resolution: u32) -> Vec<((u32, u32), f32)> {
     let lo = (au.min(bu) - 0.5).floor().max(0.0);
     let hi = (au.max(bu) - 0.5).ceil().min(res - 1.0);
     let mut out = Vec::new();
-    if du == 0.0 || !(lo <= hi) {
+    if du == 0.0 || lo > hi {
         return out;
     }
     let n = (hi - lo) as u32 + 1;
     for m in 0..n {
         let iu = if du < 0.0 { hi - m as f32 } else { lo + m as f32 };
         let t = (iu + 0.5 - au) / du;
-        if !(t >= 0.0 && t < 1.0) {
+        if !(0.0..1.0).contains(&t) {
             continue;
         }
         let jv = (av + t * dv).floor();
-        if !(jv >= 0.0 && jv < res) {
+        if !(0.0..res).contains(&jv) {
             continue;
         }
         let (x, y) = if major_y { (jv, iu) } else { (iu, jv) };
@@ -178,8 +178,8 @@ mod tests {
     #[test]
     fn segment_inside_one_texel() {
         assert_eq!(texels((3.1, 3.2), (3.4, 3.7)), [(3, 3)]);
-        assert_eq!(texels((3.1, 3.6), (3.3, 3.9)), []);
-        assert_eq!(texels((3.5, 3.5), (3.5, 3.5)), []);
+        assert_eq!(texels((3.1, 3.6), (3.3, 3.9)), Vec::new());
+        assert_eq!(texels((3.5, 3.5), (3.5, 3.5)), Vec::new());
     }
 
     /// A strand through (2.5, 1.5), a texel centre: the first segment stops before it, the second starts on it,
@@ -196,7 +196,7 @@ mod tests {
     #[test]
     fn the_map_edge_cuts_segments() {
         assert_eq!(texels((-3.0, 2.5), (1.7, 2.5)), [(0, 2), (1, 2)]);
-        assert_eq!(texels((9.0, 2.5), (12.0, 2.5)), []);
+        assert_eq!(texels((9.0, 2.5), (12.0, 2.5)), Vec::new());
         assert_eq!(texels((2.5, 7.2), (2.6, 9.0)), [(2, 7)]);
     }
 }

@@ -42,7 +42,7 @@ fn raster_segment(s: u32, emit: bool, base: u32) -> u32 {
     let bv = select(b.y, b.x, major_y);
     let du = bu - au;
     let dv = bv - av;
-    let lo = max(floor(min(au, bu) - 0.5), 0.0);
+    let lo = max(0.0, floor(min(au, bu) - 0.5));
     let hi = min(ceil(max(au, bu) - 0.5), res - 1.0);
     if du == 0.0 || lo > hi {
         return 0u;

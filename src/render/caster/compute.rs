@@ -153,28 +153,28 @@ impl ComputeRaster {
             &self.raster_layout,
             &[&self.counts, &self.stream],
         );
-        let groups = (segments as u32).div_ceil(WORKGROUP);
-        let dispatch = (groups.min(MAX_GROUPS), groups.div_ceil(MAX_GROUPS));
+        let workgroups = (segments as u32).div_ceil(WORKGROUP);
+        let size = (workgroups.min(MAX_GROUPS), workgroups.div_ceil(MAX_GROUPS));
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.raster.count"),
         });
-        for (pipeline, label, size) in [
-            (&self.count, "compute raster: count", dispatch),
-            (&self.scan, "compute raster: prefix sum", (1, 1)),
-        ] {
-            let timestamps = timer
-                .as_mut()
-                .and_then(|t| t.compute_pass(Phase::SharedLight, label));
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: timestamps,
-            });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, frame, &[]);
-            pass.set_bind_group(1, &passes, &[]);
-            pass.set_bind_group(RIBBON_GROUP, &points, &[]);
-            pass.dispatch_workgroups(size.0, size.1, 1);
-        }
+        let groups = [frame, &passes, &points];
+        dispatch(
+            &mut enc,
+            &self.count,
+            "compute raster: count",
+            &groups,
+            size,
+            timer,
+        );
+        dispatch(
+            &mut enc,
+            &self.scan,
+            "compute raster: prefix sum",
+            &groups[..2],
+            (1, 1),
+            timer,
+        );
         let total = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.raster.total"),
             size: 4,
@@ -206,21 +206,8 @@ impl ComputeRaster {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.raster.fill"),
         });
-        {
-            let label = "compute raster: fill";
-            let timestamps = timer
-                .as_mut()
-                .and_then(|t| t.compute_pass(Phase::SharedLight, label));
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: timestamps,
-            });
-            pass.set_pipeline(&self.fill);
-            pass.set_bind_group(0, frame, &[]);
-            pass.set_bind_group(1, &passes, &[]);
-            pass.set_bind_group(RIBBON_GROUP, &points, &[]);
-            pass.dispatch_workgroups(dispatch.0, dispatch.1, 1);
-        }
+        let groups = [frame, &passes, &points];
+        dispatch(&mut enc, &self.fill, "compute raster: fill", &groups, size, timer);
         gpu.queue.submit([enc.finish()]);
         Ok(())
     }
@@ -247,6 +234,29 @@ impl LightCaster for ComputeRaster {
         pass.set_bind_group(RIBBON_GROUP, &self.draw_group, &[]);
         pass.draw(0..self.total, instances);
     }
+}
+
+/// Records a compute pass of `pipeline` over `size` workgroups, `groups` bound at 0, 1 and [`RIBBON_GROUP`].
+fn dispatch(
+    enc: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    label: &str,
+    groups: &[&wgpu::BindGroup],
+    size: (u32, u32),
+    timer: &mut Option<GpuTimer>,
+) {
+    let timestamps = timer
+        .as_mut()
+        .and_then(|t| t.compute_pass(Phase::SharedLight, label));
+    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: timestamps,
+    });
+    pass.set_pipeline(pipeline);
+    for (index, group) in [0, 1, RIBBON_GROUP].into_iter().zip(groups) {
+        pass.set_bind_group(index, *group, &[]);
+    }
+    pass.dispatch_workgroups(size.0, size.1, 1);
 }
 
 fn buffer(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {

@@ -318,6 +318,9 @@ impl Settings {
                 r.light_min_width
             );
         }
+        if let Err(e) = r.raster.stage(r.light_strands) {
+            bail!("{e}");
+        }
         for (k, c) in [
             ("render.hair_color", r.hair_color),
             ("render.background", r.background),

@@ -3,7 +3,7 @@
 
 use super::{DialogPurpose, HairlabApp, method_names};
 use crate::methods::{self, ParamKind, ParamSpec, ParamValues, registry};
-use crate::render::LightStrands;
+use crate::render::{LightStrands, Raster};
 use crate::scene::generate::{GenKind, HairStyle};
 use crate::scene::{LightFit, LightKind};
 
@@ -388,7 +388,8 @@ impl HairlabApp {
                     ui.selectable_value(&mut l.fit, LightFit::PerFrame, "per frame");
                     ui.selectable_value(&mut l.fit, LightFit::Bound, "bound");
                 });
-                let strands = &mut self.settings.render.light_strands;
+                let render = &mut self.settings.render;
+                let raster_before = render.raster;
                 ui.horizontal(|ui| {
                     ui.label("strands").on_hover_text(
                         "How every light pass and the exact reference draw the strands: lines, or light-facing \
@@ -396,11 +397,28 @@ impl HairlabApp {
                          flicker in motion). render.light_strands",
                     );
                     for s in LightStrands::ALL {
-                        ui.selectable_value(strands, s, s.word());
+                        ui.selectable_value(&mut render.light_strands, s, s.word());
                     }
                 });
-                if *strands == LightStrands::Ribbons {
-                    let width = &mut self.settings.render.light_min_width;
+                ui.horizontal(|ui| {
+                    ui.label("raster").on_hover_text(
+                        "How the strand lines become light texels: the GPU's line rasteriser, or the compute \
+                         rasteriser (a fragment stream under a written coverage rule; lines only). render.raster",
+                    );
+                    for r in Raster::ALL {
+                        ui.selectable_value(&mut render.raster, r, r.word());
+                    }
+                });
+                // The compute rasteriser lines the strands only: the choice just made gives up the other.
+                if render.raster == Raster::Compute && render.light_strands == LightStrands::Ribbons {
+                    if raster_before == Raster::Compute {
+                        render.raster = Raster::Hardware;
+                    } else {
+                        render.light_strands = LightStrands::Lines;
+                    }
+                }
+                if render.light_strands == LightStrands::Ribbons {
+                    let width = &mut render.light_min_width;
                     ui.horizontal(|ui| {
                         ui.label("least width").on_hover_text(
                             "Least ribbon width in light texels: a thinner strand is drawn this wide, its alpha \

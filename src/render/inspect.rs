@@ -3,12 +3,15 @@
 //! the images and depth maps of the last frame, its eye depth complexity, the memory held by part, the GPU
 //! timings, the frame's matrices and light frame, and the renderer's sizes, generations and creation counts.
 
+use super::caster::Raster;
+use super::caster::raster_model::RasterFragment;
 use super::light_frame::LightFrame;
 use super::method::{LightMethod, MethodGpu, ParamValues};
 use super::passes::abuffer::RefFragment;
 use super::passes::depth_peel::DepthPeel;
 use super::scene_gpu::SceneGpu;
 use super::transparency::{self, TransparencyGpu};
+use super::uniforms::FrameUniforms;
 use super::{Creations, FrameInput, MemoryReport, RenderSettings, Renderer, frame, passes};
 use crate::gpu::Gpu;
 use crate::gpu::timing::PassTime;
@@ -69,16 +72,13 @@ impl Renderer {
         light: &Light,
         render: &RenderSettings,
     ) -> Result<Vec<Vec<RefFragment>>, GpuError> {
-        self.ensure_map_size(render.map_resolution)?;
-        let device = self.gpu.device.clone();
-        self.light
-            .ensure_stage(&device, &self.bindings.frame_layout, render.light_strands);
-        let u = self.frame_uniforms(camera, light, render, (1, 1), [0.0; 4]);
-        self.gpu
-            .queue
-            .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
+        self.prepare_light_view(camera, light, render)?;
         let gpu = self.gpu.clone();
-        let casters = self.scene.casters(self.light.strands())?;
+        let mut abuffer = match self.light.reference.take() {
+            Some(a) => a,
+            None => passes::abuffer::ABuffer::new(&gpu, &self.bindings.frame_layout, &self.light.stage),
+        };
+        let casters = self.light.casters(&self.scene)?;
         let mut enc = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -86,10 +86,6 @@ impl Renderer {
             });
         self.light
             .record_depth(&mut enc, &self.bindings.frame_group, &casters, &mut self.timer);
-        let mut abuffer = match self.light.reference.take() {
-            Some(a) => a,
-            None => passes::abuffer::ABuffer::new(&gpu, &self.bindings.frame_layout, &self.light.stage),
-        };
         let resolution = self.light.maps.near.width();
         let prepared = abuffer.prepare(&gpu, &self.bindings.frame_group, &casters, resolution, &mut None);
         if prepared.is_ok() {
@@ -104,18 +100,68 @@ impl Renderer {
     /// Depth-peels the strands of the last frame's light view (the slow exact reference; see
     /// [`passes::depth_peel`]).
     pub fn depth_peel(&mut self, max_layers: u32) -> Result<passes::depth_peel::Peeled, GpuError> {
-        let casters = self.scene.casters(self.light.strands())?;
-        let peel = self
-            .light
-            .peel
-            .get_or_insert_with(|| DepthPeel::new(&self.gpu, &self.bindings.frame_layout, &self.light.stage));
-        peel.peel(
-            &self.gpu,
-            &self.bindings.frame_group,
-            &casters,
-            self.light.maps.near.width(),
-            max_layers,
-        )
+        let peel = match self.light.peel.take() {
+            Some(p) => p,
+            None => DepthPeel::new(&self.gpu, &self.bindings.frame_layout, &self.light.stage),
+        };
+        let peeled = self.light.casters(&self.scene).and_then(|casters| {
+            peel.peel(
+                &self.gpu,
+                &self.bindings.frame_group,
+                &casters,
+                self.light.maps.near.width(),
+                max_layers,
+            )
+        });
+        self.light.peel = Some(peel);
+        peeled
+    }
+
+    /// The frame uniforms of the strands' light view under `light` at `render.map_resolution`, written, and
+    /// the light stage and casters made ready for them (the compute rasteriser run under `render.raster =
+    /// compute`).
+    fn prepare_light_view(
+        &mut self,
+        camera: &Camera,
+        light: &Light,
+        render: &RenderSettings,
+    ) -> Result<FrameUniforms, GpuError> {
+        self.ensure_map_size(render.map_resolution)?;
+        let device = self.gpu.device.clone();
+        self.light.ensure_stage(
+            &device,
+            &self.bindings.frame_layout,
+            render.light_strands,
+            render.raster,
+        )?;
+        let u = self.frame_uniforms(camera, light, render, (1, 1), [0.0; 4]);
+        self.gpu
+            .queue
+            .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
+        self.light
+            .prepare_casters(&self.gpu, &self.bindings, &self.scene, &mut None)?;
+        Ok(u)
+    }
+
+    /// The compute rasteriser's fragment stream of the strands' light view under `light` at
+    /// `render.map_resolution` (`render.raster` taken as `compute`), read back, with the frame uniforms its CPU
+    /// model ([`crate::render::caster::raster_model::rasterise`]) takes.
+    pub fn raster_stream(
+        &mut self,
+        camera: &Camera,
+        light: &Light,
+        render: &RenderSettings,
+    ) -> Result<(Vec<RasterFragment>, FrameUniforms), GpuError> {
+        let render = RenderSettings {
+            raster: Raster::Compute,
+            ..render.clone()
+        };
+        let u = self.prepare_light_view(camera, light, &render)?;
+        let stream = match self.light.compute_raster() {
+            Some(c) => c.read_stream(&self.gpu)?,
+            None => Vec::new(),
+        };
+        Ok((stream, u))
     }
 
     /// The GPU state of `method`, when it is the method of the last frame.

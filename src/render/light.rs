@@ -5,7 +5,8 @@
 
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::caster::{LightCaster, LightStage, LightStrands};
+use crate::render::caster::compute::ComputeRaster;
+use crate::render::caster::{LightCaster, LightStage, LightStrands, Raster};
 use crate::render::frame_bindings::FrameBindings;
 use crate::render::method::{LightMethod, MethodContext, MethodGpu};
 use crate::render::passes::abuffer::ABuffer;
@@ -21,7 +22,11 @@ pub const SHADOW_MAP_RESOLUTION: u32 = 2048;
 pub struct LightSide {
     /// How the strands are drawn from the light, and the stage every light pipeline below is built for.
     strands: LightStrands,
+    /// How the strand lines become texels.
+    raster: Raster,
     pub stage: LightStage,
+    /// The compute rasteriser's state under [`Raster::Compute`], created on first use.
+    compute: Option<ComputeRaster>,
     depth_pass: LightDepthPass,
     pub maps: LightDepthMaps,
     shadow_pass: ShadowMapPass,
@@ -60,7 +65,9 @@ impl LightSide {
             depth_pass: LightDepthPass::new(device, frame_layout, &stage),
             shadow_pass: ShadowMapPass::new(device, frame_layout),
             strands,
+            raster: Raster::default(),
             stage,
+            compute: None,
             maps,
             shadow_map,
             method: None,
@@ -74,22 +81,61 @@ impl LightSide {
         self.strands
     }
 
-    /// Rebuilds every light pipeline for `strands`' caster stage when it changed: the light-depth pass now, the
-    /// method's and the reference's with their states.
+    /// How the strand lines become texels.
+    pub fn raster(&self) -> Raster {
+        self.raster
+    }
+
+    /// Rebuilds every light pipeline for the caster stage of `strands` under `raster` when it changed: the
+    /// light-depth pass now, the method's and the reference's with their states. An undrawn combination is a
+    /// setting error naming the keys.
     pub fn ensure_stage(
         &mut self,
         device: &wgpu::Device,
         frame_layout: &wgpu::BindGroupLayout,
         strands: LightStrands,
-    ) {
-        if self.strands != strands {
+        raster: Raster,
+    ) -> Result<(), GpuError> {
+        if (self.strands, self.raster) != (strands, raster) {
+            let caster = raster.stage(strands).map_err(GpuError::Setting)?;
             self.strands = strands;
-            self.stage.caster = strands.stage();
+            self.raster = raster;
+            self.stage.caster = caster;
             self.depth_pass = LightDepthPass::new(device, frame_layout, &self.stage);
             self.method = None;
             self.reference = None;
             self.peel = None;
         }
+        Ok(())
+    }
+
+    /// Runs the compute rasteriser over `scene` under the frame uniforms bound in `frame` (written before),
+    /// when the frame's strands are rasterised in compute: before any light pass of the frame draws them.
+    pub fn prepare_casters(
+        &mut self,
+        gpu: &Gpu,
+        bindings: &FrameBindings,
+        scene: &SceneGpu,
+        timer: &mut Option<GpuTimer>,
+    ) -> Result<(), GpuError> {
+        if self.raster == Raster::Compute {
+            let compute = self.compute.get_or_insert_with(|| {
+                ComputeRaster::new(gpu, &bindings.frame_layout, &self.stage.ribbon_layout)
+            });
+            compute.prepare(gpu, &bindings.frame_group, scene, timer)?;
+        }
+        Ok(())
+    }
+
+    /// What the light passes of a frame draw: the scene's casters of the strands, or under [`Raster::Compute`]
+    /// the compute rasteriser's stream (prepared by [`LightSide::prepare_casters`]).
+    pub fn casters<'a>(&'a self, scene: &'a SceneGpu) -> Result<[&'a dyn LightCaster; 1], GpuError> {
+        casters_of(self.raster, self.compute.as_ref(), scene, self.strands)
+    }
+
+    /// The compute rasteriser's state, once it has run.
+    pub fn compute_raster(&self) -> Option<&ComputeRaster> {
+        self.compute.as_ref()
     }
 
     /// Records the light-depth pass of `casters` into `enc`.
@@ -116,7 +162,7 @@ impl LightSide {
         enc: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) -> Result<bool, GpuError> {
-        let casters = scene.casters(self.strands)?;
+        let casters = casters_of(self.raster, self.compute.as_ref(), scene, self.strands)?;
         self.record_depth(enc, &bindings.frame_group, &casters, timer);
         let timestamps = ts(timer, Phase::SharedLight, "mesh shadow map");
         self.shadow_pass
@@ -157,5 +203,21 @@ impl LightSide {
                     method.name()
                 ))
             })
+    }
+}
+
+/// [`LightSide::casters`] over its fields (so that the method state can be replaced while they are drawn).
+fn casters_of<'a>(
+    raster: Raster,
+    compute: Option<&'a ComputeRaster>,
+    scene: &'a SceneGpu,
+    strands: LightStrands,
+) -> Result<[&'a dyn LightCaster; 1], GpuError> {
+    match (raster, compute) {
+        (Raster::Hardware, _) => scene.casters(strands),
+        (Raster::Compute, Some(c)) => Ok([c]),
+        (Raster::Compute, None) => Err(GpuError::Setting(
+            "render.raster = compute: the compute rasteriser has not run for this frame".into(),
+        )),
     }
 }

@@ -42,7 +42,7 @@ use scene_gpu::SceneGpu;
 pub use frame::{FrameInput, footprint_per_w};
 pub use light::SHADOW_MAP_RESOLUTION;
 pub use memory::{Creations, MemoryReport};
-pub use render_settings::{AlphaMode, DEFAULT_STRAND_WIDTH, LightStrands, RenderSettings};
+pub use render_settings::{AlphaMode, DEFAULT_STRAND_WIDTH, LightStrands, Raster, RenderSettings};
 use targets::EyeTargets;
 use transparency::{EyeTransparency, TransparencyGpu};
 use uniforms::FrameUniforms;
@@ -366,12 +366,18 @@ impl Renderer {
     fn record_light_passes(&mut self, f: &FrameInput) -> Result<wgpu::CommandEncoder, GpuError> {
         self.ensure_map_size(f.render.map_resolution)?;
         let device = self.gpu.device.clone();
-        self.light
-            .ensure_stage(&device, &self.bindings.frame_layout, f.render.light_strands);
+        self.light.ensure_stage(
+            &device,
+            &self.bindings.frame_layout,
+            f.render.light_strands,
+            f.render.raster,
+        )?;
         let u = self.uniforms(f);
         self.gpu
             .queue
             .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
+        self.light
+            .prepare_casters(&self.gpu, &self.bindings, &self.scene, &mut self.timer)?;
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.frame.encoder"),
         });

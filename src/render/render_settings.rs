@@ -1,7 +1,7 @@
 //! How a frame is rendered ([`RenderSettings`], the `[render]` preset section), how a strand fragment's alpha
 //! is found ([`AlphaMode`]) and how it is shaded ([`ShadingModel`]).
 
-pub use crate::render::caster::LightStrands;
+pub use crate::render::caster::{LightStrands, Raster};
 pub use crate::shading::ShadingModel;
 use serde::{Deserialize, Serialize};
 
@@ -42,6 +42,10 @@ pub struct RenderSettings {
     /// this wide with its alpha scaled by the covered fraction, so its opacity spreads over more texels and a
     /// sub-texel move changes each texel less.
     pub light_min_width: f32,
+    /// How the strand lines become light texels: `hardware` (the GPU's line rasteriser) or `compute` (the compute
+    /// rasteriser's fragment stream under its written coverage rule, drawn as points; lines only, so it needs
+    /// `light_strands = lines`; [`Raster`]).
+    pub raster: Raster,
 }
 
 impl Default for RenderSettings {
@@ -60,6 +64,7 @@ impl Default for RenderSettings {
             jitter: false,
             light_strands: LightStrands::Lines,
             light_min_width: 1.0,
+            raster: Raster::Hardware,
         }
     }
 }

@@ -9,6 +9,7 @@ mod common;
 mod app_ui;
 mod bench;
 mod cli;
+mod compute_raster;
 mod coverage_alpha;
 mod docs;
 mod fur_density;

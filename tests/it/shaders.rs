@@ -2,7 +2,8 @@
 //! and vertex structs match the WGSL declarations.
 
 use hairlab::methods::registry;
-use hairlab::render::LightStrands;
+use hairlab::render::caster::ALL_STAGES;
+use hairlab::render::caster::raster_model::{RASTER_FRAGMENT_FIELDS, RasterFragment};
 use hairlab::render::geometry::{HAIR_VERTEX_FIELDS, HairVertex, MeshVertex};
 use hairlab::render::transparency::registry as techniques;
 use hairlab::render::uniforms::{FRAME_UNIFORMS_FIELDS, FrameUniforms};
@@ -63,8 +64,7 @@ fn every_light_pass_validates_with_every_caster() {
         .filter(|p| compose(p, None).is_ok_and(|src| src.contains("fn light_vertex(")))
         .collect();
     assert!(light_passes.len() >= 10, "only {light_passes:?}");
-    for strands in LightStrands::ALL {
-        let stage = strands.stage();
+    for stage in ALL_STAGES {
         for pass in &light_passes {
             let src = compose_light(pass, stage.wgsl).unwrap();
             let (module, _) = validate(&format!("{pass} + {}", stage.wgsl), &src);
@@ -345,6 +345,19 @@ fn ribbon_hair_points_match_the_rust_hair_vertex() {
         std::mem::size_of::<HairVertex>(),
         HAIR_VERTEX_FIELDS,
         &[("common/eye_vertex.wgsl", None, "HairPoint")],
+    );
+}
+
+/// The compute rasteriser's stream fragment, in the passes that write it and the caster that draws it.
+#[test]
+fn raster_fragment_matches_wgsl_layout() {
+    check_mirror(
+        std::mem::size_of::<RasterFragment>(),
+        RASTER_FRAGMENT_FIELDS,
+        &[
+            ("raster/raster.wgsl", None, "RasterFragment"),
+            ("common/raster_stream.wgsl", None, "RasterFragment"),
+        ],
     );
 }
 

@@ -10,8 +10,13 @@
 //! ribbons with a minimum width of one texel and a coverage alpha ([`ribbons`], the anti-aliasing engines apply
 //! in the shadow view). Every light pass and the reference draw the same casters, so the reference stays exact
 //! for what the methods see.
+//!
+//! How the strand lines become light texels is [`Raster`]: the GPU's line rasteriser, or the compute rasteriser
+//! ([`compute`]) whose fragment stream (under the written coverage rule of [`raster_model`]) is drawn as points.
 
+pub mod compute;
 pub mod lines;
+pub mod raster_model;
 pub mod ribbons;
 
 use crate::render::geometry::RIBBON_GROUP;
@@ -71,6 +76,46 @@ impl LightStrands {
         }
     }
 }
+
+/// How the strand lines become light texels (`render.raster`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Raster {
+    /// The GPU's line rasteriser ([`lines::LINES`], or the ribbons' triangles).
+    #[default]
+    Hardware,
+    /// The compute rasteriser ([`compute::COMPUTE`]): lines only, under the coverage rule of [`raster_model`].
+    Compute,
+}
+
+impl Raster {
+    pub const ALL: [Raster; 2] = [Raster::Hardware, Raster::Compute];
+
+    /// The setting's word.
+    pub fn word(self) -> &'static str {
+        match self {
+            Raster::Hardware => "hardware",
+            Raster::Compute => "compute",
+        }
+    }
+
+    /// The vertex stage of the strands drawn as `strands` by this rasteriser, or the error naming the keys when
+    /// the combination is not drawn (the compute rasteriser lines strands only).
+    pub fn stage(self, strands: LightStrands) -> Result<&'static CasterStage, String> {
+        match (self, strands) {
+            (Raster::Hardware, s) => Ok(s.stage()),
+            (Raster::Compute, LightStrands::Lines) => Ok(&compute::COMPUTE),
+            (Raster::Compute, s) => Err(format!(
+                "render.raster = compute rasterises the strands as lines; render.light_strands = {} needs \
+                 render.raster = hardware",
+                s.word()
+            )),
+        }
+    }
+}
+
+/// Every caster's vertex stage (what the shader tests compose every light pass with).
+pub const ALL_STAGES: [&CasterStage; 3] = [&lines::LINES, &ribbons::RIBBONS, &compute::COMPUTE];
 
 /// The vertex stage the light pipelines of a frame are built for, and the layout its points are bound with.
 #[derive(Clone, Debug)]

@@ -1,0 +1,23 @@
+// The `compute` light caster: the fragment stream of the compute rasteriser (shaders/raster/raster.wgsl), one
+// point per fragment (a non-indexed PointList draw) at its texel's centre, pulled from group 3. The light passes
+// receive exactly the stream's fragments, depth, alpha and segment id through the light-fragment contract.
+#include "common/raster_stream.wgsl"
+
+@group(3) @binding(0) var<storage, read> raster_stream: array<RasterFragment>;
+
+struct LightVertexIn {
+    @builtin(vertex_index) index: u32,
+}
+
+fn light_vertex(v: LightVertexIn) -> LightFragment {
+    let f = raster_stream[v.index];
+    let res = frame.light_map_resolution;
+    let texel = vec2<f32>(f32(f.texel % res), f32(f.texel / res)) + 0.5;
+    let ndc = vec2<f32>(texel.x / f32(res) * 2.0 - 1.0, 1.0 - texel.y / f32(res) * 2.0);
+    var out: LightFragment;
+    out.clip = vec4<f32>(ndc, 0.5, 1.0);
+    out.depth = f.depth;
+    out.alpha = f.alpha;
+    out.segment = f.segment;
+    return out;
+}

@@ -4,11 +4,13 @@
 mod about;
 mod bench_panel;
 pub mod compare_view;
+mod exports;
 mod fur_panel;
 pub mod inspector;
 mod lightmap_view;
 mod panels;
 pub mod pixel_inspector;
+mod shader_watch;
 pub mod texel_lab;
 pub mod timeline;
 mod transparency_panel;
@@ -69,6 +71,9 @@ enum DialogPurpose {
     LoadPreset,
     SavePreset,
     ExportCurves,
+    ExportBench,
+    ExportCompare,
+    ExportPixel,
 }
 
 /// A message for the status line.
@@ -129,6 +134,10 @@ pub struct HairlabApp {
     about_open: bool,
     /// The scene's motion and its playback (`timeline.rs`).
     timeline: timeline::Timeline,
+    /// The `--shaders` folder polled for changes (`shader_watch.rs`).
+    shaders: Option<crate::shaders::live::Watch>,
+    /// Where exports go without a dialog (`exports.rs`).
+    export_dir: Option<PathBuf>,
 }
 
 impl HairlabApp {
@@ -185,6 +194,8 @@ impl HairlabApp {
             help_open: false,
             about_open: false,
             timeline: Default::default(),
+            shaders: None,
+            export_dir: None,
         };
         app.rebuild_scene();
         app
@@ -338,6 +349,17 @@ impl HairlabApp {
                         .set_title("Export texel curves")
                         .save_file(),
                 ),
+                DialogPurpose::ExportBench => {
+                    Box::pin(d.set_title("Export bench results to a folder").pick_folder())
+                }
+                DialogPurpose::ExportCompare => Box::pin(
+                    d.set_title("Export the compared images to a folder")
+                        .pick_folder(),
+                ),
+                DialogPurpose::ExportPixel => Box::pin(
+                    d.set_title("Export the pixel's fragments and plot to a folder")
+                        .pick_folder(),
+                ),
             };
             let picked = pollster::block_on(fut).map(|h| h.path().to_path_buf());
             let _ = tx.send(picked);
@@ -377,6 +399,9 @@ impl HairlabApp {
                 Err(e) => self.error(format!("{e:#}")),
             },
             DialogPurpose::ExportCurves => self.export_inspector_csv(&path),
+            DialogPurpose::ExportBench => self.export_bench(&path),
+            DialogPurpose::ExportCompare => self.export_compare(&path),
+            DialogPurpose::ExportPixel => self.export_pixel(&path),
         }
     }
 
@@ -572,6 +597,7 @@ impl HairlabApp {
             match action {
                 Some(compare_view::CompareAction::Render) => self.render_compare(size, ctx),
                 Some(compare_view::CompareAction::Pick(p)) => self.pixel_inspector.select(p),
+                Some(compare_view::CompareAction::Export) => self.request_compare_export(ctx),
                 None => {}
             }
         }
@@ -583,6 +609,9 @@ impl HairlabApp {
                 .default_size([560.0, 520.0])
                 .show(ctx, |ui| self.pixel_inspector.ui(ui, frames, generation));
             self.pixel_inspector.open = open;
+            if self.pixel_inspector.take_export() {
+                self.request_pixel_export(ctx);
+            }
         }
     }
 
@@ -743,6 +772,7 @@ impl eframe::App for HairlabApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         self.poll_dialog();
+        self.poll_shaders(&ctx);
         self.handle_input(&ctx);
         self.undo_input(&ctx);
         self.play_motion(&ctx);

@@ -255,7 +255,7 @@ impl HairlabApp {
                     .on_hover_text("results.csv, results.json, speed_vs_accuracy.png and .svg, as `hairlab bench` writes them")
                     .clicked()
                 {
-                    self.request_bench_export(ctx);
+                    self.request_export(super::exports::Export::Bench, ctx);
                 }
                 if ui.button("Copy table").on_hover_text("the rows as CSV text").clicked() {
                     self.copy_bench_table(ctx);

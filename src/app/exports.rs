@@ -11,22 +11,50 @@ use crate::bench;
 use crate::bench::report::{chart_files, csv_text, write_files};
 use std::path::{Path, PathBuf};
 
+/// What a window exports into a folder.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Export {
+    Bench,
+    Compare,
+    Pixel,
+}
+
+impl Export {
+    /// The folder dialog's title.
+    pub fn title(self) -> &'static str {
+        match self {
+            Export::Bench => "Export bench results to a folder",
+            Export::Compare => "Export the compared images to a folder",
+            Export::Pixel => "Export the pixel's fragments and plot to a folder",
+        }
+    }
+}
+
 impl HairlabApp {
     /// Exports write into `dir` without asking (`None`: the file dialog asks for a folder each time).
     pub fn set_export_dir(&mut self, dir: Option<PathBuf>) {
         self.export_dir = dir;
     }
 
-    /// The Bench window's export: into the export folder when one is set, else a folder picked in the dialog.
-    pub(super) fn request_bench_export(&mut self, ctx: &egui::Context) {
+    /// Starts the export `what`: into the export folder when one is set, else a folder picked in the dialog.
+    pub(super) fn request_export(&mut self, what: Export, ctx: &egui::Context) {
         match self.export_dir.clone() {
-            Some(dir) => self.export_bench(&dir),
-            None => self.open_dialog(DialogPurpose::ExportBench, ctx),
+            Some(dir) => self.export(what, &dir),
+            None => self.open_dialog(DialogPurpose::Export(what), ctx),
+        }
+    }
+
+    /// Writes the export `what` into the folder `dir`.
+    pub(super) fn export(&mut self, what: Export, dir: &Path) {
+        match what {
+            Export::Bench => self.export_bench(dir),
+            Export::Compare => self.export_compare(dir),
+            Export::Pixel => self.export_pixel(dir),
         }
     }
 
     /// Writes the Bench window's result into `dir` as `hairlab bench --out dir` does.
-    pub(super) fn export_bench(&mut self, dir: &Path) {
+    fn export_bench(&mut self, dir: &Path) {
         let Some(result) = self.bench_result() else {
             return;
         };
@@ -69,17 +97,9 @@ impl HairlabApp {
         }
     }
 
-    /// The pixel inspector's export: into the export folder when one is set, else a folder picked in the dialog.
-    pub(super) fn request_pixel_export(&mut self, ctx: &egui::Context) {
-        match self.export_dir.clone() {
-            Some(dir) => self.export_pixel(&dir),
-            None => self.open_dialog(DialogPurpose::ExportPixel, ctx),
-        }
-    }
-
     /// Writes the pixel inspector's fragment table (`pixel.csv`, [`super::pixel_inspector::PixelReport::csv`])
     /// and transmittance plot (`pixel_transmittance.png` and `.svg`) into `dir`.
-    pub(super) fn export_pixel(&mut self, dir: &Path) {
+    fn export_pixel(&mut self, dir: &Path) {
         let Some(report) = self.pixel_inspector.report() else {
             return;
         };
@@ -94,16 +114,8 @@ impl HairlabApp {
         }
     }
 
-    /// The Compare window's export: into the export folder when one is set, else a folder picked in the dialog.
-    pub(super) fn request_compare_export(&mut self, ctx: &egui::Context) {
-        match self.export_dir.clone() {
-            Some(dir) => self.export_compare(&dir),
-            None => self.open_dialog(DialogPurpose::ExportCompare, ctx),
-        }
-    }
-
     /// Writes the Compare window's frames into `dir` ([`compare_files`]).
-    pub(super) fn export_compare(&mut self, dir: &Path) {
+    fn export_compare(&mut self, dir: &Path) {
         let Some(frames) = self.compare.frames() else {
             return;
         };

@@ -71,9 +71,8 @@ enum DialogPurpose {
     LoadPreset,
     SavePreset,
     ExportCurves,
-    ExportBench,
-    ExportCompare,
-    ExportPixel,
+    /// A window's results into a folder (`exports.rs`).
+    Export(exports::Export),
 }
 
 /// A message for the status line.
@@ -349,17 +348,7 @@ impl HairlabApp {
                         .set_title("Export texel curves")
                         .save_file(),
                 ),
-                DialogPurpose::ExportBench => {
-                    Box::pin(d.set_title("Export bench results to a folder").pick_folder())
-                }
-                DialogPurpose::ExportCompare => Box::pin(
-                    d.set_title("Export the compared images to a folder")
-                        .pick_folder(),
-                ),
-                DialogPurpose::ExportPixel => Box::pin(
-                    d.set_title("Export the pixel's fragments and plot to a folder")
-                        .pick_folder(),
-                ),
+                DialogPurpose::Export(what) => Box::pin(d.set_title(what.title()).pick_folder()),
             };
             let picked = pollster::block_on(fut).map(|h| h.path().to_path_buf());
             let _ = tx.send(picked);
@@ -399,9 +388,7 @@ impl HairlabApp {
                 Err(e) => self.error(format!("{e:#}")),
             },
             DialogPurpose::ExportCurves => self.export_inspector_csv(&path),
-            DialogPurpose::ExportBench => self.export_bench(&path),
-            DialogPurpose::ExportCompare => self.export_compare(&path),
-            DialogPurpose::ExportPixel => self.export_pixel(&path),
+            DialogPurpose::Export(what) => self.export(what, &path),
         }
     }
 
@@ -597,7 +584,9 @@ impl HairlabApp {
             match action {
                 Some(compare_view::CompareAction::Render) => self.render_compare(size, ctx),
                 Some(compare_view::CompareAction::Pick(p)) => self.pixel_inspector.select(p),
-                Some(compare_view::CompareAction::Export) => self.request_compare_export(ctx),
+                Some(compare_view::CompareAction::Export) => {
+                    self.request_export(exports::Export::Compare, ctx)
+                }
                 None => {}
             }
         }
@@ -610,7 +599,7 @@ impl HairlabApp {
                 .show(ctx, |ui| self.pixel_inspector.ui(ui, frames, generation));
             self.pixel_inspector.open = open;
             if self.pixel_inspector.take_export() {
-                self.request_pixel_export(ctx);
+                self.request_export(exports::Export::Pixel, ctx);
             }
         }
     }

@@ -289,13 +289,14 @@ impl PixelInspector {
             }
         });
         ui.separator();
+        let mut export = false;
         ui.horizontal(|ui| {
             if ui
-                .button("Export CSV…")
-                .on_hover_text("the fragment table")
+                .button("Export table and plot…")
+                .on_hover_text("pixel.csv (the fragment table) and the transmittance plot as PNG and SVG")
                 .clicked()
             {
-                self.export = true;
+                export = true;
             }
             if ui
                 .button("Copy table")
@@ -306,6 +307,7 @@ impl PixelInspector {
             }
         });
         fragment_table(ui, r);
+        self.export |= export;
     }
 }
 

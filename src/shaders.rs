@@ -445,9 +445,10 @@ mod tests {
 
     #[test]
     fn a_validation_error_in_an_included_file_names_that_file_and_line() {
-        // `wrong.wgsl`'s line 3, `    return 1u;` (composed line 6): the return statement starts at column 5.
+        // `wrong.wgsl`'s line 3, `    return 1u;` (composed line 6): the returned value `1u`, naga's innermost span,
+        // starts at column 12.
         let (at, message) = wgsl_error("mistyped.wgsl");
-        assert_eq!(at, "shaders/wrong.wgsl:3:5");
+        assert_eq!(at, "shaders/wrong.wgsl:3:12");
         assert!(message.contains("return"), "{message}");
     }
 

@@ -82,16 +82,20 @@ fn the_cli_reports_a_broken_shader_at_its_file_and_line() {
     let dir = broken_folder();
     let place = broken_place(dir.path());
     let d = dir.path().to_str().unwrap();
-    let o = hairlab(&["info", "--shaders", d]);
+    let o = hairlab(&["adapters", "--shaders", d]);
     assert_fails(&o, &[&place]);
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
-        .arg("info")
+        .arg("adapters")
         .env("HAIRLAB_SHADERS", d)
         .env("RUST_LOG", "warn")
         .output()
         .unwrap();
     assert_fails(&o, &[&place]);
-    let o = hairlab(&["info", "--shaders", dir.path().join("missing").to_str().unwrap()]);
+    let o = hairlab(&[
+        "adapters",
+        "--shaders",
+        dir.path().join("missing").to_str().unwrap(),
+    ]);
     assert_fails(&o, &["missing"]);
 }
 

@@ -24,9 +24,16 @@ fn main() -> ExitCode {
     {
         return code;
     }
+    if cli.command.is_some()
+        && let Some(dir) = &cli.shaders
+        && let Err(e) = hairlab::shaders::live::load(dir)
+    {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Some(cmd) => run(cmd),
-        None => open_window(cli.preset, &cli.set),
+        None => open_window(cli.preset, &cli.set, cli.shaders),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -41,7 +48,11 @@ fn main() -> ExitCode {
     }
 }
 
-fn open_window(preset: Option<String>, overrides: &[String]) -> anyhow::Result<()> {
+fn open_window(
+    preset: Option<String>,
+    overrides: &[String],
+    shaders: Option<std::path::PathBuf>,
+) -> anyhow::Result<()> {
     let settings = match preset {
         Some(p) => Some(Settings::load_preset(&p, overrides)?),
         None if !overrides.is_empty() => Some(Settings::load_preset("default", overrides)?),
@@ -50,7 +61,13 @@ fn open_window(preset: Option<String>, overrides: &[String]) -> anyhow::Result<(
     eframe::run_native(
         "hairlab",
         hairlab::app::native_options(),
-        Box::new(move |cc| Ok(Box::new(hairlab::app::HairlabApp::new(cc, settings)))),
+        Box::new(move |cc| {
+            let mut app = hairlab::app::HairlabApp::new(cc, settings);
+            if let Some(dir) = &shaders {
+                app.watch_shaders(dir);
+            }
+            Ok(Box::new(app))
+        }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
 }

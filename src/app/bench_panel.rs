@@ -274,6 +274,21 @@ impl HairlabApp {
             } else if running {
                 ui.spinner();
             }
+            if !running && self.bench.result.is_some() {
+                if ui
+                    .button("Export results…")
+                    .on_hover_text("results.csv, results.json, speed_vs_accuracy.png and .svg, as `hairlab bench` writes them")
+                    .clicked()
+                {
+                    self.request_export(super::exports::Export::Bench, ctx);
+                }
+                if ui.button("Copy table").on_hover_text("the rows as CSV text").clicked() {
+                    self.copy_bench_table(ctx);
+                }
+                if ui.button("Copy chart").on_hover_text("the chart as an image").clicked() {
+                    self.copy_bench_chart(ctx);
+                }
+            }
         });
         let Some(result) = &mut self.bench.result else {
             return;

@@ -271,6 +271,8 @@ pub enum CompareAction {
     Render,
     /// Inspect this pixel of the compared images.
     Pick([u32; 2]),
+    /// Write the images, the difference and FLIP maps and the metrics to a folder.
+    Export,
 }
 
 /// The settings, slots and size a render was made for.
@@ -401,9 +403,18 @@ impl CompareView {
                 });
             if let Some(f) = &self.frames {
                 ui.label(format!(
-                    "{}×{} · click hair to inspect the pixel",
+                    "{}×{} · click hair to inspect the pixel, right-click an image to copy it",
                     f.width, f.height
                 ));
+                if ui
+                    .button("Export images…")
+                    .on_hover_text(
+                        "each image, the difference and FLIP maps against the first, and metrics.csv",
+                    )
+                    .clicked()
+                {
+                    action = Some(CompareAction::Export);
+                }
             }
         });
         if let Some(e) = &self.error {
@@ -451,6 +462,12 @@ impl CompareView {
         let img = frames.images.get(i)?;
         let size = image_size(ui.available_width(), frames.width, frames.height);
         let response = ui.add(egui::Image::new((tex.id(), size)).sense(egui::Sense::click()));
+        response.context_menu(|ui| {
+            if ui.button("Copy image").clicked() {
+                ui.ctx().copy_image(color_image(&img.image));
+                ui.close();
+            }
+        });
         self.rects[i] = Some(response.rect);
         ui.label(caption(img, hide_times));
         clicked_pixel(&response, frames.width, frames.height)
@@ -489,16 +506,7 @@ impl CompareView {
                     self.flip_map,
                 );
                 if self.diff.as_ref().is_none_or(|(k, _)| *k != key) {
-                    let (test, reference) = (&frames.images[self.diff_slot].image, &frames.images[0].image);
-                    let image = if self.flip_map {
-                        let map = crate::transparency::FlipMap::new(test, reference).heat_map();
-                        egui::ColorImage::from_rgb(
-                            [map.width() as usize, map.height() as usize],
-                            map.as_raw(),
-                        )
-                    } else {
-                        color_image(&difference_image(test, reference, self.gain))
-                    };
+                    let image = map_image(frames, self.diff_slot, self.flip_map, self.gain);
                     let tex = ui.ctx().load_texture("compare_difference", image, NEAREST);
                     self.diff = Some((key, tex));
                 }
@@ -508,6 +516,13 @@ impl CompareView {
                     let width = self.rects[0].map_or(frames.width as f32, |r| r.width());
                     let size = image_size(width, frames.width, frames.height);
                     let r = ui.add(egui::Image::new((tex.id(), size)).sense(egui::Sense::click()));
+                    r.context_menu(|ui| {
+                        if ui.button("Copy map").clicked() {
+                            let map = map_image(frames, self.diff_slot, self.flip_map, self.gain);
+                            ui.ctx().copy_image(map);
+                            ui.close();
+                        }
+                    });
                     pick = clicked_pixel(&r, frames.width, frames.height);
                     ui.label(if self.flip_map {
                         format!(
@@ -532,6 +547,17 @@ impl CompareView {
 }
 
 const NEAREST: egui::TextureOptions = egui::TextureOptions::NEAREST;
+
+/// The map under the images: FLIP's heat map of `slot` against the first image, or their difference × `gain`.
+fn map_image(frames: &CompareFrames, slot: usize, flip: bool, gain: f32) -> egui::ColorImage {
+    let (test, reference) = (&frames.images[slot].image, &frames.images[0].image);
+    if flip {
+        let map = crate::transparency::FlipMap::new(test, reference).heat_map();
+        egui::ColorImage::from_rgb([map.width() as usize, map.height() as usize], map.as_raw())
+    } else {
+        color_image(&difference_image(test, reference, gain))
+    }
+}
 
 fn color_image(img: &RgbaImage) -> egui::ColorImage {
     egui::ColorImage::from_rgba_unmultiplied([img.width() as usize, img.height() as usize], img.as_raw())

@@ -5,12 +5,14 @@ mod about;
 mod bench_panel;
 pub mod compare_view;
 pub mod export_animation;
+mod exports;
 mod fur_panel;
 pub mod inspector;
 pub mod jobs;
 mod lightmap_view;
 mod panels;
 pub mod pixel_inspector;
+mod shader_watch;
 pub mod texel_lab;
 pub mod time_view;
 pub mod timeline;
@@ -74,6 +76,8 @@ enum DialogPurpose {
     LoadPreset,
     SavePreset,
     ExportCurves,
+    /// A window's results into a folder (`exports.rs`).
+    Export(exports::Export),
 }
 
 /// A scene being built (`open_motion`) on a worker thread: what it builds and, when done, the scene and its
@@ -163,6 +167,10 @@ pub struct HairlabApp {
     /// When the input settled (`jobs::Settle`), and whether it has this frame.
     settle: jobs::Settle,
     settled: bool,
+    /// The `--shaders` folder polled for changes (`shader_watch.rs`).
+    shaders: Option<crate::shaders::live::Watch>,
+    /// Where exports go without a dialog (`exports.rs`).
+    export_dir: Option<PathBuf>,
 }
 
 impl HairlabApp {
@@ -227,6 +235,8 @@ impl HairlabApp {
             job_gate: None,
             settle: Default::default(),
             settled: true,
+            shaders: None,
+            export_dir: None,
         };
         app.rebuild_scene();
         app
@@ -489,6 +499,7 @@ impl HairlabApp {
                         .set_title("Export texel curves")
                         .save_file(),
                 ),
+                DialogPurpose::Export(what) => Box::pin(d.set_title(what.title()).pick_folder()),
             };
             let picked = pollster::block_on(fut).map(|h| h.path().to_path_buf());
             let _ = tx.send(picked);
@@ -528,6 +539,7 @@ impl HairlabApp {
                 Err(e) => self.error(format!("{e:#}")),
             },
             DialogPurpose::ExportCurves => self.export_inspector_csv(&path),
+            DialogPurpose::Export(what) => self.export(what, &path),
         }
     }
 
@@ -770,6 +782,9 @@ impl HairlabApp {
             match action {
                 Some(compare_view::CompareAction::Render) => self.render_compare(size, ctx),
                 Some(compare_view::CompareAction::Pick(p)) => self.pixel_inspector.select(p),
+                Some(compare_view::CompareAction::Export) => {
+                    self.request_export(exports::Export::Compare, ctx)
+                }
                 None => {}
             }
         }
@@ -781,6 +796,9 @@ impl HairlabApp {
                 .default_size([560.0, 520.0])
                 .show(ctx, |ui| self.pixel_inspector.ui(ui, frames, generation));
             self.pixel_inspector.open = open;
+            if self.pixel_inspector.take_export() {
+                self.request_export(exports::Export::Pixel, ctx);
+            }
         }
     }
 
@@ -1038,6 +1056,7 @@ impl eframe::App for HairlabApp {
         let ctx = ui.ctx().clone();
         self.poll_jobs(Duration::ZERO);
         self.poll_dialog();
+        self.poll_shaders(&ctx);
         self.handle_input(&ctx);
         self.undo_input(&ctx);
         self.play_motion(&ctx);

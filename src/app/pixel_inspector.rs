@@ -11,6 +11,7 @@
 
 use super::compare_view::CompareFrames;
 use super::inspector::series;
+use crate::bench::chart::{Axis, Chart, Mark, Point, Scale, Series};
 use crate::render::transparency::registry;
 use crate::transparency::occupancy_order::estimated_orders;
 use crate::transparency::{EyeFragment, metrics::srgb_to_linear};
@@ -131,9 +132,102 @@ pub struct PixelInspector {
     pub pixel: Option<[u32; 2]>,
     /// The report and the (pixel, compare generation) it was made for.
     report: Option<(ReportKey, Option<PixelReport>)>,
+    /// The CSV export was asked for ([`PixelInspector::take_export`]).
+    export: bool,
+}
+
+impl PixelReport {
+    /// The transmittance plot as a chart for the image writers (`crate::bench::chart`): the exact `Π(1 − a)`
+    /// step per fragment, and the estimated `(1 − ᾱ)^o` of each order variant where the order is estimated.
+    pub fn chart(&self) -> Chart {
+        let point = |x: f32, y: f32| Point {
+            x: f64::from(x),
+            y: f64::from(y),
+            label: String::new(),
+            row: None,
+        };
+        let mut exact = Vec::with_capacity(2 * self.fragments.len());
+        for (k, f) in self.fragments.iter().enumerate() {
+            exact.extend([
+                point(f.depth, self.transmittance[k]),
+                point(f.depth, self.transmittance[k + 1]),
+            ]);
+        }
+        let mut series = vec![Series {
+            name: "exact Π(1 − a)".to_string(),
+            color: [40, 40, 40],
+            mark: Mark::Line,
+            points: exact,
+        }];
+        if let Some(o) = &self.orders {
+            for (name, orders, color) in [
+                ("(1 − ᾱ)^o slab map", &o.slab_map, [230, 120, 40]),
+                ("(1 − ᾱ)^o occupancy only", &o.occupancy_only, [60, 160, 230]),
+            ] {
+                series.push(Series {
+                    name: name.to_string(),
+                    color,
+                    mark: Mark::Points,
+                    points: self
+                        .fragments
+                        .iter()
+                        .zip(orders)
+                        .map(|(f, &k)| point(f.depth, (1.0 - o.hair_alpha).powf(k)))
+                        .collect(),
+                });
+            }
+        }
+        let linear = |label: &str| Axis {
+            label: label.to_string(),
+            scale: Scale::Linear,
+        };
+        Chart {
+            title: format!(
+                "pixel ({}, {}): transmittance along the view ray",
+                self.pixel[0], self.pixel[1]
+            ),
+            notes: vec![format!("{} fragments", self.fragments.len())],
+            x: linear("eye depth"),
+            y: linear("transmittance"),
+            series,
+            front: None,
+        }
+    }
+
+    /// The fragment table as CSV, front to back: `rank,depth,segment,alpha,r,g,b,transmittance,weight` (linear
+    /// colour, the transmittance `Π(1 − a)` in front of the fragment, the weight `a·T`), then
+    /// `order_slab_map,order_occupancy_only` where the occupancy order is estimated.
+    pub fn csv(&self) -> String {
+        let mut out = String::from("rank,depth,segment,alpha,r,g,b,transmittance,weight");
+        if self.orders.is_some() {
+            out.push_str(",order_slab_map,order_occupancy_only");
+        }
+        out.push('\n');
+        for (k, f) in self.fragments.iter().enumerate() {
+            let t = self.transmittance[k];
+            let [r, g, b] = f.color;
+            out.push_str(&format!(
+                "{k},{},{},{},{r},{g},{b},{t},{}",
+                f.depth,
+                f.segment,
+                f.alpha,
+                f.alpha * t
+            ));
+            if let Some(o) = &self.orders {
+                out.push_str(&format!(",{},{}", o.slab_map[k], o.occupancy_only[k]));
+            }
+            out.push('\n');
+        }
+        out
+    }
 }
 
 impl PixelInspector {
+    /// Whether the CSV export was asked for since the last call.
+    pub fn take_export(&mut self) -> bool {
+        std::mem::take(&mut self.export)
+    }
+
     /// Inspects `pixel` and opens the window.
     pub fn select(&mut self, pixel: [u32; 2]) {
         self.pixel = Some(pixel);
@@ -195,7 +289,25 @@ impl PixelInspector {
             }
         });
         ui.separator();
+        let mut export = false;
+        ui.horizontal(|ui| {
+            if ui
+                .button("Export table and plot…")
+                .on_hover_text("pixel.csv (the fragment table) and the transmittance plot as PNG and SVG")
+                .clicked()
+            {
+                export = true;
+            }
+            if ui
+                .button("Copy table")
+                .on_hover_text("the fragment table as CSV text")
+                .clicked()
+            {
+                ui.ctx().copy_text(r.csv());
+            }
+        });
         fragment_table(ui, r);
+        self.export |= export;
     }
 }
 

@@ -216,19 +216,60 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     let mut bar = TerminalProgress::new();
     let mut progress = |p: Progress| bar.update(&p);
     if a.fur {
-        let b = super::fur::FurBench::run(&settings, &a.preset, a.frames)?;
+        // Ctrl-C stops after the configuration in progress; fur.csv and fur.json are rewritten whole after each
+        // one.
+        let configs = crate::measure::fur::usual_configs();
+        let interrupted = crate::cli::interrupt::flag();
+        let mut written = Ok(());
+        let b = super::fur::FurBench::run_each(&settings, &a.preset, &configs, a.frames, |partial| {
+            written = partial.write(&out).map(|_| ());
+            if written.is_err() || interrupted.load(std::sync::atomic::Ordering::SeqCst) {
+                std::ops::ControlFlow::Break(())
+            } else {
+                std::ops::ControlFlow::Continue(())
+            }
+        })?;
+        written?;
         for f in b.write(&out)? {
             println!("wrote {}", f.display());
+        }
+        if b.rows.len() < configs.len() {
+            return Err(crate::cli::interrupt::Interrupted { done: b.rows.len() }.into());
         }
         return Ok(());
     }
     if a.transparency {
-        let b = super::transparency::TransparencyBench::run(&settings, &a.preset, a.frames, |what| {
-            eprintln!("measuring {what}…")
-        })?;
+        // Ctrl-C stops after the configuration in progress; transparency.csv and transparency.json are rewritten
+        // whole after each one.
+        let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
+            crate::gpu::AdapterPreference::Hardware,
+        ))?;
+        let configs = super::transparency::sweep_configs();
+        let interrupted = crate::cli::interrupt::flag();
+        let mut written = Ok(());
+        let b = super::transparency::TransparencyBench::run_each(
+            &gpu,
+            &settings,
+            &a.preset,
+            &configs,
+            a.frames,
+            |what| eprintln!("measuring {what}…"),
+            |partial| {
+                written = partial.write_tables(&out).map(|_| ());
+                if written.is_err() || interrupted.load(std::sync::atomic::Ordering::SeqCst) {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            },
+        )?;
+        written?;
         print_transparency(&b);
         for f in b.write(&out)? {
             println!("wrote {}", f.display());
+        }
+        if b.rows.len() < configs.len() {
+            return Err(crate::cli::interrupt::Interrupted { done: b.rows.len() }.into());
         }
         return Ok(());
     }

@@ -5,11 +5,12 @@
 use super::report::{csv_text, write_files};
 use crate::fur::table::Table1;
 use crate::measure::fur::{
-    FurConfig, FurMeasurement, FurSceneStats, REFERENCE_LABEL, measure, usual_configs,
+    FurConfig, FurMeasurement, FurSceneStats, REFERENCE_LABEL, measure_each, usual_configs,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 pub struct FurBench {
@@ -107,13 +108,30 @@ struct Json<'a> {
 impl FurBench {
     /// Measures the usual blendings on `settings`' fur.
     pub fn run(settings: &Settings, preset: &str, frames: u32) -> Result<FurBench> {
-        let (stats, rows) = measure(settings, &usual_configs(), frames)?;
-        Ok(FurBench {
+        Self::run_each(settings, preset, &usual_configs(), frames, |_| {
+            ControlFlow::Continue(())
+        })
+    }
+
+    /// `configs` measured, `after` called with the bench so far after each configuration; the run stops, with
+    /// the rows so far, when it breaks (Ctrl-C, `crate::cli::interrupt`).
+    pub fn run_each(
+        settings: &Settings,
+        preset: &str,
+        configs: &[FurConfig],
+        frames: u32,
+        mut after: impl FnMut(&FurBench) -> ControlFlow<()>,
+    ) -> Result<FurBench> {
+        let bench = |stats: &FurSceneStats, rows: &[FurMeasurement]| FurBench {
             preset: preset.to_string(),
             frames,
-            stats,
-            rows,
-        })
+            stats: stats.clone(),
+            rows: rows.to_vec(),
+        };
+        let (stats, rows) = measure_each(settings, configs, frames, |stats, rows| {
+            after(&bench(stats, rows))
+        })?;
+        Ok(bench(&stats, &rows))
     }
 
     /// The reference's row first, then each blending's.

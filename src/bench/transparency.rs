@@ -8,11 +8,14 @@
 use super::chart::{Axis, Chart, Front, Mark, Point, Scale, Series};
 use super::report::{chart_files, csv_text, write_files};
 use super::stats::pareto_front;
-use crate::measure::transparency::{EyeStats, TechniqueConfig, TechniqueMeasurement, measure_on};
+use crate::measure::transparency::{
+    EyeStats, TechniqueConfig, TechniqueMeasurement, measure_each_on, measure_on,
+};
 use crate::render::transparency::{EyeTransparency, registry};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 /// The paper's speed-up of occupancy ordering over depth peeling (Fig. 2: 51 fps / 4.01 fps) and its layers.
@@ -57,6 +60,30 @@ impl TransparencyBench {
             stats,
             rows,
         })
+    }
+
+    /// `configs` measured on `gpu`, `after` called with the bench so far after each configuration; the run stops,
+    /// with the rows so far, when it breaks (Ctrl-C, `crate::cli::interrupt`).
+    pub fn run_each(
+        gpu: &crate::gpu::Gpu,
+        settings: &Settings,
+        preset: &str,
+        configs: &[TechniqueConfig],
+        frames: u32,
+        progress: impl FnMut(&str),
+        mut after: impl FnMut(&TransparencyBench) -> ControlFlow<()>,
+    ) -> Result<Self> {
+        let bench = |stats: &EyeStats, rows: &[TechniqueMeasurement]| TransparencyBench {
+            preset: preset.to_string(),
+            device: crate::gpu::describe(&gpu.info),
+            frames,
+            stats: stats.clone(),
+            rows: rows.to_vec(),
+        };
+        let (stats, rows) = measure_each_on(gpu, settings, configs, frames, progress, |stats, rows| {
+            after(&bench(stats, rows))
+        })?;
+        Ok(bench(&stats, &rows))
     }
 
     /// Indices of the Pareto front (GPU ms against hair RMSE), fastest first.
@@ -178,12 +205,22 @@ impl TransparencyBench {
 
     /// Writes the CSV, the JSON and the chart into `dir` (created), each atomically.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        let mut files = vec![
-            ("transparency.csv".to_string(), self.to_csv()?.into_bytes()),
-            ("transparency.json".to_string(), self.to_json()?.into_bytes()),
-        ];
+        let mut files = self.tables()?;
         files.extend(chart_files("transparency_speed_vs_accuracy", &self.chart())?);
         write_files(dir, files)
+    }
+
+    /// Writes `transparency.csv` and `transparency.json` alone, each atomically: what a run writes after each
+    /// configuration, so that an interrupted run leaves every finished one.
+    pub fn write_tables(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        write_files(dir, self.tables()?)
+    }
+
+    fn tables(&self) -> Result<Vec<(String, Vec<u8>)>> {
+        Ok(vec![
+            ("transparency.csv".to_string(), self.to_csv()?.into_bytes()),
+            ("transparency.json".to_string(), self.to_json()?.into_bytes()),
+        ])
     }
 }
 

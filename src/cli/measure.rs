@@ -256,17 +256,29 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
     let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
         crate::gpu::AdapterPreference::Hardware,
     ))?;
-    let (stats, rows) =
-        crate::measure::transparency::measure_on(&gpu, settings, &configs, a.scene.frames, |what| {
-            eprintln!("measuring {what}…")
-        })?;
-    let bench = crate::bench::transparency::TransparencyBench {
-        preset: a.scene.preset.clone(),
-        device: crate::gpu::describe(&gpu.info),
-        frames: a.scene.frames,
-        stats,
-        rows,
-    };
+    // Ctrl-C stops after the configuration in progress; with --out, transparency.csv and transparency.json are
+    // rewritten whole after each one.
+    let interrupted = crate::cli::interrupt::flag();
+    let mut written = Ok(());
+    let bench = crate::bench::transparency::TransparencyBench::run_each(
+        &gpu,
+        settings,
+        &a.scene.preset,
+        &configs,
+        a.scene.frames,
+        |what| eprintln!("measuring {what}…"),
+        |partial| {
+            if let Some(dir) = &a.out {
+                written = partial.write_tables(dir).map(|_| ());
+            }
+            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )?;
+    written?;
     let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
         "preset {}: {} strands, {} segments; view {}x{} (shadows: {}): {} hair pixels, {} fragments, eye depth \
@@ -341,12 +353,15 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
     if let Some(dir) = &a.out {
         print_written(&bench.write(dir)?);
     }
+    if rows.len() < configs.len() {
+        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
+    }
     Ok(())
 }
 
 pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
     let settings = &Settings::load_preset(&a.scene.preset, &a.scene.set)?;
-    use crate::measure::fur::{FurConfig, measure, usual_configs};
+    use crate::measure::fur::{FurConfig, usual_configs};
     let configs = if a.fur_configs.is_empty() {
         usual_configs()
     } else {
@@ -358,7 +373,28 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
     if let Some(dir) = &a.out {
         crate::bench::prepare_out_dir(dir)?;
     }
-    let (stats, rows) = measure(settings, &configs, a.scene.frames)?;
+    // Ctrl-C stops after the configuration in progress; with --out, fur.csv and fur.json are rewritten whole
+    // after each one.
+    let interrupted = crate::cli::interrupt::flag();
+    let mut written = Ok(());
+    let bench = crate::bench::fur::FurBench::run_each(
+        settings,
+        &a.scene.preset,
+        &configs,
+        a.scene.frames,
+        |partial| {
+            if let Some(dir) = &a.out {
+                written = partial.write(dir).map(|_| ());
+            }
+            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )?;
+    written?;
+    let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
         "preset {}: {} triangles, {} sub-elements, {} guard hairs; view {}x{}: {} fur pixels; mode {}, \
          reference virtual k=1 with no early exit",
@@ -391,7 +427,7 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
     );
     let mib = |b: u64| b as f64 / (1 << 20) as f64;
     let reference = &stats.reference;
-    for r in &rows {
+    for r in rows {
         let t = &r.table;
         println!(
             "{:<16} {:>10.6} {:>8.5} {:>7.4} {:>9.4} {:>7.4} {:>7.4} {:>10} {:>10} {:>7} {:>10.3} {:>10.3} {:>10.3} \
@@ -420,13 +456,10 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
         reference.render(None)
     );
     if let Some(dir) = &a.out {
-        let bench = crate::bench::fur::FurBench {
-            preset: a.scene.preset.clone(),
-            frames: a.scene.frames,
-            stats,
-            rows,
-        };
         print_written(&bench.write(dir)?);
+    }
+    if rows.len() < configs.len() {
+        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
     }
     Ok(())
 }

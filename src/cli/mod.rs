@@ -52,6 +52,10 @@ pub struct Cli {
     /// Preset for the window (built-in name, `presets/<name>.toml`, or a path); default: the last session's.
     #[arg(long, global = false)]
     pub preset: Option<String>,
+    /// Read the WGSL shaders from DIR over the embedded ones (a file DIR lacks is the embedded one); every shader
+    /// is validated first and an error names its file, line and column. The window reloads DIR on change.
+    #[arg(long, global = true, value_name = "DIR", env = "HAIRLAB_SHADERS")]
+    pub shaders: Option<std::path::PathBuf>,
     /// Override a preset value for the window, e.g. `--set render.hair_alpha=0.2` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -62,6 +66,7 @@ pub const ENVIRONMENT: &str = "With no subcommand, hairlab opens the workbench w
 
 Environment:
   HAIRLAB_ADAPTER=NAME   the GPU adapter, as --adapter (which wins)
+  HAIRLAB_SHADERS=DIR    the shaders folder, as --shaders (which wins)
   WGPU_BACKEND=LIST      the wgpu backends searched for adapters, e.g. vulkan
                          or vulkan,gl (default: Vulkan, Metal, DX12)
   RUST_LOG=FILTER        log verbosity (env_logger; default: info)

@@ -3,6 +3,7 @@
 //! image error over fur pixels (of `(H, 1 − T)`, and FLIP of the fur over black), Table 1 per blending,
 //! fragments.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use anyhow::{Result, anyhow};
@@ -201,6 +202,17 @@ pub fn measure(
     configs: &[FurConfig],
     frames: u32,
 ) -> Result<(FurSceneStats, Vec<FurMeasurement>)> {
+    measure_each(settings, configs, frames, |_, _| ControlFlow::Continue(()))
+}
+
+/// [`measure`] calling `after` with the rows so far after each configuration; the run stops, with those rows,
+/// when it breaks (Ctrl-C, `crate::cli::interrupt`).
+pub fn measure_each(
+    settings: &Settings,
+    configs: &[FurConfig],
+    frames: u32,
+    mut after: impl FnMut(&FurSceneStats, &[FurMeasurement]) -> ControlFlow<()>,
+) -> Result<(FurSceneStats, Vec<FurMeasurement>)> {
     let mut s = settings.clone();
     if s.fur.mode == FurMode::Off {
         anyhow::bail!("fur.mode is off in this preset: measure --fur needs fur (e.g. --preset fur-cylinder)");
@@ -269,6 +281,17 @@ pub fn measure(
     };
     let (reference_table, reference_image) = run(&mut r)?;
     let reference_over_black = over_black(&reference_image, s.render.width, s.render.height);
+    let (_, _, fur_pixels) = image_error(&reference_image, &reference_image);
+    let scene_stats = FurSceneStats {
+        triangles: fur.shell.mesh.faces.len(),
+        sub_elements: fur.shell.sub_elements,
+        strands: scene.strands.strand_count(),
+        width: s.render.width,
+        height: s.render.height,
+        fur_pixels,
+        reference: reference_table,
+        device: crate::gpu::describe(&gpu.info),
+    };
     let mut out = Vec::with_capacity(configs.len());
     for c in configs {
         let fs = FurSettings {
@@ -305,21 +328,11 @@ pub fn measure(
             shell_fragments: stats.shell,
             deepest: stats.deepest,
         });
+        if after(&scene_stats, &out).is_break() {
+            break;
+        }
     }
-    let (_, _, fur_pixels) = image_error(&reference_image, &reference_image);
-    Ok((
-        FurSceneStats {
-            triangles: fur.shell.mesh.faces.len(),
-            sub_elements: fur.shell.sub_elements,
-            strands: scene.strands.strand_count(),
-            width: s.render.width,
-            height: s.render.height,
-            fur_pixels,
-            reference: reference_table,
-            device: crate::gpu::describe(&gpu.info),
-        },
-        out,
-    ))
+    Ok((scene_stats, out))
 }
 
 #[cfg(test)]

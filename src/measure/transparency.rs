@@ -12,6 +12,7 @@ use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::transparency::metrics::{ImageMetrics, compare};
 use anyhow::Result;
+use std::ops::ControlFlow;
 
 pub use crate::selection::TechniqueConfig;
 
@@ -71,7 +72,22 @@ pub fn measure_on(
     settings: &Settings,
     configs: &[TechniqueConfig],
     frames: u32,
+    progress: impl FnMut(&str),
+) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
+    measure_each_on(gpu, settings, configs, frames, progress, |_, _| {
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`measure_on`] calling `after` with the rows so far after each configuration; the run stops, with those rows,
+/// when it breaks (Ctrl-C, `crate::cli::interrupt`).
+pub fn measure_each_on(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[TechniqueConfig],
+    frames: u32,
     mut progress: impl FnMut(&str),
+    mut after: impl FnMut(&EyeStats, &[TechniqueMeasurement]) -> ControlFlow<()>,
 ) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
     let mut s = settings.clone();
     let scene = s.scene.build()?;
@@ -141,6 +157,9 @@ pub fn measure_on(
             memory_bytes: r.memory().transparency_targets,
             geometry_passes: r.eye_geometry_passes(),
         });
+        if after(&stats, &out).is_break() {
+            break;
+        }
     }
     Ok((stats, out))
 }

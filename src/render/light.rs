@@ -138,6 +138,16 @@ impl LightSide {
         self.compute.as_ref()
     }
 
+    /// Rebuilds every light pipeline from the shaders now in use (`crate::shaders::live`): the light-depth and
+    /// shadow-map passes now, the method's and the reference's with their states.
+    pub fn reload_shaders(&mut self, device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) {
+        self.depth_pass = LightDepthPass::new(device, frame_layout, &self.stage);
+        self.shadow_pass = ShadowMapPass::new(device, frame_layout);
+        self.method = None;
+        self.reference = None;
+        self.peel = None;
+    }
+
     /// Records the light-depth pass of `casters` into `enc`.
     pub fn record_depth(
         &self,

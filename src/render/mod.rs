@@ -112,6 +112,17 @@ impl Renderer {
         Ok(())
     }
 
+    /// Rebuilds every pipeline from the shaders now in use ([`crate::shaders::live`]): the light, mesh, hair and
+    /// evaluation passes now, the method's and the transparency technique's states on the next frame.
+    pub fn reload_shaders(&mut self) {
+        let device = &self.gpu.device;
+        self.light.reload_shaders(device, &self.bindings.frame_layout);
+        self.mesh_pass = MeshPass::new(&self.bindings.scene_layout);
+        self.hair_pass = HairPass::new(&self.bindings.scene_layout);
+        self.evaluate = passes::evaluate::EvaluatePass::new(device, &self.bindings.scene_layout);
+        self.transparency = None;
+    }
+
     /// Moves the strands' points ([`SceneGpu::update_points`], the one write path for moving hair): the next
     /// frame draws them, with every light frame and map refitted, and nothing re-created.
     pub fn update_points(&mut self, points: &[Vec3]) -> Result<(), GpuError> {

@@ -235,6 +235,49 @@ fn compare_view_renders_four_labelled_images_and_their_metrics() {
     harness.run();
     assert!(harness.state().compare().flip_map);
     harness.get_by_label_contains(&caption);
+
+    // Export: every image, the difference and FLIP maps and metrics.csv, into a folder set in place of the dialog.
+    let export = tempfile::tempdir().unwrap();
+    harness
+        .state_mut()
+        .set_export_dir(Some(export.path().to_path_buf()));
+    harness.get_by_label("Export images…").click();
+    harness.run();
+    let frames = harness.state().compare().frames().unwrap();
+    let open = |name: String| image::open(export.path().join(name)).unwrap().to_rgba8();
+    for (i, img) in frames.images.iter().enumerate() {
+        let k = i + 1;
+        assert!(
+            open(format!("{k}_{}.png", img.name)) == img.image,
+            "image {k} written as shown"
+        );
+        if i > 0 {
+            for map in ["difference", "flip"] {
+                let written = open(format!("{map}_{k}_{}.png", img.name));
+                assert_eq!(written.dimensions(), (frames.width, frames.height), "{map} {k}");
+            }
+        }
+    }
+    let mut csv = csv::Reader::from_path(export.path().join("metrics.csv")).unwrap();
+    let header = csv.headers().unwrap().clone();
+    assert_eq!(
+        &header.iter().take(4).collect::<Vec<_>>(),
+        &["slot", "technique", "label", "rmse"]
+    );
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = csv.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 3);
+    for (r, img) in rows.iter().zip(&frames.images[1..]) {
+        assert_eq!(&r[column("technique")], img.name);
+        assert_eq!(
+            r[column("rmse_hair")].parse::<f64>().unwrap(),
+            img.metrics.rmse_hair
+        );
+        assert_eq!(
+            r[column("flip_hair")].parse::<f64>().unwrap(),
+            img.metrics.flip.mean_hair
+        );
+    }
 }
 
 #[test]
@@ -311,6 +354,45 @@ fn pixel_inspector_shows_the_list_of_a_clicked_hair_pixel() {
         expected.len()
     );
     assert!(harness.query_by_label(&title).is_some(), "{title} not shown");
+
+    // The fragment table and the plot leave the window: pixel.csv and the plot's PNG into a folder set in place
+    // of the dialog, and the table's text copied to the clipboard.
+    let export = tempfile::tempdir().unwrap();
+    harness
+        .state_mut()
+        .set_export_dir(Some(export.path().to_path_buf()));
+    harness.get_by_label("Export table and plot…").click();
+    harness.run();
+    let plot = image::open(export.path().join("pixel_transmittance.png")).unwrap();
+    assert_eq!((plot.width(), plot.height()), hairlab::bench::CHART_SIZE);
+    let text = std::fs::read_to_string(export.path().join("pixel.csv")).unwrap();
+    let mut lines = text.lines();
+    assert!(
+        lines
+            .next()
+            .unwrap()
+            .starts_with("rank,depth,segment,alpha,r,g,b,transmittance,weight")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), expected.len());
+    for (k, (r, f)) in rows.iter().zip(&expected).enumerate() {
+        assert_eq!(r[0], k.to_string());
+        assert_eq!(r[1].parse::<f32>().unwrap(), f.depth);
+        assert_eq!(r[2], f.segment.to_string());
+    }
+    harness.get_by_label("Copy table").click();
+    harness.step();
+    let copied = harness
+        .output()
+        .platform_output
+        .commands
+        .iter()
+        .find_map(|c| match c {
+            egui::OutputCommand::CopyText(t) => Some(t.clone()),
+            _ => None,
+        })
+        .expect("the table copied");
+    assert_eq!(copied, text);
 }
 
 /// The Fur section of a fur preset: its mode switches the shell on and off, and the paper's Table 1 for the

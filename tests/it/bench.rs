@@ -560,6 +560,53 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
         harness.state().message()
     );
 
+    // Export: the files `hairlab bench` writes, into a folder set in place of the dialog.
+    let export = tempfile::tempdir().unwrap();
+    harness
+        .state_mut()
+        .set_export_dir(Some(export.path().to_path_buf()));
+    harness.get_by_label("Export results…").click();
+    harness.run();
+    let (header, rows) = read_csv(&export.path().join("results.csv"));
+    let exported: Vec<&String> = rows.iter().map(|r| &r[column(&header, "label")]).collect();
+    assert_eq!(exported, labels.iter().collect::<Vec<_>>());
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(export.path().join("results.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(labels.len()));
+    let png = image::open(export.path().join("speed_vs_accuracy.png")).unwrap();
+    assert_eq!((png.width(), png.height()), hairlab::bench::CHART_SIZE);
+    let svg = std::fs::read_to_string(export.path().join("speed_vs_accuracy.svg")).unwrap();
+    assert!(
+        svg.contains("<svg") && svg.trim_end().ends_with("</svg>"),
+        "not an SVG document"
+    );
+    // Copies: the table as the exported CSV's text, the chart as an image of the exported PNG's size.
+    let copied = |harness: &mut Harness<'_, HairlabApp>, button: &str| {
+        harness.get_by_label(button).click();
+        harness.step();
+        harness.output().platform_output.commands.clone()
+    };
+    let text = copied(&mut harness, "Copy table")
+        .into_iter()
+        .find_map(|c| match c {
+            egui::OutputCommand::CopyText(t) => Some(t),
+            _ => None,
+        })
+        .expect("the table copied");
+    assert_eq!(
+        text,
+        std::fs::read_to_string(export.path().join("results.csv")).unwrap()
+    );
+    let image = copied(&mut harness, "Copy chart")
+        .into_iter()
+        .find_map(|c| match c {
+            egui::OutputCommand::CopyImage(i) => Some(i),
+            _ => None,
+        })
+        .expect("the chart copied");
+    assert_eq!(image.size, [png.width() as usize, png.height() as usize]);
+    harness.run();
+
     // Click the 64-slice point: the app now uses OSM with 64 slices.
     let pos = harness.state().bench_point_position(4).expect("point drawn");
     harness.hover_at(pos);
@@ -718,9 +765,61 @@ fn sigint_leaves_a_complete_csv_of_the_finished_configurations() {
     sigint_after_the_first_row(&measure, &sweep);
 }
 
+/// Ctrl-C stops `measure transparency` after the configuration in progress: transparency.csv and
+/// transparency.json hold every finished technique, whole and in order, and the run exits 130 saying how many.
+#[test]
+fn sigint_leaves_a_complete_csv_of_the_finished_transparency_techniques() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let labels: Vec<String> = hairlab::render::transparency::registry::all()
+        .iter()
+        .map(|t| t.name().to_string())
+        .collect();
+    let mut args = vec!["measure", "transparency"];
+    for t in &labels {
+        args.extend(["--technique", t.as_str()]);
+    }
+    let (_dir, out, header, rows) = sigint_after_the_first_file(&args, "transparency.csv", labels.len());
+    for (r, expected) in rows.iter().zip(&labels) {
+        assert_eq!(&r[column(&header, "configuration")], expected);
+        let error: f64 = r[column(&header, "rmse_hair")].parse().unwrap();
+        assert!(error.is_finite() && error >= 0.0, "{r:?}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("transparency.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(rows.len()), "{json}");
+}
+
 /// Runs `hairlab ARGS` (the tiny scene, 40 timed frames, `--out`) until results.csv appears, sends SIGINT, and
 /// checks what it left: fewer rows than `labels`, each whole, in that order.
 fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
+    let (_dir, out, header, rows) = sigint_after_the_first_file(args, "results.csv", labels.len());
+    for (r, expected) in rows.iter().zip(labels) {
+        assert_eq!(&r[column(&header, "label")], expected);
+        let error: f64 = r[column(&header, "map_error")].parse().unwrap();
+        assert!(error.is_finite() && error > 0.0, "{r:?}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(rows.len()), "{json}");
+    assert!(out.join("speed_vs_accuracy.png").is_file());
+}
+
+/// Runs `hairlab ARGS` (the tiny scene, 40 timed frames, `--out`) until `csv` appears in the output folder, sends
+/// SIGINT, and checks that the run exits 130 with one error naming how many configurations it finished, and that
+/// `csv` holds that many whole rows, fewer than `configs`. Returns the temporary folder, the output folder in it,
+/// the header and the rows.
+fn sigint_after_the_first_file(
+    args: &[&str],
+    csv: &str,
+    configs: usize,
+) -> (
+    tempfile::TempDir,
+    std::path::PathBuf,
+    Vec<String>,
+    Vec<Vec<String>>,
+) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let mut args = args.to_vec();
@@ -734,14 +833,19 @@ fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
         .spawn()
         .unwrap();
     // The first configuration's rows are written; then Ctrl-C.
-    let csv = out.join("results.csv");
+    let csv = out.join(csv);
     let start = std::time::Instant::now();
     while !csv.exists() {
         assert!(
             child.try_wait().unwrap().is_none(),
-            "hairlab ended before writing results.csv"
+            "hairlab ended before writing {}",
+            csv.display()
         );
-        assert!(start.elapsed().as_secs() < 600, "no results.csv after 10 minutes");
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "no {} after 10 minutes",
+            csv.display()
+        );
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
     let kill = std::process::Command::new("kill")
@@ -753,19 +857,12 @@ fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
     assert_eq!(o.status.code(), Some(130), "{args:?}: {}", stderr(&o));
     let (header, rows) = read_csv(&csv);
     assert!(
-        !rows.is_empty() && rows.len() < labels.len(),
+        !rows.is_empty() && rows.len() < configs,
         "stopped after the configuration in progress: {rows:?}"
     );
-    for (r, expected) in rows.iter().zip(labels) {
+    for r in &rows {
         assert_eq!(r.len(), header.len(), "a whole row: {r:?}");
-        assert_eq!(&r[column(&header, "label")], expected);
-        let error: f64 = r[column(&header, "map_error")].parse().unwrap();
-        assert!(error.is_finite() && error > 0.0, "{r:?}");
     }
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
-    assert_eq!(json["rows"].as_array().map(Vec::len), Some(rows.len()), "{json}");
-    assert!(out.join("speed_vs_accuracy.png").is_file());
     let errors = error_lines(&o);
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
@@ -773,6 +870,7 @@ fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
             && errors[0].contains(&format!("after {} configurations", rows.len())),
         "{errors:?}"
     );
+    (dir, out, header, rows)
 }
 
 /// `measure --out DIR` writes what `bench` writes, one row per configuration.

@@ -900,6 +900,8 @@ fn every_help_page_fits_80_columns_and_names_the_environment() {
         "HAIRLAB_FUZZ_CASES",
         "RUST_LOG",
         "--adapter",
+        "HAIRLAB_SHADERS",
+        "--shaders",
     ] {
         assert!(top.contains(var), "--help does not name {var}: {top}");
     }

@@ -286,8 +286,12 @@ pub struct ScalingRefusal {
     pub reason: String,
 }
 
-/// R² from which the scaling mode calls a configuration's cost linear in segments.
+/// R² from which the scaling mode calls a configuration's cost linear in segments...
 pub const LINEAR_R_SQUARED: f64 = 0.98;
+/// ... when its log-log exponent is also at most this: a line through few points can fit a quadratic cost
+/// closely (R² 0.996 over three points of a cost growing as segments^2.9), while a linear cost with a fixed part
+/// has an exponent of at most 1.
+pub const LINEAR_MAX_EXPONENT: f64 = 1.2;
 
 /// GPU ms ≈ `ms_per_segment` · segments + `intercept_ms`, fitted over the densities' medians.
 #[derive(Clone, Debug, PartialEq)]
@@ -297,14 +301,15 @@ pub struct ScalingFit {
     pub intercept_ms: f64,
     pub r_squared: f64,
     /// `p` of GPU ms ∝ segments^p (log-log least squares; [`super::growth_exponent`]), NaN when it cannot be
-    /// fitted: what a fit below [`LINEAR_R_SQUARED`] is reported with.
+    /// fitted: what a cost that is not linear is reported with.
     pub exponent: f64,
 }
 
 impl ScalingFit {
-    /// Whether the line holds: R² at least [`LINEAR_R_SQUARED`].
+    /// Whether the line holds: R² at least [`LINEAR_R_SQUARED`] and the exponent at most
+    /// [`LINEAR_MAX_EXPONENT`].
     pub fn linear(&self) -> bool {
-        self.r_squared >= LINEAR_R_SQUARED
+        self.r_squared >= LINEAR_R_SQUARED && self.exponent <= LINEAR_MAX_EXPONENT
     }
 
     /// The table's verdict: "linear", or the measured growth of a cost that is not.

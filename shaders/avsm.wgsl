@@ -5,15 +5,31 @@
 // identical fragments), so any list length gives the CPU model's sorted order: O(n²) reads for n fragments.
 // Each fragment inserts a step (two nodes), and while more than N nodes are held the interior node of least
 // removal area goes (ties: the lowest index). Output: N slots per texel, the nodes then copies of the last;
-// (1, 1) in every slot of an empty texel.
+// (1, 1) in every slot of an empty texel. A dispatch inserts at most `avsm.steps` fragments per texel and keeps
+// where the walk stands in `avsm_walk` (the nodes held are the output slots), so that repeated dispatches bound
+// each invocation's loop iterations (a CPU adapter stops a shader's loops after 65,535 in all); the nodes are
+// the same however the walk is split.
 #include "common/avsm_uniforms.wgsl"
-#include "common/list_node.wgsl"
+// The A-buffer's lists (render::passes::abuffer), group 1.
+#include "common/list_pages.wgsl"
 
-// The A-buffer's lists (render::passes::abuffer).
-@group(0) @binding(0) var<storage, read> list_heads: array<u32>;
-@group(0) @binding(1) var<storage, read> list_nodes: array<ListNode>;
-@group(1) @binding(0) var<storage, read_write> avsm_nodes: array<vec2<f32>>;
-@group(1) @binding(1) var<uniform> avsm: AvsmUniforms;
+@group(0) @binding(0) var<storage, read_write> avsm_nodes: array<vec2<f32>>;
+@group(0) @binding(1) var<uniform> avsm: AvsmUniforms;
+
+// Where a texel's walk stands between dispatches (zero before the first: nothing inserted): the last fragment
+// inserted (its index + 1 in `index`; 0: none yet) and the count of nodes held. 32 bytes
+// (methods::avsm::WALK_BYTES).
+struct AvsmWalk {
+    depth: f32,
+    alpha: f32,
+    segment: u32,
+    index: u32,
+    held: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+@group(0) @binding(2) var<storage, read_write> avsm_walk: array<AvsmWalk>;
 
 // N + 2: the nodes held while one fragment's pair is inserted before compression.
 const MAX_HELD: u32 = 18u;
@@ -50,21 +66,25 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let texel = id.y * res + id.x;
     let n = avsm.nodes;
-    let list_len = arrayLength(&list_nodes);
+    let list_len = ab_capacity();
+    let base = texel * n;
+    let walk = avsm_walk[texel];
     var held: array<vec2<f32>, MAX_HELD>;
-    var count = 0u;
+    var count = walk.held;
+    for (var j = 0u; j < count; j += 1u) {
+        held[j] = avsm_nodes[base + j];
+    }
     // The last fragment inserted (its index + 1; 0: none yet).
-    var last = ListNode(0.0, 0.0, 0u, 0u);
-    var last_i = 0u;
-    // At most one insertion per list node.
-    for (var inserted = 0u; inserted < list_len; inserted += 1u) {
+    var last = ListNode(walk.depth, walk.alpha, walk.segment, 0u);
+    var last_i = walk.index;
+    for (var inserted = 0u; inserted < avsm.steps; inserted += 1u) {
         // Select the next fragment.
         var best = ListNode(0.0, 0.0, 0u, 0u);
         var best_i = 0u;
-        var i = list_heads[texel];
+        var i = ab_heads[texel];
         var steps = 0u;
         while i != 0u && steps < list_len {
-            let node = list_nodes[i - 1u];
+            let node = ab_node(i - 1u);
             let after_last = last_i == 0u || precedes(last, last_i, node, i);
             let before_best = best_i == 0u || precedes(node, i, best, best_i);
             if after_last && before_best {
@@ -118,11 +138,11 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
 
+    avsm_walk[texel] = AvsmWalk(last.depth, last.alpha, last.segment, last_i, count, 0u, 0u, 0u);
     var pad = vec2<f32>(1.0, 1.0);
     if count > 0u {
         pad = held[count - 1u];
     }
-    let base = texel * n;
     for (var j = 0u; j < n; j += 1u) {
         avsm_nodes[base + j] = select(pad, held[j], j < count);
     }

@@ -5,19 +5,20 @@
 // texel and no bound on the list length (the walks stop after the texel's node count, as the reference does).
 // cs_count only counts each texel's vertices (header count, total in alloc[0]: the vertex buffer is sized from
 // it); cs_compress, on the same fragments, allocates that many and writes them.
+// Both resume across dispatches: each takes at most dsm.steps fragments per texel and keeps where the texel
+// stands in `walks`, so that repeated dispatches bound each invocation's loop iterations (a CPU adapter stops a
+// shader's loops after 65,535 in all); the vertices are the same however the walk is split.
 #include "common/visibility.wgsl"
 #include "common/dsm_uniforms.wgsl"
-#include "common/list_node.wgsl"
+// The A-buffer's lists (render::passes::abuffer), group 1.
+#include "common/list_pages.wgsl"
 
-// The A-buffer's lookup group: index + 1 of each texel's first node (0 = empty), the nodes.
-@group(0) @binding(0) var<storage, read> ab_heads: array<u32>;
-@group(0) @binding(1) var<storage, read> ab_nodes: array<ListNode>;
 // Per texel: (offset of its first vertex, vertex count); the vertices (z, V).
-@group(1) @binding(0) var<storage, read_write> out_headers: array<vec2<u32>>;
-@group(1) @binding(1) var<storage, read_write> out_vertices: array<vec2<f32>>;
-@group(1) @binding(2) var<uniform> dsm: DsmUniforms;
+@group(0) @binding(0) var<storage, read_write> out_headers: array<vec2<u32>>;
+@group(0) @binding(1) var<storage, read_write> out_vertices: array<vec2<f32>>;
+@group(0) @binding(2) var<uniform> dsm: DsmUniforms;
 // [0]: vertices counted or allocated, [1]: texels whose vertices did not fit their allocation.
-@group(1) @binding(3) var<storage, read_write> alloc: array<atomic<u32>, 2>;
+@group(0) @binding(3) var<storage, read_write> alloc: array<atomic<u32>, 2>;
 
 // The compressor's state: the origin vertex, the slope window [lo, hi] and the last accepted depth once a point
 // behind the origin was accepted (open); where the texel's vertices go and how many it may write (write: false
@@ -97,26 +98,61 @@ fn offer_depth(g: ptr<function, Greedy>, first: bool, d: f32, before: f32, after
     offer(g, d, after);
 }
 
-// Compresses texel t's list of n nodes; returns its vertex count (written from base, at most limit, if write).
-fn compress_texel(t: u32, n: u32, write: bool, base: u32, limit: u32) -> u32 {
-    var g = Greedy(0.0, 1.0, 0.0, 0.0, 0.0, false, write, base, limit, 0u);
-    var prev_depth = 0.0;
-    var prev_segment = 0u;
-    // The depth whose fragments are being summed, their optical depth, the visibility in front of them.
-    var group = 0.0;
-    var sum = 0.0;
-    var omega = 0.0;
-    var before = 1.0;
-    for (var k = 0u; k < n; k++) {
+// Where a texel's compression stands between dispatches (zero before the first: not started): the compressor's
+// state, the walk's (fragments taken k of n, the last one's depth and segment, the depth being summed, its
+// optical depth, the total in front of it, the visibility in front of it), the stage (0 not started, 1 walking,
+// 2 done) and the vertices allocated (cs_compress). 80 bytes (methods::dsm::WALK_BYTES).
+struct DsmWalk {
+    zo: f32,
+    vo: f32,
+    lo: f32,
+    hi: f32,
+    last: f32,
+    open: u32,
+    count: u32,
+    k: u32,
+    n: u32,
+    prev_depth: f32,
+    prev_segment: u32,
+    group: f32,
+    sum: f32,
+    omega: f32,
+    before: f32,
+    stage: u32,
+    base: u32,
+    limit: u32,
+    pad0: u32,
+    pad1: u32,
+}
+@group(0) @binding(4) var<storage, read_write> walks: array<DsmWalk>;
+
+// Nodes in texel t's list.
+fn list_length(t: u32) -> u32 {
+    let node_count = ab_capacity();
+    var n = 0u;
+    var i = ab_heads[t];
+    while i != 0u && n < node_count {
+        i = ab_node(i - 1u).next;
+        n += 1u;
+    }
+    return n;
+}
+
+// Takes at most dsm.steps more fragments of texel t's list (n nodes) into its compression (vertices written from
+// w.base, at most w.limit, if write) and finishes it once the list is walked; returns the state.
+fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
+    var w = state;
+    var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);
+    for (var s = 0u; s < dsm.steps && w.k < w.n; s++) {
         var best_depth = 0.0;
         var best_segment = 0u;
         var best_alpha = 0.0;
         var found = false;
         var j = ab_heads[t];
         var walked = 0u;
-        while j != 0u && walked < n {
-            let node = ab_nodes[j - 1u];
-            let behind = k == 0u || node.depth > prev_depth || (node.depth == prev_depth && node.segment > prev_segment);
+        while j != 0u && walked < w.n {
+            let node = ab_node(j - 1u);
+            let behind = w.k == 0u || node.depth > w.prev_depth || (node.depth == w.prev_depth && node.segment > w.prev_segment);
             let smaller = !found || node.depth < best_depth || (node.depth == best_depth && node.segment < best_segment);
             if behind && smaller {
                 best_depth = node.depth;
@@ -128,40 +164,50 @@ fn compress_texel(t: u32, n: u32, write: bool, base: u32, limit: u32) -> u32 {
             walked += 1u;
         }
         if !found {
+            w.n = w.k;
             break;
         }
-        if k > 0u && best_depth != group {
-            omega += sum;
-            let after = transmittance(omega);
-            offer_depth(&g, g.count == 0u, group, before, after);
-            before = after;
-            sum = 0.0;
+        if w.k > 0u && best_depth != w.group {
+            w.omega += w.sum;
+            let after = transmittance(w.omega);
+            offer_depth(&g, g.count == 0u, w.group, w.before, after);
+            w.before = after;
+            w.sum = 0.0;
         }
-        group = best_depth;
-        sum += optical_depth(best_alpha);
-        prev_depth = best_depth;
-        prev_segment = best_segment;
+        w.group = best_depth;
+        w.sum += optical_depth(best_alpha);
+        w.prev_depth = best_depth;
+        w.prev_segment = best_segment;
+        w.k += 1u;
     }
-    if n > 0u {
-        omega += sum;
-        offer_depth(&g, g.count == 0u, group, before, transmittance(omega));
+    if w.k >= w.n {
+        if w.n > 0u {
+            w.omega += w.sum;
+            offer_depth(&g, g.count == 0u, w.group, w.before, transmittance(w.omega));
+        }
+        if g.open {
+            close_segment(&g);
+        }
+        w.stage = 2u;
     }
-    if g.open {
-        close_segment(&g);
-    }
-    return g.count;
+    w.zo = g.zo;
+    w.vo = g.vo;
+    w.lo = g.lo;
+    w.hi = g.hi;
+    w.last = g.last;
+    w.open = u32(g.open);
+    w.count = g.count;
+    return w;
 }
 
-// Nodes in texel t's list.
-fn list_length(t: u32) -> u32 {
-    let node_count = arrayLength(&ab_nodes);
-    var n = 0u;
-    var i = ab_heads[t];
-    while i != 0u && n < node_count {
-        i = ab_nodes[i - 1u].next;
-        n += 1u;
-    }
-    return n;
+// The state of a texel not started: its list counted, nothing taken, the visibility 1 in front.
+fn started(t: u32) -> DsmWalk {
+    var w: DsmWalk;
+    w.vo = 1.0;
+    w.n = list_length(t);
+    w.before = 1.0;
+    w.stage = 1u;
+    return w;
 }
 
 @compute @workgroup_size(8, 8)
@@ -171,9 +217,19 @@ fn cs_count(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let t = id.y * res + id.x;
-    let count = compress_texel(t, list_length(t), false, 0u, 0u);
-    out_headers[t] = vec2<u32>(0u, count);
-    atomicAdd(&alloc[0], count);
+    var w = walks[t];
+    if w.stage == 2u {
+        return;
+    }
+    if w.stage == 0u {
+        w = started(t);
+    }
+    w = advance(t, false, w);
+    walks[t] = w;
+    if w.stage == 2u {
+        out_headers[t] = vec2<u32>(0u, w.count);
+        atomicAdd(&alloc[0], w.count);
+    }
 }
 
 @compute @workgroup_size(8, 8)
@@ -183,14 +239,25 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let t = id.y * res + id.x;
-    let counted = out_headers[t].y;
-    let base = atomicAdd(&alloc[0], counted);
-    let limit = select(0u, counted, base + counted <= arrayLength(&out_vertices));
-    let count = compress_texel(t, list_length(t), true, base, limit);
-    if count != limit {
+    var w = walks[t];
+    if w.stage == 2u {
+        return;
+    }
+    if w.stage == 0u {
+        w = started(t);
+        let counted = out_headers[t].y;
+        w.base = atomicAdd(&alloc[0], counted);
+        w.limit = select(0u, counted, w.base + counted <= arrayLength(&out_vertices));
+    }
+    w = advance(t, true, w);
+    walks[t] = w;
+    if w.stage != 2u {
+        return;
+    }
+    if w.count != w.limit {
         atomicAdd(&alloc[1], 1u);
         out_headers[t] = vec2<u32>(0u, 0xffffffffu);
         return;
     }
-    out_headers[t] = vec2<u32>(base, count);
+    out_headers[t] = vec2<u32>(w.base, w.count);
 }

@@ -9,7 +9,8 @@ struct AvsmUniforms {
     nodes: u32,
     // 0: depth order, 1: submission order.
     order: u32,
-    pad0: u32,
+    // Fragments each texel inserts per dispatch of the compression pass (the walk resumes where it stopped).
+    steps: u32,
 }
 
 // x, or 0 below 1e-30: transmittances and areas, alike on devices that flush subnormals and those that keep them.

@@ -4,6 +4,7 @@ struct DsmUniforms {
     epsilon: f32,
     // Texels per side of the map.
     resolution: u32,
-    pad0: u32,
+    // Fragments each texel takes per dispatch of the compressor (its walk resumes where it stopped).
+    steps: u32,
     pad1: u32,
 }

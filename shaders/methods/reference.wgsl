@@ -2,19 +2,16 @@
 // V(z) = exp(-sum of b over fragments with depth < z) (design.md).
 #include "common/frame.wgsl"
 #include "common/visibility.wgsl"
-#include "common/list_node.wgsl"
-
-@group(1) @binding(0) var<storage, read> ref_heads: array<u32>;
-@group(1) @binding(1) var<storage, read> ref_nodes: array<ListNode>;
+#include "common/list_pages.wgsl"
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
     let t = u32(texel.y) * frame.light_map_resolution + u32(texel.x);
-    var i = ref_heads[t];
+    var i = ab_heads[t];
     var sum = 0.0;
     var steps = 0u;
-    let n = arrayLength(&ref_nodes);
+    let n = ab_capacity();
     while i != 0u && steps < n {
-        let node = ref_nodes[i - 1u];
+        let node = ab_node(i - 1u);
         if node.depth < z {
             sum += optical_depth(node.alpha);
         }

@@ -377,7 +377,7 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
             .map(|p| Point {
                 x: p.segments as f64,
                 y: p.ms.median,
-                label: format!("{} ×{}", p.label, p.density),
+                label: format!("{} ×{:.3}", p.label, p.density),
                 row: None,
             })
             .collect();
@@ -435,7 +435,7 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
         title: "GPU time against segment count".to_string(),
         notes,
         x: Axis {
-            label: format!("segments (strand density × {first} .. {last})"),
+            label: format!("segments (strand density × {first:.2} .. {last:.2})"),
             scale: Scale::Linear,
         },
         y: Axis {

@@ -1,9 +1,9 @@
 //! `hairlab bench`: the arguments, the run, and the tables printed on stdout.
 
 use super::{
-    BenchResult, DEFAULT_SCALING_SEGMENTS, Progress, ScalingResult, TerminalProgress, parse_methods,
-    parse_metric, prepare_out_dir, run_each, run_scaling, scaling_configs, write_results, write_scaling,
-    write_tables,
+    BenchResult, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP, Progress,
+    ScalingPlan, ScalingResult, TerminalProgress, parse_methods, parse_metric, prepare_out_dir, run_each,
+    run_scaling, scaling_configs, write_results, write_scaling, write_tables,
 };
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
@@ -38,9 +38,10 @@ pub enum BenchMode {
     /// A fur preset's blendings against the fur reference (`measure fur`'s rows): fur.csv and fur.json, with
     /// the paper's Table 1 rows per blending.
     Fur(ModeBenchArgs),
-    /// Each method's scaling configurations timed (light passes only) over the strand density from × 0.25,
-    /// doubled until the scene has --max-segments segments (and at least to × 4); GPU ms per segment fitted
-    /// with R²: scaling.csv, scaling_points.csv, scaling.png, scaling.svg.
+    /// Each method's scaling configurations timed (light passes only) at --points strand densities evenly
+    /// spaced in segments up to --max-segments (the median of --frames ≥ 3 timed frames after --warmup
+    /// discarded ones per point); GPU ms = fixed cost + cost per segment × segments fitted with R² and the
+    /// log-log exponent: scaling.csv, scaling_points.csv, scaling.png, scaling.svg.
     Scaling(ScalingBenchArgs),
     /// Each configuration over a preset's motion (`measure motion`'s rows) charted as GPU time against a
     /// temporal metric (--metric: flicker, flicker-p99, pop-rate, image-flicker) with the Pareto front:
@@ -57,7 +58,7 @@ pub struct BenchScene {
     /// Override any preset value, e.g. `--set render.map_resolution=256` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Timed frames per configuration (after one warm-up frame).
+    /// Timed frames per configuration (after one warm-up frame; `bench scaling`: at least 3, after --warmup).
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
     /// Output folder (created).
@@ -96,6 +97,12 @@ pub struct ScalingBenchArgs {
     /// The segment count the densities reach.
     #[arg(long, default_value_t = DEFAULT_SCALING_SEGMENTS)]
     pub max_segments: usize,
+    /// Densities measured, evenly spaced in segments up to --max-segments.
+    #[arg(long, default_value_t = DEFAULT_SCALING_POINTS)]
+    pub points: usize,
+    /// Frames rendered and discarded before timing each configuration at each density.
+    #[arg(long, default_value_t = DEFAULT_SCALING_WARMUP)]
+    pub warmup: u32,
 }
 
 /// Today's spellings of `bench`, hidden from the help; every mode runs through them. A flag that the chosen
@@ -122,6 +129,10 @@ pub struct LegacyBenchArgs {
     pub fur: bool,
     #[arg(long, hide = true)]
     pub max_segments: Option<usize>,
+    #[arg(long, hide = true, requires = "scaling")]
+    pub points: Option<usize>,
+    #[arg(long, hide = true, requires = "scaling")]
+    pub warmup: Option<u32>,
     #[arg(long, hide = true, required = true)]
     pub out: Option<PathBuf>,
 }
@@ -138,6 +149,8 @@ impl LegacyBenchArgs {
             transparency: false,
             fur: false,
             max_segments: None,
+            points: None,
+            warmup: None,
             out: Some(scene.out.clone()),
         }
     }
@@ -178,6 +191,8 @@ impl BenchMode {
                 scaling: true,
                 methods: a.methods.clone(),
                 max_segments: Some(a.max_segments),
+                points: Some(a.points),
+                warmup: Some(a.warmup),
                 ..LegacyBenchArgs::of(&a.scene)
             },
         })
@@ -275,16 +290,14 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     }
     if a.scaling {
         let configs = scaling_configs(&methods);
-        let r = run_scaling(
-            &settings,
-            &a.preset,
-            &configs,
-            a.frames,
+        let plan = ScalingPlan {
             max_segments,
-            &never,
-            &mut progress,
-        )?
-        .context("the scaling run was cancelled")?;
+            points: a.points.unwrap_or(DEFAULT_SCALING_POINTS),
+            frames: a.frames,
+            warmup: a.warmup.unwrap_or(DEFAULT_SCALING_WARMUP),
+        };
+        let r = run_scaling(&settings, &a.preset, &configs, plan, &never, &mut progress)?
+            .context("the scaling run was cancelled")?;
         drop(bar);
         print_scaling(&r);
         for f in write_scaling(&out, &r)? {
@@ -405,20 +418,27 @@ fn print_transparency(b: &super::transparency::TransparencyBench) {
 
 fn print_scaling(r: &ScalingResult) {
     println!(
-        "scaling on {}: GPU ms = cost per segment × segments + fixed cost",
-        r.device
+        "scaling on {} (map {}², {} points, median of {} frames after {} warm-up): GPU ms = fixed cost + cost per \
+         segment × segments",
+        r.device,
+        r.map_resolution,
+        r.densities.len(),
+        r.frames,
+        r.warmup
     );
     println!(
-        "{:<20} {:>14} {:>13} {:>9}",
-        "configuration", "ns per segment", "intercept ms", "R²"
+        "{:<20} {:>14} {:>13} {:>9} {:>9}  verdict",
+        "configuration", "ns per segment", "intercept ms", "R²", "exponent"
     );
     for f in &r.fits {
         println!(
-            "{:<20} {:>14.4} {:>13.4} {:>9.4}",
+            "{:<20} {:>14.4} {:>13.4} {:>9.4} {:>9.3}  {}",
             f.label,
             f.ms_per_segment * 1e6,
             f.intercept_ms,
-            f.r_squared
+            f.r_squared,
+            f.exponent,
+            f.verdict()
         );
     }
     for r in &r.refused {

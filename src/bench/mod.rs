@@ -4,9 +4,11 @@
 //! `speed_vs_accuracy.png`/`.svg` (GPU time against an accuracy metric, map error unless `--metric` says
 //! otherwise, the Pareto front marked).
 //!
-//! The scaling mode times a few configurations (light passes only) over the generator's strand density from
-//! × 0.25, doubling until the scene has a million segments (`--max-segments`), and fits GPU time against
-//! segment count by least squares: the cost per segment, the fixed cost and R².
+//! The scaling mode times a few configurations (light passes only) at strand densities evenly spaced in segment
+//! count up to a million segments (`--max-segments`, `--points`), each point the median of at least three timed
+//! frames after discarded warm-up frames, and fits GPU time against segment count by least squares
+//! (`t = a + b·n`): the cost per segment, the fixed cost, R², and the log-log exponent that says how a cost that
+//! is not linear grows.
 //!
 //! GPU time is that of the method's own light passes per frame (the shared light-depth pass every method uses
 //! is left out, so the opaque shadow map, which reads only that pass, costs 0 ms).
@@ -36,11 +38,12 @@ pub use result::{
     ScalingRefusal, ScalingResult, accuracy_metrics, error_metrics, frame_totals, metric_axis, parse_metric,
 };
 pub use run::{
-    Progress, TerminalProgress, measure_configs, measure_configs_each, run, run_each, run_scaling,
+    Progress, ScalingPlan, TerminalProgress, measure_configs, measure_configs_each, run, run_each,
+    run_scaling, scaling_densities,
 };
-pub use stats::{Spread, fit_line, pareto_front};
+pub use stats::{Spread, fit_line, growth_exponent, pareto_front};
 pub use sweep::{
-    BenchConfig, DEFAULT_SCALING_SEGMENTS, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,
-    MIN_LAST_SCALING_DENSITY, Tuned, all_scaling_configs, parse_methods, scaling_configs, sweep_configs,
+    BenchConfig, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP,
+    MIN_SCALING_FRAMES, Tuned, all_scaling_configs, parse_methods, scaling_configs, sweep_configs,
     sweep_methods, tune, tune_analysed,
 };

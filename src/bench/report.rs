@@ -203,6 +203,8 @@ struct FitRow<'a> {
     ns_per_segment: f64,
     intercept_ms: f64,
     r_squared: f64,
+    exponent: f64,
+    verdict: String,
     device: &'a str,
 }
 
@@ -216,6 +218,8 @@ pub fn scaling_csv(r: &ScalingResult) -> Result<String> {
             ns_per_segment: f.ms_per_segment * 1e6,
             intercept_ms: f.intercept_ms,
             r_squared: f.r_squared,
+            exponent: f.exponent,
+            verdict: f.verdict(),
             device: &r.device,
         }),
     )
@@ -228,9 +232,13 @@ struct PointRow<'a> {
     density: f32,
     strands: usize,
     segments: usize,
+    frames: usize,
     gpu_ms_median: f64,
     gpu_ms_min: f64,
     gpu_ms_max: f64,
+    /// (max − min) / median over the timed frames.
+    spread: f64,
+    ns_per_segment: f64,
 }
 
 /// `scaling_points.csv`: every measurement behind the fits.
@@ -242,9 +250,12 @@ pub fn scaling_points_csv(r: &ScalingResult) -> Result<String> {
             density: p.density,
             strands: p.strands,
             segments: p.segments,
+            frames: p.frames,
             gpu_ms_median: p.ms.median,
             gpu_ms_min: p.ms.min,
             gpu_ms_max: p.ms.max,
+            spread: (p.ms.max - p.ms.min) / p.ms.median,
+            ns_per_segment: p.ms.median * 1e6 / p.segments.max(1) as f64,
         }),
     )
 }
@@ -416,6 +427,8 @@ mod tests {
             device: "dev".to_string(),
             map_resolution: 64,
             densities: vec![0.25, 0.5],
+            frames: 3,
+            warmup: 2,
             points: Vec::new(),
             refused: Vec::new(),
             fits: vec![ScalingFit {
@@ -423,6 +436,7 @@ mod tests {
                 ms_per_segment: 2f64.powi(-20),
                 intercept_ms: 0.5,
                 r_squared: 1.0,
+                exponent: 0.5,
             }],
         };
         let text = scaling_csv(&r).unwrap();
@@ -430,8 +444,8 @@ mod tests {
         assert_eq!(
             lines,
             [
-                "method,ms_per_segment,ns_per_segment,intercept_ms,r_squared,device",
-                "osm:slices=16,9.5367431640625e-7,0.95367431640625,0.5,1.0,dev"
+                "method,ms_per_segment,ns_per_segment,intercept_ms,r_squared,exponent,verdict,device",
+                "osm:slices=16,9.5367431640625e-7,0.95367431640625,0.5,1.0,0.5,linear,dev"
             ]
         );
     }

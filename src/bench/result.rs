@@ -272,7 +272,10 @@ pub struct ScalingPoint {
     pub density: f32,
     pub strands: usize,
     pub segments: usize,
+    /// Over the timed frames (the fit takes the median).
     pub ms: Spread,
+    /// Timed frames behind `ms`.
+    pub frames: usize,
 }
 
 /// A configuration the renderer refused at one density (e.g. lists too long for a CPU adapter's compressor).
@@ -283,13 +286,40 @@ pub struct ScalingRefusal {
     pub reason: String,
 }
 
-/// GPU ms ≈ `ms_per_segment` · segments + `intercept_ms`, fitted over the densities.
+/// R² from which the scaling mode calls a configuration's cost linear in segments...
+pub const LINEAR_R_SQUARED: f64 = 0.98;
+/// ... when its log-log exponent is also at most this: a line through few points can fit a quadratic cost
+/// closely (R² 0.996 over three points of a cost growing as segments^2.9), while a linear cost with a fixed part
+/// has an exponent of at most 1.
+pub const LINEAR_MAX_EXPONENT: f64 = 1.2;
+
+/// GPU ms ≈ `ms_per_segment` · segments + `intercept_ms`, fitted over the densities' medians.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalingFit {
     pub label: String,
     pub ms_per_segment: f64,
     pub intercept_ms: f64,
     pub r_squared: f64,
+    /// `p` of GPU ms ∝ segments^p (log-log least squares; [`super::growth_exponent`]), NaN when it cannot be
+    /// fitted: what a cost that is not linear is reported with.
+    pub exponent: f64,
+}
+
+impl ScalingFit {
+    /// Whether the line holds: R² at least [`LINEAR_R_SQUARED`] and the exponent at most
+    /// [`LINEAR_MAX_EXPONENT`].
+    pub fn linear(&self) -> bool {
+        self.r_squared >= LINEAR_R_SQUARED && self.exponent <= LINEAR_MAX_EXPONENT
+    }
+
+    /// The table's verdict: "linear", or the measured growth of a cost that is not.
+    pub fn verdict(&self) -> String {
+        if self.linear() {
+            "linear".to_string()
+        } else {
+            format!("not linear: GPU ms grows as segments^{:.2}", self.exponent)
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -299,6 +329,9 @@ pub struct ScalingResult {
     pub map_resolution: u32,
     /// The strand density factors measured, smallest first.
     pub densities: Vec<f32>,
+    /// Timed frames per point, and the warm-up frames discarded before them.
+    pub frames: u32,
+    pub warmup: u32,
     pub points: Vec<ScalingPoint>,
     /// Configurations refused at some densities (left out of the points and the fits there).
     pub refused: Vec<ScalingRefusal>,

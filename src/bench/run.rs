@@ -2,9 +2,9 @@
 //! mode's densities, and progress reports (a bar on the terminal).
 
 use super::{
-    BenchConfig, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, FIRST_SCALING_DENSITY, MAX_SCALING_DENSITY,
-    MIN_LAST_SCALING_DENSITY, ScalingFit, ScalingPoint, ScalingRefusal, ScalingResult, Spread,
-    all_scaling_configs, fit_line, frame_totals, sweep_configs, tune_analysed,
+    BenchConfig, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, MIN_SCALING_FRAMES, ScalingFit,
+    ScalingPoint, ScalingRefusal, ScalingResult, Spread, all_scaling_configs, fit_line, frame_totals,
+    growth_exponent, sweep_configs, tune_analysed,
 };
 use crate::measure::{self, MethodConfig};
 use crate::settings::Settings;
@@ -179,16 +179,35 @@ pub fn run_each(
     )
 }
 
-/// Times `configs` (light passes only: no reference, no error) at the generator's strand density ×
-/// [`FIRST_SCALING_DENSITY`], doubled until the scene has at least `max_segments` segments (and the factor is
-/// at least [`MIN_LAST_SCALING_DENSITY`], at most [`MAX_SCALING_DENSITY`]), and fits GPU ms against segment
-/// count. `None` when cancelled.
+/// How the scaling mode measures: `points` densities evenly spaced in segment count up to `max_segments`, each
+/// configuration timed over `frames` frames after `warmup` discarded ones.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScalingPlan {
+    pub max_segments: usize,
+    pub points: usize,
+    pub frames: u32,
+    pub warmup: u32,
+}
+
+/// The strand density factors of `points` points evenly spaced in segment count, the last reaching
+/// `max_segments` on a scene of `base_segments` segments at density × 1: `k · max / (points · base)` for
+/// k = 1..=points.
+pub fn scaling_densities(base_segments: usize, max_segments: usize, points: usize) -> Vec<f32> {
+    let last = max_segments as f64 / base_segments.max(1) as f64;
+    (1..=points)
+        .map(|k| (last * k as f64 / points as f64) as f32)
+        .collect()
+}
+
+/// Times `configs` (light passes only: no reference, no error) at the densities of [`scaling_densities`] and
+/// fits GPU ms (each point's median frame) against segment count: `t = a + b·n` with R², and the log-log
+/// exponent. A configuration the renderer refuses at a density is recorded with its reason and left out of the
+/// fit. `None` when cancelled.
 pub fn run_scaling(
     settings: &Settings,
     preset: &str,
     configs: &[MethodConfig],
-    frames: u32,
-    max_segments: usize,
+    plan: ScalingPlan,
     cancel: &AtomicBool,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Option<ScalingResult>> {
@@ -204,38 +223,54 @@ pub fn run_scaling(
             all_scaling_configs().join(", ")
         );
     }
+    if plan.frames < MIN_SCALING_FRAMES {
+        bail!(
+            "--frames {}: the scaling mode takes the median of at least {MIN_SCALING_FRAMES} timed frames per point",
+            plan.frames
+        );
+    }
+    if plan.points < 2 {
+        bail!("--points {}: a line needs at least 2 points", plan.points);
+    }
+    let base = settings.scene.build()?.strands.segment_count();
+    if base == 0 {
+        bail!("--scaling: the preset's generator makes no segments at density × 1");
+    }
     let start = Instant::now();
     let mut points = Vec::new();
-    let mut device: String;
-    let mut densities = Vec::new();
+    let mut device = String::new();
     let mut refused = Vec::new();
-    let mut factor = FIRST_SCALING_DENSITY;
-    loop {
+    let densities = scaling_densities(base, plan.max_segments, plan.points);
+    for (i, &factor) in densities.iter().enumerate() {
         if cancel.load(Ordering::Relaxed) {
             return Ok(None);
         }
         let mut s = settings.clone();
         s.scene.generator.density *= factor;
-        let done = densities.len() * configs.len();
+        let done = i * configs.len();
         let mut n = 0;
-        let t = measure::time_configs(&s, configs, frames, |label| {
+        let t = measure::time_configs(&s, configs, plan.frames, plan.warmup, |label| {
             progress(Progress {
                 done: done + n,
-                total: done + configs.len(),
-                label: format!("density x{factor}: {label}"),
+                total: densities.len() * configs.len(),
+                label: format!("density x{factor:.3}: {label}"),
                 elapsed: start.elapsed(),
             });
             n += 1;
         })?;
         for row in &t.rows {
             match &row.pass_frames_ms {
-                Ok(passes) => points.push(ScalingPoint {
-                    label: row.config.label(),
-                    density: s.scene.generator.density,
-                    strands: t.strands,
-                    segments: t.segments,
-                    ms: Spread::of(&frame_totals(passes)),
-                }),
+                Ok(passes) => {
+                    let totals = frame_totals(passes);
+                    points.push(ScalingPoint {
+                        label: row.config.label(),
+                        density: s.scene.generator.density,
+                        strands: t.strands,
+                        segments: t.segments,
+                        ms: Spread::of(&totals),
+                        frames: totals.len(),
+                    })
+                }
                 Err(e) => refused.push(ScalingRefusal {
                     label: row.config.label(),
                     segments: t.segments,
@@ -244,12 +279,6 @@ pub fn run_scaling(
             }
         }
         device = t.device;
-        densities.push(factor);
-        if (t.segments >= max_segments && factor >= MIN_LAST_SCALING_DENSITY) || factor >= MAX_SCALING_DENSITY
-        {
-            break;
-        }
-        factor *= 2.0;
     }
     let fits = configs
         .iter()
@@ -265,6 +294,7 @@ pub fn run_scaling(
                 ms_per_segment: slope,
                 intercept_ms: intercept,
                 r_squared: r2,
+                exponent: growth_exponent(&xy).unwrap_or(f64::NAN),
             })
         })
         .collect();
@@ -273,6 +303,8 @@ pub fn run_scaling(
         device,
         map_resolution: settings.render.map_resolution,
         densities,
+        frames: plan.frames,
+        warmup: plan.warmup,
         points,
         refused,
         fits,
@@ -352,6 +384,17 @@ impl Drop for TerminalProgress {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn scaling_densities_are_evenly_spaced_up_to_the_last() {
+        // 4800 segments at × 1, 30,000 wanted: × 6.25 last, 6 points 1.0417 apart.
+        let d = scaling_densities(4800, 30_000, 6);
+        assert_eq!(d.len(), 6);
+        assert!((d[5] - 6.25).abs() < 1e-6, "{d:?}");
+        for w in d.windows(2) {
+            assert!((w[1] - w[0] - 6.25 / 6.0).abs() < 1e-5, "{d:?}");
+        }
+    }
 
     #[test]
     fn progress_line_has_bar_step_and_cut_label() {

@@ -75,6 +75,19 @@ pub fn fit_line(points: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
     Some((slope, intercept, r2))
 }
 
+/// The exponent `p` of `t ∝ n^p` fitted by least squares on `(ln n, ln t)` over the points with positive `n` and
+/// `t`: 1 for a cost linear in `n` without a fixed cost, below 1 where a fixed cost weighs, near 2 for a cost
+/// quadratic in `n` (e.g. a per-texel walk over each list for each of its fragments). `None` with fewer than two
+/// such points of distinct `n`.
+pub fn growth_exponent(points: &[(f64, f64)]) -> Option<f64> {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+        .map(|p| (p.0.ln(), p.1.ln()))
+        .collect();
+    fit_line(&logs).map(|(slope, _, _)| slope)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,6 +104,17 @@ mod tests {
         );
         assert!((r2 - 1.0).abs() < 1e-12);
         assert_eq!(fit_line(&[(1.0, 2.0), (1.0, 3.0)]), None);
+    }
+
+    #[test]
+    fn growth_exponent_reads_the_power() {
+        let square: Vec<(f64, f64)> = (1..6)
+            .map(|i| (i as f64 * 1e5, 3e-9 * (i as f64 * 1e5).powi(2)))
+            .collect();
+        assert!((growth_exponent(&square).unwrap() - 2.0).abs() < 1e-9);
+        let line: Vec<(f64, f64)> = (1..6).map(|i| (i as f64 * 1e5, 2e-6 * i as f64 * 1e5)).collect();
+        assert!((growth_exponent(&line).unwrap() - 1.0).abs() < 1e-9);
+        assert_eq!(growth_exponent(&[(0.0, 1.0), (1.0, 0.0), (2.0, 1.0)]), None);
     }
 
     #[test]

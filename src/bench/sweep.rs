@@ -14,12 +14,15 @@ use anyhow::{Result, bail};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-/// The scaling mode's first strand density factor; each next one doubles it.
-pub const FIRST_SCALING_DENSITY: f32 = 0.25;
-/// The scaling mode measures at least up to this density factor (five points from ×0.25)...
-pub const MIN_LAST_SCALING_DENSITY: f32 = 4.0;
-/// ... and at most up to this one, whatever `--max-segments` asks.
-pub const MAX_SCALING_DENSITY: f32 = 1024.0;
+/// The scaling mode's points: strand densities evenly spaced in segment count, the last at `--max-segments`.
+/// Evenly spaced points weigh the fit alike (a doubling ladder put half its points below an eighth of the range,
+/// where the fixed cost dominates, and let the last point alone decide the slope).
+pub const DEFAULT_SCALING_POINTS: usize = 6;
+/// Fewest timed frames per point (the median of fewer is one noisy frame).
+pub const MIN_SCALING_FRAMES: u32 = 3;
+/// Frames rendered and discarded before timing each configuration at each point (pipelines, first-use
+/// allocations and caches).
+pub const DEFAULT_SCALING_WARMUP: u32 = 2;
 /// The segment count the scaling mode reaches by default.
 pub const DEFAULT_SCALING_SEGMENTS: usize = 1_000_000;
 

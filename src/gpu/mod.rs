@@ -223,6 +223,23 @@ impl Gpu {
         Ok(Gpu { device, queue, info })
     }
 
+    /// [`Gpu::headless`] with storage bindings of at most `bytes` (below the adapter's limit): a device on which
+    /// small scenes exercise what splits large buffers over several bindings.
+    pub fn headless_with_binding_limit(pref: AdapterPreference, bytes: u64) -> Result<Gpu, GpuError> {
+        let adapters = enumerate_adapters();
+        let adapter = select_adapter(&adapters, pref)?;
+        let info = adapter.get_info();
+        let mut desc = device_descriptor(&adapter);
+        desc.required_limits.max_storage_buffer_binding_size =
+            desc.required_limits.max_storage_buffer_binding_size.min(bytes);
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&desc)).map_err(|cause| GpuError::RequestDevice {
+                adapter: describe(&info),
+                cause,
+            })?;
+        Ok(Gpu { device, queue, info })
+    }
+
     /// The device for tests: prefers the software adapter. With no adapter it fails with what to install, unless
     /// `HAIRLAB_SKIP_GPU_TESTS=1` is set, in which case it returns `None` and says so on stderr.
     pub fn for_tests() -> Option<Gpu> {

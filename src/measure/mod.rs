@@ -225,7 +225,7 @@ pub fn measure_on_each(
     for c in configs {
         progress(&c.label());
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
-        let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames)?;
+        let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames, 1)?;
         let texel_errors = texels.errors(&evaluate_all(&mut r, method, &texels.samples)?);
         let (memory_bytes, build_memory_bytes, geometry_passes) =
             r.method_gpu(method).map_or((0, 0, 0), |g| {
@@ -272,13 +272,18 @@ pub fn measure_on_each(
 }
 
 /// GPU milliseconds of each of the method's own light passes (the shared light-depth and mesh shadow passes
-/// left out), frame by frame over `frames` timed frames after one warm-up frame.
-fn time_light_passes(r: &mut Renderer, input: &FrameInput, frames: u32) -> Result<Vec<(String, Vec<f64>)>> {
+/// left out), frame by frame over `frames` timed frames after `warmup` discarded frames.
+fn time_light_passes(
+    r: &mut Renderer,
+    input: &FrameInput,
+    frames: u32,
+    warmup: u32,
+) -> Result<Vec<(String, Vec<f64>)>> {
     let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
-    for frame in 0..=frames {
+    for frame in 0..warmup + frames {
         r.render_light(input)?;
         let times = r.wait_timings();
-        if frame == 0 {
+        if frame < warmup {
             continue;
         }
         for t in times.into_iter().filter(|t| t.phase == Phase::Method) {
@@ -310,13 +315,14 @@ pub struct Timings {
     pub rows: Vec<Timing>,
 }
 
-/// Times `configs` on the scene of `settings` (`frames` timed frames each, after one warm-up) on a device
+/// Times `configs` on the scene of `settings` (`frames` timed frames each, after `warmup` discarded) on a device
 /// opened by the adapter policy: the light passes only, no reference and no error, so that it scales to
 /// millions of segments. A configuration the renderer refuses is recorded with its error and the others go on.
 pub fn time_configs(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
+    warmup: u32,
     mut progress: impl FnMut(&str),
 ) -> Result<Timings> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
@@ -342,7 +348,7 @@ pub fn time_configs(
             width: 8,
             height: 8,
         };
-        let pass_frames_ms = time_light_passes(&mut r, &input, frames).map_err(|e| format!("{e:#}"));
+        let pass_frames_ms = time_light_passes(&mut r, &input, frames, warmup).map_err(|e| format!("{e:#}"));
         out.push(Timing {
             config: c.clone(),
             pass_frames_ms,

@@ -10,18 +10,20 @@
 //! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk is an O(n²) select-next over the
 //! linked list (each step takes the smallest key after the last one: (depth, segment, alpha, node index) or
 //! (segment, depth, alpha, node index)), so it has no bound on the list length and equals the CPU model's sort
-//! for every list. One bound, of CPU adapters only: llvmpipe (lavapipe) stops a shader's loops after 65,535
-//! iterations in all, which the walk reaches near 240 fragments in one texel (measured at N = 8: 220 fragments
-//! equal the CPU model, 244 do not), so on a CPU adapter a frame whose longest list (counted by the A-buffer's
-//! counting pass) exceeds `abuffer::MAX_WALKED_LIST_ON_CPU_ADAPTER` fragments is refused with an error naming the settings
-//! to change, rather than compressed wrongly; the presets stay far below it (stray-strand: 24 at 256²). `N` is
-//! any count in 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA
-//! targets; a storage buffer needs no packing).
+//! for every list. It resumes across dispatches (each texel's last fragment and node count kept in a 32-byte
+//! walk state, the nodes in the output slots): one dispatch inserts every fragment, except on a CPU adapter,
+//! whose llvmpipe stops a shader's loops after 65,535 iterations in all (the walk reached it near 240 fragments
+//! in one texel): there each dispatch inserts as many fragments as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for
+//! the frame's longest list (counted by the A-buffer's counting pass), and as many dispatches follow as the
+//! longest list needs (32 for 1300 fragments), the nodes the same however the walk is split. `N` is any count in
+//! 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA targets; a storage buffer needs no
+//! packing).
 //!
 //! Memory: [`MethodGpu::memory_bytes`] is the node buffer alone (`N × 8` B per texel), what the lookup reads.
 //! The A-buffer is build memory, held only to build the nodes each frame: 4 B per texel (heads) + 16 B per
 //! light-space fragment + 16 B of counters + the 1 B per texel null target, reported as
-//! [`MethodGpu::build_bytes`] (`shared_bytes` is 0: nothing is shared with the renderer). Both storage buffers are checked against the
+//! [`MethodGpu::build_bytes`], with the 32-byte walk state per texel (`shared_bytes` is 0: nothing is shared with
+//! the renderer). Both storage buffers are checked against the
 //! device's storage binding size (a `GpuError::TooLarge` naming the map). Geometry passes: 2 (count, fill).
 
 use super::{
@@ -38,6 +40,11 @@ use bytemuck::{Pod, Zeroable};
 
 /// Bytes of one node (depth, transmittance: two f32).
 pub const NODE_BYTES: u64 = 8;
+/// Bytes of one texel's walk state (`AvsmWalk` in `shaders/avsm.wgsl`).
+pub const WALK_BYTES: u64 = 32;
+/// Loop iterations of one insertion besides the walk along the list (finding its place, shifting, two rounds
+/// of compression over at most `MAX_NODES + 2` nodes: `6 (MAX_NODES + 2) + 1`).
+const INSERT_ITERATIONS: u64 = 6 * (MAX_NODES as u64 + 2) + 1;
 
 const NODES: ParamSpec = ParamSpec {
     key: "nodes",
@@ -99,7 +106,8 @@ pub struct AvsmUniforms {
     pub nodes: u32,
     /// 0: depth order, 1: submission order.
     pub order: u32,
-    pub pad0: u32,
+    /// Fragments each texel inserts per dispatch of the compression pass.
+    pub steps: u32,
 }
 
 impl LightMethod for Avsm {
@@ -113,7 +121,7 @@ impl LightMethod for Avsm {
                 resolution,
                 nodes,
                 order,
-                pad0
+                steps
             }
         ))
     }
@@ -142,9 +150,10 @@ impl ShadowMethod for Avsm {
     }
 }
 
-/// The node buffer and the bind groups that name it.
+/// The node buffer, the walk state and the bind groups that name them.
 struct NodeMap {
     buffer: wgpu::Buffer,
+    walk: wgpu::Buffer,
     resolution: u32,
     nodes: u32,
     compute_bind_group: wgpu::BindGroup,
@@ -159,6 +168,8 @@ pub struct AvsmGpu {
     pipeline: wgpu::ComputePipeline,
     uniforms: wgpu::Buffer,
     map: NodeMap,
+    /// Dispatches of the compression pass this frame.
+    dispatches: u32,
 }
 
 impl AvsmGpu {
@@ -166,20 +177,29 @@ impl AvsmGpu {
         let device = &ctx.gpu.device;
         let abuffer =
             ABuffer::new(ctx.gpu, ctx.frame_layout, ctx.light).named("avsm: A-buffer", "AVSM A-buffer");
-        // Binding numbers are those of shaders/avsm.wgsl and shaders/methods/avsm.wgsl: 0 nodes, 1 uniforms.
-        let layout = |label, read_only, stages| {
-            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(label),
-                entries: &[storage_entry(0, stages, read_only), uniform_entry(1, stages)],
-            })
-        };
-        let compute_layout = layout("hairlab.avsm.compute_layout", false, wgpu::ShaderStages::COMPUTE);
-        let lookup_layout = layout("hairlab.avsm.lookup_layout", true, LOOKUP_STAGES);
+        // Binding numbers are those of shaders/avsm.wgsl and shaders/methods/avsm.wgsl: 0 nodes, 1 uniforms, 2
+        // the walk state (compression only).
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.avsm.compute_layout"),
+            entries: &[
+                storage_entry(0, cs, false),
+                uniform_entry(1, cs),
+                storage_entry(2, cs, false),
+            ],
+        });
+        let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hairlab.avsm.lookup_layout"),
+            entries: &[
+                storage_entry(0, LOOKUP_STAGES, true),
+                uniform_entry(1, LOOKUP_STAGES),
+            ],
+        });
         let module = passes::shader_module(device, "hairlab.avsm.shader", "avsm.wgsl", None);
-        // Group 0: the A-buffer's lists (heads, nodes); group 1: the node buffer and the uniforms.
+        // Group 0: the node buffer and the uniforms; group 1: the A-buffer's lists (heads, node pages).
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hairlab.avsm.compute_pipeline_layout"),
-            bind_group_layouts: &[Some(&abuffer.lookup_layout), Some(&compute_layout)],
+            bind_group_layouts: &[Some(&compute_layout), Some(&abuffer.lookup_layout)],
             immediate_size: 0,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -207,6 +227,7 @@ impl AvsmGpu {
             pipeline,
             uniforms,
             map,
+            dispatches: 1,
         })
     }
 
@@ -231,32 +252,48 @@ impl AvsmGpu {
                 limit,
             });
         }
+        let walk_bytes = resolution as u64 * resolution as u64 * WALK_BYTES;
+        if walk_bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the AVSM walk state hairlab.avsm.walk ({WALK_BYTES} B at {resolution}² texels; lower the map \
+                     resolution)"
+                ),
+                bytes: walk_bytes,
+                limit,
+            });
+        }
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.avsm.nodes"),
             size: bytes,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let bind_group = |label, layout| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: uniforms.as_entire_binding(),
-                    },
-                ],
-            })
-        };
-        let compute_bind_group = bind_group("hairlab.avsm.compute_bind_group", compute_layout);
-        let lookup_bind_group = bind_group("hairlab.avsm.lookup_bind_group", lookup_layout);
+        let walk = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.avsm.walk"),
+            size: walk_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            }
+        }
+        let compute_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.avsm.compute_bind_group"),
+            layout: compute_layout,
+            entries: &[entry(0, &buffer), entry(1, uniforms), entry(2, &walk)],
+        });
+        let lookup_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hairlab.avsm.lookup_bind_group"),
+            layout: lookup_layout,
+            entries: &[entry(0, &buffer), entry(1, uniforms)],
+        });
         Ok(NodeMap {
             buffer,
+            walk,
             resolution,
             nodes,
             compute_bind_group,
@@ -282,7 +319,8 @@ impl MethodGpu for AvsmGpu {
         }
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
-        self.abuffer.check_walk(ctx.gpu, "AVSM")?;
+        let split = self.abuffer.walk_split(ctx.gpu, "AVSM", INSERT_ITERATIONS)?;
+        self.dispatches = split.dispatches;
         ctx.gpu.queue.write_buffer(
             &self.uniforms,
             0,
@@ -290,7 +328,7 @@ impl MethodGpu for AvsmGpu {
                 resolution,
                 nodes,
                 order: (p.order == InsertionOrder::Submission) as u32,
-                pad0: 0,
+                steps: split.steps,
             }),
         );
         Ok(())
@@ -304,6 +342,7 @@ impl MethodGpu for AvsmGpu {
     ) {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
+        encoder.clear_buffer(&self.map.walk, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.avsm.compress"),
             timestamp_writes: timer
@@ -311,10 +350,13 @@ impl MethodGpu for AvsmGpu {
                 .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "avsm: compress")),
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.abuffer.lookup_bind_group, &[]);
-        pass.set_bind_group(1, &self.map.compute_bind_group, &[]);
+        pass.set_bind_group(0, &self.map.compute_bind_group, &[]);
+        pass.set_bind_group(1, &self.abuffer.lookup_bind_group, &[]);
         let groups = self.map.resolution.div_ceil(8);
-        pass.dispatch_workgroups(groups, groups, 1);
+        // Each dispatch resumes the walks where the one before stopped.
+        for _ in 0..self.dispatches {
+            pass.dispatch_workgroups(groups, groups, 1);
+        }
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
         &self.lookup_layout
@@ -325,9 +367,9 @@ impl MethodGpu for AvsmGpu {
     fn memory_bytes(&self) -> u64 {
         self.map.buffer.size()
     }
-    /// The A-buffer the compression pass reads.
+    /// The A-buffer the compression pass reads and the walk state.
     fn build_bytes(&self) -> u64 {
-        self.abuffer.memory_bytes()
+        self.abuffer.memory_bytes() + self.map.walk.size()
     }
     fn geometry_passes(&self) -> u32 {
         2

@@ -4,7 +4,11 @@
 //!
 //! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists a compute pipeline
 //! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — select-next
-//! over the linked list, no private array — and compresses (on a CPU adapter lists are bounded by llvmpipe's loop limit, `abuffer::check_walk`). `prepare` runs the
+//! over the linked list, no private array — and compresses, resuming across dispatches (each texel's walk and
+//! compressor state, 80 bytes, kept between them): one dispatch per pass, except on a CPU adapter, whose
+//! llvmpipe stops a shader's loops after 65,535 iterations in all, where each dispatch takes as many fragments
+//! as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the frame's longest list and as many follow as it needs
+//! (`abuffer::ABuffer::walk_split`). `prepare` runs the
 //! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
 //! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
 //! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
@@ -16,7 +20,8 @@
 //! (`z`, `V` as f32) each, as many as the compressor keeps (at most 2 per fragment: 16 bytes per fragment at
 //! `epsilon = 0`); both within the device's storage binding size (else `GpuError::TooLarge` naming the map) and
 //! hairlab's map budget. The A-buffer it builds from (16 bytes per fragment, 4 bytes per texel and the 1-byte
-//! null target) is build memory (`MethodGpu::build_bytes`), as is the 8-byte allocator (not counted).
+//! null target) is build memory (`MethodGpu::build_bytes`) with the walk state (80 bytes per texel), as is the
+//! 8-byte allocator (not counted).
 
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
@@ -51,6 +56,10 @@ const SWEEP_EPSILON: &[f32] = &[0.0, 0.01, 0.05, 0.1];
 /// Bytes of one vertex (`z`, `V`) and of one texel header (offset, count).
 pub const VERTEX_BYTES: u64 = 8;
 pub const HEADER_BYTES: u64 = 8;
+/// Bytes of one texel's walk state (`DsmWalk` in `shaders/dsm.wgsl`).
+pub const WALK_BYTES: u64 = 80;
+/// Loop iterations of one fragment besides the walk along the list (at most two offers of two attempts).
+const TAKE_ITERATIONS: u64 = 8;
 
 pub struct Dsm;
 
@@ -88,7 +97,7 @@ impl LightMethod for Dsm {
             DsmUniforms {
                 epsilon,
                 resolution,
-                pad0,
+                steps,
                 pad1
             }
         ))
@@ -122,7 +131,8 @@ impl ShadowMethod for Dsm {
 pub struct DsmUniforms {
     pub epsilon: f32,
     pub resolution: u32,
-    pub pad0: u32,
+    /// Fragments each texel takes per dispatch of the compressor.
+    pub steps: u32,
     pub pad1: u32,
 }
 
@@ -136,6 +146,10 @@ pub struct DsmGpu {
     uniforms: wgpu::Buffer,
     /// `[vertices allocated, texels that did not fit]`, cleared each frame.
     alloc: wgpu::Buffer,
+    /// Each texel's walk state ([`WALK_BYTES`]), cleared before each pass of dispatches.
+    walks: wgpu::Buffer,
+    /// Dispatches of each compressor pass this frame.
+    dispatches: u32,
     headers: wgpu::Buffer,
     vertices: wgpu::Buffer,
     /// Vertices the vertex buffer holds (this frame's count), and the resolution the headers are for.
@@ -168,7 +182,7 @@ impl DsmGpu {
         let abuffer = ABuffer::new(gpu, ctx.frame_layout, ctx.light)
             .named("dsm: A-buffer", "compressed deep shadow map A-buffer");
         let cs = wgpu::ShaderStages::COMPUTE;
-        // Binding numbers are those of shaders/dsm.wgsl (group 1) and shaders/methods/dsm.wgsl.
+        // Binding numbers are those of shaders/dsm.wgsl (group 0) and shaders/methods/dsm.wgsl.
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.dsm.pass_layout"),
             entries: &[
@@ -176,6 +190,7 @@ impl DsmGpu {
                 storage_entry(1, cs, false),
                 uniform_entry(2, cs),
                 storage_entry(3, cs, false),
+                storage_entry(4, cs, false),
             ],
         });
         let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -189,7 +204,7 @@ impl DsmGpu {
         let module = passes::shader_module(device, "hairlab.dsm.shader", "dsm.wgsl", None);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hairlab.dsm.compress_layout"),
-            bind_group_layouts: &[Some(&abuffer.lookup_layout), Some(&pass_layout)],
+            bind_group_layouts: &[Some(&pass_layout), Some(&abuffer.lookup_layout)],
             immediate_size: 0,
         });
         let pipeline = |entry: &str| {
@@ -207,11 +222,12 @@ impl DsmGpu {
         let alloc = storage_buffer(gpu, "hairlab.dsm.alloc", 8);
         let headers = storage_buffer(gpu, "hairlab.dsm.headers", HEADER_BYTES);
         let vertices = storage_buffer(gpu, "hairlab.dsm.vertices", VERTEX_BYTES);
+        let walks = storage_buffer(gpu, "hairlab.dsm.walks", WALK_BYTES);
         let (pass_bind_group, lookup_bind_group) = bind_groups(
             gpu,
             &pass_layout,
             &lookup_layout,
-            [&headers, &vertices, &uniforms, &alloc],
+            [&headers, &vertices, &uniforms, &alloc, &walks],
         );
         DsmGpu {
             abuffer,
@@ -221,6 +237,8 @@ impl DsmGpu {
             lookup_layout,
             uniforms,
             alloc,
+            walks,
+            dispatches: 1,
             headers,
             vertices,
             capacity: 1,
@@ -231,12 +249,12 @@ impl DsmGpu {
     }
 }
 
-/// The compressor's group 1 and the lookup's group 1 over `[headers, vertices, uniforms, alloc]`.
+/// The compressor's group 0 and the lookup's group 1 over `[headers, vertices, uniforms, alloc, walks]`.
 fn bind_groups(
     gpu: &Gpu,
     pass_layout: &wgpu::BindGroupLayout,
     lookup_layout: &wgpu::BindGroupLayout,
-    [headers, vertices, uniforms, alloc]: [&wgpu::Buffer; 4],
+    [headers, vertices, uniforms, alloc, walks]: [&wgpu::Buffer; 5],
 ) -> (wgpu::BindGroup, wgpu::BindGroup) {
     let pass = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("hairlab.dsm.pass_bind_group"),
@@ -246,6 +264,7 @@ fn bind_groups(
             buffer_entry(1, vertices),
             buffer_entry(2, uniforms),
             buffer_entry(3, alloc),
+            buffer_entry(4, walks),
         ],
     });
     let lookup = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -261,22 +280,26 @@ fn bind_groups(
 }
 
 impl DsmGpu {
-    /// Records `pipeline` over every texel.
+    /// Records `pipeline` over every texel, [`DsmGpu::dispatches`] times from fresh walk states (each dispatch
+    /// resumes the walks where the one before stopped).
     fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipeline: &wgpu::ComputePipeline,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
+        encoder.clear_buffer(&self.walks, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.dsm.compress"),
             timestamp_writes: timestamps,
         });
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.abuffer.lookup_bind_group, &[]);
-        pass.set_bind_group(1, &self.pass_bind_group, &[]);
+        pass.set_bind_group(0, &self.pass_bind_group, &[]);
+        pass.set_bind_group(1, &self.abuffer.lookup_bind_group, &[]);
         let groups = self.resolution.div_ceil(8);
-        pass.dispatch_workgroups(groups, groups, 1);
+        for _ in 0..self.dispatches {
+            pass.dispatch_workgroups(groups, groups, 1);
+        }
     }
 
     fn rebind(&mut self, gpu: &Gpu) {
@@ -284,7 +307,13 @@ impl DsmGpu {
             gpu,
             &self.pass_layout,
             &self.lookup_layout,
-            [&self.headers, &self.vertices, &self.uniforms, &self.alloc],
+            [
+                &self.headers,
+                &self.vertices,
+                &self.uniforms,
+                &self.alloc,
+                &self.walks,
+            ],
         );
     }
 }
@@ -297,7 +326,10 @@ impl MethodGpu for DsmGpu {
         let resolution = ctx.map_resolution();
         self.abuffer
             .prepare(gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
-        self.abuffer.check_walk(gpu, "The compressed deep shadow map")?;
+        let split = self
+            .abuffer
+            .walk_split(gpu, "The compressed deep shadow map", TAKE_ITERATIONS)?;
+        self.dispatches = split.dispatches;
         let fragments = self.abuffer.fragment_count;
         let what = |vertices: Option<u64>| {
             let vertices = vertices.map_or(String::new(), |v| format!("{v} vertices, "));
@@ -321,12 +353,25 @@ impl MethodGpu for DsmGpu {
             bytemuck::bytes_of(&DsmUniforms {
                 epsilon: dsm_params(ctx.values).epsilon,
                 resolution,
+                steps: split.steps,
                 ..Zeroable::zeroed()
             }),
         );
+        let walk_bytes = resolution as u64 * resolution as u64 * WALK_BYTES;
+        if walk_bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the compressed deep shadow map's walk state hairlab.dsm.walks ({WALK_BYTES} B at \
+                     {resolution}² texels; lower the map resolution)"
+                ),
+                bytes: walk_bytes,
+                limit,
+            });
+        }
         if resolution != self.resolution {
             self.resolution = resolution;
             self.headers = storage_buffer(gpu, "hairlab.dsm.headers", header_bytes);
+            self.walks = storage_buffer(gpu, "hairlab.dsm.walks", walk_bytes);
             self.rebind(gpu);
         }
         let mut encoder = gpu
@@ -389,9 +434,9 @@ impl MethodGpu for DsmGpu {
     fn memory_bytes(&self) -> u64 {
         self.headers.size() + self.vertices.size()
     }
-    /// The A-buffer the compressor reads.
+    /// The A-buffer the compressor reads and the walk state.
     fn build_bytes(&self) -> u64 {
-        self.abuffer.memory_bytes()
+        self.abuffer.memory_bytes() + self.walks.size()
     }
     /// The A-buffer's counting pass, its filling pass for the vertex count, and again for the compressor.
     fn geometry_passes(&self) -> u32 {

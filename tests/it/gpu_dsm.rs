@@ -124,30 +124,26 @@ fn memory_is_the_vertex_count() {
     }
 }
 
-/// The compressor walks each list as AVSM's does: on a CPU adapter (lavapipe) a texel list beyond
-/// `MAX_WALKED_LIST_ON_CPU_ADAPTER` fragments is refused, naming the settings to change; another adapter
-/// compresses it. The A-buffer it compresses is its build memory.
+/// The compressor walks each list as AVSM's does, over several dispatches on a CPU adapter when a list is long (one
+/// texel holding the fragments of 1000 strands, about 700: 9 dispatches per pass on lavapipe), and still equals the
+/// CPU model. The A-buffer it compresses is its build memory.
 #[test]
-fn long_lists_on_a_cpu_adapter_are_refused() {
+fn long_lists_compress_over_several_dispatches() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    // One texel holding the fragments of 3000 strands.
-    let (r, result) = crate::common::render_method_light(&gpu, "dsm", &[], 3000, 1);
-    if gpu.info.device_type == wgpu::DeviceType::Cpu {
-        match result {
-            Err(hairlab::gpu::GpuError::Setting(e)) => {
-                assert!(e.contains("at most 180 fragments per texel"), "{e}");
-            }
-            other => panic!("expected a refusal, got {other:?}"),
-        }
-    } else {
-        result.unwrap();
-        assert!(
-            r.method_gpu(registry::find("dsm").unwrap())
-                .unwrap()
-                .build_bytes()
-                > 0
-        );
-    }
+    let info = registry::find("dsm").unwrap().info();
+    let d = crate::common::gpu_cpu_differences(
+        &gpu,
+        "dsm",
+        &[("epsilon", 0.01)],
+        crate::common::Setup::new(1000, 1),
+    );
+    let worst = d.iter().copied().fold(0.0f32, f32::max);
+    eprintln!(
+        "dsm ε 0.01, one texel of 1000 strands: {} samples, max |ΔV| {worst:.3e}",
+        d.len()
+    );
+    assert!(d.len() > 600, "only {} samples", d.len());
+    assert!(worst <= info.gpu_tolerance, "max |ΔV| {worst}");
     let (r, result) = crate::common::render_method_light(&gpu, "dsm", &[], 60, 64);
     result.unwrap();
     let m = r.method_gpu(registry::find("dsm").unwrap()).unwrap();

@@ -153,3 +153,49 @@ fn light_depth_maps_hold_the_lists_extremes_and_lookup_matches_cpu() {
         "reference lookup differs from the CPU definition by {worst}"
     );
 }
+
+/// Storage bindings of the paged test device: 1024 list nodes per page.
+const PAGE_BYTES: u64 = 16 << 10;
+
+/// On a device whose storage bindings hold 1024 list nodes, a small scene's light A-buffer spans several node pages
+/// (`abuffer::NODE_PAGES` bindings): its lists equal, fragment for fragment, those of the same scene in one page
+/// on the usual device, and AVSM and the compressed deep shadow map built from the paged lists (their own
+/// A-buffers, paged alike) equal their CPU models within their stated tolerances.
+#[test]
+fn paged_lists_equal_one_page() {
+    use crate::common::{Setup, setup_scene};
+    use hairlab::gpu::AdapterPreference;
+    use hairlab::render::passes::abuffer::{NODE_BYTES, NODE_PAGES};
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let pref = AdapterPreference::from_env_or(AdapterPreference::Software);
+    let paged = Gpu::headless_with_binding_limit(pref, PAGE_BYTES).unwrap();
+    assert_eq!(paged.device.limits().max_storage_buffer_binding_size, PAGE_BYTES);
+    let setup = Setup::new(200, 12);
+    let (s, scene) = setup_scene(setup);
+    let lists = |g: &Gpu| {
+        let mut r = Renderer::new(g, &scene, s.render.map_resolution).unwrap();
+        r.reference_lists(&s.camera, &s.light, &s.render).unwrap()
+    };
+    let (whole, pages) = (lists(&gpu), lists(&paged));
+    let total: usize = whole.iter().map(Vec::len).sum();
+    let per_page = (PAGE_BYTES / NODE_BYTES) as usize;
+    assert!(
+        total > 2 * per_page && total <= NODE_PAGES * per_page,
+        "{total} fragments: not 3..={NODE_PAGES} pages of {per_page} nodes"
+    );
+    assert_eq!(whole.len(), pages.len());
+    for (t, (a, p)) in whole.iter().zip(&pages).enumerate() {
+        assert_eq!(a, p, "texel {t}: paged lists differ");
+    }
+    for (method, params) in [("avsm", [("nodes", 8.0)]), ("dsm", [("epsilon", 0.1)])] {
+        let info = registry::find(method).unwrap().info();
+        let d = common::gpu_cpu_differences(&paged, method, &params, setup);
+        let worst = d.iter().copied().fold(0.0f32, f32::max);
+        eprintln!(
+            "{method} over {total} paged fragments: {} samples, max |ΔV| {worst:.3e}",
+            d.len()
+        );
+        assert!(d.len() > total, "only {} samples", d.len());
+        assert!(worst <= info.gpu_tolerance, "{method}: max |ΔV| {worst}");
+    }
+}

@@ -699,3 +699,17 @@ fn vertex_layouts_match_wgsl() {
     assert_eq!(std::mem::size_of::<HairVertex>(), 64);
     assert_eq!(std::mem::size_of::<MeshVertex>(), 36);
 }
+
+/// The per-texel walk states the list compressors keep between dispatches are sized in Rust from their WGSL
+/// structs' sizes.
+#[test]
+fn walk_states_match_wgsl_size() {
+    assert_eq!(
+        wgsl_struct("avsm.wgsl", None, "AvsmWalk").0 as u64,
+        hairlab::methods::avsm::WALK_BYTES
+    );
+    assert_eq!(
+        wgsl_struct("dsm.wgsl", None, "DsmWalk").0 as u64,
+        hairlab::methods::dsm::WALK_BYTES
+    );
+}

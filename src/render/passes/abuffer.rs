@@ -2,6 +2,13 @@
 //! every light-space fragment into its texel's list (storage-buffer atomics in the fragment shader). The lists,
 //! read back and sorted, are the exact per-texel fragment lists of the reference; the eye passes can also walk
 //! them to shade with exact visibility.
+//!
+//! The nodes live in up to [`NODE_PAGES`] pages, each one storage binding of at most the device's binding size:
+//! node `i` is node `i mod P` of page `i div P`, `P` the first page's length (`shaders/common/list_pages.wgsl`
+//! reads them, `abuffer.wgsl` writes them). Pages rather than bands of texel rows because every reader walks
+//! any texel's list at any time (the reference's lookup in the eye passes and in `evaluate`, the compressors in
+//! one dispatch), so all lists stay resident and the single fill pass, the heads and the walks are unchanged;
+//! one page (the whole buffer in one binding) whenever the frame's fragments fit it.
 
 use crate::gpu::readback::copy_out;
 use crate::gpu::timing::GpuTimer;
@@ -12,6 +19,16 @@ use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
 pub const NODE_BYTES: u64 = 16;
+
+/// Node pages (storage bindings) of an A-buffer: the nodes fit `NODE_PAGES` × the device's storage binding size
+/// (1 GiB of nodes, 67 M fragments, on a 128 MiB binding).
+pub const NODE_PAGES: usize = 8;
+
+/// Bytes of the counters: `[fragments counted, nodes allocated, dropped, longest list, node capacity]` and
+/// padding. The fill clears the first four; the capacity is written when the pages are sized.
+const COUNTER_BYTES: u64 = 32;
+/// Bytes of the counters each pass clears (the capacity after them is kept).
+const CLEARED_COUNTER_BYTES: u64 = 16;
 
 /// One light-space fragment as the reference keeps it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,11 +54,37 @@ pub fn sort_fragments(list: &mut [RefFragment]) {
     list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
 }
 
-/// Longest texel list a compute pass that walks each list with an O(n²) select-next (AVSM's and the compressed
-/// deep shadow map's compressors) takes on a CPU adapter: llvmpipe (lavapipe) stops a shader's loops after
-/// 65,535 iterations in all, which such a walk reaches near 240 fragments in one texel (measured with AVSM at
-/// 8 nodes: 220 fragments equal the CPU model, 244 do not).
-pub const MAX_WALKED_LIST_ON_CPU_ADAPTER: u64 = 180;
+/// Loop iterations one invocation of a compute pass that walks the lists (AVSM's and the compressed deep shadow
+/// map's select-next, O(n²) for an n-fragment list) may take on a CPU adapter in one dispatch: llvmpipe
+/// (lavapipe) stops a shader's loops after 65,535 iterations in all (measured with AVSM at 8 nodes walked in
+/// one dispatch: a 220-fragment list, 220 × (220 + 61) = 61,820 iterations, equals the CPU model; 244, 74,420,
+/// does not). The margin covers the loops outside the walk.
+pub const CPU_ADAPTER_LOOP_BUDGET: u64 = 60_000;
+
+/// How a list walk is split over dispatches: `steps` fragments per texel in each of `dispatches`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WalkSplit {
+    pub steps: u32,
+    pub dispatches: u32,
+}
+
+impl WalkSplit {
+    /// The split for lists of at most `longest` fragments when taking one fragment costs one iteration per
+    /// node of the list plus `per_fragment` (and a dispatch may first walk the list once): one dispatch of every
+    /// fragment, unless `budget` (loop iterations per invocation and dispatch, `None`: unbounded) asks for more;
+    /// `None` when not even one fragment fits the budget.
+    pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> Option<WalkSplit> {
+        let all = longest.max(1);
+        let steps = match budget {
+            None => all,
+            Some(b) => (b.saturating_sub(longest) / (longest + per_fragment)).min(all),
+        };
+        (steps > 0).then(|| WalkSplit {
+            steps: steps as u32,
+            dispatches: all.div_ceil(steps) as u32,
+        })
+    }
+}
 
 pub struct ABuffer {
     count_pipeline: wgpu::RenderPipeline,
@@ -50,7 +93,9 @@ pub struct ABuffer {
     pub lookup_layout: wgpu::BindGroupLayout,
     counters: wgpu::Buffer,
     heads: wgpu::Buffer,
-    nodes: wgpu::Buffer,
+    /// [`NODE_PAGES`] pages: the first `used` hold the nodes, the rest are 16-byte placeholders.
+    pages: Vec<wgpu::Buffer>,
+    /// Nodes the pages hold.
     capacity: u64,
     resolution: u32,
     pass_bind_group: wgpu::BindGroup,
@@ -69,18 +114,22 @@ impl ABuffer {
     pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout, light: &LightStage) -> ABuffer {
         let device = &gpu.device;
         let frag = wgpu::ShaderStages::FRAGMENT;
+        // Binding numbers are those of abuffer.wgsl (counters, heads, pages) and common/list_pages.wgsl (heads,
+        // pages).
+        let pass_entries: Vec<wgpu::BindGroupLayoutEntry> = (0..2 + NODE_PAGES as u32)
+            .map(|b| storage_entry(b, frag, false))
+            .collect();
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.abuffer.pass_layout"),
-            entries: &[
-                storage_entry(0, frag, false),
-                storage_entry(1, frag, false),
-                storage_entry(2, frag, false),
-            ],
+            entries: &pass_entries,
         });
         let look = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let lookup_entries: Vec<wgpu::BindGroupLayoutEntry> = (0..1 + NODE_PAGES as u32)
+            .map(|b| storage_entry(b, look, true))
+            .collect();
         let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.abuffer.lookup_layout"),
-            entries: &[storage_entry(0, look, true), storage_entry(1, look, true)],
+            entries: &lookup_entries,
         });
         let module = light.module(device, "hairlab.abuffer.shader", "abuffer.wgsl");
         let targets = [super::NullTarget::target_state()];
@@ -96,18 +145,13 @@ impl ABuffer {
         };
         let count_pipeline = pipeline("fs_count");
         let fill_pipeline = pipeline("fs_fill");
-        let counters = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.abuffer.counters"),
-            size: 16,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let (heads, nodes) = (
-            Self::buffer(gpu, "hairlab.abuffer.heads", 4),
-            Self::buffer(gpu, "hairlab.abuffer.nodes", NODE_BYTES),
-        );
+        let counters = Self::buffer(gpu, "hairlab.abuffer.counters", COUNTER_BYTES);
+        let heads = Self::buffer(gpu, "hairlab.abuffer.heads", 4);
+        let pages = Self::pages(gpu, 1, 1);
         let (pass_bind_group, lookup_bind_group) =
-            Self::bind_groups(gpu, &pass_layout, &lookup_layout, &counters, &heads, &nodes);
+            Self::bind_groups(gpu, &pass_layout, &lookup_layout, &counters, &heads, &pages);
+        gpu.queue
+            .write_buffer(&counters, CLEARED_COUNTER_BYTES, bytemuck::bytes_of(&1u32));
         ABuffer {
             count_pipeline,
             fill_pipeline,
@@ -115,7 +159,7 @@ impl ABuffer {
             lookup_layout,
             counters,
             heads,
-            nodes,
+            pages,
             capacity: 1,
             resolution: 1,
             pass_bind_group,
@@ -147,45 +191,44 @@ impl ABuffer {
         })
     }
 
+    /// [`NODE_PAGES`] pages for `nodes` nodes, `page_nodes` in each but the last used one, 16-byte placeholders
+    /// after it.
+    fn pages(gpu: &Gpu, nodes: u64, page_nodes: u64) -> Vec<wgpu::Buffer> {
+        (0..NODE_PAGES as u64)
+            .map(|p| {
+                let held = nodes.saturating_sub(p * page_nodes).min(page_nodes).max(1);
+                Self::buffer(gpu, "hairlab.abuffer.nodes", held * NODE_BYTES)
+            })
+            .collect()
+    }
+
     fn bind_groups(
         gpu: &Gpu,
         pass_layout: &wgpu::BindGroupLayout,
         lookup_layout: &wgpu::BindGroupLayout,
         counters: &wgpu::Buffer,
         heads: &wgpu::Buffer,
-        nodes: &wgpu::Buffer,
+        pages: &[wgpu::Buffer],
     ) -> (wgpu::BindGroup, wgpu::BindGroup) {
+        fn entries<'a>(buffers: Vec<&'a wgpu::Buffer>) -> Vec<wgpu::BindGroupEntry<'a>> {
+            buffers
+                .into_iter()
+                .enumerate()
+                .map(|(b, buffer)| wgpu::BindGroupEntry {
+                    binding: b as u32,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect()
+        }
         let pass = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hairlab.abuffer.pass_bind_group"),
             layout: pass_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: counters.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: heads.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: nodes.as_entire_binding(),
-                },
-            ],
+            entries: &entries([counters, heads].into_iter().chain(pages).collect()),
         });
         let lookup = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hairlab.abuffer.lookup_bind_group"),
             layout: lookup_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: heads.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: nodes.as_entire_binding(),
-                },
-            ],
+            entries: &entries(std::iter::once(heads).chain(pages).collect()),
         });
         (pass, lookup)
     }
@@ -217,8 +260,8 @@ impl ABuffer {
     }
 
     /// Counts this frame's fragments and the longest texel list (a counting pass, timed as `<pass label> count`,
-    /// submitted at once and read back,
-    /// blocking) and grows the node buffer to fit them; refuses lists beyond the device's storage binding size.
+    /// submitted at once and read back, blocking) and grows the node pages to fit them; refuses lists beyond
+    /// [`NODE_PAGES`] × the device's storage binding size.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -231,16 +274,15 @@ impl ABuffer {
         self.target.ensure(device, resolution);
         let texels = resolution as u64 * resolution as u64;
         let max_binding = device.limits().max_storage_buffer_binding_size;
-        let too_large = |what: &str, count: u64, bytes: u64| GpuError::TooLarge {
-            what: format!(
-                "the {what} ({count} light-space fragments at {resolution}² texels; lower the map resolution or the \
-                 strand count)"
-            ),
-            bytes,
-            limit: max_binding,
-        };
         if texels * 4 > max_binding {
-            return Err(too_large(self.what, self.fragment_count, texels * 4));
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the {} heads ({resolution}² texels of 4 B; lower the map resolution)",
+                    self.what
+                ),
+                bytes: texels * 4,
+                limit: max_binding,
+            });
         }
         // The counting pass counts each texel's list in the heads (cleared again before the fill).
         if resolution != self.resolution {
@@ -251,7 +293,7 @@ impl ABuffer {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.abuffer.count"),
         });
-        enc.clear_buffer(&self.counters, 0, None);
+        enc.clear_buffer(&self.counters, 0, Some(CLEARED_COUNTER_BYTES));
         enc.clear_buffer(&self.heads, 0, None);
         let label = format!("{} count", self.pass_label);
         let ts = timer
@@ -270,14 +312,28 @@ impl ABuffer {
         let count = counts[0] as u64;
         self.fragment_count = count;
         self.longest_list = counts[3] as u64;
-        let node_bytes = count.max(1) * NODE_BYTES;
-        if node_bytes > max_binding {
-            return Err(too_large(self.what, count, node_bytes));
+        let page_nodes = (max_binding / NODE_BYTES).max(1);
+        if count > page_nodes * NODE_PAGES as u64 {
+            return Err(GpuError::TooLarge {
+                what: format!(
+                    "the {} ({count} light-space fragments at {resolution}² texels in {NODE_PAGES} node pages of \
+                     one binding each; lower the map resolution or the strand count)",
+                    self.what
+                ),
+                bytes: count * NODE_BYTES,
+                limit: max_binding * NODE_PAGES as u64,
+            });
         }
         if count > self.capacity {
             self.capacity = count;
-            self.nodes = Self::buffer(gpu, "hairlab.abuffer.nodes", self.capacity * NODE_BYTES);
+            self.pages = Self::pages(gpu, count, page_nodes);
             self.rebuild_bind_groups(gpu);
+            // `count` was read from a u32 counter.
+            gpu.queue.write_buffer(
+                &self.counters,
+                CLEARED_COUNTER_BYTES,
+                bytemuck::bytes_of(&(count as u32)),
+            );
         }
         Ok(())
     }
@@ -289,8 +345,14 @@ impl ABuffer {
             &self.lookup_layout,
             &self.counters,
             &self.heads,
-            &self.nodes,
+            &self.pages,
         );
+    }
+
+    /// Node pages holding this frame's nodes (1 when they fit one binding).
+    pub fn pages_used(&self) -> usize {
+        let first = self.pages[0].size() / NODE_BYTES;
+        self.capacity.div_ceil(first) as usize
     }
 
     /// Records the pass that fills the lists (after [`ABuffer::prepare`] for this frame).
@@ -313,7 +375,7 @@ impl ABuffer {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) {
-        encoder.clear_buffer(&self.counters, 0, None);
+        encoder.clear_buffer(&self.counters, 0, Some(CLEARED_COUNTER_BYTES));
         encoder.clear_buffer(&self.heads, 0, None);
         let ts = timer
             .as_mut()
@@ -322,22 +384,24 @@ impl ABuffer {
     }
 
     pub fn memory_bytes(&self) -> u64 {
-        self.heads.size() + self.nodes.size() + self.counters.size() + self.target.bytes()
+        let pages: u64 = self.pages.iter().map(wgpu::Buffer::size).sum();
+        self.heads.size() + pages + self.counters.size() + self.target.bytes()
     }
 
-    /// Refuses this frame's lists for `what`'s O(n²) list walk on a CPU adapter when the longest list exceeds
-    /// [`MAX_WALKED_LIST_ON_CPU_ADAPTER`] (after [`ABuffer::prepare`]): an error naming the settings to change
-    /// rather than a wrong result.
-    pub fn check_walk(&self, gpu: &Gpu, what: &str) -> Result<(), GpuError> {
+    /// How `what`'s walk over this frame's lists (after [`ABuffer::prepare`]) is split over dispatches
+    /// ([`WalkSplit::new`]; [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU adapter); an error naming the settings to change
+    /// when one fragment per dispatch is still beyond it.
+    pub fn walk_split(&self, gpu: &Gpu, what: &str, per_fragment: u64) -> Result<WalkSplit, GpuError> {
         let longest = self.longest_list;
-        if gpu.info.device_type == wgpu::DeviceType::Cpu && longest > MAX_WALKED_LIST_ON_CPU_ADAPTER {
-            return Err(GpuError::Setting(format!(
-                "{what} on a CPU adapter compresses at most {MAX_WALKED_LIST_ON_CPU_ADAPTER} fragments per texel \
-                 (llvmpipe stops shader loops after 65,535 iterations) and a texel holds {longest}: raise \
-                 render.map_resolution or lower scene.generator.strands"
-            )));
-        }
-        Ok(())
+        let budget = (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_ADAPTER_LOOP_BUDGET);
+        WalkSplit::new(longest, per_fragment, budget).ok_or_else(|| {
+            GpuError::Setting(format!(
+                "{what} on a CPU adapter walks at most {} fragments per texel (llvmpipe stops shader loops after \
+                 65,535 iterations) and a texel holds {longest}: raise render.map_resolution or lower \
+                 scene.generator.strands",
+                (CPU_ADAPTER_LOOP_BUDGET - per_fragment) / 2
+            ))
+        })
     }
 
     /// Reads the lists back: per texel (row-major), its fragments sorted by (depth, segment). Fails if the
@@ -351,7 +415,12 @@ impl ABuffer {
             )));
         }
         let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.heads)?);
-        let nodes: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.nodes)?);
+        let mut nodes: Vec<[u32; 4]> = Vec::new();
+        for page in &self.pages[..self.pages_used()] {
+            nodes.extend(bytemuck::pod_collect_to_vec::<u8, [u32; 4]>(&copy_out(
+                gpu, page,
+            )?));
+        }
         let used = counters[1] as usize;
         let mut lists = vec![Vec::new(); heads.len()];
         for (t, &head) in heads.iter().enumerate() {
@@ -370,5 +439,47 @@ impl ABuffer {
             sort_fragments(&mut lists[t]);
         }
         Ok(lists)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn walks_split_to_fit_the_budget() {
+        // No budget: every fragment in one dispatch.
+        assert_eq!(
+            WalkSplit::new(5000, 100, None),
+            Some(WalkSplit {
+                steps: 5000,
+                dispatches: 1
+            })
+        );
+        // 179 fragments at 109 more per fragment: 179 + 179 × 288 = 51,731 iterations, one dispatch.
+        assert_eq!(
+            WalkSplit::new(179, 109, Some(60_000)),
+            Some(WalkSplit {
+                steps: 179,
+                dispatches: 1
+            })
+        );
+        // 1300 fragments: (60,000 − 1300) / 1409 = 41 per dispatch, 32 dispatches.
+        assert_eq!(
+            WalkSplit::new(1300, 109, Some(60_000)),
+            Some(WalkSplit {
+                steps: 41,
+                dispatches: 32
+            })
+        );
+        // Empty lists still take one dispatch (it writes the empty texels' nodes).
+        assert_eq!(
+            WalkSplit::new(0, 109, Some(60_000)),
+            Some(WalkSplit {
+                steps: 1,
+                dispatches: 1
+            })
+        );
+        assert_eq!(WalkSplit::new(60_000, 109, Some(60_000)), None);
     }
 }

@@ -456,7 +456,8 @@ fn bench_scaling_walks_long_lists_at_every_density() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(!stdout.contains(" refused at "), "{stdout}");
     let (_, fits) = read_csv(&out.join("scaling.csv"));
-    let labels: Vec<&str> = fits.iter().map(|r| r[0].as_str()).collect();
+    let mut labels: Vec<&str> = fits.iter().map(|r| r[0].as_str()).collect();
+    labels.sort_unstable();
     assert_eq!(labels, ["avsm", "occupancy"], "{stdout}");
     let (header, points) = read_csv(&out.join("scaling_points.csv"));
     let segments = |label: &str| -> Vec<usize> {

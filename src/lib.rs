@@ -1,6 +1,7 @@
 //! hairlab: a workbench for real-time hair self-shadowing methods, side by side on the same strands.
 #![allow(clippy::too_many_arguments)]
 
+pub mod animation;
 pub mod app;
 pub mod bench;
 pub mod cli;

@@ -1,11 +1,11 @@
 //! The window's animation export: frames `A..B` of the scene's motion at a chosen image size, as a numbered PNG
-//! sequence in a folder or one looping animated GIF, rendered offscreen by [`crate::render::animation`] — the
+//! sequence in a folder or one looping animated GIF, rendered offscreen by [`crate::animation`] — the
 //! code of `hairlab render --frames A..B --out …`, so the files are the CLI's bit for bit — on a worker thread
 //! with a progress bar and Cancel. Nothing is written until every frame is rendered, and each file is written
 //! whole, so a cancelled or failed export leaves no partial file.
 
+use crate::animation::{animated_gif, render_frames_on, write_png_sequence};
 use crate::gpu::Gpu;
-use crate::render::animation::{animated_gif, render_frames_on, write_png_sequence};
 use crate::settings::Settings;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};

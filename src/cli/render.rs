@@ -1,7 +1,7 @@
 //! `hairlab render`: a preset rendered headlessly to a PNG, the same image the window shows.
 
-pub use crate::render::animation::{animated_gif, render_frame_image, render_frames, render_image};
-use crate::render::animation::{encode_png, frame_file_name};
+pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
+use crate::animation::{encode_png, frame_file_name};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use clap::Args;

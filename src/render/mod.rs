@@ -7,7 +7,6 @@
 //! then the technique's passes and resolve over the eye targets. What the renderer is asked or read back lives in
 //! [`inspect`]; the scene's fur as input in [`fur`].
 
-pub mod animation;
 pub mod caster;
 pub mod eye;
 pub mod frame;

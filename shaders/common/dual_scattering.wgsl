@@ -62,7 +62,7 @@ fn dual_scattering(
 
     // The table row at sin_i.
     let tx = (sin_i + 1.0) * 8.0;
-    let k = min(u32(max(floor(tx), 0.0)), 15u);
+    let k = slice_index(tx, 16u);
     let f = clamp(tx - f32(k), 0.0, 1.0);
     var table = DUAL_SCATTERING_TABLE;
     var r: array<f32, 10>;

@@ -60,9 +60,9 @@ impl TemporalMetric {
     }
 }
 
-/// `hairlab bench motion`'s arguments.
+/// The motion, its overrides, the configurations and the frames: what `measure motion` and `bench motion` run.
 #[derive(clap::Args, Debug, Clone)]
-pub struct MotionBenchArgs {
+pub struct MotionRun {
     /// Preset with a `[motion]`: built-in name (`wind`, `head-turn`, `stray-sweep`, `straight-motion`),
     /// `presets/<name>.toml`, or a path.
     #[arg(long, default_value = "wind")]
@@ -70,13 +70,37 @@ pub struct MotionBenchArgs {
     /// Override any preset value, e.g. `--set render.map_resolution=256` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Method configurations `name` or `name:key=value,...` as `measure motion` reads them (repeatable).
-    /// Default: the usual settings of every registered method.
+    /// Method configurations `name` or `name:key=value,...` (repeatable); the key a method's analysis chooses
+    /// may be `auto` (chosen on frame 0 and kept) or `auto-per-frame` (chosen again every frame), e.g.
+    /// `bom:layers=4,split_ratio=auto-per-frame`. Default: the usual settings of every registered method.
     #[arg(long = "config", value_name = "METHOD[:K=V,...]")]
     pub configs: Vec<String>,
     /// Frames of the motion played, 0..N (at least 2).
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
+}
+
+impl MotionRun {
+    /// The preset's settings with the overrides, and the configurations (the usual ones when none is given).
+    pub fn resolve(&self) -> Result<(Settings, Vec<MotionConfig>)> {
+        let settings = Settings::load_preset(&self.preset, &self.set)?;
+        let configs = if self.configs.is_empty() {
+            usual_configs()
+        } else {
+            self.configs
+                .iter()
+                .map(|c| MotionConfig::parse(c))
+                .collect::<Result<_>>()?
+        };
+        Ok((settings, configs))
+    }
+}
+
+/// `hairlab bench motion`'s arguments.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MotionBenchArgs {
+    #[command(flatten)]
+    pub run: MotionRun,
     /// The temporal metric charted against GPU time (every metric is in the CSV files whichever is chosen).
     #[arg(long, value_enum, default_value_t = TemporalMetric::Flicker)]
     pub metric: TemporalMetric,
@@ -157,20 +181,12 @@ pub fn write_motion_bench(
 
 /// `hairlab bench motion`: measures, prints the table and the front, writes the files.
 pub fn run(a: &MotionBenchArgs) -> Result<()> {
-    let settings = Settings::load_preset(&a.preset, &a.set)?;
-    let configs = if a.configs.is_empty() {
-        usual_configs()
-    } else {
-        a.configs
-            .iter()
-            .map(|c| MotionConfig::parse(c))
-            .collect::<Result<_>>()?
-    };
+    let (settings, configs) = a.run.resolve()?;
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let m = measure_motion_on(&gpu, &settings, &configs, a.frames, |what| {
+    let m = measure_motion_on(&gpu, &settings, &configs, a.run.frames, |what| {
         eprintln!("measuring {what}…")
     })?;
-    print!("{}", m.table(&a.preset));
+    print!("{}", m.table(&a.run.preset));
     let coords: Vec<[f64; 2]> = m.rows.iter().map(|r| [r.gpu_ms, a.metric.value(r)]).collect();
     let front: Vec<String> = pareto_front(&coords)
         .into_iter()
@@ -181,7 +197,7 @@ pub fn run(a: &MotionBenchArgs) -> Result<()> {
         a.metric.column(),
         front.join(" -> ")
     );
-    for path in write_motion_bench(&a.out, &m, &a.preset, a.metric)? {
+    for path in write_motion_bench(&a.out, &m, &a.run.preset, a.metric)? {
         println!("wrote {}", path.display());
     }
     Ok(())

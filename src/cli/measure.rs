@@ -161,10 +161,12 @@ impl LegacyMeasureArgs {
                 anyhow::anyhow!("--motion needs --out DIR (now `hairlab measure motion --out DIR`)")
             })?;
             let a = super::measure_motion::MeasureMotionArgs {
-                preset: scene.preset,
-                set: scene.set,
-                configs: self.configs.clone(),
-                frames: scene.frames,
+                run: crate::bench::motion::MotionRun {
+                    preset: scene.preset,
+                    set: scene.set,
+                    configs: self.configs.clone(),
+                    frames: scene.frames,
+                },
                 point: None,
                 out,
             };

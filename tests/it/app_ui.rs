@@ -649,8 +649,9 @@ fn a_parameter_resets_to_its_default() {
     let method = hairlab::methods::registry::find("osm").unwrap();
     let spec = method.params().iter().find(|p| p.key == "slices").unwrap();
     let default = spec.default;
+    // Tall enough that the method's slider stays in view below the Light section's selectors.
     let mut harness = Harness::builder()
-        .with_size([1000.0, 900.0])
+        .with_size([1000.0, 1400.0])
         .wgpu_setup(wgpu_setup(AdapterPreference::Software))
         .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
     harness.run();
@@ -748,6 +749,22 @@ fn about_window_shows_the_version_and_the_adapter_and_copies_a_bibtex_entry() {
     );
 }
 
+/// The `wind` preset at test size (150 strands of 8 segments, 160×120, a 64² map) with `frames` frames.
+fn small_wind(frames: u32) -> hairlab::settings::Settings {
+    let set: Vec<String> = [
+        "scene.generator.strands=150",
+        "scene.generator.segments=8",
+        "render.width=160",
+        "render.height=120",
+        "render.map_resolution=64",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .chain([format!("motion.frames={frames}")])
+    .collect();
+    hairlab::settings::Settings::load_preset("wind", &set).unwrap()
+}
+
 /// The texel inspector's time view: a hair point clicked in the viewport and followed with "Time view" over the
 /// motion's frames on a worker thread while the window keeps drawing and answering; its figures are those
 /// `measure motion --point` computes for the same point; Cancel stops a run and keeps the figures shown.
@@ -757,18 +774,7 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = hairlab::settings::Settings::load_preset(
-        "wind",
-        &[
-            "scene.generator.strands=150".into(),
-            "scene.generator.segments=8".into(),
-            "render.width=160".into(),
-            "render.height=120".into(),
-            "render.map_resolution=64".into(),
-            "motion.frames=4".into(),
-        ],
-    )
-    .unwrap();
+    let settings = small_wind(4);
     let mut harness = Harness::builder()
         .with_size([1100.0, 760.0])
         .with_step_dt(1.0 / 30.0)
@@ -863,18 +869,7 @@ fn the_window_exports_the_motion_as_the_cli_does() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = hairlab::settings::Settings::load_preset(
-        "wind",
-        &[
-            "scene.generator.strands=150".into(),
-            "scene.generator.segments=8".into(),
-            "render.width=160".into(),
-            "render.height=120".into(),
-            "render.map_resolution=64".into(),
-            "motion.frames=4".into(),
-        ],
-    )
-    .unwrap();
+    let settings = small_wind(4);
     let mut harness = Harness::builder()
         .with_size([1100.0, 700.0])
         .wgpu_setup(wgpu_setup(AdapterPreference::Software))

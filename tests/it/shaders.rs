@@ -645,8 +645,11 @@ fn shared_visibility_expressions_are_written_once() {
             .collect::<Vec<_>>()
             .join("\n")
     };
-    // The hair BSDF's Gaussians and absorption are exponentials that are not visibility.
-    let bsdf = |path: &str, part: &str| path == "common/marschner.wgsl" && part == "exp(";
+    // The hair BSDF's Gaussians and absorption (single and dual scattering) are exponentials that are not
+    // visibility.
+    let bsdf = |path: &str, part: &str| {
+        ["common/marschner.wgsl", "common/dual_scattering.wgsl"].contains(&path) && part == "exp("
+    };
     for part in ["log(1.0 -", "select(select(", "max(floor(", "exp(", "(b - a) * f"] {
         let copies: Vec<&str> = SOURCES
             .iter()

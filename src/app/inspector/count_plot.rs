@@ -3,76 +3,65 @@
 //! toggle). The reference's count is exact; each method's is its `TexelModel::count_curve`.
 
 use super::curves::TexelCurves;
-use super::plot::series;
+use super::plot::{depth_plot, series};
 use crate::methods::registry;
-use egui_plot::{Legend, Line, LineStyle, MarkerShape, Plot, PlotPoints, Points};
+use egui_plot::{Line, LineStyle, MarkerShape, PlotPoints, Points};
 
 /// The count plot: reference, methods, fragments, pins.
 pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
     let text = ui.visuals().text_color();
-    Plot::new("texel_count_plot")
-        .legend(
-            Legend::default()
-                .text_style(egui::TextStyle::Small)
-                .position(egui_plot::Corner::LeftTop),
-        )
-        .height(height)
-        .x_axis_label("normalised light depth z")
-        .y_axis_label("hair count n(z)")
-        .include_y(-0.5)
-        .include_y(1.0)
-        .label_formatter(|pos| {
-            let (name, p) = match pos {
-                egui_plot::HoverPosition::NearDataPoint {
-                    plot_name, position, ..
-                } => (*plot_name, position),
-                egui_plot::HoverPosition::Elsewhere { position } => ("", position),
-            };
-            Some(format!("{name}\nz = {:.5}\nn = {:.3}", p.x, p.y))
-        })
-        .show(ui, |p| {
-            if let Some(t) = &curves.current {
+    let corner = egui_plot::Corner::LeftTop;
+    depth_plot(
+        "texel_count_plot",
+        "hair count n(z)",
+        "n",
+        [-0.5, 1.0],
+        corner,
+        height,
+    )
+    .show(ui, |p| {
+        if let Some(t) = &curves.current {
+            p.line(
+                Line::new(
+                    format!("{} count", registry::reference().name()),
+                    series(&t.depths, &t.reference_count),
+                )
+                .color(text)
+                .width(2.0),
+            );
+            for m in &t.methods {
+                let width = if m.selected { 2.0 } else { 1.5 };
                 p.line(
-                    Line::new(
-                        format!("{} count", registry::reference().name()),
-                        series(&t.depths, &t.reference_count),
-                    )
-                    .color(text)
-                    .width(2.0),
-                );
-                for m in &t.methods {
-                    let width = if m.selected { 2.0 } else { 1.5 };
-                    p.line(
-                        Line::new(format!("{} count", m.label), series(&t.depths, &m.counts))
-                            .color(m.model.color)
-                            .width(width),
-                    );
-                }
-                let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.2]).collect();
-                p.points(
-                    Points::new("fragments", ticks)
-                        .shape(MarkerShape::Up)
-                        .radius(3.0)
-                        .color(text),
+                    Line::new(format!("{} count", m.label), series(&t.depths, &m.counts))
+                        .color(m.model.color)
+                        .width(width),
                 );
             }
-            for (i, t) in curves.pins.iter().enumerate() {
-                let color = t.color.unwrap_or(text);
-                let name = format!("pin {} {}", i + 1, t.label);
+            let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.2]).collect();
+            p.points(
+                Points::new("fragments", ticks)
+                    .shape(MarkerShape::Up)
+                    .radius(3.0)
+                    .color(text),
+            );
+        }
+        for (i, t) in curves.pins.iter().enumerate() {
+            let color = t.color.unwrap_or(text);
+            let name = format!("pin {} {}", i + 1, t.label);
+            p.line(
+                Line::new(
+                    format!("{name} reference count"),
+                    series(&t.depths, &t.reference_count),
+                )
+                .color(color),
+            );
+            for m in &t.methods {
                 p.line(
-                    Line::new(
-                        format!("{name} reference count"),
-                        series(&t.depths, &t.reference_count),
-                    )
-                    .color(color),
+                    Line::new(format!("{name} {} count", m.label), series(&t.depths, &m.counts))
+                        .color(color)
+                        .style(LineStyle::dashed_dense()),
                 );
-                for m in &t.methods {
-                    p.line(
-                        Line::new(format!("{name} {} count", m.label), series(&t.depths, &m.counts))
-                            .color(color)
-                            .style(LineStyle::dashed_dense()),
-                    );
-                }
             }
-        });
+        }
+    });
 }

@@ -7,68 +7,81 @@ use crate::visibility::{Stored, TexelError};
 use egui::Color32;
 use egui_plot::{Legend, Line, LineStyle, MarkerShape, Plot, PlotPoints, Points, Polygon, VLine};
 
-/// The plot: reference, methods, stored structure, fragments, pins.
-pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
-    let text = ui.visuals().text_color();
-    Plot::new("texel_plot")
+/// A plot over normalised light depth: `id`, the y axis `y_label` spanning at least `y_range`, the legend in
+/// `corner`, and hover labels `name / z / value = …` (the `V(z)` plot and the count plot).
+pub(super) fn depth_plot(
+    id: &str,
+    y_label: &str,
+    value: &'static str,
+    y_range: [f64; 2],
+    corner: egui_plot::Corner,
+    height: f32,
+) -> Plot<'static> {
+    Plot::new(id)
         .legend(
             Legend::default()
                 .text_style(egui::TextStyle::Small)
-                .position(egui_plot::Corner::RightTop),
+                .position(corner),
         )
         .height(height)
         .x_axis_label("normalised light depth z")
-        .y_axis_label("V(z)")
-        .include_y(-0.12)
-        .include_y(1.05)
-        .label_formatter(|pos| {
+        .y_axis_label(y_label)
+        .include_y(y_range[0])
+        .include_y(y_range[1])
+        .label_formatter(move |pos| {
             let (name, p) = match pos {
                 egui_plot::HoverPosition::NearDataPoint {
                     plot_name, position, ..
                 } => (*plot_name, position),
                 egui_plot::HoverPosition::Elsewhere { position } => ("", position),
             };
-            Some(format!("{name}\nz = {:.5}\nV = {:.5}", p.x, p.y))
+            Some(format!("{name}\nz = {:.5}\n{value} = {:.5}", p.x, p.y))
         })
-        .show(ui, |p| {
-            if let Some(t) = &curves.current {
-                if let Some(s) = &curves.stored {
-                    stored_items(p, s, t);
-                }
+}
+
+/// The plot: reference, methods, stored structure, fragments, pins.
+pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
+    let text = ui.visuals().text_color();
+    let corner = egui_plot::Corner::RightTop;
+    depth_plot("texel_plot", "V(z)", "V", [-0.12, 1.05], corner, height).show(ui, |p| {
+        if let Some(t) = &curves.current {
+            if let Some(s) = &curves.stored {
+                stored_items(p, s, t);
+            }
+            p.line(
+                Line::new(registry::reference().name(), series(&t.depths, &t.reference))
+                    .color(text)
+                    .width(2.0),
+            );
+            for m in &t.methods {
+                let width = if m.selected { 2.0 } else { 1.5 };
                 p.line(
-                    Line::new(registry::reference().name(), series(&t.depths, &t.reference))
-                        .color(text)
-                        .width(2.0),
-                );
-                for m in &t.methods {
-                    let width = if m.selected { 2.0 } else { 1.5 };
-                    p.line(
-                        Line::new(m.label.clone(), series(&t.depths, &m.values))
-                            .color(m.model.color)
-                            .width(width),
-                    );
-                }
-                let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.02]).collect();
-                p.points(
-                    Points::new("fragments", ticks)
-                        .shape(MarkerShape::Up)
-                        .radius(3.0)
-                        .color(text),
+                    Line::new(m.label.clone(), series(&t.depths, &m.values))
+                        .color(m.model.color)
+                        .width(width),
                 );
             }
-            for (i, t) in curves.pins.iter().enumerate() {
-                let color = t.color.unwrap_or(text);
-                let name = format!("pin {} {}", i + 1, t.label);
-                p.line(Line::new(format!("{name} reference"), series(&t.depths, &t.reference)).color(color));
-                for m in &t.methods {
-                    p.line(
-                        Line::new(format!("{name} {}", m.label), series(&t.depths, &m.values))
-                            .color(color)
-                            .style(LineStyle::dashed_dense()),
-                    );
-                }
+            let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.02]).collect();
+            p.points(
+                Points::new("fragments", ticks)
+                    .shape(MarkerShape::Up)
+                    .radius(3.0)
+                    .color(text),
+            );
+        }
+        for (i, t) in curves.pins.iter().enumerate() {
+            let color = t.color.unwrap_or(text);
+            let name = format!("pin {} {}", i + 1, t.label);
+            p.line(Line::new(format!("{name} reference"), series(&t.depths, &t.reference)).color(color));
+            for m in &t.methods {
+                p.line(
+                    Line::new(format!("{name} {}", m.label), series(&t.depths, &m.values))
+                        .color(color)
+                        .style(LineStyle::dashed_dense()),
+                );
             }
-        });
+        }
+    });
 }
 
 /// What the selected method stores, over the plotted range of texel `t`.

@@ -208,6 +208,8 @@ mod tests {
     use super::*;
     use crate::measure::MethodConfig;
     use crate::measure::temporal::{Flicker, OverFrames};
+    use crate::methods::LightMethod;
+    use crate::methods::{dom::Dom, occupancy::Occupancy, osm::Osm};
 
     fn row(name: &str, gpu_ms: f64, flicker: f64, pop_rate: f64) -> MotionRow {
         MotionRow {
@@ -238,9 +240,9 @@ mod tests {
             frames: 3,
             // (1 ms, 0.3), (2 ms, 0.1), (3 ms, 0.2): the third is beaten by the second on both.
             rows: vec![
-                row("osm", 1.0, 0.3, 0.02),
-                row("dom", 2.0, 0.1, 0.05),
-                row("occupancy", 3.0, 0.2, 0.01),
+                row(Osm.name(), 1.0, 0.3, 0.02),
+                row(Dom.name(), 2.0, 0.1, 0.05),
+                row(Occupancy.name(), 3.0, 0.2, 0.01),
             ],
             sim: None,
             followed: None,

@@ -22,7 +22,7 @@
 //! that lands inside the head collider is moved out along the centre ray and put back on its leader's sphere, up
 //! to sixteen rounds, exactly as the simulation's length pass does for the guides.
 
-use super::sim::{Ellipsoid, Pose};
+use super::pose::{Ellipsoid, Pose};
 use glam::Vec3;
 
 /// Guides each follower interpolates.

@@ -7,6 +7,7 @@
 
 pub mod follow;
 pub mod gpu;
+pub mod pose;
 pub mod sequence;
 pub mod sim;
 

@@ -1,4 +1,4 @@
-//! `bench --fur`: `measure --fur`'s rows (each blending of Andersen et al. 2016 against the reference, virtual
+//! `bench fur`: `measure fur`'s rows (each blending of Andersen et al. 2016 against the reference, virtual
 //! fragments of one step) written as `fur.csv` (one row per blending: error, fragments, the paper's Table 1 rows)
 //! and `fur.json` (the same with the scene, the view and the device).
 

@@ -1,4 +1,4 @@
-//! `hairlab bench --transparency`: every eye transparency technique's sweep ([`EyeTransparency::sweep`])
+//! `hairlab bench transparency`: every eye transparency technique's sweep ([`EyeTransparency::sweep`])
 //! measured against the exact reference on one view ([`crate::measure::transparency`]), GPU time of the
 //! technique's own passes charted against hair-pixel RMSE with the Pareto front, and the speed ratio of depth
 //! peeling to occupancy ordering beside the deepest pixel's layer count (Sintorn & Assarsson 2009 Fig. 2: 51 fps

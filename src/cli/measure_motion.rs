@@ -1,4 +1,4 @@
-//! `hairlab measure --motion`: shadow methods against the exact reference over a preset's motion, frame by
+//! `hairlab measure motion`: shadow methods against the exact reference over a preset's motion, frame by
 //! frame, with the temporal metrics (docs/design.md, "Temporal metrics"); a table, `motion_summary.csv` and
 //! `motion_frames.csv`.
 

@@ -1,5 +1,5 @@
 //! Fur figures (Andersen et al. 2016): the paper's Table 1 for the last frame a renderer drew with fur, and
-//! `measure --fur`: each blending against the reference (virtual fragments of one step, no early exit) —
+//! `measure fur`: each blending against the reference (virtual fragments of one step, no early exit) —
 //! image error over fur pixels (of `(H, 1 − T)`, and FLIP of the fur over black), Table 1 per blending,
 //! fragments.
 
@@ -50,7 +50,7 @@ pub fn table1(renderer: &Renderer, fur: &FurScene, scene_ms: f64, times: &[PassT
     ))
 }
 
-/// One blending of `measure --fur`.
+/// One blending of `measure fur`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FurConfig {
     pub blending: Blending,
@@ -93,7 +93,7 @@ impl FurConfig {
     }
 }
 
-/// What `measure --fur` compares with its reference by default: the three blendings, virtual at four `k`.
+/// What `measure fur` compares with its reference by default: the three blendings, virtual at four `k`.
 pub fn usual_configs() -> Vec<FurConfig> {
     let mut out = vec![
         FurConfig {
@@ -126,7 +126,7 @@ pub fn reference_settings(s: &FurSettings) -> FurSettings {
     }
 }
 
-/// One row of `measure --fur`.
+/// One row of `measure fur`.
 #[derive(Clone, Debug)]
 pub struct FurMeasurement {
     pub config: FurConfig,
@@ -143,7 +143,7 @@ pub struct FurMeasurement {
     pub deepest: u32,
 }
 
-/// The scene of a `measure --fur` run.
+/// The scene of a `measure fur` run.
 #[derive(Clone, Debug)]
 pub struct FurSceneStats {
     pub triangles: usize,
@@ -231,7 +231,7 @@ pub fn measure_each(
     let reference = reference_settings(&s.fur);
     r.set_fur(Some((&fur, &reference)))?;
     let method = methods::registry::find(&s.method.name).map_err(anyhow::Error::msg)?;
-    // `measure --fur` measures the fur's typed lists, whichever technique the preset names.
+    // `measure fur` measures the fur's typed lists, whichever technique the preset names.
     let technique = crate::render::transparency::registry::fur();
     let technique_params = if s.transparency.name == technique.name() {
         s.transparency.params.clone()

@@ -1,4 +1,4 @@
-//! Methods measured over a motion (`measure --motion`): the preset's `[motion]` played frame by frame with one
+//! Methods measured over a motion (`measure motion`): the preset's `[motion]` played frame by frame with one
 //! renderer, the points written through `Renderer::update_points` as `hairlab render --frames` does, and each
 //! frame's map error, shading error at the tracked hair points, image and GPU time compared with the exact
 //! reference of the same frame; the temporal metrics ([`super::temporal`]) follow the points across frames.
@@ -102,7 +102,7 @@ impl MotionConfig {
     }
 }
 
-/// The configurations `measure --motion` reports when none is given: [`super::usual_configs`].
+/// The configurations `measure motion` reports when none is given: [`super::usual_configs`].
 pub fn usual_configs() -> Vec<MotionConfig> {
     super::usual_configs()
         .into_iter()

@@ -1,5 +1,5 @@
 //! Temporal metrics of a method over a motion (docs/design.md, "Temporal metrics"), defined once here as pure
-//! functions of what `measure --motion` reads back each frame.
+//! functions of what `measure motion` reads back each frame.
 //!
 //! A **tracked point** is a hair point followed across frames by its place on its strand: strand point `j`
 //! (global point index) has the id `2j`, the midpoint of the segment from point `j` to `j + 1` the id `2j + 1`

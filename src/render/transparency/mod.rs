@@ -81,7 +81,7 @@ pub trait EyeTransparency: Sync {
     fn create_gpu(&self, setup: &EyeSetup) -> Result<Box<dyn TransparencyGpu>, GpuError>;
     /// The CPU model with `values` (missing keys take their defaults).
     fn model(&self, values: &ParamValues, ctx: &ModelContext) -> Box<dyn Compositor>;
-    /// The configurations `bench --transparency` measures (the defaults unless a technique has more to show).
+    /// The configurations `bench transparency` measures (the defaults unless a technique has more to show).
     fn sweep(&self) -> Vec<ParamValues> {
         vec![ParamValues::new()]
     }

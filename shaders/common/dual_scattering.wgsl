@@ -92,9 +92,10 @@ fn dual_scattering(
     let a1 = ab * af2 / q;
     let a3 = ab2 * ab * af2 / q3;
     let shift = shift_b * (vec3<f32>(1.0) - 2.0 * ab2 / (q * q)) + shift_f * (2.0 * q * q + 4.0 * af2 * ab2) / q3;
+    let ab3 = ab2 * ab;
     let spread_b = (vec3<f32>(1.0) + DUAL_SCATTERING_DENSITY_BACK * af2)
-        * (a1 * sqrt(2.0 * var_f + var_b) + a3 * sqrt(2.0 * var_f + 3.0 * var_b))
-        / max(a1 + a3, vec3<f32>(1e-12));
+        * (ab * sqrt(2.0 * var_f + var_b) + ab3 * sqrt(2.0 * var_f + 3.0 * var_b))
+        / max(ab + ab3 * (2.0 * sqrt(var_f) + 3.0 * sqrt(var_b)), vec3<f32>(1e-12));
     let back_energy = a1 + a3;
     let back_variance = spread_b * spread_b;
 

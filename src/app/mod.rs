@@ -10,6 +10,7 @@ mod fur_panel;
 pub mod inspector;
 pub mod jobs;
 mod lightmap_view;
+mod motion_bound;
 mod panels;
 pub mod pixel_inspector;
 mod shader_watch;
@@ -117,6 +118,9 @@ pub struct HairlabApp {
     dialog: Option<(DialogPurpose, mpsc::Receiver<Option<PathBuf>>)>,
     screenshot_request: Option<PathBuf>,
     frame_ms: VecDeque<f64>,
+    /// CPU milliseconds of the last motion frame the timeline produced (the simulation's steps to it, or reading a
+    /// recorded frame), shown in the status line while the scene moves.
+    motion_ms: Option<f64>,
     pass_times: Vec<PassTime>,
     continuous: bool,
     last_frame: Option<Instant>,
@@ -157,6 +161,8 @@ pub struct HairlabApp {
     time_view: time_view::TimeView,
     /// The motion exported as a PNG sequence or a GIF (`export_animation.rs`).
     animation_export: export_animation::AnimationExport,
+    /// The whole motion's box for `light.fit = bound`, found on a worker (`motion_bound.rs`).
+    motion_bound: motion_bound::MotionBound,
     /// The context the jobs' workers wake when they report (`jobs.rs`).
     egui_ctx: egui::Context,
     /// The scene being built, and the analysis being run, off the UI thread.
@@ -210,6 +216,7 @@ impl HairlabApp {
             dialog: None,
             screenshot_request: None,
             frame_ms: VecDeque::new(),
+            motion_ms: None,
             pass_times: Vec::new(),
             continuous: false,
             last_frame: None,
@@ -229,6 +236,7 @@ impl HairlabApp {
             timeline: Default::default(),
             time_view: Default::default(),
             animation_export: Default::default(),
+            motion_bound: Default::default(),
             egui_ctx: cc.egui_ctx.clone(),
             scene_job: None,
             analysis_job: None,
@@ -399,6 +407,7 @@ impl HairlabApp {
                 self.scene = Some(scene);
                 self.built_scene = Some(scene_settings);
                 self.timeline.set_motion(motion, motion_settings);
+                self.motion_bound.scene_uploaded();
                 self.last_rendered = None;
                 // The fur grows on the new scene's mesh.
                 self.built_fur = None;
@@ -424,6 +433,7 @@ impl HairlabApp {
         let mut all: Vec<JobStatus> = self.scene_job.iter().map(|j| j.job.status()).collect();
         all.extend(self.analysis_job.iter().map(|j| j.job.status()));
         all.extend(self.inspector.job_status());
+        all.extend(self.motion_bound.status());
         all.extend(self.bench_status());
         all
     }
@@ -435,6 +445,7 @@ impl HairlabApp {
         self.poll_scene_job(FOREVER);
         self.poll_analysis_job(FOREVER);
         self.poll_map_stats(FOREVER);
+        self.fit_motion_bound(FOREVER);
     }
 
     /// Takes the results of the jobs that finished (waiting up to `patience` for each).
@@ -442,6 +453,33 @@ impl HairlabApp {
         self.poll_scene_job(patience);
         self.poll_analysis_job(patience);
         self.poll_map_stats(patience);
+        self.fit_motion_bound(patience);
+    }
+
+    /// Keeps the renderer's fit bound the whole motion's box while `light.fit = bound` and the scene moves
+    /// (`motion_bound.rs`; the box is found on a worker).
+    fn fit_motion_bound(&mut self, patience: Duration) {
+        let wanted = (self.settings.light.fit == crate::scene::LightFit::Bound)
+            .then(|| Some((self.built_scene.clone()?, self.timeline.opened_with()?.clone())))
+            .flatten()
+            .filter(|_| self.timeline.is_moving());
+        let apply = self.motion_bound.update(
+            wanted,
+            &self.settings,
+            &self.egui_ctx,
+            self.job_gate.clone(),
+            patience,
+        );
+        let bound = match apply {
+            motion_bound::Apply::Nothing => return,
+            motion_bound::Apply::Failed(e) => return self.error(e),
+            motion_bound::Apply::Bound(b) => Some(b),
+            motion_bound::Apply::Clear => None,
+        };
+        if let Some(r) = self.renderer.as_mut() {
+            r.set_fit_bound(bound);
+            self.last_rendered = None;
+        }
     }
 
     /// Starts the whole-map statistics job of the inspector and gives it [`PATIENCE`] to finish.
@@ -663,7 +701,9 @@ impl HairlabApp {
         self.timeline.keys(ctx);
         self.timeline.advance(ctx.input(|i| i.stable_dt) as f64);
         let frame = self.timeline.frame();
+        let start = Instant::now();
         if let Some(points) = self.timeline.pending() {
+            self.motion_ms = Some(start.elapsed().as_secs_f64() * 1e3);
             let (renderer, scene) = (&mut self.renderer, &mut self.scene);
             let result = points.and_then(|p| {
                 if let Some(r) = renderer.as_mut() {
@@ -711,6 +751,11 @@ impl HairlabApp {
     }
 
     /// The timeline of the scene's motion.
+    /// The box the renderer fits the hair maps' light frame to under the current `light.fit`.
+    pub fn light_fit_box(&self) -> Option<crate::scene::Aabb> {
+        Some(self.renderer.as_ref()?.fit_box(self.settings.light.fit))
+    }
+
     pub fn timeline(&self) -> &timeline::Timeline {
         &self.timeline
     }
@@ -1035,6 +1080,9 @@ impl HairlabApp {
                     .map(|&phase| format!("{} {:.2}", phase.label(), phase_ms(&self.pass_times, phase)))
                     .collect();
                 ui.label(format!("GPU {total:.2} ms: {}", parts.join(" · ")));
+            }
+            if let Some(ms) = self.motion_ms.filter(|_| self.timeline.is_moving()) {
+                ui.label(format!("simulation (CPU) {ms:.1} ms"));
             }
             ui.separator();
             ui.label(&self.adapter);

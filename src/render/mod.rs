@@ -133,6 +133,11 @@ impl Renderer {
         self.scene.set_fit_bound(bound);
     }
 
+    /// The box the hair maps' light frame is fitted to under `fit` ([`SceneGpu::light_fit`]).
+    pub fn fit_box(&self, fit: crate::scene::LightFit) -> crate::scene::Aabb {
+        self.scene.light_fit(fit).0
+    }
+
     fn ensure_map_size(&mut self, map_resolution: u32) -> Result<(), GpuError> {
         let device = &self.gpu.device;
         if self.light.maps.near.width() != map_resolution {

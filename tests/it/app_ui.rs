@@ -9,6 +9,7 @@ use egui_kittest::{Harness, SnapshotOptions};
 use hairlab::app::{HairlabApp, wgpu_setup};
 use hairlab::gpu::{AdapterPreference, Gpu};
 use hairlab::render::transparency::registry as techniques;
+use hairlab::scene::LightFit;
 use hairlab::scene::generate::HairStyle;
 
 #[test]
@@ -634,6 +635,48 @@ fn the_window_plays_a_motion() {
         moved,
         "frame 3 scrubbed back to draws what frame 3 drew"
     );
+}
+
+/// `light.fit = bound` in the window: the whole motion's box is found on a worker and the hair maps' light frame
+/// fits it (the box `render` and `measure motion` fit, `Motion::bound`, equal to the last bit); per frame goes back
+/// to the strands of the frame shown, and bound again reuses the box found.
+#[test]
+fn the_window_fits_the_light_to_the_whole_motion() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = hairlab::settings::Settings::load_preset(
+        "wind",
+        &[
+            "scene.generator.strands=120".into(),
+            "scene.generator.segments=8".into(),
+            "render.width=160".into(),
+            "render.height=120".into(),
+            "render.map_resolution=64".into(),
+            "motion.frames=10".into(),
+            "light.fit=bound".into(),
+        ],
+    )
+    .unwrap();
+    let (scene, mut fresh) = settings.open_motion().unwrap();
+    let whole = fresh.bound(&settings.motion).unwrap();
+    let frame0 = scene.strand_bounds();
+    assert_ne!(whole, frame0, "the wind moves the strands out of their rest box");
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 640.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    harness.state_mut().finish_jobs();
+    harness.run();
+    assert_eq!(harness.state().light_fit_box(), Some(whole));
+    harness.state_mut().settings_mut().light.fit = LightFit::PerFrame;
+    harness.run();
+    assert_eq!(harness.state().light_fit_box(), Some(frame0));
+    harness.state_mut().settings_mut().light.fit = LightFit::Bound;
+    harness.run();
+    assert!(harness.state().jobs().is_empty(), "the box found is reused");
+    assert_eq!(harness.state().light_fit_box(), Some(whole));
 }
 
 /// A method parameter's right-click menu resets it to its default; its tooltip states the default, the range,

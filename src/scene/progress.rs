@@ -53,7 +53,8 @@ pub fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
 /// Steps to `READ_SHARE + (1 - READ_SHARE) × done / total` (parsing after [`read_file`]) when `done` is a
 /// multiple of [`BATCH`]; `false` when the parse should stop.
 pub fn parsed(done: usize, total: usize) -> bool {
-    done % BATCH != 0 || step(READ_SHARE + (1.0 - READ_SHARE) * (done as f64 / total.max(1) as f64) as f32)
+    !done.is_multiple_of(BATCH)
+        || step(READ_SHARE + (1.0 - READ_SHARE) * (done as f64 / total.max(1) as f64) as f32)
 }
 
 #[cfg(test)]

@@ -373,19 +373,22 @@ fn the_texel_plot_is_exported_as_png_with_its_curves() {
     harness.get_by_label("Export plot…").click();
     harness.run();
     let (w, h) = hairlab::bench::CHART_SIZE;
-    // Pixels of exactly `color` in the PNG of `kind`.
-    let count = |kind: PlotKind, color: [u8; 3]| {
+    // The x columns of the PNG of `kind` holding a pixel of exactly `color`.
+    let columns = |kind: PlotKind, color: [u8; 3]| {
         let img = image::open(dir.path().join(format!("{}.png", kind.stem())))
             .unwrap()
             .to_rgb8();
         assert_eq!(img.dimensions(), (w, h), "{kind:?}: the chart size");
-        img.pixels().filter(|p| p.0 == color).count()
+        (0..img.width())
+            .filter(|&x| (0..img.height()).any(|y| img.get_pixel(x, y).0 == color))
+            .count()
     };
-    // A 2-pixel line across the plot covers thousands of pixels, a legend swatch some tens. Measured on lavapipe:
-    // reference 2119, dc-4 3434 pixels (V); reference 3176, dc-4 3320 (count).
+    // A curve across the fragments' depths (z 0.06 to 0.88) spans some 870 of the plot's ~1060 columns; its
+    // legend disc and markers ~100. Where DC-4 lies on the reference it hides it in the V plot (drawn after it).
+    // Measured on lavapipe: V: DC-4 894, reference 159 columns; count: DC-4 879, reference 795.
     let v = PlotKind::Visibility;
-    let (r, m) = (count(v, REFERENCE_COLOR), count(v, method));
-    assert!(r > 1000 && m > 1000, "V: reference {r}, method {m} pixels");
+    let (r, m) = (columns(v, REFERENCE_COLOR), columns(v, method));
+    assert!(m > 700 && r > 100, "V: reference {r}, method {m} columns");
     assert!(dir.path().join("texel_v.svg").is_file());
     assert!(
         !dir.path().join("texel_count.png").exists(),
@@ -405,10 +408,10 @@ fn the_texel_plot_is_exported_as_png_with_its_curves() {
     harness.run();
     harness.get_by_label("Export plot…").click();
     harness.run();
-    for kind in [PlotKind::Visibility, PlotKind::Count] {
-        let (r, m) = (count(kind, REFERENCE_COLOR), count(kind, method));
-        assert!(r > 1000 && m > 1000, "{kind:?}: reference {r}, method {m} pixels");
-    }
+    let count = PlotKind::Count;
+    let (r, m) = (columns(count, REFERENCE_COLOR), columns(count, method));
+    assert!(m > 700 && r > 700, "count: reference {r}, method {m} columns");
+    assert!(columns(v, method) > 700, "the V plot written beside it");
     harness.get_by_label("Copy plot").click();
     harness.run();
     assert!(

@@ -1,6 +1,7 @@
 //! The inspector's plots as charts for the image writers of the bench (`crate::bench::chart`, drawn by
 //! `plotters` as PNG and SVG): the `V(z)` plot and the hair count plot `n(z)` of the inspected texel and of each
-//! pin, the curves in the colours the window gives them, the fragments as marks under the curves.
+//! pin, the curves in the colours the window gives them (each with a few named markers, which the chart's legend
+//! lists), the fragments as marks under the curves.
 
 use super::curves::{TexelCurves, TexelPlot};
 use crate::bench::chart::{Axis, Chart, Mark, Point, Scale, Series};
@@ -9,6 +10,8 @@ use egui::Color32;
 
 /// The reference's colour in the charts (the window draws it in the theme's text colour).
 pub const REFERENCE_COLOR: [u8; 3] = [40, 40, 40];
+/// The fragments' marks.
+const FRAGMENT_COLOR: [u8; 3] = [150, 150, 150];
 
 /// Which of the inspector's two plots.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,22 +36,37 @@ fn rgb(c: Color32) -> [u8; 3] {
     [c.r(), c.g(), c.b()]
 }
 
-fn line(name: String, color: [u8; 3], depths: &[f32], values: &[f32]) -> Series {
-    Series {
-        name,
-        color,
-        mark: Mark::Line,
-        points: depths
-            .iter()
-            .zip(values)
-            .map(|(&z, &v)| Point {
-                x: f64::from(z),
-                y: f64::from(v),
-                label: String::new(),
-                row: None,
-            })
-            .collect(),
-    }
+/// Markers on each curve: the chart writer's legend names marked series, not lines.
+const MARKERS: usize = 8;
+
+/// A curve through `(depths, values)`: the line, unnamed, and [`MARKERS`] evenly spaced markers named `name`.
+fn line(name: String, color: [u8; 3], depths: &[f32], values: &[f32]) -> [Series; 2] {
+    let points: Vec<Point> = depths
+        .iter()
+        .zip(values)
+        .map(|(&z, &v)| Point {
+            x: f64::from(z),
+            y: f64::from(v),
+            label: String::new(),
+            row: None,
+        })
+        .collect();
+    let step = points.len().div_ceil(MARKERS).max(1);
+    let markers = points.iter().step_by(step).cloned().collect();
+    [
+        Series {
+            name: String::new(),
+            color,
+            mark: Mark::Line,
+            points,
+        },
+        Series {
+            name,
+            color,
+            mark: Mark::Points,
+            points: markers,
+        },
+    ]
 }
 
 /// The reference's and each method's curve of `t` (`kind`'s values), named with `prefix`, in `color` when given
@@ -59,18 +77,18 @@ fn texel_series(t: &TexelPlot, kind: PlotKind, prefix: &str, color: Option<[u8; 
         PlotKind::Visibility => ("", &t.reference),
         PlotKind::Count => (" count", &t.reference_count),
     };
-    let mut series = vec![line(
+    let mut series = Vec::from(line(
         format!("{prefix}{reference}{suffix}"),
         color.unwrap_or(REFERENCE_COLOR),
         &t.depths,
         reference_values,
-    )];
+    ));
     for m in &t.methods {
         let values = match kind {
             PlotKind::Visibility => &m.values,
             PlotKind::Count => &m.counts,
         };
-        series.push(line(
+        series.extend(line(
             format!("{prefix}{}{suffix}", m.label),
             color.unwrap_or(rgb(m.model.color)),
             &t.depths,
@@ -94,7 +112,7 @@ impl TexelCurves {
             };
             series.push(Series {
                 name: "fragments".to_string(),
-                color: REFERENCE_COLOR,
+                color: FRAGMENT_COLOR,
                 mark: Mark::Points,
                 points: t
                     .fragments

@@ -9,9 +9,21 @@ use std::path::Path;
 /// Largest input file hairlab reads (a `.hair`, glTF or glb file, a buffer, a preset, a fragment CSV): 1 GiB.
 pub const MAX_INPUT_BYTES: u64 = 1 << 30;
 
+/// The bytes [`read_regular_file_observed`] reads between two reports: 1 MiB.
+pub const READ_CHUNK: u64 = 1 << 20;
+
 /// Reads `path` when it is a regular file (not a device, FIFO or folder, also through a symlink) of at most
 /// [`MAX_INPUT_BYTES`], and no more than the size it had when opened.
 pub fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    read_regular_file_observed(path, &mut |_, _| true)
+}
+
+/// [`read_regular_file`] telling `on_bytes(read, size)` how far it got every [`READ_CHUNK`] bytes; once it answers
+/// `false` the read stops with an [`std::io::ErrorKind::Interrupted`] error.
+pub fn read_regular_file_observed(
+    path: &Path,
+    on_bytes: &mut dyn FnMut(u64, u64) -> bool,
+) -> std::io::Result<Vec<u8>> {
     use std::io::{Error, ErrorKind, Read};
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
@@ -27,9 +39,12 @@ pub fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
         ));
     }
     let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::fs::File::open(path)?
-        .take(meta.len())
-        .read_to_end(&mut bytes)?;
+    let mut file = std::fs::File::open(path)?.take(meta.len());
+    while (&mut file).take(READ_CHUNK).read_to_end(&mut bytes)? > 0 {
+        if !on_bytes(bytes.len() as u64, meta.len()) {
+            return Err(Error::new(ErrorKind::Interrupted, "stopped"));
+        }
+    }
     Ok(bytes)
 }
 

@@ -5,15 +5,19 @@
 //! `transparency::metrics::compare` beside it.
 //!
 //! The frames are rendered on demand (a button, or when the settings change while "auto" is on and no drag is
-//! under way) with the current settings at the aspect of `render.width`×`render.height`, through the window's
-//! renderer (the viewport renders its own frame again afterwards). The same render reads the exact per-pixel
-//! lists (the hair mask of the metrics, what the pixel inspector shows) and the opaque image under the hair (the
-//! inspector's backgrounds).
+//! under way) with the current settings at the aspect of `render.width`×`render.height`. A render is a job
+//! (`jobs.rs`): a worker thread with a renderer of its own, made from a clone of the window's `Gpu`, the scene on
+//! screen and its fur, reports each slot to the job bar, and Cancel keeps the previous images; the window keeps
+//! drawing meanwhile. The same render reads the exact per-pixel lists (the hair mask of the metrics, what the pixel
+//! inspector shows) and the opaque image under the hair (the inspector's backgrounds).
 
+use super::jobs::{Job, JobCtl, JobGate, JobStatus, Poll};
+use crate::gpu::Gpu;
 use crate::gpu::timing::PassTime;
 use crate::methods::{LightMethod, ParamValues, registry as methods};
 use crate::render::transparency::{EyeTransparency, registry};
 use crate::render::{FrameInput, Renderer};
+use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::transparency::{EyeFragment, ImageMetrics, ModelContext, metrics};
 use image::RgbaImage;
@@ -163,6 +167,23 @@ pub fn render_compare(
     width: u32,
     height: u32,
 ) -> Result<CompareFrames, String> {
+    render_compare_steps(r, settings, slots, width, height, &mut |_, _| true)
+        .and_then(|frames| frames.ok_or_else(|| "compare view: stopped".to_string()))
+}
+
+/// Steps of a compare render: four slots, the exact lists, the opaque image.
+const STEPS: f32 = 6.0;
+
+/// [`render_compare`] telling `step` what it renders next and the share done (of [`STEPS`]) before each image;
+/// `Ok(None)` once `step` answers `false` (cancelled).
+fn render_compare_steps(
+    r: &mut Renderer,
+    settings: &Settings,
+    slots: &[Slot; 4],
+    width: u32,
+    height: u32,
+    step: &mut dyn FnMut(&str, f32) -> bool,
+) -> Result<Option<CompareFrames>, String> {
     let method = methods::find(&settings.method.name).map_err(|e| format!("method.name: {e}"))?;
     let defaults = ParamValues::new();
     let reference = registry::reference();
@@ -171,17 +192,29 @@ pub fn render_compare(
     };
     let gpu_error = |what: &str, e: crate::gpu::GpuError| format!("compare view: {what}: {e}");
     let mut rendered = Vec::with_capacity(4);
-    for slot in slots {
+    for (k, slot) in slots.iter().enumerate() {
         let (technique, params) = slot.resolve(settings, &defaults)?;
+        if !step(
+            &format!("slot {} · {}", k + 1, technique.info().label),
+            k as f32 / STEPS,
+        ) {
+            return Ok(None);
+        }
         r.render(&input(technique, params))
             .map_err(|e| gpu_error(technique.name(), e))?;
         let passes = r.wait_timings();
         let image = r.read_output().map_err(|e| gpu_error(technique.name(), e))?;
         rendered.push((technique, image, passes, r.eye_geometry_passes()));
     }
+    if !step("exact lists", 4.0 / STEPS) {
+        return Ok(None);
+    }
     let lists = r
         .eye_lists(&input(reference, &defaults))
         .map_err(|e| gpu_error("exact lists", e))?;
+    if !step("opaque image", 5.0 / STEPS) {
+        return Ok(None);
+    }
     r.render_capture(&input(reference, &defaults))
         .map_err(|e| gpu_error("opaque image", e))?;
     let background = r.read_output().map_err(|e| gpu_error("opaque image", e))?;
@@ -201,7 +234,7 @@ pub fn render_compare(
             geometry_passes,
         })
         .collect();
-    Ok(CompareFrames {
+    Ok(Some(CompareFrames {
         width,
         height,
         images,
@@ -213,7 +246,48 @@ pub fn render_compare(
             depth_range: r.eye_depth_range(&settings.camera),
         },
         settings: settings.clone(),
+    }))
+}
+
+/// What a compare render takes from the window: its GPU (a clone: the same device and queue), the scene on
+/// screen (at the timeline's frame) and the fur built on it.
+pub struct CompareSource {
+    pub gpu: Gpu,
+    pub scene: Scene,
+    pub fur: Option<crate::fur::settings::FurScene>,
+    /// The box the window's renderer fits the hair maps to under `light.fit = bound` (the whole motion's once
+    /// it is known), so the compare images fit the same light frame as the viewport.
+    pub fit_bound: Option<crate::scene::Aabb>,
+}
+
+/// The worker of a compare job: a renderer of its own from `source`, then [`render_compare_steps`] reporting
+/// through `ctl`; `None` when cancelled.
+fn render_job(
+    source: &CompareSource,
+    settings: &Settings,
+    slots: &[Slot; 4],
+    (width, height): (u32, u32),
+    ctl: &JobCtl,
+) -> Option<Result<CompareFrames, String>> {
+    ctl.step("a renderer for the compare view", 0.0).then_some(())?;
+    let renderer = Renderer::new(&source.gpu, &source.scene, settings.render.map_resolution)
+        .map_err(|e| format!("compare view: renderer: {e}"))
+        .and_then(|mut r| {
+            r.set_fit_bound(source.fit_bound);
+            if let Some(fur) = &source.fur {
+                r.set_fur(Some((fur, &settings.fur)))
+                    .map_err(|e| format!("compare view: fur: {e}"))?;
+            }
+            Ok(r)
+        });
+    let mut r = match renderer {
+        Ok(r) => r,
+        Err(e) => return Some(Err(e)),
+    };
+    render_compare_steps(&mut r, settings, slots, width, height, &mut |what, done| {
+        ctl.step(what, done)
     })
+    .transpose()
 }
 
 /// The frame of `settings` with `technique` at `width`×`height`.
@@ -299,6 +373,8 @@ pub struct CompareView {
     textures: Vec<egui::TextureHandle>,
     diff: Option<((usize, u32, u64, bool), egui::TextureHandle)>,
     rects: [Option<egui::Rect>; 4],
+    /// The render under way.
+    job: Option<Job<Result<CompareFrames, String>>>,
 }
 
 impl Default for CompareView {
@@ -318,6 +394,7 @@ impl Default for CompareView {
             textures: Vec::new(),
             diff: None,
             rects: [None; 4],
+            job: None,
         }
     }
 }
@@ -361,28 +438,78 @@ impl CompareView {
             .is_none_or(|(s, slots, rw, rh)| s != settings || *slots != self.slots || (*rw, *rh) != (w, h))
     }
 
-    /// Renders the four images; the outcome replaces the last one (an error is kept until the next render).
-    pub fn render(&mut self, r: &mut Renderer, settings: &Settings, (w, h): (u32, u32), ctx: &egui::Context) {
-        self.rendered = Some((settings.clone(), self.slots, w, h));
-        match render_compare(r, settings, &self.slots, w, h) {
-            Ok(frames) => {
-                self.textures = frames
-                    .images
-                    .iter()
-                    .enumerate()
-                    .map(|(i, img)| ctx.load_texture(format!("compare{i}"), color_image(&img.image), NEAREST))
-                    .collect();
-                self.frames = Some(frames);
-                self.generation += 1;
-                self.diff = None;
-                self.error = None;
+    /// Starts rendering the four images of `settings` at `size` on a worker (a render under way is cancelled);
+    /// [`CompareView::poll`] applies the outcome. A cancelled render is not started again by "auto" until the
+    /// settings change.
+    pub fn start(
+        &mut self,
+        source: CompareSource,
+        settings: &Settings,
+        size: (u32, u32),
+        ctx: &egui::Context,
+        gate: Option<JobGate>,
+    ) {
+        self.rendered = Some((settings.clone(), self.slots, size.0, size.1));
+        let (settings, slots) = (settings.clone(), self.slots);
+        self.job = Some(Job::spawn("compare", ctx, gate, move |ctl| {
+            render_job(&source, &settings, &slots, size, ctl)
+        }));
+    }
+
+    /// The render under way, as the job bar shows it.
+    pub fn job_status(&self) -> Option<JobStatus> {
+        self.job.as_ref().map(Job::status)
+    }
+
+    /// Takes the render's outcome when it is done (waiting up to `patience`): new frames replace the last ones,
+    /// an error replaces them too (kept until the next render), a cancelled render leaves them. Returns the
+    /// status line's message: `Ok` for news, `Err` for an error.
+    pub fn poll(
+        &mut self,
+        patience: std::time::Duration,
+        ctx: &egui::Context,
+    ) -> Option<Result<String, String>> {
+        let polled = self.job.as_ref()?.wait(patience);
+        match polled {
+            Poll::Running => None,
+            Poll::Done(result) => {
+                self.job = None;
+                match result {
+                    Ok(frames) => {
+                        self.apply(frames, ctx);
+                        None
+                    }
+                    Err(e) => {
+                        self.error = Some(e.clone());
+                        self.frames = None;
+                        self.textures.clear();
+                        Some(Err(e))
+                    }
+                }
             }
-            Err(e) => {
-                self.error = Some(e);
-                self.frames = None;
-                self.textures.clear();
+            Poll::Gone => {
+                let cancelled = self.job.take().is_some_and(|j| j.cancelled());
+                Some(if cancelled {
+                    Ok("compare: cancelled; the previous images stay".to_string())
+                } else {
+                    Err("compare: the worker stopped without a result".to_string())
+                })
             }
         }
+    }
+
+    /// Shows `frames` in place of the last ones.
+    fn apply(&mut self, frames: CompareFrames, ctx: &egui::Context) {
+        self.textures = frames
+            .images
+            .iter()
+            .enumerate()
+            .map(|(i, img)| ctx.load_texture(format!("compare{i}"), color_image(&img.image), NEAREST))
+            .collect();
+        self.frames = Some(frames);
+        self.generation += 1;
+        self.diff = None;
+        self.error = None;
     }
 
     /// Draws the window's contents; `hide_times` replaces the measured times (UI snapshots).

@@ -2,10 +2,13 @@
 //! `speed_vs_accuracy.png` and `.svg`, through the same writer, [`crate::bench::write_results`]), and the table
 //! (as CSV text) and the chart (as an image) copied to the clipboard. The Compare window: each image, the
 //! difference and FLIP maps against the first, and the metrics as CSV ([`compare_files`]). The pixel inspector:
-//! its fragment table as CSV and its transmittance plot as PNG and SVG. An export asks for a
+//! its fragment table as CSV and its transmittance plot as PNG and SVG. The texel inspector: its `V(z)` plot (and
+//! its count plot when shown) as PNG and SVG, drawn by the bench's chart writer, and the plot shown copied to the
+//! clipboard (its curves as CSV go through their own file dialog). An export asks for a
 //! folder with the file dialog, or writes straight into the folder set by [`HairlabApp::set_export_dir`].
 
 use super::compare_view::{CompareFrames, difference_image};
+use super::inspector::PlotKind;
 use super::{DialogPurpose, HairlabApp};
 use crate::bench;
 use crate::bench::report::{chart_files, csv_text, write_files};
@@ -17,6 +20,7 @@ pub enum Export {
     Bench,
     Compare,
     Pixel,
+    Texel,
 }
 
 impl Export {
@@ -26,6 +30,7 @@ impl Export {
             Export::Bench => "Export bench results to a folder",
             Export::Compare => "Export the compared images to a folder",
             Export::Pixel => "Export the pixel's fragments and plot to a folder",
+            Export::Texel => "Export the texel inspector's plot to a folder",
         }
     }
 }
@@ -50,6 +55,7 @@ impl HairlabApp {
             Export::Bench => self.export_bench(dir),
             Export::Compare => self.export_compare(dir),
             Export::Pixel => self.export_pixel(dir),
+            Export::Texel => self.export_texel(dir),
         }
     }
 
@@ -83,17 +89,60 @@ impl HairlabApp {
         let Some(result) = self.bench_result() else {
             return;
         };
-        let chart = bench::speed_accuracy_chart(result);
-        let (w, h) = bench::CHART_SIZE;
-        let image =
-            bench::chart::png(&chart, w, h).and_then(|png| Ok(image::load_from_memory(&png)?.to_rgba8()));
-        match image {
-            Ok(rgba) => {
-                let size = [rgba.width() as usize, rgba.height() as usize];
-                ctx.copy_image(egui::ColorImage::from_rgba_unmultiplied(size, rgba.as_raw()));
-                self.info("bench: chart copied (image)");
-            }
+        match copy_chart(ctx, &bench::speed_accuracy_chart(result)) {
+            Ok(()) => self.info("bench: chart copied (image)"),
             Err(e) => self.error(format!("bench copy: {e:#}")),
+        }
+    }
+
+    /// The texel inspector's plots to write: `V(z)`, and the count plot when the window shows it.
+    fn texel_plots(&self) -> Vec<PlotKind> {
+        let mut kinds = vec![PlotKind::Visibility];
+        if self.inspector.show_count {
+            kinds.push(PlotKind::Count);
+        }
+        kinds
+    }
+
+    /// Writes the texel inspector's plots into `dir`: `texel_v.png` and `.svg`, and `texel_count.png` and `.svg`
+    /// when the count plot is shown.
+    fn export_texel(&mut self, dir: &Path) {
+        let Some(curves) = self.inspector.curves() else {
+            return self.error("texel inspector: nothing to export (select a texel first)");
+        };
+        let mut files = Vec::new();
+        for kind in self.texel_plots() {
+            let Some(chart) = curves.chart(kind) else {
+                return self.error("texel inspector: nothing to export (select a texel first)");
+            };
+            match chart_files(kind.stem(), &chart) {
+                Ok(f) => files.extend(f),
+                Err(e) => return self.error(format!("texel inspector export: {e:#}")),
+            }
+        }
+        match write_files(dir, files) {
+            Ok(files) => self.info(format!(
+                "texel inspector: wrote {} files to {}",
+                files.len(),
+                dir.display()
+            )),
+            Err(e) => self.error(format!("texel inspector export: {e:#}")),
+        }
+    }
+
+    /// Copies the texel inspector's plot shown (`V(z)` or the count) to the clipboard as the image of its PNG.
+    pub(super) fn copy_texel_plot(&mut self, ctx: &egui::Context) {
+        let kind = if self.inspector.show_count {
+            PlotKind::Count
+        } else {
+            PlotKind::Visibility
+        };
+        let Some(chart) = self.inspector.curves().and_then(|c| c.chart(kind)) else {
+            return self.error("texel inspector: nothing to copy (select a texel first)");
+        };
+        match copy_chart(ctx, &chart) {
+            Ok(()) => self.info("texel inspector: plot copied (image)"),
+            Err(e) => self.error(format!("texel inspector copy: {e:#}")),
         }
     }
 
@@ -153,6 +202,15 @@ struct MetricsRow {
     flip_hair: f64,
     flip_p95_hair: f64,
     flip_p99_hair: f64,
+}
+
+/// Copies `chart` to the clipboard as the image its PNG file holds.
+fn copy_chart(ctx: &egui::Context, chart: &bench::chart::Chart) -> anyhow::Result<()> {
+    let (w, h) = bench::CHART_SIZE;
+    let rgba = image::load_from_memory(&bench::chart::png(chart, w, h)?)?.to_rgba8();
+    let size = [rgba.width() as usize, rgba.height() as usize];
+    ctx.copy_image(egui::ColorImage::from_rgba_unmultiplied(size, rgba.as_raw()));
+    Ok(())
 }
 
 fn png(image: image::DynamicImage) -> anyhow::Result<Vec<u8>> {

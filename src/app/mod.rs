@@ -142,8 +142,6 @@ pub struct HairlabApp {
     compare: compare_view::CompareView,
     /// The eye pixel inspector window.
     pixel_inspector: pixel_inspector::PixelInspector,
-    /// The next viewport frame waits for its GPU times (another window rendered after the last one).
-    wait_timings: bool,
     /// The scene's fur and the settings it was built with (`fur_panel.rs`).
     fur: Option<crate::fur::settings::FurScene>,
     built_fur: Option<crate::fur::settings::FurSettings>,
@@ -229,7 +227,6 @@ impl HairlabApp {
             bench: Default::default(),
             compare: Default::default(),
             pixel_inspector: Default::default(),
-            wait_timings: false,
             undoer: undo::new_undoer(),
             help_open: false,
             about_open: false,
@@ -428,17 +425,18 @@ impl HairlabApp {
         gate
     }
 
-    /// Every job under way (scene, analysis, whole-map statistics, bench), as the progress bar shows them.
+    /// Every job under way (scene, analysis, whole-map statistics, compare, bench), as the progress bar shows them.
     pub fn jobs(&self) -> Vec<JobStatus> {
         let mut all: Vec<JobStatus> = self.scene_job.iter().map(|j| j.job.status()).collect();
         all.extend(self.analysis_job.iter().map(|j| j.job.status()));
         all.extend(self.inspector.job_status());
         all.extend(self.motion_bound.status());
+        all.extend(self.compare.job_status());
         all.extend(self.bench_status());
         all
     }
 
-    /// Waits for the scene, analysis and whole-map statistics jobs under way and applies their results (for
+    /// Waits for the scene, analysis, whole-map statistics and compare jobs under way and applies their results (for
     /// scripts and tests that need a finished state).
     pub fn finish_jobs(&mut self) {
         const FOREVER: Duration = Duration::from_secs(24 * 3600);
@@ -446,6 +444,7 @@ impl HairlabApp {
         self.poll_analysis_job(FOREVER);
         self.poll_map_stats(FOREVER);
         self.fit_motion_bound(FOREVER);
+        self.poll_compare(FOREVER);
     }
 
     /// Takes the results of the jobs that finished (waiting up to `patience` for each).
@@ -454,6 +453,7 @@ impl HairlabApp {
         self.poll_analysis_job(patience);
         self.poll_map_stats(patience);
         self.fit_motion_bound(patience);
+        self.poll_compare(patience);
     }
 
     /// Keeps the renderer's fit bound the whole motion's box while `light.fit = bound` and the scene moves
@@ -847,18 +847,28 @@ impl HairlabApp {
         }
     }
 
+    /// Starts the compare render (a job with a renderer of its own) and gives it [`PATIENCE`] to finish.
     fn render_compare(&mut self, size: (u32, u32), ctx: &egui::Context) {
-        let Some(r) = self.renderer.as_mut() else {
+        let (Some(rs), Some(scene), Some(_)) = (&self.render_state, &self.scene, &self.renderer) else {
             return self.error("compare view: no GPU renderer");
         };
-        self.compare.render(r, &self.settings, size, ctx);
-        // The compare frames replaced the viewport's image and timings: render it again and wait for its times.
-        self.last_rendered = None;
-        self.wait_timings = true;
-        ctx.request_repaint();
-        if let Some(e) = self.compare.error() {
-            let e = e.to_string();
-            self.error(e);
+        let source = compare_view::CompareSource {
+            gpu: gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()),
+            scene: scene.clone(),
+            fur: self.fur.clone(),
+            fit_bound: self.renderer.as_ref().map(|r| r.fit_box(crate::scene::LightFit::Bound)),
+        };
+        self.compare
+            .start(source, &self.settings, size, ctx, self.job_gate.clone());
+        self.poll_compare(PATIENCE);
+    }
+
+    /// Applies the compare render's outcome when it is done (waiting up to `patience`).
+    fn poll_compare(&mut self, patience: Duration) {
+        match self.compare.poll(patience, &self.egui_ctx) {
+            Some(Ok(m)) => self.info(m),
+            Some(Err(e)) => self.error(e),
+            None => {}
         }
     }
 
@@ -1019,6 +1029,8 @@ impl HairlabApp {
         self.inspector.open = open;
         match action {
             Some(InspectorAction::ExportCsv) => self.open_dialog(DialogPurpose::ExportCurves, ctx),
+            Some(InspectorAction::ExportPlot) => self.request_export(exports::Export::Texel, ctx),
+            Some(InspectorAction::CopyPlot) => self.copy_texel_plot(ctx),
             Some(InspectorAction::OpenLightMap) => self.light_map.open = true,
             Some(InspectorAction::TimeView) => self.open_time_view(ctx),
             Some(InspectorAction::ComputeMapStats) => self.start_map_stats(ctx),

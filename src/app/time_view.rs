@@ -117,6 +117,7 @@ impl TimeView {
             let options = MotionOptions {
                 follow: Some(point),
                 cancel: Some(&stop),
+                after_each: None,
             };
             let mut progress = |what: &str, done: f32| {
                 let _ = tx.send(Message::Progress(what.to_string(), done));

@@ -91,10 +91,6 @@ impl HairlabApp {
                 height,
             };
             let result = renderer.render(&input);
-            if std::mem::take(&mut self.wait_timings) {
-                // Another window's frames came last: wait for this frame's times rather than show theirs.
-                self.pass_times = renderer.wait_timings();
-            }
             self.last_rendered = Some(key);
             if let Err(e) = result {
                 let msg = format!("render failed: {e}");

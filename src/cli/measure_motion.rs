@@ -1,14 +1,18 @@
 //! `hairlab measure motion`: shadow methods against the exact reference over a preset's motion, frame by
 //! frame, with the temporal metrics (docs/design.md, "Temporal metrics"); a table, `motion_summary.csv` and
-//! `motion_frames.csv`.
+//! `motion_frames.csv`, written whole after each configuration, so that Ctrl-C (which stops after the
+//! configuration in progress, exit code 130) leaves every finished one.
 
 use crate::bench::motion::MotionRun;
 use crate::gpu::{AdapterPreference, Gpu};
-use crate::measure::motion::{MotionOptions, measure_motion};
+use crate::measure::motion::{MotionMeasurement, MotionOptions, measure_motion};
 use crate::measure::temporal::FollowedPoint;
 use anyhow::Result;
 use clap::Args;
-use std::path::PathBuf;
+use std::cell::RefCell;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
 
 #[derive(Args, Debug)]
 pub struct MeasureMotionArgs {
@@ -24,13 +28,26 @@ pub struct MeasureMotionArgs {
     pub out: PathBuf,
 }
 
-/// Measures, prints the table and writes the two CSV files.
+/// Measures, prints the table and writes the CSV files (after each configuration too).
 pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     let (settings, configs) = a.run.resolve()?;
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    let interrupted = crate::cli::interrupt::flag();
+    let written = RefCell::new(Ok(Vec::new()));
+    let after_each = |m: &MotionMeasurement| {
+        let w = write(&a.out, m);
+        let stop = w.is_err() || interrupted.load(Ordering::SeqCst);
+        *written.borrow_mut() = w;
+        if stop {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    };
     let options = MotionOptions {
         follow: a.point,
         cancel: None,
+        after_each: Some(&after_each),
     };
     let m = measure_motion(
         &gpu,
@@ -40,7 +57,20 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
         options,
         &mut |what, _| eprintln!("measuring {what}…"),
     )?;
+    let files = written.into_inner()?;
     print!("{}", m.table(&a.run.preset));
+    for path in files {
+        println!("wrote {}", path.display());
+    }
+    if m.rows.len() < configs.len() {
+        return Err(crate::cli::interrupt::Interrupted { done: m.rows.len() }.into());
+    }
+    Ok(())
+}
+
+/// Writes `motion_summary.csv`, `motion_frames.csv` and, with a followed point, `motion_point.csv` of `m` into
+/// `out`, each whole.
+fn write(out: &Path, m: &MotionMeasurement) -> Result<Vec<PathBuf>> {
     let mut files = vec![
         ("motion_summary.csv".to_string(), m.summary_csv()?.into_bytes()),
         ("motion_frames.csv".to_string(), m.frames_csv()?.into_bytes()),
@@ -48,8 +78,5 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     if let Some(csv) = m.point_csv()? {
         files.push(("motion_point.csv".to_string(), csv.into_bytes()));
     }
-    for path in crate::bench::report::write_files(&a.out, files)? {
-        println!("wrote {}", path.display());
-    }
-    Ok(())
+    crate::bench::report::write_files(out, files)
 }

@@ -18,6 +18,7 @@ use anyhow::{Result, bail};
 use glam::Vec3;
 use image::RgbaImage;
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// When a configuration's `auto` parameter is chosen by the method's analysis.
@@ -170,13 +171,19 @@ pub struct MotionMeasurement {
     pub followed: Option<(FollowedPoint, Vec<f32>)>,
 }
 
+/// Told the measurement so far after each configuration finishes; `Break` stops there (Ctrl-C in `measure
+/// motion`), and the measurement returns the configurations finished.
+pub type AfterEach<'a> = &'a dyn Fn(&MotionMeasurement) -> ControlFlow<()>;
+
 /// What a motion measurement does beyond its configurations.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Default)]
 pub struct MotionOptions<'a> {
     /// A hair point whose visibility is recorded every frame, for the reference and each configuration.
     pub follow: Option<FollowedPoint>,
     /// Set (from another thread) to stop the measurement, which then fails with [`Cancelled`].
     pub cancel: Option<&'a AtomicBool>,
+    /// Called after each configuration ([`AfterEach`]).
+    pub after_each: Option<AfterEach<'a>>,
 }
 
 /// A measurement stopped through [`MotionOptions::cancel`].
@@ -334,6 +341,27 @@ pub fn measure_motion(
             followed,
         });
     }
+    let followed = options.follow.map(|f| {
+        let v = references
+            .iter()
+            .filter_map(|r| r.followed.map(|(_, v)| v))
+            .collect();
+        (f, v)
+    });
+    let (device, strands, segments) = (
+        crate::gpu::describe(&gpu.info),
+        scene.strands.strand_count(),
+        scene.strands.segment_count(),
+    );
+    let measurement = |rows: Vec<MotionRow>| MotionMeasurement {
+        device: device.clone(),
+        strands,
+        segments,
+        frames,
+        rows,
+        sim: sim.clone(),
+        followed: followed.clone(),
+    };
     let mut rows = Vec::with_capacity(configs.len());
     for (ci, c) in configs.iter().enumerate() {
         let label = c.label();
@@ -411,22 +439,14 @@ pub fn measure_motion(
             frames: frame_rows,
             followed,
         });
+        if let Some(after) = options.after_each {
+            let so_far = measurement(rows.clone());
+            if after(&so_far).is_break() {
+                return Ok(so_far);
+            }
+        }
     }
-    Ok(MotionMeasurement {
-        device: crate::gpu::describe(&gpu.info),
-        strands: scene.strands.strand_count(),
-        segments: scene.strands.segment_count(),
-        frames,
-        rows,
-        sim,
-        followed: options.follow.map(|f| {
-            let v = references
-                .iter()
-                .filter_map(|r| r.followed.map(|(_, v)| v))
-                .collect();
-            (f, v)
-        }),
-    })
+    Ok(measurement(rows))
 }
 
 /// A frame of `s`'s view at [`IMAGE_SIZE`] shaded with `method`, composited exactly (the reference technique),

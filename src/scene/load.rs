@@ -24,17 +24,25 @@ pub const SCENE_EXTENSIONS: &[&str] = &["hair", "gltf", "glb", "tfx", "data"];
 /// and USD stages give meshes and strands (a time-sampled stage its first time code). The extension is matched case-insensitively; anything else is an error naming the
 /// file.
 pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
+    // `.hair`, `.tfx` and `.data` files report their progress as they are read ([`super::progress`]).
+    let read = super::progress::read_file;
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("hair") => {
-            let strands = hair::read_hair_file(path)?
+            let strands = hair::read_hair_file_via(path, read)?
                 .to_strands()
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
             Ok(Scene::new(strands, Vec::new()))
         }
         Some("gltf" | "glb") => Ok(gltf_load::load_gltf(path)?),
-        Some("tfx") => Ok(Scene::new(tfx::read_tfx_file(path)?.to_strands(), Vec::new())),
-        Some("data") => Ok(Scene::new(usc_data::read_data_file(path)?.strands, Vec::new())),
+        Some("tfx") => Ok(Scene::new(
+            tfx::read_tfx_file_via(path, read)?.to_strands(),
+            Vec::new(),
+        )),
+        Some("data") => Ok(Scene::new(
+            usc_data::read_data_file_via(path, read)?.strands,
+            Vec::new(),
+        )),
         #[cfg(feature = "usd")]
         Some("usda" | "usdc" | "usdz") => {
             let s = super::usd::read_usd_file(path)?;

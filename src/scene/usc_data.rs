@@ -101,6 +101,13 @@ fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
     };
     let mut empty_strands = 0;
     for strand in 0..strands {
+        // A stopped load (`progress::observed`) drops what was parsed.
+        if !super::progress::parsed(strand, strands) {
+            return Ok(DataFile {
+                strands: out,
+                empty_strands,
+            });
+        }
         let at = bytes.len() - rest.len();
         let (head, tail) = rest
             .split_first_chunk::<4>()
@@ -169,7 +176,15 @@ fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
 
 /// Reads and validates a `.data` file; every error names the file.
 pub fn read_data_file(path: &Path) -> Result<DataFile, DataError> {
-    let bytes = crate::io::read_regular_file(path).map_err(|cause| DataError::Io {
+    read_data_file_via(path, crate::io::read_regular_file)
+}
+
+/// [`read_data_file`] with the bytes read by `read` (the scene loader's reads report their progress).
+pub(super) fn read_data_file_via(
+    path: &Path,
+    read: fn(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<DataFile, DataError> {
+    let bytes = read(path).map_err(|cause| DataError::Io {
         path: path.to_owned(),
         cause,
     })?;

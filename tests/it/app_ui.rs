@@ -106,6 +106,9 @@ fn open_compare(harness: &mut Harness<'_, HairlabApp>) {
     open_transparency_section(harness);
     harness.get_by_label("Compare").click();
     harness.run();
+    // The render is a job: wait for it.
+    harness.state_mut().finish_jobs();
+    harness.run();
     assert_eq!(harness.state().compare().error(), None);
     // The new window sizes itself to its contents over a few frames.
     for _ in 0..10 {
@@ -878,6 +881,7 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
     let options = MotionOptions {
         follow: Some(point),
         cancel: None,
+        after_each: None,
     };
     let measured = harness.state().settings().clone();
     let headless = measure_motion(&gpu, &measured, &configs, 4, options, &mut |_, _| {}).unwrap();
@@ -1074,4 +1078,110 @@ fn a_long_job_keeps_the_window_interactive_and_cancel_restores_the_scene() {
         *points_after, points_before,
         "straight hair, not the wavy scene before"
     );
+}
+
+/// A Compare render is a job with a renderer of its own: while a test gate holds it, the window keeps drawing and
+/// answering (Help opens and closes), the job bar shows it with Cancel, and the previous images stay; Cancel
+/// leaves them exactly; a render let through gives, byte for byte, the images, lists and opaque image of the
+/// synchronous `render_compare` on a renderer made from the same scene.
+#[test]
+fn a_compare_render_is_a_job_that_cancel_leaves_and_that_renders_what_render_compare_does() {
+    use egui::accesskit::Role;
+    use hairlab::app::compare_view::render_compare;
+    use hairlab::render::Renderer;
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut harness = tall_harness();
+    harness.run();
+    open_compare(&mut harness);
+    let (generation, before): (u64, Vec<image::RgbaImage>) = {
+        let c = harness.state().compare();
+        let f = c.frames().expect("compare frames rendered");
+        (c.generation(), f.images.iter().map(|i| i.image.clone()).collect())
+    };
+    let gate = harness.state_mut().hold_jobs();
+
+    // A render held at its first step.
+    harness.get_by_role_and_label(Role::Button, "Render").click();
+    harness.step();
+    harness.step();
+    let jobs = harness.state().jobs();
+    assert_eq!(jobs.len(), 1, "one compare job");
+    assert_eq!(jobs[0].name, "compare");
+    assert!(
+        harness.query_by_label_contains("starting 0%").is_some(),
+        "the progress bar shows"
+    );
+    assert!(harness.query_by_label("Drop a file").is_none());
+    harness.get_by_label("Help").click();
+    harness.step();
+    harness.step();
+    assert!(
+        harness.query_by_label("Drop a file").is_some(),
+        "Help opened during the render"
+    );
+    harness.key_press(egui::Key::F1);
+    harness.step();
+    harness.step();
+    assert!(
+        harness.query_by_label("Drop a file").is_none(),
+        "Help closed during the render"
+    );
+    assert_eq!(harness.state().jobs().len(), 1, "still held");
+    assert_eq!(harness.state().compare().generation(), generation);
+
+    // Cancel: the previous images, exactly.
+    harness.get_by_label("Cancel").click();
+    harness.step();
+    harness.run();
+    assert!(harness.state().jobs().is_empty());
+    let c = harness.state().compare();
+    assert_eq!(c.generation(), generation, "no new frames");
+    let kept: Vec<&image::RgbaImage> = c.frames().unwrap().images.iter().map(|i| &i.image).collect();
+    assert!(
+        kept.iter().zip(&before).all(|(a, b)| *a == b),
+        "the previous images stay"
+    );
+    assert!(
+        harness
+            .state()
+            .message()
+            .is_some_and(|(m, err)| !err && m.contains("cancelled")),
+        "{:?}",
+        harness.state().message()
+    );
+
+    // Another slot, let through: its frames replace the previous ones.
+    let reference = techniques::reference().name();
+    harness.state_mut().compare_mut().slots[2] = hairlab::app::compare_view::Slot::Technique(reference);
+    harness.get_by_role_and_label(Role::Button, "Render").click();
+    harness.step();
+    assert_eq!(harness.state().jobs().len(), 1);
+    gate.open();
+    harness.state_mut().finish_jobs();
+    harness.run();
+    assert!(harness.state().jobs().is_empty());
+    let app = harness.state();
+    assert_eq!(app.compare().generation(), generation + 1);
+    let frames = app.compare().frames().unwrap();
+    assert_eq!(frames.images[2].name, reference);
+    assert!(
+        frames.images[2].image == frames.images[0].image,
+        "slot 3 shows the reference now"
+    );
+
+    // The same as the synchronous render on a renderer of the test's own.
+    let scene = app.scene().unwrap();
+    let mut r = Renderer::new(&gpu, scene, frames.settings.render.map_resolution).unwrap();
+    let slots = app.compare().slots;
+    let sync = render_compare(&mut r, &frames.settings, &slots, frames.width, frames.height).unwrap();
+    for (k, (a, b)) in frames.images.iter().zip(&sync.images).enumerate() {
+        assert_eq!(a.name, b.name);
+        assert!(
+            a.image == b.image,
+            "slot {}: the job's image differs from render_compare's",
+            k + 1
+        );
+    }
+    assert!(frames.lists == sync.lists, "the exact lists");
+    assert!(frames.background == sync.background, "the opaque image");
 }

@@ -56,6 +56,7 @@ fn a_motion_that_does_not_move_has_no_flicker_and_the_same_errors_every_frame() 
     let options = MotionOptions {
         follow: Some(FollowedPoint { first: 6, t: 0.5 }),
         cancel: None,
+        after_each: None,
     };
     let m = measure_motion(&gpu, &settings, &configs, 3, options, &mut |_, _| {}).unwrap();
     let (_, reference) = m.followed.clone().expect("the followed point's series");
@@ -273,4 +274,106 @@ fn bench_motion_writes_the_csv_files_and_the_chart() {
     assert_eq!((png.width(), png.height()), (1200, 800));
     let summary = std::fs::read_to_string(out.path().join("motion_summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 3, "{summary}");
+}
+
+/// Ctrl-C (SIGINT to the `hairlab` process) stops `measure motion` after the configuration in progress:
+/// motion_summary.csv and motion_frames.csv hold every finished configuration, whole and in order (a row each,
+/// and a row per frame), and the run exits 130 saying how many.
+#[test]
+fn sigint_leaves_complete_motion_csvs_of_the_finished_configurations() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let frames = 6;
+    let configs: Vec<String> = [4, 8, 16, 32, 64, 128]
+        .iter()
+        .map(|n| format!("{}:slices={n}", Osm.name()))
+        .collect();
+    let mut args: Vec<String> = [
+        "measure",
+        "motion",
+        "--preset",
+        "stray-sweep",
+        "--set",
+        "scene.generator.strands=200",
+        "--set",
+        "render.map_resolution=64",
+        "--frames",
+        &frames.to_string(),
+        "--out",
+        out.path().to_str().unwrap(),
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for c in &configs {
+        args.extend(["--config".to_string(), c.clone()]);
+    }
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(&args)
+        .env("RUST_LOG", "warn")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first configuration's rows are written; then Ctrl-C.
+    let summary = out.path().join("motion_summary.csv");
+    let start = std::time::Instant::now();
+    while !summary.exists() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "hairlab ended before writing motion_summary.csv"
+        );
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "no motion_summary.csv after 10 minutes"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    let rows = |name: &str| -> Vec<Vec<String>> {
+        let mut r = csv::Reader::from_path(out.path().join(name)).unwrap();
+        let width = r.headers().unwrap().len();
+        r.records()
+            .map(|rec| {
+                let rec = rec.unwrap();
+                assert_eq!(rec.len(), width, "{name}: a whole row: {rec:?}");
+                rec.iter().map(str::to_string).collect()
+            })
+            .collect()
+    };
+    let done = rows("motion_summary.csv");
+    assert!(
+        !done.is_empty() && done.len() < configs.len(),
+        "stopped after the configuration in progress: {done:?}"
+    );
+    for (r, expected) in done.iter().zip(&configs) {
+        assert_eq!(&r[0], expected);
+        let error: f64 = r[1].parse().unwrap();
+        assert!(error.is_finite() && error > 0.0, "{r:?}");
+    }
+    let frame_rows = rows("motion_frames.csv");
+    assert_eq!(
+        frame_rows.len(),
+        done.len() * frames,
+        "a row per finished configuration and frame"
+    );
+    for (i, r) in frame_rows.iter().enumerate() {
+        assert_eq!(&r[0], &configs[i / frames]);
+        assert_eq!(r[1], (i % frames).to_string());
+    }
+    let errors = crate::common::cli::error_lines(&o);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].contains("interrupted")
+            && errors[0].contains(&format!("after {} configurations", done.len())),
+        "{errors:?}"
+    );
 }

@@ -9,6 +9,7 @@
 //! (`curves`), their drawing (`plot`), the whole-map statistics (`map_stats`) and the CSV export (`csv`); [`Inspector::ui`] draws the window from its own
 //! state and the [`InspectorDeps`] it is given.
 
+mod chart;
 mod count_plot;
 mod csv;
 mod curves;
@@ -16,6 +17,7 @@ mod lists;
 mod map_stats;
 mod plot;
 
+pub use chart::{PlotKind, REFERENCE_COLOR};
 pub use csv::export;
 pub use curves::{MethodCurve, PlotModel, TexelCurves, TexelPlot, inspected, method_color, plot_range};
 pub use lists::{ListsKey, ReferenceLists, read_reference_lists};
@@ -103,6 +105,10 @@ pub struct InspectorDeps<'a> {
 pub enum InspectorAction {
     /// Choose a file and export the curves as CSV.
     ExportCsv,
+    /// Write the plot (and the count plot when shown) as PNG and SVG into a folder.
+    ExportPlot,
+    /// Copy the plot shown to the clipboard as an image.
+    CopyPlot,
     /// Show the light-map window.
     OpenLightMap,
     /// Follow the picked hair point over the motion (the time view).
@@ -389,6 +395,20 @@ impl Inspector {
                 .clicked()
             {
                 action = Some(InspectorAction::ExportCsv);
+            }
+            if ui
+                .button("Export plot…")
+                .on_hover_text("the V(z) plot (and the count plot when shown) as PNG and SVG, into a folder")
+                .clicked()
+            {
+                action = Some(InspectorAction::ExportPlot);
+            }
+            if ui
+                .button("Copy plot")
+                .on_hover_text("the plot shown, as an image, to the clipboard")
+                .clicked()
+            {
+                action = Some(InspectorAction::CopyPlot);
             }
             if self.shown_pick().is_some()
                 && ui

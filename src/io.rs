@@ -76,6 +76,17 @@ pub fn check_output(path: &Path, extension: &str) -> Result<()> {
     Ok(())
 }
 
+/// One CSV field as RFC 4180 writes it: quoted (with inner quotes doubled) when it holds a comma, a quote or a line
+/// break, as it is otherwise. For the hand-written CSV files whose labels carry a method's parameters
+/// (`dom:layers=4,spacing=unreal`).
+pub fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
+}
+
 /// Writes `bytes` to `path` atomically; the error names `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_io(path, bytes).with_context(|| format!("{}: cannot write", path.display()))

@@ -856,7 +856,10 @@ impl HairlabApp {
             gpu: gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()),
             scene: scene.clone(),
             fur: self.fur.clone(),
-            fit_bound: self.renderer.as_ref().map(|r| r.fit_box(crate::scene::LightFit::Bound)),
+            fit_bound: self
+                .renderer
+                .as_ref()
+                .map(|r| r.fit_box(crate::scene::LightFit::Bound)),
         };
         self.compare
             .start(source, &self.settings, size, ctx, self.job_gate.clone());

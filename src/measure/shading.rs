@@ -99,7 +99,7 @@ pub fn csv(models: &[ShadingModel], rows: &[ShadingRow]) -> String {
     }
     out.push('\n');
     for row in rows {
-        out += &row.config.label();
+        out += &crate::io::csv_field(&row.config.label());
         for e in &row.errors {
             out += &format!(",{},{}", e.image_rmse, e.image_flip);
         }
@@ -137,5 +137,37 @@ mod tests {
         );
         assert_eq!(lines[1], format!("{},0.5,0.25,0.125,0.75", config.label()));
         assert_eq!(lines.len(), 2);
+    }
+
+    /// A configuration whose label lists several parameters (commas) stays one field: a CSV reader gets the
+    /// label back whole and the row keeps its column count.
+    #[test]
+    fn a_label_with_commas_stays_one_field() {
+        let models = [ShadingModel::KajiyaKay];
+        let method = registry::all()
+            .iter()
+            .find(|m| m.params().len() >= 2)
+            .expect("a method with two parameters");
+        let params: ParamValues = method
+            .params()
+            .iter()
+            .map(|p| (p.key.to_string(), p.default))
+            .collect();
+        let config = MethodConfig::new(method.name(), params);
+        assert!(config.label().contains(','), "{}", config.label());
+        let rows = [ShadingRow {
+            config: config.clone(),
+            errors: vec![ShadingError {
+                model: models[0],
+                image_rmse: 0.5,
+                image_flip: 0.25,
+            }],
+        }];
+        let text = csv(&models, &rows);
+        let mut reader = ::csv::Reader::from_reader(text.as_bytes());
+        let record = reader.records().next().expect("one row").expect("a valid row");
+        assert_eq!(record.len(), 3);
+        assert_eq!(&record[0], config.label());
+        assert_eq!(&record[1], "0.5");
     }
 }

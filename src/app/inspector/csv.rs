@@ -43,6 +43,7 @@ impl TexelCurves {
                 columns.push(m.model.model.count_curve(&t.fragments, &zs, t.hair_alpha));
             }
         }
+        let header: Vec<_> = header.iter().map(|h| crate::io::csv_field(h)).collect();
         let mut out = header.join(",");
         out.push('\n');
         for (i, z) in zs.iter().enumerate() {

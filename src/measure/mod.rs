@@ -501,7 +501,11 @@ impl PointSamples {
     }
 
     /// Each point's exact visibility from the reference lists of the maps as built, `side` texels a side.
-    pub fn reference(&self, lists: &[Vec<crate::render::passes::abuffer::RefFragment>], side: u32) -> Vec<f32> {
+    pub fn reference(
+        &self,
+        lists: &[Vec<crate::render::passes::abuffer::RefFragment>],
+        side: u32,
+    ) -> Vec<f32> {
         let v: Vec<f32> = self
             .samples
             .iter()

@@ -6,9 +6,7 @@
 //! the GPU compute pass's ([`crate::motion::gpu`]) timestamps.
 
 use super::temporal::{self, Flicker, FollowedPoint, OverFrames, TrackedFrame};
-use super::{
-    IMAGE_SIZE, MethodConfig, PointSamples, TexelSamples, evaluate_all, light_samples, median,
-};
+use super::{IMAGE_SIZE, MethodConfig, PointSamples, TexelSamples, evaluate_all, light_samples, median};
 use crate::gpu::Gpu;
 use crate::gpu::timing::{Phase, phase_ms};
 use crate::methods::{self, ParamValues, registry};

@@ -61,18 +61,32 @@ impl Renderer {
     pub fn evaluate(&mut self, method: &dyn LightMethod, samples: &[[f32; 3]]) -> Result<Vec<f32>, GpuError> {
         let samples: Vec<Sample> = samples.iter().map(|&s| Sample::Texel(s)).collect();
         let method_gpu = self.light.held(method)?;
-        self.evaluate
-            .run(&self.gpu, method, method_gpu, &self.bindings.scene_group, &samples)
+        self.evaluate.run(
+            &self.gpu,
+            method,
+            method_gpu,
+            &self.bindings.scene_group,
+            &samples,
+        )
     }
 
     /// Evaluates the eye lookup `hair_visibility` (`shaders/common/method_lookup.wgsl`: the frame's PCF,
     /// jitter and light-map supersampling over the method's `visibility_at`) at world points, on the maps and
     /// frame uniforms of the last frame rendered with `method`.
-    pub fn evaluate_points(&mut self, method: &dyn LightMethod, points: &[Vec3]) -> Result<Vec<f32>, GpuError> {
+    pub fn evaluate_points(
+        &mut self,
+        method: &dyn LightMethod,
+        points: &[Vec3],
+    ) -> Result<Vec<f32>, GpuError> {
         let samples: Vec<Sample> = points.iter().map(|p| Sample::World(p.to_array())).collect();
         let method_gpu = self.light.held(method)?;
-        self.evaluate
-            .run(&self.gpu, method, method_gpu, &self.bindings.scene_group, &samples)
+        self.evaluate.run(
+            &self.gpu,
+            method,
+            method_gpu,
+            &self.bindings.scene_group,
+            &samples,
+        )
     }
 
     /// The exact reference's per-texel fragment lists (row-major texels, each sorted by depth then segment) of

@@ -128,10 +128,7 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
             offset_of!(FrameUniforms, guard_shell_height),
         ),
         ("env_count", offset_of!(FrameUniforms, env_count)),
-        (
-            "light_supersample",
-            offset_of!(FrameUniforms, light_supersample),
-        ),
+        ("light_supersample", offset_of!(FrameUniforms, light_supersample)),
         ("pad0", offset_of!(FrameUniforms, pad0)),
         ("pad1", offset_of!(FrameUniforms, pad1)),
         ("pad2", offset_of!(FrameUniforms, pad2)),

@@ -34,10 +34,12 @@ fn lookup_difference(
     st.render.light_supersample = s;
     st.render.pcf = pcf;
     let mut r = Renderer::new(gpu, &scene, st.render.light_map_side()).unwrap();
-    let lists = r
-        .reference_lists(&st.camera, &st.light, &st.render)
-        .unwrap();
-    assert_eq!(lists.len(), (BASE * s * BASE * s) as usize, "the lists are the maps as built");
+    let lists = r.reference_lists(&st.camera, &st.light, &st.render).unwrap();
+    assert_eq!(
+        lists.len(),
+        (BASE * s * BASE * s) as usize,
+        "the lists are the maps as built"
+    );
     let values = crate::common::values(params);
     r.render(&crate::common::light_frame(&st, method, &values))
         .unwrap();
@@ -118,7 +120,10 @@ fn supersampled_eye_lookup_equals_its_cpu_model() {
     for (method, params, tolerance) in cases {
         for (s, pcf) in [(2, false), (4, false), (2, true)] {
             let (worst, n) = lookup_difference(&gpu, method, params, s, pcf);
-            eprintln!("{} s = {s} pcf = {pcf}: max |ΔV| = {worst:e} over {n} points", method.name());
+            eprintln!(
+                "{} s = {s} pcf = {pcf}: max |ΔV| = {worst:e} over {n} points",
+                method.name()
+            );
             assert!(n > 1000, "{}: only {n} points compared", method.name());
             assert!(
                 worst <= tolerance,
@@ -182,5 +187,8 @@ fn too_large_or_bad_supersampling_is_one_clear_error() {
     let mut bad = hairlab::settings::Settings::default();
     bad.render.light_supersample = 3;
     let err = bad.validate().unwrap_err().to_string();
-    assert!(err.contains("render.light_supersample must be 1, 2 or 4"), "{err}");
+    assert!(
+        err.contains("render.light_supersample must be 1, 2 or 4"),
+        "{err}"
+    );
 }

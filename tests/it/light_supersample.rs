@@ -3,7 +3,7 @@
 //! sub-texels of the point's texel. On the GPU (lavapipe): the eye lookup at world points equals its CPU model
 //! (`hairlab::visibility::lookup`) over the method's CPU model on each sub-texel's exact fragments, the
 //! reference's A-buffer equals depth peeling on the supersampled maps, the maps and their memory grow by `s²`,
-//! and a side the GPU cannot hold is one error naming the key.
+//! a side the GPU cannot hold is one error naming the key, and the Light section's selector sets the key.
 
 use glam::{Vec2, Vec3};
 use hairlab::gpu::Gpu;
@@ -102,6 +102,9 @@ fn lookup_difference(
     (worst, points.len())
 }
 
+/// A method and its parameters.
+type Case = (&'static dyn ShadowMethod, &'static [(&'static str, f32)]);
+
 /// GPU = CPU for the eye lookup under supersampling, OSM-16, DOM-3 and the reference at s = 2 and 4 (and s = 2
 /// with 3×3 PCF), within 1e-4 (the methods' stated per-texel GPU tolerance; 1e-5 for the reference's).
 /// Measured maxima (lavapipe, ~5,000–5,900 points a case): OSM-16 5.2e-6, 4.3e-6, 1.9e-6 (s = 2, 4, 2 with PCF);
@@ -112,12 +115,12 @@ fn supersampled_eye_lookup_equals_its_cpu_model() {
     let reference: &'static dyn ShadowMethod = registry::find(Reference.name()).unwrap();
     let osm = registry::find(Osm.name()).unwrap();
     let dom = registry::find(Dom.name()).unwrap();
-    let cases: [(&'static dyn ShadowMethod, &[(&str, f32)], f32); 3] = [
-        (osm, &[("slices", 16.0)], 1e-4),
-        (dom, &[("layers", 3.0)], 1e-4),
-        (reference, &[], 1e-5),
+    let cases: [(Case, f32); 3] = [
+        ((osm, &[("slices", 16.0)]), 1e-4),
+        ((dom, &[("layers", 3.0)]), 1e-4),
+        ((reference, &[]), 1e-5),
     ];
-    for (method, params, tolerance) in cases {
+    for ((method, params), tolerance) in cases {
         for (s, pcf) in [(2, false), (4, false), (2, true)] {
             let (worst, n) = lookup_difference(&gpu, method, params, s, pcf);
             eprintln!(
@@ -191,4 +194,33 @@ fn too_large_or_bad_supersampling_is_one_clear_error() {
         err.contains("render.light_supersample must be 1, 2 or 4"),
         "{err}"
     );
+}
+
+/// The Light section's supersample selector offers 1, 2 and 4 and sets `render.light_supersample`.
+#[test]
+fn the_light_section_sets_the_supersampling() {
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::Queryable;
+    use hairlab::app::{HairlabApp, wgpu_setup};
+    use hairlab::gpu::AdapterPreference;
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = crate::common::small_settings(320, 240);
+    let mut harness = Harness::builder()
+        .with_size([1400.0, 1500.0])
+        .with_max_steps(8)
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    assert_eq!(harness.state().settings().render.light_supersample, 1);
+    for s in hairlab::render::render_settings::LIGHT_SUPERSAMPLES {
+        assert!(
+            harness.query_by_label(&format!("{s}×{s}")).is_some(),
+            "{s}×{s} is not offered"
+        );
+    }
+    harness.get_by_label("4×4").click();
+    harness.run();
+    assert_eq!(harness.state().settings().render.light_supersample, 4);
 }

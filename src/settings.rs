@@ -318,6 +318,12 @@ impl Settings {
                 r.light_min_width
             );
         }
+        if !crate::render::render_settings::LIGHT_SUPERSAMPLES.contains(&r.light_supersample) {
+            bail!(
+                "render.light_supersample must be 1, 2 or 4 (got {})",
+                r.light_supersample
+            );
+        }
         if let Err(e) = r.raster.stage(r.light_strands) {
             bail!("{e}");
         }

@@ -56,6 +56,13 @@ struct FrameUniforms {
     // Lights of the guard hairs' environment (common/env_lights.wgsl): 0 or 1 for the scene's light alone; per
     // light the unit direction towards it and its radiance (xyz).
     env_count: u32,
+    // Light-map supersampling s (`render.light_supersample`; 0 reads as 1): the hair maps are s times the base
+    // resolution a side, and hair_visibility (common/method_lookup.wgsl) averages the s x s sub-texels of the
+    // point's base texel. Then padding to the alignment of env_to_light.
+    light_supersample: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
     env_to_light: array<vec4<f32>, 64>,
     env_radiance: array<vec4<f32>, 64>,
 }

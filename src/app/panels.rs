@@ -427,6 +427,17 @@ impl HairlabApp {
                         ui.add(egui::Slider::new(width, 1.0..=8.0));
                     });
                 }
+                ui.horizontal(|ui| {
+                    ui.label("light supersample").on_hover_text(
+                        "Every light map (the reference's too) built s times finer a side, and each shaded point \
+                         averaging the s × s sub-texels of its texel: multisampling the shadow computation \
+                         against the flicker of aliased strands (Yuksel & Keyser 2008, Deep Opacity Maps §5). \
+                         render.light_supersample",
+                    );
+                    for s in crate::render::render_settings::LIGHT_SUPERSAMPLES {
+                        ui.selectable_value(&mut render.light_supersample, s, format!("{s}×{s}"));
+                    }
+                });
                 egui::Grid::new("light").num_columns(2).show(ui, |ui| {
                     row(ui, "azimuth°", egui::Slider::new(&mut l.azimuth_deg, 0.0..=360.0));
                     row(

@@ -186,7 +186,7 @@ impl HairlabApp {
             return;
         };
         let frame = r.hair_light_frame(&self.settings.light);
-        let resolution = self.settings.render.map_resolution;
+        let resolution = self.settings.render.light_map_side();
         let Some(texel) = light_texel(frame.world_to_clip(), resolution, pick.world) else {
             return self.error("the picked point lies outside the light map");
         };

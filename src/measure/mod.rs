@@ -153,7 +153,7 @@ pub fn measure_on_each(
     if s.camera.distance <= 0.0 {
         s.camera.frame(&scene.framing_bounds());
     }
-    let res = s.render.map_resolution;
+    let res = s.render.light_map_side();
     let mut r = Renderer::new(gpu, &scene, res)?;
     // Every image is composited exactly, so the image error is the shadows' alone: against exact shadows and
     // exact transparency.
@@ -211,13 +211,8 @@ pub fn measure_on_each(
     let mut reference_frames = Vec::with_capacity(lights.len());
     for light in &lights {
         let lists = r.reference_lists(&s.camera, light, &s.render)?;
-        let samples = light_samples(&r, light, &points);
-        reference_frames.push(
-            samples
-                .iter()
-                .map(|x| reference_visibility(&lists, res, x))
-                .collect::<Vec<f32>>(),
-        );
+        let samples = light_samples(&r, light, &s.render, &points);
+        reference_frames.push(samples.reference(&lists, res));
     }
     let reference_shading = &reference_frames[0];
     let reference_change = mean_change(&reference_frames);
@@ -236,8 +231,8 @@ pub fn measure_on_each(
         let mut frames_v = Vec::with_capacity(lights.len());
         for light in &lights {
             r.render_light(&full(method, &c.params, light))?;
-            let samples = light_samples(&r, light, &points);
-            frames_v.push(evaluate_all(&mut r, method, &samples)?);
+            let samples = light_samples(&r, light, &s.render, &points);
+            frames_v.push(samples.average(&evaluate_all(&mut r, method, &samples.samples)?));
         }
         let shading_error = mean_abs_diff(&frames_v[0], reference_shading);
         r.render(&full(method, &c.params, &s.light))?;
@@ -484,27 +479,74 @@ pub(crate) fn map_error(texel_errors: &[f64]) -> f64 {
     }
 }
 
-/// `(texel x, texel y, light depth)` of each point in the hair light frame of `light`. The frame is fitted to
-/// the strands, so every hair point lies inside the map (the clamp only guards the edge texel).
+/// The samples of the eye lookup at hair points: per point, the `(texel x, texel y, light depth)` of each texel
+/// of the maps as built that the lookup averages ([`crate::visibility::lookup`]: the `s × s` sub-texels of the
+/// point's base texel under `render.light_supersample = s`, one texel at 1), `per_point` consecutive samples a
+/// point. The PCF and jitter filters are not applied: the measurement reads the methods' maps.
+pub(crate) struct PointSamples {
+    pub samples: Vec<[f32; 3]>,
+    pub per_point: usize,
+}
+
+impl PointSamples {
+    /// Each point's mean of `v`, the values at [`PointSamples::samples`] (and at any whole points' samples
+    /// appended after them).
+    pub fn average(&self, v: &[f32]) -> Vec<f32> {
+        if self.per_point == 1 {
+            return v.to_vec();
+        }
+        v.chunks(self.per_point)
+            .map(|c| c.iter().sum::<f32>() / c.len() as f32)
+            .collect()
+    }
+
+    /// Each point's exact visibility from the reference lists of the maps as built, `side` texels a side.
+    pub fn reference(
+        &self,
+        lists: &[Vec<crate::render::passes::abuffer::RefFragment>],
+        side: u32,
+    ) -> Vec<f32> {
+        let v: Vec<f32> = self
+            .samples
+            .iter()
+            .map(|x| reference_visibility(lists, side, x))
+            .collect();
+        self.average(&v)
+    }
+}
+
+/// [`PointSamples`] of each point in the hair light frame of `light`, under `render`'s supersampling. The frame
+/// is fitted to the strands, so every hair point lies inside the map (the clamp only guards the edge texel).
 pub(crate) fn light_samples(
     r: &Renderer,
     light: &crate::scene::Light,
+    render: &crate::render::RenderSettings,
     points: &[glam::Vec3],
-) -> Vec<[f32; 3]> {
+) -> PointSamples {
     let frame = r.hair_light_frame(light);
     let clip = frame.world_to_clip();
-    let res = r.map_resolution() as f32;
-    points
-        .iter()
-        .map(|p| {
-            let c = clip.project_point3(*p);
-            let uv = glam::Vec2::new(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5);
-            let t = (uv * res)
-                .floor()
-                .clamp(glam::Vec2::ZERO, glam::Vec2::splat(res - 1.0));
-            [t.x, t.y, frame.depth(*p)]
-        })
-        .collect()
+    let supersample = render.light_supersample.max(1);
+    let lookup = crate::visibility::lookup::Lookup {
+        base: r.map_resolution() / supersample,
+        supersample,
+        pcf: false,
+    };
+    let res = lookup.base as f32;
+    let mut samples = Vec::with_capacity(points.len() * (supersample * supersample) as usize);
+    for p in points {
+        let c = clip.project_point3(*p);
+        let uv = glam::Vec2::new(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5);
+        let t = (uv * res)
+            .floor()
+            .clamp(glam::Vec2::ZERO, glam::Vec2::splat(res - 1.0));
+        let z = frame.depth(*p);
+        let texels = lookup.around([t.x as u32, t.y as u32]);
+        samples.extend(texels.iter().map(|t| [t[0] as f32, t[1] as f32, z]));
+    }
+    PointSamples {
+        samples,
+        per_point: (supersample * supersample) as usize,
+    }
 }
 
 /// Exact visibility at a sample from the reference lists.

@@ -6,9 +6,7 @@
 //! the GPU compute pass's ([`crate::motion::gpu`]) timestamps.
 
 use super::temporal::{self, Flicker, FollowedPoint, OverFrames, TrackedFrame};
-use super::{
-    IMAGE_SIZE, MethodConfig, TexelSamples, evaluate_all, light_samples, median, reference_visibility,
-};
+use super::{IMAGE_SIZE, MethodConfig, PointSamples, TexelSamples, evaluate_all, light_samples, median};
 use crate::gpu::Gpu;
 use crate::gpu::timing::{Phase, phase_ms};
 use crate::methods::{self, ParamValues, registry};
@@ -194,13 +192,13 @@ pub struct Cancelled;
 /// The exact reference's view of one frame.
 struct FrameReference {
     ids: Vec<u32>,
-    samples: Vec<[f32; 3]>,
+    samples: PointSamples,
     visibility: Vec<f32>,
     texels: TexelSamples,
     /// The analysis' choice on this frame, per configuration (empty for fixed ones).
     tuned: Vec<ParamValues>,
     /// The followed point's light sample and the reference's visibility there.
-    followed: Option<([f32; 3], f32)>,
+    followed: Option<(PointSamples, f32)>,
 }
 
 /// Measures `configs` over frames `0..frames` of `settings`' motion on `gpu`. A still preset is refused: there
@@ -277,7 +275,7 @@ pub fn measure_motion(
         _ => None,
     };
     scene.set_strand_points(&points[0])?;
-    let res = s.render.map_resolution;
+    let res = s.render.light_map_side();
     let mut r = Renderer::new(gpu, &scene, res)?;
     r.set_fit_bound(fit_bound);
     let analyses = configs
@@ -312,11 +310,8 @@ pub fn measure_motion(
         tracked.sort_by_key(|(id, _)| *id);
         let (ids, at): (Vec<u32>, Vec<Vec3>) = tracked.into_iter().unzip();
         let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
-        let samples = light_samples(&r, &s.light, &at);
-        let visibility = samples
-            .iter()
-            .map(|x| reference_visibility(&lists, res, x))
-            .collect();
+        let samples = light_samples(&r, &s.light, &s.render, &at);
+        let visibility = samples.reference(&lists, res);
         let tuned = configs
             .iter()
             .zip(&analyses)
@@ -329,8 +324,9 @@ pub fn measure_motion(
             })
             .collect();
         let followed = options.follow.map(|f| {
-            let sample = light_samples(&r, &s.light, &[f.at(p)])[0];
-            (sample, reference_visibility(&lists, res, &sample))
+            let sample = light_samples(&r, &s.light, &s.render, &[f.at(p)]);
+            let v = sample.reference(&lists, res)[0];
+            (sample, v)
         });
         references.push(FrameReference {
             ids,
@@ -344,7 +340,7 @@ pub fn measure_motion(
     let followed = options.follow.map(|f| {
         let v = references
             .iter()
-            .filter_map(|r| r.followed.map(|(_, v)| v))
+            .filter_map(|r| r.followed.as_ref().map(|(_, v)| *v))
             .collect();
         (f, v)
     });
@@ -383,9 +379,13 @@ pub fn measure_motion(
                 reference
                     .texels
                     .errors(&evaluate_all(&mut r, method, &reference.texels.samples)?);
-            let mut samples = reference.samples.clone();
-            samples.extend(reference.followed.map(|(sample, _)| sample));
-            let mut method_v = evaluate_all(&mut r, method, &samples)?;
+            let mut samples = reference.samples.samples.clone();
+            if let Some((sample, _)) = &reference.followed {
+                samples.extend_from_slice(&sample.samples);
+            }
+            let mut method_v = reference
+                .samples
+                .average(&evaluate_all(&mut r, method, &samples)?);
             if reference.followed.is_some() {
                 followed.extend(method_v.pop());
             }

@@ -94,7 +94,8 @@ pub struct UniformInputs<'a> {
     pub size: (u32, u32),
     /// The shadow method's packed parameters (`LightMethod::uniform_params`).
     pub method_params: [f32; 4],
-    /// Sides of the hair light maps and of the meshes' shadow map.
+    /// Sides of the hair light maps as built (`render.map_resolution × render.light_supersample`) and of the
+    /// meshes' shadow map.
     pub light_map_resolution: u32,
     pub shadow_map_resolution: u32,
 }
@@ -137,6 +138,10 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         guard_sigma: 0.0,
         guard_shell_height: 0.0,
         env_count: 0,
+        light_supersample: f.render.light_supersample.max(1),
+        pad0: 0,
+        pad1: 0,
+        pad2: 0,
         env_to_light: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
         env_radiance: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     }

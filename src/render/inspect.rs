@@ -9,6 +9,7 @@ use super::light_frame::LightFrame;
 use super::method::{LightMethod, MethodGpu, ParamValues};
 use super::passes::abuffer::RefFragment;
 use super::passes::depth_peel::DepthPeel;
+use super::passes::evaluate::Sample;
 use super::scene_gpu::SceneGpu;
 use super::transparency::{self, TransparencyGpu};
 use super::uniforms::FrameUniforms;
@@ -17,7 +18,7 @@ use crate::gpu::Gpu;
 use crate::gpu::timing::PassTime;
 use crate::gpu::{GpuError, readback};
 use crate::scene::{Camera, Light};
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 
 impl Renderer {
     /// The exact eye reference's per-pixel fragment lists of `f`'s view (row-major pixels, each front to back
@@ -58,13 +59,39 @@ impl Renderer {
     /// Evaluates the method's GPU lookup (`visibility_at`) at `(texel x, texel y, light depth)` samples, on the
     /// maps of the last frame rendered with `method`.
     pub fn evaluate(&mut self, method: &dyn LightMethod, samples: &[[f32; 3]]) -> Result<Vec<f32>, GpuError> {
+        let samples: Vec<Sample> = samples.iter().map(|&s| Sample::Texel(s)).collect();
         let method_gpu = self.light.held(method)?;
-        self.evaluate
-            .run(&self.gpu, method, method_gpu, &self.bindings.scene_group, samples)
+        self.evaluate.run(
+            &self.gpu,
+            method,
+            method_gpu,
+            &self.bindings.scene_group,
+            &samples,
+        )
+    }
+
+    /// Evaluates the eye lookup `hair_visibility` (`shaders/common/method_lookup.wgsl`: the frame's PCF,
+    /// jitter and light-map supersampling over the method's `visibility_at`) at world points, on the maps and
+    /// frame uniforms of the last frame rendered with `method`.
+    pub fn evaluate_points(
+        &mut self,
+        method: &dyn LightMethod,
+        points: &[Vec3],
+    ) -> Result<Vec<f32>, GpuError> {
+        let samples: Vec<Sample> = points.iter().map(|p| Sample::World(p.to_array())).collect();
+        let method_gpu = self.light.held(method)?;
+        self.evaluate.run(
+            &self.gpu,
+            method,
+            method_gpu,
+            &self.bindings.scene_group,
+            &samples,
+        )
     }
 
     /// The exact reference's per-texel fragment lists (row-major texels, each sorted by depth then segment) of
-    /// the strands' light view under `light` at `render.map_resolution`: the light-depth pass and the A-buffer's
+    /// the strands' light view under `light` at the maps' side as built (`render.map_resolution ×
+    /// render.light_supersample`): the light-depth pass and the A-buffer's
     /// counting and filling passes, submitted and read back in this one call.
     pub fn reference_lists(
         &mut self,
@@ -117,7 +144,7 @@ impl Renderer {
         peeled
     }
 
-    /// The frame uniforms of the strands' light view under `light` at `render.map_resolution`, written, and
+    /// The frame uniforms of the strands' light view under `light` at the maps' side as built, written, and
     /// the light stage and casters made ready for them (the compute rasteriser run under `render.raster =
     /// compute`).
     fn prepare_light_view(
@@ -126,7 +153,7 @@ impl Renderer {
         light: &Light,
         render: &RenderSettings,
     ) -> Result<FrameUniforms, GpuError> {
-        self.ensure_map_size(render.map_resolution)?;
+        self.ensure_map_size(render.light_map_side(), render.light_supersample)?;
         let device = self.gpu.device.clone();
         self.light.ensure_stage(
             &device,
@@ -144,7 +171,7 @@ impl Renderer {
     }
 
     /// The compute rasteriser's fragment stream of the strands' light view under `light` at
-    /// `render.map_resolution` (`render.raster` taken as `compute`), read back, with the frame uniforms its CPU
+    /// the maps' side as built (`render.raster` taken as `compute`), read back, with the frame uniforms its CPU
     /// model ([`crate::render::caster::raster_model::rasterise`]) takes.
     pub fn raster_stream(
         &mut self,
@@ -292,7 +319,7 @@ impl Renderer {
         &self.gpu
     }
 
-    /// Side of the hair light maps.
+    /// Side of the hair light maps as built (`render.map_resolution × render.light_supersample`).
     pub fn map_resolution(&self) -> u32 {
         self.light.maps.near.width()
     }

@@ -138,11 +138,22 @@ impl Renderer {
         self.scene.light_fit(fit).0
     }
 
-    fn ensure_map_size(&mut self, map_resolution: u32) -> Result<(), GpuError> {
+    /// Makes the light maps `side` texels a side: `render.map_resolution × render.light_supersample`
+    /// ([`RenderSettings::light_map_side`]); a side the GPU cannot hold is one error naming both keys.
+    fn ensure_map_size(&mut self, side: u32, supersample: u32) -> Result<(), GpuError> {
         let device = &self.gpu.device;
-        if self.light.maps.near.width() != map_resolution {
-            self.gpu.check_texture_size("light map", map_resolution)?;
-            self.light.maps = LightDepthMaps::new(device, map_resolution);
+        if self.light.maps.near.width() != side {
+            let limit = device.limits().max_texture_dimension_2d;
+            if supersample <= 1 {
+                self.gpu.check_texture_size("light map", side)?;
+            } else if side > limit {
+                return Err(GpuError::Setting(format!(
+                    "render.light_supersample = {supersample}: the light maps would be {side} texels a side \
+                     (render.map_resolution × render.light_supersample), above this GPU's largest texture side \
+                     {limit}; lower render.light_supersample or render.map_resolution"
+                )));
+            }
+            self.light.maps = LightDepthMaps::new(device, side);
             self.bindings
                 .rebind_scene(device, &self.light.maps, &self.light.shadow_map);
         }
@@ -379,7 +390,7 @@ impl Renderer {
     }
 
     fn record_light_passes(&mut self, f: &FrameInput) -> Result<wgpu::CommandEncoder, GpuError> {
-        self.ensure_map_size(f.render.map_resolution)?;
+        self.ensure_map_size(f.render.light_map_side(), f.render.light_supersample)?;
         let device = self.gpu.device.clone();
         self.light.ensure_stage(
             &device,

@@ -46,6 +46,22 @@ pub struct RenderSettings {
     /// rasteriser's fragment stream under its written coverage rule, drawn as points; lines only, so it needs
     /// `light_strands = lines`; [`Raster`]).
     pub raster: Raster,
+    /// Light-map supersampling `s`, 1, 2 or 4 (Yuksel & Keyser 2008, §5: multisampling the shadow computation
+    /// removes the flicker of aliased strands): every light map, the reference's included, is built at
+    /// `map_resolution × s` texels a side ([`RenderSettings::light_map_side`]), and the eye lookup averages the
+    /// method's visibility over the `s × s` sub-texels of the point's `map_resolution` texel
+    /// ([`crate::visibility::lookup`]). 1 is the plain lookup.
+    pub light_supersample: u32,
+}
+
+/// The values `render.light_supersample` takes.
+pub const LIGHT_SUPERSAMPLES: [u32; 3] = [1, 2, 4];
+
+impl RenderSettings {
+    /// Texels a side of every light map as built: `map_resolution × light_supersample`.
+    pub fn light_map_side(&self) -> u32 {
+        self.map_resolution.saturating_mul(self.light_supersample.max(1))
+    }
 }
 
 impl Default for RenderSettings {
@@ -65,6 +81,7 @@ impl Default for RenderSettings {
             light_strands: LightStrands::Lines,
             light_min_width: 1.0,
             raster: Raster::Hardware,
+            light_supersample: 1,
         }
     }
 }

@@ -60,6 +60,14 @@ pub struct FrameUniforms {
     pub guard_shell_height: f32,
     /// Lights of the guard hairs' environment ([`crate::fur::environment`]): 0 or 1 for the scene's light alone.
     pub env_count: u32,
+    /// Light-map supersampling `s` (`render.light_supersample`): the hair maps are `s` times
+    /// `render.map_resolution` a side and the eye lookup averages the `s × s` sub-texels of the point's base
+    /// texel ([`crate::visibility::lookup`]); 0 reads as 1.
+    pub light_supersample: u32,
+    /// Padding to the 16-byte alignment of `env_to_light`.
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
     /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
@@ -120,6 +128,10 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
             offset_of!(FrameUniforms, guard_shell_height),
         ),
         ("env_count", offset_of!(FrameUniforms, env_count)),
+        ("light_supersample", offset_of!(FrameUniforms, light_supersample)),
+        ("pad0", offset_of!(FrameUniforms, pad0)),
+        ("pad1", offset_of!(FrameUniforms, pad1)),
+        ("pad2", offset_of!(FrameUniforms, pad2)),
         ("env_to_light", offset_of!(FrameUniforms, env_to_light)),
         ("env_radiance", offset_of!(FrameUniforms, env_radiance)),
     ]

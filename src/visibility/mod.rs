@@ -36,6 +36,7 @@ pub mod dc;
 pub mod dom;
 pub mod dsm;
 pub mod fom;
+pub mod lookup;
 pub mod metrics;
 pub mod msm;
 pub mod occupancy;

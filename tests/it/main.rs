@@ -36,6 +36,7 @@ mod groom_formats;
 mod hair_format;
 mod inspector_ui;
 mod light_ribbons;
+mod light_supersample;
 mod live_shaders;
 mod measure_motion;
 mod methods_gpu;

@@ -32,7 +32,7 @@ impl ListsKey {
         ListsKey {
             scene: scene_generation,
             light,
-            map_resolution: settings.render.map_resolution,
+            map_resolution: settings.render.light_map_side(),
             hair_alpha: settings.render.hair_alpha.to_bits(),
             alpha: settings.render.alpha,
             strand_width: settings.render.strand_width.to_bits(),

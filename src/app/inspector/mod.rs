@@ -475,7 +475,7 @@ impl Inspector {
 
     /// The scene texel's line and the lists' state; whether "Open light map" was clicked.
     fn scene_source_ui(&self, ui: &mut egui::Ui, deps: InspectorDeps<'_>) -> bool {
-        let res = deps.settings.render.map_resolution;
+        let res = deps.settings.render.light_map_side();
         let mut open_light_map = false;
         ui.horizontal_wrapped(|ui| {
             match self.selected {

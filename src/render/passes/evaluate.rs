@@ -1,10 +1,29 @@
-//! Evaluation pass: the method's WGSL lookup run in a compute shader at arbitrary (texel, depth) samples. The
+//! Evaluation pass: the method's WGSL lookup run in a compute shader at arbitrary (texel, depth) samples, or the
+//! eye lookup `hair_visibility` at world points ([`Sample`]). The
 //! GPU = CPU tests and the texel inspector read visibility through it, so they test the real GPU path.
 
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::method::{LightMethod, MethodGpu};
 use crate::render::pipelines::{Pass, PipelineCache, PipelineKey};
 use wgpu::util::DeviceExt;
+
+/// What the evaluation pass looks up.
+#[derive(Clone, Copy, Debug)]
+pub enum Sample {
+    /// `visibility_at` at a texel of the maps as built (x, y) and a normalised light depth.
+    Texel([f32; 3]),
+    /// `hair_visibility` (the eye passes' lookup, under the frame's filters and supersampling) at a world point.
+    World([f32; 3]),
+}
+
+impl Sample {
+    fn packed(self) -> [f32; 4] {
+        match self {
+            Sample::Texel([x, y, z]) => [x, y, z, 0.0],
+            Sample::World([x, y, z]) => [x, y, z, 1.0],
+        }
+    }
+}
 
 pub struct EvaluatePass {
     scene_layout: wgpu::BindGroupLayout,
@@ -41,7 +60,7 @@ impl EvaluatePass {
         method: &dyn LightMethod,
         method_gpu: &dyn MethodGpu,
         scene: &wgpu::BindGroup,
-        samples: &[[f32; 3]],
+        samples: &[Sample],
     ) -> Result<Vec<f32>, GpuError> {
         if samples.is_empty() {
             return Ok(Vec::new());
@@ -78,7 +97,7 @@ impl EvaluatePass {
                 cache: None,
             })
         });
-        let packed: Vec<[f32; 4]> = samples.iter().map(|s| [s[0], s[1], s[2], 0.0]).collect();
+        let packed: Vec<[f32; 4]> = samples.iter().map(|s| s.packed()).collect();
         let bytes = (samples.len() * 4) as u64;
         gpu.check_buffer_size("evaluation samples", bytes * 4)?;
         let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

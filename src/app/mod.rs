@@ -663,11 +663,15 @@ impl HairlabApp {
         self.timeline.keys(ctx);
         self.timeline.advance(ctx.input(|i| i.stable_dt) as f64);
         let frame = self.timeline.frame();
+        let mesh_pose = self.timeline.mesh_pose();
         if let Some(points) = self.timeline.pending() {
             let (renderer, scene) = (&mut self.renderer, &mut self.scene);
             let result = points.and_then(|p| {
                 if let Some(r) = renderer.as_mut() {
                     r.update_points(p)?;
+                    if let Some((meshes, pose)) = &mesh_pose {
+                        r.pose_meshes(meshes, *pose)?;
+                    }
                 }
                 if let Some(s) = scene.as_mut() {
                     s.set_strand_points(p)?;

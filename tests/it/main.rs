@@ -41,6 +41,7 @@ mod measure_motion;
 mod methods_gpu;
 mod motion;
 mod motion_claims;
+mod motion_colliders;
 mod presets;
 mod reference;
 mod ribbons;

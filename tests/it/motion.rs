@@ -524,6 +524,17 @@ fn the_gpu_simulation_equals_the_cpu_model_over_a_run_of_frames() {
             &["motion.head=shake", "motion.head_period=1", "motion.guides=0.25"][..],
         ),
         ("head-turn", &[][..]),
+        // The head mesh's signed distance grid as the collider, in the simulation and the follow pass.
+        ("head-turn", &["motion.colliders=meshes"][..]),
+        (
+            "wind",
+            &[
+                "motion.head=shake",
+                "motion.head_period=1",
+                "motion.guides=0.25",
+                "motion.colliders=meshes",
+            ][..],
+        ),
         ("stray-sweep", &[][..]),
         ("straight-motion", &[][..]),
     ] {

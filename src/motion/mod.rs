@@ -260,7 +260,27 @@ impl MotionSettings {
 pub enum Motion {
     Still(Vec<Vec3>),
     Simulate(Box<Simulation>),
-    Sequence(Sequence),
+    /// A recording, and the preset's root motion that still carries its meshes (a baked simulation plays back
+    /// with the head turning as it did live).
+    Sequence(Sequence, Box<MeshMotion>),
+}
+
+/// The root frame's keyframed motion (`motion.head`) and the scene's meshes it carries.
+pub struct MeshMotion {
+    params: SimParams,
+    pivot: Vec3,
+    meshes: Vec<usize>,
+}
+
+impl MeshMotion {
+    /// Frame `k`'s transform of the meshes, `None` when the root frame does not turn or carries none.
+    fn at(&self, k: u32) -> Option<(&[usize], Affine3A)> {
+        let turns = matches!(self.params.head, HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake);
+        (turns && !self.meshes.is_empty()).then(|| {
+            let t = f64::from(k) / f64::from(self.params.fps);
+            (&self.meshes[..], self.params.head_pose(t, self.pivot).affine())
+        })
+    }
 }
 
 impl Motion {
@@ -287,7 +307,12 @@ impl Motion {
                 let dir = m.path.as_ref().expect("validated: a sequence has a path");
                 let seq = Sequence::open(dir)?;
                 *scene = Scene::new(seq.strands().clone(), std::mem::take(&mut scene.meshes));
-                Motion::Sequence(seq)
+                let carried = MeshMotion {
+                    params: SimParams::from_settings(m),
+                    pivot: pivot(scene, head, &root_meshes),
+                    meshes: root_meshes,
+                };
+                Motion::Sequence(seq, Box::new(carried))
             }
         })
     }
@@ -295,13 +320,12 @@ impl Motion {
     /// Frame `k`'s pose of the meshes that ride on the root frame (their indices and transform); `None`
     /// when nothing moves them.
     pub fn mesh_pose(&self, k: u32) -> Option<(&[usize], Affine3A)> {
+        let turns = |h: HeadMotion| matches!(h, HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake);
         match self {
-            Motion::Simulate(s)
-                if !s.root_meshes().is_empty()
-                    && matches!(s.params().head, HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake) =>
-            {
+            Motion::Simulate(s) if !s.root_meshes().is_empty() && turns(s.params().head) => {
                 Some((s.root_meshes(), s.head_pose_at_frame(k).affine()))
             }
+            Motion::Sequence(_, carried) => carried.at(k),
             _ => None,
         }
     }
@@ -319,7 +343,7 @@ impl Motion {
     /// How many frames the motion has: a sequence its files, otherwise `motion.frames`.
     pub fn frame_count(&self, m: &MotionSettings) -> u32 {
         match self {
-            Motion::Sequence(s) => s.len() as u32,
+            Motion::Sequence(s, _) => s.len() as u32,
             _ => m.frames,
         }
     }
@@ -329,7 +353,7 @@ impl Motion {
         match self {
             Motion::Still(p) => Ok(p),
             Motion::Simulate(s) => Ok(s.frame(k)),
-            Motion::Sequence(s) => s.frame(k),
+            Motion::Sequence(s, _) => s.frame(k),
         }
     }
 
@@ -376,23 +400,26 @@ fn root_frame(
         (Colliders::Auto, None) if meshes.is_empty() => None,
         (Colliders::Auto | Colliders::Meshes, _) => Some(mesh_grid()?),
     };
-    let pivot = match head {
-        Some(e) => e.center - Vec3::new(0.0, e.radii.y, 0.0),
-        None => {
-            let b = meshes
-                .iter()
-                .filter_map(|&i| scene.meshes.get(i))
-                .fold(Aabb::EMPTY, |b, mesh| b.union(Aabb::from_points(&mesh.positions)));
-            if b.is_empty() {
-                Vec3::ZERO
-            } else {
-                Vec3::new(0.5 * (b.min.x + b.max.x), b.min.y, 0.5 * (b.min.z + b.max.z))
-            }
-        }
-    };
     Ok(RootFrame {
-        pivot,
+        pivot: pivot(scene, head, &meshes),
         collider,
         meshes,
     })
+}
+
+/// The root frame's pivot: the head ellipsoid's bottom (the neck), else the bottom centre of the bounds of
+/// the scene's `meshes`, else the origin.
+fn pivot(scene: &Scene, head: Option<Ellipsoid>, meshes: &[usize]) -> Vec3 {
+    if let Some(e) = head {
+        return e.center - Vec3::new(0.0, e.radii.y, 0.0);
+    }
+    let b = meshes
+        .iter()
+        .filter_map(|&i| scene.meshes.get(i))
+        .fold(Aabb::EMPTY, |b, mesh| b.union(Aabb::from_points(&mesh.positions)));
+    if b.is_empty() {
+        Vec3::ZERO
+    } else {
+        Vec3::new(0.5 * (b.min.x + b.max.x), b.min.y, 0.5 * (b.min.z + b.max.z))
+    }
 }

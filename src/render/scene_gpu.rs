@@ -175,7 +175,11 @@ impl SceneGpu {
             hair_indices,
             hair_index_count: hi.len() as u32,
             ribbon_layout: ribbon_layout.clone(),
-            mesh_vertices: buf("hairlab.scene.mesh_vertices", bytemuck::cast_slice(&mv), v),
+            mesh_vertices: buf(
+                "hairlab.scene.mesh_vertices",
+                bytemuck::cast_slice(&mv),
+                v | wgpu::BufferUsages::COPY_SRC,
+            ),
             mesh_indices: buf("hairlab.scene.mesh_indices", bytemuck::cast_slice(&mi), i),
             mesh_index_count: mi.len() as u32,
             bytes: sizes.iter().map(|(_, b)| *b as u64).sum(),

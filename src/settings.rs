@@ -467,11 +467,12 @@ impl Settings {
         let mut scene = self.scene.build()?;
         let s = &self.scene;
         let generated = s.file.is_none();
-        let head = (generated && s.scalp.is_none() && s.generator.kind == crate::scene::generate::GenKind::Head)
-            .then_some(crate::motion::Ellipsoid {
-                center: glam::Vec3::ZERO,
-                radii: crate::scene::generate::HEAD_RADII,
-            });
+        let head =
+            (generated && s.scalp.is_none() && s.generator.kind == crate::scene::generate::GenKind::Head)
+                .then_some(crate::motion::Ellipsoid {
+                    center: glam::Vec3::ZERO,
+                    radii: crate::scene::generate::HEAD_RADII,
+                });
         // The generator puts its floor last.
         let floor = usize::from(generated && s.generator.floor);
         let root_meshes = (0..scene.meshes.len().saturating_sub(floor)).collect();

@@ -119,7 +119,12 @@ fn collider_group(gpu: &Gpu, collider: Option<&Collider>) -> Result<ColliderGrou
         wgpu::ShaderStages::COMPUTE,
         &[Uniform, StorageRo],
     );
-    let group = pipelines::buffer_group(device, "hairlab.motion.collider.group", &layout, &[&uniforms, &grid]);
+    let group = pipelines::buffer_group(
+        device,
+        "hairlab.motion.collider.group",
+        &layout,
+        &[&uniforms, &grid],
+    );
     Ok(ColliderGroup { layout, group })
 }
 

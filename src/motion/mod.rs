@@ -275,7 +275,10 @@ pub struct MeshMotion {
 impl MeshMotion {
     /// Frame `k`'s transform of the meshes, `None` when the root frame does not turn or carries none.
     fn at(&self, k: u32) -> Option<(&[usize], Affine3A)> {
-        let turns = matches!(self.params.head, HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake);
+        let turns = matches!(
+            self.params.head,
+            HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake
+        );
         (turns && !self.meshes.is_empty()).then(|| {
             let t = f64::from(k) / f64::from(self.params.fps);
             (&self.meshes[..], self.params.head_pose(t, self.pivot).affine())

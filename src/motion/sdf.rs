@@ -95,7 +95,11 @@ fn edge_sign(a: DVec2, b: DVec2, q: DVec2) -> f64 {
     };
     let w = e.abs();
     // The weight (|e|) rides in the magnitude: barycentric weights for the crossing point.
-    if flip { -s * w.max(f64::MIN_POSITIVE) } else { s * w.max(f64::MIN_POSITIVE) }
+    if flip {
+        -s * w.max(f64::MIN_POSITIVE)
+    } else {
+        s * w.max(f64::MIN_POSITIVE)
+    }
 }
 
 impl SdfGrid {
@@ -103,7 +107,9 @@ impl SdfGrid {
     /// `margin` (see the module docs). Errors name `motion.colliders` when the meshes have no triangle.
     pub fn build(meshes: &[&Mesh], resolution: u32, margin: f32) -> Result<SdfGrid> {
         if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&resolution) {
-            bail!("motion.collider_resolution must be in {MIN_RESOLUTION}..={MAX_RESOLUTION} (got {resolution})");
+            bail!(
+                "motion.collider_resolution must be in {MIN_RESOLUTION}..={MAX_RESOLUTION} (got {resolution})"
+            );
         }
         if !(margin.is_finite() && margin >= 0.0) {
             bail!("motion.collider_margin must be a finite number ≥ 0 (got {margin:?})");
@@ -123,7 +129,9 @@ impl SdfGrid {
             }
         }
         if tris.is_empty() {
-            bail!("motion.colliders: the collider meshes have no triangle with area (an empty mesh cannot collide)");
+            bail!(
+                "motion.colliders: the collider meshes have no triangle with area (an empty mesh cannot collide)"
+            );
         }
         let bounds = tris
             .iter()
@@ -182,7 +190,8 @@ impl SdfGrid {
             let lo = ((b.min - self.origin) / self.cell).floor();
             let hi = ((b.max - self.origin) / self.cell).ceil();
             let range = |a: usize| {
-                (lo[a] as i64 - BAND).clamp(0, dmax[a]) as usize..=(hi[a] as i64 + BAND).clamp(0, dmax[a]) as usize
+                (lo[a] as i64 - BAND).clamp(0, dmax[a]) as usize
+                    ..=(hi[a] as i64 + BAND).clamp(0, dmax[a]) as usize
             };
             for k in range(2) {
                 for j in range(1) {
@@ -202,7 +211,11 @@ impl SdfGrid {
             for dir in 0..8 {
                 let step = [dir & 1, (dir >> 1) & 1, (dir >> 2) & 1].map(|b| if b == 0 { 1i64 } else { -1 });
                 let order = |a: usize, len: usize| -> Vec<usize> {
-                    if step[a] > 0 { (0..len).collect() } else { (0..len).rev().collect() }
+                    if step[a] > 0 {
+                        (0..len).collect()
+                    } else {
+                        (0..len).rev().collect()
+                    }
                 };
                 let (is, js, ks) = (order(0, nx), order(1, ny), order(2, nz));
                 for &k in &ks {
@@ -217,7 +230,8 @@ impl SdfGrid {
                                     j as i64 - step[1] * dj as i64,
                                     k as i64 - step[2] * dk as i64,
                                 );
-                                if ii < 0 || jj < 0 || kk < 0 || ii > dmax[0] || jj > dmax[1] || kk > dmax[2] {
+                                if ii < 0 || jj < 0 || kk < 0 || ii > dmax[0] || jj > dmax[1] || kk > dmax[2]
+                                {
                                     continue;
                                 }
                                 let t = near[self.index(ii as usize, jj as usize, kk as usize)];
@@ -251,8 +265,14 @@ impl SdfGrid {
                 let q = tri.map(|p| DVec2::new(grid(p, u), grid(p, v)));
                 let h = tri.map(|p| grid(p, a));
                 let (lo, hi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
-                let (u0, u1) = (lo.x.ceil().max(0.0) as usize, (hi.x.floor()).min(dims[u] as f64 - 1.0));
-                let (v0, v1) = (lo.y.ceil().max(0.0) as usize, (hi.y.floor()).min(dims[v] as f64 - 1.0));
+                let (u0, u1) = (
+                    lo.x.ceil().max(0.0) as usize,
+                    (hi.x.floor()).min(dims[u] as f64 - 1.0),
+                );
+                let (v0, v1) = (
+                    lo.y.ceil().max(0.0) as usize,
+                    (hi.y.floor()).min(dims[v] as f64 - 1.0),
+                );
                 if u1 < 0.0 || v1 < 0.0 {
                     continue;
                 }
@@ -382,7 +402,14 @@ mod tests {
                 )
             })
             .collect();
-        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
         let indices = quads
             .iter()
             .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
@@ -434,7 +461,11 @@ mod tests {
         // Hand-checked, between nodes: the centre is 0.125 inside (the nearest faces are z = ±0.125); a point
         // 0.1 beyond the +x face is 0.1 outside (linear there, so trilinear is exact); off the corner,
         // (0.6, 0.35, 0.225) is |(0.1, 0.1, 0.1)| = 0.1732 away (curved there: within 3h²/(8·0.17) = 8.6e-3).
-        assert!((g.distance(Vec3::ZERO) + 0.125).abs() < 1e-5, "{}", g.distance(Vec3::ZERO));
+        assert!(
+            (g.distance(Vec3::ZERO) + 0.125).abs() < 1e-5,
+            "{}",
+            g.distance(Vec3::ZERO)
+        );
         assert!((g.distance(Vec3::new(0.6, 0.0, 0.0)) - 0.1).abs() < 1e-5);
         let corner = g.distance(Vec3::new(0.6, 0.35, 0.225));
         assert!((corner - 0.1732).abs() < 8.6e-3, "{corner}");
@@ -458,8 +489,14 @@ mod tests {
                 }
             }
         }
-        eprintln!("sphere: worst node error {worst:e} (sagitta {sagitta:e}, cell {})", g.cell);
-        assert!(worst <= sagitta + 1e-5, "worst node error {worst} against the sagitta {sagitta}");
+        eprintln!(
+            "sphere: worst node error {worst:e} (sagitta {sagitta:e}, cell {})",
+            g.cell
+        );
+        assert!(
+            worst <= sagitta + 1e-5,
+            "worst node error {worst} against the sagitta {sagitta}"
+        );
         // Between nodes the trilinear interpolation of a distance whose Hessian is at most 1/|p| adds at most
         // 3·h²/(8·|p|) (h = 1/16 the cell, |p| ≥ 0.5 here): 2.9e-3 on top of the sagitta; measured 4.9e-3 in all.
         let bound = sagitta + 3.0 * g.cell * g.cell / (8.0 * 0.5) + 1e-5;
@@ -477,7 +514,9 @@ mod tests {
             let grad = g.gradient(p).normalize();
             worst_angle = worst_angle.max(grad.dot(dir).clamp(-1.0, 1.0).acos());
         }
-        eprintln!("sphere between nodes: worst {worst_between:e} (bound {bound:e}), gradient worst {worst_angle} rad");
+        eprintln!(
+            "sphere between nodes: worst {worst_between:e} (bound {bound:e}), gradient worst {worst_angle} rad"
+        );
         assert!(worst_between <= bound, "{worst_between} > {bound}");
         // Gradient direction: measured worst 0.019 rad (1.1°) from the analytic normal.
         assert!(worst_angle < 0.1, "gradient off the normal by {worst_angle} rad");
@@ -492,7 +531,10 @@ mod tests {
         let p = Vec3::new(0.45, 0.1, -0.05);
         let q = g.push_out(p).expect("inside");
         assert!((q - Vec3::new(0.52, 0.1, -0.05)).length() < 1e-5, "{q}");
-        assert!(g.push_out(Vec3::new(0.6, 0.0, 0.0)).is_none(), "outside the margin");
+        assert!(
+            g.push_out(Vec3::new(0.6, 0.0, 0.0)).is_none(),
+            "outside the margin"
+        );
         // A point outside the grid clamps to the border, far outside: it never collides.
         assert!(g.push_out(Vec3::new(40.0, 0.0, 0.0)).is_none());
     }

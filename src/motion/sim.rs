@@ -395,7 +395,13 @@ impl Simulation {
         self.state.frame += 1;
         if let Some(f) = &self.follow {
             let pose = self.head_pose_at_frame(self.state.frame);
-            f.interpolate(&mut self.state.x, &self.rest, &self.ranges, pose, self.head.as_ref());
+            f.interpolate(
+                &mut self.state.x,
+                &self.rest,
+                &self.ranges,
+                pose,
+                self.head.as_ref(),
+            );
             for (s, _) in &f.followers {
                 let (first, n) = self.ranges[*s];
                 self.state.prev[first..first + n].copy_from_slice(&self.state.x[first..first + n]);

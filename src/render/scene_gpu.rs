@@ -246,9 +246,7 @@ impl SceneGpu {
             gpu.queue
                 .write_buffer(&self.mesh_vertices, 0, bytemuck::cast_slice(&mv));
         }
-        self.mesh_bounds = mv
-            .iter()
-            .fold(Aabb::EMPTY, |b, v| b.grow(Vec3::from(v.position)));
+        self.mesh_bounds = mv.iter().fold(Aabb::EMPTY, |b, v| b.grow(Vec3::from(v.position)));
         self.bounds.all = self.bounds.strands.union(self.mesh_bounds);
         self.generation = next_generation();
         Ok(())

@@ -62,7 +62,11 @@ fn a_mesh_collider_keeps_the_hair_out_of_the_head_within_a_stated_depth() {
     // the head mesh's distance grid. Depth: how far a point is inside the surface by the grid's own distance.
     // The same motion without a collider is measured against the same grid: it must go inside, or the test
     // would show nothing.
-    let shake = ["motion.head=shake", "motion.head_period=0.8", "motion.head_angle_deg=60"];
+    let shake = [
+        "motion.head=shake",
+        "motion.head_period=0.8",
+        "motion.head_angle_deg=60",
+    ];
     let with = |c: &'static str| {
         let mut set = shake.to_vec();
         set.push(c);
@@ -97,8 +101,14 @@ fn a_mesh_collider_keeps_the_hair_out_of_the_head_within_a_stated_depth() {
     // Measured (x86-64, debug): worst depth 0 (every point at or beyond the surface; the cell is 4.8e-3, the
     // margin 2e-3); without a collider 8.8e-2 (the head is 0.18 wide).
     assert!(depth < 1e-4, "worst depth inside the head mesh {depth}");
-    assert!(free_depth > 1e-2, "without a collider the hair should enter the head ({free_depth})");
-    assert!(near > 1000, "the hair should touch the collider ({near} point-frames near it)");
+    assert!(
+        free_depth > 1e-2,
+        "without a collider the hair should enter the head ({free_depth})"
+    );
+    assert!(
+        near > 1000,
+        "the hair should touch the collider ({near} point-frames near it)"
+    );
     assert!(len < 1e-5, "segment lengths {len}");
 }
 
@@ -157,7 +167,10 @@ fn the_turning_heads_mesh_is_drawn_at_frame_k_whatever_was_played_before() {
     let mut r2 = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
     fresh.show(&mut r2, k).unwrap();
     let fresh_positions = r2.read_mesh_positions().unwrap();
-    assert_eq!(after_playing, fresh_positions, "frame {k}'s meshes differ after playing 0..{k}");
+    assert_eq!(
+        after_playing, fresh_positions,
+        "frame {k}'s meshes differ after playing 0..{k}"
+    );
     // Hand-checked pose: head-turn turns 60° from 0.2 s to 1.2 s (eased 3u² − 2u³); at 1 s u = 0.8, the yaw is
     // 60° · 0.896 = 53.76°. A rest vertex at (0.09, 0, 0) (the head's +x equator) turns about the neck's
     // vertical axis to (0.09 cos 53.76°, 0, −0.09 sin 53.76°) = (0.053205, 0, −0.072589).
@@ -166,30 +179,63 @@ fn the_turning_heads_mesh_is_drawn_at_frame_k_whatever_was_played_before() {
         .positions
         .iter()
         .enumerate()
-        .min_by(|a, b| a.1.distance(Vec3::new(0.09, 0.0, 0.0)).total_cmp(&b.1.distance(Vec3::new(0.09, 0.0, 0.0))))
+        .min_by(|a, b| {
+            a.1.distance(Vec3::new(0.09, 0.0, 0.0))
+                .total_cmp(&b.1.distance(Vec3::new(0.09, 0.0, 0.0)))
+        })
         .unwrap();
-    assert!(v.distance(Vec3::new(0.09, 0.0, 0.0)) < 1e-6, "no equator vertex at +x: {v}");
+    assert!(
+        v.distance(Vec3::new(0.09, 0.0, 0.0)) < 1e-6,
+        "no equator vertex at +x: {v}"
+    );
     let want = Vec3::new(0.053205, 0.0, -0.072589);
-    assert!(fresh_positions[i].distance(want) < 1e-5, "{} vs {want}", fresh_positions[i]);
+    assert!(
+        fresh_positions[i].distance(want) < 1e-5,
+        "{} vs {want}",
+        fresh_positions[i]
+    );
     // The floor (the last mesh) stays where it was.
     let floor = scene.meshes.last().unwrap();
     let floor_first = fresh_positions.len() - floor.positions.len();
-    assert_eq!(&fresh_positions[floor_first..], &floor.positions[..], "the floor moved");
+    assert_eq!(
+        &fresh_positions[floor_first..],
+        &floor.positions[..],
+        "the floor moved"
+    );
     // The roots ride with the mesh: a root's posed rest position is the mesh's rotation of its rest position.
     let yaw = Quat::from_rotation_y(53.76f32.to_radians());
     let neck = Vec3::new(0.0, -0.115, 0.0);
     let root0 = scene.strands.points[0];
     let posed = yaw * (root0 - neck) + neck;
-    assert!(fresh.frame(k).unwrap()[0].distance(posed) < 1e-4, "root off the turned head");
+    assert!(
+        fresh.frame(k).unwrap()[0].distance(posed) < 1e-4,
+        "root off the turned head"
+    );
 }
 
 #[test]
 fn bad_collider_settings_are_one_error_naming_the_key() {
     for (preset, set, needle) in [
-        ("wind", "motion.collider_resolution=0", "motion.collider_resolution must be in 4..=256"),
-        ("wind", "motion.collider_resolution=100000", "motion.collider_resolution must be in 4..=256"),
-        ("wind", "motion.collider_margin=-0.1", "motion.collider_margin must be a finite number"),
-        ("wind", "motion.collider_margin=nan", "motion.collider_margin must be a finite number"),
+        (
+            "wind",
+            "motion.collider_resolution=0",
+            "motion.collider_resolution must be in 4..=256",
+        ),
+        (
+            "wind",
+            "motion.collider_resolution=100000",
+            "motion.collider_resolution must be in 4..=256",
+        ),
+        (
+            "wind",
+            "motion.collider_margin=-0.1",
+            "motion.collider_margin must be a finite number",
+        ),
+        (
+            "wind",
+            "motion.collider_margin=nan",
+            "motion.collider_margin must be a finite number",
+        ),
         ("wind", "motion.colliders=sphere", "sphere"),
     ] {
         let e = Settings::load_preset(preset, &[set.to_string()]).unwrap_err();
@@ -198,8 +244,14 @@ fn bad_collider_settings_are_one_error_naming_the_key() {
     }
     // Keys that need the scene: `meshes` on a scene without a mesh, `head` on a scene that is not the head.
     for (set, needle) in [
-        ("motion.colliders=meshes", "motion.colliders = \"meshes\": the scene has no mesh"),
-        ("motion.colliders=head", "motion.colliders = \"head\" needs the generator's head"),
+        (
+            "motion.colliders=meshes",
+            "motion.colliders = \"meshes\": the scene has no mesh",
+        ),
+        (
+            "motion.colliders=head",
+            "motion.colliders = \"head\" needs the generator's head",
+        ),
     ] {
         let s = small("straight-motion", &[set]);
         let e = s.open_motion().err().unwrap_or_else(|| panic!("{set} opened"));

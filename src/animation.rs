@@ -119,6 +119,9 @@ pub fn render_frames_on(
     }
     let mut renderer = Renderer::new(gpu, &scene, settings.render.map_resolution)?;
     renderer.set_fit_bound(fit_bound);
+    if let Some((meshes, pose)) = motion.mesh_pose(first) {
+        renderer.pose_meshes(meshes, pose)?;
+    }
     renderer.set_fur(fur.as_ref().map(|f| (f, &settings.fur)))?;
     let method = registry::find(&settings.method.name).map_err(anyhow::Error::msg)?;
     let input = FrameInput {
@@ -169,7 +172,7 @@ pub fn render_frames_on(
         ));
     }
     for &k in rest {
-        renderer.update_points(motion.frame(k)?)?;
+        motion.show(&mut renderer, k)?;
         renderer.render(&input)?;
         sink(k, renderer.read_output()?)?;
     }

@@ -467,18 +467,22 @@ impl Settings {
     }
 
     /// Builds the scene and opens its motion (`[motion]`): a sequence replaces the strands with its first
-    /// frame's; the simulation collides with the generator's head when the scene is that head.
+    /// frame's; the simulation collides with the generator's head ellipsoid when the scene is that head, or
+    /// with the meshes that ride on the root frame (`motion.colliders`): every mesh but the generator's floor.
     pub fn open_motion(&self) -> Result<(crate::scene::Scene, crate::motion::Motion)> {
         let mut scene = self.scene.build()?;
         let s = &self.scene;
-        let head = (s.file.is_none()
-            && s.scalp.is_none()
-            && s.generator.kind == crate::scene::generate::GenKind::Head)
-            .then_some(crate::motion::Ellipsoid {
-                center: glam::Vec3::ZERO,
-                radii: crate::scene::generate::HEAD_RADII,
-            });
-        let motion = crate::motion::Motion::open(&self.motion, &mut scene, head)?;
+        let generated = s.file.is_none();
+        let head =
+            (generated && s.scalp.is_none() && s.generator.kind == crate::scene::generate::GenKind::Head)
+                .then_some(crate::motion::Ellipsoid {
+                    center: glam::Vec3::ZERO,
+                    radii: crate::scene::generate::HEAD_RADII,
+                });
+        // The generator puts its floor last.
+        let floor = usize::from(generated && s.generator.floor);
+        let root_meshes = (0..scene.meshes.len().saturating_sub(floor)).collect();
+        let motion = crate::motion::Motion::open(&self.motion, &mut scene, head, root_meshes)?;
         Ok((scene, motion))
     }
 

@@ -123,7 +123,7 @@ pub fn soak(
             };
             let k =
                 u32::try_from(k).map_err(|_| anyhow::anyhow!("--frames {frames}: more than 2³² frames"))?;
-            r.update_points(motion.frame(k)?)?;
+            motion.show(&mut r, k)?;
             if let (crate::motion::Motion::Simulate(sim), Some(m)) = (&motion, &mut out.motion) {
                 let st = sim.stats();
                 let energy = st.kinetic_energy / scene.strands.point_count().max(1) as f64;

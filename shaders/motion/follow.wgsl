@@ -1,14 +1,15 @@
 // Guide-and-follow interpolation (src/motion/follow.rs is its specification): one thread per follower strand
 // rebuilds its points as its rest shape carried by the root frame's pose plus the weighted deviation of its
 // guides from their posed rest shapes at the same place along the strand, each segment then put back to its
-// rest length from the root (follow the leader), after the guides' substeps.
+// rest length from the root (follow the leader), after the guides' substeps; a point that lands inside the
+// collider (motion/collide.wgsl) is pushed out and put back on its leader's sphere, as in the simulation.
+
+#include "motion/collide.wgsl"
 
 struct FollowParams {
     head_rot: vec4<f32>,     // root frame rotation (quaternion xyzw)
     pivot: vec4<f32>,        // xyz: pivot
     translation: vec4<f32>,  // xyz: the pose's translation
-    head_center: vec4<f32>,  // xyz; w: 1 when colliding
-    head_radii: vec4<f32>,   // xyz
     counts: vec4<u32>,       // x: followers
 };
 
@@ -85,12 +86,11 @@ fn follow(@builtin(global_invocation_id) id: vec3<u32>) {
             // Follow the leader: the segment back to its rest length, out of the head if it lands inside.
             let lead = lx(first + i - 1u);
             q = follow_leader(lead, q, first, i);
-            if (p.head_center.w > 0.0) {
+            if (collider_on()) {
                 for (var r = 0u; r < COLLISION_ROUNDS; r++) {
-                    let local = pose_inverse(q);
-                    let l = length((local - p.head_center.xyz) / p.head_radii.xyz);
-                    if (!(l < 1.0 && l > 0.0)) { break; }
-                    q = follow_leader(lead, pose_apply(p.head_center.xyz + (local - p.head_center.xyz) / l), first, i);
+                    let out = collide_push(pose_inverse(q));
+                    if (out.w < 0.5) { break; }
+                    q = follow_leader(lead, pose_apply(out.xyz), first, i);
                 }
             }
         }

@@ -1,15 +1,15 @@
 // One substep of the strand simulation (src/motion/sim.rs is its specification): one thread per strand, walking
-// its points in the CPU model's order — Verlet with damping, root pin, global shape, local shape, head
-// collision, follow-the-leader with re-collision, and the velocity correction. The substep's time-dependent
+// its points in the CPU model's order — Verlet with damping, root pin, global shape, local shape, collision
+// (motion/collide.wgsl: the head ellipsoid or a mesh's distance grid), follow-the-leader with re-collision, and the velocity correction. The substep's time-dependent
 // values (root frame, sweep, wind per strand phase class, damping factor) are computed on the CPU by the same
 // functions the CPU model calls, and arrive in `p`.
+
+#include "motion/collide.wgsl"
 
 struct Params {
     head_rot: vec4<f32>,     // root frame rotation (quaternion xyzw)
     pivot: vec4<f32>,        // xyz: pivot; w: h²
-    sweep: vec4<f32>,        // xyz: translation of the swept strands
-    head_center: vec4<f32>,  // xyz; w: 1 when colliding
-    head_radii: vec4<f32>,   // xyz; w: Verlet decay exp(−d·h·60)
+    sweep: vec4<f32>,        // xyz: translation of the swept strands; w: Verlet decay exp(−d·h·60)
     k: vec4<f32>,            // gravity, local ks = 0.5·min(k, 0.95), global stiffness, global range
     m: vec4<f32>,            // x: ftl_damping
     counts: vec4<u32>,       // x: strands, y: first swept strand
@@ -86,10 +86,6 @@ fn head_inverse(v: vec3<f32>) -> vec3<f32> {
     return qrot(conj(p.head_rot), v - p.pivot.xyz) + p.pivot.xyz;
 }
 
-fn level(local: vec3<f32>) -> f32 {
-    return length((local - p.head_center.xyz) / p.head_radii.xyz);
-}
-
 @compute @workgroup_size(64)
 fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
     let s = id.x;
@@ -98,7 +94,7 @@ fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
     let n = strands[2u * s + 1u];
     if (n == 0u) { return; }
     let hh = p.pivot.w;
-    let decay = p.head_radii.w;
+    let decay = p.sweep.w;
     let ks = p.k.y;
     var t = vec3<f32>(0.0);
     if (s >= p.counts.y) { t = p.sweep.xyz; }
@@ -144,14 +140,13 @@ fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    let collide = p.head_center.w > 0.5;
-    // 5. Head collision.
+    let collide = collider_on();
+    // 5. Collision.
     if (collide) {
         for (var i = 1u; i < n; i++) {
-            let local = head_inverse(lq(first + i));
-            let l = level(local);
-            if (l < 1.0 && l > 0.0) {
-                sq(first + i, pose_apply(p.head_center.xyz + (local - p.head_center.xyz) / l, vec3<f32>(0.0)));
+            let out = collide_push(head_inverse(lq(first + i)));
+            if (out.w > 0.5) {
+                sq(first + i, pose_apply(out.xyz, vec3<f32>(0.0)));
             }
         }
     }
@@ -168,10 +163,9 @@ fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
         if (len > 0.0) { fixed = lead + d * (L / len); }
         if (collide) {
             for (var r = 0u; r < COLLISION_ROUNDS; r++) {
-                let local = head_inverse(fixed);
-                let l = level(local);
-                if (!(l < 1.0 && l > 0.0)) { break; }
-                let pushed = pose_apply(p.head_center.xyz + (local - p.head_center.xyz) / l, vec3<f32>(0.0));
+                let out = collide_push(head_inverse(fixed));
+                if (out.w < 0.5) { break; }
+                let pushed = pose_apply(out.xyz, vec3<f32>(0.0));
                 d = pushed - lead;
                 len = length(d);
                 if (len > 0.0) { fixed = lead + d * (L / len); } else { fixed = lead + fallback; }

@@ -258,6 +258,8 @@ pub struct CompareSource {
     /// The box the window's renderer fits the hair maps to under `light.fit = bound` (the whole motion's once
     /// it is known), so the compare images fit the same light frame as the viewport.
     pub fit_bound: Option<crate::scene::Aabb>,
+    /// The meshes riding on the motion's root frame and their pose at the timeline's frame (the turned head).
+    pub mesh_pose: Option<(Vec<usize>, glam::Affine3A)>,
 }
 
 /// The worker of a compare job: a renderer of its own from `source`, then [`render_compare_steps`] reporting
@@ -274,6 +276,10 @@ fn render_job(
         .map_err(|e| format!("compare view: renderer: {e}"))
         .and_then(|mut r| {
             r.set_fit_bound(source.fit_bound);
+            if let Some((meshes, pose)) = &source.mesh_pose {
+                r.pose_meshes(meshes, *pose)
+                    .map_err(|e| format!("compare view: meshes: {e}"))?;
+            }
             if let Some(fur) = &source.fur {
                 r.set_fur(Some((fur, &settings.fur)))
                     .map_err(|e| format!("compare view: fur: {e}"))?;

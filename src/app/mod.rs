@@ -702,12 +702,16 @@ impl HairlabApp {
         self.timeline.advance(ctx.input(|i| i.stable_dt) as f64);
         let frame = self.timeline.frame();
         let start = Instant::now();
+        let mesh_pose = self.timeline.mesh_pose();
         if let Some(points) = self.timeline.pending() {
             self.motion_ms = Some(start.elapsed().as_secs_f64() * 1e3);
             let (renderer, scene) = (&mut self.renderer, &mut self.scene);
             let result = points.and_then(|p| {
                 if let Some(r) = renderer.as_mut() {
                     r.update_points(p)?;
+                    if let Some((meshes, pose)) = &mesh_pose {
+                        r.pose_meshes(meshes, *pose)?;
+                    }
                 }
                 if let Some(s) = scene.as_mut() {
                     s.set_strand_points(p)?;
@@ -860,6 +864,7 @@ impl HairlabApp {
                 .renderer
                 .as_ref()
                 .map(|r| r.fit_box(crate::scene::LightFit::Bound)),
+            mesh_pose: self.timeline.mesh_pose(),
         };
         self.compare
             .start(source, &self.settings, size, ctx, self.job_gate.clone());

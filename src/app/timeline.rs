@@ -147,6 +147,13 @@ impl Timeline {
         Some(motion.frame(self.frame))
     }
 
+    /// The pose of the meshes on the root frame at the frame shown (their indices and transform), `None` when
+    /// nothing moves them.
+    pub fn mesh_pose(&self) -> Option<(Vec<usize>, glam::Affine3A)> {
+        let (meshes, pose) = self.motion.as_ref()?.mesh_pose(self.frame)?;
+        Some((meshes.to_vec(), pose))
+    }
+
     /// The renderer now holds the frame shown.
     pub fn uploaded(&mut self) {
         self.uploaded = Some(self.frame);

@@ -47,7 +47,26 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
             a.preset
         );
     }
+    let opening = std::time::Instant::now();
     let (scene, mut motion) = settings.open_motion()?;
+    let open_ms = opening.elapsed().as_secs_f64() * 1e3;
+    if let Motion::Simulate(sim) = &motion {
+        println!(
+            "scene and motion opened in {open_ms:.1} ms; collider: {}",
+            match sim.collider() {
+                None => "none".to_string(),
+                Some(crate::motion::Collider::Ellipsoid(_)) => "the head ellipsoid".to_string(),
+                Some(crate::motion::Collider::Sdf(g)) => format!(
+                    "signed distance grid of {}×{}×{} nodes, cell {:.3e}, {:.1} KiB",
+                    g.dims[0],
+                    g.dims[1],
+                    g.dims[2],
+                    g.cell,
+                    g.bytes() as f64 / 1024.0
+                ),
+            }
+        );
+    }
     let frames = a.frames.unwrap_or(motion.frame_count(&settings.motion));
     if frames == 0 {
         bail!("--frames must be at least 1");

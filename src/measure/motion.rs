@@ -255,11 +255,14 @@ pub fn measure_motion(
         f.check(&scene.strands).map_err(anyhow::Error::msg)?;
     }
     let mut points: Vec<Vec<Vec3>> = Vec::with_capacity(frames as usize);
+    // The pose of the meshes on the root frame, per frame (drawn as `hairlab render --frames` draws them).
+    let mut mesh_poses = Vec::with_capacity(frames as usize);
     let mut cpu_ms = Vec::with_capacity(frames as usize);
     for k in 0..frames {
         step(&format!("motion frame {k}"))?;
         let start = std::time::Instant::now();
         points.push(motion.frame(k)?.to_vec());
+        mesh_poses.push(motion.mesh_pose(k).map(|(m, pose)| (m.to_vec(), pose)));
         cpu_ms.push(start.elapsed().as_secs_f64() * 1e3);
     }
     // Under `light.fit = bound` every frame's hair maps are fitted to the whole motion's box.
@@ -303,6 +306,9 @@ pub fn measure_motion(
         step(&format!("{} frame {k}", registry::reference().name()))?;
         scene.set_strand_points(p)?;
         r.update_points(p)?;
+        if let Some((m, pose)) = &mesh_poses[k] {
+            r.pose_meshes(m, *pose)?;
+        }
         r.render(&input(&s, registry::reference(), &empty))?;
         r.wait_timings();
         reference_images.push(r.read_output()?);
@@ -370,6 +376,9 @@ pub fn measure_motion(
         for (k, (p, reference)) in points.iter().zip(&references).enumerate() {
             step(&format!("{label} frame {k}"))?;
             r.update_points(p)?;
+            if let Some((m, pose)) = &mesh_poses[k] {
+                r.pose_meshes(m, *pose)?;
+            }
             let mut params = c.config.params.clone();
             params.extend(reference.tuned[ci].iter().map(|(k, v)| (k.clone(), *v)));
             r.render(&input(&s, method, &params))?;

@@ -19,10 +19,10 @@
 //! the moving scalp. Guides that bend differently would stretch the blend (69 % at worst in a shake test), so the
 //! points are then walked from the root with follow-the-leader (Müller et al. 2012, as the simulation's length
 //! pass): `x_i ← x_{i−1} + L_i · (x_i − x_{i−1}) / |x_i − x_{i−1}|`, each segment its rest length `L_i`, and a point
-//! that lands inside the head collider is moved out along the centre ray and put back on its leader's sphere, up
-//! to sixteen rounds, exactly as the simulation's length pass does for the guides.
+//! that lands inside the collider is moved out (as the simulation's collision step does) and put back on its
+//! leader's sphere, up to sixteen rounds, exactly as the simulation's length pass does for the guides.
 
-use super::pose::{Ellipsoid, Pose};
+use super::pose::{Collider, Pose};
 use glam::Vec3;
 
 /// Guides each follower interpolates.
@@ -88,7 +88,7 @@ impl Follow {
         rest: &[Vec3],
         ranges: &[(usize, usize)],
         pose: Pose,
-        head: Option<Ellipsoid>,
+        head: Option<&Collider>,
     ) {
         for (f, guides) in &self.followers {
             let (first, n) = ranges[*f];
@@ -111,14 +111,12 @@ impl Follow {
                         }
                     };
                     p = follow(p);
-                    if let Some(e) = head {
+                    if let Some(c) = head {
                         for _ in 0..COLLISION_ROUNDS {
-                            let local = pose.inverse_apply(p);
-                            let l = e.level(local);
-                            if !(l < 1.0 && l > 0.0) {
+                            let Some(out) = c.push_out(pose.inverse_apply(p)) else {
                                 break;
-                            }
-                            p = follow(pose.apply(e.center + (local - e.center) / l));
+                            };
+                            p = follow(pose.apply(out));
                         }
                     }
                 }

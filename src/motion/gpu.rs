@@ -2,9 +2,11 @@
 //! to the CPU model ([`super::sim`]) up to floating-point rounding: the substep's time-dependent values (root
 //! frame, sweep, wind per strand phase class, damping factor) are computed on the CPU by the same functions
 //! the CPU model calls; the per-point arithmetic runs on the GPU in the CPU model's order. The test
-//! `motion_gpu` states the tolerance and the measured difference. A frame's substeps are timed as one entry of
+//! `motion_gpu` states the tolerance and the measured difference. The collider (`shaders/motion/collide.wgsl`,
+//! group 1 of both passes) is the head ellipsoid or a mesh's signed distance grid uploaded as a storage buffer. A frame's substeps are timed as one entry of
 //! the phase [`Phase::Simulation`] (from the first substep's beginning to the last one's end).
 
+use super::pose::Collider;
 use super::sim::Simulation;
 use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback::read_buffer};
@@ -19,8 +21,6 @@ struct Params {
     head_rot: [f32; 4],
     pivot: [f32; 4],
     sweep: [f32; 4],
-    head_center: [f32; 4],
-    head_radii: [f32; 4],
     k: [f32; 4],
     m: [f32; 4],
     counts: [u32; 4],
@@ -34,9 +34,54 @@ struct FollowParams {
     head_rot: [f32; 4],
     pivot: [f32; 4],
     translation: [f32; 4],
-    head_center: [f32; 4],
-    head_radii: [f32; 4],
     counts: [u32; 4],
+}
+
+/// The collider as `shaders/motion/collide.wgsl` reads it (`ColliderParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ColliderParams {
+    /// x: 0 none, 1 ellipsoid, 2 distance grid; yzw: the grid's nodes per axis.
+    pub kind: [u32; 4],
+    /// Ellipsoid: centre; grid: origin (xyz) and cell (w).
+    pub center: [f32; 4],
+    /// Ellipsoid: radii; grid: x the margin.
+    pub radii: [f32; 4],
+}
+
+/// [`ColliderParams`]' field names and byte offsets, for the layout test against the WGSL struct.
+pub const COLLIDER_PARAMS_FIELDS: &[(&str, usize)] = {
+    use std::mem::offset_of;
+    &[
+        ("kind", offset_of!(ColliderParams, kind)),
+        ("center", offset_of!(ColliderParams, center)),
+        ("radii", offset_of!(ColliderParams, radii)),
+    ]
+};
+
+impl ColliderParams {
+    /// The uniforms and the grid's values (one zero when there is no grid) for `collider`.
+    pub fn of(collider: Option<&Collider>) -> (ColliderParams, Vec<f32>) {
+        match collider {
+            None => (ColliderParams::default(), vec![0.0]),
+            Some(Collider::Ellipsoid(e)) => (
+                ColliderParams {
+                    kind: [1, 0, 0, 0],
+                    center: e.center.extend(0.0).to_array(),
+                    radii: e.radii.extend(0.0).to_array(),
+                },
+                vec![0.0],
+            ),
+            Some(Collider::Sdf(g)) => (
+                ColliderParams {
+                    kind: [2, g.dims[0], g.dims[1], g.dims[2]],
+                    center: g.origin.extend(g.cell).to_array(),
+                    radii: [g.margin, 0.0, 0.0, 0.0],
+                },
+                g.values.clone(),
+            ),
+        }
+    }
 }
 
 /// The guide-and-follow pass: after a frame's substeps, the followers rebuilt from their guides.
@@ -45,6 +90,42 @@ struct FollowPass {
     pipeline: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
     followers: u32,
+}
+
+/// The collider's bind group (group 1 of both passes) and its layout.
+struct ColliderGroup {
+    layout: wgpu::BindGroupLayout,
+    group: wgpu::BindGroup,
+}
+
+fn collider_group(gpu: &Gpu, collider: Option<&Collider>) -> Result<ColliderGroup, GpuError> {
+    let device = &gpu.device;
+    let (params, values) = ColliderParams::of(collider);
+    gpu.check_buffer_size("collider distance grid", (values.len() * 4) as u64)?;
+    let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("hairlab.motion.collider"),
+        contents: bytemuck::bytes_of(&params),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let grid = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("hairlab.motion.collider.grid"),
+        contents: bytemuck::cast_slice(&values),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    use crate::render::eye::bindings::{self, Binding::*};
+    let layout = bindings::layout_for(
+        device,
+        "hairlab.motion.collider.layout",
+        wgpu::ShaderStages::COMPUTE,
+        &[Uniform, StorageRo],
+    );
+    let group = pipelines::buffer_group(
+        device,
+        "hairlab.motion.collider.group",
+        &layout,
+        &[&uniforms, &grid],
+    );
+    Ok(ColliderGroup { layout, group })
 }
 
 /// The simulation's state on the GPU, stepped frame by frame from frame 0.
@@ -60,6 +141,7 @@ pub struct GpuSimulation {
     frame: u32,
     timer: Option<GpuTimer>,
     follow: Option<FollowPass>,
+    collider: ColliderGroup,
 }
 
 impl GpuSimulation {
@@ -117,6 +199,7 @@ impl GpuSimulation {
             &layout,
             &[&uniforms, &rest_b, &len_b, &strands_b, &x, &prev, &q, &corr],
         );
+        let collider = collider_group(gpu, sim.collider())?;
         let source = crate::shaders::compose("motion/simulate.wgsl", None)
             .map_err(|e| GpuError::Setting(e.to_string()))?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -129,11 +212,11 @@ impl GpuSimulation {
                 label: "hairlab.motion.pipeline",
                 module: &module,
                 entry: "substep",
-                layouts: &[&layout],
+                layouts: &[&layout, &collider.layout],
             },
         );
         let follow = match sim.follow() {
-            Some(f) => Some(follow_pass(gpu, f, ranges, &rest_b, &x)?),
+            Some(f) => Some(follow_pass(gpu, f, ranges, &rest_b, &x, &collider.layout)?),
             None => None,
         };
         let (strand_count, points) = (ranges.len() as u32, rest.len());
@@ -149,6 +232,7 @@ impl GpuSimulation {
             frame: 0,
             timer: GpuTimer::new(device, &gpu.queue),
             follow,
+            collider,
         })
     }
 
@@ -176,8 +260,6 @@ impl GpuSimulation {
         let t = step as f64 / (f64::from(p.fps) * f64::from(p.substeps));
         let decay = (-p.damping * h * 60.0).exp();
         let pose = p.head_pose(t, pivot);
-        let head = self.sim.collider();
-        let (center, radii) = head.map_or((Vec3::ZERO, Vec3::ONE), |e| (e.center, e.radii));
         let mut wind = [[0.0; 4]; 20];
         for (s, w) in wind.iter_mut().enumerate() {
             *w = p.wind_at(t, s).extend(0.0).to_array();
@@ -185,9 +267,7 @@ impl GpuSimulation {
         Params {
             head_rot: pose.rotation.to_array(),
             pivot: pivot.extend(h * h).to_array(),
-            sweep: p.sweep_offset(t).extend(0.0).to_array(),
-            head_center: center.extend(if head.is_some() { 1.0 } else { 0.0 }).to_array(),
-            head_radii: radii.extend(decay).to_array(),
+            sweep: p.sweep_offset(t).extend(decay).to_array(),
             k: [
                 p.gravity,
                 0.5 * p.local_stiffness.min(0.95),
@@ -210,14 +290,10 @@ impl GpuSimulation {
             .and_then(|t| t.span(Phase::Simulation, "motion: simulate"));
         if let Some(f) = &self.follow {
             let pose = self.sim.head_pose_at_frame(self.frame + 1);
-            let head = self.sim.collider();
-            let (center, radii) = head.map_or((Vec3::ZERO, Vec3::ONE), |e| (e.center, e.radii));
             let params = FollowParams {
                 head_rot: pose.rotation.to_array(),
                 pivot: pose.pivot.extend(0.0).to_array(),
                 translation: pose.translation.extend(0.0).to_array(),
-                head_center: center.extend(if head.is_some() { 1.0 } else { 0.0 }).to_array(),
-                head_radii: radii.extend(0.0).to_array(),
                 counts: [f.followers, 0, 0, 0],
             };
             gpu.queue
@@ -240,6 +316,7 @@ impl GpuSimulation {
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.group, &[]);
+                pass.set_bind_group(1, &self.collider.group, &[]);
                 pass.dispatch_workgroups(self.strands.div_ceil(64), 1, 1);
             }
             if let (true, Some(f)) = (last, &self.follow) {
@@ -249,6 +326,7 @@ impl GpuSimulation {
                 });
                 pass.set_pipeline(&f.pipeline);
                 pass.set_bind_group(0, &f.group, &[]);
+                pass.set_bind_group(1, &self.collider.group, &[]);
                 pass.dispatch_workgroups(f.followers.div_ceil(64), 1, 1);
             }
             let resolved =
@@ -294,13 +372,14 @@ impl GpuSimulation {
 }
 
 /// The follow pass for `follow`'s followers over the strands `ranges`, reading the rest points `rest` and writing
-/// the points `x`.
+/// the points `x`, colliding through a group of `collider_layout`.
 fn follow_pass(
     gpu: &Gpu,
     follow: &super::follow::Follow,
     ranges: &[(usize, usize)],
     rest: &wgpu::Buffer,
     x: &wgpu::Buffer,
+    collider_layout: &wgpu::BindGroupLayout,
 ) -> Result<FollowPass, GpuError> {
     let device = &gpu.device;
     let mut table: Vec<u32> = Vec::with_capacity(follow.followers.len() * 8);
@@ -361,7 +440,7 @@ fn follow_pass(
             label: "hairlab.motion.follow.pipeline",
             module: &module,
             entry: "follow",
-            layouts: &[&layout],
+            layouts: &[&layout, collider_layout],
         },
     );
     Ok(FollowPass {

@@ -2,23 +2,30 @@
 //! section. `none` keeps the scene still; `simulate` runs the CPU strand simulation ([`sim`], the
 //! specification of any GPU simulation); `sequence` plays a folder of `.hair` files of identical topology
 //! ([`sequence`]). Every source is deterministic: frame `k` is the same bits whatever was played before.
+//! The simulation collides with the generator's head ellipsoid or with the scene's meshes as a signed distance
+//! grid ([`sdf`], `motion.colliders`), and the meshes that ride on the root frame are drawn at its pose
+//! ([`Motion::show`]).
 //!
 //! A lower layer: it reads scenes and files, never the settings module (which holds a [`MotionSettings`]).
 
 pub mod follow;
 pub mod gpu;
 pub mod pose;
+pub mod sdf;
 pub mod sequence;
 pub mod sim;
 
-use crate::scene::Scene;
+use crate::render::Renderer;
+use crate::scene::{Aabb, Scene};
 use anyhow::{Result, bail};
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
+use std::sync::Arc;
 
+pub use sdf::SdfGrid;
 pub use sequence::Sequence;
-pub use sim::{Ellipsoid, FrameStats, SimParams, Simulation};
+pub use sim::{Collider, Ellipsoid, FrameStats, RootFrame, SimParams, Simulation};
 
 /// Where the frames come from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -49,6 +56,21 @@ pub enum HeadMotion {
     /// The head still; the roots of the last `sweep_strands` strands slide along +Z by
     /// `sweep_amplitude · sin(2π t / head_period)` (the stray strand of `stray-sweep`).
     Sweep,
+}
+
+/// What the simulation collides with (`motion.colliders`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Colliders {
+    /// The generator's head ellipsoid when the scene is that head, else the scene's meshes (none without).
+    #[default]
+    Auto,
+    /// The generator's head ellipsoid (an error on any other scene).
+    Head,
+    /// The scene's meshes that ride on the root frame, as a signed distance grid ([`sdf`]).
+    Meshes,
+    /// Nothing: the hair passes through the head.
+    None,
 }
 
 /// `[motion]`: the source and, for `simulate`, the simulation's parameters (see [`sim`] for what each does).
@@ -92,8 +114,12 @@ pub struct MotionSettings {
     pub sweep_strands: u32,
     /// `sweep`: the sweep's amplitude along +Z, world units.
     pub sweep_amplitude: f32,
-    /// Collide with the generated head (when the scene is the generator's head).
-    pub collide: bool,
+    /// What the hair collides with.
+    pub colliders: Colliders,
+    /// Mesh colliders: cells of the signed distance grid on the meshes' longest axis.
+    pub collider_resolution: u32,
+    /// Mesh colliders: a point closer to the surface than this (world units) is pushed out to it.
+    pub collider_margin: f32,
     /// Share of the strands simulated, in (0, 1]: every `round(1 / guides)`-th strand is a guide, the others
     /// follow their nearest guides (`follow.rs`); 1 simulates every strand.
     pub guides: f32,
@@ -121,7 +147,9 @@ impl Default for MotionSettings {
             head_period: 2.0,
             sweep_strands: 1,
             sweep_amplitude: 0.05,
-            collide: true,
+            colliders: Colliders::Auto,
+            collider_resolution: 48,
+            collider_margin: 0.002,
             guides: 1.0,
         }
     }
@@ -203,6 +231,18 @@ impl MotionSettings {
                 self.guides
             );
         }
+        if !(sdf::MIN_RESOLUTION..=sdf::MAX_RESOLUTION).contains(&self.collider_resolution) {
+            bail!(
+                "motion.collider_resolution must be in {}..={} cells on the meshes' longest axis (got {})",
+                sdf::MIN_RESOLUTION,
+                sdf::MAX_RESOLUTION,
+                self.collider_resolution
+            );
+        }
+        let margin = self.collider_margin;
+        if !(margin.is_finite() && (0.0..=1.0).contains(&margin)) {
+            bail!("motion.collider_margin must be a finite number in [0, 1] world units (got {margin:?})");
+        }
         if self.sweep_strands == 0 {
             bail!("motion.sweep_strands must be at least 1");
         }
@@ -220,14 +260,43 @@ impl MotionSettings {
 pub enum Motion {
     Still(Vec<Vec3>),
     Simulate(Box<Simulation>),
-    Sequence(Sequence),
+    /// A recording, and the preset's root motion that still carries its meshes (a baked simulation plays back
+    /// with the head turning as it did live).
+    Sequence(Sequence, Box<MeshMotion>),
+}
+
+/// The root frame's keyframed motion (`motion.head`) and the scene's meshes it carries.
+pub struct MeshMotion {
+    params: SimParams,
+    pivot: Vec3,
+    meshes: Vec<usize>,
+}
+
+impl MeshMotion {
+    /// Frame `k`'s transform of the meshes, `None` when the root frame does not turn or carries none.
+    fn at(&self, k: u32) -> Option<(&[usize], Affine3A)> {
+        let turns = matches!(
+            self.params.head,
+            HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake
+        );
+        (turns && !self.meshes.is_empty()).then(|| {
+            let t = f64::from(k) / f64::from(self.params.fps);
+            (&self.meshes[..], self.params.head_pose(t, self.pivot).affine())
+        })
+    }
 }
 
 impl Motion {
     /// Opens the source `m` names on `scene`. A sequence replaces the scene's strands with its first frame's
-    /// (meshes kept). `head` is the generator's head ellipsoid when the scene is the generated head: the
-    /// simulation's collider and root frame.
-    pub fn open(m: &MotionSettings, scene: &mut Scene, head: Option<Ellipsoid>) -> Result<Motion> {
+    /// (meshes kept). `head` is the generator's head ellipsoid when the scene is the generated head (the
+    /// root frame pivots at its bottom, the neck); `root_meshes` are the scene's meshes that ride on the root
+    /// frame (the head, not the floor): what `motion.colliders = meshes` collides with.
+    pub fn open(
+        m: &MotionSettings,
+        scene: &mut Scene,
+        head: Option<Ellipsoid>,
+        root_meshes: Vec<usize>,
+    ) -> Result<Motion> {
         m.validate()?;
         Ok(match m.source {
             MotionSource::None => Motion::Still(scene.strands.points.clone()),
@@ -235,21 +304,49 @@ impl Motion {
                 SimParams::from_settings(m),
                 &scene.strands.points,
                 &scene.strands.counts,
-                head,
+                root_frame(m, scene, head, root_meshes)?,
             ))),
             MotionSource::Sequence => {
                 let dir = m.path.as_ref().expect("validated: a sequence has a path");
                 let seq = Sequence::open(dir)?;
                 *scene = Scene::new(seq.strands().clone(), std::mem::take(&mut scene.meshes));
-                Motion::Sequence(seq)
+                let carried = MeshMotion {
+                    params: SimParams::from_settings(m),
+                    pivot: pivot(scene, head, &root_meshes),
+                    meshes: root_meshes,
+                };
+                Motion::Sequence(seq, Box::new(carried))
             }
         })
+    }
+
+    /// Frame `k`'s pose of the meshes that ride on the root frame (their indices and transform); `None`
+    /// when nothing moves them.
+    pub fn mesh_pose(&self, k: u32) -> Option<(&[usize], Affine3A)> {
+        let turns = |h: HeadMotion| matches!(h, HeadMotion::Turn | HeadMotion::Nod | HeadMotion::Shake);
+        match self {
+            Motion::Simulate(s) if !s.root_meshes().is_empty() && turns(s.params().head) => {
+                Some((s.root_meshes(), s.head_pose_at_frame(k).affine()))
+            }
+            Motion::Sequence(_, carried) => carried.at(k),
+            _ => None,
+        }
+    }
+
+    /// Shows frame `k` in `r`: its strand points ([`Renderer::update_points`]) and the pose of the meshes
+    /// that ride on the root frame ([`Renderer::pose_meshes`]).
+    pub fn show(&mut self, r: &mut Renderer, k: u32) -> Result<()> {
+        r.update_points(self.frame(k)?)?;
+        if let Some((meshes, pose)) = self.mesh_pose(k) {
+            r.pose_meshes(meshes, pose)?;
+        }
+        Ok(())
     }
 
     /// How many frames the motion has: a sequence its files, otherwise `motion.frames`.
     pub fn frame_count(&self, m: &MotionSettings) -> u32 {
         match self {
-            Motion::Sequence(s) => s.len() as u32,
+            Motion::Sequence(s, _) => s.len() as u32,
             _ => m.frames,
         }
     }
@@ -259,7 +356,7 @@ impl Motion {
         match self {
             Motion::Still(p) => Ok(p),
             Motion::Simulate(s) => Ok(s.frame(k)),
-            Motion::Sequence(s) => s.frame(k),
+            Motion::Sequence(s, _) => s.frame(k),
         }
     }
 
@@ -277,5 +374,55 @@ impl Motion {
             bound = bound.union(crate::scene::Aabb::from_points(self.frame(k)?));
         }
         Ok(bound)
+    }
+}
+
+/// The simulation's root frame on `scene` under `m.colliders` (see [`Motion::open`]): the collider, the pivot
+/// (the head's neck, else the bottom centre of the root meshes' bounds) and the meshes that ride on it.
+fn root_frame(
+    m: &MotionSettings,
+    scene: &Scene,
+    head: Option<Ellipsoid>,
+    meshes: Vec<usize>,
+) -> Result<RootFrame> {
+    let mesh_grid = || -> Result<Collider> {
+        let list: Vec<&crate::scene::Mesh> = meshes.iter().filter_map(|&i| scene.meshes.get(i)).collect();
+        if list.is_empty() {
+            bail!("motion.colliders = \"meshes\": the scene has no mesh to collide with");
+        }
+        let grid = SdfGrid::build(&list, m.collider_resolution, m.collider_margin)?;
+        Ok(Collider::Sdf(Arc::new(grid)))
+    };
+    let collider = match (m.colliders, head) {
+        (Colliders::None, _) => None,
+        (Colliders::Head | Colliders::Auto, Some(e)) => Some(Collider::Ellipsoid(e)),
+        (Colliders::Head, None) => bail!(
+            "motion.colliders = \"head\" needs the generator's head (scene.generator.kind = \"head\", no \
+             scene.file or scene.scalp); use \"meshes\" to collide with a loaded scene's meshes"
+        ),
+        (Colliders::Auto, None) if meshes.is_empty() => None,
+        (Colliders::Auto | Colliders::Meshes, _) => Some(mesh_grid()?),
+    };
+    Ok(RootFrame {
+        pivot: pivot(scene, head, &meshes),
+        collider,
+        meshes,
+    })
+}
+
+/// The root frame's pivot: the head ellipsoid's bottom (the neck), else the bottom centre of the bounds of
+/// the scene's `meshes`, else the origin.
+fn pivot(scene: &Scene, head: Option<Ellipsoid>, meshes: &[usize]) -> Vec3 {
+    if let Some(e) = head {
+        return e.center - Vec3::new(0.0, e.radii.y, 0.0);
+    }
+    let b = meshes
+        .iter()
+        .filter_map(|&i| scene.meshes.get(i))
+        .fold(Aabb::EMPTY, |b, mesh| b.union(Aabb::from_points(&mesh.positions)));
+    if b.is_empty() {
+        Vec3::ZERO
+    } else {
+        Vec3::new(0.5 * (b.min.x + b.max.x), b.min.y, 0.5 * (b.min.z + b.max.z))
     }
 }

@@ -12,8 +12,10 @@
 //!    rotation at the root) carries the rest segment `r_{i+1} − r_i` to a target for point `i+1`; both ends move
 //!    towards it by `0.5·min(k, 0.95)` of the gap (only the far end when the near end is the root), then `G` is
 //!    turned by the shortest arc from the target's direction to the segment's new direction.
-//! 5. **Head collision**: a point inside the head ellipsoid (in the head's frame) is moved out along the ray
-//!    from the ellipsoid's centre, onto its surface.
+//! 5. **Collision** (in the head's frame, i.e. the point mapped through the inverse pose): a point inside the
+//!    head ellipsoid is moved out along the ray from the ellipsoid's centre onto its surface; with a mesh
+//!    collider ([`super::sdf`]), a point whose interpolated signed distance is below `collider_margin` is moved
+//!    along the grid's gradient out to the margin.
 //! 6. **Inextensibility**, follow-the-leader (Müller et al. 2012, "Fast Simulation of Inextensible Hair and
 //!    Fur"): from the root, `p_i ← p_{i−1} + L_i · (p_i − p_{i−1}) / |p_i − p_{i−1}|`, every segment exactly its
 //!    rest length `L_i` up to rounding; the correction `d_i` each point got is kept.
@@ -27,14 +29,14 @@
 //! TressFX's four wind vectors span), `g(t) = 0.6 sin(2π·0.7 t) + 0.4 sin(2π·1.9 t + 1.3)` and the phase
 //! `φ_s = 0.25 s · (s mod 20)/20` differs per strand like TressFX's per-strand mix of its four winds.
 //!
-//! The length pass also collides: a follower it puts inside the head is moved out along the centre ray and
-//! put back on its leader's sphere, up to sixteen rounds, so segments stay exact and a point may stay slightly
-//! inside the head (the invariants tests state the measured depth).
+//! The length pass also collides: a follower it puts inside the collider is moved out as in step 5 and put
+//! back on its leader's sphere, up to sixteen rounds, so segments stay exact and a point may stay slightly
+//! inside the collider (the invariants tests state the measured depth).
 
 use glam::{Quat, Vec3};
 
 use super::follow::Follow;
-pub use super::pose::{Ellipsoid, Pose};
+pub use super::pose::{Collider, Ellipsoid, Pose};
 use super::{HeadMotion, MotionSettings};
 
 /// Smooth 0 → 1 over `[0, 1]` (cubic), clamped outside.
@@ -77,7 +79,6 @@ pub struct SimParams {
     pub head_period: f32,
     pub sweep_strands: u32,
     pub sweep_amplitude: f32,
-    pub collide: bool,
     /// Share of the strands simulated; the rest follow them ([`super::follow`]).
     pub guides: f32,
 }
@@ -101,7 +102,6 @@ impl SimParams {
             head_period: m.head_period,
             sweep_strands: m.sweep_strands,
             sweep_amplitude: m.sweep_amplitude,
-            collide: m.collide,
             guides: m.guides,
         }
     }
@@ -159,6 +159,27 @@ impl SimParams {
     }
 }
 
+/// The root frame a simulation moves the roots with: the pivot of its rigid motion, what the hair collides
+/// with (in its rest space), and which of the scene's meshes ride on it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RootFrame {
+    pub pivot: Vec3,
+    pub collider: Option<Collider>,
+    pub meshes: Vec<usize>,
+}
+
+impl RootFrame {
+    /// The generator's head: the ellipsoid `head` as collider, pivoting at its bottom (the neck), with the
+    /// scene's `meshes` on it.
+    pub fn head(head: Ellipsoid, meshes: Vec<usize>) -> RootFrame {
+        RootFrame {
+            pivot: head.center - Vec3::new(0.0, head.radii.y, 0.0),
+            collider: Some(Collider::Ellipsoid(head)),
+            meshes,
+        }
+    }
+}
+
 /// Positions and previous positions after some number of frames.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimState {
@@ -189,7 +210,7 @@ const MAX_CHECKPOINTS: usize = 64;
 pub struct FrameStats {
     /// Worst `|(|x_{i+1} − x_i| − L_i)| / L_i` over every segment.
     pub max_length_error: f32,
-    /// Worst distance of a point inside the head collider (world units; 0 without a collider).
+    /// Worst distance of a point inside the collider's surface (world units; 0 without a collider).
     pub max_depth: f32,
     /// Worst distance of a root from its posed rest position (world units).
     pub max_root_error: f32,
@@ -210,8 +231,10 @@ pub struct Simulation {
     ranges: Vec<(usize, usize)>,
     /// Rest length of the segment ending at each point (0 at roots).
     rest_len: Vec<f32>,
-    head: Option<Ellipsoid>,
+    head: Option<Collider>,
     pivot: Vec3,
+    /// The scene's meshes that ride on the root frame (drawn at its pose).
+    meshes: Vec<usize>,
     state: SimState,
     checkpoints: Vec<SimState>,
     spacing: u32,
@@ -224,9 +247,8 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// A simulation starting at rest on `rest` (strands of `counts` points), with the head ellipsoid `head` as
-    /// collider and root frame (its pivot at the ellipsoid's bottom, the neck).
-    pub fn new(params: SimParams, rest: &[Vec3], counts: &[u32], head: Option<Ellipsoid>) -> Simulation {
+    /// A simulation starting at rest on `rest` (strands of `counts` points) on the root frame `root`.
+    pub fn new(params: SimParams, rest: &[Vec3], counts: &[u32], root: RootFrame) -> Simulation {
         let mut ranges = Vec::with_capacity(counts.len());
         let mut start = 0usize;
         for &c in counts {
@@ -239,7 +261,6 @@ impl Simulation {
                 rest_len[i] = (rest[i] - rest[i - 1]).length();
             }
         }
-        let pivot = head.map_or(Vec3::ZERO, |e| e.center - Vec3::new(0.0, e.radii.y, 0.0));
         let swept_from = if params.head == HeadMotion::Sweep {
             ranges.len().saturating_sub(params.sweep_strands as usize)
         } else {
@@ -252,12 +273,13 @@ impl Simulation {
             prev: rest.to_vec(),
         };
         Simulation {
-            head: head.filter(|_| params.collide),
+            head: root.collider,
             params,
             rest: rest.to_vec(),
             ranges,
             rest_len,
-            pivot,
+            pivot: root.pivot,
+            meshes: root.meshes,
             checkpoints: vec![state.clone()],
             state,
             spacing: 16,
@@ -272,8 +294,13 @@ impl Simulation {
     }
 
     /// The collider in use, if any (in the head's rest frame).
-    pub fn collider(&self) -> Option<Ellipsoid> {
-        self.head
+    pub fn collider(&self) -> Option<&Collider> {
+        self.head.as_ref()
+    }
+
+    /// The scene's meshes that ride on the root frame (indices into the scene's meshes).
+    pub fn root_meshes(&self) -> &[usize] {
+        &self.meshes
     }
 
     /// The rest pose, the strands' `(first point, count)`, the rest segment lengths and the root frame's pivot:
@@ -368,7 +395,13 @@ impl Simulation {
         self.state.frame += 1;
         if let Some(f) = &self.follow {
             let pose = self.head_pose_at_frame(self.state.frame);
-            f.interpolate(&mut self.state.x, &self.rest, &self.ranges, pose, self.head);
+            f.interpolate(
+                &mut self.state.x,
+                &self.rest,
+                &self.ranges,
+                pose,
+                self.head.as_ref(),
+            );
             for (s, _) in &f.followers {
                 let (first, n) = self.ranges[*s];
                 self.state.prev[first..first + n].copy_from_slice(&self.state.x[first..first + n]);
@@ -437,13 +470,11 @@ impl Simulation {
                     }
                 }
             }
-            // 5. Head collision (the head's own pose, also for swept strands).
-            if let Some(e) = self.head {
+            // 5. Collision (the head's own pose, also for swept strands).
+            if let Some(c) = &self.head {
                 for qi in q.iter_mut().skip(1) {
-                    let local = head_pose.inverse_apply(*qi);
-                    let l = e.level(local);
-                    if l < 1.0 && l > 0.0 {
-                        *qi = head_pose.apply(e.center + (local - e.center) / l);
+                    if let Some(out) = c.push_out(head_pose.inverse_apply(*qi)) {
+                        *qi = head_pose.apply(out);
                     }
                 }
             }
@@ -462,16 +493,14 @@ impl Simulation {
                     }
                 };
                 let mut fixed = follow(q[i]);
-                // A follower the length pass put back inside the head: out along the centre ray, then back on
-                // its leader's sphere, a few times (each round leaves it shallower: the head is convex).
-                if let Some(e) = self.head {
+                // A follower the length pass put back inside the collider: out as in step 5, then back on its
+                // leader's sphere, a few times (each round leaves it shallower on a convex collider).
+                if let Some(c) = &self.head {
                     for _ in 0..COLLISION_ROUNDS {
-                        let local = head_pose.inverse_apply(fixed);
-                        let l = e.level(local);
-                        if !(l < 1.0 && l > 0.0) {
+                        let Some(out) = c.push_out(head_pose.inverse_apply(fixed)) else {
                             break;
-                        }
-                        fixed = follow(head_pose.apply(e.center + (local - e.center) / l));
+                        };
+                        fixed = follow(head_pose.apply(out));
                     }
                 }
                 corr[i] = fixed - q[i];
@@ -516,8 +545,8 @@ impl Simulation {
                         }
                     }
                 }
-                if let Some(e) = self.head {
-                    st.max_depth = st.max_depth.max(e.depth(head_pose.inverse_apply(x[i])));
+                if let Some(c) = &self.head {
+                    st.max_depth = st.max_depth.max(c.depth(head_pose.inverse_apply(x[i])));
                 }
             }
         }
@@ -552,7 +581,7 @@ mod tests {
             SimParams::from_settings(m),
             &scene.strands.points,
             &scene.strands.counts,
-            Some(head),
+            RootFrame::head(head, vec![0]),
         )
     }
 

@@ -128,6 +128,18 @@ impl Renderer {
         Ok(self.scene.update_points(&self.gpu, points)?)
     }
 
+    /// Moves the meshes `moving` (indices into the scene's meshes) rigidly by `transform` from their rest pose
+    /// ([`SceneGpu::pose_meshes`], the write path for meshes on a moving root frame): every pass that draws
+    /// meshes draws them there from the next frame on.
+    pub fn pose_meshes(&mut self, moving: &[usize], transform: glam::Affine3A) -> Result<(), GpuError> {
+        self.scene.pose_meshes(&self.gpu, moving, transform)
+    }
+
+    /// The mesh vertex positions the GPU holds (posed by [`Renderer::pose_meshes`]).
+    pub fn read_mesh_positions(&self) -> Result<Vec<Vec3>, GpuError> {
+        self.scene.read_mesh_positions(&self.gpu)
+    }
+
     /// The bound [`crate::scene::LightFit::Bound`] fits the hair maps to ([`SceneGpu::set_fit_bound`]).
     pub fn set_fit_bound(&mut self, bound: Option<crate::scene::Aabb>) {
         self.scene.set_fit_bound(bound);

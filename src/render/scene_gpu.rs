@@ -3,6 +3,9 @@
 //! rewritten), the bounds, and a generation that changes whenever the geometry does. Moving hair has one write
 //! path, [`SceneGpu::update_points`]: new positions with their tangents (derived from them on the CPU by
 //! [`write_tangents`], as at upload) written into the existing buffers, the bounds refitted, a new generation.
+//! Meshes that ride on a moving root frame (a turning head) have theirs, [`SceneGpu::pose_meshes`]: their rest
+//! vertices transformed on the CPU and written into the existing mesh buffer, which every pass that draws
+//! meshes (the eye, the light passes, the opaque shadow map) reads.
 //! Whatever depends on the geometry (the light frame, the inspector's lists, the bench's reference) keys on
 //! [`SceneGpu::generation`], never on settings.
 
@@ -16,7 +19,7 @@ use super::geometry::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use wgpu::util::DeviceExt;
 
 /// Generations are unique across every scene of the process, so a cache keyed on one never confuses two scenes.
@@ -59,6 +62,10 @@ pub struct SceneGpu {
     vertices: Vec<HairVertex>,
     /// Each strand's `(first point, point count)`.
     ranges: Vec<(usize, usize)>,
+    /// The mesh vertices as uploaded (rest pose), which [`SceneGpu::pose_meshes`] transforms.
+    mesh_rest: Vec<MeshVertex>,
+    /// Each mesh's `(first vertex, vertex count)`.
+    mesh_ranges: Vec<(usize, usize)>,
     mesh_bounds: Aabb,
     bounds: SceneBounds,
     /// The strands as uploaded, or the bound given by [`SceneGpu::set_fit_bound`]: what [`LightFit::Bound`]
@@ -87,8 +94,10 @@ impl SceneGpu {
         let hi = hair_indices(scene);
         let mut mv = Vec::new();
         let mut mi = Vec::new();
+        let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());
         for m in &scene.meshes {
             let base = mv.len() as u32;
+            mesh_ranges.push((mv.len(), m.positions.len()));
             for (p, n) in m.positions.iter().zip(&m.normals) {
                 mv.push(MeshVertex {
                     position: (*p).into(),
@@ -166,12 +175,18 @@ impl SceneGpu {
             hair_indices,
             hair_index_count: hi.len() as u32,
             ribbon_layout: ribbon_layout.clone(),
-            mesh_vertices: buf("hairlab.scene.mesh_vertices", bytemuck::cast_slice(&mv), v),
+            mesh_vertices: buf(
+                "hairlab.scene.mesh_vertices",
+                bytemuck::cast_slice(&mv),
+                v | wgpu::BufferUsages::COPY_SRC,
+            ),
             mesh_indices: buf("hairlab.scene.mesh_indices", bytemuck::cast_slice(&mi), i),
             mesh_index_count: mi.len() as u32,
             bytes: sizes.iter().map(|(_, b)| *b as u64).sum(),
             vertices: hv,
             ranges: scene.strands.ranges().collect(),
+            mesh_rest: mv,
+            mesh_ranges,
             mesh_bounds,
             bounds: SceneBounds {
                 strands,
@@ -207,6 +222,58 @@ impl SceneGpu {
         };
         self.generation = next_generation();
         Ok(())
+    }
+
+    /// The write path for meshes that move rigidly (the head on a turning root frame): the meshes `moving`
+    /// (indices into the scene's meshes) are drawn at their rest vertices mapped by `transform` (normals by its
+    /// linear part, a rotation), every other mesh at rest. Always computed from the rest vertices, so a pose
+    /// gives the same bits whatever was drawn before; the bounds follow and the generation changes.
+    pub fn pose_meshes(&mut self, gpu: &Gpu, moving: &[usize], transform: Affine3A) -> Result<(), GpuError> {
+        let mut mv = self.mesh_rest.clone();
+        for &m in moving {
+            let &(first, n) = self.mesh_ranges.get(m).ok_or_else(|| {
+                GpuError::Setting(format!(
+                    "mesh {m} cannot move with the root frame: the scene has {} meshes",
+                    self.mesh_ranges.len()
+                ))
+            })?;
+            for v in &mut mv[first..first + n] {
+                v.position = transform.transform_point3(Vec3::from(v.position)).into();
+                v.normal = transform.transform_vector3(Vec3::from(v.normal)).into();
+            }
+        }
+        if !mv.is_empty() {
+            gpu.queue
+                .write_buffer(&self.mesh_vertices, 0, bytemuck::cast_slice(&mv));
+        }
+        self.mesh_bounds = mv.iter().fold(Aabb::EMPTY, |b, v| b.grow(Vec3::from(v.position)));
+        self.bounds.all = self.bounds.strands.union(self.mesh_bounds);
+        self.generation = next_generation();
+        Ok(())
+    }
+
+    /// Reads the mesh vertex positions back from the GPU (tests: the posed meshes a frame draws).
+    pub fn read_mesh_positions(&self, gpu: &Gpu) -> Result<Vec<Vec3>, GpuError> {
+        let bytes = std::mem::size_of_val(self.mesh_rest.as_slice()) as u64;
+        if bytes == 0 {
+            return Ok(Vec::new());
+        }
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.scene.mesh_readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hairlab.scene.mesh_readback"),
+            });
+        encoder.copy_buffer_to_buffer(&self.mesh_vertices, 0, &staging, 0, bytes);
+        gpu.queue.submit([encoder.finish()]);
+        let raw = crate::gpu::readback::read_buffer(gpu, &staging)?;
+        let vertices: Vec<MeshVertex> = bytemuck::pod_collect_to_vec(&raw);
+        Ok(vertices.iter().map(|v| Vec3::from(v.position)).collect())
     }
 
     /// Makes `bound` (e.g. the bound of a whole motion) what [`LightFit::Bound`] fits the hair maps to; `None`

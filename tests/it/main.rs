@@ -42,6 +42,7 @@ mod measure_motion;
 mod methods_gpu;
 mod motion;
 mod motion_claims;
+mod motion_colliders;
 mod presets;
 mod reference;
 mod ribbons;

@@ -524,6 +524,17 @@ fn the_gpu_simulation_equals_the_cpu_model_over_a_run_of_frames() {
             &["motion.head=shake", "motion.head_period=1", "motion.guides=0.25"][..],
         ),
         ("head-turn", &[][..]),
+        // The head mesh's signed distance grid as the collider, in the simulation and the follow pass.
+        ("head-turn", &["motion.colliders=meshes"][..]),
+        (
+            "wind",
+            &[
+                "motion.head=shake",
+                "motion.head_period=1",
+                "motion.guides=0.25",
+                "motion.colliders=meshes",
+            ][..],
+        ),
         ("stray-sweep", &[][..]),
         ("straight-motion", &[][..]),
     ] {
@@ -535,14 +546,16 @@ fn the_gpu_simulation_equals_the_cpu_model_over_a_run_of_frames() {
         );
         // One frame from the same state: rounding only (world units; strands 0.2–0.25 long). Measured on
         // lavapipe: wind+shake 5.2e-6 (with guides = 0.25 and the follow pass 5.1e-6), head-turn 8.7e-6,
-        // stray-sweep 9.4e-6, straight-motion 1.5e-5.
+        // stray-sweep 9.4e-6, straight-motion 1.5e-5; with the head mesh's distance grid as collider head-turn
+        // 8.7e-6 and wind+shake+guides 5.1e-6.
         assert!(
             max(&step) <= 5e-5,
             "{preset}: one GPU frame differs from the CPU's by {}",
             max(&step)
         );
         // Free-running from frame 0, those rounding differences grow with the dynamics (gusts, shakes): measured
-        // 2.4e-3 (guided 4.7e-3), 3.7e-3, 9.2e-6 and 9.6e-3 at worst over 30 frames. The bound, a tenth of a strand's length,
+        // 2.4e-3 (guided 4.7e-3), 3.7e-3, 9.2e-6 and 9.6e-3 at worst over 30 frames; with the grid collider
+        // 8.4e-3 (head-turn) and 1.4e-2 (wind+shake+guides). The bound, a tenth of a strand's length,
         // only says the run stays with the CPU model; the one-frame bound above is the comparison.
         assert!(
             max(&run) <= 2e-2,

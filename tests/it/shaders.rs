@@ -337,6 +337,20 @@ fn frame_uniforms_match_wgsl_layout() {
     );
 }
 
+/// The strand simulation's collider, in both passes that include `motion/collide.wgsl`.
+#[test]
+fn collider_params_match_wgsl_layout() {
+    use hairlab::motion::gpu::{COLLIDER_PARAMS_FIELDS, ColliderParams};
+    check_mirror(
+        std::mem::size_of::<ColliderParams>(),
+        COLLIDER_PARAMS_FIELDS,
+        &[
+            ("motion/simulate.wgsl", None, "ColliderParams"),
+            ("motion/follow.wgsl", None, "ColliderParams"),
+        ],
+    );
+}
+
 /// The ribbons' storage view of a strand point (`HairPoint`, pulled by `eye_ribbon_point`) is the Rust
 /// `HairVertex` the vertex buffer holds, field by field.
 #[test]

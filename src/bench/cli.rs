@@ -41,7 +41,8 @@ pub enum BenchMode {
     /// Each method's scaling configurations timed (light passes only) at --points strand densities evenly
     /// spaced in segments up to --max-segments (the median of --frames ≥ 3 timed frames after --warmup
     /// discarded ones per point); GPU ms = fixed cost + cost per segment × segments fitted with R² and the
-    /// log-log exponent: scaling.csv, scaling_points.csv, scaling.png, scaling.svg.
+    /// log-log exponent, per rasteriser with --raster hardware,compute: scaling.csv, scaling_points.csv,
+    /// scaling.png, scaling.svg (rewritten whole after each density: Ctrl-C keeps the finished ones).
     Scaling(ScalingBenchArgs),
     /// Each configuration over a preset's motion (`measure motion`'s rows) charted as GPU time against a
     /// temporal metric (--metric: flicker, flicker-p99, pop-rate, image-flicker) with the Pareto front:

@@ -395,7 +395,8 @@ impl MethodGpu for DsmGpu {
             &mut encoder,
             timer,
         );
-        self.sort.record(&self.abuffer, &mut encoder, timer);
+        self.sort
+            .record_as("dsm: sort lists (sizing)", &self.abuffer, &mut encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
         let timestamps = timer
             .as_mut()

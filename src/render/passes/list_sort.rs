@@ -186,12 +186,21 @@ impl ListSort {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) {
+        self.record_as(self.label, abuffer, encoder, timer);
+    }
+
+    /// [`ListSort::record`] timed as `label` (a second sort in one frame needs a name of its own).
+    pub fn record_as(
+        &self,
+        label: &str,
+        abuffer: &ABuffer,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<GpuTimer>,
+    ) {
         encoder.clear_buffer(&self.state, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.list_sort"),
-            timestamp_writes: timer
-                .as_mut()
-                .and_then(|t| t.compute_pass(Phase::Method, self.label)),
+            timestamp_writes: timer.as_mut().and_then(|t| t.compute_pass(Phase::Method, label)),
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);

@@ -1,7 +1,8 @@
 // Compressed deep shadow maps (Lokovic & Veach 2000, §4): one invocation per texel walks the reference A-buffer's
-// list, sorted by (depth, segment, alpha) (list_sort.wgsl), the order of the CPU model's sorted lists, once,
-// front to back, O(n) per texel, and runs the greedy compressor, as visibility::dsm::compress with these exact
-// expressions (see its doc).
+// list in (depth, segment) order, the order of the CPU model's sorted lists, and runs the greedy compressor, as
+// visibility::dsm::compress with these exact expressions (see its doc). The order without a private array:
+// select-next, each step walks the list for the smallest (depth, segment) behind the previous one, O(n^2) per
+// texel and no bound on the list length (the walks stop after the texel's node count, as the reference does).
 // cs_count only counts each texel's vertices (header count, total in alloc[0]: the vertex buffer is sized from
 // it); cs_compress, on the same fragments, allocates that many and writes them.
 // Both resume across dispatches: each takes at most dsm.steps fragments per texel and keeps where the texel
@@ -98,9 +99,9 @@ fn offer_depth(g: ptr<function, Greedy>, first: bool, d: f32, before: f32, after
 }
 
 // Where a texel's compression stands between dispatches (zero before the first: not started): the compressor's
-// state, the walk's (fragments taken k, the next fragment's node index + 1 (0: the list is walked), the depth
-// being summed, its optical depth, the total in front of it, the visibility in front of it), the stage (0 not
-// started, 1 walking, 2 done) and the vertices allocated (cs_compress). 80 bytes (methods::dsm::WALK_BYTES).
+// state, the walk's (fragments taken k of n, the last one's depth and segment, the depth being summed, its
+// optical depth, the total in front of it, the visibility in front of it), the stage (0 not started, 1 walking,
+// 2 done) and the vertices allocated (cs_compress). 80 bytes (methods::dsm::WALK_BYTES).
 struct DsmWalk {
     zo: f32,
     vo: f32,
@@ -110,7 +111,9 @@ struct DsmWalk {
     open: u32,
     count: u32,
     k: u32,
-    next: u32,
+    n: u32,
+    prev_depth: f32,
+    prev_segment: u32,
     group: f32,
     sum: f32,
     omega: f32,
@@ -120,32 +123,65 @@ struct DsmWalk {
     limit: u32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
-    pad3: u32,
 }
 @group(0) @binding(4) var<storage, read_write> walks: array<DsmWalk>;
 
-// Takes at most dsm.steps more fragments of the texel's sorted list into its compression (vertices written from
+// Nodes in texel t's list.
+fn list_length(t: u32) -> u32 {
+    let node_count = ab_capacity();
+    var n = 0u;
+    var i = ab_heads[t];
+    while i != 0u && n < node_count {
+        i = ab_node(i - 1u).next;
+        n += 1u;
+    }
+    return n;
+}
+
+// Takes at most dsm.steps more fragments of texel t's list (n nodes) into its compression (vertices written from
 // w.base, at most w.limit, if write) and finishes it once the list is walked; returns the state.
-fn advance(write: bool, state: DsmWalk) -> DsmWalk {
+fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     var w = state;
     var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);
-    for (var s = 0u; s < dsm.steps && w.next != 0u; s++) {
-        let node = ab_node(w.next - 1u);
-        w.next = node.next;
-        if w.k > 0u && node.depth != w.group {
+    for (var s = 0u; s < dsm.steps && w.k < w.n; s++) {
+        var best_depth = 0.0;
+        var best_segment = 0u;
+        var best_alpha = 0.0;
+        var found = false;
+        var j = ab_heads[t];
+        var walked = 0u;
+        while j != 0u && walked < w.n {
+            let node = ab_node(j - 1u);
+            let behind = w.k == 0u || node.depth > w.prev_depth || (node.depth == w.prev_depth && node.segment > w.prev_segment);
+            let smaller = !found || node.depth < best_depth || (node.depth == best_depth && node.segment < best_segment);
+            if behind && smaller {
+                best_depth = node.depth;
+                best_segment = node.segment;
+                best_alpha = node.alpha;
+                found = true;
+            }
+            j = node.next;
+            walked += 1u;
+        }
+        if !found {
+            w.n = w.k;
+            break;
+        }
+        if w.k > 0u && best_depth != w.group {
             w.omega += w.sum;
             let after = transmittance(w.omega);
             offer_depth(&g, g.count == 0u, w.group, w.before, after);
             w.before = after;
             w.sum = 0.0;
         }
-        w.group = node.depth;
-        w.sum += optical_depth(node.alpha);
+        w.group = best_depth;
+        w.sum += optical_depth(best_alpha);
+        w.prev_depth = best_depth;
+        w.prev_segment = best_segment;
         w.k += 1u;
     }
-    if w.next == 0u {
-        if w.k > 0u {
+    if w.k >= w.n {
+        if w.n > 0u {
             w.omega += w.sum;
             offer_depth(&g, g.count == 0u, w.group, w.before, transmittance(w.omega));
         }
@@ -164,11 +200,11 @@ fn advance(write: bool, state: DsmWalk) -> DsmWalk {
     return w;
 }
 
-// The state of a texel not started: nothing taken, its list's first node next, the visibility 1 in front.
+// The state of a texel not started: its list counted, nothing taken, the visibility 1 in front.
 fn started(t: u32) -> DsmWalk {
     var w: DsmWalk;
     w.vo = 1.0;
-    w.next = ab_heads[t];
+    w.n = list_length(t);
     w.before = 1.0;
     w.stage = 1u;
     return w;
@@ -188,7 +224,7 @@ fn cs_count(@builtin(global_invocation_id) id: vec3<u32>) {
     if w.stage == 0u {
         w = started(t);
     }
-    w = advance(false, w);
+    w = advance(t, false, w);
     walks[t] = w;
     if w.stage == 2u {
         out_headers[t] = vec2<u32>(0u, w.count);
@@ -213,7 +249,7 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
         w.base = atomicAdd(&alloc[0], counted);
         w.limit = select(0u, counted, w.base + counted <= arrayLength(&out_vertices));
     }
-    w = advance(true, w);
+    w = advance(t, true, w);
     walks[t] = w;
     if w.stage != 2u {
         return;

@@ -7,7 +7,8 @@ struct AvsmUniforms {
     resolution: u32,
     // Nodes per texel N, in 4..=16.
     nodes: u32,
-    pad: u32,
+    // 0: depth order, 1: submission order.
+    order: u32,
     // Fragments each texel inserts per dispatch of the compression pass (the walk resumes where it stopped).
     steps: u32,
 }

@@ -5,22 +5,24 @@
 //!
 //! GPU: wgpu has no rasteriser-ordered views, so this is the paper's first implementation — per-texel fragment
 //! lists, then compression: the method owns an A-buffer (`render::passes::abuffer`: a counting pass sizes it, one
-//! geometry pass fills it), the shared list sort (`render::passes::list_sort`) orders each texel's list in the
-//! model's insertion order ((depth, segment, alpha) or (segment, depth, alpha)) in O(n log n), and a compute pass
-//! (`shaders/avsm.wgsl`, one invocation per texel) walks each sorted list once, front to back, and writes the
-//! texel's `N` nodes to `hairlab.avsm.nodes`, `N × 8` bytes per texel (two f32), which the lookup
-//! (`shaders/methods/avsm.wgsl`) reads. The walk resumes across dispatches (each texel's next fragment and node
-//! count kept in a 32-byte walk state, the nodes in the output slots): one dispatch inserts every fragment,
-//! except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535 iterations in all: there each
-//! dispatch inserts as many fragments as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows and as many dispatches follow
-//! as the frame's longest list needs (2 for 700 fragments; the sort splits alike), the nodes the same however the
-//! walk is split. `N` is any count in 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA
-//! targets; a storage buffer needs no packing).
+//! geometry pass fills it), and a compute pass (`shaders/avsm.wgsl`, one invocation per texel) walks each list in
+//! the model's insertion order and writes the texel's `N` nodes to `hairlab.avsm.nodes`, `N × 8` bytes per texel
+//! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk is an O(n²) select-next over the
+//! linked list (each step takes the smallest key after the last one: (depth, segment, alpha, node index) or
+//! (segment, depth, alpha, node index)), so it has no bound on the list length and equals the CPU model's sort
+//! for every list. It resumes across dispatches (each texel's last fragment and node count kept in a 32-byte
+//! walk state, the nodes in the output slots): one dispatch inserts every fragment, except on a CPU adapter,
+//! whose llvmpipe stops a shader's loops after 65,535 iterations in all (the walk reached it near 240 fragments
+//! in one texel): there each dispatch inserts as many fragments as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for
+//! the frame's longest list (counted by the A-buffer's counting pass), and as many dispatches follow as the
+//! longest list needs (32 for 1300 fragments), the nodes the same however the walk is split. `N` is any count in
+//! 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA targets; a storage buffer needs no
+//! packing).
 //!
 //! Memory: [`MethodGpu::memory_bytes`] is the node buffer alone (`N × 8` B per texel), what the lookup reads.
 //! The A-buffer is build memory, held only to build the nodes each frame: 4 B per texel (heads) + 16 B per
 //! light-space fragment + 16 B of counters + the 1 B per texel null target, reported as
-//! [`MethodGpu::build_bytes`], with the 32-byte walk state and the sort's 40-byte state per texel (`shared_bytes` is 0: nothing is shared with
+//! [`MethodGpu::build_bytes`], with the 32-byte walk state per texel (`shared_bytes` is 0: nothing is shared with
 //! the renderer). Both storage buffers are checked against the
 //! device's storage binding size (a `GpuError::TooLarge` naming the map). Geometry passes: 2 (count, fill).
 
@@ -31,7 +33,7 @@ use super::{
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, storage_entry, uniform_buffer, uniform_entry};
-use crate::render::passes::{self, abuffer::ABuffer, list_sort::ListSort};
+use crate::render::passes::{self, abuffer::ABuffer};
 use crate::visibility::TexelModel;
 use crate::visibility::avsm::{AvsmParams, InsertionOrder, MAX_NODES, MIN_NODES};
 use bytemuck::{Pod, Zeroable};
@@ -40,9 +42,9 @@ use bytemuck::{Pod, Zeroable};
 pub const NODE_BYTES: u64 = 8;
 /// Bytes of one texel's walk state (`AvsmWalk` in `shaders/avsm.wgsl`).
 pub const WALK_BYTES: u64 = 32;
-/// Loop iterations of one insertion, the step along the list included (finding its place, shifting, two rounds
-/// of compression over at most `MAX_NODES + 2` nodes: `6 (MAX_NODES + 2) + 2`).
-const INSERT_ITERATIONS: u64 = 6 * (MAX_NODES as u64 + 2) + 2;
+/// Loop iterations of one insertion besides the walk along the list (finding its place, shifting, two rounds
+/// of compression over at most `MAX_NODES + 2` nodes: `6 (MAX_NODES + 2) + 1`).
+const INSERT_ITERATIONS: u64 = 6 * (MAX_NODES as u64 + 2) + 1;
 
 const NODES: ParamSpec = ParamSpec {
     key: "nodes",
@@ -102,7 +104,8 @@ pub struct AvsmUniforms {
     pub resolution: u32,
     /// Nodes per texel `N`.
     pub nodes: u32,
-    pub pad: u32,
+    /// 0: depth order, 1: submission order.
+    pub order: u32,
     /// Fragments each texel inserts per dispatch of the compression pass.
     pub steps: u32,
 }
@@ -117,7 +120,7 @@ impl LightMethod for Avsm {
             AvsmUniforms {
                 resolution,
                 nodes,
-                pad,
+                order,
                 steps
             }
         ))
@@ -157,10 +160,9 @@ struct NodeMap {
     lookup_bind_group: wgpu::BindGroup,
 }
 
-/// AVSM's GPU state: its A-buffer and the lists' sort, the compression pipeline, the node buffer.
+/// AVSM's GPU state: its A-buffer, the compression pipeline, the node buffer.
 pub struct AvsmGpu {
     abuffer: ABuffer,
-    sort: ListSort,
     compute_layout: wgpu::BindGroupLayout,
     lookup_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
@@ -175,7 +177,6 @@ impl AvsmGpu {
         let device = &ctx.gpu.device;
         let abuffer =
             ABuffer::new(ctx.gpu, ctx.frame_layout, ctx.light).named("avsm: A-buffer", "AVSM A-buffer");
-        let sort = ListSort::new(ctx.gpu, &abuffer, "avsm: sort lists");
         // Binding numbers are those of shaders/avsm.wgsl and shaders/methods/avsm.wgsl: 0 nodes, 1 uniforms, 2
         // the walk state (compression only).
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -221,7 +222,6 @@ impl AvsmGpu {
         )?;
         Ok(AvsmGpu {
             abuffer,
-            sort,
             compute_layout,
             lookup_layout,
             pipeline,
@@ -319,8 +319,7 @@ impl MethodGpu for AvsmGpu {
         }
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
-        self.sort.prepare(ctx.gpu, &self.abuffer, p.order, "AVSM")?;
-        let split = self.abuffer.walk_split(ctx.gpu, INSERT_ITERATIONS);
+        let split = self.abuffer.walk_split(ctx.gpu, "AVSM", INSERT_ITERATIONS)?;
         self.dispatches = split.dispatches;
         ctx.gpu.queue.write_buffer(
             &self.uniforms,
@@ -328,7 +327,7 @@ impl MethodGpu for AvsmGpu {
             bytemuck::bytes_of(&AvsmUniforms {
                 resolution,
                 nodes,
-                pad: 0,
+                order: (p.order == InsertionOrder::Submission) as u32,
                 steps: split.steps,
             }),
         );
@@ -343,7 +342,6 @@ impl MethodGpu for AvsmGpu {
     ) {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
-        self.sort.record(&self.abuffer, encoder, timer);
         encoder.clear_buffer(&self.map.walk, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.avsm.compress"),
@@ -369,9 +367,9 @@ impl MethodGpu for AvsmGpu {
     fn memory_bytes(&self) -> u64 {
         self.map.buffer.size()
     }
-    /// The A-buffer the compression pass reads, the sort's state and the walk state.
+    /// The A-buffer the compression pass reads and the walk state.
     fn build_bytes(&self) -> u64 {
-        self.abuffer.memory_bytes() + self.sort.memory_bytes() + self.map.walk.size()
+        self.abuffer.memory_bytes() + self.map.walk.size()
     }
     fn geometry_passes(&self) -> u32 {
         2

@@ -2,13 +2,13 @@
 //! visibility compressed by the paper's greedy algorithm into a piecewise-linear function within `epsilon` of it
 //! at every depth. The CPU model (and the vertex layout, the vertical steps and the lookup) is `visibility::dsm`.
 //!
-//! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists the shared list sort
-//! (`render::passes::list_sort`, O(n log n) per texel) orders by (depth, segment, alpha) and a compute pipeline
-//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks once, front to back, and compresses,
-//! resuming across dispatches (each texel's walk and compressor state, 80 bytes, kept between them): one
-//! dispatch per pass, except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535 iterations in
-//! all, where each dispatch takes as many fragments as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows and as many
-//! follow as the frame's longest list needs (`abuffer::ABuffer::walk_split`). `prepare` runs the
+//! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists a compute pipeline
+//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — select-next
+//! over the linked list, no private array — and compresses, resuming across dispatches (each texel's walk and
+//! compressor state, 80 bytes, kept between them): one dispatch per pass, except on a CPU adapter, whose
+//! llvmpipe stops a shader's loops after 65,535 iterations in all, where each dispatch takes as many fragments
+//! as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the frame's longest list and as many follow as it needs
+//! (`abuffer::ABuffer::walk_split`). `prepare` runs the
 //! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
 //! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
 //! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
@@ -20,8 +20,7 @@
 //! (`z`, `V` as f32) each, as many as the compressor keeps (at most 2 per fragment: 16 bytes per fragment at
 //! `epsilon = 0`); both within the device's storage binding size (else `GpuError::TooLarge` naming the map) and
 //! hairlab's map budget. The A-buffer it builds from (16 bytes per fragment, 4 bytes per texel and the 1-byte
-//! null target) is build memory (`MethodGpu::build_bytes`) with the walk state (80 bytes per texel) and the
-//! sort's (40 bytes per texel), as is the
+//! null target) is build memory (`MethodGpu::build_bytes`) with the walk state (80 bytes per texel), as is the
 //! 8-byte allocator (not counted).
 
 use super::{
@@ -32,9 +31,8 @@ use crate::gpu::readback::copy_out;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, check_budget, storage_entry, uniform_buffer, uniform_entry};
-use crate::render::passes::{self, abuffer::ABuffer, list_sort::ListSort};
+use crate::render::passes::{self, abuffer::ABuffer};
 use crate::visibility::TexelModel;
-use crate::visibility::avsm::InsertionOrder;
 use crate::visibility::dsm::DsmParams;
 use bytemuck::{Pod, Zeroable};
 
@@ -60,8 +58,8 @@ pub const VERTEX_BYTES: u64 = 8;
 pub const HEADER_BYTES: u64 = 8;
 /// Bytes of one texel's walk state (`DsmWalk` in `shaders/dsm.wgsl`).
 pub const WALK_BYTES: u64 = 80;
-/// Loop iterations of one fragment, the step along the list included (at most two offers of two attempts).
-const TAKE_ITERATIONS: u64 = 9;
+/// Loop iterations of one fragment besides the walk along the list (at most two offers of two attempts).
+const TAKE_ITERATIONS: u64 = 8;
 
 pub struct Dsm;
 
@@ -141,7 +139,6 @@ pub struct DsmUniforms {
 /// The compressed deep shadow map's GPU state: its A-buffer, the compressor and the compressed map.
 pub struct DsmGpu {
     abuffer: ABuffer,
-    sort: ListSort,
     count_pipeline: wgpu::ComputePipeline,
     compress_pipeline: wgpu::ComputePipeline,
     pass_layout: wgpu::BindGroupLayout,
@@ -184,7 +181,6 @@ impl DsmGpu {
         let device = &gpu.device;
         let abuffer = ABuffer::new(gpu, ctx.frame_layout, ctx.light)
             .named("dsm: A-buffer", "compressed deep shadow map A-buffer");
-        let sort = ListSort::new(gpu, &abuffer, "dsm: sort lists");
         let cs = wgpu::ShaderStages::COMPUTE;
         // Binding numbers are those of shaders/dsm.wgsl (group 0) and shaders/methods/dsm.wgsl.
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -235,7 +231,6 @@ impl DsmGpu {
         );
         DsmGpu {
             abuffer,
-            sort,
             count_pipeline,
             compress_pipeline,
             pass_layout,
@@ -331,13 +326,9 @@ impl MethodGpu for DsmGpu {
         let resolution = ctx.map_resolution();
         self.abuffer
             .prepare(gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
-        self.sort.prepare(
-            gpu,
-            &self.abuffer,
-            InsertionOrder::Depth,
-            "the compressed deep shadow map",
-        )?;
-        let split = self.abuffer.walk_split(gpu, TAKE_ITERATIONS);
+        let split = self
+            .abuffer
+            .walk_split(gpu, "The compressed deep shadow map", TAKE_ITERATIONS)?;
         self.dispatches = split.dispatches;
         let fragments = self.abuffer.fragment_count;
         let what = |vertices: Option<u64>| {
@@ -395,8 +386,6 @@ impl MethodGpu for DsmGpu {
             &mut encoder,
             timer,
         );
-        self.sort
-            .record_as("dsm: sort lists (sizing)", &self.abuffer, &mut encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
         let timestamps = timer
             .as_mut()
@@ -430,7 +419,6 @@ impl MethodGpu for DsmGpu {
     ) {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
-        self.sort.record(&self.abuffer, encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
         let timestamps = timer
             .as_mut()
@@ -448,7 +436,7 @@ impl MethodGpu for DsmGpu {
     }
     /// The A-buffer the compressor reads and the walk state.
     fn build_bytes(&self) -> u64 {
-        self.abuffer.memory_bytes() + self.sort.memory_bytes() + self.walks.size()
+        self.abuffer.memory_bytes() + self.walks.size()
     }
     /// The A-buffer's counting pass, its filling pass for the vertex count, and again for the compressor.
     fn geometry_passes(&self) -> u32 {

@@ -33,8 +33,6 @@
 //! by (segment, depth, alpha): the primitive order a rasteriser-ordered implementation would see, reproducible
 //! because every fragment carries its segment ([`Fragment::segment`]). Fragments equal in all three keys are
 //! identical, so their order is immaterial; depth comparisons treat `-0.0` and `0.0` as equal, as the GPU's `<`.
-//! The GPU sorts each texel's list in this order (`shaders/list_sort.wgsl`, a merge sort of the linked list)
-//! and inserts it front to back.
 //!
 //! Transmittances and areas below `1e-30` are taken as 0 ([`flush`]), the same on every device (some flush
 //! subnormals, some keep them).

@@ -27,11 +27,10 @@
 //! f32 cumulative sums: two vertices per distinct depth, flat segments).
 //!
 //! Every quantity is f32 and computed by the same expressions, in the same order, in `shaders/dsm.wgsl` (the
-//! compressor) and `shaders/methods/dsm.wgsl` (the lookup); optical depths at one depth are summed in
-//! (depth, segment, alpha) order ([`super::avsm::insertion_cmp`]'s depth order, the GPU's `<` on depths: the
-//! order `shaders/list_sort.wgsl` sorts the GPU's lists in before it walks them), then added to the running sum.
+//! compressor) and `shaders/methods/dsm.wgsl` (the lookup); optical depths at one depth are summed in the
+//! order the fragments come (a stable sort by depth here, of lists the reference sorts by (depth, segment); the
+//! GPU walks its lists in (depth, segment) order), then added to the running sum.
 
-use super::avsm::{InsertionOrder, insertion_cmp};
 use super::{Fragment, Model, Stored, TexelModel, optical_depth, transmittance, valid};
 
 /// Compressed deep shadow map parameters.
@@ -57,12 +56,10 @@ pub struct DsmTexel {
 /// The exact step function of a texel: `(d_i, V_i)` per distinct finite depth, ascending, with `V_i` the
 /// visibility just behind `d_i` (f32 sums: the optical depths at `d_i` summed, then added to the running sum).
 pub fn steps(fragments: &[Fragment]) -> Vec<(f32, f32)> {
-    let mut ordered: Vec<&Fragment> = valid(fragments).collect();
-    ordered.sort_by(|a, b| insertion_cmp(InsertionOrder::Depth, a, b));
-    let sorted: Vec<(f32, f32)> = ordered
-        .iter()
+    let mut sorted: Vec<(f32, f32)> = valid(fragments)
         .map(|f| (f.depth, optical_depth(f.alpha)))
         .collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut out: Vec<(f32, f32)> = Vec::new();
     let mut omega = 0.0f32;
     let mut i = 0;

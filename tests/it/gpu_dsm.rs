@@ -124,10 +124,9 @@ fn memory_is_the_vertex_count() {
     }
 }
 
-/// The compressor walks each sorted list as AVSM's does, over several dispatches on a CPU adapter when a list is
-/// long (one texel holding the fragments of 1000 strands, about 700, then of 4000, about 2950: the sort in 1 and 2
-/// dispatches on lavapipe, the walk, 6666 fragments per dispatch, in 1), and still equals the CPU model (measured
-/// on lavapipe: max |ΔV| 5.96e-8 in both). The A-buffer it compresses is its build memory.
+/// The compressor walks each list as AVSM's does, over several dispatches on a CPU adapter when a list is long (one
+/// texel holding the fragments of 1000 strands, about 700: 9 dispatches per pass on lavapipe), and still equals the
+/// CPU model. The A-buffer it compresses is its build memory.
 #[test]
 fn long_lists_compress_over_several_dispatches() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -144,19 +143,6 @@ fn long_lists_compress_over_several_dispatches() {
         d.len()
     );
     assert!(d.len() > 600, "only {} samples", d.len());
-    assert!(worst <= info.gpu_tolerance, "max |ΔV| {worst}");
-    let d = crate::common::gpu_cpu_differences(
-        &gpu,
-        "dsm",
-        &[("epsilon", 0.01)],
-        crate::common::Setup::new(4000, 1),
-    );
-    let worst = d.iter().copied().fold(0.0f32, f32::max);
-    eprintln!(
-        "dsm ε 0.01, one texel of 4000 strands: {} samples, max |ΔV| {worst:.3e}",
-        d.len()
-    );
-    assert!(d.len() > 2400, "only {} samples", d.len());
     assert!(worst <= info.gpu_tolerance, "max |ΔV| {worst}");
     let (r, result) = crate::common::render_method_light(&gpu, "dsm", &[], 60, 64);
     result.unwrap();

@@ -715,23 +715,4 @@ fn walk_states_match_wgsl_size() {
         wgsl_struct("dsm.wgsl", None, "DsmWalk").0 as u64,
         hairlab::methods::dsm::WALK_BYTES
     );
-    assert_eq!(
-        wgsl_struct("list_sort.wgsl", None, "ListSortState").0 as u64,
-        hairlab::render::passes::list_sort::STATE_BYTES
-    );
-}
-
-/// The list sort's uniforms against their Rust mirror.
-#[test]
-fn list_sort_uniforms_match_wgsl_layout() {
-    let m = hairlab::uniform_mirror!(
-        "ListSortUniforms",
-        hairlab::render::passes::list_sort::ListSortUniforms {
-            resolution,
-            order,
-            steps,
-            pad
-        }
-    );
-    check_mirror(m.size, &m.fields, &[("list_sort.wgsl", None, m.wgsl_name)]);
 }

@@ -8,9 +8,7 @@
 //! reads them, `abuffer.wgsl` writes them). Pages rather than bands of texel rows because every reader walks
 //! any texel's list at any time (the reference's lookup in the eye passes and in `evaluate`, the compressors in
 //! one dispatch), so all lists stay resident and the single fill pass, the heads and the walks are unchanged;
-//! one page (the whole buffer in one binding) whenever the frame's fragments fit it. The methods that build maps
-//! from their own A-buffer's lists sort them in place first ([`super::list_sort`], binding the lists as the fill
-//! does) and walk them once.
+//! one page (the whole buffer in one binding) whenever the frame's fragments fit it.
 
 use crate::gpu::readback::copy_out;
 use crate::gpu::timing::GpuTimer;
@@ -56,21 +54,14 @@ pub fn sort_fragments(list: &mut [RefFragment]) {
     list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
 }
 
-/// Loop iterations one invocation of a compute pass over the lists (the sort, `list_sort.wgsl`, and the
-/// compressors' walks) may take on a CPU adapter in one dispatch: llvmpipe (lavapipe) stops a shader's loops
-/// after 65,535 iterations in all (measured with AVSM's former select-next walk at 8 nodes in one dispatch: a
-/// 220-fragment list, 61,820 iterations, equalled the CPU model; 244, 74,420, did not). The margin covers the
-/// loops outside the walk.
+/// Loop iterations one invocation of a compute pass that walks the lists (AVSM's and the compressed deep shadow
+/// map's select-next, O(n²) for an n-fragment list) may take on a CPU adapter in one dispatch: llvmpipe
+/// (lavapipe) stops a shader's loops after 65,535 iterations in all (measured with AVSM at 8 nodes walked in
+/// one dispatch: a 220-fragment list, 220 × (220 + 61) = 61,820 iterations, equals the CPU model; 244, 74,420,
+/// does not). The margin covers the loops outside the walk.
 pub const CPU_ADAPTER_LOOP_BUDGET: u64 = 60_000;
 
-/// The loop iterations one invocation may take per dispatch on `gpu`: [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU
-/// adapter, unbounded (`None`) elsewhere.
-pub fn loop_budget(gpu: &Gpu) -> Option<u64> {
-    (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_ADAPTER_LOOP_BUDGET)
-}
-
-/// How a list walk is split over dispatches: `steps` per texel in each of `dispatches` (fragments for the
-/// compressors' walks, loop iterations for the sort).
+/// How a list walk is split over dispatches: `steps` fragments per texel in each of `dispatches`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WalkSplit {
     pub steps: u32,
@@ -78,16 +69,20 @@ pub struct WalkSplit {
 }
 
 impl WalkSplit {
-    /// The split of a walk along sorted lists of at most `longest` fragments when taking one fragment costs
-    /// `per_fragment` loop iterations (the step along the list included): one dispatch of every fragment,
-    /// unless `budget` (loop iterations per invocation and dispatch, `None`: unbounded) asks for more.
-    pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> WalkSplit {
+    /// The split for lists of at most `longest` fragments when taking one fragment costs one iteration per
+    /// node of the list plus `per_fragment` (and a dispatch may first walk the list once): one dispatch of every
+    /// fragment, unless `budget` (loop iterations per invocation and dispatch, `None`: unbounded) asks for more;
+    /// `None` when not even one fragment fits the budget.
+    pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> Option<WalkSplit> {
         let all = longest.max(1);
-        let steps = budget.map_or(all, |b| (b / per_fragment.max(1)).clamp(1, all));
-        WalkSplit {
+        let steps = match budget {
+            None => all,
+            Some(b) => (b.saturating_sub(longest) / (longest + per_fragment)).min(all),
+        };
+        (steps > 0).then(|| WalkSplit {
             steps: steps as u32,
             dispatches: all.div_ceil(steps) as u32,
-        }
+        })
     }
 }
 
@@ -121,9 +116,8 @@ impl ABuffer {
         let frag = wgpu::ShaderStages::FRAGMENT;
         // Binding numbers are those of abuffer.wgsl (counters, heads, pages) and common/list_pages.wgsl (heads,
         // pages).
-        // The sort (`list_sort.wgsl`) binds them as the fill does, from a compute pass.
         let pass_entries: Vec<wgpu::BindGroupLayoutEntry> = (0..2 + NODE_PAGES as u32)
-            .map(|b| storage_entry(b, frag | wgpu::ShaderStages::COMPUTE, false))
+            .map(|b| storage_entry(b, frag, false))
             .collect();
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.abuffer.pass_layout"),
@@ -394,25 +388,20 @@ impl ABuffer {
         self.heads.size() + pages + self.counters.size() + self.target.bytes()
     }
 
-    /// How a walk over this frame's sorted lists (after [`ABuffer::prepare`]) is split over dispatches
-    /// ([`WalkSplit::new`] under [`loop_budget`]).
-    pub fn walk_split(&self, gpu: &Gpu, per_fragment: u64) -> WalkSplit {
-        WalkSplit::new(self.longest_list, per_fragment, loop_budget(gpu))
-    }
-
-    /// Texels per side of the lists (the last [`ABuffer::prepare`]'s resolution).
-    pub fn resolution(&self) -> u32 {
-        self.resolution
-    }
-
-    /// The layout of the lists as the passes that write them bind them (`common/list_write.wgsl`).
-    pub fn pass_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.pass_layout
-    }
-
-    /// The lists bound for writing (`common/list_write.wgsl`).
-    pub fn pass_bind_group(&self) -> &wgpu::BindGroup {
-        &self.pass_bind_group
+    /// How `what`'s walk over this frame's lists (after [`ABuffer::prepare`]) is split over dispatches
+    /// ([`WalkSplit::new`]; [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU adapter); an error naming the settings to change
+    /// when one fragment per dispatch is still beyond it.
+    pub fn walk_split(&self, gpu: &Gpu, what: &str, per_fragment: u64) -> Result<WalkSplit, GpuError> {
+        let longest = self.longest_list;
+        let budget = (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_ADAPTER_LOOP_BUDGET);
+        WalkSplit::new(longest, per_fragment, budget).ok_or_else(|| {
+            GpuError::Setting(format!(
+                "{what} on a CPU adapter walks at most {} fragments per texel (llvmpipe stops shader loops after \
+                 65,535 iterations) and a texel holds {longest}: raise render.map_resolution or lower \
+                 scene.generator.strands",
+                (CPU_ADAPTER_LOOP_BUDGET - per_fragment) / 2
+            ))
+        })
     }
 
     /// Reads the lists back: per texel (row-major), its fragments sorted by (depth, segment). Fails if the
@@ -461,35 +450,36 @@ mod tests {
     fn walks_split_to_fit_the_budget() {
         // No budget: every fragment in one dispatch.
         assert_eq!(
-            WalkSplit::new(5000, 110, None),
-            WalkSplit {
+            WalkSplit::new(5000, 100, None),
+            Some(WalkSplit {
                 steps: 5000,
                 dispatches: 1
-            }
+            })
         );
-        // 500 fragments at 110 iterations each: 55,000, one dispatch.
+        // 179 fragments at 109 more per fragment: 179 + 179 × 288 = 51,731 iterations, one dispatch.
         assert_eq!(
-            WalkSplit::new(500, 110, Some(60_000)),
-            WalkSplit {
-                steps: 500,
+            WalkSplit::new(179, 109, Some(60_000)),
+            Some(WalkSplit {
+                steps: 179,
                 dispatches: 1
-            }
+            })
         );
-        // 30,000 fragments: 60,000 / 110 = 545 per dispatch, 56 dispatches.
+        // 1300 fragments: (60,000 − 1300) / 1409 = 41 per dispatch, 32 dispatches.
         assert_eq!(
-            WalkSplit::new(30_000, 110, Some(60_000)),
-            WalkSplit {
-                steps: 545,
-                dispatches: 56
-            }
+            WalkSplit::new(1300, 109, Some(60_000)),
+            Some(WalkSplit {
+                steps: 41,
+                dispatches: 32
+            })
         );
-        // Empty lists still take one dispatch (it writes the empty texels' maps).
+        // Empty lists still take one dispatch (it writes the empty texels' nodes).
         assert_eq!(
-            WalkSplit::new(0, 110, Some(60_000)),
-            WalkSplit {
+            WalkSplit::new(0, 109, Some(60_000)),
+            Some(WalkSplit {
                 steps: 1,
                 dispatches: 1
-            }
+            })
         );
+        assert_eq!(WalkSplit::new(60_000, 109, Some(60_000)), None);
     }
 }

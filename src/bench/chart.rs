@@ -12,6 +12,7 @@
 
 use super::{BenchResult, ScalingResult, metric_axis};
 use crate::measure::SceneStats;
+use crate::render::caster::Raster;
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
@@ -33,13 +34,38 @@ pub fn method_color(name: &str) -> Color {
     crate::methods::registry::find(name).map_or([127, 127, 127], |m| m.info().color)
 }
 
-/// The colour of the scaling chart's configuration `i`: its method's, darker for each earlier configuration of
-/// the same method (OSM-16, then OSM-64 darker).
+/// The colour of the scaling chart's fit `i`: its method's, darker for each earlier configuration of the same
+/// method (OSM-16, then OSM-64 darker); a configuration's fits under both rasterisers share it.
 fn scaling_color(fits: &[super::ScalingFit], i: usize) -> Color {
     let method = |label: &str| label.split(':').next().unwrap_or(label).to_string();
     let name = method(&fits[i].label);
-    let earlier = fits[..i].iter().filter(|f| method(&f.label) == name).count();
-    method_color(&name).map(|c| (f32::from(c) * 0.6f32.powi(earlier as i32)) as u8)
+    let mut earlier: Vec<&str> = fits[..i]
+        .iter()
+        .filter(|f| method(&f.label) == name && f.label != fits[i].label)
+        .map(|f| f.label.as_str())
+        .collect();
+    earlier.dedup();
+    method_color(&name).map(|c| (f32::from(c) * 0.6f32.powi(earlier.len() as i32)) as u8)
+}
+
+/// Dashes along the straight line from `a` to `b`: `n` pieces, every other one drawn, as line series out of the
+/// legend.
+fn dashes(a: &Point, b: &Point, n: usize, color: Color) -> Vec<Series> {
+    let at = |t: f64| Point {
+        x: a.x + (b.x - a.x) * t,
+        y: a.y + (b.y - a.y) * t,
+        label: String::new(),
+        row: None,
+    };
+    (0..n)
+        .step_by(2)
+        .map(|k| Series {
+            name: String::new(),
+            color,
+            mark: Mark::Line,
+            points: vec![at(k as f64 / n as f64), at((k + 1) as f64 / n as f64)],
+        })
+        .collect()
 }
 
 /// How an axis maps its values.
@@ -365,15 +391,20 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
     }
 }
 
-/// GPU ms against segment count, measured points and fitted lines.
+/// Dashes per fit line of the compute rasteriser.
+const DASHES: usize = 25;
+
+/// GPU ms against segment count, measured points and fitted lines: solid under the hardware rasteriser, dashed
+/// under the compute one.
 pub fn scaling_chart(r: &ScalingResult) -> Chart {
     let mut series = Vec::new();
+    let both = r.rasters.len() > 1;
     for (i, f) in r.fits.iter().enumerate() {
         let color = scaling_color(&r.fits, i);
         let pts: Vec<Point> = r
             .points
             .iter()
-            .filter(|p| p.label == f.label)
+            .filter(|p| p.label == f.label && p.raster == f.raster)
             .map(|p| Point {
                 x: p.segments as f64,
                 y: p.ms.median,
@@ -388,9 +419,14 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
             label: String::new(),
             row: None,
         });
+        let raster = match (both, f.raster) {
+            (false, _) => String::new(),
+            (true, Raster::Hardware) => ", hardware".to_string(),
+            (true, Raster::Compute) => ", compute, dashed".to_string(),
+        };
         series.push(Series {
             name: format!(
-                "{} ({:.1} ns/segment, R² {:.3})",
+                "{} ({:.1} ns/segment, R² {:.3}{raster})",
                 f.label,
                 f.ms_per_segment * 1e6,
                 f.r_squared
@@ -399,12 +435,15 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
             mark: Mark::Points,
             points: pts,
         });
-        series.push(Series {
-            name: String::new(),
-            color,
-            mark: Mark::Line,
-            points: ends.to_vec(),
-        });
+        match f.raster {
+            Raster::Hardware => series.push(Series {
+                name: String::new(),
+                color,
+                mark: Mark::Line,
+                points: ends.to_vec(),
+            }),
+            Raster::Compute => series.extend(dashes(&ends[0], &ends[1], DASHES, color)),
+        }
     }
     let segments = r.points.iter().map(|p| p.segments).max().unwrap_or(0);
     let mut notes = vec![
@@ -415,11 +454,16 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
         ),
         r.device.clone(),
     ];
-    let mut refused: Vec<(&str, usize)> = Vec::new();
+    let mut refused: Vec<(String, usize)> = Vec::new();
     for x in &r.refused {
-        match refused.iter_mut().find(|(l, _)| *l == x.label) {
+        let label = if both {
+            format!("{} ({} raster)", x.label, x.raster.word())
+        } else {
+            x.label.clone()
+        };
+        match refused.iter_mut().find(|(l, _)| *l == label) {
             Some((_, s)) => *s = (*s).min(x.segments),
-            None => refused.push((&x.label, x.segments)),
+            None => refused.push((label, x.segments)),
         }
     }
     notes.extend(

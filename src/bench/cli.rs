@@ -3,12 +3,12 @@
 use super::{
     BenchResult, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP, Progress,
     ScalingPlan, ScalingResult, TerminalProgress, parse_methods, parse_metric, prepare_out_dir, run_each,
-    run_scaling, scaling_configs, write_results, write_scaling, write_tables,
+    run_scaling, scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
 };
+use crate::render::caster::Raster;
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 
 /// `hairlab bench`: a mode as a subcommand, each with only its own options; today's flags (`bench --scaling`,
 /// `--transparency`, `--fur`, or none for the shadow methods' sweep) still work, hidden, and print the new
@@ -41,7 +41,8 @@ pub enum BenchMode {
     /// Each method's scaling configurations timed (light passes only) at --points strand densities evenly
     /// spaced in segments up to --max-segments (the median of --frames ≥ 3 timed frames after --warmup
     /// discarded ones per point); GPU ms = fixed cost + cost per segment × segments fitted with R² and the
-    /// log-log exponent: scaling.csv, scaling_points.csv, scaling.png, scaling.svg.
+    /// log-log exponent, per rasteriser with --raster hardware,compute: scaling.csv, scaling_points.csv,
+    /// scaling.png, scaling.svg (rewritten whole after each density: Ctrl-C keeps the finished ones).
     Scaling(ScalingBenchArgs),
     /// Each configuration over a preset's motion (`measure motion`'s rows) charted as GPU time against a
     /// temporal metric (--metric: flicker, flicker-p99, pop-rate, image-flicker) with the Pareto front:
@@ -103,6 +104,10 @@ pub struct ScalingBenchArgs {
     /// Frames rendered and discarded before timing each configuration at each density.
     #[arg(long, default_value_t = DEFAULT_SCALING_WARMUP)]
     pub warmup: u32,
+    /// Rasterisers each density is measured under, comma-separated: hardware, compute, or both (default: the
+    /// preset's render.raster).
+    #[arg(long, value_delimiter = ',', value_name = "RASTER,...")]
+    pub raster: Vec<String>,
 }
 
 /// Today's spellings of `bench`, hidden from the help; every mode runs through them. A flag that the chosen
@@ -133,6 +138,8 @@ pub struct LegacyBenchArgs {
     pub points: Option<usize>,
     #[arg(long, hide = true, requires = "scaling")]
     pub warmup: Option<u32>,
+    #[arg(long, value_delimiter = ',', hide = true, requires = "scaling")]
+    pub raster: Vec<String>,
     #[arg(long, hide = true, required = true)]
     pub out: Option<PathBuf>,
 }
@@ -151,6 +158,7 @@ impl LegacyBenchArgs {
             max_segments: None,
             points: None,
             warmup: None,
+            raster: Vec::new(),
             out: Some(scene.out.clone()),
         }
     }
@@ -193,6 +201,7 @@ impl BenchMode {
                 max_segments: Some(a.max_segments),
                 points: Some(a.points),
                 warmup: Some(a.warmup),
+                raster: a.raster.clone(),
                 ..LegacyBenchArgs::of(&a.scene)
             },
         })
@@ -227,7 +236,6 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     }
     let settings = Settings::load_preset(&a.preset, &a.set)?;
     prepare_out_dir(&out)?;
-    let never = AtomicBool::new(false);
     let mut bar = TerminalProgress::new();
     let mut progress = |p: Progress| bar.update(&p);
     if a.fur {
@@ -289,19 +297,37 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         return Ok(());
     }
     if a.scaling {
+        // Ctrl-C stops after the density in progress; scaling.csv and scaling_points.csv are rewritten whole
+        // after each one.
         let configs = scaling_configs(&methods);
         let plan = ScalingPlan {
             max_segments,
             points: a.points.unwrap_or(DEFAULT_SCALING_POINTS),
             frames: a.frames,
             warmup: a.warmup.unwrap_or(DEFAULT_SCALING_WARMUP),
+            rasters: parse_rasters(&a.raster, settings.render.raster)?,
         };
-        let r = run_scaling(&settings, &a.preset, &configs, plan, &never, &mut progress)?
-            .context("the scaling run was cancelled")?;
+        let interrupted = crate::cli::interrupt::flag();
+        let mut written = |partial: &ScalingResult| write_scaling_tables(&out, partial).map(|_| ());
+        let r = run_scaling(
+            &settings,
+            &a.preset,
+            &configs,
+            &plan,
+            interrupted,
+            &mut progress,
+            &mut written,
+        )?;
         drop(bar);
         print_scaling(&r);
         for f in write_scaling(&out, &r)? {
             println!("wrote {}", f.display());
+        }
+        if r.cancelled {
+            return Err(crate::cli::interrupt::Interrupted {
+                done: r.densities.len() * plan.rasters.len() * configs.len(),
+            }
+            .into());
         }
         return Ok(());
     }
@@ -416,6 +442,34 @@ fn print_transparency(b: &super::transparency::TransparencyBench) {
     }
 }
 
+/// The `--raster` list: each of [`Raster::ALL`] by its word, or `both`; empty means `preset` (the preset's
+/// `render.raster`) alone.
+fn parse_rasters(words: &[String], preset: Raster) -> Result<Vec<Raster>> {
+    if words.is_empty() {
+        return Ok(vec![preset]);
+    }
+    let mut out = Vec::new();
+    for w in words.iter().map(|w| w.trim()) {
+        let named: Vec<Raster> = match Raster::ALL.iter().find(|r| r.word() == w) {
+            Some(&r) => vec![r],
+            None if w == "both" => Raster::ALL.to_vec(),
+            None => {
+                let known: Vec<&str> = Raster::ALL.iter().map(|r| r.word()).collect();
+                bail!(
+                    "--raster: '{w}' is not a rasteriser; {} or both",
+                    known.join(", ")
+                );
+            }
+        };
+        for r in named {
+            if !out.contains(&r) {
+                out.push(r);
+            }
+        }
+    }
+    Ok(out)
+}
+
 fn print_scaling(r: &ScalingResult) {
     println!(
         "scaling on {} (map {}², {} points, median of {} frames after {} warm-up): GPU ms = fixed cost + cost per \
@@ -427,13 +481,14 @@ fn print_scaling(r: &ScalingResult) {
         r.warmup
     );
     println!(
-        "{:<20} {:>14} {:>13} {:>9} {:>9}  verdict",
-        "configuration", "ns per segment", "intercept ms", "R²", "exponent"
+        "{:<20} {:<8} {:>14} {:>13} {:>9} {:>9}  verdict",
+        "configuration", "raster", "ns per segment", "intercept ms", "R²", "exponent"
     );
     for f in &r.fits {
         println!(
-            "{:<20} {:>14.4} {:>13.4} {:>9.4} {:>9.3}  {}",
+            "{:<20} {:<8} {:>14.4} {:>13.4} {:>9.4} {:>9.3}  {}",
             f.label,
+            f.raster.word(),
             f.ms_per_segment * 1e6,
             f.intercept_ms,
             f.r_squared,
@@ -441,7 +496,49 @@ fn print_scaling(r: &ScalingResult) {
             f.verdict()
         );
     }
-    for r in &r.refused {
-        println!("{} refused at {} segments: {}", r.label, r.segments, r.reason);
+    let ratios = r.raster_ratios();
+    if !ratios.is_empty() {
+        println!("compute / hardware raster, light-pass GPU ms (medians):");
+        for (density, label, ratio) in ratios {
+            let segments = r
+                .points
+                .iter()
+                .find(|p| p.density == density && p.label == label)
+                .map_or(0, |p| p.segments);
+            println!("  {label:<20} x{density:<8.3} {segments:>10} segments  {ratio:>7.3}");
+        }
+    }
+    for x in &r.refused {
+        println!(
+            "{} ({} raster) refused at {} segments: {}",
+            x.label,
+            x.raster.word(),
+            x.segments,
+            x.reason
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rasters_parse_by_word_or_both() {
+        assert_eq!(parse_rasters(&[], Raster::Compute).unwrap(), [Raster::Compute]);
+        let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(
+            parse_rasters(&words(&["compute", "hardware", "compute"]), Raster::Hardware).unwrap(),
+            [Raster::Compute, Raster::Hardware]
+        );
+        assert_eq!(
+            parse_rasters(&words(&["both"]), Raster::Hardware).unwrap(),
+            Raster::ALL
+        );
+        let e = parse_rasters(&words(&["software"]), Raster::Hardware).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--raster: 'software' is not a rasteriser; hardware, compute or both"
+        );
     }
 }

@@ -199,6 +199,7 @@ pub fn to_json(result: &BenchResult) -> Result<String> {
 #[derive(Serialize)]
 struct FitRow<'a> {
     method: &'a str,
+    raster: &'static str,
     ms_per_segment: f64,
     ns_per_segment: f64,
     intercept_ms: f64,
@@ -208,12 +209,13 @@ struct FitRow<'a> {
     device: &'a str,
 }
 
-/// `scaling.csv`: the fit per configuration.
+/// `scaling.csv`: the fit per configuration and rasteriser.
 pub fn scaling_csv(r: &ScalingResult) -> Result<String> {
     csv_text(
         "scaling.csv",
         r.fits.iter().map(|f| FitRow {
             method: &f.label,
+            raster: f.raster.word(),
             ms_per_segment: f.ms_per_segment,
             ns_per_segment: f.ms_per_segment * 1e6,
             intercept_ms: f.intercept_ms,
@@ -229,6 +231,7 @@ pub fn scaling_csv(r: &ScalingResult) -> Result<String> {
 #[derive(Serialize)]
 struct PointRow<'a> {
     method: &'a str,
+    raster: &'static str,
     density: f32,
     strands: usize,
     segments: usize,
@@ -247,6 +250,7 @@ pub fn scaling_points_csv(r: &ScalingResult) -> Result<String> {
         "scaling_points.csv",
         r.points.iter().map(|p| PointRow {
             method: &p.label,
+            raster: p.raster.word(),
             density: p.density,
             strands: p.strands,
             segments: p.segments,
@@ -314,16 +318,26 @@ pub fn write_results(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
     write_files(dir, files)
 }
 
-/// Writes `scaling.csv`, `scaling_points.csv`, `scaling.png` and `scaling.svg` into `dir` (created), each
-/// atomically; returns their paths.
-pub fn write_scaling(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
-    let mut files = vec![
+fn scaling_tables(r: &ScalingResult) -> Result<Vec<(String, Vec<u8>)>> {
+    Ok(vec![
         ("scaling.csv".to_string(), scaling_csv(r)?.into_bytes()),
         (
             "scaling_points.csv".to_string(),
             scaling_points_csv(r)?.into_bytes(),
         ),
-    ];
+    ])
+}
+
+/// Writes `scaling.csv` and `scaling_points.csv` into `dir` (created), each atomically: what a scaling run
+/// writes after each density, so that an interrupted run leaves every finished one.
+pub fn write_scaling_tables(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
+    write_files(dir, scaling_tables(r)?)
+}
+
+/// Writes `scaling.csv`, `scaling_points.csv`, `scaling.png` and `scaling.svg` into `dir` (created), each
+/// atomically; returns their paths.
+pub fn write_scaling(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
+    let mut files = scaling_tables(r)?;
     files.extend(chart_files("scaling", &chart::scaling_chart(r))?);
     write_files(dir, files)
 }
@@ -331,8 +345,9 @@ pub fn write_scaling(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::{BenchRow, ScalingFit};
+    use crate::bench::{BenchRow, ScalingFit, ScalingPoint};
     use crate::measure::{MethodConfig, SceneStats};
+    use crate::render::caster::Raster;
 
     fn row(name: &str, params: &[(&str, f32)], ms: f64, error: f64) -> BenchRow {
         let spread = Spread {
@@ -420,33 +435,130 @@ mod tests {
         assert_eq!(rows[1]["pareto"], false);
     }
 
-    #[test]
-    fn scaling_csv_has_one_line_per_fit() {
-        let r = ScalingResult {
+    fn scaling_point(label: &str, raster: Raster, density: f32, segments: usize, ms: f64) -> ScalingPoint {
+        ScalingPoint {
+            label: label.to_string(),
+            raster,
+            density,
+            strands: segments / 10,
+            segments,
+            ms: Spread {
+                median: ms,
+                min: ms * 0.5,
+                max: ms * 2.0,
+            },
+            frames: 3,
+        }
+    }
+
+    /// A hand-made run of one configuration under both rasterisers at two densities.
+    fn scaling_result() -> ScalingResult {
+        let fit = |raster, ms_per_segment| ScalingFit {
+            label: "method-a:layers=4".to_string(),
+            raster,
+            ms_per_segment,
+            intercept_ms: 0.5,
+            r_squared: 1.0,
+            exponent: 0.5,
+        };
+        ScalingResult {
             preset: "tiny".to_string(),
             device: "dev".to_string(),
             map_resolution: 64,
             densities: vec![0.25, 0.5],
+            rasters: Raster::ALL.to_vec(),
             frames: 3,
             warmup: 2,
-            points: Vec::new(),
+            points: vec![
+                scaling_point("method-a:layers=4", Raster::Hardware, 0.25, 1000, 2.0),
+                scaling_point("method-a:layers=4", Raster::Compute, 0.25, 1000, 3.0),
+                scaling_point("method-a:layers=4", Raster::Hardware, 0.5, 2000, 4.0),
+                scaling_point("method-a:layers=4", Raster::Compute, 0.5, 2000, 5.0),
+            ],
             refused: Vec::new(),
-            fits: vec![ScalingFit {
-                label: "osm:slices=16".to_string(),
-                ms_per_segment: 2f64.powi(-20),
-                intercept_ms: 0.5,
-                r_squared: 1.0,
-                exponent: 0.5,
-            }],
-        };
-        let text = scaling_csv(&r).unwrap();
+            fits: vec![
+                fit(Raster::Hardware, 2f64.powi(-20)),
+                fit(Raster::Compute, 2f64.powi(-19)),
+            ],
+            cancelled: false,
+        }
+    }
+
+    #[test]
+    fn scaling_csv_has_one_line_per_fit_and_rasteriser() {
+        let text = scaling_csv(&scaling_result()).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(
             lines,
             [
-                "method,ms_per_segment,ns_per_segment,intercept_ms,r_squared,exponent,verdict,device",
-                "osm:slices=16,9.5367431640625e-7,0.95367431640625,0.5,1.0,0.5,linear,dev"
+                "method,raster,ms_per_segment,ns_per_segment,intercept_ms,r_squared,exponent,verdict,device",
+                "method-a:layers=4,hardware,9.5367431640625e-7,0.95367431640625,0.5,1.0,0.5,linear,dev",
+                "method-a:layers=4,compute,1.9073486328125e-6,1.9073486328125,0.5,1.0,0.5,linear,dev"
             ]
         );
+    }
+
+    #[test]
+    fn scaling_points_csv_has_a_raster_column() {
+        let text = scaling_points_csv(&scaling_result()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0],
+            "method,raster,density,strands,segments,frames,gpu_ms_median,gpu_ms_min,gpu_ms_max,spread,\
+             ns_per_segment"
+        );
+        // 3 ms over 1000 segments: 3000 ns each; (6 − 1.5) / 3 = 1.5.
+        assert_eq!(
+            lines[2],
+            "method-a:layers=4,compute,0.25,100,1000,3,3.0,1.5,6.0,1.5,3000.0"
+        );
+        assert_eq!(lines.len(), 5);
+    }
+
+    #[test]
+    fn raster_ratios_pair_the_rasterisers_per_density() {
+        let r = scaling_result();
+        assert_eq!(
+            r.raster_ratios(),
+            [
+                (0.25, "method-a:layers=4".to_string(), 1.5),
+                (0.5, "method-a:layers=4".to_string(), 1.25)
+            ]
+        );
+        // Under one rasteriser there is no pair.
+        let hardware_only = ScalingResult {
+            points: r
+                .points
+                .iter()
+                .filter(|p| p.raster == Raster::Hardware)
+                .cloned()
+                .collect(),
+            ..r
+        };
+        assert!(hardware_only.raster_ratios().is_empty());
+    }
+
+    #[test]
+    fn scaling_chart_dashes_the_compute_fits() {
+        use crate::bench::chart::Mark;
+        let chart = chart::scaling_chart(&scaling_result());
+        let names: Vec<&str> = chart
+            .series
+            .iter()
+            .filter(|s| s.mark == Mark::Points)
+            .map(|s| s.name.as_str())
+            .collect();
+        assert_eq!(names.len(), 2);
+        assert!(names[0].ends_with(", hardware)"), "{}", names[0]);
+        assert!(names[1].ends_with(", compute, dashed)"), "{}", names[1]);
+        // One solid line (hardware), and the compute fit in 13 dashes of a 25th of its length each.
+        let lines: Vec<&chart::Series> = chart.series.iter().filter(|s| s.mark == Mark::Line).collect();
+        assert_eq!(lines.len(), 1 + 13);
+        let length = |s: &chart::Series| s.points[1].x - s.points[0].x;
+        assert_eq!(length(lines[0]), 1000.0);
+        assert!(lines[1..].iter().all(|s| (length(s) - 40.0).abs() < 1e-9));
+        // Both formats render.
+        let files = chart_files("scaling", &chart).unwrap();
+        assert!(files.iter().all(|(_, bytes)| bytes.len() > 1000));
     }
 }

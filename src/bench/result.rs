@@ -3,6 +3,7 @@
 
 use super::{Spread, pareto_front};
 use crate::measure::{Measurement, MethodConfig, SceneStats};
+use crate::render::caster::Raster;
 use std::fmt::Write as _;
 
 /// One error metric of a measurement: its column name (CSV, JSON, `--metric`), its header in `measure`'s table,
@@ -269,6 +270,8 @@ impl BenchResult {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalingPoint {
     pub label: String,
+    /// The rasteriser the light passes ran under (`render.raster`).
+    pub raster: Raster,
     pub density: f32,
     pub strands: usize,
     pub segments: usize,
@@ -282,6 +285,7 @@ pub struct ScalingPoint {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalingRefusal {
     pub label: String,
+    pub raster: Raster,
     pub segments: usize,
     pub reason: String,
 }
@@ -297,6 +301,7 @@ pub const LINEAR_MAX_EXPONENT: f64 = 1.2;
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalingFit {
     pub label: String,
+    pub raster: Raster,
     pub ms_per_segment: f64,
     pub intercept_ms: f64,
     pub r_squared: f64,
@@ -327,8 +332,10 @@ pub struct ScalingResult {
     pub preset: String,
     pub device: String,
     pub map_resolution: u32,
-    /// The strand density factors measured, smallest first.
+    /// The strand density factors measured, smallest first (those finished when the run was cancelled).
     pub densities: Vec<f32>,
+    /// The rasterisers each density was measured under.
+    pub rasters: Vec<Raster>,
     /// Timed frames per point, and the warm-up frames discarded before them.
     pub frames: u32,
     pub warmup: u32,
@@ -336,6 +343,29 @@ pub struct ScalingResult {
     /// Configurations refused at some densities (left out of the points and the fits there).
     pub refused: Vec<ScalingRefusal>,
     pub fits: Vec<ScalingFit>,
+    /// Stopped (Ctrl-C) before the last density.
+    pub cancelled: bool,
+}
+
+impl ScalingResult {
+    /// Per density measured and configuration, the compute rasteriser's light-pass GPU ms over the hardware
+    /// one's (medians): `(density, label, ratio)`, for the pairs measured under both.
+    pub fn raster_ratios(&self) -> Vec<(f32, String, f64)> {
+        let at = |raster: Raster, p: &ScalingPoint| {
+            self.points
+                .iter()
+                .find(|q| q.raster == raster && q.label == p.label && q.density == p.density)
+                .map(|q| q.ms.median)
+        };
+        self.points
+            .iter()
+            .filter(|p| p.raster == Raster::Hardware)
+            .filter_map(|p| {
+                let compute = at(Raster::Compute, p)?;
+                Some((p.density, p.label.clone(), compute / p.ms.median))
+            })
+            .collect()
+    }
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use super::{
     growth_exponent, sweep_configs, tune_analysed,
 };
 use crate::measure::{self, MethodConfig};
+use crate::render::caster::Raster;
 use crate::settings::Settings;
 use anyhow::{Result, bail};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -179,14 +180,16 @@ pub fn run_each(
     )
 }
 
-/// How the scaling mode measures: `points` densities evenly spaced in segment count up to `max_segments`, each
-/// configuration timed over `frames` frames after `warmup` discarded ones.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// How the scaling mode measures: `points` densities evenly spaced in segment count up to `max_segments`, under
+/// each of `rasters`, each configuration timed over `frames` frames after `warmup` discarded ones.
+#[derive(Clone, Debug, PartialEq)]
 pub struct ScalingPlan {
     pub max_segments: usize,
     pub points: usize,
     pub frames: u32,
     pub warmup: u32,
+    /// The rasterisers each density is measured under (`render.raster`), at least one.
+    pub rasters: Vec<Raster>,
 }
 
 /// The strand density factors of `points` points evenly spaced in segment count, the last reaching
@@ -199,18 +202,19 @@ pub fn scaling_densities(base_segments: usize, max_segments: usize, points: usiz
         .collect()
 }
 
-/// Times `configs` (light passes only: no reference, no error) at the densities of [`scaling_densities`] and
-/// fits GPU ms (each point's median frame) against segment count: `t = a + b·n` with R², and the log-log
-/// exponent. A configuration the renderer refuses at a density is recorded with its reason and left out of the
-/// fit. `None` when cancelled.
+/// Times `configs` at each density of `plan` under each of its rasterisers and fits each (configuration,
+/// rasteriser)'s GPU ms against segments. After each density, `written` gets the result so far (its fits over
+/// the densities done); `cancel` (Ctrl-C) stops the run after the density in progress, and the result returned
+/// is then marked `cancelled` and holds the densities done.
 pub fn run_scaling(
     settings: &Settings,
     preset: &str,
     configs: &[MethodConfig],
-    plan: ScalingPlan,
+    plan: &ScalingPlan,
     cancel: &AtomicBool,
     progress: &mut dyn FnMut(Progress),
-) -> Result<Option<ScalingResult>> {
+    written: &mut dyn FnMut(&ScalingResult) -> Result<()>,
+) -> Result<ScalingResult> {
     if let Some(f) = &settings.scene.file {
         bail!(
             "--scaling varies the generator's strand density, and this preset loads {}",
@@ -232,83 +236,101 @@ pub fn run_scaling(
     if plan.points < 2 {
         bail!("--points {}: a line needs at least 2 points", plan.points);
     }
+    if plan.rasters.is_empty() {
+        bail!("--raster: no rasteriser to measure under");
+    }
     let base = settings.scene.build()?.strands.segment_count();
     if base == 0 {
         bail!("--scaling: the preset's generator makes no segments at density × 1");
     }
     let start = Instant::now();
-    let mut points = Vec::new();
-    let mut device = String::new();
-    let mut refused = Vec::new();
     let densities = scaling_densities(base, plan.max_segments, plan.points);
+    let mut r = ScalingResult {
+        preset: preset.to_string(),
+        device: String::new(),
+        map_resolution: settings.render.map_resolution,
+        densities: Vec::new(),
+        rasters: plan.rasters.clone(),
+        frames: plan.frames,
+        warmup: plan.warmup,
+        points: Vec::new(),
+        refused: Vec::new(),
+        fits: Vec::new(),
+        cancelled: false,
+    };
+    let total = densities.len() * plan.rasters.len() * configs.len();
     for (i, &factor) in densities.iter().enumerate() {
-        if cancel.load(Ordering::Relaxed) {
-            return Ok(None);
+        if cancel.load(Ordering::SeqCst) {
+            r.cancelled = true;
+            break;
         }
-        let mut s = settings.clone();
-        s.scene.generator.density *= factor;
-        let done = i * configs.len();
-        let mut n = 0;
-        let t = measure::time_configs(&s, configs, plan.frames, plan.warmup, |label| {
-            progress(Progress {
-                done: done + n,
-                total: densities.len() * configs.len(),
-                label: format!("density x{factor:.3}: {label}"),
-                elapsed: start.elapsed(),
-            });
-            n += 1;
-        })?;
-        for row in &t.rows {
-            match &row.pass_frames_ms {
-                Ok(passes) => {
-                    let totals = frame_totals(passes);
-                    points.push(ScalingPoint {
+        for (j, &raster) in plan.rasters.iter().enumerate() {
+            let mut s = settings.clone();
+            s.scene.generator.density *= factor;
+            s.render.raster = raster;
+            let done = (i * plan.rasters.len() + j) * configs.len();
+            let mut n = 0;
+            let t = measure::time_configs(&s, configs, plan.frames, plan.warmup, |label| {
+                progress(Progress {
+                    done: done + n,
+                    total,
+                    label: format!("density x{factor:.3}, {} raster: {label}", raster.word()),
+                    elapsed: start.elapsed(),
+                });
+                n += 1;
+            })?;
+            for row in &t.rows {
+                match &row.pass_frames_ms {
+                    Ok(passes) => {
+                        let totals = frame_totals(passes);
+                        r.points.push(ScalingPoint {
+                            label: row.config.label(),
+                            raster,
+                            density: s.scene.generator.density,
+                            strands: t.strands,
+                            segments: t.segments,
+                            ms: Spread::of(&totals),
+                            frames: totals.len(),
+                        })
+                    }
+                    Err(e) => r.refused.push(ScalingRefusal {
                         label: row.config.label(),
-                        density: s.scene.generator.density,
-                        strands: t.strands,
+                        raster,
                         segments: t.segments,
-                        ms: Spread::of(&totals),
-                        frames: totals.len(),
-                    })
+                        reason: e.clone(),
+                    }),
                 }
-                Err(e) => refused.push(ScalingRefusal {
-                    label: row.config.label(),
-                    segments: t.segments,
-                    reason: e.clone(),
-                }),
             }
+            r.device = t.device;
         }
-        device = t.device;
+        r.densities.push(factor);
+        r.fits = scaling_fits(configs, &plan.rasters, &r.points);
+        written(&r)?;
     }
-    let fits = configs
+    Ok(r)
+}
+
+/// The fit of each (configuration, rasteriser) with at least two points, configurations first.
+fn scaling_fits(configs: &[MethodConfig], rasters: &[Raster], points: &[ScalingPoint]) -> Vec<ScalingFit> {
+    configs
         .iter()
-        .filter_map(|c| {
-            let label = c.label();
+        .flat_map(|c| rasters.iter().map(move |&raster| (c.label(), raster)))
+        .filter_map(|(label, raster)| {
             let xy: Vec<(f64, f64)> = points
                 .iter()
-                .filter(|p| p.label == label)
+                .filter(|p| p.label == label && p.raster == raster)
                 .map(|p| (p.segments as f64, p.ms.median))
                 .collect();
             fit_line(&xy).map(|(slope, intercept, r2)| ScalingFit {
                 label,
+                raster,
                 ms_per_segment: slope,
                 intercept_ms: intercept,
                 r_squared: r2,
                 exponent: growth_exponent(&xy).unwrap_or(f64::NAN),
             })
         })
-        .collect();
-    Ok(Some(ScalingResult {
-        preset: preset.to_string(),
-        device,
-        map_resolution: settings.render.map_resolution,
-        densities,
-        frames: plan.frames,
-        warmup: plan.warmup,
-        points,
-        refused,
-        fits,
-    }))
+        .collect()
 }
 
 /// `text` cut to `max` characters, ending in `...` when cut.

@@ -473,6 +473,105 @@ fn bench_scaling_walks_long_lists_at_every_density() {
     assert_eq!(segments("avsm"), occupancy);
 }
 
+/// `bench scaling --raster both`: every density measured under each rasteriser, a fit per configuration and
+/// rasteriser in scaling.csv (its `raster` column), every point in scaling_points.csv, and the compute/hardware
+/// light-pass ratio per density printed.
+#[test]
+fn bench_scaling_measures_each_density_under_both_rasterisers() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+    let mut args = vec!["bench", "scaling", "--preset", "default"];
+    args.extend_from_slice(TINY);
+    args.extend([
+        "--methods",
+        "occupancy",
+        "--raster",
+        "both",
+        "--frames",
+        "3",
+        "--warmup",
+        "1",
+        "--points",
+        "2",
+        "--max-segments",
+        "10000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (header, fits) = read_csv(&out.join("scaling.csv"));
+    let rasters: Vec<&str> = fits
+        .iter()
+        .map(|r| r[column(&header, "raster")].as_str())
+        .collect();
+    assert_eq!(rasters, ["hardware", "compute"]);
+    for r in &fits {
+        let slope: f64 = r[column(&header, "ms_per_segment")].parse().unwrap();
+        let intercept: f64 = r[column(&header, "intercept_ms")].parse().unwrap();
+        assert!(slope.is_finite() && intercept.is_finite(), "{r:?}");
+    }
+    let (header, points) = read_csv(&out.join("scaling_points.csv"));
+    assert_eq!(points.len(), 4);
+    for raster in ["hardware", "compute"] {
+        let of: Vec<&Vec<String>> = points
+            .iter()
+            .filter(|r| r[column(&header, "raster")] == raster)
+            .collect();
+        assert_eq!(of.len(), 2, "{raster}: {points:?}");
+        for r in of {
+            let ms: f64 = r[column(&header, "gpu_ms_median")].parse().unwrap();
+            assert!(ms.is_finite() && ms > 0.0, "{r:?}");
+        }
+    }
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let ratios: Vec<f64> = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("compute / hardware raster"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .map(|l| l.split_whitespace().last().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(ratios.len(), 2, "{stdout}");
+    assert!(ratios.iter().all(|r| r.is_finite() && *r > 0.0), "{stdout}");
+    let svg = std::fs::read_to_string(out.join("scaling.svg")).unwrap();
+    assert!(svg.contains("compute, dashed)"), "scaling.svg");
+}
+
+/// Ctrl-C stops `bench scaling` after the density in progress: scaling_points.csv holds every point of the
+/// finished densities, whole, and the run exits 130 saying how many configurations it timed.
+#[test]
+fn sigint_leaves_complete_scaling_rows_of_the_finished_densities() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let args = [
+        "bench",
+        "scaling",
+        "--methods",
+        "occupancy",
+        "--points",
+        "6",
+        "--max-segments",
+        "30000",
+        "--warmup",
+        "1",
+    ];
+    let (_dir, _out, header, rows) = sigint_after_the_first_file(&args, "scaling_points.csv", 6);
+    let mut last = 0;
+    for r in &rows {
+        assert_eq!(r[column(&header, "raster")], "hardware");
+        let segments: usize = r[column(&header, "segments")].parse().unwrap();
+        assert!(segments > last, "densities in order: {rows:?}");
+        last = segments;
+        let ms: f64 = r[column(&header, "gpu_ms_median")].parse().unwrap();
+        assert!(ms.is_finite() && ms > 0.0, "{r:?}");
+    }
+}
+
 #[test]
 fn bench_rejects_bad_input_with_one_error_line() {
     let dir = tempfile::tempdir().unwrap();

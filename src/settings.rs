@@ -456,9 +456,14 @@ impl Settings {
 
     /// Makes a relative scene file path relative to the preset's folder.
     fn resolve_paths(&mut self, base: &Path) {
-        for f in [&mut self.scene.file, &mut self.scene.scalp, &mut self.motion.path]
-            .into_iter()
-            .flatten()
+        for f in [
+            &mut self.scene.file,
+            &mut self.scene.scalp,
+            &mut self.motion.path,
+            &mut self.fur.env_map,
+        ]
+        .into_iter()
+        .flatten()
         {
             if f.is_relative() {
                 *f = base.join(&*f);

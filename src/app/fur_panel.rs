@@ -6,7 +6,7 @@
 use super::HairlabApp;
 use crate::fur::settings::{Blending, FurMode, FurScene, FurSettings, FurView};
 
-/// Whether `a` and `b` build the same shell and volume.
+/// Whether `a` and `b` build the same shell, volume and environment map.
 fn same_shell(a: &FurSettings, b: &FurSettings) -> bool {
     (a.mode == FurMode::Off) == (b.mode == FurMode::Off)
         && a.height == b.height
@@ -15,6 +15,7 @@ fn same_shell(a: &FurSettings, b: &FurSettings) -> bool {
         && a.noise_frequency == b.noise_frequency
         && a.noise_threshold == b.noise_threshold
         && a.noise_softness == b.noise_softness
+        && a.env_map == b.env_map
 }
 
 impl HairlabApp {

@@ -56,11 +56,10 @@ impl Sky {
                 radiance: self.radiance,
             }];
         }
-        let rows = ((n as f32 / 2.0).sqrt().floor() as usize).max(1);
+        let rows = row_counts(n);
         let mut out = Vec::with_capacity(n);
-        for r in 0..rows {
-            // Rows share the lights as evenly as they can, the upper rows taking the remainder.
-            let per = n / rows + usize::from(r < n % rows);
+        for (r, &per) in rows.iter().enumerate() {
+            let rows = rows.len();
             let (y0, y1) = (1.0 - r as f32 / rows as f32, 1.0 - (r + 1) as f32 / rows as f32);
             for c in 0..per {
                 let (p0, p1) = (TAU * c as f32 / per as f32, TAU * (c + 1) as f32 / per as f32);
@@ -69,6 +68,13 @@ impl Sky {
         }
         out
     }
+}
+
+/// How `n` ≥ 2 lights split into rows of strata: `⌊√(n/2)⌋` rows sharing the lights as evenly as they can, the
+/// upper rows taking the remainder (the lights of each row, top row first).
+pub(crate) fn row_counts(n: usize) -> Vec<usize> {
+    let rows = ((n as f32 / 2.0).sqrt().floor() as usize).max(1);
+    (0..rows).map(|r| n / rows + usize::from(r < n % rows)).collect()
 }
 
 /// One stratum `ω_y ∈ ys`, `φ ∈ phis` as a light: `∫ L dω` by [`SUB`]² midpoints at its radiance-weighted mean

@@ -9,6 +9,7 @@
 
 pub mod blend;
 pub mod darkening;
+pub mod env_map;
 pub mod environment;
 pub mod index;
 pub mod march;

@@ -141,6 +141,9 @@ pub struct FurSettings {
     /// Directional lights of the guard hairs' environment ([`super::environment`]; the paper's 16): 1 is the
     /// scene's light alone; the undercoat always takes the scene's light.
     pub env_lights: u32,
+    /// An equirectangular map the environment's lights are sampled from ([`super::env_map`]: Radiance `.hdr` or
+    /// sRGB PNG, twice as wide as high); none: the procedural sky ([`super::environment::Sky`]).
+    pub env_map: Option<std::path::PathBuf>,
     /// Clump noise frequency, cycles per world unit.
     pub noise_frequency: f32,
     /// Clump threshold in [-1, 1] (higher: thinner clumps).
@@ -175,6 +178,7 @@ impl Default for FurSettings {
             colour: [0.45, 0.3, 0.2],
             base_darkening: 1.0,
             env_lights: 1,
+            env_map: None,
             noise_frequency: clumps.frequency,
             noise_threshold: clumps.threshold,
             noise_softness: clumps.softness,
@@ -342,6 +346,8 @@ pub struct FurScene {
     pub process_ms: f64,
     /// Warnings of the mesh and shell builds (fixed windings, shrunk prisms), each naming the mesh.
     pub warnings: Vec<String>,
+    /// The map of `fur.env_map`, read once (none: the procedural sky).
+    pub env_map: Option<std::sync::Arc<super::env_map::EnvMap>>,
 }
 
 /// Why a scene's fur cannot be built; the message names the key or the mesh.
@@ -355,6 +361,8 @@ pub enum FurSceneError {
     Mesh(#[from] super::mesh::MeshError),
     #[error(transparent)]
     Shell(#[from] super::shell::ShellError),
+    #[error(transparent)]
+    EnvMap(#[from] super::env_map::EnvMapError),
 }
 
 impl FurScene {
@@ -377,11 +385,16 @@ impl FurScene {
             params: s.volume_params(),
         };
         volume.params.validate()?;
+        let env_map = match &s.env_map {
+            Some(path) => Some(std::sync::Arc::new(super::env_map::EnvMap::load(path)?)),
+            None => None,
+        };
         Ok(Some(FurScene {
             shell,
             volume,
             process_ms: start.elapsed().as_secs_f64() * 1e3,
             warnings,
+            env_map,
         }))
     }
 }

@@ -9,7 +9,7 @@
 use super::pose::Collider;
 use super::sim::Simulation;
 use crate::gpu::timing::{GpuTimer, PassTime, Phase};
-use crate::gpu::{Gpu, GpuError, readback::read_buffer};
+use crate::gpu::{Gpu, GpuError, readback::copy_out};
 use crate::render::pipelines::{self, ComputePass};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -347,21 +347,7 @@ impl GpuSimulation {
 
     /// Reads the current points back.
     pub fn read_points(&self, gpu: &Gpu) -> Result<Vec<Vec3>, GpuError> {
-        let bytes = (self.points * 12).max(16) as u64;
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.motion.readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("hairlab.motion.readback"),
-            });
-        encoder.copy_buffer_to_buffer(&self.x, 0, &staging, 0, bytes);
-        gpu.queue.submit([encoder.finish()]);
-        let raw = read_buffer(gpu, &staging)?;
+        let raw = copy_out(gpu, &self.x)?;
         let floats: &[f32] = bytemuck::cast_slice(&raw);
         Ok(floats
             .chunks_exact(3)

@@ -60,14 +60,7 @@ impl Renderer {
     /// maps of the last frame rendered with `method`.
     pub fn evaluate(&mut self, method: &dyn LightMethod, samples: &[[f32; 3]]) -> Result<Vec<f32>, GpuError> {
         let samples: Vec<Sample> = samples.iter().map(|&s| Sample::Texel(s)).collect();
-        let method_gpu = self.light.held(method)?;
-        self.evaluate.run(
-            &self.gpu,
-            method,
-            method_gpu,
-            &self.bindings.scene_group,
-            &samples,
-        )
+        self.evaluate_samples(method, &samples)
     }
 
     /// Evaluates the eye lookup `hair_visibility` (`shaders/common/method_lookup.wgsl`: the frame's PCF,
@@ -79,14 +72,18 @@ impl Renderer {
         points: &[Vec3],
     ) -> Result<Vec<f32>, GpuError> {
         let samples: Vec<Sample> = points.iter().map(|p| Sample::World(p.to_array())).collect();
+        self.evaluate_samples(method, &samples)
+    }
+
+    /// The evaluate pass over `samples` on the held maps of `method`.
+    fn evaluate_samples(
+        &mut self,
+        method: &dyn LightMethod,
+        samples: &[Sample],
+    ) -> Result<Vec<f32>, GpuError> {
         let method_gpu = self.light.held(method)?;
-        self.evaluate.run(
-            &self.gpu,
-            method,
-            method_gpu,
-            &self.bindings.scene_group,
-            &samples,
-        )
+        self.evaluate
+            .run(&self.gpu, method, method_gpu, &self.bindings.scene_group, samples)
     }
 
     /// The exact reference's per-texel fragment lists (row-major texels, each sorted by depth then segment) of

@@ -235,11 +235,16 @@ impl Renderer {
             u.guard_shell_height = f.settings.height;
             let n = f.settings.env_lights as usize;
             if n > 1 {
-                let sky = crate::fur::environment::Sky {
-                    to_sun: light.to_light(),
-                    radiance: glam::Vec3::from_array(light.color) * light.intensity,
+                let n = n.min(crate::fur::environment::MAX_ENV_LIGHTS);
+                let radiance = glam::Vec3::from_array(light.color) * light.intensity;
+                let lights = match &f.scene.env_map {
+                    Some(map) => map.lights(n, radiance),
+                    None => crate::fur::environment::Sky {
+                        to_sun: light.to_light(),
+                        radiance,
+                    }
+                    .lights(n),
                 };
-                let lights = sky.lights(n.min(crate::fur::environment::MAX_ENV_LIGHTS));
                 u.env_count = lights.len() as u32;
                 for (i, l) in lights.iter().enumerate() {
                     u.env_to_light[i] = l.to_light.extend(0.0).to_array();

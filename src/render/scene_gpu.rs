@@ -258,21 +258,8 @@ impl SceneGpu {
         if bytes == 0 {
             return Ok(Vec::new());
         }
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.scene.mesh_readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("hairlab.scene.mesh_readback"),
-            });
-        encoder.copy_buffer_to_buffer(&self.mesh_vertices, 0, &staging, 0, bytes);
-        gpu.queue.submit([encoder.finish()]);
-        let raw = crate::gpu::readback::read_buffer(gpu, &staging)?;
-        let vertices: Vec<MeshVertex> = bytemuck::pod_collect_to_vec(&raw);
+        let raw = crate::gpu::readback::copy_out(gpu, &self.mesh_vertices)?;
+        let vertices: Vec<MeshVertex> = bytemuck::pod_collect_to_vec(&raw[..bytes as usize]);
         Ok(vertices.iter().map(|v| Vec3::from(v.position)).collect())
     }
 

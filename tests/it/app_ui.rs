@@ -648,19 +648,8 @@ fn the_window_fits_the_light_to_the_whole_motion() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = hairlab::settings::Settings::load_preset(
-        "wind",
-        &[
-            "scene.generator.strands=120".into(),
-            "scene.generator.segments=8".into(),
-            "render.width=160".into(),
-            "render.height=120".into(),
-            "render.map_resolution=64".into(),
-            "motion.frames=10".into(),
-            "light.fit=bound".into(),
-        ],
-    )
-    .unwrap();
+    let mut settings = small_wind(10);
+    settings.light.fit = LightFit::Bound;
     let (scene, mut fresh) = settings.open_motion().unwrap();
     let whole = fresh.bound(&settings.motion).unwrap();
     let frame0 = scene.strand_bounds();
@@ -1003,33 +992,11 @@ fn a_long_job_keeps_the_window_interactive_and_cancel_restores_the_scene() {
     // One frame takes the click and starts the job, the next shows its progress bar.
     harness.step();
     harness.step();
-    let jobs = harness.state().jobs();
-    assert_eq!(jobs.len(), 1, "one scene job");
-    assert_eq!(jobs[0].name, "scene");
     assert!(
         harness.query_by_label_contains("growing the strands").is_none(),
         "held before its first step"
     );
-    assert!(
-        harness.query_by_label_contains("starting 0%").is_some(),
-        "the progress bar shows"
-    );
-    // The window answers while the job is held: the Help window opens and closes, frames keep coming.
-    assert!(harness.query_by_label("Drop a file").is_none());
-    harness.get_by_label("Help").click();
-    harness.step();
-    harness.step();
-    assert!(
-        harness.query_by_label("Drop a file").is_some(),
-        "Help opened during the job"
-    );
-    harness.key_press(egui::Key::F1);
-    harness.step();
-    harness.step();
-    assert!(
-        harness.query_by_label("Drop a file").is_none(),
-        "Help closed during the job"
-    );
+    held_job_leaves_the_window_answering(&mut harness, "scene");
     assert_eq!(
         harness.state().scene().unwrap().strands.points,
         points_before,
@@ -1104,28 +1071,7 @@ fn a_compare_render_is_a_job_that_cancel_leaves_and_that_renders_what_render_com
     harness.get_by_role_and_label(Role::Button, "Render").click();
     harness.step();
     harness.step();
-    let jobs = harness.state().jobs();
-    assert_eq!(jobs.len(), 1, "one compare job");
-    assert_eq!(jobs[0].name, "compare");
-    assert!(
-        harness.query_by_label_contains("starting 0%").is_some(),
-        "the progress bar shows"
-    );
-    assert!(harness.query_by_label("Drop a file").is_none());
-    harness.get_by_label("Help").click();
-    harness.step();
-    harness.step();
-    assert!(
-        harness.query_by_label("Drop a file").is_some(),
-        "Help opened during the render"
-    );
-    harness.key_press(egui::Key::F1);
-    harness.step();
-    harness.step();
-    assert!(
-        harness.query_by_label("Drop a file").is_none(),
-        "Help closed during the render"
-    );
+    held_job_leaves_the_window_answering(&mut harness, "compare");
     assert_eq!(harness.state().jobs().len(), 1, "still held");
     assert_eq!(harness.state().compare().generation(), generation);
 
@@ -1184,4 +1130,31 @@ fn a_compare_render_is_a_job_that_cancel_leaves_and_that_renders_what_render_com
     }
     assert!(frames.lists == sync.lists, "the exact lists");
     assert!(frames.background == sync.background, "the opaque image");
+}
+
+/// A job held at its gate: it is the one job in the bar, shown as "starting 0%", and the window answers meanwhile
+/// (the Help window opens and closes).
+fn held_job_leaves_the_window_answering(harness: &mut Harness<'_, HairlabApp>, name: &str) {
+    let jobs = harness.state().jobs();
+    assert_eq!(jobs.len(), 1, "one {name} job");
+    assert_eq!(jobs[0].name, name);
+    assert!(
+        harness.query_by_label_contains("starting 0%").is_some(),
+        "the progress bar shows"
+    );
+    assert!(harness.query_by_label("Drop a file").is_none());
+    harness.get_by_label("Help").click();
+    harness.step();
+    harness.step();
+    assert!(
+        harness.query_by_label("Drop a file").is_some(),
+        "Help opened during the {name} job"
+    );
+    harness.key_press(egui::Key::F1);
+    harness.step();
+    harness.step();
+    assert!(
+        harness.query_by_label("Drop a file").is_none(),
+        "Help closed during the {name} job"
+    );
 }

@@ -3,7 +3,7 @@
 //! rows, charts, OSM's error falling with slices), bad input, and the Bench window driven headless (run, click a
 //! point, the configuration applied).
 
-use crate::common::cli::{error_lines, hairlab, stderr};
+use crate::common::cli::{error_lines, hairlab, interrupt_once_written, stderr};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use hairlab::app::{HairlabApp, wgpu_setup};
@@ -938,35 +938,9 @@ fn sigint_after_the_first_file(
     let mut args = args.to_vec();
     args.extend_from_slice(TINY);
     args.extend(["--frames", "40", "--out", out.to_str().unwrap()]);
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
-        .args(&args)
-        .env("RUST_LOG", "warn")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
     // The first configuration's rows are written; then Ctrl-C.
     let csv = out.join(csv);
-    let start = std::time::Instant::now();
-    while !csv.exists() {
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "hairlab ended before writing {}",
-            csv.display()
-        );
-        assert!(
-            start.elapsed().as_secs() < 600,
-            "no {} after 10 minutes",
-            csv.display()
-        );
-        std::thread::sleep(std::time::Duration::from_millis(10));
-    }
-    let kill = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let o = child.wait_with_output().unwrap();
+    let o = interrupt_once_written(&args, &csv);
     assert_eq!(o.status.code(), Some(130), "{args:?}: {}", stderr(&o));
     let (header, rows) = read_csv(&csv);
     assert!(

@@ -3,7 +3,7 @@
 //! frame, point by point); the CLI writes the two CSV files whole with their stated columns and refuses a preset
 //! without motion in one line.
 
-use crate::common::cli::{assert_fails, hairlab, stderr};
+use crate::common::cli::{assert_fails, hairlab, interrupt_once_written, stderr};
 use hairlab::gpu::Gpu;
 use hairlab::measure::motion::{MotionConfig, MotionOptions, measure_motion};
 use hairlab::measure::temporal::{FollowedPoint, followed_pops};
@@ -310,33 +310,8 @@ fn sigint_leaves_complete_motion_csvs_of_the_finished_configurations() {
     for c in &configs {
         args.extend(["--config".to_string(), c.clone()]);
     }
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
-        .args(&args)
-        .env("RUST_LOG", "warn")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
     // The first configuration's rows are written; then Ctrl-C.
-    let summary = out.path().join("motion_summary.csv");
-    let start = std::time::Instant::now();
-    while !summary.exists() {
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "hairlab ended before writing motion_summary.csv"
-        );
-        assert!(
-            start.elapsed().as_secs() < 600,
-            "no motion_summary.csv after 10 minutes"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(10));
-    }
-    let kill = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let o = child.wait_with_output().unwrap();
+    let o = interrupt_once_written(&args, &out.path().join("motion_summary.csv"));
     assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
     let rows = |name: &str| -> Vec<Vec<String>> {
         let mut r = csv::Reader::from_path(out.path().join(name)).unwrap();

@@ -18,7 +18,7 @@ use hairlab::settings::Settings;
 use std::path::Path;
 
 /// A motion preset shrunk to test size.
-fn small(preset: &str, extra: &[&str]) -> Settings {
+pub(crate) fn small(preset: &str, extra: &[&str]) -> Settings {
     let mut set: Vec<String> = [
         "scene.generator.strands=300",
         "scene.generator.segments=12",
@@ -33,7 +33,8 @@ fn small(preset: &str, extra: &[&str]) -> Settings {
     Settings::load_preset(preset, &set).unwrap_or_else(|e| panic!("{preset}: {e:#}"))
 }
 
-fn sim(motion: &mut Motion) -> &mut hairlab::motion::Simulation {
+/// The simulation of a simulated preset's motion.
+pub(crate) fn sim(motion: &mut Motion) -> &mut hairlab::motion::Simulation {
     match motion {
         Motion::Simulate(s) => s,
         _ => panic!("a simulated preset"),

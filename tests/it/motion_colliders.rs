@@ -9,27 +9,7 @@ use hairlab::motion::{Collider, Motion};
 use hairlab::render::Renderer;
 use hairlab::settings::Settings;
 
-fn small(preset: &str, extra: &[&str]) -> Settings {
-    let mut set: Vec<String> = [
-        "scene.generator.strands=300",
-        "scene.generator.segments=12",
-        "render.width=96",
-        "render.height=72",
-        "render.map_resolution=128",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    set.extend(extra.iter().map(|s| s.to_string()));
-    Settings::load_preset(preset, &set).unwrap_or_else(|e| panic!("{preset}: {e:#}"))
-}
-
-fn sim(motion: &mut Motion) -> &mut hairlab::motion::Simulation {
-    match motion {
-        Motion::Simulate(s) => s,
-        _ => panic!("a simulated preset"),
-    }
-}
+use crate::motion::{sim, small};
 
 #[test]
 fn auto_keeps_the_head_ellipsoid_and_meshes_builds_a_grid_of_the_head_mesh() {

@@ -41,7 +41,9 @@ use soak::SoakArgs;
     version,
     about = "A workbench for real-time hair self-shadowing methods."
 )]
-#[command(max_term_width = 100, after_help = ENVIRONMENT)]
+// Help wraps at the terminal's width and at most 79 columns, so every page stays under 80 columns in a terminal
+// and when piped to a file.
+#[command(max_term_width = 79, after_help = ENVIRONMENT)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,

@@ -54,7 +54,7 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<()> {
         println!(
             "scene and motion opened in {open_ms:.1} ms; collider: {}",
             match sim.collider() {
-                None => "none".to_string(),
+                None => "no collider".to_string(),
                 Some(crate::motion::Collider::Ellipsoid(_)) => "the head ellipsoid".to_string(),
                 Some(crate::motion::Collider::Sdf(g)) => format!(
                     "signed distance grid of {}×{}×{} nodes, cell {:.3e}, {:.1} KiB",

@@ -1014,14 +1014,7 @@ fn a_long_job_keeps_the_window_interactive_and_cancel_restores_the_scene() {
         *harness.state().settings() == settings_before,
         "the settings before the change"
     );
-    assert!(
-        harness
-            .state()
-            .message()
-            .is_some_and(|(m, err)| !err && m.contains("cancelled")),
-        "{:?}",
-        harness.state().message()
-    );
+    says_cancelled(&harness);
     assert!(
         harness.query_by_label("Cancel").is_none(),
         "the progress bar is gone"
@@ -1087,14 +1080,7 @@ fn a_compare_render_is_a_job_that_cancel_leaves_and_that_renders_what_render_com
         kept.iter().zip(&before).all(|(a, b)| *a == b),
         "the previous images stay"
     );
-    assert!(
-        harness
-            .state()
-            .message()
-            .is_some_and(|(m, err)| !err && m.contains("cancelled")),
-        "{:?}",
-        harness.state().message()
-    );
+    says_cancelled(&harness);
 
     // Another slot, let through: its frames replace the previous ones.
     let reference = techniques::reference().name();
@@ -1156,5 +1142,17 @@ fn held_job_leaves_the_window_answering(harness: &mut Harness<'_, HairlabApp>, n
     assert!(
         harness.query_by_label("Drop a file").is_none(),
         "Help closed during the {name} job"
+    );
+}
+
+/// The status line's last message is the (non-error) one a cancelled job leaves.
+fn says_cancelled(harness: &Harness<'_, HairlabApp>) {
+    assert!(
+        harness
+            .state()
+            .message()
+            .is_some_and(|(m, err)| !err && m.contains("cancelled")),
+        "{:?}",
+        harness.state().message()
     );
 }

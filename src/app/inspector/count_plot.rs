@@ -3,9 +3,9 @@
 //! toggle). The reference's count is exact; each method's is its `TexelModel::count_curve`.
 
 use super::curves::TexelCurves;
-use super::plot::{depth_plot, series};
+use super::plot::{depth_plot, method_curves, series};
 use crate::methods::registry;
-use egui_plot::{Line, LineStyle, MarkerShape, PlotPoints, Points};
+use egui_plot::{Line, LineStyle};
 
 /// The count plot: reference, methods, fragments, pins.
 pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
@@ -29,21 +29,7 @@ pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
                 .color(text)
                 .width(2.0),
             );
-            for m in &t.methods {
-                let width = if m.selected { 2.0 } else { 1.5 };
-                p.line(
-                    Line::new(format!("{} count", m.label), series(&t.depths, &m.counts))
-                        .color(m.model.color)
-                        .width(width),
-                );
-            }
-            let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.2]).collect();
-            p.points(
-                Points::new("fragments", ticks)
-                    .shape(MarkerShape::Up)
-                    .radius(3.0)
-                    .color(text),
-            );
+            method_curves(p, t, text, " count", |m| &m.counts, -0.2);
         }
         for (i, t) in curves.pins.iter().enumerate() {
             let color = t.color.unwrap_or(text);

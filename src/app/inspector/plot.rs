@@ -1,7 +1,7 @@
 //! The inspector's drawing: the egui_plot of the reference, the methods' curves, what the selected method stores
 //! (slice planes, layer boundaries, cluster bins, occupied slices) and the pins, and the figures table beside it.
 
-use super::curves::{TexelCurves, TexelPlot, plot_range};
+use super::curves::{MethodCurve, TexelCurves, TexelPlot, plot_range};
 use crate::methods::registry;
 use crate::visibility::{Stored, TexelError};
 use egui::Color32;
@@ -39,6 +39,33 @@ pub(super) fn depth_plot(
         })
 }
 
+/// The methods' curves of texel `t` (`value`: the V or the count series, its name ending in `suffix`; the
+/// selected method drawn wider) and the texel's fragments as ticks at height `tick_y` (the `V(z)` and count plots).
+pub(super) fn method_curves(
+    p: &mut egui_plot::PlotUi<'_>,
+    t: &TexelPlot,
+    text: Color32,
+    suffix: &str,
+    value: impl Fn(&MethodCurve) -> &[f32],
+    tick_y: f64,
+) {
+    for m in &t.methods {
+        let width = if m.selected { 2.0 } else { 1.5 };
+        p.line(
+            Line::new(format!("{}{suffix}", m.label), series(&t.depths, value(m)))
+                .color(m.model.color)
+                .width(width),
+        );
+    }
+    let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), tick_y]).collect();
+    p.points(
+        Points::new("fragments", ticks)
+            .shape(MarkerShape::Up)
+            .radius(3.0)
+            .color(text),
+    );
+}
+
 /// The plot: reference, methods, stored structure, fragments, pins.
 pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
     let text = ui.visuals().text_color();
@@ -53,21 +80,7 @@ pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
                     .color(text)
                     .width(2.0),
             );
-            for m in &t.methods {
-                let width = if m.selected { 2.0 } else { 1.5 };
-                p.line(
-                    Line::new(m.label.clone(), series(&t.depths, &m.values))
-                        .color(m.model.color)
-                        .width(width),
-                );
-            }
-            let ticks: PlotPoints = t.fragments.iter().map(|f| [f64::from(f.depth), -0.02]).collect();
-            p.points(
-                Points::new("fragments", ticks)
-                    .shape(MarkerShape::Up)
-                    .radius(3.0)
-                    .color(text),
-            );
+            method_curves(p, t, text, "", |m| &m.values, -0.02);
         }
         for (i, t) in curves.pins.iter().enumerate() {
             let color = t.color.unwrap_or(text);

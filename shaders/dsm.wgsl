@@ -1,17 +1,17 @@
 // Compressed deep shadow maps (Lokovic & Veach 2000, §4): one invocation per texel walks the reference A-buffer's
 // list in (depth, segment) order, the order of the CPU model's sorted lists, and runs the greedy compressor, as
-// visibility::dsm::compress with these exact expressions (see its doc). The order without a private array:
-// select-next, each step walks the list for the smallest (depth, segment) behind the previous one, O(n^2) per
-// texel and no bound on the list length (the walks stop after the texel's node count, as the reference does).
+// visibility::dsm::compress with these exact expressions (see its doc). The order comes from the batched walk of
+// common/list_walk.wgsl (`dsm.batch` fragments per pass along the list, no bound on the list length; the walks
+// stop after the texel's node count, as the reference does).
 // cs_count only counts each texel's vertices (header count, total in alloc[0]: the vertex buffer is sized from
 // it); cs_compress, on the same fragments, allocates that many and writes them.
-// Both resume across dispatches: each takes at most dsm.steps fragments per texel and keeps where the texel
+// Both resume across dispatches: each takes at most dsm.steps batches per texel and keeps where the texel
 // stands in `walks`, so that repeated dispatches bound each invocation's loop iterations (a CPU adapter stops a
-// shader's loops after 65,535 in all); the vertices are the same however the walk is split.
+// shader's loops after 65,535 in all); the vertices are the same however the walk is split or batched.
 #include "common/visibility.wgsl"
 #include "common/dsm_uniforms.wgsl"
-// The A-buffer's lists (render::passes::abuffer), group 1.
-#include "common/list_pages.wgsl"
+// The A-buffer's lists (render::passes::abuffer), group 1, and the batched walk along them.
+#include "common/list_walk.wgsl"
 
 // Per texel: (offset of its first vertex, vertex count); the vertices (z, V).
 @group(0) @binding(0) var<storage, read_write> out_headers: array<vec2<u32>>;
@@ -101,7 +101,8 @@ fn offer_depth(g: ptr<function, Greedy>, first: bool, d: f32, before: f32, after
 // Where a texel's compression stands between dispatches (zero before the first: not started): the compressor's
 // state, the walk's (fragments taken k of n, the last one's depth and segment, the depth being summed, its
 // optical depth, the total in front of it, the visibility in front of it), the stage (0 not started, 1 walking,
-// 2 done) and the vertices allocated (cs_compress). 80 bytes (methods::dsm::WALK_BYTES).
+// 2 done), the vertices allocated (cs_compress) and the last fragment's alpha and node index + 1. 80 bytes
+// (methods::dsm::WALK_BYTES).
 struct DsmWalk {
     zo: f32,
     vo: f32,
@@ -121,8 +122,8 @@ struct DsmWalk {
     stage: u32,
     base: u32,
     limit: u32,
-    pad0: u32,
-    pad1: u32,
+    prev_alpha: f32,
+    prev_index: u32,
 }
 @group(0) @binding(4) var<storage, read_write> walks: array<DsmWalk>;
 
@@ -138,48 +139,35 @@ fn list_length(t: u32) -> u32 {
     return n;
 }
 
-// Takes at most dsm.steps more fragments of texel t's list (n nodes) into its compression (vertices written from
+// Takes at most dsm.steps more batches of texel t's list (n nodes) into its compression (vertices written from
 // w.base, at most w.limit, if write) and finishes it once the list is walked; returns the state.
 fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     var w = state;
     var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);
+    var last = ListKey(w.prev_depth, w.prev_alpha, w.prev_segment, w.prev_index);
     for (var s = 0u; s < dsm.steps && w.k < w.n; s++) {
-        var best_depth = 0.0;
-        var best_segment = 0u;
-        var best_alpha = 0.0;
-        var found = false;
-        var j = ab_heads[t];
-        var walked = 0u;
-        while j != 0u && walked < w.n {
-            let node = ab_node(j - 1u);
-            let behind = w.k == 0u || node.depth > w.prev_depth || (node.depth == w.prev_depth && node.segment > w.prev_segment);
-            let smaller = !found || node.depth < best_depth || (node.depth == best_depth && node.segment < best_segment);
-            if behind && smaller {
-                best_depth = node.depth;
-                best_segment = node.segment;
-                best_alpha = node.alpha;
-                found = true;
+        let taken = list_next_batch(t, last, dsm.batch, 0u, w.n);
+        if taken < dsm.batch {
+            w.n = w.k + taken;
+        }
+        for (var q = 0u; q < taken; q++) {
+            last = list_batch[q];
+            if w.k > 0u && last.depth != w.group {
+                w.omega += w.sum;
+                let after = transmittance(w.omega);
+                offer_depth(&g, g.count == 0u, w.group, w.before, after);
+                w.before = after;
+                w.sum = 0.0;
             }
-            j = node.next;
-            walked += 1u;
+            w.group = last.depth;
+            w.sum += optical_depth(last.alpha);
+            w.k += 1u;
         }
-        if !found {
-            w.n = w.k;
-            break;
-        }
-        if w.k > 0u && best_depth != w.group {
-            w.omega += w.sum;
-            let after = transmittance(w.omega);
-            offer_depth(&g, g.count == 0u, w.group, w.before, after);
-            w.before = after;
-            w.sum = 0.0;
-        }
-        w.group = best_depth;
-        w.sum += optical_depth(best_alpha);
-        w.prev_depth = best_depth;
-        w.prev_segment = best_segment;
-        w.k += 1u;
     }
+    w.prev_depth = last.depth;
+    w.prev_alpha = last.alpha;
+    w.prev_segment = last.segment;
+    w.prev_index = last.index;
     if w.k >= w.n {
         if w.n > 0u {
             w.omega += w.sum;

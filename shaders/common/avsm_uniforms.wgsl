@@ -9,8 +9,13 @@ struct AvsmUniforms {
     nodes: u32,
     // 0: depth order, 1: submission order.
     order: u32,
-    // Fragments each texel inserts per dispatch of the compression pass (the walk resumes where it stopped).
+    // Batches each texel takes per dispatch of the compression pass (the walk resumes where it stopped).
     steps: u32,
+    // Fragments per batch of the walk along the list (common/list_walk.wgsl), 1..=32.
+    batch: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // x, or 0 below 1e-30: transmittances and areas, alike on devices that flush subnormals and those that keep them.

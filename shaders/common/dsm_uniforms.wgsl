@@ -4,7 +4,8 @@ struct DsmUniforms {
     epsilon: f32,
     // Texels per side of the map.
     resolution: u32,
-    // Fragments each texel takes per dispatch of the compressor (its walk resumes where it stopped).
+    // Batches each texel takes per dispatch of the compressor (its walk resumes where it stopped).
     steps: u32,
-    pad1: u32,
+    // Fragments per batch of the walk along the list (common/list_walk.wgsl), 1..=32.
+    batch: u32,
 }

@@ -279,6 +279,22 @@ pub fn run_scaling(
                 });
                 n += 1;
             })?;
+            let shared: Vec<f64> = t
+                .rows
+                .iter()
+                .flat_map(|row| row.shared_frames_ms.iter().copied())
+                .collect();
+            if !shared.is_empty() {
+                r.points.push(ScalingPoint {
+                    label: SHARED_LIGHT_LABEL.to_string(),
+                    raster,
+                    density: s.scene.generator.density,
+                    strands: t.strands,
+                    segments: t.segments,
+                    ms: Spread::of(&shared),
+                    frames: shared.len(),
+                });
+            }
             for row in &t.rows {
                 match &row.pass_frames_ms {
                     Ok(passes) => {
@@ -310,11 +326,19 @@ pub fn run_scaling(
     Ok(r)
 }
 
-/// The fit of each (configuration, rasteriser) with at least two points, configurations first.
+/// The scaling points of the passes every method shares (light depth, the meshes' shadow map and, under the
+/// compute rasteriser, its count, scan and fill), pooled over the configurations' timed frames at each density:
+/// what ADSM costs (it has no pass of its own), and what a method's own passes add to.
+pub const SHARED_LIGHT_LABEL: &str = "shared light passes";
+
+/// The fit of each (configuration, rasteriser) with at least two points, configurations first, then the shared
+/// light passes.
 fn scaling_fits(configs: &[MethodConfig], rasters: &[Raster], points: &[ScalingPoint]) -> Vec<ScalingFit> {
     configs
         .iter()
-        .flat_map(|c| rasters.iter().map(move |&raster| (c.label(), raster)))
+        .map(MethodConfig::label)
+        .chain([SHARED_LIGHT_LABEL.to_string()])
+        .flat_map(|label| rasters.iter().map(move |&raster| (label.clone(), raster)))
         .filter_map(|(label, raster)| {
             let xy: Vec<(f64, f64)> = points
                 .iter()

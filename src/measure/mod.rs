@@ -220,7 +220,7 @@ pub fn measure_on_each(
     for c in configs {
         progress(&c.label());
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
-        let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames, 1)?;
+        let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames, 1)?.method;
         let texel_errors = texels.errors(&evaluate_all(&mut r, method, &texels.samples)?);
         let (memory_bytes, build_memory_bytes, geometry_passes) =
             r.method_gpu(method).map_or((0, 0, 0), |g| {
@@ -273,22 +273,36 @@ fn time_light_passes(
     input: &FrameInput,
     frames: u32,
     warmup: u32,
-) -> Result<Vec<(String, Vec<f64>)>> {
-    let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
+) -> Result<LightPassTimes> {
+    let mut t = LightPassTimes::default();
     for frame in 0..warmup + frames {
         r.render_light(input)?;
         let times = r.wait_timings();
         if frame < warmup {
             continue;
         }
-        for t in times.into_iter().filter(|t| t.phase == Phase::Method) {
-            match per_pass.iter_mut().find(|(n, _)| *n == t.name) {
-                Some((_, v)) => v.push(t.ms),
-                None => per_pass.push((t.name, vec![t.ms])),
+        let mut shared = 0.0;
+        for pass in times {
+            match pass.phase {
+                Phase::Method => match t.method.iter_mut().find(|(n, _)| *n == pass.name) {
+                    Some((_, v)) => v.push(pass.ms),
+                    None => t.method.push((pass.name, vec![pass.ms])),
+                },
+                Phase::SharedLight => shared += pass.ms,
+                _ => {}
             }
         }
+        t.shared.push(shared);
     }
-    Ok(per_pass)
+    Ok(t)
+}
+
+/// GPU milliseconds of the timed frames of a light frame: the method's own passes by name, and the passes every
+/// method shares (light depth, the meshes' shadow map, the compute rasteriser's) summed per frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct LightPassTimes {
+    method: Vec<(String, Vec<f64>)>,
+    shared: Vec<f64>,
 }
 
 /// The GPU cost of one configuration, without its error (what the bench's scaling mode fits).
@@ -298,6 +312,9 @@ pub struct Timing {
     /// GPU milliseconds of each timed frame, by pass name; or why the method refused the scene (e.g. a list
     /// longer than a CPU adapter's compressor takes), one line.
     pub pass_frames_ms: Result<Vec<(String, Vec<f64>)>, String>,
+    /// GPU milliseconds of the passes every method shares (light depth, the meshes' shadow map, the compute
+    /// rasteriser's), summed per timed frame (none when refused).
+    pub shared_frames_ms: Vec<f64>,
     pub memory_bytes: u64,
 }
 
@@ -343,10 +360,11 @@ pub fn time_configs(
             width: 8,
             height: 8,
         };
-        let pass_frames_ms = time_light_passes(&mut r, &input, frames, warmup).map_err(|e| format!("{e:#}"));
+        let times = time_light_passes(&mut r, &input, frames, warmup).map_err(|e| format!("{e:#}"));
         out.push(Timing {
             config: c.clone(),
-            pass_frames_ms,
+            shared_frames_ms: times.as_ref().map_or(Vec::new(), |t| t.shared.clone()),
+            pass_frames_ms: times.map(|t| t.method),
             memory_bytes: r.method_gpu(method).map_or(0, |g| g.memory_bytes()),
         });
     }

@@ -7,15 +7,18 @@
 //! lists, then compression: the method owns an A-buffer (`render::passes::abuffer`: a counting pass sizes it, one
 //! geometry pass fills it), and a compute pass (`shaders/avsm.wgsl`, one invocation per texel) walks each list in
 //! the model's insertion order and writes the texel's `N` nodes to `hairlab.avsm.nodes`, `N × 8` bytes per texel
-//! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk is an O(n²) select-next over the
-//! linked list (each step takes the smallest key after the last one: (depth, segment, alpha, node index) or
-//! (segment, depth, alpha, node index)), so it has no bound on the list length and equals the CPU model's sort
-//! for every list. It resumes across dispatches (each texel's last fragment and node count kept in a 32-byte
-//! walk state, the nodes in the output slots): one dispatch inserts every fragment, except on a CPU adapter,
-//! whose llvmpipe stops a shader's loops after 65,535 iterations in all (the walk reached it near 240 fragments
-//! in one texel): there each dispatch inserts as many fragments as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for
-//! the frame's longest list (counted by the A-buffer's counting pass), and as many dispatches follow as the
-//! longest list needs (32 for 1300 fragments), the nodes the same however the walk is split. `N` is any count in
+//! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk takes each list in the model's
+//! insertion order ((depth, segment, alpha, node index) or (segment, depth, alpha, node index)) with the batched
+//! walk of `shaders/common/list_walk.wgsl`: each pass along the linked list keeps the next 32 fragments behind
+//! the last one inserted in a private sorted array (n² / 32 node reads for an n-fragment list, where the
+//! select-next walk it replaced read n²), so it has no bound on the list length and equals the CPU model's sort
+//! for every list. It resumes across dispatches (each texel's last fragment, node count and whether its list is
+//! done kept in a 32-byte walk state, the nodes in the output slots): one dispatch inserts every fragment, except
+//! on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535 iterations in all: there each dispatch
+//! takes as many batches as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the frame's longest list (counted by
+//! the A-buffer's counting pass), smaller batches for longer lists (`abuffer::WalkSplit`), and as many
+//! dispatches follow as the longest list needs (41 for 1300 fragments), the nodes the same however the walk is
+//! split or batched. `N` is any count in
 //! 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA targets; a storage buffer needs no
 //! packing).
 //!
@@ -106,8 +109,13 @@ pub struct AvsmUniforms {
     pub nodes: u32,
     /// 0: depth order, 1: submission order.
     pub order: u32,
-    /// Fragments each texel inserts per dispatch of the compression pass.
+    /// Batches each texel takes per dispatch of the compression pass.
     pub steps: u32,
+    /// Fragments per batch of the walk along a list (`abuffer::WalkSplit`).
+    pub batch: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 impl LightMethod for Avsm {
@@ -121,7 +129,11 @@ impl LightMethod for Avsm {
                 resolution,
                 nodes,
                 order,
-                steps
+                steps,
+                batch,
+                pad0,
+                pad1,
+                pad2
             }
         ))
     }
@@ -329,6 +341,8 @@ impl MethodGpu for AvsmGpu {
                 nodes,
                 order: (p.order == InsertionOrder::Submission) as u32,
                 steps: split.steps,
+                batch: split.batch,
+                ..Zeroable::zeroed()
             }),
         );
         Ok(())

@@ -147,6 +147,9 @@ impl ShadowMethod for Bom {
         }
         out
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        vec![ParamValues::from([("layers".to_string(), 4.0)])]
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         [4, 8]
             .map(|k| ParamValues::from([("layers".to_string(), k as f32)]))

@@ -93,6 +93,9 @@ impl ShadowMethod for Dc {
             .map(|&n| SweepPoint::fixed(&[("clusters", n as f32)]))
             .collect()
     }
+    fn scaling_configs(&self) -> Vec<ParamValues> {
+        self.usual_configs()
+    }
     fn usual_configs(&self) -> Vec<ParamValues> {
         vec![ParamValues::from([("clusters".to_string(), 4.0)])]
     }

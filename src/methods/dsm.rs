@@ -3,12 +3,12 @@
 //! at every depth. The CPU model (and the vertex layout, the vertical steps and the lookup) is `visibility::dsm`.
 //!
 //! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists a compute pipeline
-//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — select-next
-//! over the linked list, no private array — and compresses, resuming across dispatches (each texel's walk and
-//! compressor state, 80 bytes, kept between them): one dispatch per pass, except on a CPU adapter, whose
-//! llvmpipe stops a shader's loops after 65,535 iterations in all, where each dispatch takes as many fragments
-//! as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the frame's longest list and as many follow as it needs
-//! (`abuffer::ABuffer::walk_split`). `prepare` runs the
+//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — the batched
+//! walk of `shaders/common/list_walk.wgsl`, up to 32 fragments taken per pass along the linked list — and
+//! compresses, resuming across dispatches (each texel's walk and compressor state, 80 bytes, kept between them):
+//! one dispatch per pass, except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535 iterations
+//! in all, where each dispatch takes as many batches as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the
+//! frame's longest list and as many follow as it needs (`abuffer::ABuffer::walk_split`). `prepare` runs the
 //! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
 //! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
 //! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
@@ -98,7 +98,7 @@ impl LightMethod for Dsm {
                 epsilon,
                 resolution,
                 steps,
-                pad1
+                batch
             }
         ))
     }
@@ -131,9 +131,10 @@ impl ShadowMethod for Dsm {
 pub struct DsmUniforms {
     pub epsilon: f32,
     pub resolution: u32,
-    /// Fragments each texel takes per dispatch of the compressor.
+    /// Batches each texel takes per dispatch of the compressor.
     pub steps: u32,
-    pub pad1: u32,
+    /// Fragments per batch of the walk along a list (`abuffer::WalkSplit`).
+    pub batch: u32,
 }
 
 /// The compressed deep shadow map's GPU state: its A-buffer, the compressor and the compressed map.
@@ -354,7 +355,7 @@ impl MethodGpu for DsmGpu {
                 epsilon: dsm_params(ctx.values).epsilon,
                 resolution,
                 steps: split.steps,
-                ..Zeroable::zeroed()
+                batch: split.batch,
             }),
         );
         let walk_bytes = resolution as u64 * resolution as u64 * WALK_BYTES;

@@ -369,7 +369,15 @@ fn bench_scaling_fits_cost_per_segment() {
     assert!(o.status.success(), "{}", stderr(&o));
     let (header, fits) = read_csv(&out.join("scaling.csv"));
     let labels: Vec<&str> = fits.iter().map(|r| r[0].as_str()).collect();
-    assert_eq!(labels, ["osm:slices=16", "osm:slices=64", "occupancy"]);
+    assert_eq!(
+        labels,
+        [
+            "osm:slices=16",
+            "osm:slices=64",
+            "occupancy",
+            "shared light passes"
+        ]
+    );
     for r in &fits {
         let slope: f64 = r[column(&header, "ms_per_segment")].parse().unwrap();
         let ns: f64 = r[column(&header, "ns_per_segment")].parse().unwrap();
@@ -390,9 +398,10 @@ fn bench_scaling_fits_cost_per_segment() {
         "{stdout}"
     );
     // The points: 4 densities evenly spaced in segments up to 30,000 (200 strands of 24 segments at × 1: × 1.5625
-    // apart, 7500 segments, within a strand's rounding), 3 configurations each, 3 timed frames per point.
+    // apart, 7500 segments, within a strand's rounding), 3 configurations and the shared light passes each, 3
+    // timed frames per configuration, the shared passes' pooled over the 3 configurations (9).
     let (header, points) = read_csv(&out.join("scaling_points.csv"));
-    assert_eq!(points.len(), 12);
+    assert_eq!(points.len(), 16);
     let segments: Vec<i64> = points
         .iter()
         .filter(|r| r[0] == "occupancy")
@@ -403,7 +412,8 @@ fn bench_scaling_fits_cost_per_segment() {
         assert!((s - 7500 * (k as i64 + 1)).abs() <= 24, "{segments:?}");
     }
     for r in &points {
-        assert_eq!(r[column(&header, "frames")], "3", "{r:?}");
+        let frames = if r[0] == "shared light passes" { "9" } else { "3" };
+        assert_eq!(r[column(&header, "frames")], frames, "{r:?}");
         let (lo, med, hi): (f64, f64, f64) = (
             r[column(&header, "gpu_ms_min")].parse().unwrap(),
             r[column(&header, "gpu_ms_median")].parse().unwrap(),
@@ -458,7 +468,7 @@ fn bench_scaling_walks_long_lists_at_every_density() {
     let (_, fits) = read_csv(&out.join("scaling.csv"));
     let mut labels: Vec<&str> = fits.iter().map(|r| r[0].as_str()).collect();
     labels.sort_unstable();
-    assert_eq!(labels, ["avsm", "occupancy"], "{stdout}");
+    assert_eq!(labels, ["avsm", "occupancy", "shared light passes"], "{stdout}");
     let (header, points) = read_csv(&out.join("scaling_points.csv"));
     let segments = |label: &str| -> Vec<usize> {
         points
@@ -508,18 +518,19 @@ fn bench_scaling_measures_each_density_under_both_rasterisers() {
         .iter()
         .map(|r| r[column(&header, "raster")].as_str())
         .collect();
-    assert_eq!(rasters, ["hardware", "compute"]);
+    // The configuration's fits, then the shared light passes' (under compute: its count, scan and fill too).
+    assert_eq!(rasters, ["hardware", "compute", "hardware", "compute"]);
     for r in &fits {
         let slope: f64 = r[column(&header, "ms_per_segment")].parse().unwrap();
         let intercept: f64 = r[column(&header, "intercept_ms")].parse().unwrap();
         assert!(slope.is_finite() && intercept.is_finite(), "{r:?}");
     }
     let (header, points) = read_csv(&out.join("scaling_points.csv"));
-    assert_eq!(points.len(), 4);
+    assert_eq!(points.len(), 8);
     for raster in ["hardware", "compute"] {
         let of: Vec<&Vec<String>> = points
             .iter()
-            .filter(|r| r[column(&header, "raster")] == raster)
+            .filter(|r| r[0] == "occupancy" && r[column(&header, "raster")] == raster)
             .collect();
         assert_eq!(of.len(), 2, "{raster}: {points:?}");
         for r in of {
@@ -535,7 +546,8 @@ fn bench_scaling_measures_each_density_under_both_rasterisers() {
         .take_while(|l| l.starts_with("  "))
         .map(|l| l.split_whitespace().last().unwrap().parse().unwrap())
         .collect();
-    assert_eq!(ratios.len(), 2, "{stdout}");
+    // Two densities, the configuration and the shared light passes at each.
+    assert_eq!(ratios.len(), 4, "{stdout}");
     assert!(ratios.iter().all(|r| r.is_finite() && *r > 0.0), "{stdout}");
     let svg = std::fs::read_to_string(out.join("scaling.svg")).unwrap();
     assert!(svg.contains("compute, dashed)"), "scaling.svg");
@@ -560,9 +572,10 @@ fn sigint_leaves_complete_scaling_rows_of_the_finished_densities() {
         "--warmup",
         "1",
     ];
-    let (_dir, _out, header, rows) = sigint_after_the_first_file(&args, "scaling_points.csv", 6);
+    // Six densities, each with the configuration's row and the shared light passes'.
+    let (_dir, _out, header, rows) = sigint_after_the_first_file(&args, "scaling_points.csv", 2, 12);
     let mut last = 0;
-    for r in &rows {
+    for r in rows.iter().filter(|r| r[0] == "occupancy") {
         assert_eq!(r[column(&header, "raster")], "hardware");
         let segments: usize = r[column(&header, "segments")].parse().unwrap();
         assert!(segments > last, "densities in order: {rows:?}");
@@ -893,7 +906,7 @@ fn sigint_leaves_a_complete_csv_of_the_finished_transparency_techniques() {
     for t in &labels {
         args.extend(["--technique", t.as_str()]);
     }
-    let (_dir, out, header, rows) = sigint_after_the_first_file(&args, "transparency.csv", labels.len());
+    let (_dir, out, header, rows) = sigint_after_the_first_file(&args, "transparency.csv", 1, labels.len());
     for (r, expected) in rows.iter().zip(&labels) {
         assert_eq!(&r[column(&header, "configuration")], expected);
         let error: f64 = r[column(&header, "rmse_hair")].parse().unwrap();
@@ -907,7 +920,7 @@ fn sigint_leaves_a_complete_csv_of_the_finished_transparency_techniques() {
 /// Runs `hairlab ARGS` (the tiny scene, 40 timed frames, `--out`) until results.csv appears, sends SIGINT, and
 /// checks what it left: fewer rows than `labels`, each whole, in that order.
 fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
-    let (_dir, out, header, rows) = sigint_after_the_first_file(args, "results.csv", labels.len());
+    let (_dir, out, header, rows) = sigint_after_the_first_file(args, "results.csv", 1, labels.len());
     for (r, expected) in rows.iter().zip(labels) {
         assert_eq!(&r[column(&header, "label")], expected);
         let error: f64 = r[column(&header, "map_error")].parse().unwrap();
@@ -921,12 +934,13 @@ fn sigint_after_the_first_row(args: &[&str], labels: &[String]) {
 
 /// Runs `hairlab ARGS` (the tiny scene, 40 timed frames, `--out`) until `csv` appears in the output folder, sends
 /// SIGINT, and checks that the run exits 130 with one error naming how many configurations it finished, and that
-/// `csv` holds that many whole rows, fewer than `configs`. Returns the temporary folder, the output folder in it,
-/// the header and the rows.
+/// `csv` holds `rows_per_config` whole rows for each, fewer than `rows` in all. Returns the temporary folder, the
+/// output folder in it, the header and the rows.
 fn sigint_after_the_first_file(
     args: &[&str],
     csv: &str,
-    configs: usize,
+    rows_per_config: usize,
+    all_rows: usize,
 ) -> (
     tempfile::TempDir,
     std::path::PathBuf,
@@ -944,7 +958,7 @@ fn sigint_after_the_first_file(
     assert_eq!(o.status.code(), Some(130), "{args:?}: {}", stderr(&o));
     let (header, rows) = read_csv(&csv);
     assert!(
-        !rows.is_empty() && rows.len() < configs,
+        !rows.is_empty() && rows.len() < all_rows && rows.len() % rows_per_config == 0,
         "stopped after the configuration in progress: {rows:?}"
     );
     for r in &rows {
@@ -954,7 +968,7 @@ fn sigint_after_the_first_file(
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
         errors[0].contains("interrupted")
-            && errors[0].contains(&format!("after {} configurations", rows.len())),
+            && errors[0].contains(&format!("after {} configurations", rows.len() / rows_per_config)),
         "{errors:?}"
     );
     (dir, out, header, rows)

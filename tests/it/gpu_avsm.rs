@@ -47,8 +47,8 @@ fn avsm_gpu_equals_cpu() {
 fn extreme_resolutions_and_alphas() {
     let Some(gpu) = Gpu::for_tests() else { return };
     for order in ORDERS {
-        // One texel: the 179 fragments of 250 strands crossing its centre in one list, just within the bound of
-        // CPU adapters.
+        // One texel: the 179 fragments of 250 strands crossing its centre in one list, six batches of 32 in one
+        // dispatch on a CPU adapter.
         for nodes in [8.0, 16.0] {
             let (_, n) = check(&gpu, nodes, order, Setup::new(250, 1));
             assert!(n > 150, "only {n} samples");
@@ -125,9 +125,10 @@ fn node_buffers_beyond_the_storage_binding_size_are_refused() {
     }
 }
 
-/// A texel list far beyond what one dispatch walks on a CPU adapter (lavapipe: about 200 fragments) is compressed
+/// A texel list far beyond what one dispatch walks on a CPU adapter (lavapipe: about 190 fragments) is compressed
 /// over several dispatches, each resuming where the one before stopped, and still equals the CPU model: one texel
-/// holding the fragments of 1000 strands (about 700; 11 dispatches on lavapipe, one on another adapter).
+/// holding the fragments of 1000 strands (about 700: batches of 32, 11 dispatches on lavapipe, one on another
+/// adapter) and of 3000 strands (about 2100: batches of 16 on lavapipe, one per dispatch).
 #[test]
 fn long_lists_compress_over_several_dispatches() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -135,4 +136,6 @@ fn long_lists_compress_over_several_dispatches() {
         let (_, n) = check(&gpu, 8.0, order, Setup::new(1000, 1));
         assert!(n > 600, "only {n} samples");
     }
+    let (_, n) = check(&gpu, 8.0, ORDERS[0], Setup::new(3000, 1));
+    assert!(n > 1800, "only {n} samples");
 }

@@ -79,7 +79,7 @@ fn gpu_is_within_epsilon_of_the_reference() {
 #[test]
 fn extreme_resolutions() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    // 250 strands in one texel: 179 fragments, under the CPU adapter's bound on walked lists (180).
+    // 250 strands in one texel: 179 fragments, six batches of 32 in one dispatch on a CPU adapter.
     for (strands, resolution) in [(250, 1), (20, 1024)] {
         for epsilon in [0.0, 0.1] {
             let d = differences(&gpu, epsilon, strands, resolution);
@@ -125,7 +125,7 @@ fn memory_is_the_vertex_count() {
 }
 
 /// The compressor walks each list as AVSM's does, over several dispatches on a CPU adapter when a list is long (one
-/// texel holding the fragments of 1000 strands, about 700: 9 dispatches per pass on lavapipe), and still equals the
+/// texel holding the fragments of 1000 strands, about 700: batches of 32, 11 dispatches per pass on lavapipe), and still equals the
 /// CPU model. The A-buffer it compresses is its build memory.
 #[test]
 fn long_lists_compress_over_several_dispatches() {

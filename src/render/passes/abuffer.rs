@@ -55,34 +55,58 @@ pub fn sort_fragments(list: &mut [RefFragment]) {
 }
 
 /// Loop iterations one invocation of a compute pass that walks the lists (AVSM's and the compressed deep shadow
-/// map's select-next, O(n²) for an n-fragment list) may take on a CPU adapter in one dispatch: llvmpipe
+/// map's, `shaders/common/list_walk.wgsl`) may take on a CPU adapter in one dispatch: llvmpipe
 /// (lavapipe) stops a shader's loops after 65,535 iterations in all (measured with AVSM at 8 nodes walked in
 /// one dispatch: a 220-fragment list, 220 × (220 + 61) = 61,820 iterations, equals the CPU model; 244, 74,420,
 /// does not). The margin covers the loops outside the walk.
 pub const CPU_ADAPTER_LOOP_BUDGET: u64 = 60_000;
 
-/// How a list walk is split over dispatches: `steps` fragments per texel in each of `dispatches`.
+/// The largest batch of a walk along the lists (`LIST_BATCH_MAX` in `shaders/common/list_walk.wgsl`).
+pub const WALK_BATCH_MAX: u32 = 32;
+
+/// How a list walk (`shaders/common/list_walk.wgsl`) is split: `batch` fragments taken per pass along a list,
+/// `steps` batches per texel in each of `dispatches`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WalkSplit {
+    pub batch: u32,
     pub steps: u32,
     pub dispatches: u32,
 }
 
 impl WalkSplit {
-    /// The split for lists of at most `longest` fragments when taking one fragment costs one iteration per
-    /// node of the list plus `per_fragment` (and a dispatch may first walk the list once): one dispatch of every
-    /// fragment, unless `budget` (loop iterations per invocation and dispatch, `None`: unbounded) asks for more;
-    /// `None` when not even one fragment fits the budget.
+    /// The split for lists of at most `longest` fragments when a batch of `b` costs at most `longest × b` loop
+    /// iterations along the list (each node taken into the batch moves at most `b − 1` others) plus
+    /// `per_fragment` for each fragment taken, and a dispatch may first walk the list once; a list of `n`
+    /// fragments takes `n / b + 1` batches (the last one finds the end). Without a budget (loop iterations per
+    /// invocation and dispatch): the largest batch, every batch in one dispatch. With one: the largest batch (a
+    /// power of two) of which one fits, as many per dispatch as fit; `None` when not even a batch of one fits.
     pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> Option<WalkSplit> {
-        let all = longest.max(1);
-        let steps = match budget {
-            None => all,
-            Some(b) => (b.saturating_sub(longest) / (longest + per_fragment)).min(all),
+        let needed = |batch: u64| longest / batch + 1;
+        let Some(budget) = budget else {
+            return Some(WalkSplit {
+                batch: WALK_BATCH_MAX,
+                steps: needed(WALK_BATCH_MAX as u64) as u32,
+                dispatches: 1,
+            });
         };
-        (steps > 0).then(|| WalkSplit {
-            steps: steps as u32,
-            dispatches: all.div_ceil(steps) as u32,
-        })
+        let room = budget.saturating_sub(longest);
+        let mut batch = WALK_BATCH_MAX as u64;
+        loop {
+            let per_batch = longest.max(1) * batch + batch * per_fragment;
+            let fit = room / per_batch;
+            if fit > 0 {
+                let steps = fit.min(needed(batch));
+                return Some(WalkSplit {
+                    batch: batch as u32,
+                    steps: steps as u32,
+                    dispatches: needed(batch).div_ceil(steps) as u32,
+                });
+            }
+            if batch == 1 {
+                return None;
+            }
+            batch /= 2;
+        }
     }
 }
 
@@ -448,38 +472,26 @@ mod tests {
 
     #[test]
     fn walks_split_to_fit_the_budget() {
-        // No budget: every fragment in one dispatch.
-        assert_eq!(
-            WalkSplit::new(5000, 100, None),
+        let split = |batch, steps, dispatches| {
             Some(WalkSplit {
-                steps: 5000,
-                dispatches: 1
+                batch,
+                steps,
+                dispatches,
             })
-        );
-        // 179 fragments at 109 more per fragment: 179 + 179 × 288 = 51,731 iterations, one dispatch.
-        assert_eq!(
-            WalkSplit::new(179, 109, Some(60_000)),
-            Some(WalkSplit {
-                steps: 179,
-                dispatches: 1
-            })
-        );
-        // 1300 fragments: (60,000 − 1300) / 1409 = 41 per dispatch, 32 dispatches.
-        assert_eq!(
-            WalkSplit::new(1300, 109, Some(60_000)),
-            Some(WalkSplit {
-                steps: 41,
-                dispatches: 32
-            })
-        );
+        };
+        // No budget: batches of 32, every one in one dispatch (5000 / 32 + 1 = 157).
+        assert_eq!(WalkSplit::new(5000, 100, None), split(32, 157, 1));
+        // 179 fragments at 109 more per fragment: a batch of 32 costs 179 × 32 + 32 × 109 = 9216, six fit in
+        // 60,000 − 179 and six are needed (179 / 32 + 1).
+        assert_eq!(WalkSplit::new(179, 109, Some(60_000)), split(32, 6, 1));
+        // 1300 fragments: a batch of 32 costs 41,600 + 3488 = 45,088, one fits in 58,700; 41 needed.
+        assert_eq!(WalkSplit::new(1300, 109, Some(60_000)), split(32, 1, 41));
+        // 5000: 32 and 16 do not fit in 55,000; a batch of 8 costs 40,872, one fits; 626 needed.
+        assert_eq!(WalkSplit::new(5000, 109, Some(60_000)), split(8, 1, 626));
+        // 29,000: only a batch of one fits, (31,000) / (29,000 + 109) = 1 a dispatch; 29,001 needed.
+        assert_eq!(WalkSplit::new(29_000, 109, Some(60_000)), split(1, 1, 29_001));
         // Empty lists still take one dispatch (it writes the empty texels' nodes).
-        assert_eq!(
-            WalkSplit::new(0, 109, Some(60_000)),
-            Some(WalkSplit {
-                steps: 1,
-                dispatches: 1
-            })
-        );
-        assert_eq!(WalkSplit::new(60_000, 109, Some(60_000)), None);
+        assert_eq!(WalkSplit::new(0, 109, Some(60_000)), split(32, 1, 1));
+        assert_eq!(WalkSplit::new(30_000, 109, Some(60_000)), None);
     }
 }

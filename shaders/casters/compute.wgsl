@@ -3,14 +3,24 @@
 // receive exactly the stream's fragments, depth, alpha and segment id through the light-fragment contract.
 #include "common/raster_stream.wgsl"
 
-@group(3) @binding(0) var<storage, read> raster_stream: array<RasterFragment>;
+// The stream's two pages (render::caster::compute): fragment i is in the first below its length.
+@group(3) @binding(0) var<storage, read> raster_stream_0: array<RasterFragment>;
+@group(3) @binding(1) var<storage, read> raster_stream_1: array<RasterFragment>;
+
+fn stream_read(i: u32) -> RasterFragment {
+    let first = arrayLength(&raster_stream_0);
+    if i < first {
+        return raster_stream_0[i];
+    }
+    return raster_stream_1[i - first];
+}
 
 struct LightVertexIn {
     @builtin(vertex_index) index: u32,
 }
 
 fn light_vertex(v: LightVertexIn) -> LightFragment {
-    let f = raster_stream[v.index];
+    let f = stream_read(v.index);
     let res = frame.light_map_resolution;
     let texel = vec2<f32>(f32(f.texel % res), f32(f.texel / res)) + 0.5;
     let ndc = vec2<f32>(texel.x / f32(res) * 2.0 - 1.0, 1.0 - texel.y / f32(res) * 2.0);

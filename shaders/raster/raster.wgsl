@@ -8,7 +8,18 @@
 
 // Per segment: its count (count), then its offset in the stream (after the scan); the total last.
 @group(1) @binding(0) var<storage, read_write> raster_counts: array<u32>;
-@group(1) @binding(1) var<storage, read_write> raster_stream: array<RasterFragment>;
+// The stream in two pages of one storage binding each: fragment i is in the first page below its length.
+@group(1) @binding(1) var<storage, read_write> raster_stream_0: array<RasterFragment>;
+@group(1) @binding(2) var<storage, read_write> raster_stream_1: array<RasterFragment>;
+
+fn stream_write(i: u32, f: RasterFragment) {
+    let first = arrayLength(&raster_stream_0);
+    if i < first {
+        raster_stream_0[i] = f;
+    } else {
+        raster_stream_1[i - first] = f;
+    }
+}
 
 // Texel-space position (x right, y down) of clip-space `c` on a `res`-texel map.
 fn texel_space(c: vec4<f32>, res: f32) -> vec2<f32> {
@@ -62,7 +73,7 @@ fn raster_segment(s: u32, emit: bool, base: u32) -> u32 {
         if emit {
             let x = u32(select(iu, jv, major_y));
             let y = u32(select(jv, iu, major_y));
-            raster_stream[base + k] = RasterFragment(y * resolution + x, d0 + t * (d1 - d0), a0 + t * (a1 - a0), i0);
+            stream_write(base + k, RasterFragment(y * resolution + x, d0 + t * (d1 - d0), a0 + t * (a1 - a0), i0));
         }
         k++;
     }

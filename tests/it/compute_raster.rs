@@ -151,3 +151,48 @@ fn compute_coverage_against_hardware_lines() {
         );
     }
 }
+
+/// A stream longer than one storage binding spans the rasteriser's two pages: on a device whose bindings hold
+/// three fifths of this scene's stream, the stream read back and the reference's lists drawn from it (the
+/// caster reading both pages) equal, fragment for fragment, those of the same scene on the usual device.
+#[test]
+fn a_stream_past_one_binding_spans_two_pages() {
+    use hairlab::gpu::AdapterPreference;
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (mut s, scene) = common::setup_scene(common::Setup::new(300, 256));
+    compute(&mut s);
+    let run = |g: &Gpu| {
+        let mut r = Renderer::new(g, &scene, s.render.map_resolution).unwrap();
+        let (stream, _) = r.raster_stream(&s.camera, &s.light, &s.render).unwrap();
+        let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
+        (stream, lists)
+    };
+    let (stream, lists) = run(&gpu);
+    let fragment_bytes = std::mem::size_of::<hairlab::render::caster::raster_model::RasterFragment>() as u64;
+    let stream_bytes = stream.len() as u64 * fragment_bytes;
+    // What else this scene binds as one storage buffer: the strand points and the A-buffer's heads.
+    let points = (hair_vertices(&scene).len() * std::mem::size_of_val(&hair_vertices(&scene)[0])) as u64;
+    let heads = 256 * 256 * 4;
+    let limit = (stream_bytes * 3 / 5)
+        .max(points)
+        .max(heads)
+        .next_multiple_of(256);
+    assert!(
+        stream_bytes > limit && stream_bytes <= 2 * limit,
+        "{} fragments ({stream_bytes} B) do not span two pages of {limit} B",
+        stream.len()
+    );
+    let pref = AdapterPreference::from_env_or(AdapterPreference::Software);
+    let paged = Gpu::headless_with_binding_limit(pref, limit).unwrap();
+    let (paged_stream, paged_lists) = run(&paged);
+    eprintln!(
+        "{} fragments over pages of {} fragments",
+        stream.len(),
+        limit / fragment_bytes
+    );
+    assert_eq!(stream, paged_stream, "the stream across two pages");
+    assert_eq!(lists.len(), paged_lists.len());
+    for (t, (a, p)) in lists.iter().zip(&paged_lists).enumerate() {
+        assert_eq!(a, p, "texel {t}: lists drawn from two pages differ");
+    }
+}

@@ -8,7 +8,8 @@
 //!
 //! The pre-pass (`shaders/raster/raster.wgsl`, `shaders/raster/scan.wgsl`): a count pass (one invocation per
 //! segment), an exclusive prefix sum of the counts (one workgroup), a readback of the total that sizes the
-//! stream (no fixed cap; past the storage binding limit one error naming `render.raster`), and a fill pass
+//! stream (no fixed cap: two pages of one storage binding each, 16.7 M fragments on lavapipe's 128 MiB
+//! bindings; past them one error naming `render.raster`), and a fill pass
 //! writing each segment's fragments at its offset: the stream is in segment order whatever the scheduling, with
 //! no atomics. A segment's fragments are rasterised by its own invocation: hair segments span a few texels, so
 //! the work is even without binning segments to tiles (the engines bin to resolve depth and coverage per tile
@@ -46,7 +47,9 @@ pub struct ComputeRaster {
     draw_layout: wgpu::BindGroupLayout,
     /// Per segment its count, then its offset; the total last.
     counts: wgpu::Buffer,
-    stream: wgpu::Buffer,
+    /// The stream's two pages: the first holds `min(total, page)` fragments (`page` the most one binding
+    /// holds), the second the rest (one placeholder fragment while none).
+    stream: [wgpu::Buffer; 2],
     /// The stream bound for the caster's draw.
     draw_group: wgpu::BindGroup,
     /// Fragments in the stream.
@@ -61,17 +64,16 @@ impl ComputeRaster {
     ) -> Self {
         let device = &gpu.device;
         let compute = wgpu::ShaderStages::COMPUTE;
-        let layout = |label, read_only| {
+        let layout = |label, read_only, count| {
+            let entries: Vec<_> = (0..count).map(|b| storage_entry(b, compute, read_only)).collect();
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
-                entries: &[
-                    storage_entry(0, compute, read_only),
-                    storage_entry(1, compute, read_only),
-                ],
+                entries: &entries,
             })
         };
-        let raster_layout = layout("hairlab.raster.layout", false);
-        let points_layout = layout("hairlab.raster.points_layout", true);
+        // Counts and the stream's two pages; the strand points and segments.
+        let raster_layout = layout("hairlab.raster.layout", false, 3);
+        let points_layout = layout("hairlab.raster.points_layout", true, 2);
         let module = |path: &str| {
             let src = crate::shaders::compose(path, None).unwrap_or_else(|e| panic!("{e}"));
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -102,12 +104,12 @@ impl ComputeRaster {
             })
         };
         let counts = buffer(gpu, "hairlab.raster.counts", 4);
-        let stream = buffer(gpu, "hairlab.raster.stream", FRAGMENT_BYTES);
+        let stream = [0, 1].map(|_| buffer(gpu, "hairlab.raster.stream", FRAGMENT_BYTES));
         ComputeRaster {
             count: pipeline("hairlab.raster.count", &raster, "count", true),
             scan: pipeline("hairlab.raster.scan", &scan, "scan", false),
             fill: pipeline("hairlab.raster.fill", &raster, "fill", true),
-            draw_group: draw_group(gpu, ribbon_layout, &stream, &counts),
+            draw_group: draw_group(gpu, ribbon_layout, &stream),
             raster_layout,
             points_layout,
             draw_layout: ribbon_layout.clone(),
@@ -139,7 +141,6 @@ impl ComputeRaster {
         }
         if self.counts.size() != counts_bytes {
             self.counts = buffer(gpu, "hairlab.raster.counts", counts_bytes);
-            self.draw_group = draw_group(gpu, &self.draw_layout, &self.stream, &self.counts);
         }
         let points = crate::render::pipelines::buffer_group(
             device,
@@ -151,7 +152,7 @@ impl ComputeRaster {
             device,
             "hairlab.raster.passes",
             &self.raster_layout,
-            &[&self.counts, &self.stream],
+            &[&self.counts, &self.stream[0], &self.stream[1]],
         );
         let workgroups = (segments as u32).div_ceil(WORKGROUP);
         let size = (workgroups.min(MAX_GROUPS), workgroups.div_ceil(MAX_GROUPS));
@@ -185,23 +186,28 @@ impl ComputeRaster {
         gpu.queue.submit([enc.finish()]);
         let total: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::read_buffer(gpu, &total)?);
         self.total = total[0];
-        let stream_bytes = (self.total as u64).max(1) * FRAGMENT_BYTES;
-        if stream_bytes > limit {
+        let total = self.total as u64;
+        let page = limit / FRAGMENT_BYTES;
+        if total > 2 * page {
             return Err(too_large(
-                &format!("fragment stream ({} fragments)", self.total),
-                stream_bytes,
-                limit,
+                &format!("fragment stream ({} fragments, in two bindings)", self.total),
+                total * FRAGMENT_BYTES,
+                2 * page * FRAGMENT_BYTES,
             ));
         }
-        if stream_bytes > self.stream.size() {
-            self.stream = buffer(gpu, "hairlab.raster.stream", stream_bytes);
-            self.draw_group = draw_group(gpu, &self.draw_layout, &self.stream, &self.counts);
+        // The first page's length is where the shaders split the stream, so it is exact once a second is used.
+        let sizes = [total.clamp(1, page), total.saturating_sub(page).max(1)];
+        let fits = |b: &wgpu::Buffer, n: u64| b.size() >= n * FRAGMENT_BYTES;
+        let first_exact = total <= page || self.stream[0].size() == page * FRAGMENT_BYTES;
+        if !(fits(&self.stream[0], sizes[0]) && fits(&self.stream[1], sizes[1]) && first_exact) {
+            self.stream = sizes.map(|n| buffer(gpu, "hairlab.raster.stream", n * FRAGMENT_BYTES));
+            self.draw_group = draw_group(gpu, &self.draw_layout, &self.stream);
         }
         let passes = crate::render::pipelines::buffer_group(
             device,
             "hairlab.raster.passes",
             &self.raster_layout,
-            &[&self.counts, &self.stream],
+            &[&self.counts, &self.stream[0], &self.stream[1]],
         );
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.raster.fill"),
@@ -214,8 +220,12 @@ impl ComputeRaster {
 
     /// The stream of the last [`ComputeRaster::prepare`], read back.
     pub fn read_stream(&self, gpu: &Gpu) -> Result<Vec<RasterFragment>, GpuError> {
-        let bytes = readback::copy_out(gpu, &self.stream)?;
-        let mut stream: Vec<RasterFragment> = bytemuck::pod_collect_to_vec(&bytes);
+        let mut stream: Vec<RasterFragment> = Vec::new();
+        for page in &self.stream {
+            stream.extend(bytemuck::pod_collect_to_vec::<u8, RasterFragment>(
+                &readback::copy_out(gpu, page)?,
+            ));
+        }
         stream.truncate(self.total as usize);
         Ok(stream)
     }
@@ -268,15 +278,15 @@ fn buffer(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
     })
 }
 
-/// The stream bound with the renderer's ribbon layout (two read-only storage buffers; the caster's vertex stage
-/// reads the first).
-fn draw_group(
-    gpu: &Gpu,
-    layout: &wgpu::BindGroupLayout,
-    stream: &wgpu::Buffer,
-    counts: &wgpu::Buffer,
-) -> wgpu::BindGroup {
-    crate::render::pipelines::buffer_group(&gpu.device, "hairlab.raster.draw", layout, &[stream, counts])
+/// The stream's pages bound with the renderer's ribbon layout (two read-only storage buffers, which the caster's
+/// vertex stage reads as the stream's first and second page).
+fn draw_group(gpu: &Gpu, layout: &wgpu::BindGroupLayout, stream: &[wgpu::Buffer; 2]) -> wgpu::BindGroup {
+    crate::render::pipelines::buffer_group(
+        &gpu.device,
+        "hairlab.raster.draw",
+        layout,
+        &[&stream[0], &stream[1]],
+    )
 }
 
 /// The error of a rasteriser buffer past the storage binding limit.

@@ -48,22 +48,17 @@ fn scaling_color(fits: &[super::ScalingFit], i: usize) -> Color {
     method_color(&name).map(|c| (f32::from(c) * 0.6f32.powi(earlier.len() as i32)) as u8)
 }
 
-/// Dashes along the straight line from `a` to `b`: `n` pieces, every other one drawn, as line series out of the
-/// legend.
-fn dashes(a: &Point, b: &Point, n: usize, color: Color) -> Vec<Series> {
-    let at = |t: f64| Point {
-        x: a.x + (b.x - a.x) * t,
-        y: a.y + (b.y - a.y) * t,
-        label: String::new(),
-        row: None,
-    };
-    (0..n)
+/// Dashes along the polyline `points`: every other piece between consecutive points drawn, as line series out
+/// of the legend.
+fn dashes(points: &[Point], color: Color) -> Vec<Series> {
+    points
+        .windows(2)
         .step_by(2)
-        .map(|k| Series {
+        .map(|w| Series {
             name: String::new(),
             color,
             mark: Mark::Line,
-            points: vec![at(k as f64 / n as f64), at((k + 1) as f64 / n as f64)],
+            points: w.to_vec(),
         })
         .collect()
 }
@@ -175,6 +170,16 @@ impl Chart {
         }
     }
 
+    /// Where `y` sits on the plot's y axis: itself on a linear axis, its log10 on a logarithmic one (not drawn at
+    /// or below 0).
+    pub fn plot_y(&self, y: f64) -> f64 {
+        match self.y.scale {
+            Scale::Linear => y,
+            Scale::Log if y > 0.0 => y.log10(),
+            Scale::Log => f64::NAN,
+        }
+    }
+
     /// The plot's x and y ranges in plot coordinates, spanning every point with a little room.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         let x = match self.x.scale {
@@ -188,9 +193,23 @@ impl Chart {
                 [lo, hi]
             }
         };
-        let (lo, hi) = min_max(self.all_points().map(|p| p.y));
-        let (lo, hi, _) = linear_range(lo, hi * 1.05);
-        (x, [lo, hi])
+        let y = match self.y.scale {
+            Scale::Log => {
+                let (lo, hi) = min_max(self.all_points().map(|p| p.y).filter(|y| *y > 0.0));
+                let (lo, hi) = if lo.is_finite() {
+                    log_range(lo, hi)
+                } else {
+                    (0.1, 10.0)
+                };
+                [lo.log10(), hi.log10()]
+            }
+            Scale::Linear => {
+                let (lo, hi) = min_max(self.all_points().map(|p| p.y));
+                let (lo, hi, _) = linear_range(lo, hi * 1.05);
+                [lo, hi]
+            }
+        };
+        (x, y)
     }
 
     /// The x ticks over `lo..=hi` (plot coordinates): 1..9 × 10^k on a logarithmic axis (decades labelled, and
@@ -215,9 +234,12 @@ impl Chart {
         }
     }
 
-    /// The y ticks over `lo..=hi`.
+    /// The y ticks over `lo..=hi`: 1-2-5 steps, or 1..9 × 10^k on a logarithmic axis.
     pub fn y_ticks(&self, lo: f64, hi: f64) -> Vec<Tick> {
-        linear_ticks(lo, hi)
+        match self.y.scale {
+            Scale::Linear => linear_ticks(lo, hi),
+            Scale::Log => log_ticks(lo, hi),
+        }
     }
 
     /// The label of the x tick at `at`, if any.
@@ -392,10 +414,12 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
 }
 
 /// Dashes per fit line of the compute rasteriser.
-const DASHES: usize = 25;
+/// Pieces of a fitted curve in the scaling chart (a dashed one draws every other).
+const FIT_SAMPLES: usize = 25;
 
-/// GPU ms against segment count, measured points and fitted lines: solid under the hardware rasteriser, dashed
-/// under the compute one.
+/// GPU ms against segment count on log-log axes (a cost linear in segments climbs one decade of time per decade
+/// of segments; the methods' times span three decades), measured points and fitted lines: solid under the
+/// hardware rasteriser, dashed under the compute one.
 pub fn scaling_chart(r: &ScalingResult) -> Chart {
     let mut series = Vec::new();
     let both = r.rasters.len() > 1;
@@ -412,13 +436,19 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
                 row: None,
             })
             .collect();
+        // The fit, a curve on these axes: FIT_SAMPLES points evenly spaced in log x.
         let (lo, hi) = min_max(pts.iter().map(|p| p.x));
-        let ends = [lo, hi].map(|x| Point {
-            x,
-            y: f.ms_per_segment * x + f.intercept_ms,
-            label: String::new(),
-            row: None,
-        });
+        let curve: Vec<Point> = (0..=FIT_SAMPLES)
+            .map(|k| {
+                let x = lo * (hi / lo).powf(k as f64 / FIT_SAMPLES as f64);
+                Point {
+                    x,
+                    y: f.ms_per_segment * x + f.intercept_ms,
+                    label: String::new(),
+                    row: None,
+                }
+            })
+            .collect();
         let raster = match (both, f.raster) {
             (false, _) => String::new(),
             (true, Raster::Hardware) => ", hardware".to_string(),
@@ -440,9 +470,9 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
                 name: String::new(),
                 color,
                 mark: Mark::Line,
-                points: ends.to_vec(),
+                points: curve,
             }),
-            Raster::Compute => series.extend(dashes(&ends[0], &ends[1], DASHES, color)),
+            Raster::Compute => series.extend(dashes(&curve, color)),
         }
     }
     let segments = r.points.iter().map(|p| p.segments).max().unwrap_or(0);
@@ -480,11 +510,11 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
         notes,
         x: Axis {
             label: format!("segments (strand density × {first:.2} .. {last:.2})"),
-            scale: Scale::Linear,
+            scale: Scale::Log,
         },
         y: Axis {
             label: "GPU ms per frame, method's own light passes".to_string(),
-            scale: Scale::Linear,
+            scale: Scale::Log,
         },
         series,
         front: None,
@@ -661,8 +691,8 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Dra
         .axis_style(INK)
         .draw()?;
 
-    let at = |p: &Point| (chart.plot_x(p.x), p.y);
-    let finite = |p: &&Point| p.x.is_finite() && p.y.is_finite();
+    let at = |p: &Point| (chart.plot_x(p.x), chart.plot_y(p.y));
+    let finite = |p: &&Point| chart.plot_x(p.x).is_finite() && chart.plot_y(p.y).is_finite();
     // The break between the "0" column and the logarithmic axis.
     if let Some(z) = chart.zero_column() {
         let bx = z + ZERO_GAP * 0.5;

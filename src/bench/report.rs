@@ -540,8 +540,9 @@ mod tests {
 
     #[test]
     fn scaling_chart_dashes_the_compute_fits() {
-        use crate::bench::chart::Mark;
-        let chart = chart::scaling_chart(&scaling_result());
+        use crate::bench::chart::{Mark, Scale};
+        let result = scaling_result();
+        let chart = chart::scaling_chart(&result);
         let names: Vec<&str> = chart
             .series
             .iter()
@@ -551,12 +552,30 @@ mod tests {
         assert_eq!(names.len(), 2);
         assert!(names[0].ends_with(", hardware)"), "{}", names[0]);
         assert!(names[1].ends_with(", compute, dashed)"), "{}", names[1]);
-        // One solid line (hardware), and the compute fit in 13 dashes of a 25th of its length each.
+        // One solid curve (hardware) from 1000 to 2000 segments in 25 pieces, and the compute fit in 13 dashes,
+        // each a 25th of the range in log x (a factor 2^(1/25)), on the fitted line.
+        assert_eq!((chart.x.scale, chart.y.scale), (Scale::Log, Scale::Log));
         let lines: Vec<&chart::Series> = chart.series.iter().filter(|s| s.mark == Mark::Line).collect();
         assert_eq!(lines.len(), 1 + 13);
-        let length = |s: &chart::Series| s.points[1].x - s.points[0].x;
-        assert_eq!(length(lines[0]), 1000.0);
-        assert!(lines[1..].iter().all(|s| (length(s) - 40.0).abs() < 1e-9));
+        let solid = &lines[0].points;
+        assert_eq!(solid.len(), 26);
+        assert_eq!((solid[0].x, solid[25].x), (1000.0, 2000.0));
+        let fit = &result.fits[0];
+        for p in solid {
+            assert!(
+                (p.y - (fit.ms_per_segment * p.x + fit.intercept_ms)).abs() < 1e-9,
+                "{p:?}"
+            );
+        }
+        let step = 2f64.powf(1.0 / 25.0);
+        for s in &lines[1..] {
+            assert_eq!(s.points.len(), 2);
+            assert!(
+                (s.points[1].x / s.points[0].x - step).abs() < 1e-9,
+                "{:?}",
+                s.points
+            );
+        }
         // Both formats render.
         let files = chart_files("scaling", &chart).unwrap();
         assert!(files.iter().all(|(_, bytes)| bytes.len() > 1000));

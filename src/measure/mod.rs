@@ -281,18 +281,19 @@ fn time_light_passes(
         if frame < warmup {
             continue;
         }
-        let mut shared = 0.0;
+        let mut shared = None;
         for pass in times {
             match pass.phase {
                 Phase::Method => match t.method.iter_mut().find(|(n, _)| *n == pass.name) {
                     Some((_, v)) => v.push(pass.ms),
                     None => t.method.push((pass.name, vec![pass.ms])),
                 },
-                Phase::SharedLight => shared += pass.ms,
+                Phase::SharedLight => *shared.get_or_insert(0.0) += pass.ms,
                 _ => {}
             }
         }
-        t.shared.push(shared);
+        // No entry for a frame without timed shared passes (a device without timestamps).
+        t.shared.extend(shared);
     }
     Ok(t)
 }

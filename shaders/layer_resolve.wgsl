@@ -1,11 +1,14 @@
-// The resolve pass of the opacity-layer family's atomic build (methods::opacity_layers,
-// visibility::opacity_layers): a full-screen pass over the light map per (at most) 32 entries of one band (up
-// to 8 colour targets, no blending). Each texel sums its counters front to back, saturating, from the running sum the previous pass
-// left in `layer_carry`, zeroes the counters it read (so they are clear for the next band and frame without a
-// clear of their own), and writes every entry in the map's storage: f32, f16 (rounded to 11 significant bits in
-// integers first, so that the target's conversion is exact) or u8 (steps of 1/32 as a unorm).
-#include "common/fullscreen.wgsl"
-#include "common/cumulative_targets.wgsl"
+// The resolve of the opacity-layer family's atomic build (methods::opacity_layers, visibility::opacity_layers):
+// per band, one compute dispatch per run of at most 64 of its entries, one invocation per light-map texel, a
+// workgroup taking 64 texels of a row (so that its stores to each layer are neighbours). An occupied texel
+// sums its counters (a texel's side by side, as common/layer_pass.wgsl counts them) front to back, saturating,
+// from the running sum the previous run left in `layer_carry`, zeroes the counters it read (so they are clear
+// for the next band and frame without a clear of their own), and stores the run's layers in the map's storage:
+// f32, f16 (rounded to 11 significant bits in integers first, so that the texture's conversion is exact) or u8
+// (steps of 1/32 as a unorm). A texel without fragments (the light-depth pass's clear values, far < near)
+// reads as optical depth 0: it writes zeros only where `layer_written` says the map may still hold an earlier
+// frame's values, so a frame costs its occupied texels. One entry point per storage format (a storage
+// texture's format is part of its type).
 #include "common/layer_build_uniforms.wgsl"
 
 @group(0) @binding(0) var<uniform> resolve: LayerBuildUniforms;
@@ -13,88 +16,155 @@
 @group(0) @binding(2) var<storage, read_write> layer_carry: array<u32>;
 @group(0) @binding(3) var resolve_near: texture_2d<f32>;
 @group(0) @binding(4) var resolve_far: texture_2d<f32>;
+// 1 where the map's texel may hold non-zero entries (every texel when the buffers are made).
+@group(0) @binding(5) var<storage, read_write> layer_written: array<u32>;
 
-struct ResolveFragment {
-    @builtin(position) clip: vec4<f32>,
-    // First entry of the pass (a multiple of 4): the instance index.
-    @location(0) @interpolate(flat) first: u32,
+// What this dispatch resolves (a dynamic offset per part): entries first..end (whole layers) of the band
+// starting at entry band_first. Mirrors methods::opacity_layers::ResolvePart.
+struct ResolvePart {
+    band_first: u32,
+    first: u32,
+    end: u32,
+    pad: u32,
+}
+@group(0) @binding(6) var<uniform> resolve_part: ResolvePart;
+
+@group(1) @binding(0) var map_f32: texture_storage_2d_array<rgba32float, write>;
+@group(1) @binding(0) var map_f16: texture_storage_2d_array<rgba16float, write>;
+@group(1) @binding(0) var map_u8: texture_storage_2d_array<rgba8unorm, write>;
+
+// c rounded to 11 significant bits, to nearest with ties to even, unchanged below 2^11
+// (visibility::opacity_layers::round_significand), per component.
+fn round_significand(c: vec4<u32>) -> vec4<u32> {
+    let shift = max(firstLeadingBit(c), vec4<u32>(10u)) - 10u;
+    let low = c & ((vec4<u32>(1u) << shift) - 1u);
+    let half = vec4<u32>(1u) << max(shift, vec4<u32>(1u)) - 1u;
+    let m = c >> shift;
+    let up = (low > half) | ((low == half) & ((m & vec4<u32>(1u)) == vec4<u32>(1u)));
+    return select(c, (m + select(vec4<u32>(0u), vec4<u32>(1u), up)) << shift, c >= vec4<u32>(2048u));
 }
 
-@vertex
-fn vs_resolve(@builtin(vertex_index) i: u32, @builtin(instance_index) first: u32) -> ResolveFragment {
-    return ResolveFragment(fullscreen_position(i), first);
+// What the map holds for the fixed-point sums c (visibility::opacity_layers::LayerStorage::raw), per storage.
+fn stored_f32(c: vec4<u32>) -> vec4<f32> {
+    return vec4<f32>(c) / LAYER_FIXED_POINT_SCALE;
 }
 
-// c rounded to 11 significant bits, to nearest with ties to even (visibility::opacity_layers::round_significand).
-fn round_significand(c: u32) -> u32 {
-    if c < 2048u {
-        return c;
+fn stored_f16(c: vec4<u32>) -> vec4<f32> {
+    return vec4<f32>(round_significand(c)) / LAYER_FIXED_POINT_SCALE;
+}
+
+fn stored_u8(c: vec4<u32>) -> vec4<f32> {
+    return vec4<f32>(min((c + 1024u) >> vec4<u32>(11u), vec4<u32>(255u))) / 255.0;
+}
+
+// What one invocation resolves: texel t's layers first_layer..end_layer (entries first..end of the part;
+// entries past the last, in the map's last layer, repeat the last sum); entry e's counter is at counters + e
+// in the page.
+struct ResolveTexel {
+    t: u32,
+    counters: u32,
+    end: u32,
+    first_layer: u32,
+    end_layer: u32,
+    occupied: bool,
+    // Whether the invocation stores anything (an occupied texel, or an empty one the map may not read as 0).
+    stores: bool,
+}
+
+// The running fixed-point sum of the invocation's texel.
+var<private> sum: u32;
+
+fn begin_texel(p: vec2<u32>) -> ResolveTexel {
+    let n = resolve.resolution;
+    let t = p.y * n + p.x;
+    let part = resolve_part;
+    let last = part.end == resolve.entries;
+    let layers = vec2<u32>(part.first / 4u, (part.end + 3u) / 4u);
+    var r = ResolveTexel(t, t * resolve.band - part.band_first, part.end, layers.x, layers.y, false, false);
+    if p.x >= n {
+        return r;
     }
-    let shift = firstLeadingBit(c) - 10u;
-    let low = c & ((1u << shift) - 1u);
-    let half = 1u << (shift - 1u);
-    var m = c >> shift;
-    if low > half || (low == half && (m & 1u) == 1u) {
-        m += 1u;
-    }
-    return m << shift;
-}
-
-// The value the map holds for the fixed-point sum c (visibility::opacity_layers::LayerStorage::raw).
-fn stored_value(c: u32) -> f32 {
-    switch resolve.storage {
-        case 1u: {
-            return f32(round_significand(c)) / LAYER_FIXED_POINT_SCALE;
+    r.occupied = textureLoad(resolve_far, p, 0).r >= textureLoad(resolve_near, p, 0).r;
+    if r.occupied {
+        sum = select(layer_carry[t], 0u, part.first == 0u);
+        r.stores = true;
+        if last {
+            layer_written[t] = 1u;
         }
-        case 2u: {
-            return f32(min((c + 1024u) >> 11u, 255u)) / 255.0;
-        }
-        default: {
-            return f32(c) / LAYER_FIXED_POINT_SCALE;
+    } else {
+        r.stores = layer_written[t] != 0u;
+        if r.stores && last {
+            layer_written[t] = 0u;
         }
     }
+    return r;
 }
 
-// The next entry e: its counter added to the running sum c (and zeroed) when e lies in the band, then its
-// stored value.
-fn next_entry(e: u32, band_end: u32, band_first: u32, t: u32, c: ptr<function, u32>) -> f32 {
-    if e < band_end {
-        let i = (e - band_first) * resolve.resolution * resolve.resolution + t;
-        *c = min(*c + resolve_counters[i], LAYER_SATURATION);
+// Entry e's counter (zeroed once read) added to the running sum, saturating; entries past the last add 0.
+fn next_sum(r: ResolveTexel, e: u32) -> u32 {
+    if e < r.end {
+        let i = r.counters + e;
+        sum = min(sum + resolve_counters[i], LAYER_SATURATION);
         resolve_counters[i] = 0u;
     }
-    return stored_value(*c);
+    return sum;
 }
 
-// Four entries from e on, in order.
-fn next4(e: u32, band_end: u32, band_first: u32, t: u32, c: ptr<function, u32>) -> vec4<f32> {
-    let x = next_entry(e, band_end, band_first, t, c);
-    let y = next_entry(e + 1u, band_end, band_first, t, c);
-    let z = next_entry(e + 2u, band_end, band_first, t, c);
-    let w = next_entry(e + 3u, band_end, band_first, t, c);
-    return vec4<f32>(x, y, z, w);
-}
-
-@fragment
-fn fs_resolve(f: ResolveFragment) -> CumulativeTargets {
-    let p = vec2<u32>(f.clip.xy);
-    // A texel without fragments (the light-depth pass's clear values, far < near) has no counts: its entries
-    // keep the targets' clear value 0, which every storage reads as optical depth 0.
-    if textureLoad(resolve_far, p, 0).r < textureLoad(resolve_near, p, 0).r {
-        discard;
+// The running sums of the four entries of `layer`: for an occupied texel its counters added front to back,
+// for an empty one zeros.
+fn layer_sums(r: ResolveTexel, layer: u32) -> vec4<u32> {
+    if !r.occupied {
+        return vec4<u32>(0u);
     }
-    let t = p.y * resolve.resolution + p.x;
-    let band_first = (f.first / resolve.band) * resolve.band;
-    let band_end = min(band_first + resolve.band, resolve.entries);
-    var c = select(layer_carry[t], 0u, f.first == 0u);
-    let t0 = next4(f.first, band_end, band_first, t, &c);
-    let t1 = next4(f.first + 4u, band_end, band_first, t, &c);
-    let t2 = next4(f.first + 8u, band_end, band_first, t, &c);
-    let t3 = next4(f.first + 12u, band_end, band_first, t, &c);
-    let t4 = next4(f.first + 16u, band_end, band_first, t, &c);
-    let t5 = next4(f.first + 20u, band_end, band_first, t, &c);
-    let t6 = next4(f.first + 24u, band_end, band_first, t, &c);
-    let t7 = next4(f.first + 28u, band_end, band_first, t, &c);
-    layer_carry[t] = c;
-    return CumulativeTargets(t0, t1, t2, t3, t4, t5, t6, t7);
+    let e = layer * 4u;
+    let x = next_sum(r, e);
+    let y = next_sum(r, e + 1u);
+    let z = next_sum(r, e + 2u);
+    let w = next_sum(r, e + 3u);
+    return vec4<u32>(x, y, z, w);
+}
+
+fn end_texel(r: ResolveTexel) {
+    if r.occupied {
+        layer_carry[r.t] = sum;
+    }
+}
+
+@compute @workgroup_size(64)
+fn cs_resolve_f32(@builtin(global_invocation_id) id: vec3<u32>) {
+    let r = begin_texel(id.xy);
+    let p = id.xy;
+    if !r.stores {
+        return;
+    }
+    for (var l = r.first_layer; l < r.end_layer; l++) {
+        textureStore(map_f32, p, l, stored_f32(layer_sums(r, l)));
+    }
+    end_texel(r);
+}
+
+@compute @workgroup_size(64)
+fn cs_resolve_f16(@builtin(global_invocation_id) id: vec3<u32>) {
+    let r = begin_texel(id.xy);
+    let p = id.xy;
+    if !r.stores {
+        return;
+    }
+    for (var l = r.first_layer; l < r.end_layer; l++) {
+        textureStore(map_f16, p, l, stored_f16(layer_sums(r, l)));
+    }
+    end_texel(r);
+}
+
+@compute @workgroup_size(64)
+fn cs_resolve_u8(@builtin(global_invocation_id) id: vec3<u32>) {
+    let r = begin_texel(id.xy);
+    let p = id.xy;
+    if !r.stores {
+        return;
+    }
+    for (var l = r.first_layer; l < r.end_layer; l++) {
+        textureStore(map_u8, p, l, stored_u8(layer_sums(r, l)));
+    }
+    end_texel(r);
 }

@@ -6,8 +6,8 @@ struct LayerBuildUniforms {
     resolution: u32,
     // Entries N per texel.
     entries: u32,
-    // Entries per band: band b counts entries b * band .. b * band + band - 1, entry-major
-    // ((k - b * band) * resolution² + texel).
+    // Entries per band: band b counts entries b * band .. b * band + band - 1, texel-major
+    // (texel * band + k - b * band).
     band: u32,
     // 0: f32, 1: f16, 2: u8 (visibility::opacity_layers::LayerStorage).
     storage: u32,

@@ -5,6 +5,7 @@
 //   blending); pass p writes entries 32p..32p+31, and b goes to entry k and every later one;
 // - layer_count: the atomic build, one geometry pass per band of entries; b is quantised to u32 fixed point
 //   and added to the (texel, k) counter with a storage atomic, saturating (layer_resolve.wgsl sums them up).
+//   A texel's counters lie side by side (texel * band + k - first), so that the resolve reads them in order.
 // The method's group 1: its uniform (0), the near (1) and far (2) maps, and for the atomic build the counters
 // (3) and their uniforms (4).
 #include "common/frame.wgsl"
@@ -51,8 +52,7 @@ fn layer_count(f: LayerFragment, k: u32, n: u32) {
         return;
     }
     let q = quantised_optical_depth(f.alpha);
-    let texels = layer_build.resolution * layer_build.resolution;
-    let i = (k - first) * texels + texel_index(f.clip);
+    let i = texel_index(f.clip) * layer_build.band + k - first;
     let old = atomicAdd(&layer_counters[i], q);
     if old + q > LAYER_SATURATION {
         atomicMin(&layer_counters[i], LAYER_SATURATION);

@@ -12,13 +12,16 @@
 //!   which targets it writes (`fs_main`).
 //! - **atomic** (the opacity-layer family, one entry per fragment): ONE geometry pass (`fs_count`, through the
 //!   shared light vertex stage) in which each fragment adds its u32 fixed-point optical depth to the counter of
-//!   its `(texel, entry)` in a storage buffer (4 bytes per entry and texel, build memory), then full-screen
-//!   resolve passes (`shaders/layer_resolve.wgsl`, 32 entries each) that sum the counters front to back into
-//!   the map in the `storage` parameter's format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per
-//!   entry). When the counters of all entries exceed the device's storage binding limit (128 MiB on lavapipe:
-//!   OSM-256 at 512² needs 256 MiB), the entries are built in bands of a multiple of 4 (one geometry pass per
-//!   band), the running sum carried from band to band; a map whose 4 entries alone exceed it (above 2896² at
-//!   128 MiB) is refused with an error naming the `build` parameter.
+//!   its `(texel, entry)` in a storage buffer (4 bytes per entry and texel, a texel's side by side; build
+//!   memory), then a compute resolve (`shaders/layer_resolve.wgsl`, one invocation per texel, dispatches of
+//!   [`RESOLVE_RUN`] entries) that sums an occupied texel's counters front to back into the map, written as a
+//!   storage texture in the `storage` parameter's format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per
+//!   entry). An empty texel is written (zeros) only where the map may still hold an earlier frame's values (a
+//!   flag per texel), so a frame pays for its occupied texels. When the counters of all entries exceed the
+//!   device's storage binding limit (128 MiB on lavapipe: OSM-256 at 512² needs 256 MiB), the entries are
+//!   built in bands of a multiple of 4 (one geometry pass per band), the running sum carried from band to
+//!   band; a map whose 4 entries alone exceed it (above 2896² at 128 MiB) is refused with an error naming the
+//!   `build` parameter.
 //!
 //! The light pass's group 1 is the uniform (binding 0), the near (1) and far (2) light-depth maps, and for the
 //! atomic build the counters (3) and [`LayerBuildUniforms`] (4); the lookup's group 1 is the array view (0) and
@@ -35,6 +38,7 @@ use crate::render::maps::{
 use crate::render::passes::NullTarget;
 pub use crate::visibility::opacity_layers::{LayerBuild, LayerStorage};
 use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
 
 /// Values one array layer holds.
 pub const VALUES_PER_LAYER: u32 = 4;
@@ -42,20 +46,20 @@ pub const VALUES_PER_LAYER: u32 = 4;
 /// Entries one geometry pass of the colour-target build writes (8 RGBA32F targets).
 pub const ENTRIES_PER_TARGETS_PASS: u32 = VALUES_PER_LAYER * AdditivePipelines::MAX_TARGETS;
 
-/// Most entries `build = auto` gives to the colour targets (two geometry passes).
-pub const AUTO_TARGETS_MAX_ENTRIES: u32 = 2 * ENTRIES_PER_TARGETS_PASS;
+/// Most entries `build = auto` gives to the colour targets (one geometry pass).
+pub const AUTO_TARGETS_MAX_ENTRIES: u32 = ENTRIES_PER_TARGETS_PASS;
 
 /// The `build` parameter of the opacity-layer family. `auto` takes the colour targets up to
 /// [`AUTO_TARGETS_MAX_ENTRIES`] entries with f32 storage, the atomic build otherwise: measured on lavapipe
-/// (docs/design.md), one or two target passes cost less than the atomic count pass plus its resolve passes
-/// (OSM-16, DOM-3, BOM-4; OSM-64 in one of two runs), eight (OSM-256) cost 1.5 times as much.
+/// (docs/design.md), one target pass costs 0.85–0.9 times the atomic count pass plus its resolve (OSM-16,
+/// DOM-3, BOM-4); two (OSM-64) cost 1.3 times as much, eight (OSM-256) 1.9 times.
 pub const BUILD: ParamSpec = ParamSpec {
     key: "build",
     label: "build",
     help: "how the layers are filled: atomic = one geometry pass adding fixed-point optical depth to \
            per-(texel, entry) counters with storage atomics, then a resolve into the storage format; \
            targets = additive blending into RGBA32F colour targets, 32 entries per geometry pass; auto = targets \
-           up to 64 entries with f32 storage, else atomic",
+           up to 32 entries with f32 storage, else atomic",
     kind: ParamKind::Choice {
         options: &["auto", "atomic", "targets"],
     },
@@ -197,6 +201,15 @@ struct PassBindGroup {
 struct Maps {
     map: ArrayMap,
     lookup_bind_group: wgpu::BindGroup,
+    /// The atomic build's resolve group over the map as a storage texture, made on first use.
+    resolve_bind_group: Option<wgpu::BindGroup>,
+}
+
+/// The resolve pipeline for one map format, with the layout of its storage-texture group.
+struct ResolvePipeline {
+    format: wgpu::TextureFormat,
+    map_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
 }
 
 /// The atomic build's pipelines, made on first use.
@@ -204,10 +217,9 @@ struct AtomicPipelines {
     pass_layout: wgpu::BindGroupLayout,
     count: wgpu::RenderPipeline,
     resolve_layout: wgpu::BindGroupLayout,
-    resolve_pipeline_layout: wgpu::PipelineLayout,
     resolve_module: wgpu::ShaderModule,
-    /// Resolve pipelines by target format and count.
-    resolve: Vec<(wgpu::TextureFormat, u32, wgpu::RenderPipeline)>,
+    /// Resolve pipelines by map format.
+    resolve: Vec<ResolvePipeline>,
     uniforms: wgpu::Buffer,
 }
 
@@ -216,8 +228,16 @@ struct AtomicBuffers {
     resolution: u32,
     entries: u32,
     band: u32,
+    /// The band's counters, a texel's side by side (`texel * band + entry - band_first`).
     counters: wgpu::Buffer,
     carry: wgpu::Buffer,
+    /// One u32 per texel: 1 where the map may hold non-zero entries.
+    written: wgpu::Buffer,
+    /// The resolve's dispatches ([`resolve_parts`]), in order.
+    dispatches: Vec<ResolvePart>,
+    /// Each dispatch's [`ResolvePart`], one per dynamic-offset step of `part_stride` bytes.
+    parts: wgpu::Buffer,
+    part_stride: u32,
     null_target: NullTarget,
     near: wgpu::TextureView,
     far: wgpu::TextureView,
@@ -225,9 +245,60 @@ struct AtomicBuffers {
     resolve_bind_group: wgpu::BindGroup,
 }
 
+/// Mirrors `ResolvePart` in `shaders/layer_resolve.wgsl`: what one resolve dispatch covers, the entries
+/// `first..end` (whole layers; `end` at most the entry count) of the band starting at `band_first`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct ResolvePart {
+    pub band_first: u32,
+    pub first: u32,
+    pub end: u32,
+    pub pad: u32,
+}
+
+/// Entries one resolve dispatch takes at most (16 layers). On lavapipe the dispatches of a 128-entry band
+/// cost about 10 % less in runs of 64 than in one (docs/design.md); the running sum crosses runs as it crosses
+/// bands.
+pub const RESOLVE_RUN: u32 = 64;
+
+/// The resolve's dispatches for `entries` entries in bands of `band`, in the order they run: per band, per run
+/// of at most [`RESOLVE_RUN`] entries.
+pub fn resolve_parts(entries: u32, band: u32) -> Vec<ResolvePart> {
+    let mut parts = Vec::new();
+    for band_first in (0..entries).step_by(band as usize) {
+        let band_end = (band_first + band).min(entries);
+        for first in (band_first..band_end).step_by(RESOLVE_RUN as usize) {
+            parts.push(ResolvePart {
+                band_first,
+                first,
+                end: (first + RESOLVE_RUN).min(band_end),
+                pad: 0,
+            });
+        }
+    }
+    parts
+}
+
+/// The WGSL mirror of [`ResolvePart`], for the layout test.
+pub fn resolve_part_mirror() -> UniformMirror {
+    crate::uniform_mirror!(
+        "ResolvePart",
+        ResolvePart {
+            band_first,
+            first,
+            end,
+            pad
+        }
+    )
+}
+
 impl AtomicBuffers {
     fn bytes(&self) -> u64 {
-        self.counters.size() + self.carry.size() + self.null_target.bytes()
+        self.counters.size()
+            + self.carry.size()
+            + self.written.size()
+            + self.parts.size()
+            + self.null_target.bytes()
     }
 }
 
@@ -337,6 +408,19 @@ impl<U: Pod + Send> LayersGpu<U> {
                 (resolution, entries, band),
             )?);
         }
+        let format = self.maps.map.format;
+        let map_layout = &resolve_pipeline(&ctx.gpu.device, name, atomic, format).map_layout;
+        if self.maps.resolve_bind_group.is_none() {
+            self.maps.resolve_bind_group =
+                Some(ctx.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(&format!("hairlab.{name}.resolve_map_bind_group")),
+                    layout: map_layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&self.maps.map.array_view),
+                    }],
+                }));
+        }
         let u = LayerBuildUniforms {
             resolution,
             entries,
@@ -349,7 +433,7 @@ impl<U: Pod + Send> LayersGpu<U> {
         Ok(())
     }
 
-    /// Records the atomic build: per band, the counting geometry pass and the resolve passes of its entries.
+    /// Records the atomic build: per band, the counting geometry pass and the resolve dispatch of its entries.
     fn record_atomic(
         &mut self,
         ctx: &MethodContext,
@@ -357,10 +441,18 @@ impl<U: Pod + Send> LayersGpu<U> {
         timer: &mut Option<GpuTimer>,
     ) {
         let (name, unit) = (self.method.name, self.method.unit);
-        let (Some(atomic), Some(buffers)) = (self.atomic.as_mut(), self.buffers.as_ref()) else {
+        let (Some(atomic), Some(buffers), Some(map_group)) = (
+            self.atomic.as_ref(),
+            self.buffers.as_ref(),
+            self.maps.resolve_bind_group.as_ref(),
+        ) else {
             return;
         };
         let map = &self.maps.map;
+        let Some(pipeline) = atomic.resolve.iter().find(|r| r.format == map.format) else {
+            return;
+        };
+        let pipeline = &pipeline.pipeline;
         let values = self.setup.values;
         for b in 0..values.div_ceil(buffers.band) {
             let first = b * buffers.band;
@@ -385,33 +477,26 @@ impl<U: Pod + Send> LayersGpu<U> {
                 b..b + 1,
             );
             drop(pass);
-            // Resolve passes of at most 32 entries (8 targets) inside the band; `first` is a multiple of 4.
-            let mut e = first;
-            while e < end {
-                let count = (end - e)
-                    .div_ceil(VALUES_PER_LAYER)
-                    .min(AdditivePipelines::MAX_TARGETS);
-                let layer = e / VALUES_PER_LAYER;
-                let pipeline = resolve_pipeline(&ctx.gpu.device, name, atomic, map.format, count);
-                let next = e + count * VALUES_PER_LAYER;
-                let last = next.min(end) - 1;
-                let ts = timer
-                    .as_mut()
-                    .and_then(|t| t.pass(Phase::Method, format!("{name}: resolve {unit} {e}-{last}")));
-                let attachments = map.attachments(layer, count);
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some(&format!("hairlab.{name}.resolve")),
-                    color_attachments: &attachments,
-                    depth_stencil_attachment: None,
-                    timestamp_writes: ts,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &buffers.resolve_bind_group, &[]);
-                pass.draw(0..3, e..e + 1);
-                drop(pass);
-                e = next;
+            let ts = timer.as_mut().and_then(|t| {
+                t.compute_pass(
+                    Phase::Method,
+                    format!("{name}: resolve {unit} {first}-{}", end - 1),
+                )
+            });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(&format!("hairlab.{name}.resolve")),
+                timestamp_writes: ts,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(1, map_group, &[]);
+            let runs = buffers
+                .dispatches
+                .iter()
+                .enumerate()
+                .filter(|(_, d)| d.band_first == first);
+            for (i, _) in runs {
+                pass.set_bind_group(0, &buffers.resolve_bind_group, &[i as u32 * buffers.part_stride]);
+                pass.dispatch_workgroups(map.resolution.div_ceil(RESOLVE_WORKGROUP), map.resolution, 1);
             }
         }
     }
@@ -486,20 +571,28 @@ fn atomic_pipelines(
         "fs_count",
         &[NullTarget::target_state()],
     );
+    let comp = wgpu::ShaderStages::COMPUTE;
+    let part = wgpu::BindGroupLayoutEntry {
+        binding: 6,
+        visibility: comp,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<ResolvePart>() as u64),
+        },
+        count: None,
+    };
     let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(&format!("hairlab.{name}.resolve_layout")),
         entries: &[
-            uniform_entry(0, frag),
-            storage_entry(1, frag, false),
-            storage_entry(2, frag, false),
-            texture_entry(3, frag, wgpu::TextureViewDimension::D2),
-            texture_entry(4, frag, wgpu::TextureViewDimension::D2),
+            uniform_entry(0, comp),
+            storage_entry(1, comp, false),
+            storage_entry(2, comp, false),
+            texture_entry(3, comp, wgpu::TextureViewDimension::D2),
+            texture_entry(4, comp, wgpu::TextureViewDimension::D2),
+            storage_entry(5, comp, false),
+            part,
         ],
-    });
-    let resolve_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(&format!("hairlab.{name}.resolve_pipeline_layout")),
-        bind_group_layouts: &[Some(&resolve_layout)],
-        immediate_size: 0,
     });
     let resolve_module = crate::render::passes::shader_module(
         device,
@@ -511,60 +604,63 @@ fn atomic_pipelines(
         pass_layout,
         count,
         resolve_layout,
-        resolve_pipeline_layout,
         resolve_module,
         resolve: Vec::new(),
         uniforms: uniform_buffer::<LayerBuildUniforms>(device, &format!("{name}.build_uniforms")),
     }
 }
 
-/// The resolve pipeline writing `count` targets of `format`, made on first use.
+/// Texels of a row a resolve workgroup takes (`@workgroup_size(64)` in `shaders/layer_resolve.wgsl`): along the
+/// row, so that the invocations of a workgroup write neighbouring texels of each layer (on lavapipe a third
+/// faster than 8 × 8 squares).
+const RESOLVE_WORKGROUP: u32 = 64;
+
+/// The resolve pipeline for maps of `format` (made on first use) and its storage-texture group's layout.
 fn resolve_pipeline<'a>(
     device: &wgpu::Device,
     name: &str,
     atomic: &'a mut AtomicPipelines,
     format: wgpu::TextureFormat,
-    count: u32,
-) -> &'a wgpu::RenderPipeline {
-    let i = match atomic
-        .resolve
-        .iter()
-        .position(|(f, c, _)| *f == format && *c == count)
-    {
+) -> &'a ResolvePipeline {
+    let i = match atomic.resolve.iter().position(|r| r.format == format) {
         Some(i) => i,
         None => {
-            let target = Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
+            let map_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&format!("hairlab.{name}.resolve_map_layout")),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                    },
+                    count: None,
+                }],
             });
-            let targets = vec![target; count as usize];
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&format!("hairlab.{name}.resolve_pipeline")),
-                layout: Some(&atomic.resolve_pipeline_layout),
-                vertex: wgpu::VertexState {
+            let entry = match format {
+                wgpu::TextureFormat::Rgba16Float => "cs_resolve_f16",
+                wgpu::TextureFormat::Rgba8Unorm => "cs_resolve_u8",
+                _ => "cs_resolve_f32",
+            };
+            let pipeline = crate::render::pipelines::compute(
+                device,
+                &crate::render::pipelines::ComputePass {
+                    label: &format!("hairlab.{name}.resolve_pipeline"),
                     module: &atomic.resolve_module,
-                    entry_point: Some("vs_resolve"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
+                    entry,
+                    layouts: &[&atomic.resolve_layout, &map_layout],
                 },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &atomic.resolve_module,
-                    entry_point: Some("fs_resolve"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
+            );
+            atomic.resolve.push(ResolvePipeline {
+                format,
+                map_layout,
+                pipeline,
             });
-            atomic.resolve.push((format, count, pipeline));
             atomic.resolve.len() - 1
         }
     };
-    &atomic.resolve[i].2
+    &atomic.resolve[i]
 }
 
 /// The counters (one band), the carry and the bind groups of the atomic build.
@@ -592,6 +688,24 @@ fn atomic_buffers(
     };
     let counters = storage("counters", counter_bytes);
     let carry = storage("carry", texels * 4);
+    // Every texel marked written: the first resolve clears whatever the map held before these buffers.
+    let written = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(&format!("hairlab.{name}.written")),
+        contents: &vec![1u8; (texels * 4) as usize],
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let part_stride = device.limits().min_uniform_buffer_offset_alignment;
+    let dispatches = resolve_parts(entries, band);
+    let mut part_bytes = Vec::new();
+    for part in &dispatches {
+        part_bytes.extend_from_slice(bytemuck::bytes_of(part));
+        part_bytes.resize(part_bytes.len().next_multiple_of(part_stride as usize), 0);
+    }
+    let parts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(&format!("hairlab.{name}.resolve_parts")),
+        contents: &part_bytes,
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
     let (near, far) = (&ctx.light_maps.near_view, &ctx.light_maps.far_view);
     let pass_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(&format!("hairlab.{name}.count_bind_group")),
@@ -643,6 +757,18 @@ fn atomic_buffers(
                 binding: 4,
                 resource: wgpu::BindingResource::TextureView(far),
             },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: written.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &parts,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<ResolvePart>() as u64),
+                }),
+            },
         ],
     });
     Ok(AtomicBuffers {
@@ -651,6 +777,10 @@ fn atomic_buffers(
         band,
         counters,
         carry,
+        written,
+        dispatches,
+        parts,
+        part_stride,
         null_target: NullTarget::new(device, resolution),
         near: near.clone(),
         far: far.clone(),
@@ -695,6 +825,7 @@ fn make_maps<U>(
     Ok(Maps {
         map,
         lookup_bind_group,
+        resolve_bind_group: None,
     })
 }
 
@@ -813,14 +944,38 @@ mod tests {
     }
 
     #[test]
-    fn auto_takes_the_targets_up_to_two_passes_of_f32_and_the_atomic_build_otherwise() {
+    fn auto_takes_the_targets_up_to_one_pass_of_f32_and_the_atomic_build_otherwise() {
         let none = ParamValues::new();
         assert_eq!(build(&none, 1), LayerBuild::Targets);
-        assert_eq!(build(&none, 64), LayerBuild::Targets);
-        assert_eq!(build(&none, 65), LayerBuild::Atomic(LayerStorage::F32));
+        assert_eq!(build(&none, 32), LayerBuild::Targets);
+        assert_eq!(build(&none, 33), LayerBuild::Atomic(LayerStorage::F32));
+        assert_eq!(build(&none, 64), LayerBuild::Atomic(LayerStorage::F32));
         assert_eq!(build(&none, 256), LayerBuild::Atomic(LayerStorage::F32));
         let u8 = ParamValues::from([("storage".to_string(), 2.0)]);
         assert_eq!(build(&u8, 3), LayerBuild::Atomic(LayerStorage::U8));
+    }
+
+    #[test]
+    fn the_resolve_runs_through_each_band_in_runs_of_64_entries() {
+        let part = |band_first, first, end| ResolvePart {
+            band_first,
+            first,
+            end,
+            pad: 0,
+        };
+        // OSM-256 in two bands of 128: two runs each.
+        let parts = resolve_parts(256, 128);
+        let expected = [
+            part(0, 0, 64),
+            part(0, 64, 128),
+            part(128, 128, 192),
+            part(128, 192, 256),
+        ];
+        assert_eq!(parts, expected);
+        // 100 entries in bands of 40: runs end with their band, the last at the entry count.
+        let ends: Vec<_> = resolve_parts(100, 40).iter().map(|p| (p.first, p.end)).collect();
+        assert_eq!(ends, [(0, 40), (40, 80), (80, 100)]);
+        assert_eq!(resolve_parts(3, 3), [part(0, 0, 3)]);
     }
 
     #[test]

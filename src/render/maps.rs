@@ -41,7 +41,8 @@ impl ArrayMap {
         Self::with_format(gpu, label, resolution, layers, wgpu::TextureFormat::Rgba32Float)
     }
 
-    /// Allocates a map of `format` (a colour format whose texels read as float), within [`MAP_BUDGET_BYTES`].
+    /// Allocates a map of `format` (a colour format whose texels read as float and may be written as a storage
+    /// texture: RGBA32F, RGBA16F, RGBA8 unorm), within [`MAP_BUDGET_BYTES`].
     pub fn with_format(
         gpu: &Gpu,
         label: &str,
@@ -70,7 +71,9 @@ impl ArrayMap {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING,
             view_formats: &[],
         });
         let layer_views = (0..layers)

@@ -3,9 +3,12 @@
 //! storage, the atomic build in bands when its counters exceed a storage binding, the refusal when not even a
 //! band of 4 entries fits, and the memory the report counts for each storage.
 
-use crate::common::{Setup, gpu_cpu_difference, render_method_light};
+use crate::common::{
+    Setup, gpu_cpu_difference, gpu_cpu_differences_on, light_frame, render_method_light, setup_scene, values,
+};
 use hairlab::gpu::{Gpu, GpuError};
 use hairlab::methods::registry;
+use hairlab::render::Renderer;
 
 /// The family's stated `gpu_tolerance`. Measured max |ΔV| on lavapipe, the 300-strand head at 64² (OSM-64,
 /// DOM-3, BOM-4), every build and storage: 1.8e-7 (targets: f32 sums in another order; atomic: integer sums, so
@@ -34,6 +37,52 @@ fn both_builds_and_every_storage_gpu_equal_cpu() {
             assert!(samples > 5000, "{method}: only {samples} samples");
             assert!(worst <= TOLERANCE, "{method} {params:?}: max |ΔV| = {worst}");
         }
+    }
+}
+
+/// The atomic build writes only occupied texels and the empty texels the map may still hold values at: after a
+/// frame lit from one side, a frame lit from another (texels occupied before are empty now, and the reverse)
+/// equals the CPU model everywhere, empty texels reading V = 1. Every storage, OSM-64 at 64².
+#[test]
+fn atomic_build_leaves_nothing_of_the_previous_frame() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (first, scene) = setup_scene(Setup::new(300, 64));
+    let mut turned = first.clone();
+    turned.light.azimuth_deg += 90.0;
+    turned.light.elevation_deg = -first.light.elevation_deg;
+    let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
+    let occupied = |s: &hairlab::settings::Settings, r: &mut Renderer| -> Vec<bool> {
+        let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
+        lists.iter().map(|l| !l.is_empty()).collect()
+    };
+    let (before, after) = (occupied(&first, &mut r), occupied(&turned, &mut r));
+    let emptied = before.iter().zip(&after).filter(|(b, a)| **b && !**a).count();
+    assert!(emptied > 100, "only {emptied} texels go from occupied to empty");
+    for storage in [0.0, 1.0, 2.0] {
+        let params = [("slices", 64.0), ("build", 1.0), ("storage", storage)];
+        let values = values(&params);
+        r.render(&light_frame(&first, registry::find("osm").unwrap(), &values))
+            .unwrap();
+        let d = gpu_cpu_differences_on(&mut r, "osm", &params, &turned, true);
+        let worst = d.iter().copied().fold(0.0f32, f32::max);
+        assert!(d.len() > 5000, "only {} samples", d.len());
+        assert!(worst <= TOLERANCE, "storage {storage}: max |ΔV| = {worst}");
+        // Every emptied texel, through the whole light range: nothing in front, V = 1.
+        let samples: Vec<[f32; 3]> = (0..before.len())
+            .filter(|t| before[*t] && !after[*t])
+            .flat_map(|t| [0.0, 0.5, 1.0].map(|z| [(t % 64) as f32, (t / 64) as f32, z]))
+            .collect();
+        let v = r.evaluate(registry::find("osm").unwrap(), &samples).unwrap();
+        let darkest = v.iter().copied().fold(1.0f32, f32::min);
+        eprintln!(
+            "storage {storage}: {} samples after the turn, max |ΔV| {worst:.3e}; {emptied} texels emptied, \
+             darkest V there {darkest}",
+            d.len()
+        );
+        assert_eq!(
+            darkest, 1.0,
+            "storage {storage}: an emptied texel keeps the previous frame's shadow"
+        );
     }
 }
 
@@ -97,16 +146,19 @@ fn atomic_build_beyond_a_band_of_four_is_refused_naming_the_key() {
 
 /// The memory report per storage, worked out by hand for OSM-64 at 64² (4096 texels, 16 layers of 4 slices):
 /// the map takes 16, 8 or 4 bytes per texel and layer; the atomic build's counters (4 bytes per slice and
-/// texel), running sums (4 bytes per texel) and null target (1 byte per texel) are build memory.
+/// texel), running sums and written flags (4 bytes per texel each), null target (1 byte per texel) and the
+/// resolve's one dispatch uniform (one dynamic-offset step) are build memory.
 #[test]
 fn memory_report_counts_each_storage() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let texels = 64 * 64;
+    let parts = gpu.device.limits().min_uniform_buffer_offset_alignment as u64;
+    let atomic = texels * (64 * 4 + 4 + 4 + 1) + parts;
     for (build, storage, map_bytes, build_bytes) in [
         (2.0, 0.0, texels * 16 * 16, 0),
-        (1.0, 0.0, texels * 16 * 16, texels * (64 * 4 + 4 + 1)),
-        (1.0, 1.0, texels * 16 * 8, texels * (64 * 4 + 4 + 1)),
-        (1.0, 2.0, texels * 16 * 4, texels * (64 * 4 + 4 + 1)),
+        (1.0, 0.0, texels * 16 * 16, atomic),
+        (1.0, 1.0, texels * 16 * 8, atomic),
+        (1.0, 2.0, texels * 16 * 4, atomic),
     ] {
         let params = [("slices", 64.0), ("build", build), ("storage", storage)];
         let (r, result) = render_method_light(&gpu, "osm", &params, 20, 64);

@@ -397,7 +397,7 @@ fn fur_density_structs_match_wgsl_layout() {
 }
 
 /// The opacity-layer family's atomic build uniforms against its count passes (the family's light shaders) and
-/// its resolve pass.
+/// its resolve pass, and the resolve's part of a band.
 #[test]
 fn opacity_layer_build_uniforms_match_wgsl_layout() {
     let u = hairlab::methods::opacity_layers::build_uniforms_mirror();
@@ -406,6 +406,12 @@ fn opacity_layer_build_uniforms_match_wgsl_layout() {
         .map(|p| (*p, None, u.wgsl_name))
         .collect();
     check_mirror(u.size, &u.fields, &wgsl);
+    let part = hairlab::methods::opacity_layers::resolve_part_mirror();
+    check_mirror(
+        part.size,
+        &part.fields,
+        &[("layer_resolve.wgsl", None, part.wgsl_name)],
+    );
 }
 
 /// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its

@@ -196,9 +196,21 @@ pub fn gpu_cpu_differences_in(
     scene: &hairlab::scene::Scene,
     deep: bool,
 ) -> Vec<f32> {
+    let mut r = Renderer::new(gpu, scene, s.render.map_resolution).unwrap();
+    gpu_cpu_differences_on(&mut r, method, params, s, deep)
+}
+
+/// [`gpu_cpu_differences_in`] with the renderer `r` (made for the scene at `s`'s map resolution), whatever it
+/// drew before: what a frame leaves in a method's maps must not reach the next.
+pub fn gpu_cpu_differences_on(
+    r: &mut Renderer,
+    method: &str,
+    params: &[(&str, f32)],
+    s: &Settings,
+    deep: bool,
+) -> Vec<f32> {
     let resolution = s.render.map_resolution;
     let values: ParamValues = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let mut r = Renderer::new(gpu, scene, resolution).unwrap();
     let frame = |m: &str, params| light_frame(s, registry::find(m).unwrap(), params);
     let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
     let m = registry::find(method).unwrap();

@@ -269,22 +269,26 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<Tick> {
         return Vec::new();
     }
     let few = hi - lo <= 2.5;
-    let mut out = Vec::new();
-    for k in lo.floor() as i32..=hi.ceil() as i32 {
-        for m in 1..10 {
+    let values: Vec<(i32, i32)> = (lo.floor() as i32..=hi.ceil() as i32)
+        .flat_map(|k| (1..10).map(move |m| (m, k)))
+        .filter(|&(m, k)| {
+            let at = (m as f64 * 10f64.powi(k)).log10();
+            at >= lo - 1e-9 && at <= hi + 1e-9
+        })
+        .collect();
+    let labelled = |m: i32| m == 1 || (few && (m == 2 || m == 5));
+    // Under a decade the 1-2-5 steps may leave fewer than three labels: then every tick has one.
+    let all = values.iter().filter(|(m, _)| labelled(*m)).count() < 3;
+    values
+        .into_iter()
+        .map(|(m, k)| {
             let v = m as f64 * 10f64.powi(k);
-            let at = v.log10();
-            if at < lo - 1e-9 || at > hi + 1e-9 {
-                continue;
+            Tick {
+                at: v.log10(),
+                label: (all || labelled(m)).then(|| fmt_fixed(v, -k)),
             }
-            let labelled = m == 1 || (few && (m == 2 || m == 5));
-            out.push(Tick {
-                at,
-                label: labelled.then(|| fmt_fixed(v, -k)),
-            });
-        }
-    }
-    out
+        })
+        .collect()
 }
 
 /// A 1-2-5 step giving about `target` intervals over `span`, and its decimal exponent.
@@ -332,18 +336,18 @@ fn linear_range(lo: f64, hi: f64) -> (f64, f64, Vec<Tick>) {
     (bottom, top, linear_ticks(bottom, top))
 }
 
-/// A logarithmic range from the largest 1, 2 or 5 × 10^k below `lo` to the smallest above `hi` (positive), with
-/// a little room on both sides.
+/// A logarithmic range from the largest m × 10^k (m = 1..9, a tick) below `lo` to the smallest above `hi`
+/// (positive), with a little room on both sides: the axis spans the data, not the decades around them.
 fn log_range(lo: f64, hi: f64) -> (f64, f64) {
-    let nice = |k: i32| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k));
+    let ticks = |k: i32| (1..10).map(move |m| m as f64 * 10f64.powi(k));
     let (lo, hi) = (lo / 1.15, hi * 1.15);
     let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
     let below = (k0..=k0 + 1)
-        .flat_map(nice)
+        .flat_map(ticks)
         .filter(|v| *v <= lo)
         .fold(10f64.powi(k0), f64::max);
     let above = (k1 - 1..=k1)
-        .flat_map(nice)
+        .flat_map(ticks)
         .filter(|v| *v >= hi)
         .fold(10f64.powi(k1), f64::min);
     (below, above.max(below * 2.0))
@@ -642,8 +646,117 @@ fn fit_text<DB: DrawingBackend>(
     format!("{}...", t.into_iter().collect::<String>())
 }
 
+/// The legend's entries (the named series with points, then the front) and its box size in pixels.
+struct Legend<'a> {
+    names: Vec<&'a str>,
+    style: TextStyle<'a>,
+    size: (i32, i32),
+}
+
+/// Height of a legend row.
+const LEGEND_ROW: i32 = 24;
+
+impl<'a> Legend<'a> {
+    fn of<DB: DrawingBackend>(chart: &'a Chart, root: &DrawingArea<DB, Shift>, style: TextStyle<'a>) -> Self {
+        let names: Vec<&str> = chart
+            .series
+            .iter()
+            .filter(|s| !s.name.is_empty() && !s.points.is_empty())
+            .map(|s| s.name.as_str())
+            .chain(chart.front.iter().map(|f| f.name.as_str()))
+            .collect();
+        let text_w = names
+            .iter()
+            .map(|n| root.estimate_text_size(n, &style).map_or(0, |s| s.0 as i32))
+            .max()
+            .unwrap_or(0);
+        let size = (text_w + 60, names.len() as i32 * LEGEND_ROW + 16);
+        Legend { names, style, size }
+    }
+
+    /// The plot corner (and the legend's box there) clear of every point and every line of `chart` drawn in
+    /// `cc`; `None` when no corner is, or there is nothing to list.
+    fn corner<DB: DrawingBackend>(
+        &self,
+        chart: &Chart,
+        cc: &ChartContext<DB, Cartesian2d<TickedAxis, TickedAxis>>,
+    ) -> Option<(SeriesLabelPosition, PxBox)> {
+        if self.names.is_empty() {
+            return None;
+        }
+        let ([x0, x1], [y0, y1]) = chart.bounds();
+        let (ax, ay) = cc.backend_coord(&(x0, y1));
+        let (bx, by) = cc.backend_coord(&(x1, y0));
+        let (lw, lh) = self.size;
+        let px = |p: &Point| {
+            let (x, y) = (chart.plot_x(p.x), chart.plot_y(p.y));
+            (x.is_finite() && y.is_finite()).then(|| cc.backend_coord(&(x, y)))
+        };
+        // Every point, and every line (the fits, the front) sampled every 8 pixels along it.
+        let mut marks: Vec<(i32, i32)> = Vec::new();
+        let lines = chart.series.iter().map(|s| (s.mark == Mark::Line, &s.points));
+        for (line, points) in lines.chain(chart.front.iter().map(|f| (true, &f.points))) {
+            let pts: Vec<_> = points.iter().filter_map(px).collect();
+            if line {
+                for w in pts.windows(2) {
+                    let (dx, dy) = (w[1].0 - w[0].0, w[1].1 - w[0].1);
+                    let n = (f64::from(dx).hypot(f64::from(dy)) / 8.0).ceil().max(1.0) as i32;
+                    marks.extend((0..n).map(|i| (w[0].0 + dx * i / n, w[0].1 + dy * i / n)));
+                }
+            }
+            marks.extend(pts);
+        }
+        let r = RING_RADIUS;
+        [
+            (SeriesLabelPosition::UpperRight, [bx - lw - 12, ay + 12]),
+            (SeriesLabelPosition::UpperLeft, [ax + 12, ay + 12]),
+            (SeriesLabelPosition::LowerRight, [bx - lw - 12, by - lh - 12]),
+            (SeriesLabelPosition::LowerLeft, [ax + 12, by - lh - 12]),
+        ]
+        .into_iter()
+        .map(|(position, [x, y])| (position, [x, y, x + lw, y + lh]))
+        .find(|(_, b)| {
+            b[0] >= ax
+                && b[2] <= bx
+                && b[3] <= by
+                && !marks
+                    .iter()
+                    .any(|&(x, y)| overlaps(*b, [x - r, y - r, x + r, y + r]))
+        })
+    }
+
+    /// The legend in `area` beside the plot, level with the plot's top `top` (a backend pixel row): each
+    /// series' marker and name, then the front's.
+    fn draw_beside<DB: DrawingBackend>(
+        &self,
+        chart: &Chart,
+        area: &DrawingArea<DB, Shift>,
+        top: i32,
+    ) -> DrawResult<DB> {
+        let (_, area_top) = area.get_base_pixel();
+        let mut y = (top - area_top).max(0) + 12;
+        let label = |name: &str, y: i32| Text::new(name.to_string(), (28, y - 9), self.style.clone());
+        for s in chart
+            .series
+            .iter()
+            .filter(|s| !s.name.is_empty() && !s.points.is_empty())
+        {
+            area.draw(&Circle::new((14, y), POINT_RADIUS, rgb(s.color).filled()))?;
+            area.draw(&label(&s.name, y))?;
+            y += LEGEND_ROW;
+        }
+        if let Some(f) = &chart.front {
+            area.draw(&PathElement::new(vec![(4, y), (24, y)], FRONT.stroke_width(2)))?;
+            area.draw(&Circle::new((14, y), RING_RADIUS, FRONT.stroke_width(2)))?;
+            area.draw(&label(&f.name, y))?;
+        }
+        Ok(())
+    }
+}
+
 /// Draws `chart` on `root`: titles, axes and ticks, fit lines, the front line, the points, the front's rings,
-/// the legend in the emptiest corner, and the front's labels where they overlap nothing.
+/// the legend in a clear corner of the plot (beside it when none is), and the front's labels where they overlap
+/// nothing.
 fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
     root.fill(&WHITE)?;
     let (width, _) = root.dim_in_pixel();
@@ -661,16 +774,30 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Dra
     let ([x0, x1], [y0, y1]) = chart.bounds();
     let x_ticks = chart.x_ticks(x0, x1);
     let y_ticks = chart.y_ticks(y0, y1);
-    let mut cc = ChartBuilder::on(&body)
-        .margin_left(16)
-        .margin_right(32)
-        .margin_bottom(12)
-        .x_label_area_size(64)
-        .y_label_area_size(88)
-        .build_cartesian_2d(
-            TickedAxis::new(x0, x1, &x_ticks),
-            TickedAxis::new(y0, y1, &y_ticks),
-        )?;
+    let build = |area: &DrawingArea<DB, Shift>| {
+        ChartBuilder::on(area)
+            .margin_left(16)
+            .margin_right(32)
+            .margin_bottom(12)
+            .x_label_area_size(64)
+            .y_label_area_size(88)
+            .build_cartesian_2d(
+                TickedAxis::new(x0, x1, &x_ticks),
+                TickedAxis::new(y0, y1, &y_ticks),
+            )
+    };
+    let legend = Legend::of(chart, root, text(LABEL_SIZE));
+    // The legend sits in a corner of the plot when one is clear of every point and line, else beside it.
+    let corner = legend.corner(chart, &build(&body)?);
+    let (plot_area, side) = match corner {
+        Some(_) => (body.clone(), None),
+        None => {
+            let (w, _) = body.dim_in_pixel();
+            let (plot, side) = body.split_horizontally(w.saturating_sub(legend.size.0 as u32 + 24));
+            (plot, Some(side))
+        }
+    };
+    let mut cc = build(&plot_area)?;
     let x_label = |v: &f64| chart.x_tick_label(*v, x0, x1);
     let y_label = |v: &f64| {
         y_ticks
@@ -766,52 +893,22 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Dra
         occupied.push([x - r, y - r, x + r, y + r]);
     }
 
-    // The legend goes in the corner with the fewest points.
-    let legend_style = text(LABEL_SIZE);
-    let names: Vec<&str> = chart
-        .series
-        .iter()
-        .filter(|s| !s.name.is_empty() && !s.points.is_empty())
-        .map(|s| s.name.as_str())
-        .chain(chart.front.iter().map(|f| f.name.as_str()))
-        .collect();
-    let text_w = names
-        .iter()
-        .map(|n| {
-            root.estimate_text_size(n, &legend_style)
-                .map_or(0, |s| s.0 as i32)
-        })
-        .max()
-        .unwrap_or(0);
-    let (lw, lh) = (text_w + 60, names.len() as i32 * 24 + 16);
     let (ax, ay) = cc.backend_coord(&(x0, y1));
     let (bx, by) = cc.backend_coord(&(x1, y0));
-    let corners = [
-        (SeriesLabelPosition::UpperRight, [bx - lw - 12, ay + 12]),
-        (SeriesLabelPosition::UpperLeft, [ax + 12, ay + 12]),
-        (SeriesLabelPosition::LowerRight, [bx - lw - 12, by - lh - 12]),
-        (SeriesLabelPosition::LowerLeft, [ax + 12, by - lh - 12]),
-    ];
-    let (position, [lx, ly]) = corners
-        .iter()
-        .min_by_key(|(_, [x, y])| {
-            occupied
-                .iter()
-                .filter(|o| overlaps(**o, [*x, *y, x + lw, y + lh]))
-                .count()
-        })
-        .cloned()
-        .unwrap_or((SeriesLabelPosition::UpperRight, [0, 0]));
-    if !names.is_empty() {
-        cc.configure_series_labels()
-            .position(position)
-            .margin(12)
-            .legend_area_size(36)
-            .label_font(legend_style)
-            .background_style(WHITE.mix(0.92))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()?;
-        occupied.push([lx, ly, lx + lw, ly + lh]);
+    match (corner, side) {
+        (Some((position, b)), _) => {
+            cc.configure_series_labels()
+                .position(position)
+                .margin(12)
+                .legend_area_size(36)
+                .label_font(legend.style.clone())
+                .background_style(WHITE.mix(0.92))
+                .border_style(RGBColor(160, 160, 160))
+                .draw()?;
+            occupied.push(b);
+        }
+        (None, Some(side)) => legend.draw_beside(chart, &side, ay)?,
+        (None, None) => {}
     }
 
     // Labels keep off the front line: sample it every 2 pixels.
@@ -900,6 +997,27 @@ mod tests {
         assert_eq!(t.len(), 28);
         let few: Vec<_> = log_ticks(0.0, 1.0).into_iter().filter_map(|t| t.label).collect();
         assert_eq!(few, ["1", "2", "5", "10"]);
+        // 400 k .. 3 M (the scaling chart's 0.5 M .. 2 M): 1-2-5 would label 500 k, 1 M and 2 M.
+        let (lo, hi) = log_range(5e5, 2e6);
+        assert_eq!((lo, hi), (4e5, 3e6));
+        let scaling: Vec<_> = log_ticks(lo.log10(), hi.log10())
+            .into_iter()
+            .filter_map(|t| t.label)
+            .collect();
+        assert_eq!(scaling, ["500000", "1000000", "2000000"]);
+        // Within a decade with one 1-2-5 value, every tick is labelled.
+        let (lo, hi) = log_range(3.5e5, 7e5);
+        assert_eq!((lo, hi), (3e5, 9e5));
+        let narrow: Vec<_> = log_ticks(lo.log10(), hi.log10())
+            .into_iter()
+            .filter_map(|t| t.label)
+            .collect();
+        assert_eq!(
+            narrow,
+            [
+                "300000", "400000", "500000", "600000", "700000", "800000", "900000"
+            ]
+        );
     }
 
     #[test]
@@ -941,12 +1059,12 @@ mod tests {
             }],
             front: None,
         };
-        // 1..10 ms with 15 % room: 0.5..20 ms.
+        // 1..10 ms with 15 % room (0.87..11.5 ms) out to the ticks around: 0.8..20 ms.
         let ([lo, hi], [ylo, yhi]) = chart.bounds();
         let zero = chart.plot_x(0.0);
         assert!((hi - 20f64.log10()).abs() < 1e-12, "{hi}");
-        assert!((zero - (0.5f64.log10() - ZERO_GAP)).abs() < 1e-12, "{zero}");
-        assert!(lo < zero && zero < 0.5f64.log10());
+        assert!((zero - (0.8f64.log10() - ZERO_GAP)).abs() < 1e-12, "{zero}");
+        assert!(lo < zero && zero < 0.8f64.log10());
         assert_eq!(chart.plot_x(10.0), 1.0);
         assert!(ylo == 0.0 && (yhi - 1.2).abs() < 1e-12, "{ylo} {yhi}");
         let ticks = chart.x_ticks(lo, hi);

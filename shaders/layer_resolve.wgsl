@@ -1,7 +1,8 @@
 // The resolve of the opacity-layer family's atomic build (methods::opacity_layers, visibility::opacity_layers):
-// per band, one compute dispatch per run of at most 64 of its entries, one invocation per light-map texel, a
+// per band, one compute dispatch per run of its entries (at most 64), one invocation per light-map texel, a
 // workgroup taking 64 texels of a row (so that its stores to each layer are neighbours). An occupied texel
-// sums its counters (a texel's side by side, as common/layer_pass.wgsl counts them) front to back, saturating,
+// sums its counters (in the run's block of the page bound at binding 1, a texel's side by side, as
+// common/layer_pass.wgsl counts them) front to back, saturating,
 // from the running sum the previous run left in `layer_carry`, zeroes the counters it read (so they are clear
 // for the next band and frame without a clear of their own), and stores the run's layers in the map's storage:
 // f32, f16 (rounded to 11 significant bits in integers first, so that the texture's conversion is exact) or u8
@@ -19,12 +20,12 @@
 // 1 where the map's texel may hold non-zero entries (every texel when the buffers are made).
 @group(0) @binding(5) var<storage, read_write> layer_written: array<u32>;
 
-// What this dispatch resolves (a dynamic offset per part): entries first..end (whole layers) of the band
-// starting at entry band_first. Mirrors methods::opacity_layers::ResolvePart.
+// What this dispatch resolves (a dynamic offset per part): a run, the entries first..end (whole layers), whose
+// counters start at `offset` in the page. Mirrors methods::opacity_layers::ResolvePart.
 struct ResolvePart {
-    band_first: u32,
     first: u32,
     end: u32,
+    offset: u32,
     pad: u32,
 }
 @group(0) @binding(6) var<uniform> resolve_part: ResolvePart;
@@ -80,7 +81,8 @@ fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     let part = resolve_part;
     let last = part.end == resolve.entries;
     let layers = vec2<u32>(part.first / 4u, (part.end + 3u) / 4u);
-    var r = ResolveTexel(t, t * resolve.band - part.band_first, part.end, layers.x, layers.y, false, false);
+    let counters = part.offset + t * (part.end - part.first) - part.first;
+    var r = ResolveTexel(t, counters, part.end, layers.x, layers.y, false, false);
     if p.x >= n {
         return r;
     }

@@ -6,11 +6,15 @@ struct LayerBuildUniforms {
     resolution: u32,
     // Entries N per texel.
     entries: u32,
-    // Entries per band: band b counts entries b * band .. b * band + band - 1, texel-major
-    // (texel * band + k - b * band).
+    // Entries per band: band b counts entries b * band .. b * band + band - 1 (one geometry pass).
     band: u32,
     // 0: f32, 1: f16, 2: u8 (visibility::opacity_layers::LayerStorage).
     storage: u32,
+    // Entries per run of counters, and whole runs per page (methods::opacity_layers::CounterLayout).
+    run: u32,
+    runs_per_page: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 // Fixed point of the counters: 2^16 units per unit of optical depth; sums saturate at 2^24 (optical depth 256).

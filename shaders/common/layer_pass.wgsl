@@ -5,9 +5,11 @@
 //   blending); pass p writes entries 32p..32p+31, and b goes to entry k and every later one;
 // - layer_count: the atomic build, one geometry pass per band of entries; b is quantised to u32 fixed point
 //   and added to the (texel, k) counter with a storage atomic, saturating (layer_resolve.wgsl sums them up).
-//   A texel's counters lie side by side (texel * band + k - first), so that the resolve reads them in order.
-// The method's group 1: its uniform (0), the near (1) and far (2) maps, and for the atomic build the counters
-// (3) and their uniforms (4).
+//   The band's entries are cut into runs (methods::opacity_layers::CounterLayout): within a run a texel's
+//   counters lie side by side, texel after texel, so that the resolve of a run reads one block in order; a
+//   page (a storage binding) holds runs_per_page whole runs, and a band up to four pages.
+// The method's group 1: its uniform (0), the near (1) and far (2) maps, and for the atomic build the counters'
+// pages (3, 5, 6, 7) and their uniforms (4).
 #include "common/frame.wgsl"
 #include "common/light_vertex.wgsl"
 #include "common/cumulative_targets.wgsl"
@@ -16,6 +18,9 @@
 
 @group(1) @binding(3) var<storage, read_write> layer_counters: array<atomic<u32>>;
 @group(1) @binding(4) var<uniform> layer_build: LayerBuildUniforms;
+@group(1) @binding(5) var<storage, read_write> layer_counters_1: array<atomic<u32>>;
+@group(1) @binding(6) var<storage, read_write> layer_counters_2: array<atomic<u32>>;
+@group(1) @binding(7) var<storage, read_write> layer_counters_3: array<atomic<u32>>;
 
 struct LayerFragment {
     @builtin(position) clip: vec4<f32>,
@@ -52,9 +57,42 @@ fn layer_count(f: LayerFragment, k: u32, n: u32) {
         return;
     }
     let q = quantised_optical_depth(f.alpha);
-    let i = texel_index(f.clip) * layer_build.band + k - first;
-    let old = atomicAdd(&layer_counters[i], q);
+    // Run r of the band, of `len` entries, in page r / runs_per_page.
+    let run = layer_build.run;
+    let r = (k - first) / run;
+    let run_first = first + r * run;
+    let len = min(run, min(first + layer_build.band, n) - run_first);
+    let texels = layer_build.resolution * layer_build.resolution;
+    let i = (r % layer_build.runs_per_page) * texels * run + texel_index(f.clip) * len + k - run_first;
+    var old: u32;
+    switch r / layer_build.runs_per_page {
+        case 0u: {
+            old = atomicAdd(&layer_counters[i], q);
+        }
+        case 1u: {
+            old = atomicAdd(&layer_counters_1[i], q);
+        }
+        case 2u: {
+            old = atomicAdd(&layer_counters_2[i], q);
+        }
+        default: {
+            old = atomicAdd(&layer_counters_3[i], q);
+        }
+    }
     if old + q > LAYER_SATURATION {
-        atomicMin(&layer_counters[i], LAYER_SATURATION);
+        switch r / layer_build.runs_per_page {
+            case 0u: {
+                atomicMin(&layer_counters[i], LAYER_SATURATION);
+            }
+            case 1u: {
+                atomicMin(&layer_counters_1[i], LAYER_SATURATION);
+            }
+            case 2u: {
+                atomicMin(&layer_counters_2[i], LAYER_SATURATION);
+            }
+            default: {
+                atomicMin(&layer_counters_3[i], LAYER_SATURATION);
+            }
+        }
     }
 }

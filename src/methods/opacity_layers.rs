@@ -144,10 +144,16 @@ pub struct LayerSetup<U> {
 pub struct LayerBuildUniforms {
     pub resolution: u32,
     pub entries: u32,
-    /// Entries per band: all of them, or a multiple of 4.
+    /// Entries per band (one geometry pass): all of them, or a multiple of `run`.
     pub band: u32,
     /// 0 f32, 1 f16, 2 u8.
     pub storage: u32,
+    /// Entries per run of counters ([`CounterLayout::run`]).
+    pub run: u32,
+    /// Whole runs per page ([`CounterLayout::runs_per_page`]).
+    pub runs_per_page: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 /// The WGSL mirror of [`LayerBuildUniforms`], for the layout test.
@@ -158,30 +164,73 @@ pub fn build_uniforms_mirror() -> UniformMirror {
             resolution,
             entries,
             band,
-            storage
+            storage,
+            run,
+            runs_per_page,
+            pad0,
+            pad1
         }
     )
 }
 
-/// Entries per band of the atomic build for `entries` entries at `resolution`²: all of them when their
-/// counters (4 bytes per entry and texel) fit in one storage binding of at most `limit` bytes, else the largest
-/// multiple of 4 that fits; an error naming the `build` parameter when not even 4 fit.
-pub fn band_size(name: &str, resolution: u32, entries: u32, limit: u64) -> Result<u32, GpuError> {
-    let per_entry = resolution as u64 * resolution as u64 * 4;
-    if entries as u64 * per_entry <= limit {
-        return Ok(entries);
+/// Storage bindings (pages) the atomic build's counters may span in one geometry pass.
+pub const COUNTER_PAGES: usize = 4;
+
+/// How the atomic build lays out its counters (4 bytes per entry and texel). The entries of a band (those one
+/// geometry pass counts) are cut into runs of `run` entries, one resolve dispatch each; a run holds a texel's
+/// counters side by side, texel after texel, so that its resolve reads one contiguous block; a page (one
+/// storage binding) holds `runs_per_page` whole runs, and a band at most [`COUNTER_PAGES`] pages.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CounterLayout {
+    pub run: u32,
+    pub runs_per_page: u32,
+    pub band: u32,
+}
+
+impl CounterLayout {
+    /// The layout for `entries` entries at `resolution`² with storage bindings of at most `limit` bytes: runs
+    /// of [`RESOLVE_RUN`] entries (or all of them), shorter where a run would not fit one binding (a multiple
+    /// of 4); bands of every entry when the runs fit the pages, else of as many whole runs as do. An error
+    /// naming the `build` parameter when not even a run of 4 entries fits a binding.
+    pub fn new(name: &str, resolution: u32, entries: u32, limit: u64) -> Result<CounterLayout, GpuError> {
+        let per_entry = resolution as u64 * resolution as u64 * 4;
+        let fitting = limit / per_entry;
+        let wanted = entries.min(RESOLVE_RUN);
+        let run = if fitting >= wanted as u64 {
+            wanted
+        } else {
+            (fitting / VALUES_PER_LAYER as u64 * VALUES_PER_LAYER as u64) as u32
+        };
+        if run == 0 {
+            let step = VALUES_PER_LAYER.min(entries) as u64;
+            return Err(GpuError::Setting(format!(
+                "{name}: build = atomic with {entries} entries at a {resolution}² map needs {} bytes of counters \
+                 for a run of {step} entries, more than this GPU's storage binding limit of {limit} bytes; use \
+                 build = targets or a smaller render.map_resolution",
+                step * per_entry
+            )));
+        }
+        let runs_per_page = (limit / (run as u64 * per_entry)).min(u32::MAX as u64) as u32;
+        let band = (COUNTER_PAGES as u64 * runs_per_page as u64 * run as u64).min(entries as u64) as u32;
+        Ok(CounterLayout {
+            run,
+            runs_per_page,
+            band,
+        })
     }
-    let step = VALUES_PER_LAYER as u64;
-    let band = limit / per_entry / step * step;
-    if band == 0 {
-        return Err(GpuError::Setting(format!(
-            "{name}: build = atomic with {entries} entries at a {resolution}² map needs {} bytes of counters for \
-             a band of {step} entries, more than this GPU's storage binding limit of {limit} bytes; use \
-             build = targets or a smaller render.map_resolution",
-            step * per_entry
-        )));
+
+    /// Bytes of each page for a band at `resolution`²: the entries of its runs (the band's last run may be
+    /// short) times 4 bytes per texel; a page holding no run still binds one counter.
+    pub fn page_bytes(&self, resolution: u32) -> [u64; COUNTER_PAGES] {
+        let per_entry = resolution as u64 * resolution as u64 * 4;
+        let page_entries = self.runs_per_page as u64 * self.run as u64;
+        std::array::from_fn(|p| {
+            let held = (self.band as u64)
+                .saturating_sub(p as u64 * page_entries)
+                .min(page_entries);
+            (held * per_entry).max(4)
+        })
     }
-    Ok(band as u32)
 }
 
 /// The largest storage binding the atomic build's counters may take on `gpu`.
@@ -223,18 +272,18 @@ struct AtomicPipelines {
     uniforms: wgpu::Buffer,
 }
 
-/// The atomic build's buffers for one resolution, entry count and band.
+/// The atomic build's buffers for one resolution, entry count and counter layout.
 struct AtomicBuffers {
     resolution: u32,
     entries: u32,
-    band: u32,
-    /// The band's counters, a texel's side by side (`texel * band + entry - band_first`).
-    counters: wgpu::Buffer,
+    layout: CounterLayout,
+    /// The band's counters in pages ([`CounterLayout`]).
+    counters: [wgpu::Buffer; COUNTER_PAGES],
     carry: wgpu::Buffer,
     /// One u32 per texel: 1 where the map may hold non-zero entries.
     written: wgpu::Buffer,
-    /// The resolve's dispatches ([`resolve_parts`]), in order.
-    dispatches: Vec<ResolvePart>,
+    /// The resolve's dispatches ([`resolve_dispatches`]), in order.
+    dispatches: Vec<ResolveDispatch>,
     /// Each dispatch's [`ResolvePart`], one per dynamic-offset step of `part_stride` bytes.
     parts: wgpu::Buffer,
     part_stride: u32,
@@ -242,17 +291,18 @@ struct AtomicBuffers {
     near: wgpu::TextureView,
     far: wgpu::TextureView,
     pass_bind_group: wgpu::BindGroup,
-    resolve_bind_group: wgpu::BindGroup,
+    /// The resolve's group 0 for each page.
+    resolve_bind_groups: Vec<wgpu::BindGroup>,
 }
 
-/// Mirrors `ResolvePart` in `shaders/layer_resolve.wgsl`: what one resolve dispatch covers, the entries
-/// `first..end` (whole layers; `end` at most the entry count) of the band starting at `band_first`.
+/// Mirrors `ResolvePart` in `shaders/layer_resolve.wgsl`: what one resolve dispatch covers, a run: the entries
+/// `first..end` (whole layers; `end` at most the entry count), whose counters start at `offset` in their page.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct ResolvePart {
-    pub band_first: u32,
     pub first: u32,
     pub end: u32,
+    pub offset: u32,
     pub pad: u32,
 }
 
@@ -261,22 +311,36 @@ pub struct ResolvePart {
 /// bands.
 pub const RESOLVE_RUN: u32 = 64;
 
-/// The resolve's dispatches for `entries` entries in bands of `band`, in the order they run: per band, per run
-/// of at most [`RESOLVE_RUN`] entries.
-pub fn resolve_parts(entries: u32, band: u32) -> Vec<ResolvePart> {
-    let mut parts = Vec::new();
-    for band_first in (0..entries).step_by(band as usize) {
-        let band_end = (band_first + band).min(entries);
-        for first in (band_first..band_end).step_by(RESOLVE_RUN as usize) {
-            parts.push(ResolvePart {
+/// One resolve dispatch: the band it belongs to (its first entry), the page its counters are in, and its part.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResolveDispatch {
+    pub band_first: u32,
+    pub page: usize,
+    pub part: ResolvePart,
+}
+
+/// The resolve's dispatches for `entries` entries at `resolution`² laid out as `layout`, in the order they run:
+/// per band, per run.
+pub fn resolve_dispatches(entries: u32, resolution: u32, layout: CounterLayout) -> Vec<ResolveDispatch> {
+    let texels = resolution as u64 * resolution as u64;
+    let mut out = Vec::new();
+    for band_first in (0..entries).step_by(layout.band as usize) {
+        let band_end = (band_first + layout.band).min(entries);
+        for (r, first) in (band_first..band_end).step_by(layout.run as usize).enumerate() {
+            let r = r as u32;
+            out.push(ResolveDispatch {
                 band_first,
-                first,
-                end: (first + RESOLVE_RUN).min(band_end),
-                pad: 0,
+                page: (r / layout.runs_per_page) as usize,
+                part: ResolvePart {
+                    first,
+                    end: (first + layout.run).min(band_end),
+                    offset: ((r % layout.runs_per_page) as u64 * texels * layout.run as u64) as u32,
+                    pad: 0,
+                },
             });
         }
     }
-    parts
+    out
 }
 
 /// The WGSL mirror of [`ResolvePart`], for the layout test.
@@ -284,9 +348,9 @@ pub fn resolve_part_mirror() -> UniformMirror {
     crate::uniform_mirror!(
         "ResolvePart",
         ResolvePart {
-            band_first,
             first,
             end,
+            offset,
             pad
         }
     )
@@ -294,7 +358,7 @@ pub fn resolve_part_mirror() -> UniformMirror {
 
 impl AtomicBuffers {
     fn bytes(&self) -> u64 {
-        self.counters.size()
+        self.counters.iter().map(wgpu::Buffer::size).sum::<u64>()
             + self.carry.size()
             + self.written.size()
             + self.parts.size()
@@ -379,8 +443,8 @@ impl<U: Pod + Send> LayersGpu<U> {
         let name = self.method.name;
         let resolution = ctx.map_resolution();
         let entries = self.setup.values;
-        let band = match band_size(name, resolution, entries, storage_limit(ctx.gpu)) {
-            Ok(band) => band,
+        let layout = match CounterLayout::new(name, resolution, entries, storage_limit(ctx.gpu)) {
+            Ok(layout) => layout,
             Err(e) => {
                 self.buffers = None;
                 return Err(e);
@@ -394,7 +458,7 @@ impl<U: Pod + Send> LayersGpu<U> {
         let stale = self.buffers.as_ref().is_none_or(|b| {
             b.resolution != resolution
                 || b.entries != entries
-                || b.band != band
+                || b.layout != layout
                 || b.near != *views.0
                 || b.far != *views.1
         });
@@ -405,7 +469,7 @@ impl<U: Pod + Send> LayersGpu<U> {
                 name,
                 atomic,
                 &self.uniforms,
-                (resolution, entries, band),
+                (resolution, entries, layout),
             )?);
         }
         let format = self.maps.map.format;
@@ -424,8 +488,12 @@ impl<U: Pod + Send> LayersGpu<U> {
         let u = LayerBuildUniforms {
             resolution,
             entries,
-            band,
+            band: layout.band,
             storage: LayerStorage::ALL.iter().position(|s| *s == storage).unwrap_or(0) as u32,
+            run: layout.run,
+            runs_per_page: layout.runs_per_page,
+            pad0: 0,
+            pad1: 0,
         };
         ctx.gpu
             .queue
@@ -454,9 +522,10 @@ impl<U: Pod + Send> LayersGpu<U> {
         };
         let pipeline = &pipeline.pipeline;
         let values = self.setup.values;
-        for b in 0..values.div_ceil(buffers.band) {
-            let first = b * buffers.band;
-            let end = (first + buffers.band).min(values);
+        let band = buffers.layout.band;
+        for b in 0..values.div_ceil(band) {
+            let first = b * band;
+            let end = (first + band).min(values);
             let ts = timer
                 .as_mut()
                 .and_then(|t| t.pass(Phase::Method, format!("{name}: count {unit} {first}-{}", end - 1)));
@@ -494,8 +563,9 @@ impl<U: Pod + Send> LayersGpu<U> {
                 .iter()
                 .enumerate()
                 .filter(|(_, d)| d.band_first == first);
-            for (i, _) in runs {
-                pass.set_bind_group(0, &buffers.resolve_bind_group, &[i as u32 * buffers.part_stride]);
+            for (i, d) in runs {
+                let offset = i as u32 * buffers.part_stride;
+                pass.set_bind_group(0, &buffers.resolve_bind_groups[d.page], &[offset]);
                 pass.dispatch_workgroups(map.resolution.div_ceil(RESOLVE_WORKGROUP), map.resolution, 1);
             }
         }
@@ -561,6 +631,9 @@ fn atomic_pipelines(
             texture_entry(2, frag, wgpu::TextureViewDimension::D2),
             storage_entry(3, frag, false),
             uniform_entry(4, frag),
+            storage_entry(5, frag, false),
+            storage_entry(6, frag, false),
+            storage_entry(7, frag, false),
         ],
     });
     let count = ctx.light.pipeline(
@@ -663,21 +736,23 @@ fn resolve_pipeline<'a>(
     &atomic.resolve[i]
 }
 
-/// The counters (one band), the carry and the bind groups of the atomic build.
+/// The counters (one band, in pages), the carry and the bind groups of the atomic build.
 fn atomic_buffers(
     ctx: &MethodContext,
     name: &str,
     atomic: &AtomicPipelines,
     method_uniforms: &wgpu::Buffer,
-    (resolution, entries, band): (u32, u32, u32),
+    (resolution, entries, layout): (u32, u32, CounterLayout),
 ) -> Result<AtomicBuffers, GpuError> {
     let gpu: &Gpu = ctx.gpu;
     let device = &gpu.device;
     let texels = resolution as u64 * resolution as u64;
-    let counter_bytes = texels * band as u64 * 4;
-    let what = || format!("{name} counters of {band} entries at {resolution}²");
-    check_budget(what, counter_bytes)?;
-    gpu.check_buffer_size(&what(), counter_bytes)?;
+    let pages = layout.page_bytes(resolution);
+    let what = || format!("{name} counters of {} entries at {resolution}²", layout.band);
+    check_budget(what, pages.iter().sum())?;
+    for page in pages {
+        gpu.check_buffer_size(&what(), page)?;
+    }
     let storage = |label: &str, size: u64| {
         device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(&format!("hairlab.{name}.{label}")),
@@ -686,7 +761,7 @@ fn atomic_buffers(
             mapped_at_creation: false,
         })
     };
-    let counters = storage("counters", counter_bytes);
+    let counters = pages.map(|bytes| storage("counters", bytes));
     let carry = storage("carry", texels * 4);
     // Every texel marked written: the first resolve clears whatever the map held before these buffers.
     let written = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -695,10 +770,10 @@ fn atomic_buffers(
         usage: wgpu::BufferUsages::STORAGE,
     });
     let part_stride = device.limits().min_uniform_buffer_offset_alignment;
-    let dispatches = resolve_parts(entries, band);
+    let dispatches = resolve_dispatches(entries, resolution, layout);
     let mut part_bytes = Vec::new();
-    for part in &dispatches {
-        part_bytes.extend_from_slice(bytemuck::bytes_of(part));
+    for d in &dispatches {
+        part_bytes.extend_from_slice(bytemuck::bytes_of(&d.part));
         part_bytes.resize(part_bytes.len().next_multiple_of(part_stride as usize), 0);
     }
     let parts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -725,56 +800,71 @@ fn atomic_buffers(
             },
             wgpu::BindGroupEntry {
                 binding: 3,
-                resource: counters.as_entire_binding(),
+                resource: counters[0].as_entire_binding(),
             },
             wgpu::BindGroupEntry {
                 binding: 4,
                 resource: atomic.uniforms.as_entire_binding(),
-            },
-        ],
-    });
-    let resolve_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(&format!("hairlab.{name}.resolve_bind_group")),
-        layout: &atomic.resolve_layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: atomic.uniforms.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: counters.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: carry.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(near),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(far),
             },
             wgpu::BindGroupEntry {
                 binding: 5,
-                resource: written.as_entire_binding(),
+                resource: counters[1].as_entire_binding(),
             },
             wgpu::BindGroupEntry {
                 binding: 6,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &parts,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(std::mem::size_of::<ResolvePart>() as u64),
-                }),
+                resource: counters[2].as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: counters[3].as_entire_binding(),
             },
         ],
     });
+    let resolve_group = |page: &wgpu::Buffer| {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&format!("hairlab.{name}.resolve_bind_group")),
+            layout: &atomic.resolve_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: atomic.uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: page.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: carry.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(near),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(far),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: written.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &parts,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<ResolvePart>() as u64),
+                    }),
+                },
+            ],
+        })
+    };
+    let resolve_bind_groups = counters.iter().map(resolve_group).collect();
     Ok(AtomicBuffers {
         resolution,
         entries,
-        band,
+        layout,
         counters,
         carry,
         written,
@@ -785,7 +875,7 @@ fn atomic_buffers(
         near: near.clone(),
         far: far.clone(),
         pass_bind_group,
-        resolve_bind_group,
+        resolve_bind_groups,
     })
 }
 
@@ -920,7 +1010,7 @@ impl<U: Pod + Send> MethodGpu for LayersGpu<U> {
 
     fn geometry_passes(&self) -> u32 {
         match (&self.buffers, self.setup.build) {
-            (Some(b), LayerBuild::Atomic(_)) => self.setup.values.div_ceil(b.band),
+            (Some(b), LayerBuild::Atomic(_)) => self.setup.values.div_ceil(b.layout.band),
             _ => self.maps.map.layers.div_ceil(AdditivePipelines::MAX_TARGETS),
         }
     }
@@ -956,39 +1046,74 @@ mod tests {
     }
 
     #[test]
-    fn the_resolve_runs_through_each_band_in_runs_of_64_entries() {
-        let part = |band_first, first, end| ResolvePart {
-            band_first,
-            first,
-            end,
-            pad: 0,
+    fn counters_lie_in_runs_of_64_over_up_to_four_pages() {
+        const MIB: u64 = 1 << 20;
+        let layout = |res, entries| CounterLayout::new("layers", res, entries, 128 * MIB).unwrap();
+        let l = |run, runs_per_page, band| CounterLayout {
+            run,
+            runs_per_page,
+            band,
         };
-        // OSM-256 in two bands of 128: two runs each.
-        let parts = resolve_parts(256, 128);
-        let expected = [
-            part(0, 0, 64),
-            part(0, 64, 128),
-            part(128, 128, 192),
-            part(128, 192, 256),
-        ];
-        assert_eq!(parts, expected);
-        // 100 entries in bands of 40: runs end with their band, the last at the entry count.
-        let ends: Vec<_> = resolve_parts(100, 40).iter().map(|p| (p.first, p.end)).collect();
-        assert_eq!(ends, [(0, 40), (40, 80), (80, 100)]);
-        assert_eq!(resolve_parts(3, 3), [part(0, 0, 3)]);
+        // OSM-256 at 512²: 1 MiB of counters per slice; runs of 64 slices (64 MiB), 2 per 128 MiB page, every
+        // slice in one band (one geometry pass) over 2 pages.
+        assert_eq!(layout(512, 256), l(64, 2, 256));
+        assert_eq!(layout(512, 256).page_bytes(512), [128 * MIB, 128 * MIB, 4, 4]);
+        // DOM-3: one run of 3 entries.
+        assert_eq!(layout(512, 3), l(3, 42, 3));
+        assert_eq!(layout(512, 3).page_bytes(512), [3 * MIB, 4, 4, 4]);
+        // 100 entries: a run of 64 and one of 36 in one page.
+        assert_eq!(layout(512, 100).page_bytes(512), [100 * MIB, 4, 4, 4]);
+        // 1024²: 4 MiB per entry, runs of 32 (128 MiB), 4 pages: bands of 128, OSM-256 in two passes.
+        assert_eq!(layout(1024, 256), l(32, 1, 128));
+        // 2048²: 16 MiB per entry, runs of 8, bands of 32; 2896² the largest with runs of 4.
+        assert_eq!(layout(2048, 256), l(8, 1, 32));
+        assert_eq!(layout(2896, 16), l(4, 1, 16));
+        let e = CounterLayout::new("layers", 4096, 16, 128 * MIB)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("build = atomic") && e.contains("4096²"), "{e}");
     }
 
     #[test]
-    fn bands_fit_the_storage_binding() {
+    fn the_resolve_takes_each_run_from_its_page() {
         const MIB: u64 = 1 << 20;
-        // 256 entries (OSM-256) at 512²: 1 MiB of counters per slice, 128 slices per 128 MiB band.
-        assert_eq!(band_size("layers", 512, 256, 128 * MIB).unwrap(), 128);
-        assert_eq!(band_size("layers", 512, 128, 128 * MIB).unwrap(), 128);
-        assert_eq!(band_size("layers", 512, 100, 128 * MIB).unwrap(), 100);
-        // 2048²: 16 MiB per entry, bands of 8; 2896² is the largest with a band of 4 (31.99 MiB per entry).
-        assert_eq!(band_size("layers", 2048, 16, 128 * MIB).unwrap(), 8);
-        assert_eq!(band_size("layers", 2896, 16, 128 * MIB).unwrap(), 4);
-        let e = band_size("layers", 4096, 16, 128 * MIB).unwrap_err().to_string();
-        assert!(e.contains("build = atomic") && e.contains("4096²"), "{e}");
+        let d = |band_first, page, first, end, offset| ResolveDispatch {
+            band_first,
+            page,
+            part: ResolvePart {
+                first,
+                end,
+                offset,
+                pad: 0,
+            },
+        };
+        // OSM-256 at 512²: four runs of 64, two per page.
+        let run = 512 * 512 * 64;
+        let layout = CounterLayout::new("osm", 512, 256, 128 * MIB).unwrap();
+        let expected = [
+            d(0, 0, 0, 64, 0),
+            d(0, 0, 64, 128, run),
+            d(0, 1, 128, 192, 0),
+            d(0, 1, 192, 256, run),
+        ];
+        assert_eq!(resolve_dispatches(256, 512, layout), expected);
+        // 100 entries in bands of 40 (runs of 20, one per page, two pages): a band's runs, then the next band's.
+        let layout = CounterLayout {
+            run: 20,
+            runs_per_page: 1,
+            band: 40,
+        };
+        let got: Vec<_> = resolve_dispatches(100, 4, layout)
+            .iter()
+            .map(|d| (d.band_first, d.page, d.part.first, d.part.end, d.part.offset))
+            .collect();
+        let bands = [
+            (0, 0, 0, 20, 0),
+            (0, 1, 20, 40, 0),
+            (40, 0, 40, 60, 0),
+            (40, 1, 60, 80, 0),
+        ];
+        assert_eq!(got[..4], bands);
+        assert_eq!(got[4..], [(80, 0, 80, 100, 0)]);
     }
 }

@@ -8,8 +8,8 @@
 //! storage and the atomic build otherwise (measured, `docs/design.md`). `build = atomic`: one geometry pass
 //! adds each fragment's fixed-point optical depth to its (texel, slice) counter with storage atomics, and a
 //! compute resolve over the occupied texels sums the counters into the map, so OSM-256 costs the light-depth
-//! pass plus one geometry pass (two at 512² on
-//! lavapipe, whose 128 MiB storage binding holds 128 slices of counters); `storage` = f32, f16 or u8 takes 4,
+//! pass plus one geometry pass (at 512² on lavapipe too: its 256 MiB of counters span two of the four storage
+//! bindings the pass may take); `storage` = f32, f16 or u8 takes 4,
 //! 2 or 1 bytes per slice and texel (OSM-256 at 512²: 256, 128 or 64 MiB). `build = targets`: additive
 //! blending into RGBA32F colour targets, 8 targets × 4 channels = 32 slices per geometry pass, so OSM-256
 //! takes 8 geometry passes. Quantisation and storage are part of the CPU model (`visibility::opacity_layers`).

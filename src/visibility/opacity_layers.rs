@@ -7,7 +7,7 @@
 //! - **targets**: the GPU adds `b` to entry `k` and every later one with additive f32 blending, 4 entries per
 //!   RGBA32F colour target and at most 8 targets (32 entries) per geometry pass. The model adds in f32 in the
 //!   fragments' order (the GPU's order differs: f32 rounding, within the stated tolerance).
-//! - **atomic**: one geometry pass (per band of entries that fits a storage binding) in which each fragment
+//! - **atomic**: one geometry pass (per band of entries whose counters fit four storage bindings) in which each fragment
 //!   adds its quantised optical depth `q = floor(b · 2^16 + 0.5)` ([`quantise`]) to the u32 counter of its
 //!   `(texel, k)` with a storage atomic, saturating at [`SATURATION`] (optical depth 256, where
 //!   `V = e^-256` is 0 in f32 already beyond 104); then a resolve pass sums the counters front to back

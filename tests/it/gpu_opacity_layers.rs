@@ -7,6 +7,7 @@ use crate::common::{
     Setup, gpu_cpu_difference, gpu_cpu_differences_on, light_frame, render_method_light, setup_scene, values,
 };
 use hairlab::gpu::{Gpu, GpuError};
+use hairlab::methods::opacity_layers::CounterLayout;
 use hairlab::methods::registry;
 use hairlab::render::Renderer;
 
@@ -86,32 +87,41 @@ fn atomic_build_leaves_nothing_of_the_previous_frame() {
     }
 }
 
-/// OSM-256 at 512²: 256 slices of 4-byte counters over 262 144 texels take 256 MiB, twice lavapipe's 128 MiB
-/// storage binding, so the atomic build counts in two bands of 128 slices (one geometry pass each), the running
-/// sum carried across; the result is the CPU model's all the same.
+/// OSM-256 at 512²: 256 slices of 4-byte counters over 262 144 texels take 256 MiB, two of lavapipe's 128 MiB
+/// storage bindings, so the atomic build counts every slice in one geometry pass over two pages (four runs of
+/// 64 slices); on a device whose bindings hold 16 MiB it counts in four bands of 64 slices (runs of 16, one
+/// per page), the running sum carried across. Both equal the CPU model.
 #[test]
-fn banded_atomic_build_gpu_equals_cpu() {
+fn paged_and_banded_atomic_builds_gpu_equal_cpu() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let params = [("slices", 256.0), ("build", 1.0)];
-    let (worst, samples) = gpu_cpu_difference(&gpu, "osm", &params, Setup::new(60, 512));
-    eprintln!("osm-256 atomic at 512²: {samples} samples, max |ΔV| {worst:.3e}");
-    assert!(samples > 5000, "only {samples} samples");
-    assert!(worst <= TOLERANCE, "max |ΔV| = {worst}");
-    let limits = gpu.device.limits();
-    let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-    let per_slice = 512 * 512 * 4;
-    // Bands are the largest multiple of 4 slices whose counters fit in one binding.
-    let bands = if 256 * per_slice <= limit {
-        1
-    } else {
-        256u64.div_ceil(limit / per_slice / 4 * 4)
-    };
-    let (r, result) = render_method_light(&gpu, "osm", &params, 60, 512);
-    result.unwrap();
-    let m = r.method_gpu(registry::find("osm").unwrap()).unwrap();
-    assert_eq!(m.geometry_passes() as u64, bands, "limit {limit}");
-    if limit == 128 << 20 {
-        assert_eq!(bands, 2, "lavapipe's binding holds 128 slices");
+    let small = Gpu::headless_with_binding_limit(
+        hairlab::gpu::AdapterPreference::from_env_or(hairlab::gpu::AdapterPreference::Software),
+        16 << 20,
+    )
+    .unwrap();
+    for (g, name) in [(&gpu, "this device"), (&small, "16 MiB bindings")] {
+        let (worst, samples) = gpu_cpu_difference(g, "osm", &params, Setup::new(60, 512));
+        let limits = g.device.limits();
+        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let layout = CounterLayout::new("osm", 512, 256, limit).unwrap();
+        eprintln!("osm-256 atomic at 512², {name}: {layout:?}, {samples} samples, max |ΔV| {worst:.3e}");
+        assert!(samples > 5000, "only {samples} samples");
+        assert!(worst <= TOLERANCE, "{name}: max |ΔV| = {worst}");
+        let (r, result) = render_method_light(g, "osm", &params, 60, 512);
+        result.unwrap();
+        let m = r.method_gpu(registry::find("osm").unwrap()).unwrap();
+        assert_eq!(m.geometry_passes(), 256u32.div_ceil(layout.band), "{name}");
+        if limit == 128 << 20 {
+            assert_eq!(
+                m.geometry_passes(),
+                1,
+                "lavapipe's two bindings hold all 256 slices"
+            );
+        }
+        if limit == 16 << 20 {
+            assert_eq!(m.geometry_passes(), 4, "pages of 16 slices, four per band");
+        }
     }
 }
 
@@ -146,14 +156,16 @@ fn atomic_build_beyond_a_band_of_four_is_refused_naming_the_key() {
 
 /// The memory report per storage, worked out by hand for OSM-64 at 64² (4096 texels, 16 layers of 4 slices):
 /// the map takes 16, 8 or 4 bytes per texel and layer; the atomic build's counters (4 bytes per slice and
-/// texel), running sums and written flags (4 bytes per texel each), null target (1 byte per texel) and the
-/// resolve's one dispatch uniform (one dynamic-offset step) are build memory.
+/// texel, in one page; the other three bind a counter each), running sums and written flags (4 bytes per texel
+/// each), null target (1 byte per texel) and the resolve's one dispatch uniform (one dynamic-offset step) are
+/// build memory.
 #[test]
 fn memory_report_counts_each_storage() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let texels = 64 * 64;
     let parts = gpu.device.limits().min_uniform_buffer_offset_alignment as u64;
-    let atomic = texels * (64 * 4 + 4 + 4 + 1) + parts;
+    // The counters' first page, and three unused pages of one counter each.
+    let atomic = texels * (64 * 4 + 4 + 4 + 1) + 3 * 4 + parts;
     for (build, storage, map_bytes, build_bytes) in [
         (2.0, 0.0, texels * 16 * 16, 0),
         (1.0, 0.0, texels * 16 * 16, atomic),

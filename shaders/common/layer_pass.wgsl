@@ -22,6 +22,12 @@
 @group(1) @binding(6) var<storage, read_write> layer_counters_2: array<atomic<u32>>;
 @group(1) @binding(7) var<storage, read_write> layer_counters_3: array<atomic<u32>>;
 
+// Whether the band's counters span more than one run, and more than one page: the count pipelines are made
+// with each (methods::opacity_layers), so that a band of one run finds its counter without a division and one
+// of one page selects no page.
+override layer_runs: bool = true;
+override layer_paged: bool = true;
+
 struct LayerFragment {
     @builtin(position) clip: vec4<f32>,
     @location(0) depth: f32,
@@ -57,13 +63,29 @@ fn layer_count(f: LayerFragment, k: u32, n: u32) {
         return;
     }
     let q = quantised_optical_depth(f.alpha);
+    let band_end = min(first + layer_build.band, n);
+    if !layer_runs {
+        let i = texel_index(f.clip) * (band_end - first) + k - first;
+        let old = atomicAdd(&layer_counters[i], q);
+        if old + q > LAYER_SATURATION {
+            atomicMin(&layer_counters[i], LAYER_SATURATION);
+        }
+        return;
+    }
     // Run r of the band, of `len` entries, in page r / runs_per_page.
     let run = layer_build.run;
     let r = (k - first) / run;
     let run_first = first + r * run;
-    let len = min(run, min(first + layer_build.band, n) - run_first);
+    let len = min(run, band_end - run_first);
     let texels = layer_build.resolution * layer_build.resolution;
     let i = (r % layer_build.runs_per_page) * texels * run + texel_index(f.clip) * len + k - run_first;
+    if !layer_paged {
+        let old = atomicAdd(&layer_counters[i], q);
+        if old + q > LAYER_SATURATION {
+            atomicMin(&layer_counters[i], LAYER_SATURATION);
+        }
+        return;
+    }
     var old: u32;
     switch r / layer_build.runs_per_page {
         case 0u: {

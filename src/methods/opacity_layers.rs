@@ -219,6 +219,17 @@ impl CounterLayout {
         })
     }
 
+    /// Pages a band's counters take.
+    pub fn pages(&self) -> u32 {
+        self.band.div_ceil(self.run).div_ceil(self.runs_per_page)
+    }
+
+    /// The count pipeline for this layout: 0 for a band of one run, 1 for several runs in one page, 2 for
+    /// several pages (the `layer_runs` and `layer_paged` constants of `shaders/common/layer_pass.wgsl`).
+    fn count_pipeline(&self) -> usize {
+        usize::from(self.band > self.run) + usize::from(self.pages() > 1)
+    }
+
     /// Bytes of each page for a band at `resolution`²: the entries of its runs (the band's last run may be
     /// short) times 4 bytes per texel; a page holding no run still binds one counter.
     pub fn page_bytes(&self, resolution: u32) -> [u64; COUNTER_PAGES] {
@@ -264,7 +275,8 @@ struct ResolvePipeline {
 /// The atomic build's pipelines, made on first use.
 struct AtomicPipelines {
     pass_layout: wgpu::BindGroupLayout,
-    count: wgpu::RenderPipeline,
+    /// The count pipelines by [`CounterLayout::count_pipeline`].
+    count: [wgpu::RenderPipeline; 3],
     resolve_layout: wgpu::BindGroupLayout,
     resolve_module: wgpu::ShaderModule,
     /// Resolve pipelines by map format.
@@ -539,7 +551,7 @@ impl<U: Pod + Send> LayersGpu<U> {
             });
             draw_casters(
                 &mut pass,
-                &atomic.count,
+                &atomic.count[buffers.layout.count_pipeline()],
                 ctx.frame_bind_group,
                 Some(&buffers.pass_bind_group),
                 ctx.casters,
@@ -636,14 +648,16 @@ fn atomic_pipelines(
             storage_entry(7, frag, false),
         ],
     });
-    let count = ctx.light.pipeline(
-        device,
-        &format!("hairlab.{name}.count_pipeline"),
-        &[frame_layout, &pass_layout],
-        module,
-        "fs_count",
-        &[NullTarget::target_state()],
-    );
+    let count = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)].map(|(runs, paged)| {
+        ctx.light.pipeline_with_constants(
+            device,
+            &format!("hairlab.{name}.count_pipeline"),
+            &[frame_layout, &pass_layout],
+            module,
+            ("fs_count", &[("layer_runs", runs), ("layer_paged", paged)]),
+            &[NullTarget::target_state()],
+        )
+    });
     let comp = wgpu::ShaderStages::COMPUTE;
     let part = wgpu::BindGroupLayoutEntry {
         binding: 6,

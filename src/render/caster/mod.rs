@@ -148,6 +148,20 @@ impl LightStage {
         fragment_entry: &str,
         targets: &[Option<wgpu::ColorTargetState>],
     ) -> wgpu::RenderPipeline {
+        self.pipeline_with_constants(device, label, groups, module, (fragment_entry, &[]), targets)
+    }
+
+    /// [`LightStage::pipeline`] with the fragment stage's pipeline-overridable constants set: `fragment` is the
+    /// entry and its `(name, value)` constants.
+    pub fn pipeline_with_constants(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        groups: &[&wgpu::BindGroupLayout],
+        module: &wgpu::ShaderModule,
+        (fragment_entry, constants): (&str, &[(&str, f64)]),
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> wgpu::RenderPipeline {
         let mut layouts: Vec<Option<&wgpu::BindGroupLayout>> = groups.iter().map(|g| Some(*g)).collect();
         if self.caster.binds_points {
             layouts.resize(RIBBON_GROUP as usize, None);
@@ -178,7 +192,10 @@ impl LightStage {
             fragment: Some(wgpu::FragmentState {
                 module,
                 entry_point: Some(fragment_entry),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    ..Default::default()
+                },
                 targets,
             }),
             multiview_mask: None,

@@ -1103,7 +1103,7 @@ mod tests {
         };
         // OSM-256 at 512²: four runs of 64, two per page.
         let run = 512 * 512 * 64;
-        let layout = CounterLayout::new("osm", 512, 256, 128 * MIB).unwrap();
+        let layout = CounterLayout::new("layers", 512, 256, 128 * MIB).unwrap();
         let expected = [
             d(0, 0, 0, 64, 0),
             d(0, 0, 64, 128, run),

@@ -12,20 +12,21 @@
 //!   which targets it writes (`fs_main`).
 //! - **atomic** (the opacity-layer family, one entry per fragment): ONE geometry pass (`fs_count`, through the
 //!   shared light vertex stage) in which each fragment adds its u32 fixed-point optical depth to the counter of
-//!   its `(texel, entry)` in a storage buffer (4 bytes per entry and texel, a texel's side by side; build
-//!   memory), then a compute resolve (`shaders/layer_resolve.wgsl`, one invocation per texel, dispatches of
-//!   [`RESOLVE_RUN`] entries) that sums an occupied texel's counters front to back into the map, written as a
-//!   storage texture in the `storage` parameter's format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per
-//!   entry). An empty texel is written (zeros) only where the map may still hold an earlier frame's values (a
-//!   flag per texel), so a frame pays for its occupied texels. When the counters of all entries exceed the
-//!   device's storage binding limit (128 MiB on lavapipe: OSM-256 at 512² needs 256 MiB), the entries are
-//!   built in bands of a multiple of 4 (one geometry pass per band), the running sum carried from band to
-//!   band; a map whose 4 entries alone exceed it (above 2896² at 128 MiB) is refused with an error naming the
-//!   `build` parameter.
+//!   its `(texel, entry)` in storage buffers (4 bytes per entry and texel, build memory, laid out as
+//!   [`CounterLayout`]: runs of up to [`RESOLVE_RUN`] entries holding a texel's counters side by side, whole
+//!   runs per storage binding, up to [`COUNTER_PAGES`] bindings per pass), then a compute resolve
+//!   (`shaders/layer_resolve.wgsl`, one invocation per texel, one dispatch per run) that sums an occupied
+//!   texel's counters front to back into the map, written as a storage texture in the `storage` parameter's
+//!   format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per entry). An empty texel is written (zeros)
+//!   only where the map may still hold an earlier frame's values (a flag per texel), so a frame pays for its
+//!   occupied texels. OSM-256 at 512² (256 MiB of counters) counts in one pass over two of lavapipe's 128 MiB
+//!   bindings; beyond four bindings the entries are built in bands of whole runs (one geometry pass each), the
+//!   running sum carried across; a map whose run of 4 entries alone exceeds a binding (above 2896² at 128 MiB)
+//!   is refused with an error naming the `build` parameter.
 //!
 //! The light pass's group 1 is the uniform (binding 0), the near (1) and far (2) light-depth maps, and for the
-//! atomic build the counters (3) and [`LayerBuildUniforms`] (4); the lookup's group 1 is the array view (0) and
-//! the uniform (1).
+//! atomic build the counters' pages (3, 5, 6, 7) and [`LayerBuildUniforms`] (4); the lookup's group 1 is the
+//! array view (0) and the uniform (1).
 
 use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, UniformMirror, value};
 use crate::gpu::timing::{GpuTimer, Phase};

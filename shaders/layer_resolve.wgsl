@@ -7,9 +7,10 @@
 // for the next band and frame without a clear of their own), and stores the run's layers in the map's storage:
 // f32, f16 (rounded to 11 significant bits in integers first, so that the texture's conversion is exact) or u8
 // (steps of 1/32 as a unorm). A texel without fragments (the light-depth pass's clear values, far < near)
-// reads as optical depth 0: it writes zeros only where `layer_written` says the map may still hold an earlier
-// frame's values, so a frame costs its occupied texels. One entry point per storage format (a storage
-// texture's format is part of its type).
+// reads as optical depth 0. `layer_zeros` keeps per texel how many leading layers of the map are all zero, and
+// a layer that is zero again is not stored: an empty texel costs nothing once cleared, and an occupied one
+// skips the layers in front of its first fragment (a third of OSM's slices, typically). One entry point per
+// storage format (a storage texture's format is part of its type).
 #include "common/layer_build_uniforms.wgsl"
 
 @group(0) @binding(0) var<uniform> resolve: LayerBuildUniforms;
@@ -17,8 +18,8 @@
 @group(0) @binding(2) var<storage, read_write> layer_carry: array<u32>;
 @group(0) @binding(3) var resolve_near: texture_2d<f32>;
 @group(0) @binding(4) var resolve_far: texture_2d<f32>;
-// 1 where the map's texel may hold non-zero entries (every texel when the buffers are made).
-@group(0) @binding(5) var<storage, read_write> layer_written: array<u32>;
+// Per texel: the map's layers 0..Z are all zero (0, nothing known, when the buffers are made).
+@group(0) @binding(5) var<storage, read_write> layer_zeros: array<u32>;
 
 // What this dispatch resolves (a dynamic offset per part): a run, the entries first..end (whole layers), whose
 // counters start at `offset` in the page. Mirrors methods::opacity_layers::ResolvePart.
@@ -68,8 +69,10 @@ struct ResolveTexel {
     first_layer: u32,
     end_layer: u32,
     occupied: bool,
-    // Whether the invocation stores anything (an occupied texel, or an empty one the map may not read as 0).
-    stores: bool,
+    // The map's leading all-zero layers before this dispatch.
+    zeros: u32,
+    // Whether every earlier entry of this frame summed to zero.
+    leading: bool,
 }
 
 // The running fixed-point sum of the invocation's texel.
@@ -82,24 +85,28 @@ fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     let last = part.end == resolve.entries;
     let layers = vec2<u32>(part.first / 4u, (part.end + 3u) / 4u);
     let counters = part.offset + t * (part.end - part.first) - part.first;
-    var r = ResolveTexel(t, counters, part.end, layers.x, layers.y, false, false);
+    var r = ResolveTexel(t, counters, part.end, layers.x, layers.y, false, layers.y, true);
     if p.x >= n {
         return r;
     }
     r.occupied = textureLoad(resolve_far, p, 0).r >= textureLoad(resolve_near, p, 0).r;
+    r.zeros = layer_zeros[t];
+    sum = 0u;
     if r.occupied {
         sum = select(layer_carry[t], 0u, part.first == 0u);
-        r.stores = true;
-        if last {
-            layer_written[t] = 1u;
-        }
-    } else {
-        r.stores = layer_written[t] != 0u;
-        if r.stores && last {
-            layer_written[t] = 0u;
-        }
     }
+    r.leading = sum == 0u;
     return r;
+}
+
+// Whether the invocation has anything to do: an occupied texel, or an empty one whose map is not all zero yet.
+fn resolves(r: ResolveTexel) -> bool {
+    return r.occupied || r.zeros < r.end_layer;
+}
+
+// Whether `layer` of sums v need not be stored: zero, where the map is zero already.
+fn unchanged(r: ResolveTexel, layer: u32, v: vec4<u32>) -> bool {
+    return layer < r.zeros && v.w == 0u;
 }
 
 // Entry e's counter (zeroed once read) added to the running sum, saturating; entries past the last add 0.
@@ -126,9 +133,18 @@ fn layer_sums(r: ResolveTexel, layer: u32) -> vec4<u32> {
     return vec4<u32>(x, y, z, w);
 }
 
-fn end_texel(r: ResolveTexel) {
+// The running sum to the next run, and the map's leading zero layers now: this frame's where a layer of this
+// run is the first non-zero one, else the zero layers continue into the earlier frame's (sums are monotone, so
+// a layer is zero when its last sum is).
+fn end_texel(r: ResolveTexel, first_nonzero: u32) {
     if r.occupied {
         layer_carry[r.t] = sum;
+    }
+    if r.leading {
+        let zeros = select(max(r.end_layer, r.zeros), first_nonzero, first_nonzero < r.end_layer);
+        if zeros != r.zeros {
+            layer_zeros[r.t] = zeros;
+        }
     }
 }
 
@@ -136,37 +152,58 @@ fn end_texel(r: ResolveTexel) {
 fn cs_resolve_f32(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = begin_texel(id.xy);
     let p = id.xy;
-    if !r.stores {
+    if !resolves(r) {
         return;
     }
+    var first_nonzero = r.end_layer;
     for (var l = r.first_layer; l < r.end_layer; l++) {
-        textureStore(map_f32, p, l, stored_f32(layer_sums(r, l)));
+        let v = layer_sums(r, l);
+        if v.w != 0u {
+            first_nonzero = min(first_nonzero, l);
+        }
+        if !unchanged(r, l, v) {
+            textureStore(map_f32, p, l, stored_f32(v));
+        }
     }
-    end_texel(r);
+    end_texel(r, first_nonzero);
 }
 
 @compute @workgroup_size(64)
 fn cs_resolve_f16(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = begin_texel(id.xy);
     let p = id.xy;
-    if !r.stores {
+    if !resolves(r) {
         return;
     }
+    var first_nonzero = r.end_layer;
     for (var l = r.first_layer; l < r.end_layer; l++) {
-        textureStore(map_f16, p, l, stored_f16(layer_sums(r, l)));
+        let v = layer_sums(r, l);
+        if v.w != 0u {
+            first_nonzero = min(first_nonzero, l);
+        }
+        if !unchanged(r, l, v) {
+            textureStore(map_f16, p, l, stored_f16(v));
+        }
     }
-    end_texel(r);
+    end_texel(r, first_nonzero);
 }
 
 @compute @workgroup_size(64)
 fn cs_resolve_u8(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = begin_texel(id.xy);
     let p = id.xy;
-    if !r.stores {
+    if !resolves(r) {
         return;
     }
+    var first_nonzero = r.end_layer;
     for (var l = r.first_layer; l < r.end_layer; l++) {
-        textureStore(map_u8, p, l, stored_u8(layer_sums(r, l)));
+        let v = layer_sums(r, l);
+        if v.w != 0u {
+            first_nonzero = min(first_nonzero, l);
+        }
+        if !unchanged(r, l, v) {
+            textureStore(map_u8, p, l, stored_u8(v));
+        }
     }
-    end_texel(r);
+    end_texel(r, first_nonzero);
 }

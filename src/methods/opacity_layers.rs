@@ -17,9 +17,9 @@
 //!   runs per storage binding, up to [`COUNTER_PAGES`] bindings per pass), then a compute resolve
 //!   (`shaders/layer_resolve.wgsl`, one invocation per texel, one dispatch per run) that sums an occupied
 //!   texel's counters front to back into the map, written as a storage texture in the `storage` parameter's
-//!   format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per entry). An empty texel is written (zeros)
-//!   only where the map may still hold an earlier frame's values (a flag per texel), so a frame pays for its
-//!   occupied texels. OSM-256 at 512² (256 MiB of counters) counts in one pass over two of lavapipe's 128 MiB
+//!   format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per entry). Each texel's count of leading
+//!   all-zero layers is kept, and a layer zero again is not stored: an empty texel costs nothing once cleared,
+//!   an occupied one skips the layers in front of its first fragment. OSM-256 at 512² (256 MiB of counters) counts in one pass over two of lavapipe's 128 MiB
 //!   bindings; beyond four bindings the entries are built in bands of whole runs (one geometry pass each), the
 //!   running sum carried across; a map whose run of 4 entries alone exceeds a binding (above 2896² at 128 MiB)
 //!   is refused with an error naming the `build` parameter.
@@ -293,8 +293,8 @@ struct AtomicBuffers {
     /// The band's counters in pages ([`CounterLayout`]).
     counters: [wgpu::Buffer; COUNTER_PAGES],
     carry: wgpu::Buffer,
-    /// One u32 per texel: 1 where the map may hold non-zero entries.
-    written: wgpu::Buffer,
+    /// One u32 per texel: how many leading layers of the map are all zero.
+    zeros: wgpu::Buffer,
     /// The resolve's dispatches ([`resolve_dispatches`]), in order.
     dispatches: Vec<ResolveDispatch>,
     /// Each dispatch's [`ResolvePart`], one per dynamic-offset step of `part_stride` bytes.
@@ -373,7 +373,7 @@ impl AtomicBuffers {
     fn bytes(&self) -> u64 {
         self.counters.iter().map(wgpu::Buffer::size).sum::<u64>()
             + self.carry.size()
-            + self.written.size()
+            + self.zeros.size()
             + self.parts.size()
             + self.null_target.bytes()
     }
@@ -778,12 +778,8 @@ fn atomic_buffers(
     };
     let counters = pages.map(|bytes| storage("counters", bytes));
     let carry = storage("carry", texels * 4);
-    // Every texel marked written: the first resolve clears whatever the map held before these buffers.
-    let written = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(&format!("hairlab.{name}.written")),
-        contents: &vec![1u8; (texels * 4) as usize],
-        usage: wgpu::BufferUsages::STORAGE,
-    });
+    // No texel's leading zero layers known: the first resolve writes whatever the map held before.
+    let zeros = storage("zeros", texels * 4);
     let part_stride = device.limits().min_uniform_buffer_offset_alignment;
     let dispatches = resolve_dispatches(entries, resolution, layout);
     let mut part_bytes = Vec::new();
@@ -862,7 +858,7 @@ fn atomic_buffers(
                 },
                 wgpu::BindGroupEntry {
                     binding: 5,
-                    resource: written.as_entire_binding(),
+                    resource: zeros.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 6,
@@ -882,7 +878,7 @@ fn atomic_buffers(
         layout,
         counters,
         carry,
-        written,
+        zeros,
         dispatches,
         parts,
         part_stride,

@@ -41,9 +41,10 @@ fn both_builds_and_every_storage_gpu_equal_cpu() {
     }
 }
 
-/// The atomic build writes only occupied texels and the empty texels the map may still hold values at: after a
-/// frame lit from one side, a frame lit from another (texels occupied before are empty now, and the reverse)
-/// equals the CPU model everywhere, empty texels reading V = 1. Every storage, OSM-64 at 64².
+/// The atomic build skips the layers the map holds as zero already (an empty texel's once cleared, an occupied
+/// one's in front of its first fragment): after a frame lit from one side, a frame lit from another (texels
+/// occupied before are empty now, and the reverse; first fragments move between slices) equals the CPU model
+/// everywhere, empty texels reading V = 1. Every storage, OSM-64 at 64².
 #[test]
 fn atomic_build_leaves_nothing_of_the_previous_frame() {
     let Some(gpu) = Gpu::for_tests() else { return };

@@ -75,8 +75,11 @@ struct ResolveTexel {
     leading: bool,
 }
 
-// The running fixed-point sum of the invocation's texel.
+// The running fixed-point sum of the invocation's texel, the sums of the layer next_layer took last, and the
+// first of its layers with a non-zero sum.
 var<private> sum: u32;
+var<private> layer_value: vec4<u32>;
+var<private> first_nonzero: u32;
 
 fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     let n = resolve.resolution;
@@ -86,6 +89,7 @@ fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     let layers = vec2<u32>(part.first / 4u, (part.end + 3u) / 4u);
     let counters = part.offset + t * (part.end - part.first) - part.first;
     var r = ResolveTexel(t, counters, part.end, layers.x, layers.y, false, layers.y, true);
+    first_nonzero = layers.y;
     if p.x >= n {
         return r;
     }
@@ -136,7 +140,7 @@ fn layer_sums(r: ResolveTexel, layer: u32) -> vec4<u32> {
 // The running sum to the next run, and the map's leading zero layers now: this frame's where a layer of this
 // run is the first non-zero one, else the zero layers continue into the earlier frame's (sums are monotone, so
 // a layer is zero when its last sum is).
-fn end_texel(r: ResolveTexel, first_nonzero: u32) {
+fn end_texel(r: ResolveTexel) {
     if r.occupied {
         layer_carry[r.t] = sum;
     }
@@ -148,62 +152,54 @@ fn end_texel(r: ResolveTexel, first_nonzero: u32) {
     }
 }
 
+// Takes `layer`'s sums into layer_value; whether they must be stored.
+fn next_layer(r: ResolveTexel, layer: u32) -> bool {
+    layer_value = layer_sums(r, layer);
+    if layer_value.w != 0u {
+        first_nonzero = min(first_nonzero, layer);
+    }
+    return !unchanged(r, layer, layer_value);
+}
+
+
 @compute @workgroup_size(64)
 fn cs_resolve_f32(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = begin_texel(id.xy);
-    let p = id.xy;
     if !resolves(r) {
         return;
     }
-    var first_nonzero = r.end_layer;
     for (var l = r.first_layer; l < r.end_layer; l++) {
-        let v = layer_sums(r, l);
-        if v.w != 0u {
-            first_nonzero = min(first_nonzero, l);
-        }
-        if !unchanged(r, l, v) {
-            textureStore(map_f32, p, l, stored_f32(v));
+        if next_layer(r, l) {
+            textureStore(map_f32, id.xy, l, stored_f32(layer_value));
         }
     }
-    end_texel(r, first_nonzero);
+    end_texel(r);
 }
 
 @compute @workgroup_size(64)
 fn cs_resolve_f16(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = begin_texel(id.xy);
-    let p = id.xy;
     if !resolves(r) {
         return;
     }
-    var first_nonzero = r.end_layer;
     for (var l = r.first_layer; l < r.end_layer; l++) {
-        let v = layer_sums(r, l);
-        if v.w != 0u {
-            first_nonzero = min(first_nonzero, l);
-        }
-        if !unchanged(r, l, v) {
-            textureStore(map_f16, p, l, stored_f16(v));
+        if next_layer(r, l) {
+            textureStore(map_f16, id.xy, l, stored_f16(layer_value));
         }
     }
-    end_texel(r, first_nonzero);
+    end_texel(r);
 }
 
 @compute @workgroup_size(64)
 fn cs_resolve_u8(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = begin_texel(id.xy);
-    let p = id.xy;
     if !resolves(r) {
         return;
     }
-    var first_nonzero = r.end_layer;
     for (var l = r.first_layer; l < r.end_layer; l++) {
-        let v = layer_sums(r, l);
-        if v.w != 0u {
-            first_nonzero = min(first_nonzero, l);
-        }
-        if !unchanged(r, l, v) {
-            textureStore(map_u8, p, l, stored_u8(v));
+        if next_layer(r, l) {
+            textureStore(map_u8, id.xy, l, stored_u8(layer_value));
         }
     }
-    end_texel(r, first_nonzero);
+    end_texel(r);
 }

@@ -1,16 +1,15 @@
 // Adaptive volumetric shadow maps (Salvi, Vidimče, Lauritzen & Lefohn 2010), compression of the A-buffer's
 // per-texel fragment lists into N nodes (depth, transmittance), one invocation per texel: visibility::avsm's
-// `build`, step for step. The fragments are taken in the CPU model's sorted order (the smallest key after the
-// last one inserted, the node index breaking ties between identical fragments) by the batched walk of
-// common/list_walk.wgsl, `avsm.batch` fragments per pass along the list, so any list length gives the model's
-// order. Each fragment inserts a step (two nodes), and while more than N nodes are held the interior node of
-// least removal area goes (ties: the lowest index). Output: N slots per texel, the nodes then copies of the last;
-// (1, 1) in every slot of an empty texel. A dispatch takes at most `avsm.steps` batches per texel and keeps where
-// the walk stands in `avsm_walk` (the nodes held are the output slots), so that repeated dispatches bound each
-// invocation's loop iterations (a CPU adapter stops a shader's loops after 65,535 in all); the nodes are the
-// same however the walk is split or batched.
+// `build`, step for step. The fragments are taken in the CPU model's sorted order (the node index breaking ties
+// between identical fragments): the A-buffer sorted each list into it (list_sort.wgsl) and common/list_walk.wgsl
+// walks it, `avsm.batch` fragments at a time. Each fragment inserts a step (two nodes), and while more than N
+// nodes are held the interior node of least removal area goes (ties: the lowest index). Output: N slots per
+// texel, the nodes then copies of the last; (1, 1) in every slot of an empty texel. A dispatch takes at most
+// `avsm.steps` batches per texel and keeps where the walk stands in `avsm_walk` (the nodes held are the output
+// slots), so that repeated dispatches bound each invocation's loop iterations (a CPU adapter stops a shader's
+// loops after 65,535 in all); the nodes are the same however the walk is split or batched.
 #include "common/avsm_uniforms.wgsl"
-// The A-buffer's lists (render::passes::abuffer), group 1, and the batched walk along them.
+// The A-buffer's sorted lists (render::passes::abuffer), group 1, and the walk along them.
 #include "common/list_walk.wgsl"
 
 @group(0) @binding(0) var<storage, read_write> avsm_nodes: array<vec2<f32>>;
@@ -97,7 +96,7 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
     var last = ListKey(walk.depth, walk.alpha, walk.segment, walk.index);
     var done = false;
     for (var batch = 0u; batch < avsm.steps && !done; batch += 1u) {
-        let taken = list_next_batch(texel, last, avsm.batch, avsm.order, ab_capacity());
+        let taken = list_next_batch(texel, last, avsm.batch);
         done = taken < avsm.batch;
         for (var q = 0u; q < taken; q += 1u) {
             last = list_batch[q];

@@ -1,8 +1,8 @@
 // Compressed deep shadow maps (Lokovic & Veach 2000, §4): one invocation per texel walks the reference A-buffer's
 // list in (depth, segment) order, the order of the CPU model's sorted lists, and runs the greedy compressor, as
-// visibility::dsm::compress with these exact expressions (see its doc). The order comes from the batched walk of
-// common/list_walk.wgsl (`dsm.batch` fragments per pass along the list, no bound on the list length; the walks
-// stop after the texel's node count, as the reference does).
+// visibility::dsm::compress with these exact expressions (see its doc). The A-buffer sorted each list into that
+// order (list_sort.wgsl); common/list_walk.wgsl walks it, `dsm.batch` fragments at a time (the walks stop after
+// the texel's node count, as the reference does).
 // cs_count only counts each texel's vertices (header count, total in alloc[0]: the vertex buffer is sized from
 // it); cs_compress, on the same fragments, allocates that many and writes them.
 // Both resume across dispatches: each takes at most dsm.steps batches per texel and keeps where the texel
@@ -10,7 +10,7 @@
 // shader's loops after 65,535 in all); the vertices are the same however the walk is split or batched.
 #include "common/visibility.wgsl"
 #include "common/dsm_uniforms.wgsl"
-// The A-buffer's lists (render::passes::abuffer), group 1, and the batched walk along them.
+// The A-buffer's sorted lists (render::passes::abuffer), group 1, and the walk along them.
 #include "common/list_walk.wgsl"
 
 // Per texel: (offset of its first vertex, vertex count); the vertices (z, V).
@@ -146,7 +146,7 @@ fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);
     var last = ListKey(w.prev_depth, w.prev_alpha, w.prev_segment, w.prev_index);
     for (var s = 0u; s < dsm.steps && w.k < w.n; s++) {
-        let taken = list_next_batch(t, last, dsm.batch, 0u, w.n);
+        let taken = list_next_batch(t, last, dsm.batch);
         if taken < dsm.batch {
             w.n = w.k + taken;
         }

@@ -6,6 +6,6 @@ struct DsmUniforms {
     resolution: u32,
     // Batches each texel takes per dispatch of the compressor (its walk resumes where it stopped).
     steps: u32,
-    // Fragments per batch of the walk along the list (common/list_walk.wgsl), 1..=32.
+    // Fragments per batch of the walk along the sorted list (common/list_walk.wgsl), 1..=32.
     batch: u32,
 }

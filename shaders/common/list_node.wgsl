@@ -8,3 +8,14 @@ struct ListNode {
     // Index + 1 of the next node of the texel's list; 0 ends the list.
     next: u32,
 }
+
+// Pages the nodes span (1..=8, render::passes::abuffer::ListPipeline): an access tests the pages up to this count
+// only, where the eight-way switch it replaces cost a CPU adapter all eight for every access (the list sort 4x
+// its time at one page).
+override list_pages: u32 = 8u;
+
+// Page p's index of node i in pages of `size` nodes, and p.
+fn list_page(i: u32, size: u32) -> vec2<u32> {
+    let p = select(i / size, 0u, list_pages == 1u);
+    return vec2<u32>(i - p * size, p);
+}

@@ -14,22 +14,32 @@
 @group(1) @binding(7) var<storage, read> ab_page_6: array<ListNode>;
 @group(1) @binding(8) var<storage, read> ab_page_7: array<ListNode>;
 
-// Node i (0-based: a head or `next` minus 1).
+// Node i (0-based: a head or `next` minus 1): the pages up to list_pages tested in turn.
 fn ab_node(i: u32) -> ListNode {
-    let size = arrayLength(&ab_page_0);
-    let j = i % size;
-    var node: ListNode;
-    switch i / size {
-        case 0u: { node = ab_page_0[j]; }
-        case 1u: { node = ab_page_1[j]; }
-        case 2u: { node = ab_page_2[j]; }
-        case 3u: { node = ab_page_3[j]; }
-        case 4u: { node = ab_page_4[j]; }
-        case 5u: { node = ab_page_5[j]; }
-        case 6u: { node = ab_page_6[j]; }
-        default: { node = ab_page_7[j]; }
+    let at = list_page(i, arrayLength(&ab_page_0));
+    let j = at.x;
+    if list_pages == 1u || at.y == 0u {
+        return ab_page_0[j];
     }
-    return node;
+    if list_pages == 2u || at.y == 1u {
+        return ab_page_1[j];
+    }
+    if list_pages == 3u || at.y == 2u {
+        return ab_page_2[j];
+    }
+    if list_pages == 4u || at.y == 3u {
+        return ab_page_3[j];
+    }
+    if list_pages == 5u || at.y == 4u {
+        return ab_page_4[j];
+    }
+    if list_pages == 6u || at.y == 5u {
+        return ab_page_5[j];
+    }
+    if list_pages == 7u || at.y == 6u {
+        return ab_page_6[j];
+    }
+    return ab_page_7[j];
 }
 
 // At least the nodes the pages hold (the placeholders add one each): the bound of a walk along one list.

@@ -7,18 +7,16 @@
 //! lists, then compression: the method owns an A-buffer (`render::passes::abuffer`: a counting pass sizes it, one
 //! geometry pass fills it), and a compute pass (`shaders/avsm.wgsl`, one invocation per texel) walks each list in
 //! the model's insertion order and writes the texel's `N` nodes to `hairlab.avsm.nodes`, `N × 8` bytes per texel
-//! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The walk takes each list in the model's
-//! insertion order ((depth, segment, alpha, node index) or (segment, depth, alpha, node index)) with the batched
-//! walk of `shaders/common/list_walk.wgsl`: each pass along the linked list keeps the next 32 fragments behind
-//! the last one inserted in a private sorted array (n² / 32 node reads for an n-fragment list, where the
-//! select-next walk it replaced read n²), so it has no bound on the list length and equals the CPU model's sort
-//! for every list. It resumes across dispatches (each texel's last fragment, node count and whether its list is
-//! done kept in a 32-byte walk state, the nodes in the output slots): one dispatch inserts every fragment, except
-//! on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535 iterations in all: there each dispatch
-//! takes as many batches as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the frame's longest list (counted by
-//! the A-buffer's counting pass), smaller batches for longer lists (`abuffer::WalkSplit`), and as many
-//! dispatches follow as the longest list needs (41 for 1300 fragments), the nodes the same however the walk is
-//! split or batched. `N` is any count in
+//! (two f32), which the lookup (`shaders/methods/avsm.wgsl`) reads. The A-buffer sorts each list in place into
+//! the model's insertion order ((depth, segment, alpha, node index) or (segment, depth, alpha, node index);
+//! `render::passes::list_sort`, n log n per list) and the pass walks it once (`shaders/common/list_walk.wgsl`), so
+//! the nodes equal the CPU model's for every list length. The walk resumes across dispatches (each texel's last
+//! fragment, node count and whether its list is done kept in a 32-byte walk state, the nodes in the output slots):
+//! one dispatch inserts every fragment, except on a CPU adapter, whose llvmpipe stops a shader's loops after
+//! 65,535 iterations in all: there each dispatch takes as many batches of 32 as `abuffer::CPU_ADAPTER_LOOP_BUDGET`
+//! allows (`abuffer::WalkSplit`), and as many dispatches follow as the frame's longest list (counted by the
+//! A-buffer's counting pass) needs (3 for 1300 fragments), the nodes the same however the walk is split. `N` is
+//! any count in
 //! 4..=16 (the sample's 4, 8, 12, 16 come from packing nodes into RGBA targets; a storage buffer needs no
 //! packing).
 //!
@@ -36,7 +34,9 @@ use super::{
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, storage_entry, uniform_buffer, uniform_entry};
-use crate::render::passes::{self, abuffer::ABuffer};
+use crate::render::passes;
+use crate::render::passes::abuffer::{ABuffer, ListPipeline};
+use crate::render::passes::list_sort::ListOrder;
 use crate::visibility::TexelModel;
 use crate::visibility::avsm::{AvsmParams, InsertionOrder, MAX_NODES, MIN_NODES};
 use bytemuck::{Pod, Zeroable};
@@ -99,6 +99,14 @@ fn avsm_params(values: &ParamValues) -> AvsmParams {
     }
 }
 
+/// The order the A-buffer's lists are sorted and inserted in.
+fn list_order(order: InsertionOrder) -> ListOrder {
+    match order {
+        InsertionOrder::Depth => ListOrder::Depth,
+        InsertionOrder::Submission => ListOrder::Submission,
+    }
+}
+
 /// Mirrors `AvsmUniforms` in `shaders/common/avsm_uniforms.wgsl` (included by the compute pass and the lookup).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
@@ -107,8 +115,6 @@ pub struct AvsmUniforms {
     pub resolution: u32,
     /// Nodes per texel `N`.
     pub nodes: u32,
-    /// 0: depth order, 1: submission order.
-    pub order: u32,
     /// Batches each texel takes per dispatch of the compression pass.
     pub steps: u32,
     /// Fragments per batch of the walk along a list (`abuffer::WalkSplit`).
@@ -116,6 +122,7 @@ pub struct AvsmUniforms {
     pub pad0: u32,
     pub pad1: u32,
     pub pad2: u32,
+    pub pad3: u32,
 }
 
 impl LightMethod for Avsm {
@@ -128,12 +135,12 @@ impl LightMethod for Avsm {
             AvsmUniforms {
                 resolution,
                 nodes,
-                order,
                 steps,
                 batch,
                 pad0,
                 pad1,
-                pad2
+                pad2,
+                pad3
             }
         ))
     }
@@ -177,7 +184,7 @@ pub struct AvsmGpu {
     abuffer: ABuffer,
     compute_layout: wgpu::BindGroupLayout,
     lookup_layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    pipeline: ListPipeline,
     uniforms: wgpu::Buffer,
     map: NodeMap,
     /// Dispatches of the compression pass this frame.
@@ -187,8 +194,10 @@ pub struct AvsmGpu {
 impl AvsmGpu {
     fn create(ctx: &MethodContext) -> Result<AvsmGpu, GpuError> {
         let device = &ctx.gpu.device;
-        let abuffer =
-            ABuffer::new(ctx.gpu, ctx.frame_layout, ctx.light).named("avsm: A-buffer", "AVSM A-buffer");
+        let order = list_order(avsm_params(ctx.values).order);
+        let abuffer = ABuffer::new(ctx.gpu, ctx.frame_layout, ctx.light)
+            .named("avsm: A-buffer", "AVSM A-buffer")
+            .sorted(ctx.gpu, order);
         // Binding numbers are those of shaders/avsm.wgsl and shaders/methods/avsm.wgsl: 0 nodes, 1 uniforms, 2
         // the walk state (compression only).
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -214,14 +223,12 @@ impl AvsmGpu {
             bind_group_layouts: &[Some(&compute_layout), Some(&abuffer.lookup_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("hairlab.avsm.compress_pipeline"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_compress"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = ListPipeline::new(
+            "hairlab.avsm.compress_pipeline",
+            &pipeline_layout,
+            &module,
+            "cs_compress",
+        );
         let uniforms = uniform_buffer::<AvsmUniforms>(device, "avsm.uniforms");
         let p = avsm_params(ctx.values);
         let map = Self::make_map(
@@ -329,8 +336,10 @@ impl MethodGpu for AvsmGpu {
                 nodes,
             )?;
         }
+        self.abuffer.set_sort_order(list_order(p.order));
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
+        self.pipeline.prepare(&ctx.gpu.device, &self.abuffer);
         let split = self.abuffer.walk_split(ctx.gpu, "AVSM", INSERT_ITERATIONS)?;
         self.dispatches = split.dispatches;
         ctx.gpu.queue.write_buffer(
@@ -339,7 +348,6 @@ impl MethodGpu for AvsmGpu {
             bytemuck::bytes_of(&AvsmUniforms {
                 resolution,
                 nodes,
-                order: (p.order == InsertionOrder::Submission) as u32,
                 steps: split.steps,
                 batch: split.batch,
                 ..Zeroable::zeroed()
@@ -363,7 +371,7 @@ impl MethodGpu for AvsmGpu {
                 .as_mut()
                 .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "avsm: compress")),
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.for_lists(&self.abuffer));
         pass.set_bind_group(0, &self.map.compute_bind_group, &[]);
         pass.set_bind_group(1, &self.abuffer.lookup_bind_group, &[]);
         let groups = self.map.resolution.div_ceil(8);

@@ -2,13 +2,13 @@
 //! visibility compressed by the paper's greedy algorithm into a piecewise-linear function within `epsilon` of it
 //! at every depth. The CPU model (and the vertex layout, the vertical steps and the lookup) is `visibility::dsm`.
 //!
-//! GPU: the method owns an A-buffer (`render::passes::abuffer`) whose lists a compute pipeline
-//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks in (depth, segment) order — the batched
-//! walk of `shaders/common/list_walk.wgsl`, up to 32 fragments taken per pass along the linked list — and
-//! compresses, resuming across dispatches (each texel's walk and compressor state, 80 bytes, kept between them):
-//! one dispatch per pass, except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535 iterations
-//! in all, where each dispatch takes as many batches as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows for the
-//! frame's longest list and as many follow as it needs (`abuffer::ABuffer::walk_split`). `prepare` runs the
+//! GPU: the method owns an A-buffer (`render::passes::abuffer`) that sorts each list in place into (depth,
+//! segment) order after each fill (`render::passes::list_sort`, n log n per list); a compute pipeline
+//! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks it once (`shaders/common/list_walk.wgsl`)
+//! and compresses, resuming across dispatches (each texel's walk and compressor state, 80 bytes, kept between
+//! them): one dispatch per pass, except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535
+//! iterations in all, where each dispatch takes as many batches as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows
+//! and as many follow as the frame's longest list needs (`abuffer::ABuffer::walk_split`). `prepare` runs the
 //! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
 //! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
 //! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
@@ -31,7 +31,9 @@ use crate::gpu::readback::copy_out;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, check_budget, storage_entry, uniform_buffer, uniform_entry};
-use crate::render::passes::{self, abuffer::ABuffer};
+use crate::render::passes;
+use crate::render::passes::abuffer::{ABuffer, ListPipeline};
+use crate::render::passes::list_sort::ListOrder;
 use crate::visibility::TexelModel;
 use crate::visibility::dsm::DsmParams;
 use bytemuck::{Pod, Zeroable};
@@ -140,8 +142,8 @@ pub struct DsmUniforms {
 /// The compressed deep shadow map's GPU state: its A-buffer, the compressor and the compressed map.
 pub struct DsmGpu {
     abuffer: ABuffer,
-    count_pipeline: wgpu::ComputePipeline,
-    compress_pipeline: wgpu::ComputePipeline,
+    count_pipeline: ListPipeline,
+    compress_pipeline: ListPipeline,
     pass_layout: wgpu::BindGroupLayout,
     lookup_layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
@@ -181,7 +183,8 @@ impl DsmGpu {
         let gpu = ctx.gpu;
         let device = &gpu.device;
         let abuffer = ABuffer::new(gpu, ctx.frame_layout, ctx.light)
-            .named("dsm: A-buffer", "compressed deep shadow map A-buffer");
+            .named("dsm: A-buffer", "compressed deep shadow map A-buffer")
+            .sorted(gpu, ListOrder::Depth);
         let cs = wgpu::ShaderStages::COMPUTE;
         // Binding numbers are those of shaders/dsm.wgsl (group 0) and shaders/methods/dsm.wgsl.
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -208,16 +211,8 @@ impl DsmGpu {
             bind_group_layouts: &[Some(&pass_layout), Some(&abuffer.lookup_layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("hairlab.dsm.compress_pipeline"),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline =
+            |entry: &str| ListPipeline::new("hairlab.dsm.compress_pipeline", &layout, &module, entry);
         let (count_pipeline, compress_pipeline) = (pipeline("cs_count"), pipeline("cs_compress"));
         let uniforms = uniform_buffer::<DsmUniforms>(device, "dsm.uniforms");
         let alloc = storage_buffer(gpu, "hairlab.dsm.alloc", 8);
@@ -286,7 +281,7 @@ impl DsmGpu {
     fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::ComputePipeline,
+        pipeline: &ListPipeline,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         encoder.clear_buffer(&self.walks, 0, None);
@@ -294,7 +289,7 @@ impl DsmGpu {
             label: Some("hairlab.dsm.compress"),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(pipeline);
+        pass.set_pipeline(pipeline.for_lists(&self.abuffer));
         pass.set_bind_group(0, &self.pass_bind_group, &[]);
         pass.set_bind_group(1, &self.abuffer.lookup_bind_group, &[]);
         let groups = self.resolution.div_ceil(8);
@@ -331,6 +326,8 @@ impl MethodGpu for DsmGpu {
             .abuffer
             .walk_split(gpu, "The compressed deep shadow map", TAKE_ITERATIONS)?;
         self.dispatches = split.dispatches;
+        self.count_pipeline.prepare(&gpu.device, &self.abuffer);
+        self.compress_pipeline.prepare(&gpu.device, &self.abuffer);
         let fragments = self.abuffer.fragment_count;
         let what = |vertices: Option<u64>| {
             let vertices = vertices.map_or(String::new(), |v| format!("{v} vertices, "));

@@ -1,7 +1,8 @@
 //! Adaptive volumetric shadow maps on the GPU (`hairlab::methods::avsm`: its own A-buffer, then the compression
 //! pass) against the CPU model `visibility::avsm`, fed each texel's exact fragment list (with segments) from the
-//! reference A-buffer: N from 4 to 16, both insertion orders, map resolutions 1 (179 and about 700 fragments in one
-//! list, the longer walked over several dispatches on a CPU adapter) to 512, hair alphas from nearly clear to opaque; memory, geometry passes and the storage-size limit.
+//! reference A-buffer: N from 4 to 16, both insertion orders, map resolutions 1 (179, about 700 and about 2100
+//! fragments in one list, the longer sorted and walked over several dispatches on a CPU adapter) to 512, hair
+//! alphas from nearly clear to opaque; memory, geometry passes and the storage-size limit.
 
 use crate::common;
 
@@ -47,8 +48,8 @@ fn avsm_gpu_equals_cpu() {
 fn extreme_resolutions_and_alphas() {
     let Some(gpu) = Gpu::for_tests() else { return };
     for order in ORDERS {
-        // One texel: the 179 fragments of 250 strands crossing its centre in one list, six batches of 32 in one
-        // dispatch on a CPU adapter.
+        // One texel: the 179 fragments of 250 strands crossing its centre in one list, sorted in five passes and
+        // walked in six batches of 32, each in one dispatch on a CPU adapter.
         for nodes in [8.0, 16.0] {
             let (_, n) = check(&gpu, nodes, order, Setup::new(250, 1));
             assert!(n > 150, "only {n} samples");
@@ -125,10 +126,11 @@ fn node_buffers_beyond_the_storage_binding_size_are_refused() {
     }
 }
 
-/// A texel list far beyond what one dispatch walks on a CPU adapter (lavapipe: about 190 fragments) is compressed
-/// over several dispatches, each resuming where the one before stopped, and still equals the CPU model: one texel
-/// holding the fragments of 1000 strands (about 700: batches of 32, 11 dispatches on lavapipe, one on another
-/// adapter) and of 3000 strands (about 2100: batches of 16 on lavapipe, one per dispatch).
+/// A texel list beyond what one dispatch walks on a CPU adapter (lavapipe: 16 batches of 32, 512 fragments) is
+/// compressed over several dispatches, each resuming where the one before stopped, and still equals the CPU model:
+/// one texel holding the fragments of 1000 strands (about 700: sorted in one dispatch, walked in two on lavapipe,
+/// one each on another adapter) and of 3000 strands (about 2100: the sort's nine passes over two dispatches, the
+/// walk over five).
 #[test]
 fn long_lists_compress_over_several_dispatches() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -138,4 +140,42 @@ fn long_lists_compress_over_several_dispatches() {
     }
     let (_, n) = check(&gpu, 8.0, ORDERS[0], Setup::new(3000, 1));
     assert!(n > 1800, "only {n} samples");
+}
+
+/// On a device whose storage bindings hold 4096 list nodes, the A-buffer's lists span several node pages: the sort
+/// relinks them and the walk reads them through the accesses made for that page count (`list_pages` in
+/// `shaders/common/list_node.wgsl`), and the nodes still equal the CPU model's in both insertion orders.
+#[test]
+fn lists_over_several_pages_sort_and_compress_as_the_cpu_model() {
+    use crate::common::{gpu_cpu_differences_in, setup_scene};
+    use hairlab::gpu::AdapterPreference;
+    use hairlab::render::passes::abuffer::NODE_BYTES;
+    const PAGE_BYTES: u64 = 64 << 10;
+    let Some(_) = Gpu::for_tests() else { return };
+    let pref = AdapterPreference::from_env_or(AdapterPreference::Software);
+    let paged = Gpu::headless_with_binding_limit(pref, PAGE_BYTES).unwrap();
+    let info = registry::find("avsm").unwrap().info();
+    let (s, scene) = setup_scene(Setup::new(3000, 16));
+    let mut r = Renderer::new(&paged, &scene, s.render.map_resolution).unwrap();
+    let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
+    let total: usize = lists.iter().map(Vec::len).sum();
+    let pages = total.div_ceil((PAGE_BYTES / NODE_BYTES) as usize);
+    assert!((3..=8).contains(&pages), "{total} fragments: {pages} pages");
+    for order in ORDERS {
+        let d = gpu_cpu_differences_in(
+            &paged,
+            "avsm",
+            &[("nodes", 8.0), ("order", order)],
+            &s,
+            &scene,
+            true,
+        );
+        let worst = d.iter().copied().fold(0.0f32, f32::max);
+        eprintln!(
+            "avsm order={order}, {total} fragments in {pages} pages: {} samples, max |ΔV| {worst:.3e}",
+            d.len()
+        );
+        assert!(d.len() > 1000, "only {} samples", d.len());
+        assert!(worst <= info.gpu_tolerance, "order {order}: max |ΔV| {worst}");
+    }
 }

@@ -159,9 +159,8 @@ const PAGE_BYTES: u64 = 16 << 10;
 
 /// On a device whose storage bindings hold 1024 list nodes, a small scene's light A-buffer spans several node pages
 /// (`abuffer::NODE_PAGES` bindings): its lists equal, fragment for fragment, those of the same scene in one page
-/// on the usual device. (AVSM and the compressed deep shadow map read their lists through the same paged lookup,
-/// `common/list_pages.wgsl`; their GPU = CPU tests run at one page, since on this device the evaluation's own
-/// sample buffers exceed the 16 KiB binding.)
+/// on the usual device. (AVSM and the compressed deep shadow map sort and read their lists through the same pages:
+/// `gpu_avsm::lists_over_several_pages_sort_and_compress_as_the_cpu_model`.)
 #[test]
 fn paged_lists_equal_one_page() {
     use crate::common::{Setup, setup_scene};

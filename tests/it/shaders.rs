@@ -414,6 +414,17 @@ fn opacity_layer_build_uniforms_match_wgsl_layout() {
     );
 }
 
+/// The A-buffer list sort's part of a dispatch.
+#[test]
+fn list_sort_part_matches_wgsl_layout() {
+    let part = hairlab::render::passes::list_sort::sort_part_mirror();
+    check_mirror(
+        part.size,
+        &part.fields,
+        &[("list_sort.wgsl", None, part.wgsl_name)],
+    );
+}
+
 /// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its
 /// lookup composed into the evaluation pass).
 #[test]

@@ -15,6 +15,7 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, LightStage, draw_casters};
 use crate::render::maps::storage_entry;
+use crate::render::passes::list_sort::{ListOrder, ListSort};
 use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
@@ -54,9 +55,9 @@ pub fn sort_fragments(list: &mut [RefFragment]) {
     list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
 }
 
-/// Loop iterations one invocation of a compute pass that walks the lists (AVSM's and the compressed deep shadow
-/// map's, `shaders/common/list_walk.wgsl`) may take on a CPU adapter in one dispatch: llvmpipe
-/// (lavapipe) stops a shader's loops after 65,535 iterations in all (measured with AVSM at 8 nodes walked in
+/// Loop iterations one invocation of a compute pass that sorts or walks the lists (`list_sort`; AVSM's and the
+/// compressed deep shadow map's walks, `shaders/common/list_walk.wgsl`) may take on a CPU adapter in one
+/// dispatch: llvmpipe (lavapipe) stops a shader's loops after 65,535 iterations in all (measured with AVSM at 8 nodes walked in
 /// one dispatch: a 220-fragment list, 220 × (220 + 61) = 61,820 iterations, equals the CPU model; 244, 74,420,
 /// does not). The margin covers the loops outside the walk.
 pub const CPU_ADAPTER_LOOP_BUDGET: u64 = 60_000;
@@ -64,8 +65,8 @@ pub const CPU_ADAPTER_LOOP_BUDGET: u64 = 60_000;
 /// The largest batch of a walk along the lists (`LIST_BATCH_MAX` in `shaders/common/list_walk.wgsl`).
 pub const WALK_BATCH_MAX: u32 = 32;
 
-/// How a list walk (`shaders/common/list_walk.wgsl`) is split: `batch` fragments taken per pass along a list,
-/// `steps` batches per texel in each of `dispatches`.
+/// How a walk along the sorted lists (`shaders/common/list_walk.wgsl`) is split: `batch` fragments taken at a
+/// time, `steps` batches per texel in each of `dispatches`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WalkSplit {
     pub batch: u32,
@@ -74,12 +75,12 @@ pub struct WalkSplit {
 }
 
 impl WalkSplit {
-    /// The split for lists of at most `longest` fragments when a batch of `b` costs at most `longest × b` loop
-    /// iterations along the list (each node taken into the batch moves at most `b − 1` others) plus
-    /// `per_fragment` for each fragment taken, and a dispatch may first walk the list once; a list of `n`
-    /// fragments takes `n / b + 1` batches (the last one finds the end). Without a budget (loop iterations per
-    /// invocation and dispatch): the largest batch, every batch in one dispatch. With one: the largest batch (a
-    /// power of two) of which one fits, as many per dispatch as fit; `None` when not even a batch of one fits.
+    /// The split for lists of at most `longest` fragments when a batch of `b` costs `b` loop iterations along
+    /// the list plus `per_fragment` for each fragment taken, and a dispatch may first walk the list once; a
+    /// list of `n` fragments takes `n / b + 1` batches (the last one finds the end). Without a budget (loop
+    /// iterations per invocation and dispatch): the largest batch, every batch in one dispatch. With one: the
+    /// largest batch (a power of two) of which one fits, as many per dispatch as fit; `None` when not even a
+    /// batch of one fits.
     pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> Option<WalkSplit> {
         let needed = |batch: u64| longest / batch + 1;
         let Some(budget) = budget else {
@@ -92,7 +93,7 @@ impl WalkSplit {
         let room = budget.saturating_sub(longest);
         let mut batch = WALK_BATCH_MAX as u64;
         loop {
-            let per_batch = longest.max(1) * batch + batch * per_fragment;
+            let per_batch = batch * (1 + per_fragment);
             let fit = room / per_batch;
             if fit > 0 {
                 let steps = fit.min(needed(batch));
@@ -107,6 +108,61 @@ impl WalkSplit {
             }
             batch /= 2;
         }
+    }
+}
+
+/// A compute pipeline over an A-buffer's lists, one variant per count of node pages (the `list_pages` constant of
+/// `shaders/common/list_node.wgsl`: an access tests those pages only), each made when first needed
+/// ([`ListPipeline::prepare`]) and picked by [`ListPipeline::for_lists`].
+pub struct ListPipeline {
+    label: String,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    entry: String,
+    /// Index: pages − 1.
+    variants: Vec<Option<wgpu::ComputePipeline>>,
+}
+
+impl ListPipeline {
+    pub fn new(
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        entry: &str,
+    ) -> ListPipeline {
+        ListPipeline {
+            label: label.to_owned(),
+            layout: layout.clone(),
+            module: module.clone(),
+            entry: entry.to_owned(),
+            variants: vec![None; NODE_PAGES],
+        }
+    }
+
+    /// Makes the variant for `lists`' pages as sized this frame (after [`ABuffer::prepare`]).
+    pub fn prepare(&mut self, device: &wgpu::Device, lists: &ABuffer) {
+        let pages = lists.pages_used();
+        if self.variants[pages - 1].is_none() {
+            self.variants[pages - 1] =
+                Some(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&self.label),
+                    layout: Some(&self.layout),
+                    module: &self.module,
+                    entry_point: Some(&self.entry),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &[("list_pages", pages as f64)],
+                        ..Default::default()
+                    },
+                    cache: None,
+                }));
+        }
+    }
+
+    /// The variant for `lists`' pages (made by [`ListPipeline::prepare`] this frame).
+    pub fn for_lists(&self, lists: &ABuffer) -> &wgpu::ComputePipeline {
+        self.variants[lists.pages_used() - 1]
+            .as_ref()
+            .expect("ListPipeline::prepare runs before recording")
     }
 }
 
@@ -129,6 +185,8 @@ pub struct ABuffer {
     pub fragment_count: u64,
     /// Fragments in the longest texel list of the last frame.
     pub longest_list: u64,
+    /// The sort of the lists after each fill, for owners that walk them in order ([`ABuffer::sorted`]).
+    sort: Option<ListSort>,
     /// The fill pass's name in GPU timings, and the A-buffer's in errors (the owner's).
     pass_label: &'static str,
     what: &'static str,
@@ -137,11 +195,11 @@ pub struct ABuffer {
 impl ABuffer {
     pub fn new(gpu: &Gpu, frame_layout: &wgpu::BindGroupLayout, light: &LightStage) -> ABuffer {
         let device = &gpu.device;
-        let frag = wgpu::ShaderStages::FRAGMENT;
-        // Binding numbers are those of abuffer.wgsl (counters, heads, pages) and common/list_pages.wgsl (heads,
-        // pages).
+        let write = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        // Binding numbers are those of common/list_pages_rw.wgsl (counters, heads, pages: the fill and the sort)
+        // and common/list_pages.wgsl (heads, pages).
         let pass_entries: Vec<wgpu::BindGroupLayoutEntry> = (0..2 + NODE_PAGES as u32)
-            .map(|b| storage_entry(b, frag, false))
+            .map(|b| storage_entry(b, write, false))
             .collect();
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hairlab.abuffer.pass_layout"),
@@ -191,6 +249,7 @@ impl ABuffer {
             target: super::NullTarget::new(device, 1),
             fragment_count: 0,
             longest_list: 0,
+            sort: None,
             pass_label: "reference: A-buffer",
             what: "reference A-buffer",
         }
@@ -203,6 +262,23 @@ impl ABuffer {
             pass_label,
             what,
             ..self
+        }
+    }
+
+    /// The A-buffer with its lists sorted into `order` after each fill ([`crate::render::passes::list_sort`]),
+    /// for the owners that walk them in that order.
+    pub fn sorted(self, gpu: &Gpu, order: ListOrder) -> ABuffer {
+        let sort = ListSort::new(gpu, &self.pass_layout, order);
+        ABuffer {
+            sort: Some(sort),
+            ..self
+        }
+    }
+
+    /// The order the lists are sorted into from the next frame (an A-buffer made [`ABuffer::sorted`]).
+    pub fn set_sort_order(&mut self, order: ListOrder) {
+        if let Some(sort) = &mut self.sort {
+            sort.set_order(order);
         }
     }
 
@@ -359,6 +435,11 @@ impl ABuffer {
                 bytemuck::bytes_of(&(count as u32)),
             );
         }
+        if let Some(mut sort) = self.sort.take() {
+            let prepared = sort.prepare(gpu, self, resolution);
+            self.sort = Some(sort);
+            prepared?;
+        }
         Ok(())
     }
 
@@ -371,6 +452,11 @@ impl ABuffer {
             &self.heads,
             &self.pages,
         );
+    }
+
+    /// The A-buffer's name in errors.
+    pub fn what(&self) -> &'static str {
+        self.what
     }
 
     /// Node pages holding this frame's nodes (1 when they fit one binding).
@@ -405,11 +491,21 @@ impl ABuffer {
             .as_mut()
             .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, label));
         self.draw(encoder, &self.fill_pipeline, frame, casters, ts);
+        if let Some(sort) = &self.sort {
+            sort.record(
+                encoder,
+                self,
+                &self.pass_bind_group,
+                format!("{label} sort"),
+                timer,
+            );
+        }
     }
 
     pub fn memory_bytes(&self) -> u64 {
         let pages: u64 = self.pages.iter().map(wgpu::Buffer::size).sum();
-        self.heads.size() + pages + self.counters.size() + self.target.bytes()
+        let sort = self.sort.as_ref().map_or(0, ListSort::memory_bytes);
+        self.heads.size() + pages + self.counters.size() + self.target.bytes() + sort
     }
 
     /// How `what`'s walk over this frame's lists (after [`ABuffer::prepare`]) is split over dispatches
@@ -423,7 +519,7 @@ impl ABuffer {
                 "{what} on a CPU adapter walks at most {} fragments per texel (llvmpipe stops shader loops after \
                  65,535 iterations) and a texel holds {longest}: raise render.map_resolution or lower \
                  scene.generator.strands",
-                (CPU_ADAPTER_LOOP_BUDGET - per_fragment) / 2
+                CPU_ADAPTER_LOOP_BUDGET - 1 - per_fragment
             ))
         })
     }
@@ -481,17 +577,17 @@ mod tests {
         };
         // No budget: batches of 32, every one in one dispatch (5000 / 32 + 1 = 157).
         assert_eq!(WalkSplit::new(5000, 100, None), split(32, 157, 1));
-        // 179 fragments at 109 more per fragment: a batch of 32 costs 179 × 32 + 32 × 109 = 9216, six fit in
-        // 60,000 − 179 and six are needed (179 / 32 + 1).
+        // 179 fragments at 109 more per fragment: a batch of 32 costs 32 × 110 = 3520, 16 fit in 60,000 − 179
+        // and six are needed (179 / 32 + 1).
         assert_eq!(WalkSplit::new(179, 109, Some(60_000)), split(32, 6, 1));
-        // 1300 fragments: a batch of 32 costs 41,600 + 3488 = 45,088, one fits in 58,700; 41 needed.
-        assert_eq!(WalkSplit::new(1300, 109, Some(60_000)), split(32, 1, 41));
-        // 5000: 32 and 16 do not fit in 55,000; a batch of 8 costs 40,872, one fits; 626 needed.
-        assert_eq!(WalkSplit::new(5000, 109, Some(60_000)), split(8, 1, 626));
-        // 29,000: only a batch of one fits, (31,000) / (29,000 + 109) = 1 a dispatch; 29,001 needed.
-        assert_eq!(WalkSplit::new(29_000, 109, Some(60_000)), split(1, 1, 29_001));
+        // 1300 fragments: 16 batches fit in 58,700; 41 needed, three dispatches.
+        assert_eq!(WalkSplit::new(1300, 109, Some(60_000)), split(32, 16, 3));
+        // 5000: 15 fit in 55,000; 157 needed.
+        assert_eq!(WalkSplit::new(5000, 109, Some(60_000)), split(32, 15, 11));
+        // 59,800: no batch of 32 down to 2 fits in 200; one of one (110) does; 59,801 needed.
+        assert_eq!(WalkSplit::new(59_800, 109, Some(60_000)), split(1, 1, 59_801));
         // Empty lists still take one dispatch (it writes the empty texels' nodes).
         assert_eq!(WalkSplit::new(0, 109, Some(60_000)), split(32, 1, 1));
-        assert_eq!(WalkSplit::new(30_000, 109, Some(60_000)), None);
+        assert_eq!(WalkSplit::new(59_900, 109, Some(60_000)), None);
     }
 }

@@ -97,61 +97,80 @@ impl EvaluatePass {
                 cache: None,
             })
         });
-        let packed: Vec<[f32; 4]> = samples.iter().map(|s| s.packed()).collect();
-        let bytes = (samples.len() * 4) as u64;
-        gpu.check_buffer_size("evaluation samples", bytes * 4)?;
-        let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("hairlab.evaluate.samples"),
-            contents: bytemuck::cast_slice(&packed),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.evaluate.visibility"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.evaluate.readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hairlab.evaluate.io"),
-            layout: &self.io_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: input.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: output.as_entire_binding(),
-                },
-            ],
-        });
-        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("hairlab.evaluate.encoder"),
-        });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("hairlab.evaluate.pass"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, scene, &[]);
-            pass.set_bind_group(1, method_gpu.bind_group(), &[]);
-            pass.set_bind_group(2, &io, &[]);
-            let groups = (samples.len() as u32).div_ceil(64);
-            let max = device.limits().max_compute_workgroups_per_dimension;
-            pass.dispatch_workgroups(groups.min(max), groups.div_ceil(max).max(1), 1);
+        // Samples in runs of at most one storage binding each (16 bytes a sample in).
+        let run = (device.limits().max_storage_buffer_binding_size / 16).max(1) as usize;
+        let mut out = Vec::with_capacity(samples.len());
+        for part in samples.chunks(run) {
+            out.extend(run_part(gpu, pipeline, io_layout, method_gpu, scene, part)?);
         }
-        enc.copy_buffer_to_buffer(&output, 0, &readback_buffer, 0, bytes);
-        gpu.queue.submit([enc.finish()]);
-        Ok(bytemuck::pod_collect_to_vec(&readback::read_buffer(
-            gpu,
-            &readback_buffer,
-        )?))
+        Ok(out)
     }
+}
+
+/// [`EvaluatePass::run`] over samples that fit one storage binding.
+fn run_part(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    io_layout: &wgpu::BindGroupLayout,
+    method_gpu: &dyn MethodGpu,
+    scene: &wgpu::BindGroup,
+    samples: &[Sample],
+) -> Result<Vec<f32>, GpuError> {
+    let device = &gpu.device;
+    let packed: Vec<[f32; 4]> = samples.iter().map(|s| s.packed()).collect();
+    let bytes = (samples.len() * 4) as u64;
+    gpu.check_buffer_size("evaluation samples", bytes * 4)?;
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("hairlab.evaluate.samples"),
+        contents: bytemuck::cast_slice(&packed),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hairlab.evaluate.visibility"),
+        size: bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let readback_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hairlab.evaluate.readback"),
+        size: bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("hairlab.evaluate.io"),
+        layout: io_layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("hairlab.evaluate.encoder"),
+    });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("hairlab.evaluate.pass"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, scene, &[]);
+        pass.set_bind_group(1, method_gpu.bind_group(), &[]);
+        pass.set_bind_group(2, &io, &[]);
+        let groups = (samples.len() as u32).div_ceil(64);
+        let max = device.limits().max_compute_workgroups_per_dimension;
+        pass.dispatch_workgroups(groups.min(max), groups.div_ceil(max).max(1), 1);
+    }
+    enc.copy_buffer_to_buffer(&output, 0, &readback_buffer, 0, bytes);
+    gpu.queue.submit([enc.finish()]);
+    Ok(bytemuck::pod_collect_to_vec(&readback::read_buffer(
+        gpu,
+        &readback_buffer,
+    )?))
 }

@@ -9,8 +9,11 @@
 // (steps of 1/32 as a unorm). A texel without fragments (the light-depth pass's clear values, far < near)
 // reads as optical depth 0. `layer_zeros` keeps per texel how many leading layers of the map are all zero, and
 // a layer that is zero again is not stored: an empty texel costs nothing once cleared, and an occupied one
-// skips the layers in front of its first fragment (a third of OSM's slices, typically). One entry point per
-// storage format (a storage texture's format is part of its type).
+// skips the layers in front of its first fragment (a third of OSM's slices, typically). `layer_tails` keeps per
+// texel the first layer from which the map holds one sum in every layer and component (the layers behind the
+// texel's last fragment hold its total), and that sum: a layer holding it there again is not stored either, so
+// a texel lit as in the frame before skips its layers behind its last fragment too. One entry point per storage
+// format (a storage texture's format is part of its type).
 #include "common/layer_build_uniforms.wgsl"
 
 @group(0) @binding(0) var<uniform> resolve: LayerBuildUniforms;
@@ -20,6 +23,10 @@
 @group(0) @binding(4) var resolve_far: texture_2d<f32>;
 // Per texel: the map's layers 0..Z are all zero (0, nothing known, when the buffers are made).
 @group(0) @binding(5) var<storage, read_write> layer_zeros: array<u32>;
+// Three per texel: [3t] 1 + the first layer from which every layer of the map holds [3t + 1] in every component
+// (0: nothing known, when the buffers are made or the map is), and [3t + 2] this frame's first layer behind the
+// last change of the sums, for the runs after the one that wrote it.
+@group(0) @binding(7) var<storage, read_write> layer_tails: array<u32>;
 
 // What this dispatch resolves (a dynamic offset per part): a run, the entries first..end (whole layers), whose
 // counters start at `offset` in the page. Mirrors methods::opacity_layers::ResolvePart.
@@ -73,6 +80,11 @@ struct ResolveTexel {
     zeros: u32,
     // Whether every earlier entry of this frame summed to zero.
     leading: bool,
+    // The map's flat tail before this frame: 1 + its first layer (0: none known) and the sum its layers hold.
+    tail: u32,
+    total: u32,
+    // Whether this dispatch resolves the part holding the last entry.
+    last: bool,
 }
 
 // The running fixed-point sum of the invocation's texel, the sums of the layer next_layer took last, and the
@@ -80,6 +92,8 @@ struct ResolveTexel {
 var<private> sum: u32;
 var<private> layer_value: vec4<u32>;
 var<private> first_nonzero: u32;
+// This frame's first layer behind the last change of the running sum (in the layers taken so far).
+var<private> flat_from: u32;
 
 fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     let n = resolve.resolution;
@@ -88,13 +102,16 @@ fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     let last = part.end == resolve.entries;
     let layers = vec2<u32>(part.first / 4u, (part.end + 3u) / 4u);
     let counters = part.offset + t * (part.end - part.first) - part.first;
-    var r = ResolveTexel(t, counters, part.end, layers.x, layers.y, false, layers.y, true);
+    var r = ResolveTexel(t, counters, part.end, layers.x, layers.y, false, layers.y, true, 1u, 0u, last);
     first_nonzero = layers.y;
     if p.x >= n {
         return r;
     }
     r.occupied = textureLoad(resolve_far, p, 0).r >= textureLoad(resolve_near, p, 0).r;
     r.zeros = layer_zeros[t];
+    r.tail = layer_tails[3u * t];
+    r.total = layer_tails[3u * t + 1u];
+    flat_from = select(layer_tails[3u * t + 2u], 0u, part.first == 0u);
     sum = 0u;
     if r.occupied {
         sum = select(layer_carry[t], 0u, part.first == 0u);
@@ -103,14 +120,16 @@ fn begin_texel(p: vec2<u32>) -> ResolveTexel {
     return r;
 }
 
-// Whether the invocation has anything to do: an occupied texel, or an empty one whose map is not all zero yet.
+// Whether the invocation has anything to do: an occupied texel, or an empty one whose map is not known to be
+// all zero yet.
 fn resolves(r: ResolveTexel) -> bool {
-    return r.occupied || r.zeros < r.end_layer;
+    return r.occupied || r.zeros < r.end_layer || r.tail != 1u || r.total != 0u;
 }
 
-// Whether `layer` of sums v need not be stored: zero, where the map is zero already.
+// Whether `layer` of sums v need not be stored: zero, where the map is zero already, or the sum the map's flat
+// tail holds, in that tail.
 fn unchanged(r: ResolveTexel, layer: u32, v: vec4<u32>) -> bool {
-    return layer < r.zeros && v.w == 0u;
+    return (layer < r.zeros && v.w == 0u) || (r.tail != 0u && layer + 1u >= r.tail && all(v == vec4<u32>(r.total)));
 }
 
 // Entry e's counter (zeroed once read) added to the running sum, saturating; entries past the last add 0.
@@ -144,6 +163,12 @@ fn end_texel(r: ResolveTexel) {
     if r.occupied {
         layer_carry[r.t] = sum;
     }
+    if r.last {
+        layer_tails[3u * r.t] = flat_from + 1u;
+        layer_tails[3u * r.t + 1u] = sum;
+    } else {
+        layer_tails[3u * r.t + 2u] = flat_from;
+    }
     if r.leading {
         let zeros = select(max(r.end_layer, r.zeros), first_nonzero, first_nonzero < r.end_layer);
         if zeros != r.zeros {
@@ -154,7 +179,11 @@ fn end_texel(r: ResolveTexel) {
 
 // Takes `layer`'s sums into layer_value; whether they must be stored.
 fn next_layer(r: ResolveTexel, layer: u32) -> bool {
+    let before = sum;
     layer_value = layer_sums(r, layer);
+    if layer_value.x != before || layer_value.w != before {
+        flat_from = layer + 1u;
+    }
     if layer_value.w != 0u {
         first_nonzero = min(first_nonzero, layer);
     }

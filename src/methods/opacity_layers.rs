@@ -18,9 +18,11 @@
 //!   (`shaders/layer_resolve.wgsl`, one invocation per texel, one dispatch per run) that sums an occupied
 //!   texel's counters front to back into the map, written as a storage texture in the `storage` parameter's
 //!   format: RGBA32F, RGBA16F or RGBA8 unorm (4, 2 or 1 bytes per entry). Each texel's count of leading
-//!   all-zero layers is kept, and a layer zero again is not stored: an empty texel costs nothing once cleared,
-//!   an occupied one skips the layers in front of its first fragment. OSM-256 at 512² (256 MiB of counters) counts in one pass over two of lavapipe's 128 MiB
-//!   bindings; beyond four bindings the entries are built in bands of whole runs (one geometry pass each), the
+//!   all-zero layers is kept, and its flat tail (where every layer holds one sum, the total behind its last
+//!   fragment: [`TAIL_BYTES`] per texel): a layer zero again in front, or holding the tail's sum again within
+//!   it, is not stored: an empty texel costs nothing once cleared, an occupied one lit as in the frame before
+//!   skips the layers in front of its first fragment and behind its last. OSM-256 at 512² (256 MiB of
+//!   counters) counts in one pass over two of lavapipe's 128 MiB bindings; beyond four bindings the entries are built in bands of whole runs (one geometry pass each), the
 //!   running sum carried across; a map whose run of 4 entries alone exceeds a binding (above 2896² at 128 MiB)
 //!   is refused with an error naming the `build` parameter.
 //!
@@ -295,6 +297,11 @@ struct AtomicBuffers {
     carry: wgpu::Buffer,
     /// One u32 per texel: how many leading layers of the map are all zero.
     zeros: wgpu::Buffer,
+    /// Three u32 per texel: where the map's flat tail begins, the sum it holds, and this frame's so far
+    /// (`layer_tails` in `shaders/layer_resolve.wgsl`).
+    tails: wgpu::Buffer,
+    /// Whether the map was made after the tails were written (cleared before the next resolve: nothing known).
+    tails_stale: bool,
     /// The resolve's dispatches ([`resolve_dispatches`]), in order.
     dispatches: Vec<ResolveDispatch>,
     /// Each dispatch's [`ResolvePart`], one per dynamic-offset step of `part_stride` bytes.
@@ -323,6 +330,8 @@ pub struct ResolvePart {
 /// cost about 10 % less in runs of 64 than in one (docs/design.md); the running sum crosses runs as it crosses
 /// bands.
 pub const RESOLVE_RUN: u32 = 64;
+/// Bytes per texel of the resolve's flat tails (`layer_tails` in `shaders/layer_resolve.wgsl`: three u32).
+pub const TAIL_BYTES: u64 = 12;
 
 /// One resolve dispatch: the band it belongs to (its first entry), the page its counters are in, and its part.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -374,6 +383,7 @@ impl AtomicBuffers {
         self.counters.iter().map(wgpu::Buffer::size).sum::<u64>()
             + self.carry.size()
             + self.zeros.size()
+            + self.tails.size()
             + self.parts.size()
             + self.null_target.bytes()
     }
@@ -488,6 +498,9 @@ impl<U: Pod + Send> LayersGpu<U> {
         let format = self.maps.map.format;
         let map_layout = &resolve_pipeline(&ctx.gpu.device, name, atomic, format).map_layout;
         if self.maps.resolve_bind_group.is_none() {
+            if let Some(b) = &mut self.buffers {
+                b.tails_stale = true;
+            }
             self.maps.resolve_bind_group =
                 Some(ctx.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some(&format!("hairlab.{name}.resolve_map_bind_group")),
@@ -522,6 +535,10 @@ impl<U: Pod + Send> LayersGpu<U> {
         timer: &mut Option<GpuTimer>,
     ) {
         let (name, unit) = (self.method.name, self.method.unit);
+        if let Some(b) = self.buffers.as_mut().filter(|b| b.tails_stale) {
+            encoder.clear_buffer(&b.tails, 0, None);
+            b.tails_stale = false;
+        }
         let (Some(atomic), Some(buffers), Some(map_group)) = (
             self.atomic.as_ref(),
             self.buffers.as_ref(),
@@ -680,6 +697,7 @@ fn atomic_pipelines(
             texture_entry(4, comp, wgpu::TextureViewDimension::D2),
             storage_entry(5, comp, false),
             part,
+            storage_entry(7, comp, false),
         ],
     });
     let resolve_module = crate::render::passes::shader_module(
@@ -772,7 +790,7 @@ fn atomic_buffers(
         device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(&format!("hairlab.{name}.{label}")),
             size,
-            usage: wgpu::BufferUsages::STORAGE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         })
     };
@@ -780,6 +798,8 @@ fn atomic_buffers(
     let carry = storage("carry", texels * 4);
     // No texel's leading zero layers known: the first resolve writes whatever the map held before.
     let zeros = storage("zeros", texels * 4);
+    // Nor any flat tail.
+    let tails = storage("tails", texels * TAIL_BYTES);
     let part_stride = device.limits().min_uniform_buffer_offset_alignment;
     let dispatches = resolve_dispatches(entries, resolution, layout);
     let mut part_bytes = Vec::new();
@@ -868,6 +888,10 @@ fn atomic_buffers(
                         size: wgpu::BufferSize::new(std::mem::size_of::<ResolvePart>() as u64),
                     }),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: tails.as_entire_binding(),
+                },
             ],
         })
     };
@@ -879,6 +903,8 @@ fn atomic_buffers(
         counters,
         carry,
         zeros,
+        tails,
+        tails_stale: false,
         dispatches,
         parts,
         part_stride,

@@ -88,6 +88,69 @@ fn atomic_build_leaves_nothing_of_the_previous_frame() {
     }
 }
 
+/// The atomic build skips a layer that holds the sum of the texel's flat tail again within the map's tail (where
+/// every layer holds its total): after a frame whose fragments end in other layers, the next equals the CPU model
+/// everywhere. DOM-16 at 64² (one run) with every fragment kept (`beyond = add-to-last`, so each texel's total is
+/// the same whatever the span) from a span of 0.05 (most fragments in the last layer) to 0.5 (spread out) and
+/// back; OSM-256 (four runs, the tail's start carried across them) from one light to one turned 90° and back;
+/// OSM-64 under one light from f32 to u8 storage (a new map: nothing of the old one's tails holds in it). Each
+/// texel is also looked up behind all its strands (depth 1, in the tail), where the harness's samples do not go.
+#[test]
+fn atomic_build_reuses_the_flat_tail_only_where_it_holds() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (first, scene) = setup_scene(Setup::new(300, 64));
+    let mut turned = first.clone();
+    turned.light.azimuth_deg += 90.0;
+    turned.light.elevation_deg = -first.light.elevation_deg;
+    let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
+    let dom = |span: f32| {
+        vec![
+            ("layers", 16.0),
+            ("depth_span", span),
+            ("spacing", 1.0),
+            ("beyond", 1.0),
+            ("build", 1.0),
+        ]
+    };
+    let osm = vec![("slices", 256.0), ("build", 1.0)];
+    let stored = |storage: f32| vec![("slices", 64.0), ("build", 1.0), ("storage", storage)];
+    let cases = [
+        ("dom", dom(0.05), &first, dom(0.5), &first),
+        ("dom", dom(0.5), &first, dom(0.05), &first),
+        ("osm", osm.clone(), &first, osm.clone(), &turned),
+        ("osm", osm.clone(), &turned, osm, &first),
+        ("osm", stored(0.0), &first, stored(2.0), &first),
+    ];
+    for (method, before, lit_before, after, lit_after) in cases {
+        let m = registry::find(method).unwrap();
+        r.render(&light_frame(lit_before, m, &values(&before))).unwrap();
+        let mut d = gpu_cpu_differences_on(&mut r, method, &after, lit_after, true);
+        let lists = r
+            .reference_lists(&lit_after.camera, &lit_after.light, &lit_after.render)
+            .unwrap();
+        let model = m.model(&values(&after), lit_after.render.hair_alpha);
+        let (mut behind, mut expected) = (Vec::new(), Vec::new());
+        for (t, list) in lists.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+            let frags: Vec<_> = list.iter().map(|f| f.fragment()).collect();
+            behind.push([(t % 64) as f32, (t / 64) as f32, 1.0]);
+            expected.extend(model.curve(&frags, &[1.0]));
+        }
+        let got = r.evaluate(m, &behind).unwrap();
+        d.extend(got.iter().zip(&expected).map(|(a, b)| (a - b).abs()));
+        let worst = d.iter().copied().fold(0.0f32, f32::max);
+        eprintln!(
+            "{method} {before:?} -> {after:?}: {} samples ({} behind the strands), max |ΔV| {worst:.3e}",
+            d.len(),
+            behind.len()
+        );
+        assert!(behind.len() > 500, "only {} occupied texels", behind.len());
+        assert!(
+            worst <= TOLERANCE,
+            "{method} {before:?} -> {after:?}: max |ΔV| = {worst}"
+        );
+    }
+}
+
 /// OSM-256 at 512²: 256 slices of 4-byte counters over 262 144 texels take 256 MiB, two of lavapipe's 128 MiB
 /// storage bindings, so the atomic build counts every slice in one geometry pass over two pages (four runs of
 /// 64 slices); on a device whose bindings hold 16 MiB it counts in four bands of 64 slices (runs of 16, one
@@ -170,16 +233,16 @@ fn atomic_build_beyond_a_band_of_four_is_refused_naming_the_key() {
 
 /// The memory report per storage, worked out by hand for OSM-64 at 64² (4096 texels, 16 layers of 4 slices):
 /// the map takes 16, 8 or 4 bytes per texel and layer; the atomic build's counters (4 bytes per slice and
-/// texel, in one page; the other three bind a counter each), running sums and written flags (4 bytes per texel
-/// each), null target (1 byte per texel) and the resolve's one dispatch uniform (one dynamic-offset step) are
-/// build memory.
+/// texel, in one page; the other three bind a counter each), running sums and leading-zero counts (4 bytes per
+/// texel each), flat tails (12 bytes per texel), null target (1 byte per texel) and the resolve's one dispatch
+/// uniform (one dynamic-offset step) are build memory.
 #[test]
 fn memory_report_counts_each_storage() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let texels = 64 * 64;
     let parts = gpu.device.limits().min_uniform_buffer_offset_alignment as u64;
     // The counters' first page, and three unused pages of one counter each.
-    let atomic = texels * (64 * 4 + 4 + 4 + 1) + 3 * 4 + parts;
+    let atomic = texels * (64 * 4 + 4 + 4 + 12 + 1) + 3 * 4 + parts;
     for (build, storage, map_bytes, build_bytes) in [
         (2.0, 0.0, texels * 16 * 16, 0),
         (1.0, 0.0, texels * 16 * 16, atomic),

@@ -41,6 +41,17 @@ fn both_builds_and_every_storage_gpu_equal_cpu() {
     }
 }
 
+/// The 300-strand test head at 64², lit as the preset lights it and by a light turned 90° (and mirrored in
+/// elevation), and a renderer for it.
+fn two_lights(gpu: &Gpu) -> (hairlab::settings::Settings, hairlab::settings::Settings, Renderer) {
+    let (first, scene) = setup_scene(Setup::new(300, 64));
+    let mut turned = first.clone();
+    turned.light.azimuth_deg += 90.0;
+    turned.light.elevation_deg = -first.light.elevation_deg;
+    let r = Renderer::new(gpu, &scene, 64).unwrap();
+    (first, turned, r)
+}
+
 /// The atomic build skips the layers the map holds as zero already (an empty texel's once cleared, an occupied
 /// one's in front of its first fragment): after a frame lit from one side, a frame lit from another (texels
 /// occupied before are empty now, and the reverse; first fragments move between slices) equals the CPU model
@@ -48,11 +59,7 @@ fn both_builds_and_every_storage_gpu_equal_cpu() {
 #[test]
 fn atomic_build_leaves_nothing_of_the_previous_frame() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let (first, scene) = setup_scene(Setup::new(300, 64));
-    let mut turned = first.clone();
-    turned.light.azimuth_deg += 90.0;
-    turned.light.elevation_deg = -first.light.elevation_deg;
-    let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
+    let (first, turned, mut r) = two_lights(&gpu);
     let occupied = |s: &hairlab::settings::Settings, r: &mut Renderer| -> Vec<bool> {
         let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
         lists.iter().map(|l| !l.is_empty()).collect()
@@ -98,11 +105,7 @@ fn atomic_build_leaves_nothing_of_the_previous_frame() {
 #[test]
 fn atomic_build_reuses_the_flat_tail_only_where_it_holds() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let (first, scene) = setup_scene(Setup::new(300, 64));
-    let mut turned = first.clone();
-    turned.light.azimuth_deg += 90.0;
-    turned.light.elevation_deg = -first.light.elevation_deg;
-    let mut r = Renderer::new(&gpu, &scene, 64).unwrap();
+    let (first, turned, mut r) = two_lights(&gpu);
     let dom = |span: f32| {
         vec![
             ("layers", 16.0),

@@ -9,7 +9,7 @@ struct ListNode {
     next: u32,
 }
 
-// Pages the nodes span (1..=8, render::passes::abuffer::ListPipeline): an access tests the pages up to this count
+// Pages the nodes span (1..=8, render::passes::list_pages::ListPipeline): an access tests the pages up to this count
 // only, where the eight-way switch it replaces cost a CPU adapter all eight for every access (the list sort 4x
 // its time at one page).
 override list_pages: u32 = 8u;

@@ -13,7 +13,7 @@
 //! the nodes equal the CPU model's for every list length. The walk resumes across dispatches (each texel's last
 //! fragment, node count and whether its list is done kept in a 32-byte walk state, the nodes in the output slots):
 //! one dispatch inserts every fragment, except on a CPU adapter, whose llvmpipe stops a shader's loops after
-//! 65,535 iterations in all: there each dispatch takes as many batches of 32 as `abuffer::CPU_ADAPTER_LOOP_BUDGET`
+//! 65,535 iterations in all: there each dispatch takes as many batches of 32 as `list_pages::CPU_ADAPTER_LOOP_BUDGET`
 //! allows (`abuffer::WalkSplit`), and as many dispatches follow as the frame's longest list (counted by the
 //! A-buffer's counting pass) needs (3 for 1300 fragments), the nodes the same however the walk is split. `N` is
 //! any count in
@@ -35,7 +35,8 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, storage_entry, uniform_buffer, uniform_entry};
 use crate::render::passes;
-use crate::render::passes::abuffer::{ABuffer, ListPipeline};
+use crate::render::passes::abuffer::ABuffer;
+use crate::render::passes::list_pages::ListPipeline;
 use crate::render::passes::list_sort::ListOrder;
 use crate::visibility::TexelModel;
 use crate::visibility::avsm::{AvsmParams, InsertionOrder, MAX_NODES, MIN_NODES};
@@ -339,7 +340,7 @@ impl MethodGpu for AvsmGpu {
         self.abuffer.set_sort_order(list_order(p.order));
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
-        self.pipeline.prepare(&ctx.gpu.device, &self.abuffer);
+        self.pipeline.prepare(&ctx.gpu.device, self.abuffer.pages_used());
         let split = self.abuffer.walk_split(ctx.gpu, "AVSM", INSERT_ITERATIONS)?;
         self.dispatches = split.dispatches;
         ctx.gpu.queue.write_buffer(
@@ -371,7 +372,7 @@ impl MethodGpu for AvsmGpu {
                 .as_mut()
                 .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "avsm: compress")),
         });
-        pass.set_pipeline(self.pipeline.for_lists(&self.abuffer));
+        pass.set_pipeline(self.pipeline.for_pages(self.abuffer.pages_used()));
         pass.set_bind_group(0, &self.map.compute_bind_group, &[]);
         pass.set_bind_group(1, &self.abuffer.lookup_bind_group, &[]);
         let groups = self.map.resolution.div_ceil(8);

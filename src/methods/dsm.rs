@@ -7,7 +7,7 @@
 //! (`shaders/dsm.wgsl`, 8×8 workgroups, one invocation per texel) walks it once (`shaders/common/list_walk.wgsl`)
 //! and compresses, resuming across dispatches (each texel's walk and compressor state, 80 bytes, kept between
 //! them): one dispatch per pass, except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535
-//! iterations in all, where each dispatch takes as many batches as `abuffer::CPU_ADAPTER_LOOP_BUDGET` allows
+//! iterations in all, where each dispatch takes as many batches as `list_pages::CPU_ADAPTER_LOOP_BUDGET` allows
 //! and as many follow as the frame's longest list needs (`abuffer::ABuffer::walk_split`). `prepare` runs the
 //! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
 //! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
@@ -32,7 +32,8 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError};
 use crate::render::maps::{LOOKUP_STAGES, check_budget, storage_entry, uniform_buffer, uniform_entry};
 use crate::render::passes;
-use crate::render::passes::abuffer::{ABuffer, ListPipeline};
+use crate::render::passes::abuffer::ABuffer;
+use crate::render::passes::list_pages::ListPipeline;
 use crate::render::passes::list_sort::ListOrder;
 use crate::visibility::TexelModel;
 use crate::visibility::dsm::DsmParams;
@@ -289,7 +290,7 @@ impl DsmGpu {
             label: Some("hairlab.dsm.compress"),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(pipeline.for_lists(&self.abuffer));
+        pass.set_pipeline(pipeline.for_pages(self.abuffer.pages_used()));
         pass.set_bind_group(0, &self.pass_bind_group, &[]);
         pass.set_bind_group(1, &self.abuffer.lookup_bind_group, &[]);
         let groups = self.resolution.div_ceil(8);
@@ -326,8 +327,10 @@ impl MethodGpu for DsmGpu {
             .abuffer
             .walk_split(gpu, "The compressed deep shadow map", TAKE_ITERATIONS)?;
         self.dispatches = split.dispatches;
-        self.count_pipeline.prepare(&gpu.device, &self.abuffer);
-        self.compress_pipeline.prepare(&gpu.device, &self.abuffer);
+        self.count_pipeline
+            .prepare(&gpu.device, self.abuffer.pages_used());
+        self.compress_pipeline
+            .prepare(&gpu.device, self.abuffer.pages_used());
         let fragments = self.abuffer.fragment_count;
         let what = |vertices: Option<u64>| {
             let vertices = vertices.map_or(String::new(), |v| format!("{v} vertices, "));

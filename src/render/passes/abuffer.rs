@@ -15,15 +15,14 @@ use crate::gpu::timing::GpuTimer;
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, LightStage, draw_casters};
 use crate::render::maps::storage_entry;
+use crate::render::passes::list_pages::CPU_ADAPTER_LOOP_BUDGET;
 use crate::render::passes::list_sort::{ListOrder, ListSort};
 use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
 pub const NODE_BYTES: u64 = 16;
 
-/// Node pages (storage bindings) of an A-buffer: the nodes fit `NODE_PAGES` × the device's storage binding size
-/// (1 GiB of nodes, 67 M fragments, on a 128 MiB binding).
-pub const NODE_PAGES: usize = 8;
+pub use super::list_pages::NODE_PAGES;
 
 /// Bytes of the counters: `[fragments counted, nodes allocated, dropped, longest list, node capacity]` and
 /// padding. The fill clears the first four; the capacity is written when the pages are sized.
@@ -54,13 +53,6 @@ impl RefFragment {
 pub fn sort_fragments(list: &mut [RefFragment]) {
     list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
 }
-
-/// Loop iterations one invocation of a compute pass that sorts or walks the lists (`list_sort`; AVSM's and the
-/// compressed deep shadow map's walks, `shaders/common/list_walk.wgsl`) may take on a CPU adapter in one
-/// dispatch: llvmpipe (lavapipe) stops a shader's loops after 65,535 iterations in all (measured with AVSM at 8 nodes walked in
-/// one dispatch: a 220-fragment list, 220 × (220 + 61) = 61,820 iterations, equals the CPU model; 244, 74,420,
-/// does not). The margin covers the loops outside the walk.
-pub const CPU_ADAPTER_LOOP_BUDGET: u64 = 60_000;
 
 /// The largest batch of a walk along the lists (`LIST_BATCH_MAX` in `shaders/common/list_walk.wgsl`).
 pub const WALK_BATCH_MAX: u32 = 32;
@@ -108,61 +100,6 @@ impl WalkSplit {
             }
             batch /= 2;
         }
-    }
-}
-
-/// A compute pipeline over an A-buffer's lists, one variant per count of node pages (the `list_pages` constant of
-/// `shaders/common/list_node.wgsl`: an access tests those pages only), each made when first needed
-/// ([`ListPipeline::prepare`]) and picked by [`ListPipeline::for_lists`].
-pub struct ListPipeline {
-    label: String,
-    layout: wgpu::PipelineLayout,
-    module: wgpu::ShaderModule,
-    entry: String,
-    /// Index: pages − 1.
-    variants: Vec<Option<wgpu::ComputePipeline>>,
-}
-
-impl ListPipeline {
-    pub fn new(
-        label: &str,
-        layout: &wgpu::PipelineLayout,
-        module: &wgpu::ShaderModule,
-        entry: &str,
-    ) -> ListPipeline {
-        ListPipeline {
-            label: label.to_owned(),
-            layout: layout.clone(),
-            module: module.clone(),
-            entry: entry.to_owned(),
-            variants: vec![None; NODE_PAGES],
-        }
-    }
-
-    /// Makes the variant for `lists`' pages as sized this frame (after [`ABuffer::prepare`]).
-    pub fn prepare(&mut self, device: &wgpu::Device, lists: &ABuffer) {
-        let pages = lists.pages_used();
-        if self.variants[pages - 1].is_none() {
-            self.variants[pages - 1] =
-                Some(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&self.label),
-                    layout: Some(&self.layout),
-                    module: &self.module,
-                    entry_point: Some(&self.entry),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &[("list_pages", pages as f64)],
-                        ..Default::default()
-                    },
-                    cache: None,
-                }));
-        }
-    }
-
-    /// The variant for `lists`' pages (made by [`ListPipeline::prepare`] this frame).
-    pub fn for_lists(&self, lists: &ABuffer) -> &wgpu::ComputePipeline {
-        self.variants[lists.pages_used() - 1]
-            .as_ref()
-            .expect("ListPipeline::prepare runs before recording")
     }
 }
 
@@ -435,10 +372,9 @@ impl ABuffer {
                 bytemuck::bytes_of(&(count as u32)),
             );
         }
-        if let Some(mut sort) = self.sort.take() {
-            let prepared = sort.prepare(gpu, self, resolution);
-            self.sort = Some(sort);
-            prepared?;
+        let (longest, pages) = (self.longest_list, self.pages_used());
+        if let Some(sort) = &mut self.sort {
+            sort.prepare(gpu, resolution, longest, pages, self.what)?;
         }
         Ok(())
     }
@@ -452,11 +388,6 @@ impl ABuffer {
             &self.heads,
             &self.pages,
         );
-    }
-
-    /// The A-buffer's name in errors.
-    pub fn what(&self) -> &'static str {
-        self.what
     }
 
     /// Node pages holding this frame's nodes (1 when they fit one binding).
@@ -494,7 +425,7 @@ impl ABuffer {
         if let Some(sort) = &self.sort {
             sort.record(
                 encoder,
-                self,
+                self.pages_used(),
                 &self.pass_bind_group,
                 format!("{label} sort"),
                 timer,

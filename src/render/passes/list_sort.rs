@@ -8,9 +8,9 @@
 //!
 //! The passes of a frame's longest list run in one dispatch, except on a CPU adapter, whose llvmpipe stops a
 //! shader's loops after 65,535 iterations in all: there [`SortSplit`] spreads them over dispatches within
-//! `abuffer::CPU_ADAPTER_LOOP_BUDGET`, each dispatch's passes a [`SortPart`] at its own dynamic offset.
+//! `list_pages::CPU_ADAPTER_LOOP_BUDGET`, each dispatch's passes a [`SortPart`] at its own dynamic offset.
 
-use super::abuffer::{ABuffer, CPU_ADAPTER_LOOP_BUDGET, ListPipeline};
+use super::list_pages::{CPU_ADAPTER_LOOP_BUDGET, ListPipeline};
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::method::UniformMirror;
@@ -188,12 +188,17 @@ impl ListSort {
         self.order = order;
     }
 
-    /// Splits this frame's passes for `lists` (after their counting pass: the longest list, the pages) at
-    /// `resolution`² texels over dispatches ([`SortSplit`]; the budget on a CPU adapter), writes their parts and
-    /// makes the pipeline for the pages; the error names the lists when one pass does not fit.
-    pub fn prepare(&mut self, gpu: &Gpu, lists: &ABuffer, resolution: u32) -> Result<(), GpuError> {
-        let longest = lists.longest_list;
-        let what = lists.what();
+    /// Splits this frame's passes for lists of at most `longest` fragments at `resolution`² texels over
+    /// dispatches ([`SortSplit`]; the budget on a CPU adapter), writes their parts and makes the pipeline for
+    /// nodes in `pages` pages; the error names the lists (`what`) when one pass does not fit.
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        resolution: u32,
+        longest: u64,
+        pages: usize,
+        what: &str,
+    ) -> Result<(), GpuError> {
         let budget = (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_ADAPTER_LOOP_BUDGET);
         let split = SortSplit::new(longest, budget).ok_or_else(|| {
             GpuError::Setting(format!(
@@ -215,17 +220,18 @@ impl ListSort {
             bytes[at..at + std::mem::size_of::<SortPart>()].copy_from_slice(bytemuck::bytes_of(&part));
         }
         gpu.queue.write_buffer(&self.parts, 0, &bytes);
-        self.pipeline.prepare(&gpu.device, lists);
+        self.pipeline.prepare(&gpu.device, pages);
         self.dispatches = split.dispatches.len() as u32;
         self.resolution = resolution;
         Ok(())
     }
 
-    /// Records the sort of `lists`, bound read-write by `bind_group` (after their fill), timed as `label`.
+    /// Records the sort of the lists in `pages` node pages, bound read-write by `bind_group` (after their fill),
+    /// timed as `label`.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        lists: &ABuffer,
+        pages: usize,
         bind_group: &wgpu::BindGroup,
         label: String,
         timer: &mut Option<GpuTimer>,
@@ -234,7 +240,7 @@ impl ListSort {
             label: Some("hairlab.list_sort.pass"),
             timestamp_writes: timer.as_mut().and_then(|t| t.compute_pass(Phase::Method, label)),
         });
-        pass.set_pipeline(self.pipeline.for_lists(lists));
+        pass.set_pipeline(self.pipeline.for_pages(pages));
         pass.set_bind_group(1, bind_group, &[]);
         let groups = self.resolution.div_ceil(8);
         for d in 0..self.dispatches {

@@ -6,6 +6,7 @@ pub mod depth_peel;
 pub mod evaluate;
 pub mod hair;
 pub mod light_depth;
+pub mod list_pages;
 pub mod list_sort;
 pub mod mesh;
 pub mod shadow_map;

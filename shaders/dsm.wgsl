@@ -127,26 +127,14 @@ struct DsmWalk {
 }
 @group(0) @binding(4) var<storage, read_write> walks: array<DsmWalk>;
 
-// Nodes in texel t's list.
-fn list_length(t: u32) -> u32 {
-    let node_count = ab_capacity();
-    var n = 0u;
-    var i = ab_heads[t];
-    while i != 0u && n < node_count {
-        i = ab_node(i - 1u).next;
-        n += 1u;
-    }
-    return n;
-}
-
-// Takes at most dsm.steps more batches of texel t's list (n nodes) into its compression (vertices written from
+// Takes at most dsm.steps more batches of texel t's list (n nodes, known once a batch comes back short) into its compression (vertices written from
 // w.base, at most w.limit, if write) and finishes it once the list is walked; returns the state.
 fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     var w = state;
     var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);
     var last = ListKey(w.prev_depth, w.prev_alpha, w.prev_segment, w.prev_index);
     for (var s = 0u; s < dsm.steps && w.k < w.n; s++) {
-        let taken = list_next_batch(t, last, dsm.batch);
+        let taken = list_next_batch(t, last, dsm.batch, 0u);
         if taken < dsm.batch {
             w.n = w.k + taken;
         }
@@ -188,11 +176,11 @@ fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     return w;
 }
 
-// The state of a texel not started: its list counted, nothing taken, the visibility 1 in front.
-fn started(t: u32) -> DsmWalk {
+// The state of a texel not started: nothing taken, the list's length not known yet, the visibility 1 in front.
+fn started() -> DsmWalk {
     var w: DsmWalk;
     w.vo = 1.0;
-    w.n = list_length(t);
+    w.n = 0xffffffffu;
     w.before = 1.0;
     w.stage = 1u;
     return w;
@@ -210,7 +198,7 @@ fn cs_count(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     if w.stage == 0u {
-        w = started(t);
+        w = started();
     }
     w = advance(t, false, w);
     walks[t] = w;
@@ -232,7 +220,7 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     if w.stage == 0u {
-        w = started(t);
+        w = started();
         let counted = out_headers[t].y;
         w.base = atomicAdd(&alloc[0], counted);
         w.limit = select(0u, counted, w.base + counted <= arrayLength(&out_vertices));

@@ -9,12 +9,11 @@
 //! them): one dispatch per pass, except on a CPU adapter, whose llvmpipe stops a shader's loops after 65,535
 //! iterations in all, where each dispatch takes as many batches as `list_pages::CPU_ADAPTER_LOOP_BUDGET` allows
 //! and as many follow as the frame's longest list needs (`abuffer::ABuffer::walk_split`). `prepare` runs the
-//! A-buffer's counting pass, then its filling pass and `cs_count` (each texel's vertex count into its header, the
-//! total read back, blocking) and sizes the vertex buffer to exactly that total; `record` fills the lists again
-//! and `cs_compress` allocates each texel its counted vertices from an atomic counter, writes them and the header
-//! `(offset, count)`. The walk order makes the count the same both times (the same fragments, whatever the
-//! list order); a texel whose vertices would not match its allocation is marked, and the lookup answers -1 there,
-//! which every GPU test rejects (never seen). Three geometry passes per frame.
+//! A-buffer's counting pass, then its filling pass, the sort and `cs_count` (each texel's vertex count into its
+//! header, the total read back, blocking) and sizes the vertex buffer to exactly that total; `record` walks the
+//! same sorted lists again, and `cs_compress` allocates each texel its counted vertices from an atomic counter,
+//! writes them and the header `(offset, count)`. A texel whose vertices would not match its allocation is marked,
+//! and the lookup answers -1 there, which every GPU test rejects (never seen). Two geometry passes per frame.
 //!
 //! Memory (`memory_bytes`, what the lookup reads): the headers, 8 bytes per texel, and the vertices, 8 bytes
 //! (`z`, `V` as f32) each, as many as the compressor keeps (at most 2 per fragment: 16 bytes per fragment at
@@ -380,13 +379,8 @@ impl MethodGpu for DsmGpu {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("hairlab.dsm.count"),
             });
-        self.abuffer.record_as(
-            "dsm: A-buffer (sizing)",
-            ctx.frame_bind_group,
-            ctx.casters,
-            &mut encoder,
-            timer,
-        );
+        self.abuffer
+            .record(ctx.frame_bind_group, ctx.casters, &mut encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
         let timestamps = timer
             .as_mut()
@@ -412,14 +406,13 @@ impl MethodGpu for DsmGpu {
         Ok(())
     }
 
+    /// Compresses the lists [`DsmGpu::prepare`] filled and sorted this frame.
     fn record(
         &mut self,
-        ctx: &MethodContext,
+        _ctx: &MethodContext,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) {
-        self.abuffer
-            .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
         let timestamps = timer
             .as_mut()
@@ -439,8 +432,8 @@ impl MethodGpu for DsmGpu {
     fn build_bytes(&self) -> u64 {
         self.abuffer.memory_bytes() + self.walks.size()
     }
-    /// The A-buffer's counting pass, its filling pass for the vertex count, and again for the compressor.
+    /// The A-buffer's counting pass and its filling pass.
     fn geometry_passes(&self) -> u32 {
-        3
+        2
     }
 }

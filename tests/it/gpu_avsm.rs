@@ -126,11 +126,11 @@ fn node_buffers_beyond_the_storage_binding_size_are_refused() {
     }
 }
 
-/// A texel list beyond what one dispatch walks on a CPU adapter (lavapipe: 16 batches of 32, 512 fragments) is
+/// A texel list beyond what one dispatch walks on a CPU adapter (lavapipe: 17 batches of 32, 544 fragments) is
 /// compressed over several dispatches, each resuming where the one before stopped, and still equals the CPU model:
 /// one texel holding the fragments of 1000 strands (about 700: sorted in one dispatch, walked in two on lavapipe,
 /// one each on another adapter) and of 3000 strands (about 2100: the sort's nine passes over two dispatches, the
-/// walk over five).
+/// walk over four).
 #[test]
 fn long_lists_compress_over_several_dispatches() {
     let Some(gpu) = Gpu::for_tests() else { return };

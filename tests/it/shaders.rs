@@ -425,6 +425,30 @@ fn list_sort_part_matches_wgsl_layout() {
     );
 }
 
+/// A `u32` constant declared in a composed shader.
+fn wgsl_u32(module: &naga::Module, name: &str) -> u32 {
+    let constant = module
+        .constants
+        .iter()
+        .map(|(_, c)| c)
+        .find(|c| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no constant {name}"));
+    match module.global_expressions[constant.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => v,
+        ref e => panic!("{name} is not a u32 literal: {e:?}"),
+    }
+}
+
+/// The list sort's chunk and the walk's batch bounds, which decide which lists the walk sorts itself.
+#[test]
+fn list_sort_and_walk_constants_match_wgsl() {
+    use hairlab::render::passes::{abuffer, list_sort};
+    let src = compose("list_sort.wgsl", None).unwrap();
+    let (module, _) = validate("list_sort.wgsl", &src);
+    assert_eq!(u64::from(wgsl_u32(&module, "SORT_CHUNK")), list_sort::CHUNK);
+    assert_eq!(wgsl_u32(&module, "LIST_KEYS_MAX"), abuffer::WALK_BATCH_MAX);
+}
+
 /// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its
 /// lookup composed into the evaluation pass).
 #[test]

@@ -16,7 +16,7 @@ use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, LightStage, draw_casters};
 use crate::render::maps::storage_entry;
 use crate::render::passes::list_pages::CPU_ADAPTER_LOOP_BUDGET;
-use crate::render::passes::list_sort::{ListOrder, ListSort};
+use crate::render::passes::list_sort::{CHUNK, ListOrder, ListSort};
 use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
@@ -54,8 +54,13 @@ pub fn sort_fragments(list: &mut [RefFragment]) {
     list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
 }
 
-/// The largest batch of a walk along the lists (`LIST_BATCH_MAX` in `shaders/common/list_walk.wgsl`).
+/// The largest batch of a walk along the lists (`LIST_KEYS_MAX` in `shaders/common/list_key.wgsl`).
 pub const WALK_BATCH_MAX: u32 = 32;
+/// The smallest: a list the sort leaves in fill order (at most [`CHUNK`] fragments) is taken whole by the first
+/// batch and sorted there.
+pub const WALK_BATCH_MIN: u32 = CHUNK as u32;
+/// Loop iterations of that sort by insertion: at most `CHUNK (CHUNK − 1) / 2` moves and `CHUNK` steps.
+const WALK_SORT_ITERATIONS: u64 = CHUNK * (CHUNK - 1) / 2 + CHUNK;
 
 /// How a walk along the sorted lists (`shaders/common/list_walk.wgsl`) is split: `batch` fragments taken at a
 /// time, `steps` batches per texel in each of `dispatches`.
@@ -68,11 +73,11 @@ pub struct WalkSplit {
 
 impl WalkSplit {
     /// The split for lists of at most `longest` fragments when a batch of `b` costs `b` loop iterations along
-    /// the list plus `per_fragment` for each fragment taken, and a dispatch may first walk the list once; a
-    /// list of `n` fragments takes `n / b + 1` batches (the last one finds the end). Without a budget (loop
-    /// iterations per invocation and dispatch): the largest batch, every batch in one dispatch. With one: the
-    /// largest batch (a power of two) of which one fits, as many per dispatch as fit; `None` when not even a
-    /// batch of one fits.
+    /// the list plus `per_fragment` for each fragment taken, and a dispatch may sort one short list
+    /// (`WALK_SORT_ITERATIONS`); a list of `n` fragments takes `n / b + 1` batches (the last one finds the end).
+    /// Without a budget (loop iterations per invocation and dispatch): the largest batch, every batch in one
+    /// dispatch. With one: the largest batch (a power of two, at least [`WALK_BATCH_MIN`]) of which one fits, as
+    /// many per dispatch as fit; `None` when not even a batch of [`WALK_BATCH_MIN`] fits.
     pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> Option<WalkSplit> {
         let needed = |batch: u64| longest / batch + 1;
         let Some(budget) = budget else {
@@ -82,7 +87,7 @@ impl WalkSplit {
                 dispatches: 1,
             });
         };
-        let room = budget.saturating_sub(longest);
+        let room = budget.saturating_sub(WALK_SORT_ITERATIONS);
         let mut batch = WALK_BATCH_MAX as u64;
         loop {
             let per_batch = batch * (1 + per_fragment);
@@ -95,7 +100,7 @@ impl WalkSplit {
                     dispatches: needed(batch).div_ceil(steps) as u32,
                 });
             }
-            if batch == 1 {
+            if batch == WALK_BATCH_MIN as u64 {
                 return None;
             }
             batch /= 2;
@@ -396,7 +401,7 @@ impl ABuffer {
         self.capacity.div_ceil(first) as usize
     }
 
-    /// Records the pass that fills the lists (after [`ABuffer::prepare`] for this frame).
+    /// Records the pass that fills the lists (after [`ABuffer::prepare`] for this frame), and their sort.
     pub fn record(
         &self,
         frame: &wgpu::BindGroup,
@@ -404,20 +409,9 @@ impl ABuffer {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<GpuTimer>,
     ) {
-        self.record_as(self.pass_label, frame, casters, encoder, timer);
-    }
-
-    /// [`ABuffer::record`] timed as `label` (a second fill in one frame needs a name of its own).
-    pub fn record_as(
-        &self,
-        label: &str,
-        frame: &wgpu::BindGroup,
-        casters: &[&dyn LightCaster],
-        encoder: &mut wgpu::CommandEncoder,
-        timer: &mut Option<GpuTimer>,
-    ) {
         encoder.clear_buffer(&self.counters, 0, Some(CLEARED_COUNTER_BYTES));
         encoder.clear_buffer(&self.heads, 0, None);
+        let label = self.pass_label;
         let ts = timer
             .as_mut()
             .and_then(|t| t.pass(crate::gpu::timing::Phase::Method, label));
@@ -440,17 +434,15 @@ impl ABuffer {
     }
 
     /// How `what`'s walk over this frame's lists (after [`ABuffer::prepare`]) is split over dispatches
-    /// ([`WalkSplit::new`]; [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU adapter); an error naming the settings to change
-    /// when one fragment per dispatch is still beyond it.
+    /// ([`WalkSplit::new`]; [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU adapter); an error when one batch of
+    /// [`WALK_BATCH_MIN`] is beyond that budget (a walk of more than `per_fragment` iterations per fragment).
     pub fn walk_split(&self, gpu: &Gpu, what: &str, per_fragment: u64) -> Result<WalkSplit, GpuError> {
         let longest = self.longest_list;
         let budget = (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_ADAPTER_LOOP_BUDGET);
         WalkSplit::new(longest, per_fragment, budget).ok_or_else(|| {
             GpuError::Setting(format!(
-                "{what} on a CPU adapter walks at most {} fragments per texel (llvmpipe stops shader loops after \
-                 65,535 iterations) and a texel holds {longest}: raise render.map_resolution or lower \
-                 scene.generator.strands",
-                CPU_ADAPTER_LOOP_BUDGET - 1 - per_fragment
+                "{what} on a CPU adapter: a batch of {WALK_BATCH_MIN} fragments at {per_fragment} loop iterations \
+                 each is beyond llvmpipe's {CPU_ADAPTER_LOOP_BUDGET} (it stops shader loops after 65,535 iterations)"
             ))
         })
     }
@@ -508,17 +500,18 @@ mod tests {
         };
         // No budget: batches of 32, every one in one dispatch (5000 / 32 + 1 = 157).
         assert_eq!(WalkSplit::new(5000, 100, None), split(32, 157, 1));
-        // 179 fragments at 109 more per fragment: a batch of 32 costs 32 × 110 = 3520, 16 fit in 60,000 − 179
-        // and six are needed (179 / 32 + 1).
+        // 179 fragments at 109 more per fragment: a batch of 32 costs 32 × 110 = 3520, 17 fit in 60,000 − 136
+        // (the short list's sort: 16 · 15 / 2 moves and 16 steps) and six are needed (179 / 32 + 1).
         assert_eq!(WalkSplit::new(179, 109, Some(60_000)), split(32, 6, 1));
-        // 1300 fragments: 16 batches fit in 58,700; 41 needed, three dispatches.
-        assert_eq!(WalkSplit::new(1300, 109, Some(60_000)), split(32, 16, 3));
-        // 5000: 15 fit in 55,000; 157 needed.
-        assert_eq!(WalkSplit::new(5000, 109, Some(60_000)), split(32, 15, 11));
-        // 59,800: no batch of 32 down to 2 fits in 200; one of one (110) does; 59,801 needed.
-        assert_eq!(WalkSplit::new(59_800, 109, Some(60_000)), split(1, 1, 59_801));
+        // 1300 fragments: 41 batches needed, 17 a dispatch, three dispatches.
+        assert_eq!(WalkSplit::new(1300, 109, Some(60_000)), split(32, 17, 3));
+        // 5000: 157 needed.
+        assert_eq!(WalkSplit::new(5000, 109, Some(60_000)), split(32, 17, 10));
         // Empty lists still take one dispatch (it writes the empty texels' nodes).
         assert_eq!(WalkSplit::new(0, 109, Some(60_000)), split(32, 1, 1));
-        assert_eq!(WalkSplit::new(59_900, 109, Some(60_000)), None);
+        // 3740 more per fragment: a batch of 32 (119,712) does not fit, one of 16 (59,856) does; 100 / 16 + 1.
+        assert_eq!(WalkSplit::new(100, 3740, Some(60_000)), split(16, 1, 7));
+        // 3741: 16 × 3742 = 59,872 is beyond 59,864, and a batch may not be smaller than a short list.
+        assert_eq!(WalkSplit::new(100, 3741, Some(60_000)), None);
     }
 }

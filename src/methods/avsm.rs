@@ -369,11 +369,12 @@ impl MethodGpu for AvsmGpu {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, encoder, timer);
         encoder.clear_buffer(&self.map.walk, 0, None);
+        let timestamps = timer
+            .as_mut()
+            .and_then(|t| t.compute_pass(encoder, crate::gpu::timing::Phase::Method, "avsm: compress"));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.avsm.compress"),
-            timestamp_writes: timer
-                .as_mut()
-                .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "avsm: compress")),
+            timestamp_writes: timestamps,
         });
         pass.set_pipeline(self.pipeline.for_pages(self.abuffer.pages_used()));
         pass.set_bind_group(0, &self.map.compute_bind_group, &[]);

@@ -525,11 +525,12 @@ impl MethodGpu for DcGpu {
             &pipelines.kmeans,
             &maps.depth_bind_group,
         );
+        let timestamps = timer
+            .as_mut()
+            .and_then(|t| t.compute_pass(encoder, crate::gpu::timing::Phase::Method, "dc: means"));
         compute_pass(
             encoder,
-            timer
-                .as_mut()
-                .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dc: means")),
+            timestamps,
             &self.res.means,
             &maps.compute_bind_group,
             resolution,
@@ -544,11 +545,12 @@ impl MethodGpu for DcGpu {
             &pipelines.variance,
             &maps.clusters_bind_group,
         );
+        let timestamps = timer
+            .as_mut()
+            .and_then(|t| t.compute_pass(encoder, crate::gpu::timing::Phase::Method, "dc: half-widths"));
         compute_pass(
             encoder,
-            timer
-                .as_mut()
-                .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dc: half-widths")),
+            timestamps,
             &self.res.half_widths,
             &maps.compute_bind_group,
             resolution,

@@ -382,9 +382,13 @@ impl MethodGpu for DsmGpu {
         self.abuffer
             .record(ctx.frame_bind_group, ctx.casters, &mut encoder, timer);
         encoder.clear_buffer(&self.alloc, 0, None);
-        let timestamps = timer
-            .as_mut()
-            .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dsm: count vertices"));
+        let timestamps = timer.as_mut().and_then(|t| {
+            t.compute_pass(
+                &mut encoder,
+                crate::gpu::timing::Phase::Method,
+                "dsm: count vertices",
+            )
+        });
         self.dispatch(&mut encoder, &self.count_pipeline, timestamps);
         gpu.queue.submit([encoder.finish()]);
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&copy_out(gpu, &self.alloc)?);
@@ -416,7 +420,7 @@ impl MethodGpu for DsmGpu {
         encoder.clear_buffer(&self.alloc, 0, None);
         let timestamps = timer
             .as_mut()
-            .and_then(|t| t.compute_pass(crate::gpu::timing::Phase::Method, "dsm: compress"));
+            .and_then(|t| t.compute_pass(encoder, crate::gpu::timing::Phase::Method, "dsm: compress"));
         self.dispatch(encoder, &self.compress_pipeline, timestamps);
     }
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {

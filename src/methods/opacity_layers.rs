@@ -578,6 +578,7 @@ impl<U: Pod + Send> LayersGpu<U> {
             drop(pass);
             let ts = timer.as_mut().and_then(|t| {
                 t.compute_pass(
+                    encoder,
                     Phase::Method,
                     format!("{name}: resolve {unit} {first}-{}", end - 1),
                 )

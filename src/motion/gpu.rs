@@ -310,9 +310,10 @@ impl GpuSimulation {
             let last = j + 1 == substeps;
             {
                 let ends = last && self.follow.is_none();
+                let timestamps = span.as_ref().and_then(|s| s.compute(&mut encoder, j == 0, ends));
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("hairlab.motion.substep"),
-                    timestamp_writes: span.as_ref().and_then(|s| s.compute(j == 0, ends)),
+                    timestamp_writes: timestamps,
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.group, &[]);
@@ -320,9 +321,10 @@ impl GpuSimulation {
                 pass.dispatch_workgroups(self.strands.div_ceil(64), 1, 1);
             }
             if let (true, Some(f)) = (last, &self.follow) {
+                let timestamps = span.as_ref().and_then(|s| s.compute(&mut encoder, false, true));
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("hairlab.motion.follow"),
-                    timestamp_writes: span.as_ref().and_then(|s| s.compute(false, true)),
+                    timestamp_writes: timestamps,
                 });
                 pass.set_pipeline(&f.pipeline);
                 pass.set_bind_group(0, &f.group, &[]);

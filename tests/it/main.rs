@@ -32,6 +32,7 @@ mod gpu_msm;
 mod gpu_occupancy;
 mod gpu_opacity_layers;
 mod gpu_render;
+mod gpu_timing;
 mod groom_formats;
 mod hair_format;
 mod inspector_ui;

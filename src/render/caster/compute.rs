@@ -257,7 +257,7 @@ fn dispatch(
 ) {
     let timestamps = timer
         .as_mut()
-        .and_then(|t| t.compute_pass(Phase::SharedLight, label));
+        .and_then(|t| t.compute_pass(enc, Phase::SharedLight, label));
     let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
         label: Some(label),
         timestamp_writes: timestamps,

@@ -239,9 +239,12 @@ impl ListSort {
         label: String,
         timer: &mut Option<GpuTimer>,
     ) {
+        let timestamps = timer
+            .as_mut()
+            .and_then(|t| t.compute_pass(encoder, Phase::Method, label));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hairlab.list_sort.pass"),
-            timestamp_writes: timer.as_mut().and_then(|t| t.compute_pass(Phase::Method, label)),
+            timestamp_writes: timestamps,
         });
         pass.set_pipeline(self.pipeline.for_pages(pages));
         pass.set_bind_group(1, bind_group, &[]);

@@ -2,8 +2,8 @@
 
 use super::{
     BenchResult, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP, Progress,
-    ScalingPlan, ScalingResult, TerminalProgress, parse_methods, parse_metric, prepare_out_dir, run_each,
-    run_scaling, scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
+    ScalingFit, ScalingPlan, ScalingResult, TerminalProgress, parse_methods, parse_metric, prepare_out_dir,
+    run_each, run_scaling, scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
 };
 use crate::render::caster::Raster;
 use crate::settings::Settings;
@@ -495,6 +495,26 @@ fn print_scaling(r: &ScalingResult) {
             f.exponent,
             f.verdict()
         );
+    }
+    let nonlinear: Vec<&ScalingFit> = r.fits.iter().filter(|f| !f.linear()).collect();
+    if nonlinear
+        .iter()
+        .any(|f| !r.pass_growth(&f.label, f.raster).is_empty())
+    {
+        println!(
+            "where the costs that are not linear grow (each pass: exponent, share at the largest density):"
+        );
+        for f in nonlinear {
+            let growth = r.pass_growth(&f.label, f.raster);
+            if growth.is_empty() {
+                continue;
+            }
+            let passes: Vec<String> = growth
+                .iter()
+                .map(|g| format!("{} {:.2} ({:.0} %)", g.pass, g.exponent, g.share * 100.0))
+                .collect();
+            println!("  {:<20} {:<8} {}", f.label, f.raster.word(), passes.join(", "));
+        }
     }
     let ratios = r.raster_ratios();
     if !ratios.is_empty() {

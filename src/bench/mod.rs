@@ -30,8 +30,8 @@ pub mod transparency;
 pub use chart::{CHART_SIZE, method_color, scaling_chart, speed_accuracy_chart};
 pub use cli::{BenchArgs, run_cli};
 pub use report::{
-    prepare_out_dir, scaling_csv, scaling_points_csv, to_csv, to_json, write_results, write_scaling,
-    write_scaling_tables, write_tables,
+    prepare_out_dir, scaling_csv, scaling_passes_csv, scaling_points_csv, to_csv, to_json, write_results,
+    write_scaling, write_scaling_tables, write_tables,
 };
 pub use result::{
     BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, METRICS, Metric, ScalingFit, ScalingPoint,

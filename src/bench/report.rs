@@ -264,6 +264,37 @@ pub fn scaling_points_csv(r: &ScalingResult) -> Result<String> {
     )
 }
 
+/// One line of `scaling_passes.csv`.
+#[derive(Serialize)]
+struct PassRow<'a> {
+    method: &'a str,
+    raster: &'static str,
+    pass: &'a str,
+    density: f32,
+    segments: usize,
+    gpu_ms_median: f64,
+    ns_per_segment: f64,
+}
+
+/// `scaling_passes.csv`: each configuration's passes at every point (median GPU ms over the timed frames), where
+/// a cost that is not linear grows.
+pub fn scaling_passes_csv(r: &ScalingResult) -> Result<String> {
+    csv_text(
+        "scaling_passes.csv",
+        r.points.iter().flat_map(|p| {
+            p.passes.iter().map(|(pass, ms)| PassRow {
+                method: &p.label,
+                raster: p.raster.word(),
+                pass,
+                density: p.density,
+                segments: p.segments,
+                gpu_ms_median: *ms,
+                ns_per_segment: ms * 1e6 / p.segments.max(1) as f64,
+            })
+        }),
+    )
+}
+
 /// Creates the output folder (and its parents); fails with one line when it cannot.
 pub fn prepare_out_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir)
@@ -325,17 +356,21 @@ fn scaling_tables(r: &ScalingResult) -> Result<Vec<(String, Vec<u8>)>> {
             "scaling_points.csv".to_string(),
             scaling_points_csv(r)?.into_bytes(),
         ),
+        (
+            "scaling_passes.csv".to_string(),
+            scaling_passes_csv(r)?.into_bytes(),
+        ),
     ])
 }
 
-/// Writes `scaling.csv` and `scaling_points.csv` into `dir` (created), each atomically: what a scaling run
-/// writes after each density, so that an interrupted run leaves every finished one.
+/// Writes `scaling.csv`, `scaling_points.csv` and `scaling_passes.csv` into `dir` (created), each atomically:
+/// what a scaling run writes after each density, so that an interrupted run leaves every finished one.
 pub fn write_scaling_tables(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
     write_files(dir, scaling_tables(r)?)
 }
 
-/// Writes `scaling.csv`, `scaling_points.csv`, `scaling.png` and `scaling.svg` into `dir` (created), each
-/// atomically; returns their paths.
+/// Writes `scaling.csv`, `scaling_points.csv`, `scaling_passes.csv`, `scaling.png` and `scaling.svg` into `dir`
+/// (created), each atomically; returns their paths.
 pub fn write_scaling(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
     let mut files = scaling_tables(r)?;
     files.extend(chart_files("scaling", &chart::scaling_chart(r))?);
@@ -448,6 +483,10 @@ mod tests {
                 max: ms * 2.0,
             },
             frames: 3,
+            passes: vec![
+                ("fill".to_string(), ms * 0.25),
+                ("resolve".to_string(), ms * 0.75),
+            ],
         }
     }
 
@@ -513,6 +552,45 @@ mod tests {
             "method-a:layers=4,compute,0.25,100,1000,3,3.0,1.5,6.0,1.5,3000.0"
         );
         assert_eq!(lines.len(), 5);
+    }
+
+    #[test]
+    fn scaling_passes_csv_has_a_line_per_pass_and_point() {
+        let text = scaling_passes_csv(&scaling_result()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0],
+            "method,raster,pass,density,segments,gpu_ms_median,ns_per_segment"
+        );
+        // The compute point at 1000 segments: 3 ms, a quarter of it filling (0.75 ms, 750 ns a segment).
+        assert_eq!(lines[3], "method-a:layers=4,compute,fill,0.25,1000,0.75,750.0");
+        assert_eq!(lines.len(), 1 + 4 * 2);
+    }
+
+    #[test]
+    fn pass_growth_reads_each_pass_over_the_densities() {
+        let mut r = scaling_result();
+        // The hardware points at 1000 and 2000 segments: a fill growing linearly (1, 2 ms) and a sort growing as
+        // segments² (1, 4 ms).
+        for (p, sort) in r
+            .points
+            .iter_mut()
+            .filter(|p| p.raster == Raster::Hardware)
+            .zip([1.0, 4.0])
+        {
+            p.passes = vec![
+                ("fill".to_string(), p.segments as f64 / 1000.0),
+                ("sort".to_string(), sort),
+            ];
+        }
+        let growth = r.pass_growth("method-a:layers=4", Raster::Hardware);
+        let names: Vec<&str> = growth.iter().map(|g| g.pass.as_str()).collect();
+        assert_eq!(names, ["fill", "sort"]);
+        assert!((growth[0].exponent - 1.0).abs() < 1e-12, "{growth:?}");
+        assert!((growth[1].exponent - 2.0).abs() < 1e-12, "{growth:?}");
+        // At 2000 segments: 2 of 6 ms filling, 4 sorting.
+        assert!((growth[0].share - 1.0 / 3.0).abs() < 1e-12 && (growth[1].share - 2.0 / 3.0).abs() < 1e-12);
+        assert!(r.pass_growth("method-b", Raster::Hardware).is_empty());
     }
 
     #[test]

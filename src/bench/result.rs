@@ -279,6 +279,19 @@ pub struct ScalingPoint {
     pub ms: Spread,
     /// Timed frames behind `ms`.
     pub frames: usize,
+    /// Each of the configuration's passes and its median GPU ms over the timed frames (none for the shared
+    /// light passes): where a cost that is not linear grows.
+    pub passes: Vec<(String, f64)>,
+}
+
+/// How one pass of a configuration grows over a scaling run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassGrowth {
+    pub pass: String,
+    /// `p` of the pass's median GPU ms ∝ segments^p ([`super::growth_exponent`]), NaN when it cannot be fitted.
+    pub exponent: f64,
+    /// Its part of the configuration's passes at the largest density (the sum of the passes' medians).
+    pub share: f64,
 }
 
 /// A configuration the renderer refused at one density (e.g. lists too long for a CPU adapter's compressor).
@@ -348,6 +361,37 @@ pub struct ScalingResult {
 }
 
 impl ScalingResult {
+    /// Each pass of `label` under `raster`, in the order the frame runs them: its growth over the densities and
+    /// its share at the largest.
+    pub fn pass_growth(&self, label: &str, raster: Raster) -> Vec<PassGrowth> {
+        let points: Vec<&ScalingPoint> = self
+            .points
+            .iter()
+            .filter(|p| p.label == label && p.raster == raster)
+            .collect();
+        let Some(last) = points.iter().max_by_key(|p| p.segments) else {
+            return Vec::new();
+        };
+        let total: f64 = last.passes.iter().map(|(_, ms)| ms).sum();
+        last.passes
+            .iter()
+            .map(|(pass, last_ms)| {
+                let xy: Vec<(f64, f64)> = points
+                    .iter()
+                    .filter_map(|p| {
+                        let ms = p.passes.iter().find(|(n, _)| n == pass)?.1;
+                        Some((p.segments as f64, ms))
+                    })
+                    .collect();
+                PassGrowth {
+                    pass: pass.clone(),
+                    exponent: super::growth_exponent(&xy).unwrap_or(f64::NAN),
+                    share: last_ms / total,
+                }
+            })
+            .collect()
+    }
+
     /// Per density measured and configuration, the compute rasteriser's light-pass GPU ms over the hardware
     /// one's (medians): `(density, label, ratio)`, for the pairs measured under both.
     pub fn raster_ratios(&self) -> Vec<(f32, String, f64)> {

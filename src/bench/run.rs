@@ -293,6 +293,7 @@ pub fn run_scaling(
                     segments: t.segments,
                     ms: Spread::of(&shared),
                     frames: shared.len(),
+                    passes: Vec::new(),
                 });
             }
             for row in &t.rows {
@@ -307,6 +308,10 @@ pub fn run_scaling(
                             segments: t.segments,
                             ms: Spread::of(&totals),
                             frames: totals.len(),
+                            passes: passes
+                                .iter()
+                                .map(|(name, frames)| (name.clone(), Spread::of(frames).median))
+                                .collect(),
                         })
                     }
                     Err(e) => r.refused.push(ScalingRefusal {

@@ -96,7 +96,7 @@ fn cs_compress(@builtin(global_invocation_id) id: vec3<u32>) {
     var last = ListKey(walk.depth, walk.alpha, walk.segment, walk.index);
     var done = false;
     for (var batch = 0u; batch < avsm.steps && !done; batch += 1u) {
-        let taken = list_next_batch(texel, last, avsm.batch, avsm.order);
+        let taken = list_next_batch(texel, last, avsm.batch);
         done = taken < avsm.batch;
         for (var q = 0u; q < taken; q += 1u) {
             last = list_batch[q];

@@ -134,7 +134,7 @@ fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);
     var last = ListKey(w.prev_depth, w.prev_alpha, w.prev_segment, w.prev_index);
     for (var s = 0u; s < dsm.steps && w.k < w.n; s++) {
-        let taken = list_next_batch(t, last, dsm.batch, 0u);
+        let taken = list_next_batch(t, last, dsm.batch);
         if taken < dsm.batch {
             w.n = w.k + taken;
         }

@@ -7,11 +7,12 @@
 // whose llvmpipe stops a shader's loops after 65,535 iterations in all, can take the passes over several
 // dispatches (render::passes::list_sort::SortSplit). Every pass reads and relinks each node once (pass 0 also
 // sorts 16 at a time, a merge pass steps over the first run of each pair once more); a list that is one run at a
-// merge pass's width is sorted already and left after that step. A list of at most SORT_CHUNK nodes is read and
-// left unlinked: the walk takes it whole and sorts it in its batch (common/list_walk.wgsl), which saves relinking
-// the short lists that most texels hold.
+// merge pass's width is sorted already and left after that step.
 #include "common/list_pages_rw.wgsl"
 #include "common/list_key.wgsl"
+
+// Nodes sorted by insertion in pass 0 (render::passes::list_sort::CHUNK).
+const SORT_CHUNK: u32 = 16u;
 
 // One dispatch's passes. Mirrors `render::passes::list_sort::SortPart` (bound at a dynamic offset per dispatch).
 struct SortPart {
@@ -25,7 +26,7 @@ struct SortPart {
 }
 @group(0) @binding(0) var<uniform> part: SortPart;
 
-var<private> chunk: array<ListKey, LIST_KEYS_MAX>;
+var<private> chunk: array<ListKey, SORT_CHUNK>;
 
 // Node i's (index + 1) key.
 fn key_of(i: u32, node: ListNode) -> ListKey {
@@ -42,7 +43,7 @@ fn link(t: u32, tail: u32, to: u32) {
     }
 }
 
-// Pass 0: each run of SORT_CHUNK consecutive nodes of texel t's list sorted in place (a list of one run left).
+// Pass 0: each run of SORT_CHUNK consecutive nodes of texel t's list sorted in place.
 fn sort_chunks(t: u32, order: u32) {
     var tail = 0u;
     var i = atomicLoad(&heads[t]);
@@ -50,15 +51,16 @@ fn sort_chunks(t: u32, order: u32) {
         var count = 0u;
         while i != 0u && count < SORT_CHUNK {
             let node = load_node(i - 1u);
-            chunk[count] = key_of(i, node);
+            let key = key_of(i, node);
+            var j = count;
+            while j > 0u && list_precedes(key, chunk[j - 1u], order) {
+                chunk[j] = chunk[j - 1u];
+                j -= 1u;
+            }
+            chunk[j] = key;
             count += 1u;
             i = node.next;
         }
-        if tail == 0u && i == 0u {
-            // The whole list is one run: the walk sorts it.
-            return;
-        }
-        sort_keys(&chunk, count, order);
         for (var j = 0u; j < count; j += 1u) {
             link(t, tail, chunk[j].index);
             tail = chunk[j].index;

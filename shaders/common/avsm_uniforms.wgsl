@@ -9,13 +9,12 @@ struct AvsmUniforms {
     nodes: u32,
     // Batches each texel takes per dispatch of the compression pass (the walk resumes where it stopped).
     steps: u32,
-    // Fragments per batch of the walk along the sorted list (common/list_walk.wgsl), 16..=32.
+    // Fragments per batch of the walk along the sorted list (common/list_walk.wgsl), 1..=32.
     batch: u32,
-    // The insertion order, list_precedes' order: 0 (depth, segment), 1 (segment, depth).
-    order: u32,
     pad0: u32,
     pad1: u32,
     pad2: u32,
+    pad3: u32,
 }
 
 // x, or 0 below 1e-30: transmittances and areas, alike on devices that flush subnormals and those that keep them.

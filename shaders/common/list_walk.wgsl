@@ -1,19 +1,19 @@
 // A walk along a texel's A-buffer list, a batch of fragments at a time, after list_sort.wgsl has linked it in
 // the CPU models' sorted order: shared by the compressors that build their maps from the reference's lists (AVSM,
 // compressed deep shadow maps). A walk resumes behind the last fragment it took, so a list of n fragments costs n
-// node reads however the walk is split over dispatches (render::passes::abuffer::WalkSplit). A list of at most
-// SORT_CHUNK fragments, which the sort leaves in fill order, is taken whole by the first batch (a batch holds at
-// least SORT_CHUNK) and sorted there.
+// node reads however the walk is split over dispatches (render::passes::abuffer::WalkSplit).
 #include "common/list_pages.wgsl"
 #include "common/list_key.wgsl"
 
-// The batch taken by list_next_batch, in order.
-var<private> list_batch: array<ListKey, LIST_KEYS_MAX>;
+// Largest batch (render::passes::abuffer::WALK_BATCH_MAX).
+const LIST_BATCH_MAX: u32 = 32u;
 
-// Fills list_batch[0..count) with the `size` (SORT_CHUNK..=LIST_KEYS_MAX) fragments of texel t's list behind
-// `last` (`last.index` 0: from the start) in list_precedes' `order`; returns count, below `size` only where the
-// list ends.
-fn list_next_batch(t: u32, last: ListKey, size: u32, order: u32) -> u32 {
+// The batch taken by list_next_batch, in order.
+var<private> list_batch: array<ListKey, LIST_BATCH_MAX>;
+
+// Fills list_batch[0..count) with the `size` (1..=LIST_BATCH_MAX) fragments of texel t's sorted list behind
+// `last` (`last.index` 0: from the start); returns count, below `size` only where the list ends.
+fn list_next_batch(t: u32, last: ListKey, size: u32) -> u32 {
     var i = ab_heads[t];
     if last.index != 0u {
         i = ab_node(last.index - 1u).next;
@@ -24,9 +24,6 @@ fn list_next_batch(t: u32, last: ListKey, size: u32, order: u32) -> u32 {
         list_batch[count] = ListKey(node.depth, node.alpha, node.segment, i);
         count += 1u;
         i = node.next;
-    }
-    if last.index == 0u && i == 0u && count <= SORT_CHUNK {
-        sort_keys(&list_batch, count, order);
     }
     return count;
 }

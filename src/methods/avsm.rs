@@ -120,11 +120,10 @@ pub struct AvsmUniforms {
     pub steps: u32,
     /// Fragments per batch of the walk along a list (`abuffer::WalkSplit`).
     pub batch: u32,
-    /// [`ListOrder`] as a number: the walk sorts the lists the sort leaves (at most `list_sort::CHUNK` long).
-    pub order: u32,
     pub pad0: u32,
     pub pad1: u32,
     pub pad2: u32,
+    pub pad3: u32,
 }
 
 impl LightMethod for Avsm {
@@ -139,10 +138,10 @@ impl LightMethod for Avsm {
                 nodes,
                 steps,
                 batch,
-                order,
                 pad0,
                 pad1,
-                pad2
+                pad2,
+                pad3
             }
         ))
     }
@@ -338,8 +337,7 @@ impl MethodGpu for AvsmGpu {
                 nodes,
             )?;
         }
-        let order = list_order(p.order);
-        self.abuffer.set_sort_order(order);
+        self.abuffer.set_sort_order(list_order(p.order));
         self.abuffer
             .prepare(ctx.gpu, ctx.frame_bind_group, ctx.casters, resolution, timer)?;
         self.pipeline.prepare(&ctx.gpu.device, self.abuffer.pages_used());
@@ -353,7 +351,6 @@ impl MethodGpu for AvsmGpu {
                 nodes,
                 steps: split.steps,
                 batch: split.batch,
-                order: order as u32,
                 ..Zeroable::zeroed()
             }),
         );

@@ -439,14 +439,16 @@ fn wgsl_u32(module: &naga::Module, name: &str) -> u32 {
     }
 }
 
-/// The list sort's chunk and the walk's batch bounds, which decide which lists the walk sorts itself.
+/// The list sort's chunk and the walk's largest batch, which the CPU adapter's loop budgets are counted in.
 #[test]
 fn list_sort_and_walk_constants_match_wgsl() {
     use hairlab::render::passes::{abuffer, list_sort};
     let src = compose("list_sort.wgsl", None).unwrap();
     let (module, _) = validate("list_sort.wgsl", &src);
     assert_eq!(u64::from(wgsl_u32(&module, "SORT_CHUNK")), list_sort::CHUNK);
-    assert_eq!(wgsl_u32(&module, "LIST_KEYS_MAX"), abuffer::WALK_BATCH_MAX);
+    let src = compose("avsm.wgsl", None).unwrap();
+    let (module, _) = validate("avsm.wgsl", &src);
+    assert_eq!(wgsl_u32(&module, "LIST_BATCH_MAX"), abuffer::WALK_BATCH_MAX);
 }
 
 /// Every registered method's uniform mirror against every WGSL shader of the method (its light passes, and its

@@ -16,7 +16,7 @@ use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::{LightCaster, LightStage, draw_casters};
 use crate::render::maps::storage_entry;
 use crate::render::passes::list_pages::CPU_ADAPTER_LOOP_BUDGET;
-use crate::render::passes::list_sort::{CHUNK, ListOrder, ListSort};
+use crate::render::passes::list_sort::{ListOrder, ListSort};
 use crate::visibility::Fragment;
 
 /// Bytes of one list node (depth, alpha, segment, next).
@@ -54,13 +54,8 @@ pub fn sort_fragments(list: &mut [RefFragment]) {
     list.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.segment.cmp(&b.segment)));
 }
 
-/// The largest batch of a walk along the lists (`LIST_KEYS_MAX` in `shaders/common/list_key.wgsl`).
+/// The largest batch of a walk along the lists (`LIST_BATCH_MAX` in `shaders/common/list_walk.wgsl`).
 pub const WALK_BATCH_MAX: u32 = 32;
-/// The smallest: a list the sort leaves in fill order (at most [`CHUNK`] fragments) is taken whole by the first
-/// batch and sorted there.
-pub const WALK_BATCH_MIN: u32 = CHUNK as u32;
-/// Loop iterations of that sort by insertion: at most `CHUNK (CHUNK − 1) / 2` moves and `CHUNK` steps.
-const WALK_SORT_ITERATIONS: u64 = CHUNK * (CHUNK - 1) / 2 + CHUNK;
 
 /// How a walk along the sorted lists (`shaders/common/list_walk.wgsl`) is split: `batch` fragments taken at a
 /// time, `steps` batches per texel in each of `dispatches`.
@@ -73,11 +68,10 @@ pub struct WalkSplit {
 
 impl WalkSplit {
     /// The split for lists of at most `longest` fragments when a batch of `b` costs `b` loop iterations along
-    /// the list plus `per_fragment` for each fragment taken, and a dispatch may sort one short list
-    /// (`WALK_SORT_ITERATIONS`); a list of `n` fragments takes `n / b + 1` batches (the last one finds the end).
-    /// Without a budget (loop iterations per invocation and dispatch): the largest batch, every batch in one
-    /// dispatch. With one: the largest batch (a power of two, at least [`WALK_BATCH_MIN`]) of which one fits, as
-    /// many per dispatch as fit; `None` when not even a batch of [`WALK_BATCH_MIN`] fits.
+    /// the list plus `per_fragment` for each fragment taken; a list of `n` fragments takes `n / b + 1` batches
+    /// (the last one finds the end). Without a budget (loop iterations per invocation and dispatch): the largest
+    /// batch, every batch in one dispatch. With one: the largest batch (a power of two) of which one fits, as
+    /// many per dispatch as fit; `None` when not even a batch of one fits.
     pub fn new(longest: u64, per_fragment: u64, budget: Option<u64>) -> Option<WalkSplit> {
         let needed = |batch: u64| longest / batch + 1;
         let Some(budget) = budget else {
@@ -87,11 +81,10 @@ impl WalkSplit {
                 dispatches: 1,
             });
         };
-        let room = budget.saturating_sub(WALK_SORT_ITERATIONS);
         let mut batch = WALK_BATCH_MAX as u64;
         loop {
             let per_batch = batch * (1 + per_fragment);
-            let fit = room / per_batch;
+            let fit = budget / per_batch;
             if fit > 0 {
                 let steps = fit.min(needed(batch));
                 return Some(WalkSplit {
@@ -100,7 +93,7 @@ impl WalkSplit {
                     dispatches: needed(batch).div_ceil(steps) as u32,
                 });
             }
-            if batch == WALK_BATCH_MIN as u64 {
+            if batch == 1 {
                 return None;
             }
             batch /= 2;
@@ -434,15 +427,15 @@ impl ABuffer {
     }
 
     /// How `what`'s walk over this frame's lists (after [`ABuffer::prepare`]) is split over dispatches
-    /// ([`WalkSplit::new`]; [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU adapter); an error when one batch of
-    /// [`WALK_BATCH_MIN`] is beyond that budget (a walk of more than `per_fragment` iterations per fragment).
+    /// ([`WalkSplit::new`]; [`CPU_ADAPTER_LOOP_BUDGET`] on a CPU adapter); an error when one fragment is beyond
+    /// that budget (a walk of `per_fragment` iterations per fragment or more).
     pub fn walk_split(&self, gpu: &Gpu, what: &str, per_fragment: u64) -> Result<WalkSplit, GpuError> {
         let longest = self.longest_list;
         let budget = (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_ADAPTER_LOOP_BUDGET);
         WalkSplit::new(longest, per_fragment, budget).ok_or_else(|| {
             GpuError::Setting(format!(
-                "{what} on a CPU adapter: a batch of {WALK_BATCH_MIN} fragments at {per_fragment} loop iterations \
-                 each is beyond llvmpipe's {CPU_ADAPTER_LOOP_BUDGET} (it stops shader loops after 65,535 iterations)"
+                "{what} on a CPU adapter: a fragment at {per_fragment} loop iterations is beyond llvmpipe's \
+                 {CPU_ADAPTER_LOOP_BUDGET} (it stops shader loops after 65,535 iterations)"
             ))
         })
     }
@@ -500,8 +493,8 @@ mod tests {
         };
         // No budget: batches of 32, every one in one dispatch (5000 / 32 + 1 = 157).
         assert_eq!(WalkSplit::new(5000, 100, None), split(32, 157, 1));
-        // 179 fragments at 109 more per fragment: a batch of 32 costs 32 × 110 = 3520, 17 fit in 60,000 − 136
-        // (the short list's sort: 16 · 15 / 2 moves and 16 steps) and six are needed (179 / 32 + 1).
+        // 179 fragments at 109 more per fragment: a batch of 32 costs 32 × 110 = 3520, 17 fit in 60,000 and six
+        // are needed (179 / 32 + 1).
         assert_eq!(WalkSplit::new(179, 109, Some(60_000)), split(32, 6, 1));
         // 1300 fragments: 41 batches needed, 17 a dispatch, three dispatches.
         assert_eq!(WalkSplit::new(1300, 109, Some(60_000)), split(32, 17, 3));
@@ -511,7 +504,8 @@ mod tests {
         assert_eq!(WalkSplit::new(0, 109, Some(60_000)), split(32, 1, 1));
         // 3740 more per fragment: a batch of 32 (119,712) does not fit, one of 16 (59,856) does; 100 / 16 + 1.
         assert_eq!(WalkSplit::new(100, 3740, Some(60_000)), split(16, 1, 7));
-        // 3741: 16 × 3742 = 59,872 is beyond 59,864, and a batch may not be smaller than a short list.
-        assert_eq!(WalkSplit::new(100, 3741, Some(60_000)), None);
+        // 59,999: only a batch of one (60,000) fits; 60,000: none.
+        assert_eq!(WalkSplit::new(100, 59_999, Some(60_000)), split(1, 1, 101));
+        assert_eq!(WalkSplit::new(100, 60_000, Some(60_000)), None);
     }
 }

@@ -4,8 +4,7 @@
 //! insertion; pass `k ≥ 1` merges neighbouring runs of `CHUNK · 2^(k−1)` (Tatham's merge sort of a linked list),
 //! so a list of `n` fragments costs `n (1 + ⌈log2(n / CHUNK)⌉)` node reads and the walk after it `n`, where a walk
 //! that found the order itself (the batched walk this replaced) read about `n² / 32`: the compressors' cost grows
-//! as `n log n` per texel, not `n²`. A list of one run (at most [`CHUNK`], most texels' at usual densities) is
-//! read and left unlinked: the walk sorts it in its first batch, which saves writing the short lists' links.
+//! as `n log n` per texel, not `n²`.
 //!
 //! The passes of a frame's longest list run in one dispatch, except on a CPU adapter, whose llvmpipe stops a
 //! shader's loops after 65,535 iterations in all: there [`SortSplit`] spreads them over dispatches within
@@ -18,13 +17,11 @@ use crate::render::method::UniformMirror;
 use bytemuck::{Pod, Zeroable};
 use std::ops::Range;
 
-/// Nodes pass 0 sorts by insertion (`SORT_CHUNK` in `shaders/common/list_key.wgsl`). A list of at most `CHUNK`
-/// is left in fill order: the walk takes it in its first batch and sorts it there (`shaders/common/list_walk.wgsl`).
+/// Nodes pass 0 sorts by insertion (`SORT_CHUNK` in `shaders/list_sort.wgsl`).
 pub const CHUNK: u64 = 16;
-/// Loop iterations per fragment of pass 0: reading it, its insertion step, relinking it, at most `CHUNK − 1`
-/// moves of the others in its chunk (`(CHUNK − 1) / 2` a fragment) and its share of the chunk loop (`1 / CHUNK`):
-/// within `3 + CHUNK / 2`.
-const CHUNK_PASS_ITERATIONS: u64 = 3 + CHUNK / 2;
+/// Loop iterations per fragment of pass 0: reading it, at most `CHUNK − 1` moves of the others in its chunk
+/// (`(CHUNK − 1) / 2` a fragment, rounded up), relinking it, and the chunk loop.
+const CHUNK_PASS_ITERATIONS: u64 = 2 + CHUNK.div_ceil(2) + 1;
 /// Loop iterations per fragment of a merge pass: the step over the first run of a pair, the merge, the pair loop.
 const MERGE_PASS_ITERATIONS: u64 = 3;
 /// Dispatches one frame's sort may take (slots of the parts buffer): more than the passes of any list a u32

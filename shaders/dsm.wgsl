@@ -127,8 +127,9 @@ struct DsmWalk {
 }
 @group(0) @binding(4) var<storage, read_write> walks: array<DsmWalk>;
 
-// Takes at most dsm.steps more batches of texel t's list (n nodes, known once a batch comes back short) into its compression (vertices written from
-// w.base, at most w.limit, if write) and finishes it once the list is walked; returns the state.
+// Takes at most dsm.steps more batches of texel t's list (n nodes, known once a batch comes back short) into its
+// compression (vertices written from w.base, at most w.limit, if write) and finishes it once the list is walked;
+// returns the state.
 fn advance(t: u32, write: bool, state: DsmWalk) -> DsmWalk {
     var w = state;
     var g = Greedy(w.zo, w.vo, w.lo, w.hi, w.last, w.open != 0u, write, w.base, w.limit, w.count);

@@ -324,6 +324,15 @@ impl Settings {
                 r.light_supersample
             );
         }
+        let tiles = crate::render::caster::compute::RASTER_TILES;
+        if r.raster_tile != 0 && !tiles.contains(&r.raster_tile) {
+            bail!(
+                "render.raster_tile must be 0 (one invocation per segment) or a tile side in {}..={} texels (got {})",
+                tiles.start(),
+                tiles.end(),
+                r.raster_tile
+            );
+        }
         if let Err(e) = r.raster.stage(r.light_strands) {
             bail!("{e}");
         }

@@ -409,6 +409,19 @@ impl HairlabApp {
                         ui.selectable_value(&mut render.raster, r, r.word());
                     }
                 });
+                if render.raster == Raster::Compute {
+                    ui.horizontal(|ui| {
+                        ui.label("tiles").on_hover_text(
+                            "Per segment (one invocation each), or the segments binned to T × T-texel tiles, each \
+                             tile rasterised by a workgroup: the same fragments, another cost. render.raster_tile",
+                        );
+                        let tile = &mut render.raster_tile;
+                        ui.selectable_value(tile, 0, "per segment");
+                        for t in [8, 16, 32, 64] {
+                            ui.selectable_value(tile, t, format!("{t}²"));
+                        }
+                    });
+                }
                 // The compute rasteriser lines the strands only: the choice just made gives up the other.
                 if render.raster == Raster::Compute && render.light_strands == LightStrands::Ribbons {
                     if raster_before == Raster::Compute {

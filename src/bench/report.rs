@@ -276,8 +276,8 @@ struct PassRow<'a> {
     ns_per_segment: f64,
 }
 
-/// `scaling_passes.csv`: each configuration's passes at every point (median GPU ms over the timed frames), where
-/// a cost that is not linear grows.
+/// `scaling_passes.csv`: each configuration's passes, and the shared light passes', at every point (median GPU ms
+/// over the timed frames), where a cost that is not linear grows.
 pub fn scaling_passes_csv(r: &ScalingResult) -> Result<String> {
     csv_text(
         "scaling_passes.csv",

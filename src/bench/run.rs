@@ -279,11 +279,18 @@ pub fn run_scaling(
                 });
                 n += 1;
             })?;
-            let shared: Vec<f64> = t
-                .rows
-                .iter()
-                .flat_map(|row| row.shared_frames_ms.iter().copied())
-                .collect();
+            // Every configuration's frames pooled: per frame the shared passes' total, and per pass its times.
+            let mut shared: Vec<f64> = Vec::new();
+            let mut shared_passes: Vec<(String, Vec<f64>)> = Vec::new();
+            for row in &t.rows {
+                shared.extend(frame_totals(&row.shared_pass_frames_ms));
+                for (name, frames) in &row.shared_pass_frames_ms {
+                    match shared_passes.iter_mut().find(|(n, _)| n == name) {
+                        Some((_, v)) => v.extend(frames),
+                        None => shared_passes.push((name.clone(), frames.clone())),
+                    }
+                }
+            }
             if !shared.is_empty() {
                 r.points.push(ScalingPoint {
                     label: SHARED_LIGHT_LABEL.to_string(),
@@ -293,7 +300,10 @@ pub fn run_scaling(
                     segments: t.segments,
                     ms: Spread::of(&shared),
                     frames: shared.len(),
-                    passes: Vec::new(),
+                    passes: shared_passes
+                        .iter()
+                        .map(|(name, frames)| (name.clone(), Spread::of(frames).median))
+                        .collect(),
                 });
             }
             for row in &t.rows {

@@ -281,29 +281,27 @@ fn time_light_passes(
         if frame < warmup {
             continue;
         }
-        let mut shared = None;
         for pass in times {
-            match pass.phase {
-                Phase::Method => match t.method.iter_mut().find(|(n, _)| *n == pass.name) {
-                    Some((_, v)) => v.push(pass.ms),
-                    None => t.method.push((pass.name, vec![pass.ms])),
-                },
-                Phase::SharedLight => *shared.get_or_insert(0.0) += pass.ms,
-                _ => {}
+            let passes = match pass.phase {
+                Phase::Method => &mut t.method,
+                Phase::SharedLight => &mut t.shared,
+                _ => continue,
+            };
+            match passes.iter_mut().find(|(n, _)| *n == pass.name) {
+                Some((_, v)) => v.push(pass.ms),
+                None => passes.push((pass.name, vec![pass.ms])),
             }
         }
-        // No entry for a frame without timed shared passes (a device without timestamps).
-        t.shared.extend(shared);
     }
     Ok(t)
 }
 
-/// GPU milliseconds of the timed frames of a light frame: the method's own passes by name, and the passes every
-/// method shares (light depth, the meshes' shadow map, the compute rasteriser's) summed per frame.
+/// GPU milliseconds of the timed frames of a light frame, by pass name: the method's own passes, and the passes
+/// every method shares (light depth, the meshes' shadow map, the compute rasteriser's).
 #[derive(Clone, Debug, Default, PartialEq)]
 struct LightPassTimes {
     method: Vec<(String, Vec<f64>)>,
-    shared: Vec<f64>,
+    shared: Vec<(String, Vec<f64>)>,
 }
 
 /// The GPU cost of one configuration, without its error (what the bench's scaling mode fits).
@@ -313,9 +311,9 @@ pub struct Timing {
     /// GPU milliseconds of each timed frame, by pass name; or why the method refused the scene (e.g. a list
     /// longer than a CPU adapter's compressor takes), one line.
     pub pass_frames_ms: Result<Vec<(String, Vec<f64>)>, String>,
-    /// GPU milliseconds of the passes every method shares (light depth, the meshes' shadow map, the compute
-    /// rasteriser's), summed per timed frame (none when refused).
-    pub shared_frames_ms: Vec<f64>,
+    /// GPU milliseconds of each timed frame of the passes every method shares (light depth, the meshes' shadow
+    /// map, the compute rasteriser's), by pass name (none when refused).
+    pub shared_pass_frames_ms: Vec<(String, Vec<f64>)>,
     pub memory_bytes: u64,
 }
 
@@ -364,7 +362,7 @@ pub fn time_configs(
         let times = time_light_passes(&mut r, &input, frames, warmup).map_err(|e| format!("{e:#}"));
         out.push(Timing {
             config: c.clone(),
-            shared_frames_ms: times.as_ref().map_or(Vec::new(), |t| t.shared.clone()),
+            shared_pass_frames_ms: times.as_ref().map_or(Vec::new(), |t| t.shared.clone()),
             pass_frames_ms: times.map(|t| t.method),
             memory_bytes: r.method_gpu(method).map_or(0, |g| g.memory_bytes()),
         });

@@ -162,8 +162,9 @@ impl Renderer {
         self.gpu
             .queue
             .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
+        let raster = (render.light_map_side(), render.raster_tile);
         self.light
-            .prepare_casters(&self.gpu, &self.bindings, &self.scene, &mut None)?;
+            .prepare_casters(&self.gpu, &self.bindings, &self.scene, raster, &mut None)?;
         Ok(u)
     }
 
@@ -186,6 +187,15 @@ impl Renderer {
             None => Vec::new(),
         };
         Ok((stream, u))
+    }
+
+    /// The tiles' segment lists of the last binned compute rasterisation (`render.raster_tile` > 0), read back:
+    /// per tile (row-major), the segments (indices) in the order the bin pass listed them; empty when none ran.
+    pub fn raster_tile_lists(&self) -> Result<Vec<Vec<u32>>, GpuError> {
+        match self.light.compute_raster() {
+            Some(c) => c.read_tile_lists(&self.gpu),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// The GPU state of `method`, when it is the method of the last frame.

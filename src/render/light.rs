@@ -111,18 +111,20 @@ impl LightSide {
 
     /// Runs the compute rasteriser over `scene` under the frame uniforms bound in `frame` (written before),
     /// when the frame's strands are rasterised in compute: before any light pass of the frame draws them.
+    /// `raster` is the maps' side as built and `render.raster_tile`.
     pub fn prepare_casters(
         &mut self,
         gpu: &Gpu,
         bindings: &FrameBindings,
         scene: &SceneGpu,
+        raster: (u32, u32),
         timer: &mut Option<GpuTimer>,
     ) -> Result<(), GpuError> {
         if self.raster == Raster::Compute {
             let compute = self.compute.get_or_insert_with(|| {
                 ComputeRaster::new(gpu, &bindings.frame_layout, &self.stage.ribbon_layout)
             });
-            compute.prepare(gpu, &bindings.frame_group, scene, timer)?;
+            compute.prepare(gpu, &bindings.frame_group, scene, raster, timer)?;
         }
         Ok(())
     }

@@ -419,8 +419,9 @@ impl Renderer {
         self.gpu
             .queue
             .write_buffer(&self.bindings.buffer, 0, bytemuck::bytes_of(&u));
+        let raster = (f.render.light_map_side(), f.render.raster_tile);
         self.light
-            .prepare_casters(&self.gpu, &self.bindings, &self.scene, &mut self.timer)?;
+            .prepare_casters(&self.gpu, &self.bindings, &self.scene, raster, &mut self.timer)?;
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.frame.encoder"),
         });

@@ -46,6 +46,9 @@ pub struct RenderSettings {
     /// rasteriser's fragment stream under its written coverage rule, drawn as points; lines only, so it needs
     /// `light_strands = lines`; [`Raster`]).
     pub raster: Raster,
+    /// Under `raster = compute`: 0 rasterises one segment per invocation; a side T in 4..=256 bins the segments
+    /// to T×T-texel tiles, each rasterised by a workgroup (the same stream; `render::caster::compute`).
+    pub raster_tile: u32,
     /// Light-map supersampling `s`, 1, 2 or 4 (Yuksel & Keyser 2008, §5: multisampling the shadow computation
     /// removes the flicker of aliased strands): every light map, the reference's included, is built at
     /// `map_resolution × s` texels a side ([`RenderSettings::light_map_side`]), and the eye lookup averages the
@@ -81,6 +84,7 @@ impl Default for RenderSettings {
             light_strands: LightStrands::Lines,
             light_min_width: 1.0,
             raster: Raster::Hardware,
+            raster_tile: 0,
             light_supersample: 1,
         }
     }

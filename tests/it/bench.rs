@@ -538,6 +538,27 @@ fn bench_scaling_measures_each_density_under_both_rasterisers() {
             assert!(ms.is_finite() && ms > 0.0, "{r:?}");
         }
     }
+    // The shared light passes one by one: under compute the rasteriser's passes, at each density.
+    let (header, passes) = read_csv(&out.join("scaling_passes.csv"));
+    let shared_passes = |raster: &str| -> Vec<String> {
+        passes
+            .iter()
+            .filter(|r| r[0] == "shared light passes" && r[column(&header, "raster")] == raster)
+            .map(|r| r[column(&header, "pass")].clone())
+            .collect()
+    };
+    assert!(
+        shared_passes("hardware").contains(&"light depth".to_string()),
+        "{passes:?}"
+    );
+    let compute = shared_passes("compute");
+    for pass in ["light depth", "compute raster: count", "compute raster: fill"] {
+        assert_eq!(
+            compute.iter().filter(|p| *p == pass).count(),
+            2,
+            "{pass}: {passes:?}"
+        );
+    }
     let stdout = String::from_utf8_lossy(&o.stdout);
     let ratios: Vec<f64> = stdout
         .lines()

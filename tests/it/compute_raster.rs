@@ -2,13 +2,13 @@
 //! CPU model (`render::caster::raster_model`, whose rule the unit tests there check on hand-worked segments)
 //! fragment for fragment; the exact reference stays exact under it (the A-buffer equals depth peeling); every
 //! method still equals its CPU model fed the rasteriser's fragments; and its coverage is set against the
-//! hardware lines' (a measurement: the two rules differ).
+//! hardware lines' (a measurement: the two rules differ). Binned to tiles, the stream is the per-segment one.
 
 use crate::common;
 
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;
-use hairlab::render::caster::raster_model::rasterise;
+use hairlab::render::caster::raster_model::{rasterise, tile_lists};
 use hairlab::render::geometry::{hair_indices, hair_vertices};
 use hairlab::render::passes::abuffer::RefFragment;
 use hairlab::render::{AlphaMode, LightStrands, Raster, Renderer};
@@ -62,6 +62,63 @@ fn gpu_stream_equals_cpu_model() {
 fn abuffer_equals_depth_peeling_under_compute_raster() {
     let Some(gpu) = Gpu::for_tests() else { return };
     crate::reference::assert_abuffer_equals_depth_peeling(&gpu, compute);
+    crate::reference::assert_abuffer_equals_depth_peeling(&gpu, |s| {
+        compute(s);
+        s.render.raster_tile = 8;
+    });
+}
+
+/// Binned to tiles (`render.raster_tile`): the stream of a 300-strand head at 64² equals the per-segment
+/// stream bit for bit (texel, depth, alpha and segment, in order) at tile sides 4 (segments crossing several
+/// tiles), 24 (3 × 3 tiles, the last row and column 16 texels) and 64 (one tile); each tile's list holds
+/// exactly the segments the CPU model of the binning puts there, each once.
+#[test]
+fn binned_stream_equals_the_per_segment_stream() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (mut s, scene) = common::setup_scene(common::Setup::new(300, 64));
+    compute(&mut s);
+    let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    let (plain, _) = r.raster_stream(&s.camera, &s.light, &s.render).unwrap();
+    assert!(r.raster_tile_lists().unwrap().is_empty(), "per segment, no tiles");
+    let first_points = hair_indices(&scene);
+    for tile in [4, 24, 64] {
+        s.render.raster_tile = tile;
+        let (binned, _) = r.raster_stream(&s.camera, &s.light, &s.render).unwrap();
+        assert_eq!(binned, plain, "tile {tile}: the binned stream");
+        let mut expected = tile_lists(&plain, 64, tile);
+        let mut lists: Vec<Vec<u32>> = r
+            .raster_tile_lists()
+            .unwrap()
+            .into_iter()
+            .map(|l| l.iter().map(|&s| first_points[2 * s as usize]).collect())
+            .collect();
+        for l in expected.iter_mut().chain(lists.iter_mut()) {
+            l.sort_unstable();
+        }
+        let pairs: usize = expected.iter().map(Vec::len).sum();
+        eprintln!(
+            "tile {tile}: {} tiles, {pairs} (segment, tile) pairs for {} fragments",
+            expected.len(),
+            plain.len()
+        );
+        assert_eq!(lists.len(), 64usize.div_ceil(tile as usize).pow(2), "tile {tile}");
+        assert_eq!(lists, expected, "tile {tile}: the tiles' lists");
+    }
+}
+
+/// `render.raster_tile` outside 0 and 4..=256 is one setting error naming the key.
+#[test]
+fn raster_tile_out_of_range_is_refused() {
+    for tile in [1, 3, 257] {
+        let mut s = common::small_settings(8, 8);
+        compute(&mut s);
+        s.render.raster_tile = tile;
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("render.raster_tile") && e.contains(&tile.to_string()),
+            "{e}"
+        );
+    }
 }
 
 /// Every registered method at its defaults, its maps built from the compute rasteriser's fragments, against its
@@ -161,13 +218,15 @@ fn a_stream_past_one_binding_spans_two_pages() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let (mut s, scene) = common::setup_scene(common::Setup::new(300, 256));
     compute(&mut s);
-    let run = |g: &Gpu| {
+    let run = |g: &Gpu, tile| {
+        let mut s = s.clone();
+        s.render.raster_tile = tile;
         let mut r = Renderer::new(g, &scene, s.render.map_resolution).unwrap();
         let (stream, _) = r.raster_stream(&s.camera, &s.light, &s.render).unwrap();
         let lists = r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
         (stream, lists)
     };
-    let (stream, lists) = run(&gpu);
+    let (stream, lists) = run(&gpu, 0);
     let fragment_bytes = std::mem::size_of::<hairlab::render::caster::raster_model::RasterFragment>() as u64;
     let stream_bytes = stream.len() as u64 * fragment_bytes;
     // What else this scene binds as one storage buffer: the strand points and the A-buffer's heads.
@@ -184,15 +243,18 @@ fn a_stream_past_one_binding_spans_two_pages() {
     );
     let pref = AdapterPreference::from_env_or(AdapterPreference::Software);
     let paged = Gpu::headless_with_binding_limit(pref, limit).unwrap();
-    let (paged_stream, paged_lists) = run(&paged);
     eprintln!(
         "{} fragments over pages of {} fragments",
         stream.len(),
         limit / fragment_bytes
     );
-    assert_eq!(stream, paged_stream, "the stream across two pages");
-    assert_eq!(lists.len(), paged_lists.len());
-    for (t, (a, p)) in lists.iter().zip(&paged_lists).enumerate() {
-        assert_eq!(a, p, "texel {t}: lists drawn from two pages differ");
+    // Per segment, and binned to 32-texel tiles (whose workgroups write across the pages' boundary).
+    for tile in [0, 32] {
+        let (paged_stream, paged_lists) = run(&paged, tile);
+        assert_eq!(stream, paged_stream, "tile {tile}: the stream across two pages");
+        assert_eq!(lists.len(), paged_lists.len());
+        for (t, (a, p)) in lists.iter().zip(&paged_lists).enumerate() {
+            assert_eq!(a, p, "tile {tile}: texel {t}: lists drawn from two pages differ");
+        }
     }
 }

@@ -9,11 +9,16 @@
 //! The pre-pass (`shaders/raster/raster.wgsl`, `shaders/raster/scan.wgsl`): a count pass (one invocation per
 //! segment), an exclusive prefix sum of the counts (one workgroup), a readback of the total that sizes the
 //! stream (no fixed cap: two pages of one storage binding each, 16.7 M fragments on lavapipe's 128 MiB
-//! bindings; past them one error naming `render.raster`), and a fill pass
-//! writing each segment's fragments at its offset: the stream is in segment order whatever the scheduling, with
-//! no atomics. A segment's fragments are rasterised by its own invocation: hair segments span a few texels, so
-//! the work is even without binning segments to tiles (the engines bin to resolve depth and coverage per tile
-//! with atomics; here the light passes resolve through the fragment contract). It lines strands only.
+//! bindings; past them one error naming `render.raster`), and a fill pass writing each segment's fragments at its
+//! offset: the stream is in segment order whatever the scheduling, with no atomics.
+//!
+//! Binned to tiles (`render.raster_tile` = T > 0, `shaders/raster/tiles.wgsl`), as Unreal's compute rasteriser
+//! bins segments to 32×32-pixel tiles: the count pass also counts each segment once in every T×T-texel tile its
+//! fragments fall in, a second prefix sum turns the tiles' counts into list offsets (read back with the total,
+//! which sizes the lists), a bin pass lists the segments per tile, and one workgroup per tile walks its list and
+//! writes each fragment inside the tile at the fragment's place in the segment-ordered stream. The stream is the
+//! per-segment passes' bit for bit; what binning costs and buys is measured by `bench scaling`
+//! (`docs/design.md`). It lines strands only.
 
 use super::{CasterStage, LightCaster};
 use crate::gpu::timing::{GpuTimer, Phase};
@@ -30,8 +35,10 @@ pub const COMPUTE: CasterStage = CasterStage {
     binds_points: true,
 };
 
-/// Segments of one workgroup of the count and fill passes.
+/// Segments of one workgroup of the count, fill and bin passes.
 const WORKGROUP: u32 = 256;
+/// Tile sides `render.raster_tile` takes besides 0 (one invocation per segment).
+pub const RASTER_TILES: std::ops::RangeInclusive<u32> = 4..=256;
 /// Most workgroups along one dimension of a dispatch.
 const MAX_GROUPS: u32 = 65_535;
 const FRAGMENT_BYTES: u64 = std::mem::size_of::<RasterFragment>() as u64;
@@ -42,7 +49,10 @@ pub struct ComputeRaster {
     scan: wgpu::ComputePipeline,
     fill: wgpu::ComputePipeline,
     raster_layout: wgpu::BindGroupLayout,
+    /// The tile passes' group 1: the raster layout's three bindings, the tiles' counts, cursors and lists.
+    tile_layout: wgpu::BindGroupLayout,
     points_layout: wgpu::BindGroupLayout,
+    frame_layout: wgpu::BindGroupLayout,
     /// The renderer's ribbon layout, which the stream is bound with at [`RIBBON_GROUP`] for the draw.
     draw_layout: wgpu::BindGroupLayout,
     /// Per segment its count, then its offset; the total last.
@@ -52,8 +62,26 @@ pub struct ComputeRaster {
     stream: [wgpu::Buffer; 2],
     /// The stream bound for the caster's draw.
     draw_group: wgpu::BindGroup,
+    /// The tile passes of the last binned [`ComputeRaster::prepare`], built for its tile side.
+    tiles: Option<Tiles>,
     /// Fragments in the stream.
     pub total: u32,
+}
+
+/// The tile passes' pipelines (built for one tile side) and buffers.
+struct Tiles {
+    side: u32,
+    count: wgpu::ComputePipeline,
+    bin: wgpu::ComputePipeline,
+    raster: wgpu::ComputePipeline,
+    /// Per tile its segment count, then its list's offset; the total last.
+    bins: wgpu::Buffer,
+    /// Per tile the segments listed so far.
+    cursor: wgpu::Buffer,
+    /// The tiles' lists of segments, tile after tile.
+    lists: wgpu::Buffer,
+    /// (segment, tile) pairs listed: the lists' total length.
+    pairs: u32,
 }
 
 impl ComputeRaster {
@@ -73,59 +101,42 @@ impl ComputeRaster {
         };
         // Counts and the stream's two pages; the strand points and segments.
         let raster_layout = layout("hairlab.raster.layout", false, 3);
+        let tile_layout = layout("hairlab.raster.tile_layout", false, 6);
         let points_layout = layout("hairlab.raster.points_layout", true, 2);
-        let module = |path: &str| {
-            let src = crate::shaders::compose(path, None).unwrap_or_else(|e| panic!("{e}"));
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(path),
-                source: wgpu::ShaderSource::Wgsl(src.into()),
-            })
-        };
-        let raster = module("raster/raster.wgsl");
-        let scan = module("raster/scan.wgsl");
-        let pipeline = |label: &str, module: &wgpu::ShaderModule, entry: &str, points: bool| {
-            let mut layouts = vec![Some(frame_layout), Some(&raster_layout)];
-            if points {
-                layouts.resize(RIBBON_GROUP as usize, None);
-                layouts.push(Some(&points_layout));
-            }
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &layouts,
-                immediate_size: 0,
-            });
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: Some(&layout),
-                module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+        let raster = module(device, "raster/raster.wgsl");
+        let scan = module(device, "raster/scan.wgsl");
+        let with_points = layouts(frame_layout, &raster_layout, Some(&points_layout));
+        let pipeline = |label, module, entry, layouts: &[Option<&wgpu::BindGroupLayout>]| {
+            compute_pipeline(device, label, module, entry, layouts, &[])
         };
         let counts = buffer(gpu, "hairlab.raster.counts", 4);
         let stream = [0, 1].map(|_| buffer(gpu, "hairlab.raster.stream", FRAGMENT_BYTES));
         ComputeRaster {
-            count: pipeline("hairlab.raster.count", &raster, "count", true),
-            scan: pipeline("hairlab.raster.scan", &scan, "scan", false),
-            fill: pipeline("hairlab.raster.fill", &raster, "fill", true),
+            count: pipeline("hairlab.raster.count", &raster, "count", &with_points),
+            scan: pipeline("hairlab.raster.scan", &scan, "scan", &with_points[..2]),
+            fill: pipeline("hairlab.raster.fill", &raster, "fill", &with_points),
             draw_group: draw_group(gpu, ribbon_layout, &stream),
+            frame_layout: frame_layout.clone(),
             raster_layout,
+            tile_layout,
             points_layout,
             draw_layout: ribbon_layout.clone(),
             counts,
             stream,
+            tiles: None,
             total: 0,
         }
     }
 
-    /// Rasterises `scene`'s strands under the frame uniforms bound in `frame` (written before the call): count,
-    /// prefix sum, readback of the total, stream sized, fill; submitted before it returns.
+    /// Rasterises `scene`'s strands under the frame uniforms bound in `frame` (written before the call) onto a
+    /// `side`-texel map, per segment (`tile` 0) or binned to `tile`-texel tiles: count, prefix sums, readback of
+    /// the totals, stream (and tile lists) sized, fill (or bin and tile raster); submitted before it returns.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
         frame: &wgpu::BindGroup,
         scene: &SceneGpu,
+        (side, tile): (u32, u32),
         timer: &mut Option<GpuTimer>,
     ) -> Result<(), GpuError> {
         let device = &gpu.device;
@@ -142,50 +153,78 @@ impl ComputeRaster {
         if self.counts.size() != counts_bytes {
             self.counts = buffer(gpu, "hairlab.raster.counts", counts_bytes);
         }
+        if tile == 0 {
+            self.tiles = None;
+        } else {
+            self.ensure_tiles(gpu, side, tile, limit)?;
+        }
         let points = crate::render::pipelines::buffer_group(
             device,
             "hairlab.raster.points",
             &self.points_layout,
             &[&scene.hair_vertices, &scene.hair_indices],
         );
-        let passes = crate::render::pipelines::buffer_group(
-            device,
-            "hairlab.raster.passes",
-            &self.raster_layout,
-            &[&self.counts, &self.stream[0], &self.stream[1]],
-        );
         let workgroups = (segments as u32).div_ceil(WORKGROUP);
-        let size = (workgroups.min(MAX_GROUPS), workgroups.div_ceil(MAX_GROUPS));
+        let size = grid(workgroups);
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.raster.count"),
         });
-        let groups = [frame, &passes, &points];
-        dispatch(
-            &mut enc,
-            &self.count,
-            "compute raster: count",
-            &groups,
-            size,
-            timer,
-        );
+        let passes = self.passes_group(gpu);
+        let totals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hairlab.raster.totals"),
+            size: 8,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        match &self.tiles {
+            None => {
+                let groups = [frame, &passes, &points];
+                dispatch(
+                    &mut enc,
+                    &self.count,
+                    "compute raster: count",
+                    &groups,
+                    size,
+                    timer,
+                );
+            }
+            Some(t) => {
+                let tile_group = self.tile_group(gpu, t);
+                enc.clear_buffer(&t.bins, 0, None);
+                let groups = [frame, &tile_group, &points];
+                let label = "compute raster: count and tile counts";
+                dispatch(&mut enc, &t.count, label, &groups, size, timer);
+                let bins = crate::render::pipelines::buffer_group(
+                    device,
+                    "hairlab.raster.tile_scan",
+                    &self.raster_layout,
+                    &[&t.bins, &self.stream[0], &self.stream[1]],
+                );
+                let groups = [frame, &bins];
+                dispatch(
+                    &mut enc,
+                    &self.scan,
+                    "compute raster: tile prefix sum",
+                    &groups,
+                    (1, 1),
+                    timer,
+                );
+                enc.copy_buffer_to_buffer(&t.bins, t.bins.size() - 4, &totals, 4, 4);
+            }
+        }
+        let groups = [frame, &passes];
         dispatch(
             &mut enc,
             &self.scan,
             "compute raster: prefix sum",
-            &groups[..2],
+            &groups,
             (1, 1),
             timer,
         );
-        let total = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hairlab.raster.total"),
-            size: 4,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        enc.copy_buffer_to_buffer(&self.counts, segments * 4, &total, 0, 4);
+        enc.copy_buffer_to_buffer(&self.counts, segments * 4, &totals, 0, 4);
         gpu.queue.submit([enc.finish()]);
-        let total: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::read_buffer(gpu, &total)?);
-        self.total = total[0];
+        let totals: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::read_buffer(gpu, &totals)?);
+        self.total = totals[0];
         let total = self.total as u64;
         let page = limit / FRAGMENT_BYTES;
         if total > 2 * page {
@@ -203,19 +242,134 @@ impl ComputeRaster {
             self.stream = sizes.map(|n| buffer(gpu, "hairlab.raster.stream", n * FRAGMENT_BYTES));
             self.draw_group = draw_group(gpu, &self.draw_layout, &self.stream);
         }
-        let passes = crate::render::pipelines::buffer_group(
-            device,
-            "hairlab.raster.passes",
-            &self.raster_layout,
-            &[&self.counts, &self.stream[0], &self.stream[1]],
-        );
+        let passes = self.passes_group(gpu);
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("hairlab.raster.fill"),
         });
-        let groups = [frame, &passes, &points];
-        dispatch(&mut enc, &self.fill, "compute raster: fill", &groups, size, timer);
+        if let Some(t) = &mut self.tiles {
+            // Pairs never outnumber fragments, so the lists fit one binding when the stream fits two.
+            t.pairs = totals[1];
+            let bytes = (t.pairs as u64).max(1) * 4;
+            if t.lists.size() < bytes {
+                t.lists = buffer(gpu, "hairlab.raster.tile_lists", bytes);
+            }
+        }
+        match &self.tiles {
+            None => {
+                let groups = [frame, &passes, &points];
+                dispatch(&mut enc, &self.fill, "compute raster: fill", &groups, size, timer);
+            }
+            Some(t) => {
+                let tile_group = self.tile_group(gpu, t);
+                enc.clear_buffer(&t.cursor, 0, None);
+                let groups = [frame, &tile_group, &points];
+                dispatch(&mut enc, &t.bin, "compute raster: bin", &groups, size, timer);
+                let tiles = (t.bins.size() / 4 - 1) as u32;
+                let label = "compute raster: tiles";
+                dispatch(&mut enc, &t.raster, label, &groups, grid(tiles), timer);
+            }
+        }
         gpu.queue.submit([enc.finish()]);
         Ok(())
+    }
+
+    /// Makes the tile passes ready for `tile`-texel tiles on a `side`-texel map: pipelines built for the side,
+    /// per-tile counts and cursors sized to the tiles.
+    fn ensure_tiles(&mut self, gpu: &Gpu, side: u32, tile: u32, limit: u64) -> Result<(), GpuError> {
+        if !RASTER_TILES.contains(&tile) {
+            return Err(GpuError::Setting(format!(
+                "render.raster_tile must be 0 or in {}..={} texels (got {tile})",
+                RASTER_TILES.start(),
+                RASTER_TILES.end()
+            )));
+        }
+        let tiles = (side.div_ceil(tile) as u64).pow(2);
+        let bins_bytes = (tiles + 1) * 4;
+        if bins_bytes > limit {
+            return Err(too_large("tile counts", bins_bytes, limit));
+        }
+        if self
+            .tiles
+            .as_ref()
+            .is_some_and(|t| t.side == tile && t.bins.size() == bins_bytes)
+        {
+            return Ok(());
+        }
+        let (count, bin, raster, lists) = match self.tiles.take().filter(|t| t.side == tile) {
+            Some(t) => (t.count, t.bin, t.raster, t.lists),
+            None => {
+                let device = &gpu.device;
+                let module = module(device, "raster/tiles.wgsl");
+                let layouts = layouts(&self.frame_layout, &self.tile_layout, Some(&self.points_layout));
+                let constants = [("TILE", tile as f64)];
+                let pipeline =
+                    |label, entry| compute_pipeline(device, label, &module, entry, &layouts, &constants);
+                (
+                    pipeline("hairlab.raster.count_tiles", "count_tiles"),
+                    pipeline("hairlab.raster.bin", "bin"),
+                    pipeline("hairlab.raster.tiles", "raster_tile"),
+                    buffer(gpu, "hairlab.raster.tile_lists", 4),
+                )
+            }
+        };
+        self.tiles = Some(Tiles {
+            side: tile,
+            count,
+            bin,
+            raster,
+            bins: buffer(gpu, "hairlab.raster.tile_bins", bins_bytes),
+            cursor: buffer(gpu, "hairlab.raster.tile_cursor", tiles * 4),
+            lists,
+            pairs: 0,
+        });
+        Ok(())
+    }
+
+    /// The counts and the stream's pages as the count, scan and fill passes bind them.
+    fn passes_group(&self, gpu: &Gpu) -> wgpu::BindGroup {
+        crate::render::pipelines::buffer_group(
+            &gpu.device,
+            "hairlab.raster.passes",
+            &self.raster_layout,
+            &[&self.counts, &self.stream[0], &self.stream[1]],
+        )
+    }
+
+    /// The tile passes' group 1.
+    fn tile_group(&self, gpu: &Gpu, t: &Tiles) -> wgpu::BindGroup {
+        crate::render::pipelines::buffer_group(
+            &gpu.device,
+            "hairlab.raster.tile_passes",
+            &self.tile_layout,
+            &[
+                &self.counts,
+                &self.stream[0],
+                &self.stream[1],
+                &t.bins,
+                &t.cursor,
+                &t.lists,
+            ],
+        )
+    }
+
+    /// The (segment, tile) pairs the last binned [`ComputeRaster::prepare`] listed; `None` when it ran per
+    /// segment.
+    pub fn tile_pairs(&self) -> Option<u32> {
+        self.tiles.as_ref().map(|t| t.pairs)
+    }
+
+    /// The tiles' lists of the last binned [`ComputeRaster::prepare`], read back: per tile (row-major), its
+    /// segments in the order the bin pass listed them.
+    pub fn read_tile_lists(&self, gpu: &Gpu) -> Result<Vec<Vec<u32>>, GpuError> {
+        let Some(t) = &self.tiles else {
+            return Ok(Vec::new());
+        };
+        let offsets: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::copy_out(gpu, &t.bins)?);
+        let lists: Vec<u32> = bytemuck::pod_collect_to_vec(&readback::copy_out(gpu, &t.lists)?);
+        Ok(offsets
+            .windows(2)
+            .map(|w| lists[w[0] as usize..w[1] as usize].to_vec())
+            .collect())
     }
 
     /// The stream of the last [`ComputeRaster::prepare`], read back.
@@ -269,11 +423,63 @@ fn dispatch(
     pass.dispatch_workgroups(size.0, size.1, 1);
 }
 
+/// A pass's bind group layouts: the frame's at 0, the pass's at 1, the strand points' at [`RIBBON_GROUP`].
+fn layouts<'a>(
+    frame: &'a wgpu::BindGroupLayout,
+    pass: &'a wgpu::BindGroupLayout,
+    points: Option<&'a wgpu::BindGroupLayout>,
+) -> Vec<Option<&'a wgpu::BindGroupLayout>> {
+    let mut layouts = vec![Some(frame), Some(pass)];
+    layouts.resize(RIBBON_GROUP as usize, None);
+    layouts.push(points);
+    layouts
+}
+
+/// `workgroups` laid out as a dispatch grid of at most [`MAX_GROUPS`] along x.
+fn grid(workgroups: u32) -> (u32, u32) {
+    (workgroups.min(MAX_GROUPS), workgroups.div_ceil(MAX_GROUPS))
+}
+
+fn module(device: &wgpu::Device, path: &str) -> wgpu::ShaderModule {
+    let src = crate::shaders::compose(path, None).unwrap_or_else(|e| panic!("{e}"));
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(path),
+        source: wgpu::ShaderSource::Wgsl(src.into()),
+    })
+}
+
+/// A compute pipeline of `entry` over `layouts` (a `None` an unused group), its overrides set to `constants`.
+fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    layouts: &[Option<&wgpu::BindGroupLayout>],
+    constants: &[(&str, f64)],
+) -> wgpu::ComputePipeline {
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: layouts,
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants,
+            ..Default::default()
+        },
+        cache: None,
+    })
+}
+
 fn buffer(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
     gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }

@@ -141,9 +141,49 @@ pub fn rasterise(u: &FrameUniforms, points: &[HairVertex], segments: &[u32]) -> 
     out
 }
 
+/// The CPU model of the binning (`render.raster_tile` = `tile`): per `tile`-texel tile of a `resolution`² map
+/// (row-major), the segments (first points) with a fragment of `stream` in it, each once, in stream order.
+pub fn tile_lists(stream: &[RasterFragment], resolution: u32, tile: u32) -> Vec<Vec<u32>> {
+    let across = resolution.div_ceil(tile);
+    let mut lists = vec![Vec::new(); (across * across) as usize];
+    for f in stream {
+        let (x, y) = (f.texel % resolution, f.texel / resolution);
+        let list: &mut Vec<u32> = &mut lists[((y / tile) * across + x / tile) as usize];
+        if !list.contains(&f.segment) {
+            list.push(f.segment);
+        }
+    }
+    lists
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Row 2 from x = 1.2 to 9.7 on a 10² map in 4-texel tiles (3 across, the last 2 texels wide): columns 1..=9
+    /// fall in tiles 0, 1 and 2 of the first row, the segment listed once in each; a second segment inside tile
+    /// 4 (texel (5, 5)) is listed there alone.
+    #[test]
+    fn tile_lists_hold_each_segment_once_per_tile_it_covers() {
+        let fragment = |(x, y): (u32, u32), segment| RasterFragment {
+            texel: y * 10 + x,
+            segment,
+            ..Default::default()
+        };
+        let mut stream: Vec<RasterFragment> = cover(Vec2::new(1.2, 2.5), Vec2::new(9.7, 2.5), 10)
+            .into_iter()
+            .map(|(texel, _)| fragment(texel, 7))
+            .collect();
+        assert_eq!(stream.len(), 9);
+        stream.push(fragment((5, 5), 9));
+        let lists = tile_lists(&stream, 10, 4);
+        let mut expected = vec![Vec::<u32>::new(); 9];
+        expected[0] = vec![7];
+        expected[1] = vec![7];
+        expected[2] = vec![7];
+        expected[4] = vec![9];
+        assert_eq!(lists, expected);
+    }
 
     fn texels(a: (f32, f32), b: (f32, f32)) -> Vec<(u32, u32)> {
         cover(Vec2::from(a), Vec2::from(b), 8)

@@ -205,6 +205,8 @@ struct FitRow<'a> {
     intercept_ms: f64,
     r_squared: f64,
     exponent: f64,
+    max_residual: f64,
+    max_spread: f64,
     verdict: String,
     device: &'a str,
 }
@@ -221,6 +223,8 @@ pub fn scaling_csv(r: &ScalingResult) -> Result<String> {
             intercept_ms: f.intercept_ms,
             r_squared: f.r_squared,
             exponent: f.exponent,
+            max_residual: f.max_residual,
+            max_spread: f.max_spread,
             verdict: f.verdict(),
             device: &r.device,
         }),
@@ -499,6 +503,8 @@ mod tests {
             intercept_ms: 0.5,
             r_squared: 1.0,
             exponent: 0.5,
+            max_residual: 0.0,
+            max_spread: 0.1,
         };
         ScalingResult {
             preset: "tiny".to_string(),
@@ -530,9 +536,10 @@ mod tests {
         assert_eq!(
             lines,
             [
-                "method,raster,ms_per_segment,ns_per_segment,intercept_ms,r_squared,exponent,verdict,device",
-                "method-a:layers=4,hardware,9.5367431640625e-7,0.95367431640625,0.5,1.0,0.5,linear,dev",
-                "method-a:layers=4,compute,1.9073486328125e-6,1.9073486328125,0.5,1.0,0.5,linear,dev"
+                "method,raster,ms_per_segment,ns_per_segment,intercept_ms,r_squared,exponent,max_residual,max_spread,\
+                 verdict,device",
+                "method-a:layers=4,hardware,9.5367431640625e-7,0.95367431640625,0.5,1.0,0.5,0.0,0.1,linear,dev",
+                "method-a:layers=4,compute,1.9073486328125e-6,1.9073486328125,0.5,1.0,0.5,0.0,0.1,linear,dev"
             ]
         );
     }

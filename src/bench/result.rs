@@ -321,6 +321,10 @@ pub struct ScalingFit {
     /// `p` of GPU ms ∝ segments^p (log-log least squares; [`super::growth_exponent`]), NaN when it cannot be
     /// fitted: what a cost that is not linear is reported with.
     pub exponent: f64,
+    /// The largest distance of a point's median from the line, over the line's value there.
+    pub max_residual: f64,
+    /// The largest spread of a point's timed frames, (max − min) / median: the measurement's own scatter.
+    pub max_spread: f64,
 }
 
 impl ScalingFit {
@@ -330,12 +334,28 @@ impl ScalingFit {
         self.r_squared >= LINEAR_R_SQUARED && self.exponent <= LINEAR_MAX_EXPONENT
     }
 
-    /// The table's verdict: "linear", or the measured growth of a cost that is not.
+    /// The table's verdict: "linear"; or, for a cost that is not, its measured growth when the exponent is
+    /// above [`LINEAR_MAX_EXPONENT`]; otherwise (R² below [`LINEAR_R_SQUARED`] at a linear exponent) how far
+    /// the points lie off the line against how far a point's own frames spread: "scattered" when no point is
+    /// further off the line than the widest spread of frames, "not linear" when one is.
     pub fn verdict(&self) -> String {
+        let percent = |x: f64| 100.0 * x;
         if self.linear() {
             "linear".to_string()
-        } else {
+        } else if self.exponent.is_nan() || self.exponent > LINEAR_MAX_EXPONENT {
             format!("not linear: GPU ms grows as segments^{:.2}", self.exponent)
+        } else if self.max_residual <= self.max_spread {
+            format!(
+                "scattered: off the line by up to {:.0} %, frames spread up to {:.0} %",
+                percent(self.max_residual),
+                percent(self.max_spread)
+            )
+        } else {
+            format!(
+                "not linear: off the line by up to {:.0} %, beyond the frames' spread of {:.0} %",
+                percent(self.max_residual),
+                percent(self.max_spread)
+            )
         }
     }
 }
@@ -465,6 +485,39 @@ mod tests {
         assert_eq!(
             row("unregistered", &[("k", 0.5)], "").short_label(),
             "unregistered k=0.5"
+        );
+    }
+
+    /// The verdict names growth above the exponent cap, and otherwise sets the points' distance from the line
+    /// against the frames' own spread.
+    #[test]
+    fn verdicts_tell_growth_from_scatter() {
+        let fit = |r_squared, exponent, max_residual, max_spread| ScalingFit {
+            label: "m".to_string(),
+            raster: Raster::Hardware,
+            ms_per_segment: 1e-6,
+            intercept_ms: 0.0,
+            r_squared,
+            exponent,
+            max_residual,
+            max_spread,
+        };
+        assert_eq!(fit(0.99, 1.1, 0.3, 0.0).verdict(), "linear");
+        assert_eq!(
+            fit(0.99, 1.33, 0.1, 0.2).verdict(),
+            "not linear: GPU ms grows as segments^1.33"
+        );
+        assert_eq!(
+            fit(0.95, f64::NAN, 0.1, 0.2).verdict(),
+            "not linear: GPU ms grows as segments^NaN"
+        );
+        assert_eq!(
+            fit(0.94, 0.99, 0.12, 0.30).verdict(),
+            "scattered: off the line by up to 12 %, frames spread up to 30 %"
+        );
+        assert_eq!(
+            fit(0.94, 0.99, 0.25, 0.05).verdict(),
+            "not linear: off the line by up to 25 %, beyond the frames' spread of 5 %"
         );
     }
 }

@@ -355,12 +355,23 @@ fn scaling_fits(configs: &[MethodConfig], rasters: &[Raster], points: &[ScalingP
         .chain([SHARED_LIGHT_LABEL.to_string()])
         .flat_map(|label| rasters.iter().map(move |&raster| (label.clone(), raster)))
         .filter_map(|(label, raster)| {
-            let xy: Vec<(f64, f64)> = points
+            let of: Vec<&ScalingPoint> = points
                 .iter()
                 .filter(|p| p.label == label && p.raster == raster)
-                .map(|p| (p.segments as f64, p.ms.median))
                 .collect();
+            let xy: Vec<(f64, f64)> = of.iter().map(|p| (p.segments as f64, p.ms.median)).collect();
             fit_line(&xy).map(|(slope, intercept, r2)| ScalingFit {
+                max_residual: xy
+                    .iter()
+                    .map(|(x, y)| {
+                        let line = slope * x + intercept;
+                        (y - line).abs() / line.abs()
+                    })
+                    .fold(0.0, f64::max),
+                max_spread: of
+                    .iter()
+                    .map(|p| (p.ms.max - p.ms.min) / p.ms.median)
+                    .fold(0.0, f64::max),
                 label,
                 raster,
                 ms_per_segment: slope,

@@ -1,5 +1,6 @@
-// One fragment of the compute rasteriser's stream (shaders/raster/raster.wgsl writes it, casters/compute.wgsl
-// draws it). Mirrors `render::caster::raster_model::RasterFragment` (a test checks the layout).
+// One fragment of the compute rasteriser's stream (raster/raster.wgsl or raster/tiles.wgsl writes it,
+// casters/compute.wgsl draws it). Mirrors `render::caster::raster_model::RasterFragment` (a test checks the
+// layout).
 struct RasterFragment {
     // Row-major light texel.
     texel: u32,

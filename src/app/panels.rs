@@ -541,8 +541,13 @@ impl HairlabApp {
                         mib(mem.method()),
                         mem.method() as f64 / texels as f64
                     ));
+                    let stream = if mem.raster_stream > 0 {
+                        format!(" · compute raster {}", mib(mem.raster_stream))
+                    } else {
+                        String::new()
+                    };
                     ui.label(format!(
-                        "light-depth maps {} · mesh shadow map {} · geometry {} · eye targets {}",
+                        "light-depth maps {} · mesh shadow map {} · geometry {} · eye targets {}{stream}",
                         mib(mem.light_depth_maps),
                         mib(mem.shadow_map),
                         mib(mem.geometry),

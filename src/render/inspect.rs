@@ -254,6 +254,7 @@ impl Renderer {
             method_shared: shared,
             method_build: build,
             reference_lists: self.light.reference.as_ref().map_or(0, |a| a.memory_bytes()),
+            raster_stream: self.light.compute_raster().map_or(0, |c| c.memory_bytes()),
         }
     }
 

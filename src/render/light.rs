@@ -100,6 +100,9 @@ impl LightSide {
             let caster = raster.stage(strands).map_err(GpuError::Setting)?;
             self.strands = strands;
             self.raster = raster;
+            if raster != Raster::Compute {
+                self.compute = None;
+            }
             self.stage.caster = caster;
             self.depth_pass = LightDepthPass::new(device, frame_layout, &self.stage);
             self.method = None;

@@ -21,6 +21,8 @@ pub struct MemoryReport {
     pub method_build: u64,
     /// The exact reference's fragment lists, when the inspector or a measurement has read them.
     pub reference_lists: u64,
+    /// The compute rasteriser's fragment stream, counts and tile lists (`render.raster = compute`).
+    pub raster_stream: u64,
 }
 
 impl MemoryReport {
@@ -33,6 +35,7 @@ impl MemoryReport {
             + self.method_owned
             + self.method_build
             + self.reference_lists
+            + self.raster_stream
     }
 
     /// What the method costs, as the papers count it: its own maps and the shared ones it reads.

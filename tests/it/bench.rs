@@ -390,7 +390,17 @@ fn bench_scaling_fits_cost_per_segment() {
         let exponent: f64 = r[column(&header, "exponent")].parse().unwrap();
         let verdict = &r[column(&header, "verdict")];
         assert_eq!(verdict == "linear", r2 >= 0.98 && exponent <= 1.2, "{r:?}");
-        assert!(verdict == "linear" || verdict.contains("segments^"), "{r:?}");
+        // Growth names its exponent; a poor fit at a linear exponent, its distance from the line and the frames'
+        // spread, both as in the CSV.
+        let percent = |c: &str| format!("{:.0} %", 100.0 * r[column(&header, c)].parse::<f64>().unwrap());
+        let off_the_line =
+            verdict.contains(&percent("max_residual")) && verdict.contains(&percent("max_spread"));
+        assert!(
+            verdict == "linear"
+                || (exponent > 1.2 && verdict.contains("segments^"))
+                || (exponent <= 1.2 && off_the_line),
+            "{r:?}"
+        );
     }
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(

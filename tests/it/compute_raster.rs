@@ -106,6 +106,28 @@ fn binned_stream_equals_the_per_segment_stream() {
     }
 }
 
+/// The memory report counts the compute rasteriser's buffers: the segments' counts (one more for the total),
+/// the stream's two pages (the second a one-fragment placeholder while the stream fits one) and, binned to 3 × 3
+/// tiles, their counts (one more for the total), cursors and lists; under the hardware lines, none.
+#[test]
+fn memory_report_counts_the_raster_stream() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (mut s, scene) = common::setup_scene(common::Setup::new(300, 64));
+    compute(&mut s);
+    s.render.raster_tile = 24;
+    let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    let (stream, _) = r.raster_stream(&s.camera, &s.light, &s.render).unwrap();
+    let pairs: usize = r.raster_tile_lists().unwrap().iter().map(Vec::len).sum();
+    let segments = hair_indices(&scene).len() / 2;
+    let fragment = std::mem::size_of::<hairlab::render::caster::raster_model::RasterFragment>();
+    let expected = (segments + 1) * 4 + (stream.len() + 1) * fragment + (9 + 1) * 4 + 9 * 4 + pairs * 4;
+    assert_eq!(r.memory().raster_stream, expected as u64);
+    s.render.raster = Raster::Hardware;
+    s.render.raster_tile = 0;
+    r.reference_lists(&s.camera, &s.light, &s.render).unwrap();
+    assert_eq!(r.memory().raster_stream, 0, "under the hardware lines");
+}
+
 /// `render.raster_tile` outside 0 and 4..=256 is one setting error naming the key.
 #[test]
 fn raster_tile_out_of_range_is_refused() {

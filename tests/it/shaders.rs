@@ -370,6 +370,7 @@ fn raster_fragment_matches_wgsl_layout() {
         RASTER_FRAGMENT_FIELDS,
         &[
             ("raster/raster.wgsl", None, "RasterFragment"),
+            ("raster/tiles.wgsl", None, "RasterFragment"),
             ("common/raster_stream.wgsl", None, "RasterFragment"),
         ],
     );

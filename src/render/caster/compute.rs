@@ -352,6 +352,16 @@ impl ComputeRaster {
         )
     }
 
+    /// Bytes of the rasteriser's buffers: the segment counts, the stream's pages and the tiles' counts, cursors
+    /// and lists.
+    pub fn memory_bytes(&self) -> u64 {
+        let tiles = self
+            .tiles
+            .as_ref()
+            .map_or(0, |t| t.bins.size() + t.cursor.size() + t.lists.size());
+        self.counts.size() + self.stream.iter().map(wgpu::Buffer::size).sum::<u64>() + tiles
+    }
+
     /// The (segment, tile) pairs the last binned [`ComputeRaster::prepare`] listed; `None` when it ran per
     /// segment.
     pub fn tile_pairs(&self) -> Option<u32> {

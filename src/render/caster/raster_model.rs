@@ -1,5 +1,5 @@
-//! The compute rasteriser's coverage rule, written down: the CPU model `shaders/raster/raster.wgsl` follows
-//! operation for operation (the `compute_raster` tests check GPU = CPU fragment for fragment).
+//! The compute rasteriser's coverage rule, written down: the CPU model `shaders/common/raster_coverage.wgsl`
+//! follows operation for operation (the `compute_raster` tests check GPU = CPU fragment for fragment).
 //!
 //! The rule is the major-axis rule of hardware lines (the "diamond-exit" lines of Direct3D and Vulkan cover one
 //! pixel per column or row crossed along the major axis): a segment from `a` to `b` in texel space (x right,

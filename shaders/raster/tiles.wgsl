@@ -1,11 +1,11 @@
 // The compute rasteriser binned to tiles (render::caster::compute, `render.raster_tile` > 0): the light map is
-// cut into TILE × TILE-texel tiles. `count_tiles` (one invocation per segment) writes the segment's fragment
-// count, as `count` does, and counts the segment once in each tile its fragments fall in; after the prefix sums of
-// both (raster/scan.wgsl) `bin` lists each segment in those tiles, and `raster_tile` (one workgroup per tile)
-// walks the tile's segments and writes each fragment inside the tile at its place in the segment-ordered stream
-// (the segment's offset plus its rank along the segment): the same stream as the per-segment passes', bit for
-// bit, whatever the order of a tile's list. A segment's tiles come in one run each along its walk (the walk is
-// monotonic on both axes), so a segment is listed once per tile.
+// cut into TILE × TILE-texel tiles. `bin_segments` (one invocation per segment), as the count pass, writes the
+// segment's fragment count as `count` does and counts the segment once in each tile its fragments fall in; after
+// the prefix sums of both (raster/scan.wgsl) it runs again as the bin pass and lists each segment in those
+// tiles, and `raster_tile` (one workgroup per tile) walks the tile's segments and writes each fragment inside the
+// tile at its place in the segment-ordered stream (the segment's offset plus its rank along the segment): the
+// same stream as the per-segment passes', bit for bit, whatever the order of a tile's list. A segment's tiles
+// come in one run each along its walk (the walk is monotonic on both axes), so a segment is listed once per tile.
 #include "common/frame.wgsl"
 #include "common/ribbon_points.wgsl"
 #include "common/raster_coverage.wgsl"
@@ -30,9 +30,20 @@ fn tile_of(f: RasterStep) -> u32 {
     return (f.y / TILE) * tiles_across() + f.x / TILE;
 }
 
-// Walks segment `s`: with `list`, lists it in each of its tiles; otherwise counts it in each and writes its
-// fragment count.
-fn bin_segment(s: u32, list: bool) {
+// Whether this pipeline is the bin pass (lists each segment in its tiles) or the count pass (counts each segment
+// once in each of its tiles and writes its fragment count).
+override LIST: bool = false;
+
+@compute @workgroup_size(256)
+fn bin_segments(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let s = segment_of(group, groups, local);
+    if s >= arrayLength(&raster_counts) - 1u {
+        return;
+    }
     let r = raster_setup(s);
     var k = 0u;
     var last = 0xffffffffu;
@@ -47,39 +58,15 @@ fn bin_segment(s: u32, list: bool) {
             continue;
         }
         last = tile;
-        if list {
+        if LIST {
             let slot = atomicLoad(&tile_bins[tile]) + atomicAdd(&tile_cursor[tile], 1u);
             tile_segments[slot] = s;
         } else {
             atomicAdd(&tile_bins[tile], 1u);
         }
     }
-    if !list {
+    if !LIST {
         raster_counts[s] = k;
-    }
-}
-
-@compute @workgroup_size(256)
-fn count_tiles(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let s = segment_of(group, groups, local);
-    if s < arrayLength(&raster_counts) - 1u {
-        bin_segment(s, false);
-    }
-}
-
-@compute @workgroup_size(256)
-fn bin(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let s = segment_of(group, groups, local);
-    if s < arrayLength(&raster_counts) - 1u {
-        bin_segment(s, true);
     }
 }
 

@@ -301,13 +301,14 @@ impl ComputeRaster {
                 let device = &gpu.device;
                 let module = module(device, "raster/tiles.wgsl");
                 let layouts = layouts(&self.frame_layout, &self.tile_layout, Some(&self.points_layout));
-                let constants = [("TILE", tile as f64)];
-                let pipeline =
-                    |label, entry| compute_pipeline(device, label, &module, entry, &layouts, &constants);
+                let pipeline = |label, entry, list: bool| {
+                    let constants = [("TILE", tile as f64), ("LIST", f64::from(u8::from(list)))];
+                    compute_pipeline(device, label, &module, entry, &layouts, &constants)
+                };
                 (
-                    pipeline("hairlab.raster.count_tiles", "count_tiles"),
-                    pipeline("hairlab.raster.bin", "bin"),
-                    pipeline("hairlab.raster.tiles", "raster_tile"),
+                    pipeline("hairlab.raster.count_tiles", "bin_segments", false),
+                    pipeline("hairlab.raster.bin", "bin_segments", true),
+                    pipeline("hairlab.raster.tiles", "raster_tile", false),
                     buffer(gpu, "hairlab.raster.tile_lists", 4),
                 )
             }

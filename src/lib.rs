@@ -11,6 +11,7 @@ pub mod io;
 pub mod measure;
 pub mod methods;
 pub mod motion;
+pub mod pathtrace;
 pub mod render;
 pub mod rng;
 pub mod scene;

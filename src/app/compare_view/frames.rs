@@ -1,0 +1,273 @@
+//! The compare view's frames: the four slots rendered on a worker with a renderer of their own, the exact per-pixel
+//! lists and the opaque image read beside them, and the difference heat map between two images.
+
+use super::Slot;
+use crate::app::jobs::JobCtl;
+use crate::gpu::Gpu;
+use crate::gpu::timing::PassTime;
+use crate::methods::{LightMethod, ParamValues, registry as methods};
+use crate::render::transparency::{EyeTransparency, registry};
+use crate::render::{FrameInput, Renderer};
+use crate::scene::Scene;
+use crate::settings::Settings;
+use crate::transparency::{EyeFragment, ImageMetrics, ModelContext, metrics};
+use image::RgbaImage;
+
+/// One rendered image.
+pub struct CompareImage {
+    pub name: &'static str,
+    pub label: &'static str,
+    pub image: RgbaImage,
+    /// The frame's GPU passes (empty without timestamp queries).
+    pub passes: Vec<PassTime>,
+    pub geometry_passes: u32,
+    /// Against the first image.
+    pub metrics: ImageMetrics,
+}
+
+impl CompareImage {
+    /// The frame's GPU time, all passes.
+    pub fn gpu_ms(&self) -> Option<f64> {
+        (!self.passes.is_empty()).then(|| self.passes.iter().map(|p| p.ms).sum())
+    }
+}
+
+/// Eye depth complexity of the compared view, from the exact lists.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthComplexity {
+    pub width: u32,
+    pub height: u32,
+    /// Fragments at the deepest pixel.
+    pub max: usize,
+    pub total: u64,
+    /// Mean over the hair pixels (those with a fragment).
+    pub mean_hair: f64,
+}
+
+/// Everything one compare render produced.
+pub struct CompareFrames {
+    pub width: u32,
+    pub height: u32,
+    pub images: Vec<CompareImage>,
+    /// The exact reference's lists, row-major, each front to back on (depth, segment).
+    pub lists: Vec<Vec<EyeFragment>>,
+    /// The opaque meshes alone (sRGB): the background every pixel's hair is composited over.
+    pub background: RgbaImage,
+    /// Pixels whose exact list is non-empty.
+    pub hair: Vec<bool>,
+    /// What the techniques' CPU models need of the frame.
+    pub model: ModelContext,
+    /// The settings rendered.
+    pub settings: Settings,
+}
+
+impl CompareFrames {
+    /// The exact fragment list of pixel `(x, y)`.
+    pub fn list(&self, [x, y]: [u32; 2]) -> Option<&[EyeFragment]> {
+        (x < self.width && y < self.height)
+            .then(|| self.lists.get((y * self.width + x) as usize).map(Vec::as_slice))
+            .flatten()
+    }
+
+    pub fn depth_complexity(&self) -> DepthComplexity {
+        let max = self.lists.iter().map(Vec::len).max().unwrap_or(0);
+        let total: u64 = self.lists.iter().map(|l| l.len() as u64).sum();
+        let hair = self.hair.iter().filter(|&&h| h).count();
+        DepthComplexity {
+            width: self.width,
+            height: self.height,
+            max,
+            total,
+            mean_hair: if hair == 0 {
+                0.0
+            } else {
+                total as f64 / hair as f64
+            },
+        }
+    }
+}
+
+/// Renders the four `slots` at `width`×`height` with `settings`, reads the exact lists and the opaque image.
+pub fn render_compare(
+    r: &mut Renderer,
+    settings: &Settings,
+    slots: &[Slot; 4],
+    width: u32,
+    height: u32,
+) -> Result<CompareFrames, String> {
+    render_compare_steps(r, settings, slots, width, height, &mut |_, _| true)
+        .and_then(|frames| frames.ok_or_else(|| "compare view: stopped".to_string()))
+}
+
+/// Steps of a compare render: four slots, the exact lists, the opaque image.
+pub(super) const STEPS: f32 = 6.0;
+
+/// [`render_compare`] telling `step` what it renders next and the share done (of [`STEPS`]) before each image;
+/// `Ok(None)` once `step` answers `false` (cancelled).
+pub(super) fn render_compare_steps(
+    r: &mut Renderer,
+    settings: &Settings,
+    slots: &[Slot; 4],
+    width: u32,
+    height: u32,
+    step: &mut dyn FnMut(&str, f32) -> bool,
+) -> Result<Option<CompareFrames>, String> {
+    let method = methods::find(&settings.method.name).map_err(|e| format!("method.name: {e}"))?;
+    let defaults = ParamValues::new();
+    let reference = registry::reference();
+    let input = |technique, technique_params| {
+        frame_input(settings, method, technique, technique_params, width, height)
+    };
+    let gpu_error = |what: &str, e: crate::gpu::GpuError| format!("compare view: {what}: {e}");
+    let mut rendered = Vec::with_capacity(4);
+    for (k, slot) in slots.iter().enumerate() {
+        let (technique, params) = slot.resolve(settings, &defaults)?;
+        if !step(
+            &format!("slot {} · {}", k + 1, technique.info().label),
+            k as f32 / STEPS,
+        ) {
+            return Ok(None);
+        }
+        r.render(&input(technique, params))
+            .map_err(|e| gpu_error(technique.name(), e))?;
+        let passes = r.wait_timings();
+        let image = r.read_output().map_err(|e| gpu_error(technique.name(), e))?;
+        rendered.push((technique, image, passes, r.eye_geometry_passes()));
+    }
+    if !step("exact lists", 4.0 / STEPS) {
+        return Ok(None);
+    }
+    let lists = r
+        .eye_lists(&input(reference, &defaults))
+        .map_err(|e| gpu_error("exact lists", e))?;
+    if !step("opaque image", 5.0 / STEPS) {
+        return Ok(None);
+    }
+    r.render_capture(&input(reference, &defaults))
+        .map_err(|e| gpu_error("opaque image", e))?;
+    let background = r.read_output().map_err(|e| gpu_error("opaque image", e))?;
+    // Drain these frames' timings: the timer keeps the newest finished readback, and the viewport's frame
+    // must not finish together with them.
+    r.wait_timings();
+    let hair: Vec<bool> = lists.iter().map(|l| !l.is_empty()).collect();
+    let first = rendered[0].1.clone();
+    let images = rendered
+        .into_iter()
+        .map(|(t, image, passes, geometry_passes)| CompareImage {
+            name: t.name(),
+            label: t.info().label,
+            metrics: metrics::compare(&image, &first, &hair),
+            image,
+            passes,
+            geometry_passes,
+        })
+        .collect();
+    Ok(Some(CompareFrames {
+        width,
+        height,
+        images,
+        lists,
+        background,
+        hair,
+        model: ModelContext {
+            hair_alpha: settings.render.hair_alpha,
+            depth_range: r.eye_depth_range(&settings.camera),
+        },
+        settings: settings.clone(),
+    }))
+}
+
+/// What a compare render takes from the window: its GPU (a clone: the same device and queue), the scene on
+/// screen (at the timeline's frame) and the fur built on it.
+pub struct CompareSource {
+    pub gpu: Gpu,
+    pub scene: Scene,
+    pub fur: Option<crate::fur::settings::FurScene>,
+    /// The box the window's renderer fits the hair maps to under `light.fit = bound` (the whole motion's once
+    /// it is known), so the compare images fit the same light frame as the viewport.
+    pub fit_bound: Option<crate::scene::Aabb>,
+    /// The meshes riding on the motion's root frame and their pose at the timeline's frame (the turned head).
+    pub mesh_pose: Option<(Vec<usize>, glam::Affine3A)>,
+}
+
+/// The worker of a compare job: a renderer of its own from `source`, then [`render_compare_steps`] reporting
+/// through `ctl`; `None` when cancelled.
+pub(super) fn render_job(
+    source: &CompareSource,
+    settings: &Settings,
+    slots: &[Slot; 4],
+    (width, height): (u32, u32),
+    ctl: &JobCtl,
+) -> Option<Result<CompareFrames, String>> {
+    ctl.step("a renderer for the compare view", 0.0).then_some(())?;
+    let renderer = Renderer::new(&source.gpu, &source.scene, settings.render.map_resolution)
+        .map_err(|e| format!("compare view: renderer: {e}"))
+        .and_then(|mut r| {
+            r.set_fit_bound(source.fit_bound);
+            if let Some((meshes, pose)) = &source.mesh_pose {
+                r.pose_meshes(meshes, *pose)
+                    .map_err(|e| format!("compare view: meshes: {e}"))?;
+            }
+            if let Some(fur) = &source.fur {
+                r.set_fur(Some((fur, &settings.fur)))
+                    .map_err(|e| format!("compare view: fur: {e}"))?;
+            }
+            Ok(r)
+        });
+    let mut r = match renderer {
+        Ok(r) => r,
+        Err(e) => return Some(Err(e)),
+    };
+    render_compare_steps(&mut r, settings, slots, width, height, &mut |what, done| {
+        ctl.step(what, done)
+    })
+    .transpose()
+}
+
+/// The frame of `settings` with `technique` at `width`×`height`.
+pub(super) fn frame_input<'a>(
+    settings: &'a Settings,
+    method: &'a dyn LightMethod,
+    technique: &'a dyn EyeTransparency,
+    technique_params: &'a ParamValues,
+    width: u32,
+    height: u32,
+) -> FrameInput<'a> {
+    FrameInput {
+        camera: &settings.camera,
+        light: &settings.light,
+        render: &settings.render,
+        method,
+        method_params: &settings.method.params,
+        technique,
+        technique_params,
+        width,
+        height,
+    }
+}
+
+/// A colour ramp for `t` in [0, 1]: black, purple, red, yellow, white.
+pub fn heat(t: f32) -> [u8; 3] {
+    const STOPS: [[f32; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.35, 0.0, 0.55],
+        [0.9, 0.1, 0.1],
+        [1.0, 0.85, 0.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    std::array::from_fn(|c| ((STOPS[i][c] + f * (STOPS[i + 1][c] - STOPS[i][c])) * 255.0).round() as u8)
+}
+
+/// The heat map of the max-channel `|a − b|` (1/255 steps) times `gain`, over 255.
+pub fn difference_image(a: &RgbaImage, b: &RgbaImage, gain: f32) -> RgbaImage {
+    let (w, h) = (a.width().min(b.width()), a.height().min(b.height()));
+    RgbaImage::from_fn(w, h, |x, y| {
+        let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+        let e = (0..3).map(|i| p.0[i].abs_diff(q.0[i])).max().unwrap_or(0);
+        let [r, g, b] = heat(f32::from(e) * gain / 255.0);
+        image::Rgba([r, g, b, 255])
+    })
+}

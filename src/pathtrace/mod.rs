@@ -2,4 +2,5 @@
 
 pub mod bvh;
 pub mod fibre;
+pub mod integrator;
 pub mod visibility;

@@ -1,0 +1,239 @@
+//! A CPU path tracer over the fibres (the reference the real-time methods are compared with): camera rays,
+//! next-event estimation to a directional light through an `any_hit` shadow ray, BSDF sampling, Russian
+//! roulette after depth 3 (pbrt's throughput-based survival), at most `max_depth` bounces, linear float RGB.
+//! Each sample's random stream is `SplitMix64::stream(seed, pixel << 32 ^ sample)`, so an image depends only on
+//! its seed, whatever the thread count. Rows are shared between `std::thread::scope` threads in bands.
+//!
+//! The surface is Lambertian on the fibre's normal until Chiang et al. 2016's fibre BSDF (`bsdf.rs`) lands; the
+//! path loop only uses `eval`/`sample`, the interface that BSDF has.
+
+use glam::Vec3;
+
+use super::bvh::Bvh;
+use super::fibre::{Hit, Ray};
+use crate::rng::SplitMix64;
+use crate::scene::Camera;
+
+/// A directional light: the unit direction towards it and the irradiance it gives a surface facing it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionalLight {
+    pub to_light: Vec3,
+    pub irradiance: Vec3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub width: usize,
+    pub height: usize,
+    pub samples: u32,
+    pub seed: u64,
+    /// Bounces at most (32 or more for hair's long chains of scattering).
+    pub max_depth: u32,
+    /// The fibres' reflectance.
+    pub albedo: Vec3,
+}
+
+/// The Lambertian stand-in: `albedo/π` on the side `wo` sees, sampled by cosine.
+struct Lambert {
+    n: Vec3,
+    albedo: Vec3,
+}
+
+impl Lambert {
+    fn new(hit: &Hit, wo: Vec3, albedo: Vec3) -> Lambert {
+        let n = if hit.normal.dot(wo) < 0.0 {
+            -hit.normal
+        } else {
+            hit.normal
+        };
+        Lambert { n, albedo }
+    }
+    fn eval(&self, wi: Vec3) -> Vec3 {
+        if self.n.dot(wi) > 0.0 {
+            self.albedo / std::f32::consts::PI
+        } else {
+            Vec3::ZERO
+        }
+    }
+    /// A direction by cosine and its weight `f·cos/pdf`.
+    fn sample(&self, u: [f32; 2]) -> (Vec3, Vec3) {
+        let (r, phi) = (u[0].sqrt(), std::f32::consts::TAU * u[1]);
+        let (t, b) = self.n.any_orthonormal_pair();
+        let wi = r * phi.cos() * t + r * phi.sin() * b + (1.0 - u[0]).max(0.0).sqrt() * self.n;
+        (wi.normalize(), self.albedo)
+    }
+}
+
+/// The camera ray through image point `(x, y)` in pixels (top left origin).
+pub fn camera_ray(camera: &Camera, width: usize, height: usize, x: f32, y: f32) -> Ray {
+    let tan = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let aspect = width as f32 / height as f32;
+    let d = Vec3::new(
+        (2.0 * x / width as f32 - 1.0) * tan * aspect,
+        (1.0 - 2.0 * y / height as f32) * tan,
+        -1.0,
+    );
+    Ray::new(
+        camera.eye(),
+        camera.world_to_view().inverse().transform_vector3(d),
+    )
+}
+
+/// Radiance along `ray`.
+fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
+    let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
+    for depth in 0..s.max_depth {
+        let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
+            break;
+        };
+        let wo = -ray.dir;
+        let bsdf = Lambert::new(&hit, wo, s.albedo);
+        let eps = 1e-5 * (1.0 + hit.point.abs().max_element());
+        let cos = bsdf.n.dot(light.to_light);
+        if cos > 0.0 {
+            let shadow = Ray {
+                origin: hit.point + eps * bsdf.n,
+                dir: light.to_light,
+            };
+            if !bvh.any_hit(&shadow, f32::INFINITY) {
+                sum += beta * bsdf.eval(light.to_light) * light.irradiance * cos;
+            }
+        }
+        let (wi, weight) = bsdf.sample([rng.unit(), rng.unit()]);
+        beta *= weight;
+        if depth >= 3 {
+            let survive = beta.max_element().min(0.95);
+            if rng.unit() >= survive {
+                break;
+            }
+            beta /= survive;
+        }
+        ray = Ray {
+            origin: hit.point + eps * bsdf.n,
+            dir: wi,
+        };
+    }
+    sum
+}
+
+/// The image, row after row, `width × height` linear RGB.
+pub fn render(bvh: &Bvh, camera: &Camera, light: &DirectionalLight, s: &Settings) -> Vec<Vec3> {
+    let mut image = vec![Vec3::ZERO; s.width * s.height];
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let band = s.height.div_ceil(threads).max(1) * s.width;
+    std::thread::scope(|scope| {
+        for (b, rows) in image.chunks_mut(band.max(1)).enumerate() {
+            scope.spawn(move || {
+                for (k, px) in rows.iter_mut().enumerate() {
+                    let pixel = b * band + k;
+                    let (x, y) = (pixel % s.width, pixel / s.width);
+                    let mut sum = Vec3::ZERO;
+                    for sample in 0..s.samples {
+                        let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
+                        let (jx, jy) = (rng.unit(), rng.unit());
+                        let ray = camera_ray(camera, s.width, s.height, x as f32 + jx, y as f32 + jy);
+                        sum += radiance(bvh, light, s, ray, &mut rng);
+                    }
+                    *px = sum / s.samples.max(1) as f32;
+                }
+            });
+        }
+    });
+    image
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pathtrace::fibre::Segment;
+
+    fn settings(seed: u64) -> Settings {
+        Settings {
+            width: 32,
+            height: 24,
+            samples: 4,
+            seed,
+            max_depth: 32,
+            albedo: Vec3::splat(0.8),
+        }
+    }
+
+    fn camera() -> Camera {
+        Camera {
+            target: [0.0; 3],
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+            distance: 4.0,
+            fov_y_deg: 30.0,
+        }
+    }
+
+    const LIGHT: DirectionalLight = DirectionalLight {
+        to_light: Vec3::Z,
+        irradiance: Vec3::ONE,
+    };
+
+    #[test]
+    fn the_same_seed_gives_the_same_image() {
+        let mut rng = SplitMix64::new(4);
+        let segments = (0..200)
+            .map(|_| {
+                let a = Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.4;
+                Segment {
+                    a,
+                    b: a + Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.3,
+                    ra: 0.03,
+                    rb: 0.02,
+                }
+            })
+            .collect();
+        let bvh = Bvh::new(segments);
+        let light = DirectionalLight {
+            to_light: Vec3::new(0.3, 0.8, 0.5).normalize(),
+            irradiance: Vec3::ONE,
+        };
+        let a = render(&bvh, &camera(), &light, &settings(1));
+        assert_eq!(a, render(&bvh, &camera(), &light, &settings(1)));
+        assert_ne!(a, render(&bvh, &camera(), &light, &settings(2)));
+        assert!(a.iter().any(|p| p.max_element() > 0.0));
+    }
+
+    /// A lone fibre along x through the view's centre, lit from the camera: pixels whose four corner rays all
+    /// pass inside the fibre's band are lit, pixels whose corners all pass on one side of it are black.
+    #[test]
+    fn a_lone_fibre_lights_exactly_where_it_projects() {
+        let r = 0.2;
+        let bvh = Bvh::new(vec![Segment {
+            a: Vec3::new(-5.0, 0.0, 0.0),
+            b: Vec3::new(5.0, 0.0, 0.0),
+            ra: r,
+            rb: r,
+        }]);
+        let s = settings(3);
+        let cam = camera();
+        let image = render(&bvh, &cam, &LIGHT, &s);
+        // Height at which the ray through an image point crosses the plane z = 0.
+        let y_at = |x: usize, y: usize| {
+            let ray = camera_ray(&cam, s.width, s.height, x as f32, y as f32);
+            ray.at(-ray.origin.z / ray.dir.z).y
+        };
+        let (mut lit, mut dark) = (0, 0);
+        for y in 0..s.height {
+            for x in 0..s.width {
+                let ys = [y_at(x, y), y_at(x + 1, y), y_at(x, y + 1), y_at(x + 1, y + 1)];
+                let v = image[y * s.width + x].max_element();
+                if ys.iter().all(|c| c.abs() < 0.99 * r) {
+                    assert!(v > 0.0, "({x}, {y}) inside the fibre is black");
+                    lit += 1;
+                } else if ys.iter().all(|&c| c > 1.01 * r) || ys.iter().all(|&c| c < -1.01 * r) {
+                    assert_eq!(v, 0.0, "({x}, {y}) off the fibre is lit");
+                    dark += 1;
+                }
+            }
+        }
+        assert!(
+            lit >= s.width && dark >= s.width * (s.height - 8),
+            "{lit} lit, {dark} dark"
+        );
+    }
+}

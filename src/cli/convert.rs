@@ -28,7 +28,24 @@ pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
         );
     };
     crate::io::check_output(&a.output, &ext)?;
-    let scene = load_scene(&a.input)?;
+    let in_ext = a
+        .input
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    // A `.data` file's bare roots (strands of one vertex) are not part of the scene drawn: read apart, kept where the
+    // output holds one-point strands.
+    let (scene, data) = if in_ext.as_deref() == Some("data") {
+        let f = crate::scene::usc_data::read_data_file(&a.input)?;
+        (crate::scene::Scene::new(f.strands.clone(), Vec::new()), Some(f))
+    } else {
+        (load_scene(&a.input)?, None)
+    };
+    let roots = data.as_ref().map_or(0, |f| f.bare_roots.len());
+    let keeps_roots = matches!(ext.as_str(), "data" | "hair");
+    let strands = match &data {
+        Some(f) if roots > 0 && keeps_roots => f.strands_with_roots(),
+        _ => scene.strands.clone(),
+    };
     let name = a.input.file_name().unwrap_or_default().to_string_lossy();
     #[cfg(feature = "usd")]
     let frames = write_usd_frames(a, &ext)?;
@@ -36,9 +53,9 @@ pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
     let frames: Option<usize> = None;
     match frames {
         Some(n) => println!("frames:    {n} (time-sampled points)"),
-        None => save_strands(&a.output, &scene.strands, &format!("hairlab convert {name}"))?,
+        None => save_strands(&a.output, &strands, &format!("hairlab convert {name}"))?,
     }
-    let s = &scene.strands;
+    let s = &strands;
     println!(
         "wrote {}: {} strands, {} points, {} segments",
         a.output.display(),
@@ -46,6 +63,15 @@ pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
         s.point_count(),
         s.segment_count()
     );
+    if roots > 0 {
+        if keeps_roots {
+            println!("kept:      {roots} bare roots (strands of one vertex, after the strands drawn)");
+        } else {
+            println!(
+                "dropped:   {roots} bare roots (strands of one vertex: a .{ext} curve needs two points)"
+            );
+        }
+    }
     if !scene.meshes.is_empty() {
         println!(
             "dropped:   {} meshes (the output holds strands only)",

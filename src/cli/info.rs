@@ -50,6 +50,9 @@ pub(super) fn info(path: &Path) -> Result<()> {
             let f = crate::scene::usc_data::read_data_file(path)?;
             let dropped = (f.empty_strands > 0).then(|| format!("{} strands of 0 vertices", f.empty_strands));
             arrays_dropped = Some((vec!["positions"], dropped.into_iter().collect()));
+            if !f.bare_roots.is_empty() {
+                println!("{}", bare_roots_line(f.bare_roots.len()));
+            }
             crate::scene::Scene::new(f.strands, Vec::new())
         }
         #[cfg(feature = "usd")]
@@ -127,4 +130,11 @@ pub(super) fn info(path: &Path) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The one line `info` prints for a `.data` file's strands of one vertex.
+fn bare_roots_line(n: usize) -> String {
+    format!(
+        "roots:     {n} bare roots (strands of one vertex: scalp with no hair), counted apart from the strands drawn"
+    )
 }

@@ -6,7 +6,10 @@
 //!
 //! Mapping to hairlab (whose world is right-handed and Y-up, in the file's own units — nothing is rescaled):
 //! positions are taken as they are (the database's hairstyles are Y-up, aligned to its head model). Strands of 0
-//! vertices hold no hair and are dropped (counted in [`DataFile::empty_strands`], which `hairlab info` prints).
+//! vertices hold no hair and are dropped (counted in [`DataFile::empty_strands`], which `hairlab info` prints). A
+//! strand of one vertex is a root with no hair — the database marks bare scalp that way — so it is kept apart from
+//! the strands drawn, in [`DataFile::bare_roots`] (`hairlab info` counts them, `hairlab convert` keeps them where
+//! the target format holds a one-point strand).
 //!
 //! Reading is bounded by the file's size: the strand count is checked against the bytes its vertex counts alone
 //! need, and each strand's vertex count against the bytes left, before anything is allocated for it. Negative
@@ -68,8 +71,10 @@ pub enum DataError {
 /// A `.data` file as hairlab keeps it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DataFile {
-    /// The strands of at least one vertex, positions only.
+    /// The strands of at least two vertices (the hair drawn), positions only.
     pub strands: Strands,
+    /// The strands of one vertex: roots with no hair (bare scalp), in file order.
+    pub bare_roots: Vec<Vec3>,
     /// Strands of 0 vertices in the file, dropped.
     pub empty_strands: usize,
 }
@@ -100,11 +105,13 @@ fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
         ..Strands::default()
     };
     let mut empty_strands = 0;
+    let mut bare_roots = Vec::new();
     for strand in 0..strands {
         // A stopped load (`progress::observed`) drops what was parsed.
         if !super::progress::parsed(strand, strands) {
             return Ok(DataFile {
                 strands: out,
+                bare_roots,
                 empty_strands,
             });
         }
@@ -153,6 +160,8 @@ fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
         }
         if n == 0 {
             empty_strands += 1;
+        } else if n == 1 {
+            bare_roots.extend(out.points.pop());
         } else {
             // n ≤ file size / 12 < 2³², so it fits the u32 count.
             out.counts.push(n as u32);
@@ -170,8 +179,20 @@ fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
     }
     Ok(DataFile {
         strands: out,
+        bare_roots,
         empty_strands,
     })
+}
+
+impl DataFile {
+    /// The strands followed by each bare root as a strand of one point (positions only), for a format that holds
+    /// one-point strands (`.data`, `.hair`).
+    pub fn strands_with_roots(&self) -> Strands {
+        let mut s = self.strands.clone();
+        s.points.extend_from_slice(&self.bare_roots);
+        s.counts.extend(std::iter::repeat_n(1, self.bare_roots.len()));
+        s
+    }
 }
 
 /// Reads and validates a `.data` file; every error names the file.

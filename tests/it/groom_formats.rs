@@ -119,15 +119,13 @@ pub(crate) fn hand_built_data() -> Vec<u8> {
 fn hand_built_data_decodes_to_known_values() {
     let f = read_data(&hand_built_data()).expect("valid file");
     assert_eq!(f.empty_strands, 1);
-    assert_eq!(f.strands.counts, [2, 1]);
+    // The strand of one vertex is a bare root, kept apart from the strands drawn.
+    assert_eq!(f.strands.counts, [2]);
     assert_eq!(
         f.strands.points,
-        [
-            Vec3::new(1.0, 2.0, 3.0),
-            Vec3::new(-1.0, 0.5, 4.0),
-            Vec3::new(7.0, 8.0, 9.0)
-        ]
+        [Vec3::new(1.0, 2.0, 3.0), Vec3::new(-1.0, 0.5, 4.0)]
     );
+    assert_eq!(f.bare_roots, [Vec3::new(7.0, 8.0, 9.0)]);
     assert_eq!(
         (&f.strands.thickness, &f.strands.alpha, &f.strands.color),
         (&None, &None, &None)
@@ -396,10 +394,11 @@ fn info_prints_arrays_and_what_is_dropped() {
     for line in [
         "arrays:    positions",
         "dropped:   1 strands of 0 vertices",
-        "strands:   2",
-        "points:    3",
+        "roots:     1 bare roots (strands of one vertex: scalp with no hair), counted apart from the strands drawn",
+        "strands:   1",
+        "points:    2",
         "segments:  1",
-        "bounds:    min (-1.0000, 0.5000, 3.0000) max (7.0000, 8.0000, 9.0000)",
+        "bounds:    min (-1.0000, 0.5000, 3.0000) max (1.0000, 2.0000, 4.0000)",
     ] {
         assert!(out.lines().any(|l| l == line), "{line:?} missing from:\n{out}");
     }
@@ -477,6 +476,47 @@ fn convert_to_data_says_what_it_drops() {
     assert_eq!(
         (data.strands.points, data.strands.counts),
         (from_gltf.points, from_gltf.counts)
+    );
+}
+
+#[test]
+fn convert_keeps_bare_roots_where_the_format_holds_them_and_says_which() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = |n: &str| dir.path().join(n).to_str().unwrap().to_owned();
+    std::fs::write(p("in.data"), hand_built_data()).unwrap();
+    let o = hairlab(&["convert", &p("in.data"), &p("out.data")]);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        format!(
+            "wrote {}: 2 strands, 3 points, 1 segments\nkept:      1 bare roots (strands of one vertex, after the \
+             strands drawn)\n",
+            p("out.data")
+        )
+    );
+    let back = read_data_file(std::path::Path::new(&p("out.data"))).unwrap();
+    assert_eq!(back.strands.counts, [2]);
+    assert_eq!(back.bare_roots, [Vec3::new(7.0, 8.0, 9.0)]);
+    let o = hairlab(&["convert", &p("in.data"), &p("out.hair")]);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    let hair = load_scene(std::path::Path::new(&p("out.hair"))).unwrap().strands;
+    assert_eq!(hair.counts, [2, 1]);
+    let o = hairlab(&["convert", &p("in.data"), &p("out.usda")]);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        format!(
+            "wrote {}: 1 strands, 2 points, 1 segments\ndropped:   1 bare roots (strands of one vertex: a .usda \
+             curve needs two points)\n",
+            p("out.usda")
+        )
+    );
+    assert_eq!(
+        load_scene(std::path::Path::new(&p("out.usda")))
+            .unwrap()
+            .strands
+            .counts,
+        [2]
     );
 }
 

@@ -283,24 +283,4 @@ mod tests {
         }
         assert!(hits > 500, "only {hits} rays hit");
     }
-
-    /// A one-off timing for the report (`cargo test --release --lib timing -- --ignored --nocapture`).
-    #[test]
-    #[ignore]
-    fn timing() {
-        let mut rng = SplitMix64::new(9);
-        let segs = random_scene(&mut rng, 50_000);
-        let start = std::time::Instant::now();
-        let bvh = Bvh::new(segs);
-        let build = start.elapsed();
-        let rays: Vec<Ray> = (0..200_000).map(|_| random_ray(&mut rng)).collect();
-        let start = std::time::Instant::now();
-        let hits = rays.iter().filter(|r| bvh.closest_hit(r, 10.0).is_some()).count();
-        let secs = start.elapsed().as_secs_f64();
-        eprintln!(
-            "50k segments: build {:.1} ms, {:.2} M closest-hit rays/s ({hits} hits)",
-            build.as_secs_f64() * 1e3,
-            rays.len() as f64 / secs / 1e6
-        );
-    }
 }

@@ -9,6 +9,7 @@ use plotters::prelude::*;
 use plotters::style::{Color as _, FontStyle, register_font};
 use std::sync::OnceLock;
 
+/// Registers [`FONT`] with plotters (once).
 fn font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| register_font(FAMILY, FontStyle::Normal, FONT).is_ok());

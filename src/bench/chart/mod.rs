@@ -252,6 +252,7 @@ impl Chart {
     }
 }
 
+/// The notes under a chart's title: the scene, then the device.
 fn scene_notes(preset: &str, s: &SceneStats, extra: &str) -> Vec<String> {
     vec![
         format!(
@@ -422,8 +423,6 @@ pub fn scaling_chart(r: &ScalingResult) -> Chart {
         front: None,
     }
 }
-
-/// Registers [`FONT`] with plotters (once).
 
 #[cfg(test)]
 mod tests {

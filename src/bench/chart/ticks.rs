@@ -103,8 +103,6 @@ pub(super) fn log_range(lo: f64, hi: f64) -> (f64, f64) {
     (below, above.max(below * 2.0))
 }
 
-/// The notes under a chart's title: the scene, then the device.
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,6 +8,7 @@ pub mod cli;
 pub mod fur;
 pub mod gpu;
 pub mod io;
+pub mod live_shaders;
 pub mod measure;
 pub mod methods;
 pub mod motion;

@@ -26,7 +26,7 @@ fn main() -> ExitCode {
     }
     if cli.command.is_some()
         && let Some(dir) = &cli.shaders
-        && let Err(e) = hairlab::shaders::live::load(dir)
+        && let Err(e) = hairlab::live_shaders::load(dir)
     {
         eprintln!("error: {e}");
         return ExitCode::FAILURE;

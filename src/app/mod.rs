@@ -175,7 +175,7 @@ pub struct HairlabApp {
     settle: jobs::Settle,
     settled: bool,
     /// The `--shaders` folder polled for changes (`shader_watch.rs`).
-    shaders: Option<crate::shaders::live::Watch>,
+    shaders: Option<crate::live_shaders::Watch>,
     /// Where exports go without a dialog (`exports.rs`).
     export_dir: Option<PathBuf>,
 }

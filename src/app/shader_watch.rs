@@ -1,9 +1,9 @@
-//! The window's live shaders (`--shaders DIR`, `crate::shaders::live`): the folder is polled every half second; a
+//! The window's live shaders (`--shaders DIR`, `crate::live_shaders`): the folder is polled every half second; a
 //! change that validates rebuilds every pipeline, one that does not shows its `file:line:column` error in the
 //! message line while the shaders in use stay.
 
 use super::HairlabApp;
-use crate::shaders::live::{POLL_INTERVAL, Watch};
+use crate::live_shaders::{POLL_INTERVAL, Watch};
 use std::path::Path;
 
 impl HairlabApp {

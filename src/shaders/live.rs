@@ -1,17 +1,10 @@
-//! Shaders from a folder (`--shaders DIR`, `HAIRLAB_SHADERS`): its `.wgsl` files replace the embedded ones of the
-//! same path relative to it (a file it lacks is the embedded one). Before a folder is used, every shader the
-//! program composes is composed from it and validated with naga ([`check_all`]); the first error is reported at its
-//! original `file:line:column`. The window polls the folder ([`Watch`]) and keeps the last folder that validated.
+//! A shaders folder (`--shaders DIR`, `HAIRLAB_SHADERS`) as read: its `.wgsl` files replace the embedded ones of
+//! the same path relative to it (a file it lacks is the embedded one). Checking every composition against it and
+//! watching it are `crate::live_shaders`' (above the method and technique registries it enumerates).
 
-use super::{Composition, SOURCES, ShaderError};
-use std::collections::HashSet;
-use std::hash::{DefaultHasher, Hash, Hasher};
+use super::{SOURCES, ShaderError};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::time::{Duration, Instant, SystemTime};
-
-/// How often [`Watch::poll`] looks at the folder's modification times.
-pub const POLL_INTERVAL: Duration = Duration::from_millis(500);
+use std::time::SystemTime;
 
 /// Why a shader folder cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -29,7 +22,7 @@ pub enum LiveError {
 }
 
 /// Every `.wgsl` file under a folder with its modification time and length, sorted by path.
-type Stamp = Vec<(PathBuf, Option<SystemTime>, u64)>;
+pub type Stamp = Vec<(PathBuf, Option<SystemTime>, u64)>;
 
 /// The `.wgsl` files of a shaders folder, read once.
 #[derive(Debug)]
@@ -47,7 +40,8 @@ fn read_err(path: &Path) -> impl FnOnce(std::io::Error) -> LiveError + '_ {
     }
 }
 
-fn stamp(dir: &Path) -> Result<Stamp, LiveError> {
+/// The `.wgsl` files under `dir` with their modification times and lengths: what a change of the folder changes.
+pub fn stamp(dir: &Path) -> Result<Stamp, LiveError> {
     fn walk(dir: &Path, out: &mut Stamp) -> Result<(), LiveError> {
         for entry in std::fs::read_dir(dir).map_err(read_err(dir))? {
             let path = entry.map_err(read_err(dir))?.path();
@@ -96,6 +90,11 @@ impl Folder {
         &self.dir
     }
 
+    /// The folder's [`Stamp`] when it was read.
+    pub fn stamp(&self) -> &Stamp {
+        &self.stamp
+    }
+
     /// The folder's files by path relative to it.
     pub fn paths(&self) -> impl Iterator<Item = &str> {
         self.files.iter().map(|(p, _)| p.as_str())
@@ -113,146 +112,5 @@ impl Folder {
     pub fn coverage(&self) -> (usize, usize) {
         let replaced = SOURCES.iter().filter(|(p, _)| self.file(p).is_some()).count();
         (replaced, SOURCES.len() - replaced)
-    }
-}
-
-/// Every composition the program builds a shader module from: each pass shader with every method lookup and
-/// technique store function it takes, every caster stage and every sort size.
-fn compositions(pass_files: &[&'static str]) -> Vec<Composition<'static>> {
-    use crate::render::eye::lists::SORT_SIZES;
-    let lookups: Vec<&'static str> = crate::methods::registry::all()
-        .iter()
-        .map(|m| m.lookup_wgsl())
-        .collect();
-    let techniques = crate::render::transparency::registry::all();
-    let stores: Vec<&'static str> = techniques.iter().map(|t| t.info().hair_wgsl).collect();
-    let casters: Vec<&'static str> = crate::render::LightStrands::ALL
-        .iter()
-        .map(|s| s.stage().wgsl)
-        .collect();
-    let own: Vec<&'static str> = techniques
-        .iter()
-        .flat_map(|t| t.info().pass_wgsl.iter().copied())
-        .collect();
-    let mut out = Vec::new();
-    let mut seen = HashSet::new();
-    for &path in pass_files.iter().chain(&own) {
-        if !seen.insert(path) {
-            continue;
-        }
-        let methods: Vec<Option<&'static str>> = if super::METHOD_PASSES.contains(&path) {
-            lookups.iter().copied().map(Some).collect()
-        } else {
-            vec![None]
-        };
-        let stores: Vec<Option<&'static str>> = if super::TECHNIQUE_PASSES.contains(&path) {
-            stores.iter().copied().map(Some).collect()
-        } else {
-            vec![None]
-        };
-        for &method in &methods {
-            for &technique in &stores {
-                for &caster in &casters {
-                    out.push(Composition {
-                        path,
-                        method,
-                        technique,
-                        caster: Some(caster),
-                        sizes: Some(&SORT_SIZES),
-                    });
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The pass shaders: the embedded files outside the folders of pasted pieces.
-fn pass_files() -> Vec<&'static str> {
-    SOURCES
-        .iter()
-        .map(|(p, _)| *p)
-        .filter(|p| {
-            !["common/", "methods/", "transparency/", "casters/"]
-                .iter()
-                .any(|d| p.starts_with(d))
-        })
-        .collect()
-}
-
-/// Composes every shader the program uses from `folder`'s files over the embedded ones and validates each with
-/// naga; the first error names its original file, line and column. Returns how many distinct shaders were
-/// validated.
-pub fn check_all(folder: Option<&Folder>) -> Result<usize, ShaderError> {
-    let passes = pass_files();
-    let mut checked = HashSet::new();
-    for what in compositions(&passes) {
-        let composed = super::compose_in(folder, &what)?;
-        let mut h = DefaultHasher::new();
-        composed.text.hash(&mut h);
-        if checked.insert(h.finish()) {
-            composed.check()?;
-        }
-    }
-    Ok(checked.len())
-}
-
-/// Reads `dir`, validates every shader composed from it ([`check_all`]) and makes it the folder every later
-/// composition reads ([`super::set_folder`]).
-pub fn load(dir: &Path) -> Result<Arc<Folder>, LiveError> {
-    let folder = Arc::new(Folder::read(dir)?);
-    check_all(Some(&folder))?;
-    super::set_folder(Some(folder.clone()));
-    Ok(folder)
-}
-
-/// A shaders folder the window polls: a change that validates becomes the folder in use; one that does not is
-/// reported once and the folder in use (the embedded shaders at first) stays.
-pub struct Watch {
-    dir: PathBuf,
-    /// The folder's stamp when last read (`None`: not read yet).
-    seen: Option<Stamp>,
-    next: Instant,
-}
-
-impl Watch {
-    /// Watches `dir`; the first [`Watch::poll`] loads it.
-    pub fn new(dir: &Path) -> Watch {
-        Watch {
-            dir: dir.to_path_buf(),
-            seen: None,
-            next: Instant::now(),
-        }
-    }
-
-    pub fn dir(&self) -> &Path {
-        &self.dir
-    }
-
-    /// At most every [`POLL_INTERVAL`]: when a file of the folder was added, removed or modified since the last
-    /// look, [`load`]s it: `Some(Ok)` when it is now in use (every pipeline should be rebuilt), `Some(Err)` when it
-    /// was refused (the shaders in use stay). `None` when nothing changed.
-    pub fn poll(&mut self) -> Option<Result<Arc<Folder>, LiveError>> {
-        let now = Instant::now();
-        if now < self.next {
-            return None;
-        }
-        self.next = now + POLL_INTERVAL;
-        let current = match stamp(&self.dir) {
-            Ok(s) => s,
-            Err(e) => {
-                // Report an unreadable folder once, as a change.
-                return (self.seen.replace(Vec::new()) != Some(Vec::new())).then_some(Err(e));
-            }
-        };
-        if self.seen.as_ref() == Some(&current) {
-            return None;
-        }
-        self.seen = Some(current);
-        let loaded = load(&self.dir);
-        if let Ok(folder) = &loaded {
-            self.seen = Some(folder.stamp.clone());
-        }
-        Some(loaded)
     }
 }

@@ -5,8 +5,9 @@ use crate::common::cli::{assert_fails, hairlab, stderr};
 use egui_kittest::Harness;
 use hairlab::app::{HairlabApp, wgpu_setup};
 use hairlab::gpu::AdapterPreference;
+use hairlab::live_shaders::check_all;
 use hairlab::shaders::SOURCES;
-use hairlab::shaders::live::{Folder, LiveError, check_all};
+use hairlab::shaders::live::{Folder, LiveError};
 use std::path::Path;
 
 /// The file the tests break: included by the eye and light passes.

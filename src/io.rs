@@ -122,6 +122,18 @@ pub fn write_atomic_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     Ok(())
 }
 
+/// `rows` as CSV text: a header from the first row's field names, then one line per row (none when empty).
+pub fn csv_text<T: serde::Serialize>(name: &str, rows: impl IntoIterator<Item = T>) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r).with_context(|| format!("cannot encode {name}"))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot encode {name}: {}", e.error()))?;
+    String::from_utf8(bytes).with_context(|| format!("cannot encode {name}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::{check_output, read_regular_file, write_atomic};

@@ -11,7 +11,8 @@ use super::compare_view::{CompareFrames, difference_image};
 use super::inspector::PlotKind;
 use super::{DialogPurpose, HairlabApp};
 use crate::bench;
-use crate::bench::report::{chart_files, csv_text, write_files};
+use crate::bench::report::{chart_files, write_files};
+use crate::io::csv_text;
 use std::path::{Path, PathBuf};
 
 /// What a window exports into a folder.

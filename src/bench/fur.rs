@@ -2,8 +2,9 @@
 //! fragments of one step) written as `fur.csv` (one row per blending: error, fragments, the paper's Table 1 rows)
 //! and `fur.json` (the same with the scene, the view and the device).
 
-use super::report::{csv_text, write_files};
+use super::report::write_files;
 use crate::fur::table::Table1;
+use crate::io::csv_text;
 use crate::measure::fur::{
     FurConfig, FurMeasurement, FurSceneStats, REFERENCE_LABEL, measure_each, usual_configs,
 };

@@ -17,7 +17,6 @@
 //! medians, the Pareto front and the fits, [`report`] the files, [`chart`] the charts, [`cli`] `hairlab bench`.
 
 pub mod chart;
-pub mod cli;
 pub mod fur;
 pub mod motion;
 pub mod report;
@@ -28,7 +27,6 @@ pub mod sweep;
 pub mod transparency;
 
 pub use chart::{CHART_SIZE, method_color, scaling_chart, speed_accuracy_chart};
-pub use cli::{BenchArgs, run_cli};
 pub use report::{
     prepare_out_dir, scaling_csv, scaling_passes_csv, scaling_points_csv, to_csv, to_json, write_results,
     write_scaling, write_scaling_tables, write_tables,

@@ -5,6 +5,7 @@
 
 use super::chart::{self, CHART_SIZE, Chart};
 use super::{BenchResult, ScalingResult, Spread};
+use crate::io::csv_text;
 use crate::methods::ParamValues;
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -55,18 +56,6 @@ fn params_text(p: &ParamValues) -> String {
         .map(|(k, v)| format!("{k}={v}"))
         .collect::<Vec<_>>()
         .join(";")
-}
-
-/// `rows` as CSV text: a header from the first row's field names, then one line per row (none when empty).
-pub(crate) fn csv_text<T: Serialize>(name: &str, rows: impl IntoIterator<Item = T>) -> Result<String> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in rows {
-        w.serialize(r).with_context(|| format!("cannot encode {name}"))?;
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| anyhow::anyhow!("cannot encode {name}: {}", e.error()))?;
-    String::from_utf8(bytes).with_context(|| format!("cannot encode {name}"))
 }
 
 /// `results.csv`: a header, then one row per configuration.

@@ -6,8 +6,9 @@
 //! `transparency_speed_vs_accuracy.png`/`.svg`.
 
 use super::chart::{Axis, Chart, Front, Mark, Point, Scale, Series};
-use super::report::{chart_files, csv_text, write_files};
+use super::report::{chart_files, write_files};
 use super::stats::pareto_front;
+use crate::io::csv_text;
 use crate::measure::transparency::{
     EyeStats, TechniqueConfig, TechniqueMeasurement, measure_each_on, measure_on,
 };

@@ -1,8 +1,8 @@
-//! The headless command line, one file per subcommand (`bench`'s lives in `crate::bench::cli`). With no
-//! subcommand, `hairlab` opens the workbench window. Every failure is one line naming the file and the problem,
+//! The headless command line, one file per subcommand. With no subcommand, `hairlab` opens the workbench window. Every failure is one line naming the file and the problem,
 //! and a non-zero exit; outputs are written whole.
 
 pub mod adapters;
+pub mod bench;
 pub mod compare;
 pub mod composite;
 pub mod convert;
@@ -103,7 +103,7 @@ pub enum Command {
     Measure(MeasureArgs),
     /// Sweep every method's parameters on a preset's scene and chart GPU time against map error: results.csv,
     /// results.json and speed_vs_accuracy.png/.svg (Pareto front marked); `--scaling` fits GPU time per segment.
-    Bench(crate::bench::BenchArgs),
+    Bench(bench::BenchArgs),
     /// Render many frames while the light turns and the method changes, and check that neither the process's
     /// resident memory nor the GPU memory grows (last cycle of methods against the first, at most 5 %).
     Soak(SoakArgs),
@@ -130,7 +130,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Composite(a) => composite::composite(&a),
         Command::Compare(a) => compare::compare_images(&a),
         Command::Measure(a) => measure::measure(&a),
-        Command::Bench(a) => crate::bench::run_cli(&a),
+        Command::Bench(a) => bench::run_cli(&a),
         Command::Soak(a) => soak::soak(&a),
         Command::Simulate(a) => simulate::simulate(&a),
         Command::Adapters => adapters::adapters(),

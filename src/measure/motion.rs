@@ -520,7 +520,7 @@ impl MotionMeasurement {
     /// `motion_summary.csv`: one row per configuration (the per-frame errors' means over the frames, the
     /// flicker figures pooled over the frame pairs, the median GPU ms).
     pub fn summary_csv(&self) -> Result<String> {
-        crate::bench::report::csv_text(
+        crate::io::csv_text(
             "motion_summary.csv",
             self.rows.iter().map(|r| SummaryRow {
                 config: r.config.label(),
@@ -539,7 +539,7 @@ impl MotionMeasurement {
 
     /// `motion_frames.csv`: one row per configuration and frame.
     pub fn frames_csv(&self) -> Result<String> {
-        crate::bench::report::csv_text("motion_frames.csv", self.rows.iter().flat_map(|r| &r.frames))
+        crate::io::csv_text("motion_frames.csv", self.rows.iter().flat_map(|r| &r.frames))
     }
 
     /// `motion_point.csv` (with a followed point): one row per configuration and frame, the method's and the
@@ -562,7 +562,7 @@ impl MotionMeasurement {
                 }),
             })
         });
-        crate::bench::report::csv_text("motion_point.csv", rows).map(Some)
+        crate::io::csv_text("motion_point.csv", rows).map(Some)
     }
 
     /// The summary table: one line per configuration.

@@ -1,6 +1,6 @@
 //! `hairlab bench`: the arguments, the run, and the tables printed on stdout.
 
-use super::{
+use crate::bench::{
     BenchResult, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP, Progress,
     ScalingFit, ScalingPlan, ScalingResult, TerminalProgress, parse_methods, parse_metric, prepare_out_dir,
     run_each, run_scaling, scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
@@ -47,7 +47,7 @@ pub enum BenchMode {
     /// Each configuration over a preset's motion (`measure motion`'s rows) charted as GPU time against a
     /// temporal metric (--metric: flicker, flicker-p99, pop-rate, image-flicker) with the Pareto front:
     /// motion_summary.csv, motion_frames.csv, motion_speed_vs_<metric>.png/.svg.
-    Motion(super::motion::MotionBenchArgs),
+    Motion(crate::bench::motion::MotionBenchArgs),
 }
 
 /// The scene, the timing and the output folder, shared by every mode.
@@ -77,8 +77,8 @@ pub struct ShadowsBenchArgs {
     pub methods: Vec<String>,
     /// The accuracy metric of the chart, the table and the Pareto front (every metric is in the CSV and the
     /// JSON whichever is chosen).
-    #[arg(long, default_value = super::DEFAULT_ACCURACY_METRIC,
-          value_parser = clap::builder::PossibleValuesParser::new(super::accuracy_metrics().map(|(n, _)| n)))]
+    #[arg(long, default_value = crate::bench::DEFAULT_ACCURACY_METRIC,
+          value_parser = clap::builder::PossibleValuesParser::new(crate::bench::accuracy_metrics().map(|(n, _)| n)))]
     pub metric: String,
 }
 
@@ -120,9 +120,9 @@ pub struct LegacyBenchArgs {
     pub set: Vec<String>,
     #[arg(long, value_delimiter = ',', hide = true, conflicts_with_all = ["transparency", "fur"])]
     pub methods: Vec<String>,
-    #[arg(long, default_value = super::DEFAULT_ACCURACY_METRIC, hide = true,
+    #[arg(long, default_value = crate::bench::DEFAULT_ACCURACY_METRIC, hide = true,
           conflicts_with_all = ["scaling", "transparency", "fur"],
-          value_parser = clap::builder::PossibleValuesParser::new(super::accuracy_metrics().map(|(n, _)| n)))]
+          value_parser = clap::builder::PossibleValuesParser::new(crate::bench::accuracy_metrics().map(|(n, _)| n)))]
     pub metric: String,
     #[arg(long, default_value_t = 5, hide = true)]
     pub frames: u32,
@@ -150,7 +150,7 @@ impl LegacyBenchArgs {
             preset: scene.preset.clone(),
             set: scene.set.clone(),
             methods: Vec::new(),
-            metric: super::DEFAULT_ACCURACY_METRIC.to_string(),
+            metric: crate::bench::DEFAULT_ACCURACY_METRIC.to_string(),
             frames: scene.frames,
             scaling: false,
             transparency: false,
@@ -211,7 +211,7 @@ impl BenchMode {
 /// `hairlab bench`.
 pub fn run_cli(args: &BenchArgs) -> Result<()> {
     let a = match &args.mode {
-        Some(BenchMode::Motion(m)) => return super::motion::run(m),
+        Some(BenchMode::Motion(m)) => return crate::bench::motion::run(m),
         Some(mode) => mode.flags().context("a bench mode without flags")?,
         None => {
             if args.legacy.max_segments.is_some() && !args.legacy.scaling {
@@ -242,9 +242,9 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         // Ctrl-C stops after the configuration in progress; fur.csv and fur.json are rewritten whole after each
         // one.
         let configs = crate::measure::fur::usual_configs();
-        let interrupted = crate::cli::interrupt::flag();
+        let interrupted = super::interrupt::flag();
         let mut written = Ok(());
-        let b = super::fur::FurBench::run_each(&settings, &a.preset, &configs, a.frames, |partial| {
+        let b = crate::bench::fur::FurBench::run_each(&settings, &a.preset, &configs, a.frames, |partial| {
             written = partial.write(&out).map(|_| ());
             if written.is_err() || interrupted.load(std::sync::atomic::Ordering::SeqCst) {
                 std::ops::ControlFlow::Break(())
@@ -257,7 +257,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             println!("wrote {}", f.display());
         }
         if b.rows.len() < configs.len() {
-            return Err(crate::cli::interrupt::Interrupted { done: b.rows.len() }.into());
+            return Err(super::interrupt::Interrupted { done: b.rows.len() }.into());
         }
         return Ok(());
     }
@@ -267,10 +267,10 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
             crate::gpu::AdapterPreference::Hardware,
         ))?;
-        let configs = super::transparency::sweep_configs();
-        let interrupted = crate::cli::interrupt::flag();
+        let configs = crate::bench::transparency::sweep_configs();
+        let interrupted = super::interrupt::flag();
         let mut written = Ok(());
-        let b = super::transparency::TransparencyBench::run_each(
+        let b = crate::bench::transparency::TransparencyBench::run_each(
             &gpu,
             &settings,
             &a.preset,
@@ -292,7 +292,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             println!("wrote {}", f.display());
         }
         if b.rows.len() < configs.len() {
-            return Err(crate::cli::interrupt::Interrupted { done: b.rows.len() }.into());
+            return Err(super::interrupt::Interrupted { done: b.rows.len() }.into());
         }
         return Ok(());
     }
@@ -307,7 +307,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             warmup: a.warmup.unwrap_or(DEFAULT_SCALING_WARMUP),
             rasters: parse_rasters(&a.raster, settings.render.raster)?,
         };
-        let interrupted = crate::cli::interrupt::flag();
+        let interrupted = super::interrupt::flag();
         let mut written = |partial: &ScalingResult| write_scaling_tables(&out, partial).map(|_| ());
         let r = run_scaling(
             &settings,
@@ -324,7 +324,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             println!("wrote {}", f.display());
         }
         if r.cancelled {
-            return Err(crate::cli::interrupt::Interrupted {
+            return Err(super::interrupt::Interrupted {
                 done: r.densities.len() * plan.rasters.len() * configs.len(),
             }
             .into());
@@ -333,7 +333,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     }
     // Ctrl-C stops after the configuration in progress; results.csv and results.json are rewritten whole after
     // each one.
-    let interrupted = crate::cli::interrupt::flag();
+    let interrupted = super::interrupt::flag();
     let mut write = |partial: &BenchResult| {
         let mut partial = partial.clone();
         partial.metric = metric;
@@ -350,7 +350,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     )?;
     drop(bar);
     let Some(mut result) = result else {
-        return Err(crate::cli::interrupt::Interrupted { done: 0 }.into());
+        return Err(super::interrupt::Interrupted { done: 0 }.into());
     };
     result.metric = metric;
     print_table(&result);
@@ -358,7 +358,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         println!("wrote {}", f.display());
     }
     if result.cancelled {
-        return Err(crate::cli::interrupt::Interrupted {
+        return Err(super::interrupt::Interrupted {
             done: result.rows.len(),
         }
         .into());
@@ -396,7 +396,7 @@ fn print_table(result: &BenchResult) {
     println!("Pareto front (fastest first): {}", names.join(" -> "));
 }
 
-fn print_transparency(b: &super::transparency::TransparencyBench) {
+fn print_transparency(b: &crate::bench::transparency::TransparencyBench) {
     let s = &b.stats;
     println!(
         "preset {}: {} strands, {} segments, view {}x{}, eye depth complexity max {} mean {:.1}, {} frames, on {}",
@@ -435,8 +435,8 @@ fn print_transparency(b: &super::transparency::TransparencyBench) {
             "t(depth peel) / t(occupancy order) = {ratio:.2} at {} layers (the deepest pixel); the paper: {:.2} at {} \
              layers (Fig. 2, 51 / 4.01 fps)",
             s.max_depth_complexity,
-            super::transparency::PAPER_PEEL_RATIO,
-            super::transparency::PAPER_PEEL_LAYERS
+            crate::bench::transparency::PAPER_PEEL_RATIO,
+            crate::bench::transparency::PAPER_PEEL_LAYERS
         ),
         None => println!("t(depth peel) / t(occupancy order): not measured (no timestamps on this device?)"),
     }

@@ -90,9 +90,13 @@ pub fn fresnel(cos_theta: f32) -> f32 {
     f0 + (1.0 - f0) * m * m * m * m * m
 }
 
-/// Absorption coefficient per unit fibre radius from a linear hair colour (Chiang et al. 2016's fit).
+/// Absorption coefficient per unit fibre radius from a linear hair colour (Chiang et al. 2016's fit) at [`BETA_N`].
 pub fn absorption(colour: Vec3) -> Vec3 {
-    let b = BETA_N;
+    absorption_for(colour, BETA_N)
+}
+
+/// Chiang et al. 2016's colour inversion for azimuthal roughness `b` (β_n).
+pub fn absorption_for(colour: Vec3, b: f32) -> Vec3 {
     let d = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * b * b * b
         + 5.574 * b * b * b * b
         + 0.245 * b * b * b * b * b;

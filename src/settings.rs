@@ -303,6 +303,13 @@ impl Settings {
                 r.map_resolution
             );
         }
+        if !(1..=crate::render::render_settings::MAX_SPP).contains(&r.spp) {
+            bail!(
+                "render.spp must be in 1..={} (got {})",
+                crate::render::render_settings::MAX_SPP,
+                r.spp
+            );
+        }
         if !(r.hair_alpha > 0.0 && r.hair_alpha <= 1.0) {
             bail!("render.hair_alpha must be in (0, 1] (got {})", r.hair_alpha);
         }
@@ -542,6 +549,23 @@ mod tests {
     fn builtin_presets_parse_and_validate() {
         for (name, _) in BUILTIN_PRESETS {
             Settings::load_preset(name, &[]).unwrap_or_else(|e| panic!("preset {name}: {e:#}"));
+        }
+    }
+
+    #[test]
+    fn render_mode_and_spp_parse_and_spp_is_bounded() {
+        let s =
+            Settings::load_preset("default", &["render.mode=path".into(), "render.spp=4".into()]).unwrap();
+        assert_eq!(s.render.mode, crate::render::render_settings::RenderMode::Path);
+        assert_eq!(s.render.spp, 4);
+        for spp in ["0", "65537"] {
+            let e = Settings::load_preset("default", &[format!("render.spp={spp}")]).unwrap_err();
+            let text = format!("{e:#}");
+            assert!(
+                text.contains(&format!("render.spp must be in 1..=65536 (got {spp})")),
+                "{text}"
+            );
+            assert_eq!(text.lines().count(), 1, "{text}");
         }
     }
 

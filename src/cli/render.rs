@@ -1,11 +1,16 @@
-//! `hairlab render`: a preset rendered headlessly to a PNG, the same image the window shows.
+//! `hairlab render`: a preset rendered headlessly to a PNG, the same image the window shows; under
+//! `render.mode = path`, the CPU path-traced reference of its still scene instead.
 
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
 use crate::animation::{encode_png, frame_file_name};
+use crate::pathtrace::{bvh::Bvh, fibre, integrator};
+use crate::render::render_settings::RenderMode;
+use crate::scene::LightKind;
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
+use std::sync::atomic::Ordering;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -28,7 +33,7 @@ pub struct RenderArgs {
     /// folder `--out`, or, when `--out` ends in `.gif`, as one animated GIF at the motion's frame rate (looping).
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
-    /// Output PNG path (with `--frames`: a folder, or an animated `.gif`).
+    /// Output PNG path (with `--frames`: a folder, or an animated `.gif`; under `render.mode = path`, a `.png`).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -48,6 +53,10 @@ pub fn parse_frame_range(text: &str) -> Result<std::ops::Range<u32>> {
 }
 
 pub(super) fn render(a: &RenderArgs) -> Result<()> {
+    let mut settings = Settings::load_preset(&a.preset, &a.set)?;
+    if settings.render.mode == RenderMode::Path {
+        return path_render(a, settings);
+    }
     let range = a.frames.as_deref().map(parse_frame_range).transpose()?;
     let gif = range.is_some() && a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif"));
     if range.is_none() {
@@ -55,7 +64,6 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
     } else if gif {
         crate::io::check_output(&a.out, "gif")?;
     }
-    let mut settings = Settings::load_preset(&a.preset, &a.set)?;
     // The image size flags apply after the preset and its overrides, and are checked as themselves.
     settings.render.width = a.width.unwrap_or(settings.render.width);
     settings.render.height = a.height.unwrap_or(settings.render.height);
@@ -103,5 +111,80 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// `render.mode = path`: the still scene's fibres (widths from `render.strand_width`) path-traced on the CPU
+/// under the preset's camera and directional light, `render.spp` samples per pixel in passes, progress on
+/// stderr. Ctrl-C stops after the pass in progress and writes the image of the samples taken so far.
+fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
+    if a.frame.is_some() || a.frames.is_some() {
+        anyhow::bail!(
+            "render.mode=path renders the still scene: --frame and --frames are for render.mode=raster"
+        );
+    }
+    crate::io::check_output(&a.out, "png")?;
+    settings.render.width = a.width.unwrap_or(settings.render.width);
+    settings.render.height = a.height.unwrap_or(settings.render.height);
+    settings.validate().context("--width/--height")?;
+    if settings.light.kind != LightKind::Directional {
+        anyhow::bail!(
+            "render.mode=path lights the scene with a directional light only (light.kind = directional)"
+        );
+    }
+    let scene = settings.scene.build()?;
+    if settings.camera.distance <= 0.0 {
+        settings.camera.frame(&scene.framing_bounds());
+    }
+    let start = std::time::Instant::now();
+    let bvh = Bvh::new(fibre::segments(&scene.strands, settings.render.strand_width));
+    let r = &settings.render;
+    let s = integrator::Settings {
+        width: r.width as usize,
+        height: r.height as usize,
+        samples: r.spp,
+        seed: 0,
+        max_depth: 32,
+        albedo: glam::Vec3::from(r.hair_color),
+    };
+    let light = integrator::DirectionalLight {
+        to_light: settings.light.to_light(),
+        irradiance: glam::Vec3::from(settings.light.color) * settings.light.intensity,
+    };
+    eprintln!(
+        "path: {} segments, BVH in {:.0} ms; {}×{} at {} spp",
+        bvh.segments().len(),
+        start.elapsed().as_secs_f64() * 1e3,
+        s.width,
+        s.height,
+        s.samples
+    );
+    let interrupted = super::interrupt::flag();
+    let pass = s.samples.div_ceil(20);
+    let (image, done) = integrator::render_in_passes(&bvh, &settings.camera, &light, &s, pass, &mut |n| {
+        eprintln!(
+            "path: {n}/{} spp ({:.0}%, {:.1} s)",
+            s.samples,
+            100.0 * n as f64 / s.samples as f64,
+            start.elapsed().as_secs_f64()
+        );
+        !interrupted.load(Ordering::SeqCst)
+    });
+    let rgba: Vec<[f32; 4]> = image.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
+    let png = crate::measure::fur::over_black(&rgba, r.width, r.height);
+    crate::io::write_atomic(&a.out, &encode_png(&png)?)?;
+    if done < s.samples {
+        eprintln!(
+            "interrupted (Ctrl-C) at {done} of {} samples per pixel: the image holds those {done}",
+            s.samples
+        );
+    }
+    println!(
+        "wrote {} ({}×{}, path-traced, {done} spp, {:.1} s)",
+        a.out.display(),
+        r.width,
+        r.height,
+        start.elapsed().as_secs_f64()
+    );
     Ok(())
 }

@@ -118,28 +118,62 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
 
 /// The image, row after row, `width × height` linear RGB.
 pub fn render(bvh: &Bvh, camera: &Camera, light: &DirectionalLight, s: &Settings) -> Vec<Vec3> {
-    let mut image = vec![Vec3::ZERO; s.width * s.height];
+    render_in_passes(bvh, camera, light, s, s.samples, &mut |_| true).0
+}
+
+/// [`render`] in passes of `pass` samples per pixel, `after_pass(samples so far)` told after each; it stops early
+/// when that returns `false`. Returns the mean over the samples taken and their count per pixel. Sample `k` of a
+/// pixel has its own stream and the sums run in sample order, so the image is [`render`]'s whatever `pass`.
+pub fn render_in_passes(
+    bvh: &Bvh,
+    camera: &Camera,
+    light: &DirectionalLight,
+    s: &Settings,
+    pass: u32,
+    after_pass: &mut dyn FnMut(u32) -> bool,
+) -> (Vec<Vec3>, u32) {
+    let mut sums = vec![Vec3::ZERO; s.width * s.height];
+    let mut done = 0;
+    while done < s.samples {
+        let next = (done + pass.max(1)).min(s.samples);
+        accumulate(bvh, camera, light, s, done..next, &mut sums);
+        done = next;
+        if !after_pass(done) {
+            break;
+        }
+    }
+    let scale = 1.0 / done.max(1) as f32;
+    (sums.into_iter().map(|v| v * scale).collect(), done)
+}
+
+/// Adds the radiance of samples `samples` of every pixel to `sums`.
+fn accumulate(
+    bvh: &Bvh,
+    camera: &Camera,
+    light: &DirectionalLight,
+    s: &Settings,
+    samples: std::ops::Range<u32>,
+    sums: &mut [Vec3],
+) {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let band = s.height.div_ceil(threads).max(1) * s.width;
     std::thread::scope(|scope| {
-        for (b, rows) in image.chunks_mut(band.max(1)).enumerate() {
+        for (b, rows) in sums.chunks_mut(band.max(1)).enumerate() {
+            let samples = samples.clone();
             scope.spawn(move || {
                 for (k, px) in rows.iter_mut().enumerate() {
                     let pixel = b * band + k;
                     let (x, y) = (pixel % s.width, pixel / s.width);
-                    let mut sum = Vec3::ZERO;
-                    for sample in 0..s.samples {
+                    for sample in samples.clone() {
                         let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
                         let (jx, jy) = (rng.unit(), rng.unit());
                         let ray = camera_ray(camera, s.width, s.height, x as f32 + jx, y as f32 + jy);
-                        sum += radiance(bvh, light, s, ray, &mut rng);
+                        *px += radiance(bvh, light, s, ray, &mut rng);
                     }
-                    *px = sum / s.samples.max(1) as f32;
                 }
             });
         }
     });
-    image
 }
 
 #[cfg(test)]
@@ -196,6 +230,10 @@ mod tests {
         assert_eq!(a, render(&bvh, &camera(), &light, &settings(1)));
         assert_ne!(a, render(&bvh, &camera(), &light, &settings(2)));
         assert!(a.iter().any(|p| p.max_element() > 0.0));
+        let (passes, done) = render_in_passes(&bvh, &camera(), &light, &settings(1), 3, &mut |_| true);
+        assert_eq!((passes, done), (a, 4));
+        let (_, stopped) = render_in_passes(&bvh, &camera(), &light, &settings(1), 1, &mut |n| n < 2);
+        assert_eq!(stopped, 2);
     }
 
     /// A lone fibre along x through the view's centre, lit from the camera: pixels whose four corner rays all

@@ -55,6 +55,24 @@ pub struct RenderSettings {
     /// method's visibility over the `s × s` sub-texels of the point's `map_resolution` texel
     /// ([`crate::visibility::lookup`]). 1 is the plain lookup.
     pub light_supersample: u32,
+    /// `raster` (the GPU methods) or `path` (the CPU path-traced reference; `hairlab render` only).
+    pub mode: RenderMode,
+    /// Samples per pixel under `mode = path`, 1..=[`MAX_SPP`].
+    pub spp: u32,
+}
+
+/// The most samples per pixel `render.spp` takes.
+pub const MAX_SPP: u32 = 65536;
+
+/// Which renderer `hairlab render` runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RenderMode {
+    /// The GPU rasteriser with the chosen shadow method and transparency technique.
+    #[default]
+    Raster,
+    /// The CPU path tracer over round fibres (`crate::pathtrace`).
+    Path,
 }
 
 /// The values `render.light_supersample` takes.
@@ -86,6 +104,8 @@ impl Default for RenderSettings {
             raster: Raster::Hardware,
             raster_tile: 0,
             light_supersample: 1,
+            mode: RenderMode::Raster,
+            spp: 16,
         }
     }
 }

@@ -44,6 +44,7 @@ mod methods_gpu;
 mod motion;
 mod motion_claims;
 mod motion_colliders;
+mod path_render;
 mod presets;
 mod reference;
 mod ribbons;

@@ -6,6 +6,10 @@
 //! `hairlab measure motion --point FIRST:T` (`motion_point.csv`, `motion_frames.csv`): the same
 //! [`measure_motion`] runs on a worker thread with its own renderer, so the window keeps answering, a progress bar
 //! shows how far it is, and Cancel stops it and keeps the previous figures.
+//!
+//! Readable at twenty configurations: the frame axis spans exactly the frames computed; the legend is a list
+//! beside the charts (never over them) whose boxes hide or show a configuration; each method family has its own
+//! hue with a shade per configuration; hovering a curve names it.
 
 use super::inspector::method_color;
 use crate::gpu::Gpu;
@@ -16,7 +20,8 @@ use crate::methods::registry;
 use crate::scene::Strands;
 use crate::settings::Settings;
 use egui::Color32;
-use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoints, Points, VLine};
+use egui_plot::{HoverPosition, Line, MarkerShape, Plot, PlotPoints, Points, VLine};
+use std::collections::BTreeSet;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
@@ -62,6 +67,19 @@ pub struct TimeView {
     running: Option<Running>,
     result: Option<MotionMeasurement>,
     error: Option<String>,
+    /// Configurations (labels) the legend's boxes hide.
+    hidden: BTreeSet<String>,
+    /// Where the last drawing put the charts and the legend.
+    layout: Option<TimeViewLayout>,
+}
+
+/// Where the time view drew: the visibility chart's x bounds (frames) and data rectangle, and the legend's
+/// rectangle (screen points).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimeViewLayout {
+    pub x_bounds: [f64; 2],
+    pub plot: egui::Rect,
+    pub legend: egui::Rect,
 }
 
 impl TimeView {
@@ -218,99 +236,202 @@ impl TimeView {
         let Some(m) = &self.result else {
             return action;
         };
-        let seek = charts(ui, m, frame);
+        let (seek, layout) = charts(ui, m, frame, &mut self.hidden);
+        self.layout = Some(layout);
         action.or(seek.map(TimeViewAction::Seek))
+    }
+
+    /// Where the last drawing put the charts and the legend (`None` before figures were shown).
+    pub fn layout(&self) -> Option<TimeViewLayout> {
+        self.layout
     }
 }
 
-/// A configuration's colour: its method's.
-fn color_of(label: &str) -> Color32 {
-    let name = label.split(':').next().unwrap_or(label);
-    registry::find(name).map_or(Color32::GRAY, method_color)
+/// Each configuration's colour: its method family's hue, a shade per configuration of the family (darkest first).
+fn colors(labels: &[String]) -> Vec<Color32> {
+    let family = |l: &str| l.split(':').next().unwrap_or(l).to_string();
+    labels
+        .iter()
+        .map(|label| {
+            let name = family(label);
+            let base = registry::find(&name).map_or(Color32::GRAY, method_color);
+            let siblings: Vec<&String> = labels.iter().filter(|l| family(l) == name).collect();
+            let k = siblings.iter().position(|l| *l == label).unwrap_or(0);
+            if siblings.len() < 2 {
+                return base;
+            }
+            // From 55 % of the hue's brightness to a mix half-way to white.
+            let t = k as f32 / (siblings.len() - 1) as f32;
+            let shade = |c: u8| {
+                let c = f32::from(c);
+                let dark = c * 0.55;
+                let light = c + (255.0 - c) * 0.5;
+                (dark + (light - dark) * t).round() as u8
+            };
+            Color32::from_rgb(shade(base.r()), shade(base.g()), shade(base.b()))
+        })
+        .collect()
 }
 
 fn frame_series(values: impl Iterator<Item = f64>) -> PlotPoints<'static> {
     values.enumerate().map(|(f, v)| [f as f64, v]).collect()
 }
 
-/// The visibility-over-time chart and the whole-map error strip chart; a click on either gives its frame.
-fn charts(ui: &mut egui::Ui, m: &MotionMeasurement, frame: u32) -> Option<u32> {
+/// Width of the legend list beside the charts.
+const LEGEND_WIDTH: f32 = 230.0;
+
+/// The visibility-over-time chart and the whole-map error strip chart, with the legend list beside them; a click
+/// on either chart gives its frame.
+fn charts(
+    ui: &mut egui::Ui,
+    m: &MotionMeasurement,
+    frame: u32,
+    hidden: &mut BTreeSet<String>,
+) -> (Option<u32>, TimeViewLayout) {
     let text = ui.visuals().text_color();
+    let labels: Vec<String> = m.rows.iter().map(|r| r.config.label()).collect();
+    let colors = colors(&labels);
+    let last = f64::from(m.frames.max(2) - 1);
     let mut seek = None;
-    let height = (ui.available_height() * 0.62).max(160.0);
-    let legend = || {
-        Legend::default()
-            .text_style(egui::TextStyle::Small)
-            .position(egui_plot::Corner::RightTop)
-    };
-    let mut clicked = |p: &egui_plot::PlotUi<'_>| {
-        if p.response().clicked()
-            && let Some(c) = p.pointer_coordinate()
-        {
-            seek = Some(c.x.round().clamp(0.0, f64::from(m.frames - 1)) as u32);
-        }
-    };
-    Plot::new("time_view_visibility")
-        .legend(legend())
-        .height(height)
-        .x_axis_label("frame")
-        .y_axis_label("V at the point")
-        .include_y(0.0)
-        .include_y(1.05)
-        .show(ui, |p| {
-            if let Some((_, reference)) = &m.followed {
-                p.line(
-                    Line::new(
-                        registry::reference().name(),
-                        frame_series(reference.iter().map(|&v| f64::from(v))),
-                    )
-                    .color(text)
-                    .width(2.0),
-                );
-                for r in &m.rows {
-                    let label = r.config.label();
-                    let color = color_of(&label);
-                    p.line(
-                        Line::new(
-                            label.clone(),
-                            frame_series(r.followed.iter().map(|&v| f64::from(v))),
-                        )
-                        .color(color)
-                        .width(1.5),
-                    );
-                    let pops: PlotPoints = followed_pops(&r.followed, reference)
-                        .into_iter()
-                        .map(|(f, _)| [f as f64, f64::from(r.followed[f])])
-                        .collect();
-                    // Unnamed: the pops share their configuration's colour and stay out of the legend.
-                    p.points(
-                        Points::new("", pops)
-                            .shape(MarkerShape::Circle)
-                            .filled(false)
-                            .radius(6.0)
-                            .color(color),
-                    );
+    let mut plot_rect = egui::Rect::NOTHING;
+    let mut legend_rect = egui::Rect::NOTHING;
+    let mut x_bounds = [0.0, 0.0];
+    let height = ui.available_height();
+    ui.horizontal_top(|ui| {
+        let width = (ui.available_width() - LEGEND_WIDTH - 12.0).max(200.0);
+        ui.vertical(|ui| {
+            ui.set_width(width);
+            let mut clicked = |p: &egui_plot::PlotUi<'_>| {
+                if p.response().clicked()
+                    && let Some(c) = p.pointer_coordinate()
+                {
+                    seek = Some(c.x.round().clamp(0.0, last) as u32);
                 }
-            }
-            p.vline(VLine::new("timeline frame", f64::from(frame)).color(Color32::YELLOW));
-            clicked(p);
+            };
+            // The timeline's frame is marked only when it lies among the frames computed.
+            let marker = (frame < m.frames)
+                .then(|| VLine::new("timeline frame", f64::from(frame)).color(Color32::YELLOW));
+            let plot = |id: &str| {
+                Plot::new((id.to_string(), m.frames))
+                    .width(width)
+                    .default_x_bounds(0.0, last)
+                    .x_axis_label("frame")
+                    .label_formatter(|pos| {
+                        Some(match pos {
+                            HoverPosition::NearDataPoint {
+                                plot_name, position, ..
+                            } if !plot_name.is_empty() => {
+                                format!("{plot_name}\nframe {:.0}: {:.3}", position.x, position.y)
+                            }
+                            HoverPosition::NearDataPoint { position, .. }
+                            | HoverPosition::Elsewhere { position } => {
+                                format!("frame {:.0}: {:.3}", position.x, position.y)
+                            }
+                        })
+                    })
+            };
+            let r = plot("time_view_visibility")
+                .height((height * 0.62).max(160.0))
+                .y_axis_label("V at the point")
+                .include_y(0.0)
+                .include_y(1.05)
+                .show(ui, |p| {
+                    if let Some((_, reference)) = &m.followed {
+                        p.line(
+                            Line::new(
+                                registry::reference().name(),
+                                frame_series(reference.iter().map(|&v| f64::from(v))),
+                            )
+                            .color(text)
+                            .width(2.0),
+                        );
+                        for ((r, label), &color) in m.rows.iter().zip(&labels).zip(&colors) {
+                            if hidden.contains(label) {
+                                continue;
+                            }
+                            p.line(
+                                Line::new(
+                                    label.clone(),
+                                    frame_series(r.followed.iter().map(|&v| f64::from(v))),
+                                )
+                                .color(color)
+                                .width(1.5),
+                            );
+                            let pops: PlotPoints = followed_pops(&r.followed, reference)
+                                .into_iter()
+                                .map(|(f, _)| [f as f64, f64::from(r.followed[f])])
+                                .collect();
+                            // Unnamed: the pops share their configuration's colour.
+                            p.points(
+                                Points::new("", pops)
+                                    .shape(MarkerShape::Circle)
+                                    .filled(false)
+                                    .radius(6.0)
+                                    .color(color),
+                            );
+                        }
+                    }
+                    if let Some(v) = marker.clone() {
+                        p.vline(v);
+                    }
+                    clicked(p);
+                });
+            plot_rect = *r.transform.frame();
+            let b = r.transform.bounds();
+            x_bounds = [b.min()[0], b.max()[0]];
+            plot("time_view_map_error")
+                .height((ui.available_height() - 8.0).max(100.0))
+                .y_axis_label("map error")
+                .include_y(0.0)
+                .show(ui, |p| {
+                    for ((r, label), &color) in m.rows.iter().zip(&labels).zip(&colors) {
+                        if !hidden.contains(label) {
+                            p.line(
+                                Line::new(label.clone(), frame_series(r.frames.iter().map(|f| f.map_error)))
+                                    .color(color),
+                            );
+                        }
+                    }
+                    if let Some(v) = marker {
+                        p.vline(v);
+                    }
+                    clicked(p);
+                });
         });
-    Plot::new("time_view_map_error")
-        .legend(legend())
-        .height((ui.available_height() - 8.0).max(100.0))
-        .x_axis_label("frame")
-        .y_axis_label("map error")
-        .include_y(0.0)
-        .show(ui, |p| {
-            for r in &m.rows {
-                let label = r.config.label();
-                p.line(
-                    Line::new(label.clone(), frame_series(r.frames.iter().map(|f| f.map_error)))
-                        .color(color_of(&label)),
-                );
-            }
-            p.vline(VLine::new("timeline frame", f64::from(frame)).color(Color32::YELLOW));
-            clicked(p);
-        });
-    seek
+        legend_rect = ui
+            .vertical(|ui| {
+                ui.set_width(LEGEND_WIDTH);
+                egui::ScrollArea::vertical()
+                    .id_salt("time_view_legend")
+                    .show(ui, |ui| {
+                        ui.label(
+                            egui::RichText::new(registry::reference().name())
+                                .color(text)
+                                .strong(),
+                        );
+                        for (label, &color) in labels.iter().zip(&colors) {
+                            let mut shown = !hidden.contains(label);
+                            if ui
+                                .checkbox(&mut shown, egui::RichText::new(label).color(color).small())
+                                .on_hover_text("show or hide this configuration")
+                                .changed()
+                            {
+                                if shown {
+                                    hidden.remove(label);
+                                } else {
+                                    hidden.insert(label.clone());
+                                }
+                            }
+                        }
+                    });
+            })
+            .response
+            .rect;
+    });
+    let layout = TimeViewLayout {
+        x_bounds,
+        plot: plot_rect,
+        legend: legend_rect,
+    };
+    (seek, layout)
 }

@@ -857,7 +857,16 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
         waited += 1;
         assert!(waited < 3000, "the time view did not finish in 10 minutes");
     }
+    harness.step();
     let view = harness.state().time_view();
+    // The frame axis spans exactly the frames computed, and the legend sits beside the chart, not over it.
+    let layout = view.layout().expect("the figures were drawn");
+    assert_eq!(layout.x_bounds, [0.0, 3.0]);
+    assert!(
+        layout.plot.is_positive() && layout.legend.is_positive(),
+        "{layout:?}"
+    );
+    assert!(!layout.legend.intersects(layout.plot), "{layout:?}");
     let point = view.point().expect("a followed point");
     let shown = view.result().expect("the time view's figures").clone();
     let (followed, reference) = shown.followed.clone().expect("the followed series");

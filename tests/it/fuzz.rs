@@ -380,3 +380,67 @@ fn mutated_presets_and_overrides_fail_cleanly() {
     eprintln!("presets: {cases} cases, {loaded} load, {refused} refused, {slowest}");
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
 }
+
+/// 64-bit words a `.usdc` mutation puts in place of a count, size or offset (the crate file's are `u64`).
+const WORDS64: [u64; 8] = [
+    0,
+    1,
+    0xffff_ffff,
+    0x1_0000_0000,
+    0x7fff_ffff_ffff_ffff,
+    0xffff_ffff_ffff_ffff,
+    0x0000_1000_0000_00ae,
+    1 << 40,
+];
+
+/// [`mutate_binary`], then, in half the cases, one aligned 64-bit little-endian word replaced by one of
+/// [`WORDS64`] or a small random count (issue 34: the crate file's sizes, offsets and counts are `u64`).
+fn mutate_usdc(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
+    let mut bytes = mutate_binary(rng, seed);
+    if rng.int(0, 1) == 0 && bytes.len() >= 8 {
+        let at = 8 * rng.int(0, bytes.len() / 8 - 1);
+        let word = match rng.int(0, WORDS64.len()) {
+            i if i < WORDS64.len() => WORDS64[i],
+            _ => rng.int(0, 256) as u64,
+        };
+        bytes[at..at + 8].copy_from_slice(&word.to_le_bytes());
+    }
+    bytes
+}
+
+/// The `.usdc` seeds: the USD tests' hand stage (BasisCurves with widths and time samples, transforms) and the
+/// writer's groom (every array), each re-encoded by the `openusd` crate's usdc writer.
+#[cfg(feature = "usd")]
+fn usdc_seeds() -> Vec<Vec<u8>> {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let written =
+        hairlab::scene::usda_write::write_usda(&[crate::groom_formats::uniform_groom()], 24.0).unwrap();
+    [crate::usd_format::HAND_STAGE.to_string(), written]
+        .iter()
+        .enumerate()
+        .map(|(i, text)| {
+            let usda = dir.path().join(format!("seed{i}.usda"));
+            std::fs::write(&usda, text).unwrap();
+            let stage = openusd::usd::Stage::open(usda.to_str().unwrap()).unwrap();
+            let usdc = dir.path().join(format!("seed{i}.usdc"));
+            stage.root_layer().export(usdc.to_str().unwrap()).unwrap();
+            std::fs::read(&usdc).unwrap()
+        })
+        .collect()
+}
+
+/// Binary mutations of `.usdc` stages (issue 34): the patched `openusd` reader must refuse, never panic or abort.
+#[cfg(feature = "usd")]
+#[test]
+fn mutated_usdc_files_fail_cleanly() {
+    fuzz_strand_format_with("usdc", &usdc_seeds(), mutate_usdc);
+}
+
+/// The same mutations of the inner `.usdc` of a `.usdz` whose zip stays valid (stored, 64-byte aligned).
+#[cfg(feature = "usd")]
+#[test]
+fn mutated_usdz_files_fail_cleanly() {
+    fuzz_strand_format_with("usdz", &usdc_seeds(), |rng, seed| {
+        crate::usd_format::usdz_of("stage.usdc", &mutate_usdc(rng, seed))
+    });
+}

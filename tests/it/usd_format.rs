@@ -572,7 +572,7 @@ fn crc32(data: &[u8]) -> u32 {
 }
 
 /// A `.usdz`: one stored (uncompressed) zip entry whose data starts on a 64-byte boundary, as USDZ requires.
-fn usdz_of(name: &str, data: &[u8]) -> Vec<u8> {
+pub(crate) fn usdz_of(name: &str, data: &[u8]) -> Vec<u8> {
     let crc = crc32(data);
     let size = u32::try_from(data.len()).unwrap();
     let name_len = u16::try_from(name.len()).unwrap();

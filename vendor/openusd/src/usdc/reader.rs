@@ -284,7 +284,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|(index, value)| Field::new(*index, *value))
                 .collect();
 
-            debug_assert_eq!(fields.len(), field_count);
+            ensure!(fields.len() == field_count, "Decoded fields.len() != field_count");
 
             fields
         };
@@ -315,7 +315,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|i| if i == INVALID_INDEX { None } else { Some(i as usize) })
                 .collect::<Vec<_>>();
 
-            debug_assert_eq!(sets.len(), count);
+            ensure!(sets.len() == count, "Decoded sets.len() != count");
 
             sets
         };
@@ -356,13 +356,13 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         // Read compressed data.
 
         let path_indexes = self.read_encoded_ints::<u32>(count)?;
-        debug_assert_eq!(path_indexes.len(), count);
+        ensure!(path_indexes.len() == count, "Decoded path_indexes.len() != count");
 
         let element_token_indexes = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(element_token_indexes.len(), count);
+        ensure!(element_token_indexes.len() == count, "Decoded element_token_indexes.len() != count");
 
         let jumps = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(jumps.len(), count);
+        ensure!(jumps.len() == count, "Decoded jumps.len() != count");
 
         self.build_compressed_paths(&path_indexes, &element_token_indexes, &jumps)?;
 
@@ -637,7 +637,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let buffer = self.read_compressed::<u8>(estimated_size)?;
 
         let ints = coding::decode_ints(buffer.as_slice(), count)?;
-        debug_assert_eq!(ints.len(), count);
+        ensure!(ints.len() == count, "Decoded ints.len() != count");
 
         Ok(ints)
     }
@@ -646,7 +646,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     // Implements various logic and compatibility checks to figure out the array length and whether it's compressed.
     fn unpack_array_len(&mut self, value: ValueRep, kind: ArrayKind) -> Result<(usize, bool)> {
-        debug_assert!(!value.is_inlined());
+        ensure!(!value.is_inlined(), "Invalid value representation");
 
         // Empty array.
         if value.payload() == 0 {
@@ -680,7 +680,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             ArrayKind::Other => {
                 // Fallback to uncompressed.
                 // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1868
-                debug_assert!(!value.is_compressed());
+                ensure!(!value.is_compressed(), "Invalid value representation");
                 compressed = false;
             }
         }
@@ -940,7 +940,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// the on-disk element — safe for all gf vec types since they are
     /// `#[repr(C)]` and `bytemuck::Pod`.
     fn read_gf_array<U: Default + NoUninit + AnyBitPattern>(&mut self, value: ValueRep) -> Result<Vec<U>> {
-        debug_assert!(value.is_array() && !value.is_compressed());
+        ensure!(value.is_array() && !value.is_compressed(), "Invalid value representation");
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
         if count == 0 {
             return Ok(Vec::default());
@@ -952,8 +952,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         &mut self,
         value: ValueRep,
     ) -> Result<Vec<[T; N]>> {
-        debug_assert!(value.is_array());
-        debug_assert!(!value.is_compressed());
+        ensure!(value.is_array(), "Invalid value representation");
+        ensure!(!value.is_compressed(), "Invalid value representation");
 
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
 
@@ -1434,7 +1434,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(count == times.len(), "Invalid time samples count");
 
                 let value_reps = self.reader.read_vec::<ValueRep>(count)?;
-                debug_assert_eq!(value_reps.len(), count);
+                ensure!(value_reps.len() == count, "Decoded value_reps.len() != count");
 
                 let values = value_reps
                     .into_iter()

@@ -3,10 +3,11 @@
 
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
 use crate::animation::{encode_png, frame_file_name};
-use crate::pathtrace::{bvh::Bvh, fibre, integrator};
+use crate::pathtrace::{bsdf::FibreParams, bvh::Bvh, fibre, integrator};
 use crate::render::render_settings::RenderMode;
 use crate::scene::LightKind;
 use crate::settings::Settings;
+use crate::shading::marschner;
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
@@ -145,7 +146,12 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
         samples: r.spp,
         seed: 0,
         max_depth: 32,
-        albedo: glam::Vec3::from(r.hair_color),
+        fibre: FibreParams::from_colour(
+            glam::Vec3::from(r.hair_color),
+            marschner::BETA_R,
+            marschner::BETA_N,
+            marschner::ALPHA_R,
+        ),
     };
     let light = integrator::DirectionalLight {
         to_light: settings.light.to_light(),

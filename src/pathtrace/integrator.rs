@@ -4,11 +4,13 @@
 //! Each sample's random stream is `SplitMix64::stream(seed, pixel << 32 ^ sample)`, so an image depends only on
 //! its seed, whatever the thread count. Rows are shared between `std::thread::scope` threads in bands.
 //!
-//! The surface is Lambertian on the fibre's normal until Chiang et al. 2016's fibre BSDF (`bsdf.rs`) lands; the
-//! path loop only uses `eval`/`sample`, the interface that BSDF has.
+//! Each hit scatters by Chiang et al. 2016's fibre BSDF (`bsdf.rs`) in the frame x = tangent, y along the hit's
+//! offset `h` (tangent × ray direction), z = x × y (towards where the ray came from). The fibre is a volume the
+//! BSDF stands for: a direction into it leaves from where it crosses the same segment's far side.
 
 use glam::Vec3;
 
+use super::bsdf::{FibreBsdf, FibreParams};
 use super::bvh::Bvh;
 use super::fibre::{Hit, Ray};
 use crate::rng::SplitMix64;
@@ -21,7 +23,7 @@ pub struct DirectionalLight {
     pub irradiance: Vec3,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct Settings {
     pub width: usize,
     pub height: usize,
@@ -29,38 +31,46 @@ pub struct Settings {
     pub seed: u64,
     /// Bounces at most (32 or more for hair's long chains of scattering).
     pub max_depth: u32,
-    /// The fibres' reflectance.
-    pub albedo: Vec3,
+    /// The fibres' material.
+    pub fibre: FibreParams,
 }
 
-/// The Lambertian stand-in: `albedo/π` on the side `wo` sees, sampled by cosine.
-struct Lambert {
-    n: Vec3,
-    albedo: Vec3,
+/// The BSDF at a hit and its local frame.
+struct Shading {
+    frame: [Vec3; 3],
+    bsdf: FibreBsdf,
 }
 
-impl Lambert {
-    fn new(hit: &Hit, wo: Vec3, albedo: Vec3) -> Lambert {
-        let n = if hit.normal.dot(wo) < 0.0 {
-            -hit.normal
-        } else {
-            hit.normal
-        };
-        Lambert { n, albedo }
-    }
-    fn eval(&self, wi: Vec3) -> Vec3 {
-        if self.n.dot(wi) > 0.0 {
-            self.albedo / std::f32::consts::PI
-        } else {
-            Vec3::ZERO
+impl Shading {
+    fn new(hit: &Hit, dir: Vec3, fibre: &FibreParams) -> Shading {
+        let x = hit.tangent;
+        let y = x
+            .cross(dir)
+            .try_normalize()
+            .unwrap_or_else(|| x.any_orthonormal_vector());
+        Shading {
+            frame: [x, y, x.cross(y)],
+            bsdf: FibreBsdf::new(fibre, hit.h),
         }
     }
-    /// A direction by cosine and its weight `f·cos/pdf`.
-    fn sample(&self, u: [f32; 2]) -> (Vec3, Vec3) {
-        let (r, phi) = (u[0].sqrt(), std::f32::consts::TAU * u[1]);
-        let (t, b) = self.n.any_orthonormal_pair();
-        let wi = r * phi.cos() * t + r * phi.sin() * b + (1.0 - u[0]).max(0.0).sqrt() * self.n;
-        (wi.normalize(), self.albedo)
+    fn local(&self, w: Vec3) -> Vec3 {
+        Vec3::new(w.dot(self.frame[0]), w.dot(self.frame[1]), w.dot(self.frame[2]))
+    }
+    fn world(&self, l: Vec3) -> Vec3 {
+        l.x * self.frame[0] + l.y * self.frame[1] + l.z * self.frame[2]
+    }
+}
+
+/// Where a ray leaving `hit` along `w` starts: just outside the surface, or, when `w` points into the fibre, just
+/// outside where it crosses the segment's far side.
+fn leave(bvh: &Bvh, hit: &Hit, w: Vec3, eps: f32) -> Vec3 {
+    if hit.normal.dot(w) >= 0.0 {
+        return hit.point + eps * hit.normal;
+    }
+    let inside = Ray::new(hit.point, w);
+    match bvh.segments()[hit.segment as usize].intersect(&inside, eps, f32::INFINITY) {
+        Some(exit) => exit.point + eps * exit.normal,
+        None => hit.point - eps * hit.normal,
     }
 }
 
@@ -86,21 +96,22 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
         let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
             break;
         };
-        let wo = -ray.dir;
-        let bsdf = Lambert::new(&hit, wo, s.albedo);
+        let shading = Shading::new(&hit, ray.dir, &s.fibre);
+        let wo = shading.local(-ray.dir);
         let eps = 1e-5 * (1.0 + hit.point.abs().max_element());
-        let cos = bsdf.n.dot(light.to_light);
-        if cos > 0.0 {
-            let shadow = Ray {
-                origin: hit.point + eps * bsdf.n,
-                dir: light.to_light,
-            };
+        let to_light = shading.local(light.to_light);
+        let f = shading.bsdf.eval(wo, to_light);
+        if f.max_element() > 0.0 {
+            let shadow = Ray::new(leave(bvh, &hit, light.to_light, eps), light.to_light);
             if !bvh.any_hit(&shadow, f32::INFINITY) {
-                sum += beta * bsdf.eval(light.to_light) * light.irradiance * cos;
+                sum += beta * f * light.irradiance * to_light.z.abs();
             }
         }
-        let (wi, weight) = bsdf.sample([rng.unit(), rng.unit()]);
-        beta *= weight;
+        let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
+        let Some(sample) = shading.bsdf.sample(wo, u) else {
+            break;
+        };
+        beta *= sample.f * sample.wi.z.abs() / sample.pdf;
         if depth >= 3 {
             let survive = beta.max_element().min(0.95);
             if rng.unit() >= survive {
@@ -108,10 +119,8 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
             }
             beta /= survive;
         }
-        ray = Ray {
-            origin: hit.point + eps * bsdf.n,
-            dir: wi,
-        };
+        let wi = shading.world(sample.wi).normalize();
+        ray = Ray::new(leave(bvh, &hit, wi, eps), wi);
     }
     sum
 }
@@ -188,7 +197,12 @@ mod tests {
             samples: 4,
             seed,
             max_depth: 32,
-            albedo: Vec3::splat(0.8),
+            fibre: FibreParams::from_colour(
+                Vec3::splat(0.8),
+                crate::shading::marschner::BETA_R,
+                crate::shading::marschner::BETA_N,
+                crate::shading::marschner::ALPHA_R,
+            ),
         }
     }
 

@@ -58,12 +58,19 @@ impl HairlabApp {
             }
             Poll::Gone => {
                 let cancelled = j.job.cancelled();
+                let what = j
+                    .scene
+                    .file
+                    .as_ref()
+                    .map_or_else(|| "the generated scene".to_string(), |f| f.display().to_string());
                 self.scene_job = None;
                 self.restore_built_scene();
                 if cancelled {
                     self.info("scene: cancelled; the previous scene stays");
                 } else {
-                    self.error("scene: the worker stopped without a result");
+                    self.error(format!(
+                        "{what}: reading it stopped without a result (a bug in a reader); the previous scene stays"
+                    ));
                 }
             }
         }

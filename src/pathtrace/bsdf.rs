@@ -27,19 +27,17 @@ pub struct FibreParams {
 impl FibreParams {
     /// From a linear colour through Chiang et al. 2016's inversion (shared with [`marschner::absorption_for`]).
     pub fn from_colour(colour: Vec3, beta_m: f32, beta_n: f32, alpha: f32) -> Self {
-        let sigma_a = marschner::absorption_for(colour, beta_n);
-        Self {
-            sigma_a,
-            beta_m,
-            beta_n,
-            alpha,
-            eta: marschner::ETA,
-        }
+        Self::with_absorption(marschner::absorption_for(colour, beta_n), beta_m, beta_n, alpha)
     }
 
     /// From eumelanin and pheomelanin concentrations (pbrt's absorption constants).
     pub fn from_melanin(eumelanin: f32, pheomelanin: f32, beta_m: f32, beta_n: f32, alpha: f32) -> Self {
         let sigma_a = eumelanin * EUMELANIN_SIGMA_A + pheomelanin * PHEOMELANIN_SIGMA_A;
+        Self::with_absorption(sigma_a, beta_m, beta_n, alpha)
+    }
+
+    /// The fibre absorbing `sigma_a` (per unit of diameter), with the real-time model's index of refraction.
+    fn with_absorption(sigma_a: Vec3, beta_m: f32, beta_n: f32, alpha: f32) -> Self {
         Self {
             sigma_a,
             beta_m,

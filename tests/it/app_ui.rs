@@ -85,6 +85,17 @@ fn workbench_headless() {
     );
 }
 
+/// The workbench on the small generated scene, its first scene built.
+fn small_window() -> Harness<'static, HairlabApp> {
+    let settings = common::small_settings(320, 240);
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 640.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    harness
+}
+
 /// The workbench at a height where the side panel's Transparency section and the compare window fit.
 fn tall_harness() -> Harness<'static, HairlabApp> {
     let settings = common::small_settings(320, 240);
@@ -980,12 +991,7 @@ fn a_long_job_keeps_the_window_interactive_and_cancel_restores_the_scene() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = common::small_settings(320, 240);
-    let mut harness = Harness::builder()
-        .with_size([1000.0, 640.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
-    harness.run();
+    let mut harness = small_window();
     let points_before = harness
         .state()
         .scene()
@@ -1186,12 +1192,7 @@ fn malformed_usdc_files_dropped_on_the_window_are_refused_by_name() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = common::small_settings(320, 240);
-    let mut harness = Harness::builder()
-        .with_size([1000.0, 640.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
-    harness.run();
+    let mut harness = small_window();
     assert!(harness.state().scene().is_some(), "scene loaded");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/usdc-malformed");
     let mut files: Vec<_> = std::fs::read_dir(&dir)

@@ -7,6 +7,7 @@ pub mod compare;
 pub mod composite;
 pub mod convert;
 pub mod curve;
+pub mod export;
 pub mod generate;
 pub mod info;
 pub mod interrupt;
@@ -25,6 +26,7 @@ pub use composite::parse_pixel_csv;
 use convert::ConvertArgs;
 use curve::CurveArgs;
 pub use curve::{parse_fragments_csv, read_fragments_csv};
+use export::ExportArgs;
 use generate::GenArgs;
 use info::InfoArgs;
 use manual::{CompletionsArgs, ManArgs};
@@ -89,6 +91,9 @@ pub enum Command {
     /// Convert strands between formats: any file `info` reads in, `.hair`, TressFX `.tfx` or USC-HairSalon
     /// `.data` out (written whole or not at all); prints what the output cannot hold.
     Convert(ConvertArgs),
+    /// Write a preset's still scene for another renderer: `--format mitsuba` gives a Mitsuba 3 scene (XML, the
+    /// strands as a linearcurve file, meshes as OBJ) of the path tracer's camera, light and fibre BSDF.
+    Export(ExportArgs),
     /// Evaluate a method's CPU model on one texel's fragments (CSV rows `depth,alpha`, depth in [0,1]) and
     /// print CSV `depth,reference,<method>`: the papers' texel experiments, in a script.
     Curve(CurveArgs),
@@ -126,6 +131,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Info(a) => info::info(&a.file),
         Command::Gen(a) => generate::gen_hair(&a),
         Command::Convert(a) => convert::convert(&a),
+        Command::Export(a) => export::export(&a),
         Command::Curve(a) => curve::curve(&a),
         Command::Composite(a) => composite::composite(&a),
         Command::Compare(a) => compare::compare_images(&a),

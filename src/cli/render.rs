@@ -3,11 +3,9 @@
 
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
 use crate::animation::{encode_png, frame_file_name};
-use crate::pathtrace::{bsdf::FibreParams, bvh::Bvh, fibre, integrator};
+use crate::pathtrace::setup::PathScene;
 use crate::render::render_settings::RenderMode;
-use crate::scene::LightKind;
 use crate::settings::Settings;
-use crate::shading::marschner;
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
@@ -34,7 +32,8 @@ pub struct RenderArgs {
     /// folder `--out`, or, when `--out` ends in `.gif`, as one animated GIF at the motion's frame rate (looping).
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
-    /// Output PNG path (with `--frames`: a folder, or an animated `.gif`; under `render.mode = path`, a `.png`).
+    /// Output PNG path (with `--frames`: a folder, or an animated `.gif`; under `render.mode = path`, a `.png` or
+    /// a `.exr` of the linear float image).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -115,59 +114,37 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// `render.mode = path`: the still scene's fibres (widths from `render.strand_width`) path-traced on the CPU
-/// under the preset's camera and directional light, `render.spp` samples per pixel in passes, progress on
-/// stderr. Ctrl-C stops after the pass in progress and writes the image of the samples taken so far.
+/// `render.mode = path`: the still scene's fibres (widths from `render.strand_width`) and meshes path-traced on
+/// the CPU under the preset's camera and directional light, `render.spp` samples per pixel in passes, progress on
+/// stderr. `--out` is a `.png` (over black, sRGB) or a `.exr` (the linear float image). Ctrl-C stops after the
+/// pass in progress and writes the image of the samples taken so far.
 fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
     if a.frame.is_some() || a.frames.is_some() {
         anyhow::bail!(
             "render.mode=path renders the still scene: --frame and --frames are for render.mode=raster"
         );
     }
-    crate::io::check_output(&a.out, "png")?;
+    let exr = a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    crate::io::check_output(&a.out, if exr { "exr" } else { "png" })?;
     settings.render.width = a.width.unwrap_or(settings.render.width);
     settings.render.height = a.height.unwrap_or(settings.render.height);
     settings.validate().context("--width/--height")?;
-    if settings.light.kind != LightKind::Directional {
-        anyhow::bail!(
-            "render.mode=path lights the scene with a directional light only (light.kind = directional)"
-        );
-    }
+    crate::pathtrace::setup::light(&settings)?;
     let scene = settings.scene.build()?;
-    if settings.camera.distance <= 0.0 {
-        settings.camera.frame(&scene.framing_bounds());
-    }
     let start = std::time::Instant::now();
-    let bvh = Bvh::new(fibre::segments(&scene.strands, settings.render.strand_width));
-    let r = &settings.render;
-    let s = integrator::Settings {
-        width: r.width as usize,
-        height: r.height as usize,
-        samples: r.spp,
-        seed: 0,
-        max_depth: 32,
-        fibre: FibreParams::from_colour(
-            glam::Vec3::from(r.hair_color),
-            marschner::BETA_R,
-            marschner::BETA_N,
-            marschner::ALPHA_R,
-        ),
-    };
-    let light = integrator::DirectionalLight {
-        to_light: settings.light.to_light(),
-        irradiance: glam::Vec3::from(settings.light.color) * settings.light.intensity,
-    };
+    let path = PathScene::new(&settings, &scene)?;
+    let s = &path.settings;
     eprintln!(
-        "path: {} segments, BVH in {:.0} ms; {}×{} at {} spp",
-        bvh.segments().len(),
+        "path: {} segments, {} triangles, BVH in {:.0} ms; {}×{} at {} spp",
+        path.bvh.segments().len(),
+        path.bvh.triangle_count(),
         start.elapsed().as_secs_f64() * 1e3,
         s.width,
         s.height,
         s.samples
     );
     let interrupted = super::interrupt::flag();
-    let pass = s.samples.div_ceil(20);
-    let (image, done) = integrator::render_in_passes(&bvh, &settings.camera, &light, &s, pass, &mut |n| {
+    let (image, done) = path.render(s.samples.div_ceil(20), &mut |n| {
         eprintln!(
             "path: {n}/{} spp ({:.0}%, {:.1} s)",
             s.samples,
@@ -176,9 +153,14 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
         );
         !interrupted.load(Ordering::SeqCst)
     });
-    let rgba: Vec<[f32; 4]> = image.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
-    let png = crate::measure::fur::over_black(&rgba, r.width, r.height);
-    crate::io::write_atomic(&a.out, &encode_png(&png)?)?;
+    let (w, h) = (settings.render.width, settings.render.height);
+    let bytes = if exr {
+        crate::pathtrace::setup::encode_exr(&image, w, h)?
+    } else {
+        let rgba: Vec<[f32; 4]> = image.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
+        encode_png(&crate::measure::fur::over_black(&rgba, w, h))?
+    };
+    crate::io::write_atomic(&a.out, &bytes)?;
     if done < s.samples {
         eprintln!(
             "interrupted (Ctrl-C) at {done} of {} samples per pixel: the image holds those {done}",
@@ -186,10 +168,8 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
         );
     }
     println!(
-        "wrote {} ({}×{}, path-traced, {done} spp, {:.1} s)",
+        "wrote {} ({w}×{h}, path-traced, {done} spp, {:.1} s)",
         a.out.display(),
-        r.width,
-        r.height,
         start.elapsed().as_secs_f64()
     );
     Ok(())

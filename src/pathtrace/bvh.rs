@@ -1,4 +1,4 @@
-//! A bounding volume hierarchy over fibre segments: a top-down build binned by the surface area heuristic
+//! A bounding volume hierarchy over fibre segments and mesh triangles: a top-down build binned by the surface area heuristic
 //! (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies": 16 bins on each axis over the
 //! centroids), and stack traversal nearest child first. Written in-tree rather than taken from a crate: the
 //! primitives are our own round fibres (`fibre.rs`), we need every hit along a ray besides the first, and the
@@ -7,6 +7,7 @@
 use glam::Vec3;
 
 use super::fibre::{Hit, Ray, Segment};
+use super::triangle::Triangle;
 use crate::scene::Aabb;
 
 const BINS: usize = 16;
@@ -23,10 +24,11 @@ struct Node {
     count: u32,
 }
 
-/// The segments and their hierarchy.
+/// The segments, the triangles (primitive `segments.len() + k` is triangle `k`) and their hierarchy.
 #[derive(Clone, Debug)]
 pub struct Bvh {
     segments: Vec<Segment>,
+    triangles: Vec<Triangle>,
     nodes: Vec<Node>,
     order: Vec<u32>,
 }
@@ -52,11 +54,21 @@ fn slab(min: Vec3, max: Vec3, ray: &Ray, inv: Vec3, t_max: f32) -> Option<f32> {
 impl Bvh {
     /// Builds the hierarchy over `segments` (their indices are the hits' `segment`).
     pub fn new(segments: Vec<Segment>) -> Bvh {
-        let bounds: Vec<Aabb> = segments.iter().map(Segment::bounds).collect();
+        Bvh::with_triangles(segments, Vec::new())
+    }
+
+    /// Builds the hierarchy over `segments` and `triangles`.
+    pub fn with_triangles(segments: Vec<Segment>, triangles: Vec<Triangle>) -> Bvh {
+        let bounds: Vec<Aabb> = segments
+            .iter()
+            .map(Segment::bounds)
+            .chain(triangles.iter().map(Triangle::bounds))
+            .collect();
         let centres: Vec<Vec3> = bounds.iter().map(Aabb::center).collect();
         let mut bvh = Bvh {
-            order: (0..segments.len() as u32).collect(),
+            order: (0..bounds.len() as u32).collect(),
             segments,
+            triangles,
             nodes: Vec::new(),
         };
         bvh.nodes.push(Node {
@@ -155,10 +167,24 @@ impl Bvh {
         &self.segments
     }
 
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Primitive `i`'s crossing with `t` in `(0, t_max)`, `segment` set to `i`.
+    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let n = self.segments.len();
+        let hit = match self.segments.get(i as usize) {
+            Some(s) => s.intersect(ray, 0.0, t_max),
+            None => self.triangles[i as usize - n].intersect(ray, 0.0, t_max),
+        };
+        hit.map(|h| Hit { segment: i, ..h })
+    }
+
     /// Calls `visit` with each segment whose box the ray meets within `(0, t_max)`, nearest box first where
     /// cheap; `visit` returns the new `t_max` (a shorter one prunes), or `None` to stop.
     fn traverse(&self, ray: &Ray, mut t_max: f32, mut visit: impl FnMut(u32, f32) -> Option<f32>) {
-        if self.segments.is_empty() {
+        if self.order.is_empty() {
             return;
         }
         let inv = ray.dir.recip();
@@ -197,8 +223,8 @@ impl Bvh {
     pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         self.traverse(ray, t_max, |i, t_max| {
-            if let Some(h) = self.segments[i as usize].intersect(ray, 0.0, t_max) {
-                best = Some(Hit { segment: i, ..h });
+            if let Some(h) = self.intersect(i, ray, t_max) {
+                best = Some(h);
                 return Some(h.t);
             }
             Some(t_max)
@@ -210,18 +236,18 @@ impl Bvh {
     pub fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let mut hit = false;
         self.traverse(ray, t_max, |i, t_max| {
-            hit = self.segments[i as usize].intersect(ray, 0.0, t_max).is_some();
+            hit = self.intersect(i, ray, t_max).is_some();
             (!hit).then_some(t_max)
         });
         hit
     }
 
-    /// Every segment the ray crosses within `(0, t_max)`, each with its nearest crossing, in order of `t`.
+    /// Every primitive the ray crosses within `(0, t_max)`, each with its nearest crossing, in order of `t`.
     pub fn all_hits(&self, ray: &Ray, t_max: f32) -> Vec<Hit> {
         let mut hits = Vec::new();
         self.traverse(ray, t_max, |i, t_max| {
-            if let Some(h) = self.segments[i as usize].intersect(ray, 0.0, t_max) {
-                hits.push(Hit { segment: i, ..h });
+            if let Some(h) = self.intersect(i, ray, t_max) {
+                hits.push(h);
             }
             Some(t_max)
         });
@@ -257,18 +283,24 @@ mod tests {
     #[test]
     fn queries_equal_brute_force() {
         let mut rng = SplitMix64::new(7);
-        let bvh = Bvh::new(random_scene(&mut rng, 3000));
+        let triangles = (0..300)
+            .map(|_| {
+                let mut v = || Vec3::new(rng.normal(), rng.normal(), rng.normal());
+                Triangle {
+                    p0: v() * 0.5,
+                    e1: v() * 0.1,
+                    e2: v() * 0.1,
+                    albedo: Vec3::ONE,
+                }
+            })
+            .collect();
+        let bvh = Bvh::with_triangles(random_scene(&mut rng, 3000), triangles);
         let mut hits = 0;
         for _ in 0..3000 {
             let ray = random_ray(&mut rng);
             let t_max = rng.range(1.0, 6.0);
-            let all: Vec<Hit> = (0..bvh.segments.len())
-                .filter_map(|i| {
-                    bvh.segments[i].intersect(&ray, 0.0, t_max).map(|h| Hit {
-                        segment: i as u32,
-                        ..h
-                    })
-                })
+            let all: Vec<Hit> = (0..bvh.order.len() as u32)
+                .filter_map(|i| bvh.intersect(i, &ray, t_max))
                 .collect();
             let brute = all.iter().copied().reduce(|a, b| if b.t < a.t { b } else { a });
             let got = bvh.closest_hit(&ray, t_max);

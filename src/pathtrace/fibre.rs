@@ -4,7 +4,8 @@
 //! vertex are joined by that vertex's sphere without gaps, and the solid of a segment is exactly the points whose
 //! distance to the segment is below the radius at the nearest point of the segment (what the test solves by
 //! brute force). The root finding runs in f64 about the ray's closest approach, so hair-thin radii far from the
-//! origin keep their precision.
+//! origin keep their precision. Only crossings into a fibre count, as in Embree and Mitsuba 3, which cull curve
+//! back faces: a ray leaving a fibre's surface inwards passes out of it (the BSDF stands for the walk inside).
 
 use glam::{DVec3, Vec3};
 
@@ -52,8 +53,17 @@ pub struct Hit {
     /// Signed offset of the ray across the fibre in [-1, 1] (pbrt's curve `h`, the BSDF's azimuthal parameter):
     /// the normal's part across the tangent, along `normalize(tangent × dir)`.
     pub h: f32,
-    /// Index of the segment in the slice it came from.
+    /// Index of the primitive (the segment, or the triangle after the segments) in the hierarchy it came from.
     pub segment: u32,
+    /// What was hit.
+    pub surface: Surface,
+}
+
+/// The surface a ray met: a fibre (Chiang et al.'s BSDF) or a mesh triangle (Lambertian, seen from both sides).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Surface {
+    Fibre,
+    Mesh { albedo: Vec3 },
 }
 
 /// The segments of `strands`, strand after strand (segment `i` of the result is the `i`-th of
@@ -94,7 +104,8 @@ impl Segment {
         }
     }
 
-    /// The nearest crossing of this segment's surface with `t` in `(t_min, t_max)`; `segment` is set to 0.
+    /// The nearest crossing into this segment with `t` in `(t_min, t_max)` (back faces culled); `segment` is
+    /// set to 0.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let d = ray.dir.as_dvec3();
         let (a, b) = (self.a.as_dvec3(), self.b.as_dvec3());
@@ -108,7 +119,7 @@ impl Segment {
         let u = if len > 0.0 { axis / len } else { DVec3::X };
         let mut best: Option<(f64, DVec3)> = None;
         let mut consider = |t: f64, n: DVec3| {
-            if t > lo && t < hi && best.is_none_or(|(bt, _)| t < bt) {
+            if t > lo && t < hi && n.dot(d) < 0.0 && best.is_none_or(|(bt, _)| t < bt) {
                 best = Some((t, n));
             }
         };
@@ -155,6 +166,7 @@ impl Segment {
             normal,
             h: n_perp.dot(across).clamp(-1.0, 1.0),
             segment: 0,
+            surface: Surface::Fibre,
         })
     }
 }

@@ -6,13 +6,15 @@
 //!
 //! Each hit scatters by Chiang et al. 2016's fibre BSDF (`bsdf.rs`) in the frame x = tangent, y along the hit's
 //! offset `h` (tangent × ray direction), z = x × y (towards where the ray came from). The fibre is a volume the
-//! BSDF stands for: a direction into it leaves from where it crosses the same segment's far side.
+//! BSDF stands for: fibres cull back faces, so a direction into one passes out of it (Mitsuba 3's convention: the
+//! walk inside enters and leaves at the hit). Mesh triangles are Lambertian with the mesh's colour as albedo,
+//! from either side.
 
 use glam::Vec3;
 
 use super::bsdf::{FibreBsdf, FibreParams};
 use super::bvh::Bvh;
-use super::fibre::{Hit, Ray};
+use super::fibre::{Hit, Ray, Surface};
 use crate::rng::SplitMix64;
 use crate::scene::Camera;
 
@@ -61,16 +63,39 @@ impl Shading {
     }
 }
 
-/// Where a ray leaving `hit` along `w` starts: just outside the surface, or, when `w` points into the fibre, just
-/// outside where it crosses the segment's far side.
-fn leave(bvh: &Bvh, hit: &Hit, w: Vec3, eps: f32) -> Vec3 {
-    if hit.normal.dot(w) >= 0.0 {
-        return hit.point + eps * hit.normal;
-    }
-    let inside = Ray::new(hit.point, w);
-    match bvh.segments()[hit.segment as usize].intersect(&inside, eps, f32::INFINITY) {
-        Some(exit) => exit.point + eps * exit.normal,
-        None => hit.point - eps * hit.normal,
+/// Where a ray leaving `hit` along `w` starts: just off the surface on `w`'s side. Into a fibre is through it:
+/// fibres cull back faces, as Mitsuba 3's curves do, and the BSDF stands for the walk inside.
+fn leave(hit: &Hit, w: Vec3, eps: f32) -> Vec3 {
+    hit.point + eps * hit.normal.dot(w).signum() * hit.normal
+}
+
+/// A unit vector in the hemisphere around `n`, cosine-distributed (Malley's method).
+fn cosine_around(n: Vec3, u: [f32; 2]) -> Vec3 {
+    let (r, phi) = (u[0].sqrt(), 2.0 * std::f32::consts::PI * u[1]);
+    let (t, b) = n.any_orthonormal_pair();
+    (r * phi.cos() * t + r * phi.sin() * b + (1.0 - u[0]).max(0.0).sqrt() * n).normalize()
+}
+
+/// What a hit does with light: the BSDF times the cosine towards the light, and a sampled continuation (its
+/// world direction and `f·|cos|/pdf`).
+fn scatter(hit: &Hit, dir: Vec3, s: &Settings, to_light: Vec3, u: [f32; 4]) -> (Vec3, Option<(Vec3, Vec3)>) {
+    match hit.surface {
+        Surface::Fibre => {
+            let shading = Shading::new(hit, dir, &s.fibre);
+            let wo = shading.local(-dir);
+            let l = shading.local(to_light);
+            let direct = shading.bsdf.eval(wo, l) * l.z.abs();
+            let next = shading
+                .bsdf
+                .sample(wo, u)
+                .map(|x| (shading.world(x.wi).normalize(), x.f * x.wi.z.abs() / x.pdf));
+            (direct, next)
+        }
+        Surface::Mesh { albedo } => {
+            let cos = hit.normal.dot(to_light).max(0.0);
+            let next = cosine_around(hit.normal, [u[0], u[1]]);
+            (albedo * std::f32::consts::FRAC_1_PI * cos, Some((next, albedo)))
+        }
     }
 }
 
@@ -96,22 +121,19 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
         let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
             break;
         };
-        let shading = Shading::new(&hit, ray.dir, &s.fibre);
-        let wo = shading.local(-ray.dir);
         let eps = 1e-5 * (1.0 + hit.point.abs().max_element());
-        let to_light = shading.local(light.to_light);
-        let f = shading.bsdf.eval(wo, to_light);
-        if f.max_element() > 0.0 {
-            let shadow = Ray::new(leave(bvh, &hit, light.to_light, eps), light.to_light);
+        let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
+        let (direct, next) = scatter(&hit, ray.dir, s, light.to_light, u);
+        if direct.max_element() > 0.0 {
+            let shadow = Ray::new(leave(&hit, light.to_light, eps), light.to_light);
             if !bvh.any_hit(&shadow, f32::INFINITY) {
-                sum += beta * f * light.irradiance * to_light.z.abs();
+                sum += beta * direct * light.irradiance;
             }
         }
-        let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
-        let Some(sample) = shading.bsdf.sample(wo, u) else {
+        let Some((wi, weight)) = next else {
             break;
         };
-        beta *= sample.f * sample.wi.z.abs() / sample.pdf;
+        beta *= weight;
         if depth >= 3 {
             let survive = beta.max_element().min(0.95);
             if rng.unit() >= survive {
@@ -119,8 +141,7 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
             }
             beta /= survive;
         }
-        let wi = shading.world(sample.wi).normalize();
-        ray = Ray::new(leave(bvh, &hit, wi, eps), wi);
+        ray = Ray::new(leave(&hit, wi, eps), wi);
     }
     sum
 }

@@ -1,7 +1,11 @@
-//! Path-traced reference (issue 33): fibre geometry, Chiang et al. 2016's BSDF, and a CPU path tracer.
+//! The path-traced reference: round fibres and mesh triangles in a BVH, Chiang et al. 2016's fibre BSDF, a CPU
+//! path tracer, ray-traced texel visibility and the scene exported to Mitsuba 3.
 
 pub mod bsdf;
 pub mod bvh;
 pub mod fibre;
 pub mod integrator;
+pub mod mitsuba;
+pub mod setup;
+pub mod triangle;
 pub mod visibility;

@@ -14,26 +14,137 @@ const TINY: [&str; 8] = [
     "--height",
 ];
 
+/// The same render as PNG and as EXR: the PNG is the EXR's linear image in sRGB (over black), the image is lit
+/// in the groom's middle third, and the EXR holds finite, non-negative radiance.
 #[test]
-fn renders_the_default_scene_to_a_png_lit_where_the_hair_is() {
+fn renders_the_default_scene_to_a_png_and_its_linear_image_to_an_exr() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("shot.png");
-    let out_arg = out.to_str().unwrap();
-    let mut args = TINY.to_vec();
-    args.extend(["24", "--set", "render.spp=2", "--out", out_arg]);
-    let o = hairlab(&args);
+    let mut images = Vec::new();
+    for name in ["shot.png", "shot.exr"] {
+        let out = dir.path().join(name);
+        let mut args = TINY.to_vec();
+        args.extend(["24", "--set", "render.spp=2", "--out", out.to_str().unwrap()]);
+        let o = hairlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stderr(&o).contains("path: 2/2 spp (100%"), "{}", stderr(&o));
+        images.push(image::open(&out).unwrap());
+    }
+    let (png, exr) = (images[0].to_rgba8(), images[1].to_rgb32f());
+    assert_eq!((png.dimensions(), exr.dimensions()), ((32, 24), (32, 24)));
+    let srgb = |c: f32| {
+        let c = c.clamp(0.0, 1.0);
+        if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        }
+    };
+    let mut lit_middle = 0;
+    for (x, y, p) in exr.enumerate_pixels() {
+        for k in 0..3 {
+            assert!(p.0[k].is_finite() && p.0[k] >= 0.0, "({x}, {y}): {:?}", p.0);
+            let want = srgb(p.0[k]) * 255.0;
+            let got = png.get_pixel(x, y).0[k] as f32;
+            assert!(
+                (got - want).abs() <= 1.0,
+                "({x}, {y}) channel {k}: PNG {got}, EXR in sRGB {want}"
+            );
+        }
+        lit_middle += ((11..21).contains(&x) && p.0.iter().any(|&c| c > 0.0)) as u32;
+    }
+    assert!(lit_middle >= 40, "{lit_middle} pixels of the groom's middle lit");
+}
+
+/// `export --format mitsuba` writes the scene's strands (`x y z radius` per point, a blank line after each
+/// strand), its meshes and a scene XML whose sensor, film, light and fibre BSDF are the preset's: the absorption
+/// is Chiang et al. 2016's colour inversion, written out here.
+#[test]
+fn exports_a_mitsuba_scene_of_the_preset() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scene");
+    let o = hairlab(&[
+        "export",
+        "--format",
+        "mitsuba",
+        "--preset",
+        "default",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--set",
+        "render.spp=8",
+        "--set",
+        "render.strand_width=0.002",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("path: 2/2 spp (100%"), "{}", stderr(&o));
-    let image = image::open(&out).unwrap().to_rgba8();
-    assert_eq!(image.dimensions(), (32, 24));
-    // The framed groom stands in the middle third of the view, lit on the light's side: lit pixels are there and
-    // only there (the path tracer has no background: pixels no camera ray hits are black).
-    let lit = |x: u32, y: u32| image.get_pixel(x, y).0[..3].iter().any(|&c| c > 0);
-    let all = (0..32).flat_map(|x| (0..24).map(move |y| (x, y)));
-    let lit_count = all.clone().filter(|&(x, y)| lit(x, y)).count();
-    assert!(lit_count >= 10, "{lit_count} pixels lit");
-    let outside: Vec<_> = all.filter(|&(x, y)| !(6..26).contains(&x) && lit(x, y)).collect();
-    assert!(outside.is_empty(), "lit beside the groom: {outside:?}");
+    let xml = std::fs::read_to_string(out.join("scene.xml")).unwrap();
+    for want in [
+        "<integer name=\"width\" value=\"64\"/>",
+        "<integer name=\"height\" value=\"48\"/>",
+        "<integer name=\"sample_count\" value=\"8\"/>",
+        "<integer name=\"max_depth\" value=\"33\"/>",
+        "<rfilter type=\"box\"/>",
+        "<string name=\"filename\" value=\"hair.txt\"/>",
+        "<string name=\"filename\" value=\"mesh0.obj\"/>",
+    ] {
+        assert!(xml.contains(want), "scene.xml lacks {want}:\n{xml}");
+    }
+    // The default hair colour (0.30, 0.18, 0.09) at β_n = 0.3: σ_a = (ln c / 5.8885)².
+    let poly = 5.969 - 0.215 * 0.3 + 2.532 * 0.09 - 10.73 * 0.027 + 5.574 * 0.0081 + 0.245 * 0.00243;
+    let sigma: Vec<f64> = [0.30f64, 0.18, 0.09]
+        .iter()
+        .map(|c| (c.ln() / poly).powi(2))
+        .collect();
+    let line = xml.lines().find(|l| l.contains("name=\"sigma_a\"")).unwrap();
+    let got: Vec<f64> = line
+        .split('"')
+        .nth(3)
+        .unwrap()
+        .split(',')
+        .map(|v| v.trim().parse().unwrap())
+        .collect();
+    for (g, w) in got.iter().zip(&sigma) {
+        assert!(
+            (g - w).abs() < 1e-5 * w,
+            "sigma_a {got:?}, Chiang et al.'s inversion {sigma:?}"
+        );
+    }
+    let hair = std::fs::read_to_string(out.join("hair.txt")).unwrap();
+    let strands: Vec<&str> = hair.split("\n\n").filter(|s| !s.trim().is_empty()).collect();
+    assert!(strands.len() > 100, "{} strands", strands.len());
+    for s in &strands {
+        let points: Vec<Vec<f32>> = s
+            .lines()
+            .map(|l| l.split(' ').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        assert!(points.len() >= 2 && points.iter().all(|p| p.len() == 4 && p[3] == 0.001));
+    }
+    assert!(
+        std::fs::read_to_string(out.join("mesh0.obj"))
+            .unwrap()
+            .lines()
+            .any(|l| l.starts_with("f "))
+    );
+}
+
+#[test]
+fn export_of_a_spot_lit_scene_fails_naming_the_key_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scene");
+    let o = hairlab(&[
+        "export",
+        "--format",
+        "mitsuba",
+        "--set",
+        "light.kind=spot",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_fails(&o, &["light.kind", "directional"]);
+    assert!(!out.exists(), "a folder was left behind");
 }
 
 #[test]

@@ -14,6 +14,7 @@ pub mod methods;
 pub mod motion;
 pub mod pathtrace;
 pub mod render;
+pub mod report;
 pub mod rng;
 pub mod scene;
 pub mod selection;

@@ -15,6 +15,7 @@ pub mod manual;
 pub mod measure;
 pub mod measure_motion;
 pub mod render;
+pub mod report;
 pub mod simulate;
 pub mod soak;
 
@@ -109,6 +110,10 @@ pub enum Command {
     /// Sweep every method's parameters on a preset's scene and chart GPU time against map error: results.csv,
     /// results.json and speed_vs_accuracy.png/.svg (Pareto front marked); `--scaling` fits GPU time per segment.
     Bench(bench::BenchArgs),
+    /// One self-contained HTML page of a study (index.html and its files): the scene, the machine, speed
+    /// against accuracy with the whole sortable table, transparency, motion and the papers' claims, each where
+    /// its data exists; a fresh study, or `--from` folders earlier `bench` and `measure motion` runs wrote.
+    Report(report::ReportArgs),
     /// Render many frames while the light turns and the method changes, and check that neither the process's
     /// resident memory nor the GPU memory grows (last cycle of methods against the first, at most 5 %).
     Soak(SoakArgs),
@@ -137,6 +142,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Compare(a) => compare::compare_images(&a),
         Command::Measure(a) => measure::measure(&a),
         Command::Bench(a) => bench::run_cli(&a),
+        Command::Report(a) => report::report(&a),
         Command::Soak(a) => soak::soak(&a),
         Command::Simulate(a) => simulate::simulate(&a),
         Command::Adapters => adapters::adapters(),

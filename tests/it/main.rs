@@ -47,6 +47,7 @@ mod motion_colliders;
 mod path_render;
 mod presets;
 mod reference;
+mod report;
 mod ribbons;
 mod scene_gpu;
 mod shaders;

@@ -64,12 +64,9 @@ fn occupancy_order_is_nearly_exact_and_weighted_average_is_dull() {
         );
     }
     assert!(stats.max_depth_complexity >= 32, "a deep view: {stats:?}");
-    assert!(
-        occ.rmse_hair < 0.5 * wa.rmse_hair,
-        "{} vs {}",
-        occ.rmse_hair,
-        wa.rmse_hair
-    );
+    // The report's claims table judges with the same function (`hairlab::report::claims`).
+    let tc1 = hairlab::report::claims::tc1(occ.rmse_hair, wa.rmse_hair);
+    assert!(tc1.holds, "{}", tc1.measured);
     assert!(
         occ.rmse_hair < wboit.rmse_hair,
         "{} vs {}",

@@ -1,0 +1,116 @@
+//! `hairlab report`: the arguments, the study (fresh, or `--from` earlier folders) and the page
+//! ([`crate::report`]). Ctrl-C during a fresh study stops after the configuration in progress and writes the
+//! page of what finished (exit code 130); any failure writes nothing.
+
+use crate::report::data::Study;
+use crate::report::run::Plan;
+use crate::report::{Draft, Meta};
+use anyhow::{Result, bail};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = "Examples:
+  hairlab report --preset stray-strand --out r/
+  hairlab report --preset stray-sweep --config dom:layers=3 --config occupancy --motion --out r/
+  hairlab report --from bench-out/ --from motion-out/ --out r/")]
+pub struct ReportArgs {
+    /// Preset of a fresh study: built-in name, `presets/<name>.toml`, or a path.
+    #[arg(long, default_value = "default", conflicts_with = "from")]
+    pub preset: String,
+    /// Override any preset value, e.g. `--set render.map_resolution=256` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE", conflicts_with = "from")]
+    pub set: Vec<String>,
+    /// Shadow method configuration `name` or `name:key=value,...` (repeatable); default: every method's sweep
+    /// (and the usual motion configurations).
+    #[arg(long = "config", value_name = "METHOD[:K=V,...]", conflicts_with = "from")]
+    pub configs: Vec<String>,
+    /// Eye transparency technique configuration (repeatable); default: every technique's sweep.
+    #[arg(
+        long = "technique",
+        value_name = "TECHNIQUE[:K=V,...]",
+        conflicts_with = "from"
+    )]
+    pub techniques: Vec<String>,
+    /// Measure the preset's motion too (a preset with a `[motion]`).
+    #[arg(long, conflicts_with = "from")]
+    pub motion: bool,
+    /// Timed frames per configuration.
+    #[arg(long, default_value_t = 5, conflicts_with = "from")]
+    pub frames: u32,
+    /// Read a folder an earlier `hairlab bench shadows`, `bench transparency` or `measure motion` wrote
+    /// (repeatable), measuring nothing again.
+    #[arg(long, value_name = "DIR")]
+    pub from: Vec<PathBuf>,
+    /// The report's folder: index.html and its files (replaced whole when it holds an earlier report).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// The command line as typed, each argument quoted for a POSIX shell where it needs it.
+fn command_line() -> String {
+    let quote = |a: String| {
+        if !a.is_empty()
+            && a.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_=.,:/@+".contains(c))
+        {
+            a
+        } else {
+            format!("'{}'", a.replace('\'', "'\\''"))
+        }
+    };
+    let mut args = std::env::args();
+    let first = args.next().map_or("hairlab".to_string(), |p| {
+        std::path::Path::new(&p)
+            .file_name()
+            .map_or(p.clone(), |n| n.to_string_lossy().into_owned())
+    });
+    std::iter::once(first)
+        .chain(args.map(quote))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `hairlab report`.
+pub fn report(a: &ReportArgs) -> Result<()> {
+    if !(1..=1000).contains(&a.frames) {
+        bail!("--frames must be in 1..=1000 (got {})", a.frames);
+    }
+    let draft = Draft::new(&a.out)?;
+    let mut interrupted = None;
+    let (study, meta) = if a.from.is_empty() {
+        let plan = Plan {
+            preset: a.preset.clone(),
+            set: a.set.clone(),
+            configs: a.configs.clone(),
+            techniques: a.techniques.clone(),
+            motion: a.motion,
+            frames: a.frames,
+        };
+        let cancel = super::interrupt::flag();
+        let done = crate::report::run::run(&draft, &plan, cancel, &mut |line| eprintln!("{line}"))?;
+        if done.dirs.is_empty() {
+            bail!("interrupted (Ctrl-C) before any configuration finished; no report written");
+        }
+        let study = Study::read(&done.dirs)?;
+        if !done.finished {
+            interrupted = Some(study.configurations());
+        }
+        (study, done.meta)
+    } else {
+        let meta = Meta {
+            version: env!("CARGO_PKG_VERSION"),
+            ..Meta::default()
+        };
+        (Study::read(&a.from)?, meta)
+    };
+    let meta = Meta {
+        command: command_line(),
+        ..meta
+    };
+    let page = draft.finish(&study, &meta)?;
+    println!("wrote {}", page.display());
+    if let Some(done) = interrupted {
+        return Err(super::interrupt::Interrupted { done }.into());
+    }
+    Ok(())
+}

@@ -1,0 +1,313 @@
+//! `hairlab report` (issue 36): the page of a small study parsed with an HTML5 parser (`scraper`). Every `img`,
+//! `source`, `a` and `link` reference is a file in the report's folder and no file of it names an `http` or
+//! `https` address (the SVG namespace identifier `xmlns="http://www.w3.org/2000/svg"` aside, which SVG needs and
+//! nothing fetches); each table's cells are its CSV's text; each section is on the page exactly when its data
+//! is; `--from` the folders of a finished study gives the same tables; bad input is one error naming the file,
+//! with no page written.
+
+use crate::common::cli::{assert_fails, hairlab, stderr};
+use hairlab::gpu::Gpu;
+use scraper::{Html, Selector};
+use std::path::Path;
+
+/// A small study: the stray-sweep scene at 300 strands of 12 segments (3,600 segments), a 128² map, a 320×240
+/// view, two methods, two transparency techniques, two motion frames.
+const SMALL: &[&str] = &[
+    "--preset",
+    "stray-sweep",
+    "--set",
+    "scene.generator.strands=300",
+    "--set",
+    "scene.generator.segments=12",
+    "--set",
+    "render.map_resolution=128",
+    "--set",
+    "render.width=320",
+    "--set",
+    "render.height=240",
+    "--config",
+    "dom:layers=3",
+    "--config",
+    "occupancy",
+    "--technique",
+    "occupancy-order",
+    "--technique",
+    "weighted-average",
+    "--frames",
+    "1",
+];
+
+const SECTIONS: [&str; 6] = [
+    "scene",
+    "machine",
+    "speed-accuracy",
+    "transparency",
+    "motion",
+    "claims",
+];
+
+fn page(dir: &Path) -> Html {
+    Html::parse_document(&std::fs::read_to_string(dir.join("index.html")).unwrap())
+}
+
+fn select<'a>(html: &'a Html, css: &str) -> Vec<scraper::ElementRef<'a>> {
+    html.select(&Selector::parse(css).unwrap()).collect()
+}
+
+/// The ids of the page's sections, in order.
+fn sections(html: &Html) -> Vec<String> {
+    select(html, "section")
+        .iter()
+        .map(|s| s.value().attr("id").unwrap().to_string())
+        .collect()
+}
+
+/// The table `id`'s header and body cells as text.
+fn table(html: &Html, id: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let header = select(html, &format!("table#{id} thead th"))
+        .iter()
+        .map(|c| c.text().collect())
+        .collect();
+    let rows = select(html, &format!("table#{id} tbody tr"))
+        .iter()
+        .map(|r| {
+            r.select(&Selector::parse("td").unwrap())
+                .map(|c| c.text().collect())
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+/// The CSV file's header and rows, read by the `csv` crate.
+fn csv_file(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).unwrap();
+    let header = r.headers().unwrap().iter().map(str::to_string).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(str::to_string).collect())
+        .collect();
+    (header, rows)
+}
+
+/// Every reference of the page is a file in `dir`; no file in `dir` names an http(s) address; every image has
+/// alt text; every table has header cells.
+fn assert_self_contained(dir: &Path) {
+    let html = page(dir);
+    let mut refs = 0;
+    for (css, attr) in [("img", "src"), ("source", "src"), ("a", "href"), ("link", "href")] {
+        for e in select(&html, css) {
+            let target = e
+                .value()
+                .attr(attr)
+                .unwrap_or_else(|| panic!("a {css} without {attr}"));
+            assert!(
+                dir.join(target).is_file(),
+                "{css} {attr}={target} is not a file in the report"
+            );
+            refs += 1;
+        }
+    }
+    assert!(refs > 0, "no references checked");
+    for img in select(&html, "img") {
+        let alt = img.value().attr("alt").unwrap_or("");
+        assert!(
+            alt.len() > 20,
+            "an image without alt text naming it: {:?}",
+            img.value()
+        );
+    }
+    for t in select(&html, "table") {
+        assert!(
+            t.select(&Selector::parse("th").unwrap()).count() > 0,
+            "a table without headers"
+        );
+    }
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            let Ok(text) = std::fs::read_to_string(&path) else {
+                continue;
+            };
+            let text = text.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
+            assert!(
+                !text.contains("http:") && !text.contains("https:"),
+                "{} names an address",
+                path.display()
+            );
+        }
+    }
+}
+
+/// A fresh report of the small study with its motion: every section, each table equal to its CSV, the page
+/// self-contained; then `--from` its three data folders gives the same tables and sections (the command line
+/// aside).
+#[test]
+fn a_fresh_report_has_every_section_its_tables_equal_the_csv_and_from_gives_the_same() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("r");
+    let mut args = vec!["report"];
+    args.extend_from_slice(SMALL);
+    args.extend(["--motion", "--out", out.to_str().unwrap()]);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_self_contained(&out);
+    let html = page(&out);
+    assert_eq!(sections(&html), SECTIONS);
+    for (id, csv) in [
+        ("results", "data/shadows/results.csv"),
+        ("transparency", "data/transparency/transparency.csv"),
+        ("motion", "data/motion/motion_summary.csv"),
+    ] {
+        let (header, rows) = csv_file(&out.join(csv));
+        assert_eq!(table(&html, id), (header, rows.clone()), "{id}");
+        assert_eq!(rows.len(), 2, "{id}: two configurations");
+    }
+    let claims: Vec<String> = select(&html, "table#claims tbody th")
+        .iter()
+        .map(|c| c.text().collect())
+        .collect();
+    assert_eq!(claims, ["MC-1", "TC-1"]);
+    let command: String = select(&html, "#machine code")[0].text().collect();
+    assert!(
+        command.contains("report --preset stray-sweep") && command.contains("--motion"),
+        "{command}"
+    );
+
+    let again = tmp.path().join("again");
+    let o = hairlab(&[
+        "report",
+        "--from",
+        out.join("data/shadows").to_str().unwrap(),
+        "--from",
+        out.join("data/transparency").to_str().unwrap(),
+        "--from",
+        out.join("data/motion").to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_self_contained(&again);
+    let from = page(&again);
+    // No thumbnail and no light without a fresh run, but the scene's figures from results.json.
+    assert_eq!(sections(&from), SECTIONS);
+    for id in ["results", "transparency", "motion", "claims"] {
+        assert_eq!(table(&from, id), table(&html, id), "{id}");
+    }
+    assert!(select(&from, "#scene img").is_empty());
+}
+
+const SUMMARY: &str = "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms,\
+                       image_flip\ndom:layers=3,0.05,0.07,0.01,0.37,0.027,0.79,0.005,3.6,0.0125\n\
+                       occupancy,0.016,0.034,0.0016,0.05,0.0047,0.29,0.0016,9.4,0.0072\n";
+const FRAMES: &str = "config,frame,map_error,shading_error,tracked_points,flicker,flicker_p99,pop_rate,max_pop,\
+                      image_flicker,gpu_ms,image_flip\ndom:layers=3,0,0.05,0.07,100,,,,,,3.6,0.0125\n\
+                      dom:layers=3,1,0.06,0.07,100,0.01,0.37,0.027,0.79,0.005,3.6,0.0125\n\
+                      occupancy,0,0.016,0.034,100,,,,,,9.4,0.0072\n\
+                      occupancy,1,0.017,0.034,100,0.0016,0.05,0.0047,0.29,0.0016,9.4,0.0072\n";
+
+fn motion_folder(root: &Path, summary: &str) -> std::path::PathBuf {
+    let dir = root.join("motion");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("motion_summary.csv"), summary).unwrap();
+    std::fs::write(dir.join("motion_frames.csv"), FRAMES).unwrap();
+    dir
+}
+
+/// A motion folder alone (typed here, no GPU): the machine, the motion and the claim it holds the figures of
+/// (MC-1: pop rate 2.7 % against 0.47 %, 5.7×, above 2.5×), and no scene, speed or transparency section.
+#[test]
+fn sections_appear_only_where_their_data_is() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = motion_folder(tmp.path(), SUMMARY);
+    let out = tmp.path().join("r");
+    let o = hairlab(&[
+        "report",
+        "--from",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_self_contained(&out);
+    let html = page(&out);
+    assert_eq!(sections(&html), ["machine", "motion", "claims"]);
+    let (header, rows) = table(&html, "motion");
+    assert_eq!(header[0], "config");
+    assert_eq!(
+        rows[1],
+        "occupancy,0.016,0.034,0.0016,0.05,0.0047,0.29,0.0016,9.4,0.0072"
+            .split(',')
+            .collect::<Vec<_>>()
+    );
+    let verdict: String = select(&html, "table#claims td.holds")
+        .iter()
+        .map(|c| c.text().collect::<String>())
+        .collect();
+    assert_eq!(verdict, "yes");
+    // Without the occupancy row no claim can be checked: no claims section.
+    let only_dom: String = SUMMARY.lines().take(2).map(|l| format!("{l}\n")).collect();
+    let dir = motion_folder(&tmp.path().join("b"), &only_dom);
+    let out = tmp.path().join("r2");
+    let o = hairlab(&[
+        "report",
+        "--from",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(sections(&page(&out)), ["machine", "motion"]);
+}
+
+/// Nothing but the temporary folder's parent's own files: no report, no leftover draft.
+fn assert_nothing_written(root: &Path, keep: &[&str]) {
+    let mut names: Vec<String> = std::fs::read_dir(root)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, keep, "something was written");
+}
+
+#[test]
+fn bad_input_is_one_error_naming_the_file_and_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = tmp.path();
+    let out = root.join("r");
+    let run = |from: &Path| {
+        hairlab(&[
+            "report",
+            "--from",
+            from.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+
+    let empty = root.join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    assert_fails(&run(&empty), &["empty", "no results here"]);
+    assert_nothing_written(root, &["empty"]);
+
+    let cut = &SUMMARY[..SUMMARY.len() - 20];
+    let dir = motion_folder(&root.join("cut"), cut);
+    assert_fails(&run(&dir), &["cut/motion/motion_summary.csv"]);
+    assert_nothing_written(root, &["cut", "empty"]);
+
+    let renamed = SUMMARY.replacen("pop_rate", "pops", 1);
+    let dir = motion_folder(&root.join("col"), &renamed);
+    assert_fails(
+        &run(&dir),
+        &["col/motion/motion_summary.csv", "unknown column 'pops'"],
+    );
+    assert_nothing_written(root, &["col", "cut", "empty"]);
+}

@@ -72,6 +72,21 @@ pub struct ShadowsArgs {
     /// shading.csv in the output folder.
     #[arg(long, value_name = "MODEL,...", value_delimiter = ',', value_parser = parse_shading)]
     pub shading: Vec<crate::shading::ShadingModel>,
+    /// What the shading table's images are judged against besides the depth-peeled reference: `path-traced`
+    /// path-traces the scene (`render.spp` samples per pixel) and decomposes each configuration's image error
+    /// under each shading model (all three unless `--shading` names some) into the method's, the opacity
+    /// model's (the reference against the path-traced image) and their total; decomposition.csv with `--out`.
+    #[arg(long, value_enum, default_value = "depth-peeled")]
+    pub truth: TruthKind,
+}
+
+/// The truth `measure shadows` judges images against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TruthKind {
+    /// The exact reference of the shared opacity model (A-buffer / depth peeling).
+    DepthPeeled,
+    /// A path-traced image of the fibres (Chiang et al. 2016's BSDF, multiple scattering).
+    PathTraced,
 }
 
 /// A shading model by its word (`render.shading`'s values).
@@ -201,6 +216,7 @@ impl LegacyMeasureArgs {
                 configs: self.configs.clone(),
                 out,
                 shading: Vec::new(),
+                truth: TruthKind::DepthPeeled,
             };
             Ok((MeasureMode::Shadows(a), None))
         }
@@ -594,7 +610,7 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
             &bench_result(a, &stats, &rows, cancelled),
         )?);
     }
-    if !cancelled && !a.shading.is_empty() {
+    if !cancelled && (!a.shading.is_empty() || a.truth == TruthKind::PathTraced) {
         shading_table(a, &settings, &configs)?;
     }
     if cancelled {
@@ -603,18 +619,41 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
     Ok(())
 }
 
-/// `--shading`: every configuration's image error under each shading model, printed as a table (and
-/// shading.csv with `--out`).
+/// `--shading` and `--truth path-traced`: every configuration's image error under each shading model, printed
+/// as a table (and shading.csv with `--out`); with the path-traced truth, the decomposition table too (and
+/// decomposition.csv).
 fn shading_table(
     a: &ShadowsArgs,
     settings: &Settings,
     configs: &[crate::measure::MethodConfig],
 ) -> Result<()> {
     use crate::gpu::{AdapterPreference, Gpu};
+    let models = if a.shading.is_empty() {
+        crate::shading::ShadingModel::ALL.to_vec()
+    } else {
+        a.shading.clone()
+    };
+    let truth = match a.truth {
+        TruthKind::DepthPeeled => None,
+        TruthKind::PathTraced => {
+            let interrupted = crate::cli::interrupt::flag();
+            let t = crate::measure::truth::path_traced(settings, &mut |n, of| {
+                eprintln!("path-traced truth: {n}/{of} spp");
+                !interrupted.load(Ordering::SeqCst)
+            })?;
+            if interrupted.load(Ordering::SeqCst) {
+                return Err(crate::cli::interrupt::Interrupted { done: configs.len() }.into());
+            }
+            eprintln!("path-traced truth: {} spp in {:.1} s", t.spp, t.seconds);
+            Some(t)
+        }
+    };
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let rows = crate::measure::shading::shading_errors_on(&gpu, settings, configs, &a.shading, |m| {
-        eprintln!("shading {m}…")
-    })?;
+    let table =
+        crate::measure::shading::shading_errors_on(&gpu, settings, configs, &models, truth.as_ref(), |m| {
+            eprintln!("shading {m}…")
+        })?;
+    let rows = &table.rows;
     let width = rows
         .iter()
         .map(|r| r.config.label().chars().count())
@@ -622,7 +661,7 @@ fn shading_table(
         .unwrap_or(0)
         .max(6);
     let mut header = format!("{:<width$}", "method");
-    for m in &a.shading {
+    for m in &models {
         header += &format!(
             " {:>24} {:>24}",
             format!("{} img RMSE", m.word()),
@@ -631,17 +670,51 @@ fn shading_table(
     }
     println!("\nimage error per shading model (each against the reference image under the same model)");
     println!("{header}");
-    for r in &rows {
+    for r in rows {
         let mut line = format!("{:<width$}", r.config.label());
         for e in &r.errors {
             line += &format!(" {:>24.5} {:>24.5}", e.image_rmse, e.image_flip);
         }
         println!("{line}");
     }
+    let decomposition = table.decomposition();
+    if let Some(t) = &truth {
+        println!(
+            "\nerror decomposition against the path-traced truth ({} spp): method = against the depth-peeled \
+             reference, opacity model = the reference against the truth, total = against the truth (RMSE | FLIP)",
+            t.spp
+        );
+        println!(
+            "{:<width$} {:<15} {:>8} {:>8} {:>8}   {:>8} {:>8} {:>8}",
+            "method", "shading", "method", "opacity", "total", "method", "opacity", "total"
+        );
+        for d in &decomposition {
+            println!(
+                "{:<width$} {:<15} {:>8.5} {:>8.5} {:>8.5}   {:>8.5} {:>8.5} {:>8.5}",
+                d.method,
+                d.shading,
+                d.method_rmse,
+                d.opacity_model_rmse,
+                d.total_rmse,
+                d.method_flip,
+                d.opacity_model_flip,
+                d.total_flip
+            );
+        }
+    }
     if let Some(dir) = &a.out {
         let path = dir.join("shading.csv");
-        crate::io::write_atomic(&path, crate::measure::shading::csv(&a.shading, &rows).as_bytes())?;
-        print_written(&[path]);
+        crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows).as_bytes())?;
+        let mut written = vec![path];
+        if let Some(t) = &truth {
+            let path = dir.join("decomposition.csv");
+            let text = crate::io::csv_text("decomposition.csv", &decomposition)?;
+            crate::io::write_atomic(&path, text.as_bytes())?;
+            let image = dir.join("truth_path_traced.png");
+            crate::io::write_atomic(&image, &crate::animation::encode_png(&t.image)?)?;
+            written.extend([path, image]);
+        }
+        print_written(&written);
     }
     Ok(())
 }

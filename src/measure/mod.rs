@@ -9,6 +9,7 @@ pub mod motion;
 pub mod shading;
 pub mod temporal;
 pub mod transparency;
+pub mod truth;
 
 use crate::gpu::timing::Phase;
 use crate::gpu::{AdapterPreference, Gpu};

@@ -248,12 +248,12 @@ mod tests {
         let segments = (0..200)
             .map(|_| {
                 let a = Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.4;
-                Segment {
+                Segment::new(
                     a,
-                    b: a + Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.3,
-                    ra: 0.03,
-                    rb: 0.02,
-                }
+                    a + Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.3,
+                    0.03,
+                    0.02,
+                )
             })
             .collect();
         let bvh = Bvh::new(segments);
@@ -276,12 +276,12 @@ mod tests {
     #[test]
     fn a_lone_fibre_lights_exactly_where_it_projects() {
         let r = 0.2;
-        let bvh = Bvh::new(vec![Segment {
-            a: Vec3::new(-5.0, 0.0, 0.0),
-            b: Vec3::new(5.0, 0.0, 0.0),
-            ra: r,
-            rb: r,
-        }]);
+        let bvh = Bvh::new(vec![Segment::new(
+            Vec3::new(-5.0, 0.0, 0.0),
+            Vec3::new(5.0, 0.0, 0.0),
+            r,
+            r,
+        )]);
         let s = settings(3);
         let cam = camera();
         let image = render(&bvh, &cam, &LIGHT, &s);

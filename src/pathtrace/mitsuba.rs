@@ -4,7 +4,7 @@
 //!
 //! The mapping, one to one with `setup.rs`: the camera's eye, target and +Y up as a `perspective` sensor's
 //! `lookat` with `fov_axis = y`; a `box` pixel filter (hairlab jitters uniformly in each pixel); the light's
-//! direction and its colour × intensity as a `directional` emitter's `irradiance`; the fibre as Mitsuba's `hair`
+//! direction and π × colour × intensity as a `directional` emitter's `irradiance` (`setup::light`); the fibre as Mitsuba's `hair`
 //! BSDF (Chiang et al. 2016) with hairlab's absorption `sigma_a` (per unit radius, as both implementations read it),
 //! roughness, cuticle tilt in degrees and index of refraction; meshes as a `twosided` `diffuse` with the mesh colour
 //! and `face_normals` (hairlab flat-shades triangles); the `path` integrator with `max_depth` = bounces + 1
@@ -15,7 +15,7 @@ use anyhow::Result;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use super::setup::{self, MAX_DEPTH, SEED};
+use super::setup::{self, MAX_DEPTH};
 use crate::scene::{Mesh, Scene, Strands};
 use crate::settings::Settings;
 
@@ -74,11 +74,12 @@ fn scene_xml(settings: &Settings, scene: &Scene, meshes: &[String]) -> Result<St
     );
     let _ = writeln!(
         x,
-        "  <sensor type=\"perspective\">\n    <string name=\"fov_axis\" value=\"y\"/>\n    <float name=\"fov\" value=\"{}\"/>\n    <float name=\"near_clip\" value=\"{near}\"/>\n    <transform name=\"to_world\">\n      <lookat origin=\"{}\" target=\"{}\" up=\"0, 1, 0\"/>\n    </transform>\n    <sampler type=\"independent\">\n      <integer name=\"sample_count\" value=\"{}\"/>\n      <integer name=\"seed\" value=\"{SEED}\"/>\n    </sampler>\n    <film type=\"hdrfilm\">\n      <integer name=\"width\" value=\"{}\"/>\n      <integer name=\"height\" value=\"{}\"/>\n      <string name=\"pixel_format\" value=\"rgb\"/>\n      <rfilter type=\"box\"/>\n    </film>\n  </sensor>",
+        "  <sensor type=\"perspective\">\n    <string name=\"fov_axis\" value=\"y\"/>\n    <float name=\"fov\" value=\"{}\"/>\n    <float name=\"near_clip\" value=\"{near}\"/>\n    <transform name=\"to_world\">\n      <lookat origin=\"{}\" target=\"{}\" up=\"0, 1, 0\"/>\n    </transform>\n    <sampler type=\"independent\">\n      <integer name=\"sample_count\" value=\"{}\"/>\n      <integer name=\"seed\" value=\"{}\"/>\n    </sampler>\n    <film type=\"hdrfilm\">\n      <integer name=\"width\" value=\"{}\"/>\n      <integer name=\"height\" value=\"{}\"/>\n      <string name=\"pixel_format\" value=\"rgb\"/>\n      <rfilter type=\"box\"/>\n    </film>\n  </sensor>",
         camera.fov_y_deg,
         rgb(eye),
         rgb(target),
         r.spp,
+        r.seed,
         r.width,
         r.height
     );

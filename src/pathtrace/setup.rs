@@ -17,9 +17,6 @@ use crate::shading::marschner;
 /// Bounces at most: hair's long chains of scattering (light hair is mostly multiple scattering).
 pub const MAX_DEPTH: u32 = 32;
 
-/// The seed of every path-traced image hairlab makes.
-pub const SEED: u64 = 0;
-
 /// The fibres' material for a linear hair colour: Chiang et al. 2016's colour inversion at the real-time
 /// Marschner model's roughness, cuticle tilt and index of refraction.
 pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
@@ -31,7 +28,9 @@ pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
     )
 }
 
-/// The directional light of `settings`; an error for a spot light, which the path tracer does not model.
+/// The directional light of `settings`; an error for a spot light, which the path tracer does not model. Its
+/// irradiance is π × colour × intensity: the raster shades a mesh `colour × light × N·L`, so a white Lambertian
+/// surface facing a light of intensity 1 shows 1, which is what irradiance π gives it.
 pub fn light(settings: &Settings) -> Result<DirectionalLight> {
     if settings.light.kind != LightKind::Directional {
         anyhow::bail!(
@@ -40,7 +39,7 @@ pub fn light(settings: &Settings) -> Result<DirectionalLight> {
     }
     Ok(DirectionalLight {
         to_light: settings.light.to_light(),
-        irradiance: Vec3::from(settings.light.color) * settings.light.intensity,
+        irradiance: Vec3::from(settings.light.color) * settings.light.intensity * std::f32::consts::PI,
     })
 }
 
@@ -78,7 +77,7 @@ impl PathScene {
                 width: r.width as usize,
                 height: r.height as usize,
                 samples: r.spp,
-                seed: SEED,
+                seed: r.seed,
                 max_depth: MAX_DEPTH,
                 fibre: fibre_params(r.hair_color),
             },

@@ -68,12 +68,7 @@ mod tests {
         let segments = (0..count)
             .map(|_| {
                 let (y, z) = (rng.range(-0.5 * w, span + 0.5 * w), rng.range(0.0, len));
-                Segment {
-                    a: Vec3::new(-1.0, y, z),
-                    b: Vec3::new(1.0, y, z),
-                    ra: 0.5 * w,
-                    rb: 0.5 * w,
-                }
+                Segment::new(Vec3::new(-1.0, y, z), Vec3::new(1.0, y, z), 0.5 * w, 0.5 * w)
             })
             .collect();
         let bvh = Bvh::new(segments);
@@ -106,12 +101,7 @@ mod tests {
             .map(|&(row, rows, z)| {
                 let r = 0.5 * rows as f32 / n as f32;
                 let y = row as f32 / n as f32 + r;
-                Segment {
-                    a: Vec3::new(-1.0, y, z),
-                    b: Vec3::new(2.0, y, z),
-                    ra: r,
-                    rb: r,
-                }
+                Segment::new(Vec3::new(-1.0, y, z), Vec3::new(2.0, y, z), r, r)
             })
             .collect();
         let bvh = Bvh::new(segments);

@@ -59,6 +59,8 @@ pub struct RenderSettings {
     pub mode: RenderMode,
     /// Samples per pixel under `mode = path`, 1..=[`MAX_SPP`].
     pub spp: u32,
+    /// The path tracer's seed: the same seed gives the same image (a second seed gives the noise floor).
+    pub seed: u64,
 }
 
 /// The most samples per pixel `render.spp` takes.
@@ -106,6 +108,7 @@ impl Default for RenderSettings {
             light_supersample: 1,
             mode: RenderMode::Raster,
             spp: 16,
+            seed: 0,
         }
     }
 }

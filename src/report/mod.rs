@@ -10,6 +10,7 @@
 
 pub mod claims;
 pub mod data;
+pub mod images;
 pub mod page;
 pub mod run;
 pub mod sections;
@@ -124,7 +125,11 @@ impl Draft {
     pub fn finish(self, study: &Study, meta: &Meta) -> Result<PathBuf> {
         let root = self.tmp.path();
         if let Some(s) = &study.shadows {
-            copy_part(&s.dir, &root.join(sections::SHADOWS_DIR), SHADOWS_FILES)?;
+            let dir = root.join(sections::SHADOWS_DIR);
+            copy_part(&s.dir, &dir, SHADOWS_FILES)?;
+            let pictures = images::files(s);
+            let names: Vec<&str> = pictures.iter().map(String::as_str).collect();
+            copy_part(&s.dir.join(images::IMAGES), &dir.join(images::IMAGES), &names)?;
         }
         if let Some(t) = &study.transparency {
             copy_part(&t.dir, &root.join(sections::TRANSPARENCY_DIR), TRANSPARENCY_FILES)?;
@@ -162,8 +167,11 @@ impl Draft {
     }
 }
 
-/// Copies `names` present in `from` into `to` (created), unless `from` is `to`.
+/// Copies `names` present in `from` into `to` (created), unless `from` is `to` or there are none.
 fn copy_part(from: &Path, to: &Path, names: &[&str]) -> Result<()> {
+    if names.is_empty() {
+        return Ok(());
+    }
     std::fs::create_dir_all(to).with_context(|| format!("{}: cannot create", to.display()))?;
     let same = |a: &Path, b: &Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y);
     if same(from, to) {
@@ -190,6 +198,8 @@ pub fn html(study: &Study, meta: &Meta) -> String {
     body += &sections::machine(study, meta);
     if let Some(s) = &study.shadows {
         body += &sections::shadows(s);
+        let dir = format!("{}/{}", sections::SHADOWS_DIR, images::IMAGES);
+        body += &images::configurations(s, &dir).unwrap_or_default();
     }
     if let Some(t) = &study.transparency {
         body += &sections::transparency(t);

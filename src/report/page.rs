@@ -24,6 +24,7 @@ const STYLE: &str =
     "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:75em;padding:0 1em;color:#222}
 h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em}
 table{border-collapse:collapse;font-size:.8em;margin:.5em 0}
+caption{text-align:left;font-weight:bold;padding:.2em 0}
 th,td{border:1px solid #ccc;padding:.15em .4em;text-align:right;white-space:nowrap}
 th{background:#eee;cursor:pointer;position:sticky;top:0}
 th[aria-sort=ascending]::after{content:' \\25B2'}th[aria-sort=descending]::after{content:' \\25BC'}
@@ -31,23 +32,25 @@ td:first-child,th:first-child{text-align:left}
 .scroll{overflow-x:auto;max-width:100%}
 figure{margin:1em 0}figure img{max-width:100%;height:auto;border:1px solid #ddd}
 figcaption{font-size:.85em;color:#555}
+.grid{display:grid;grid-template-columns:repeat(4,1fr);gap:.5em}.grid figure{margin:0}
+h3{font-size:1.05em;margin:1em 0 .2em}
 dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em}dt{font-weight:bold}dd{margin:0}
 code{background:#f4f4f4;padding:.1em .3em;white-space:pre-wrap;word-break:break-all}
 .holds{color:#176b2c;font-weight:bold}.fails{color:#a3181a;font-weight:bold}
 @media print{body{max-width:none}section{break-after:page}section:last-of-type{break-after:auto}
 th{position:static}.scroll{overflow:visible}a{color:inherit;text-decoration:none}}";
 
-/// Sorts a table by the clicked header (numbers as numbers, text as text; a second click reverses), and by
-/// `?sort=N` (column N from 0, `&desc` for descending) of the first sortable table when the page opens, which
-/// lets a headless browser be told to sort.
+/// Sorts a table by the clicked header (numbers as numbers, text as text; a second click reverses). Each
+/// `click=N` of the page's query clicks header N (from 0) of the first sortable table once the page opens, so a
+/// headless browser can click a header (`index.html?click=4&click=4`: column 4, descending).
 const SCRIPT: &str = "function sortBy(t,c,desc){const b=t.tBodies[0],rows=Array.from(b.rows),
 n=s=>s.trim()!==''&&!isNaN(Number(s));rows.sort((x,y)=>{const p=x.cells[c].textContent,q=y.cells[c].textContent;
 const r=n(p)&&n(q)?Number(p)-Number(q):p.localeCompare(q);return desc?-r:r});rows.forEach(r=>b.appendChild(r));
 Array.from(t.tHead.rows[0].cells).forEach((h,i)=>h.setAttribute('aria-sort',i===c?(desc?'descending':'ascending'):'none'))}
 document.querySelectorAll('table.sortable').forEach(t=>Array.from(t.tHead.rows[0].cells).forEach((h,i)=>
 h.addEventListener('click',()=>sortBy(t,i,h.getAttribute('aria-sort')==='ascending'))));
-const q=new URLSearchParams(location.search),first=document.querySelector('table.sortable');
-if(first&&q.has('sort'))sortBy(first,Number(q.get('sort')),q.has('desc'));";
+const first=document.querySelector('table.sortable');
+if(first)new URLSearchParams(location.search).getAll('click').forEach(c=>first.tHead.rows[0].cells[Number(c)].click());";
 
 /// The whole page around `body`.
 pub fn document(title: &str, body: &str) -> String {

@@ -7,6 +7,7 @@ use super::sections::{MOTION_DIR, SHADOWS_DIR, TRANSPARENCY_DIR};
 use super::{AdapterFacts, Draft, Meta};
 use crate::bench::BenchConfig;
 use crate::gpu::{AdapterPreference, Gpu};
+use crate::measure::MethodConfig;
 use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion};
 use crate::measure::transparency::TechniqueConfig;
 use crate::settings::Settings;
@@ -135,6 +136,8 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     };
     if let Some(result) = &result {
         crate::bench::write_results(&dir, result)?;
+        let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
+        super::images::render_configs(&gpu, &settings, &configs, &dir, cancel, log)?;
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) {

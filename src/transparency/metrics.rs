@@ -341,6 +341,32 @@ impl SsimMap {
     }
 }
 
+/// A colour ramp for `t` in [0, 1]: black, purple, red, yellow, white.
+pub fn heat(t: f32) -> [u8; 3] {
+    const STOPS: [[f32; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.35, 0.0, 0.55],
+        [0.9, 0.1, 0.1],
+        [1.0, 0.85, 0.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    std::array::from_fn(|c| ((STOPS[i][c] + f * (STOPS[i + 1][c] - STOPS[i][c])) * 255.0).round() as u8)
+}
+
+/// The heat map of the max-channel `|a − b|` (1/255 steps) times `gain`, over 255.
+pub fn difference_image(a: &RgbaImage, b: &RgbaImage, gain: f32) -> RgbaImage {
+    let (w, h) = (a.width().min(b.width()), a.height().min(b.height()));
+    RgbaImage::from_fn(w, h, |x, y| {
+        let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+        let e = (0..3).map(|i| p.0[i].abs_diff(q.0[i])).max().unwrap_or(0);
+        let [r, g, b] = heat(f32::from(e) * gain / 255.0);
+        image::Rgba([r, g, b, 255])
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -37,10 +37,11 @@ const SMALL: &[&str] = &[
     "1",
 ];
 
-const SECTIONS: [&str; 6] = [
+const SECTIONS: [&str; 7] = [
     "scene",
     "machine",
     "speed-accuracy",
+    "configurations",
     "transparency",
     "motion",
     "claims",

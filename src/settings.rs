@@ -254,6 +254,7 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
     ("straight-motion", include_str!("../presets/straight-motion.toml")),
     ("back-lit", include_str!("../presets/back-lit.toml")),
     ("rim-lit", include_str!("../presets/rim-lit.toml")),
+    ("blond", include_str!("../presets/blond.toml")),
 ];
 
 impl SceneSettings {

@@ -312,3 +312,62 @@ fn bad_input_is_one_error_naming_the_file_and_writes_nothing() {
     );
     assert_nothing_written(root, &["col", "cut", "empty"]);
 }
+
+/// Ctrl-C once the first configuration's row is written: the run stops after the configuration in progress
+/// (exit code 130) and the page holds what finished: the shadow methods' rows so far (fewer than asked), equal to
+/// their CSV, and no section of the parts never started; no draft folder is left beside it.
+#[test]
+fn ctrl_c_writes_a_consistent_page_of_what_finished() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("r");
+    let mut args: Vec<&str> = vec!["report"];
+    args.extend_from_slice(SMALL);
+    args.extend(["--config", "osm:slices=16", "--config", "dom:layers=4"]);
+    args.extend(["--motion", "--out", out.to_str().unwrap()]);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(&args)
+        .env("RUST_LOG", "warn")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let first_row_written = || {
+        std::fs::read_dir(tmp.path()).unwrap().any(|e| {
+            let p = e.unwrap().path();
+            p.join("data/shadows/results.csv").is_file()
+        })
+    };
+    while !first_row_written() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the report ended before its first row"
+        );
+        assert!(start.elapsed().as_secs() < 300, "no row after 5 minutes");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert_self_contained(&out);
+    let html = page(&out);
+    assert_eq!(sections(&html), ["scene", "machine", "speed-accuracy"]);
+    let (header, rows) = csv_file(&out.join("data/shadows/results.csv"));
+    assert!(
+        !rows.is_empty() && rows.len() < 4,
+        "stopped after the configuration in progress: {rows:?}"
+    );
+    assert_eq!(table(&html, "results"), (header, rows));
+    let names: Vec<String> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["r"], "a draft left behind");
+}

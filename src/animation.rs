@@ -106,10 +106,12 @@ pub fn render_frames_on(
         }
         scene.set_strand_points(motion.frame(first)?)?;
     }
-    // Under `light.fit = bound` every frame's hair maps are fitted to the whole motion's box, whichever frames
-    // are rendered.
+    // Under `light.fit = bound` (`stable`) every frame's hair maps are fitted to the whole motion's box (its
+    // bounding sphere), whichever frames are rendered.
     let fit_bound = match settings.light.fit {
-        crate::scene::LightFit::Bound if !motion.is_still() => Some(motion.bound(&settings.motion)?),
+        crate::scene::LightFit::Bound | crate::scene::LightFit::Stable if !motion.is_still() => {
+            Some(motion.bound(&settings.motion)?)
+        }
         _ => None,
     };
     let scene_ms = start.elapsed().as_secs_f64() * 1e3;

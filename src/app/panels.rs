@@ -382,11 +382,14 @@ impl HairlabApp {
                 });
                 ui.horizontal(|ui| {
                     ui.label("fit").on_hover_text(
-                        "What the hair maps' light frame is fitted to: the hair of each frame (tightest), or \
-                         one bound of the whole motion (light depth does not swim). light.fit",
+                        "What the hair maps' light frame is fitted to: the hair of each frame (tightest), \
+                         one bound of the whole motion (light depth does not swim), or that bound's sphere with \
+                         the frame snapped to whole texels (a moving strand changes only the texels it crosses). \
+                         light.fit",
                     );
                     ui.selectable_value(&mut l.fit, LightFit::PerFrame, "per frame");
                     ui.selectable_value(&mut l.fit, LightFit::Bound, "bound");
+                    ui.selectable_value(&mut l.fit, LightFit::Stable, "stable");
                 });
                 let render = &mut self.settings.render;
                 let raster_before = render.raster;

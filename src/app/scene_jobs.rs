@@ -180,10 +180,10 @@ impl HairlabApp {
         self.poll_compare(patience);
     }
 
-    /// Keeps the renderer's fit bound the whole motion's box while `light.fit = bound` and the scene moves
-    /// (`motion_bound.rs`; the box is found on a worker).
+    /// Keeps the renderer's fit bound the whole motion's box while `light.fit` is `bound` or `stable` and the
+    /// scene moves (`motion_bound.rs`; the box is found on a worker).
     pub(super) fn fit_motion_bound(&mut self, patience: Duration) {
-        let wanted = (self.settings.light.fit == crate::scene::LightFit::Bound)
+        let wanted = (self.settings.light.fit != crate::scene::LightFit::PerFrame)
             .then(|| Some((self.built_scene.clone()?, self.timeline.opened_with()?.clone())))
             .flatten()
             .filter(|_| self.timeline.is_moving());

@@ -265,9 +265,10 @@ pub fn measure_motion(
         mesh_poses.push(motion.mesh_pose(k).map(|(m, pose)| (m.to_vec(), pose)));
         cpu_ms.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    // Under `light.fit = bound` every frame's hair maps are fitted to the whole motion's box.
+    // Under `light.fit = bound` (`stable`) every frame's hair maps are fitted to the whole motion's box (its
+    // bounding sphere).
     let fit_bound = match s.light.fit {
-        crate::scene::LightFit::Bound => Some(motion.bound(&s.motion)?),
+        crate::scene::LightFit::Bound | crate::scene::LightFit::Stable => Some(motion.bound(&s.motion)?),
         crate::scene::LightFit::PerFrame => None,
     };
     let sim = match motion {

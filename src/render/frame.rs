@@ -9,7 +9,7 @@ use super::render_settings::{AlphaMode, RenderSettings};
 use super::scene_gpu::SceneGpu;
 use super::transparency::EyeTransparency;
 use super::uniforms::FrameUniforms;
-use crate::scene::{Camera, Light, LightKind};
+use crate::scene::{Camera, Light, LightFit, LightKind};
 use glam::{Mat4, Vec3};
 
 /// World size of one pixel of a `width`×`height` image under the projection `view_to_clip`, per unit of clip w:
@@ -57,10 +57,16 @@ pub fn eye_depth_range(scene: &SceneGpu, camera: &Camera) -> [f32; 2] {
     [nearest / d, farthest / d]
 }
 
-/// The light frame of the hair maps: fitted to the strands under `light.fit` ([`SceneGpu::light_fit`]).
-pub fn hair_light_frame(scene: &SceneGpu, light: &Light) -> LightFrame {
+/// The light frame of the hair maps of `resolution` texels a side: fitted to the strands under `light.fit`
+/// ([`SceneGpu::light_fit`]; [`LightFrame::stable`] under `stable`, whose snap is to this resolution's texels).
+pub fn hair_light_frame(scene: &SceneGpu, light: &Light, resolution: u32) -> LightFrame {
     let (hair, around) = scene.light_fit(light.fit);
-    LightFrame::fit(light, around.center(), around.radius(), &hair)
+    match light.fit {
+        LightFit::Stable => LightFrame::stable(light, &hair, &around, resolution),
+        LightFit::PerFrame | LightFit::Bound => {
+            LightFrame::fit(light, around.center(), around.radius(), &hair)
+        }
+    }
 }
 
 /// The light frame of the meshes' shadow map: fitted to the whole scene.
@@ -103,7 +109,7 @@ pub struct UniformInputs<'a> {
 /// The frame uniforms every pass binds at group 0 (`shaders/common/frame.wgsl`).
 pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
     let (width, height) = f.size;
-    let hair = hair_light_frame(scene, f.light);
+    let hair = hair_light_frame(scene, f.light, f.light_map_resolution);
     let shadow = shadow_light_frame(scene, f.light);
     let resolution = f.light_map_resolution;
     let intensity = f.light.intensity;

@@ -287,9 +287,10 @@ impl Renderer {
         frame::eye_depth_range(&self.scene, camera)
     }
 
-    /// The light frame of the hair maps under `light.fit` ([`frame::hair_light_frame`]).
+    /// The light frame of the hair maps (as built, [`Renderer::map_resolution`] texels a side) under
+    /// `light.fit` ([`frame::hair_light_frame`]).
     pub fn hair_light_frame(&self, light: &Light) -> LightFrame {
-        frame::hair_light_frame(&self.scene, light)
+        frame::hair_light_frame(&self.scene, light, self.map_resolution())
     }
 
     /// Camera matrices for an image of `width`×`height`.

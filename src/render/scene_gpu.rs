@@ -67,9 +67,11 @@ pub struct SceneGpu {
     /// Each mesh's `(first vertex, vertex count)`.
     mesh_ranges: Vec<(usize, usize)>,
     mesh_bounds: Aabb,
+    /// The meshes' bounds at rest, which [`LightFit::Stable`] places a spot light around (posing moves none).
+    mesh_rest_bounds: Aabb,
     bounds: SceneBounds,
     /// The strands as uploaded, or the bound given by [`SceneGpu::set_fit_bound`]: what [`LightFit::Bound`]
-    /// fits to.
+    /// fits to and [`LightFit::Stable`] takes the bounding sphere of.
     fit_bound: Aabb,
     generation: u64,
 }
@@ -188,6 +190,7 @@ impl SceneGpu {
             mesh_rest: mv,
             mesh_ranges,
             mesh_bounds,
+            mesh_rest_bounds: mesh_bounds,
             bounds: SceneBounds {
                 strands,
                 all: scene.bounds(),
@@ -280,13 +283,20 @@ impl SceneGpu {
     }
 
     /// Under `fit`, the box the hair maps' light frame is fitted to and the box the light is placed around
-    /// (the one place the policy is applied; [`crate::render::Renderer::hair_light_frame`] reads it).
+    /// (the one place the policy is applied; [`crate::render::Renderer::hair_light_frame`] reads it). Under
+    /// [`LightFit::Stable`] the frame is fitted to the first box's bounding sphere
+    /// ([`crate::render::light_frame::LightFrame::stable`]) and a spot light is placed around the second, which
+    /// holds the meshes at rest, so that no pose moves it.
     pub fn light_fit(&self, fit: LightFit) -> (Aabb, Aabb) {
         match fit {
             LightFit::PerFrame => (self.bounds.strands, self.bounds.all),
             LightFit::Bound => {
                 let hair = self.fit_bound.union(self.bounds.strands);
                 (hair, hair.union(self.mesh_bounds))
+            }
+            LightFit::Stable => {
+                let hair = self.fit_bound.union(self.bounds.strands);
+                (hair, hair.union(self.mesh_rest_bounds))
             }
         }
     }

@@ -273,18 +273,23 @@ pub struct Light {
 }
 
 /// What the light frame of the hair maps is fitted to, the one policy every light-space pass follows
-/// (`Renderer::hair_light_frame`). For a still scene both give the same frame.
+/// (`Renderer::hair_light_frame`). For a still scene `per-frame` and `bound` give the same frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum LightFit {
     /// The strands of the frame being drawn: the tightest frame, so every texel and depth bit covers hair, but
     /// under motion the frustum and the normalised light depth follow the hair and can swim.
-    #[default]
     PerFrame,
     /// A conservative bound fitted once: the bound the scene's motion declares (`Renderer::set_fit_bound`), else
     /// the strands as they were uploaded, grown by the current strands where they leave it, so a moving groom
     /// keeps one frustum and one depth normalisation.
     Bound,
+    /// Stabilised (Valient 2008, "Stable rendering of cascaded shadow maps"): fitted once to the bounding sphere
+    /// of the bound `Bound` uses (the motion's, else the strands as uploaded), so the extent and the depth range
+    /// change with neither the pose nor the light direction, with the light-space origin snapped to whole
+    /// texels, so a strand that moves changes only the texels it crosses. The default.
+    #[default]
+    Stable,
 }
 
 impl Default for Light {
@@ -297,7 +302,7 @@ impl Default for Light {
             cone_deg: 40.0,
             intensity: 1.0,
             color: [1.0, 1.0, 1.0],
-            fit: LightFit::PerFrame,
+            fit: LightFit::Stable,
         }
     }
 }

@@ -15,9 +15,10 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
+/// One substep's values as `shaders/motion/simulate.wgsl` reads them (`Params`).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct Params {
+pub struct Params {
     head_rot: [f32; 4],
     pivot: [f32; 4],
     sweep: [f32; 4],
@@ -30,12 +31,37 @@ struct Params {
 /// The root frame's pose for the guide-and-follow pass (`shaders/motion/follow.wgsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct FollowParams {
+pub struct FollowParams {
     head_rot: [f32; 4],
     pivot: [f32; 4],
     translation: [f32; 4],
     counts: [u32; 4],
 }
+
+/// [`Params`]' field names and byte offsets, for the layout test against the WGSL struct.
+pub const PARAMS_FIELDS: &[(&str, usize)] = {
+    use std::mem::offset_of;
+    &[
+        ("head_rot", offset_of!(Params, head_rot)),
+        ("pivot", offset_of!(Params, pivot)),
+        ("sweep", offset_of!(Params, sweep)),
+        ("k", offset_of!(Params, k)),
+        ("m", offset_of!(Params, m)),
+        ("counts", offset_of!(Params, counts)),
+        ("wind", offset_of!(Params, wind)),
+    ]
+};
+
+/// [`FollowParams`]' field names and byte offsets, for the layout test against the WGSL struct.
+pub const FOLLOW_PARAMS_FIELDS: &[(&str, usize)] = {
+    use std::mem::offset_of;
+    &[
+        ("head_rot", offset_of!(FollowParams, head_rot)),
+        ("pivot", offset_of!(FollowParams, pivot)),
+        ("translation", offset_of!(FollowParams, translation)),
+        ("counts", offset_of!(FollowParams, counts)),
+    ]
+};
 
 /// The collider as `shaders/motion/collide.wgsl` reads it (`ColliderParams`).
 #[repr(C)]

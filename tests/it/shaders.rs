@@ -337,13 +337,24 @@ fn frame_uniforms_match_wgsl_layout() {
     );
 }
 
-/// The strand simulation's collider, in both passes that include `motion/collide.wgsl`.
+/// The strand simulation's uniforms: the substep's `Params`, the follow pass's `FollowParams`, and the collider
+/// in both passes that include `motion/collide.wgsl`.
 #[test]
-fn collider_params_match_wgsl_layout() {
-    use hairlab::motion::gpu::{COLLIDER_PARAMS_FIELDS, ColliderParams};
+fn motion_params_match_wgsl_layout() {
+    use hairlab::motion::gpu::{self as motion, ColliderParams, FollowParams, Params};
+    check_mirror(
+        std::mem::size_of::<Params>(),
+        motion::PARAMS_FIELDS,
+        &[("motion/simulate.wgsl", None, "Params")],
+    );
+    check_mirror(
+        std::mem::size_of::<FollowParams>(),
+        motion::FOLLOW_PARAMS_FIELDS,
+        &[("motion/follow.wgsl", None, "FollowParams")],
+    );
     check_mirror(
         std::mem::size_of::<ColliderParams>(),
-        COLLIDER_PARAMS_FIELDS,
+        motion::COLLIDER_PARAMS_FIELDS,
         &[
             ("motion/simulate.wgsl", None, "ColliderParams"),
             ("motion/follow.wgsl", None, "ColliderParams"),

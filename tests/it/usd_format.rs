@@ -503,8 +503,9 @@ fn usdc_and_usdz_read_like_usda() {
 }
 
 /// The hand stage as a preset's scene renders hair, and as `motion.path` plays as a motion of its two time codes:
-/// frame 1 (time code 2, the bezier moved by 2 cm) differs from frame 0 on screen, and each frame equals a fresh
-/// render of it.
+/// frame 1 (time code 2, the bezier moved by 2 cm) differs from frame 0 on screen and equals, bit for bit, a
+/// fresh render of a still stage holding time code 2's points (one camera, and `light.fit = per-frame` so
+/// each frame's light frame is fitted to its own strands as the still render's is).
 #[test]
 fn the_hand_stage_renders_and_plays_as_a_motion() {
     let Some(_gpu) = hairlab::gpu::Gpu::for_tests() else {
@@ -538,8 +539,38 @@ fn the_hand_stage_renders_and_plays_as_a_motion() {
         .filter(|(a, b)| a != b)
         .count();
     assert!(moved > 0, "time code 2 moved nothing on screen");
-    let again = hairlab::cli::render::render_frame_image(&mut load(), 1).unwrap();
-    assert_eq!(again.as_raw(), second.as_raw(), "frame 1 rendered twice");
+    let sample0 = "0: [(0, 0, 0), (0, 8, 4), (0, 8, 8), (0, 0, 12)],\n";
+    let sample2 = "2: [(1, 0, 0), (1, 8, 4), (1, 8, 8), (1, 0, 12)],\n";
+    let timed =
+        format!("point3f[] points.timeSamples = {{\n            {sample0}            {sample2}        }}");
+    assert!(HAND_STAGE.contains(&timed), "the stage's time samples");
+    let still_stage = HAND_STAGE.replace(
+        &timed,
+        "point3f[] points = [(1, 0, 0), (1, 8, 4), (1, 8, 8), (1, 0, 12)]",
+    );
+    write(&dir, "hand-at-2.usda", &still_stage);
+    let still_preset = dir.path().join("hand-at-2.toml");
+    std::fs::write(
+        &still_preset,
+        "[scene]\nfile = \"hand-at-2.usda\"\n[render]\nwidth = 96\nheight = 72\nmap_resolution = 128\n",
+    )
+    .unwrap();
+    let (scene, _) = load().open_motion().unwrap();
+    let mut camera = load().camera;
+    camera.frame(&scene.framing_bounds());
+    let pinned = |mut s: hairlab::settings::Settings| {
+        s.camera = camera;
+        s.light.fit = hairlab::scene::LightFit::PerFrame;
+        s
+    };
+    let played = hairlab::cli::render::render_frame_image(&mut pinned(load()), 1).unwrap();
+    let still = hairlab::settings::Settings::load_preset(still_preset.to_str().unwrap(), &[]).unwrap();
+    let fresh = hairlab::cli::render::render_frame_image(&mut pinned(still), 0).unwrap();
+    assert_eq!(
+        played.as_raw(),
+        fresh.as_raw(),
+        "frame 1 against a still render of time code 2"
+    );
 }
 
 /// The malformed binary stages of issue 34 (each once aborted or panicked inside `openusd`'s usdc reader).

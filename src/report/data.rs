@@ -243,6 +243,8 @@ pub struct Shadows {
     pub results: Table,
     pub json: Option<serde_json::Value>,
     pub chart: Option<PathBuf>,
+    /// The light map's depth-complexity histogram (a fresh study's).
+    pub depth_complexity: Option<Table>,
 }
 
 /// `bench transparency`'s folder.
@@ -297,6 +299,9 @@ impl Study {
                     results: read_table(&csv, &results_columns())?,
                     json: read_json(&dir.join("results.json"))?,
                     chart: existing(dir.join("speed_vs_accuracy.svg")),
+                    depth_complexity: existing(dir.join(super::curves::HISTOGRAM_CSV))
+                        .map(|p| read_table(&p, &columns(&["depth_complexity", "texels"], 0, Cell::Number)))
+                        .transpose()?,
                 };
                 set_once(&mut study.shadows, part, &csv)?;
             }

@@ -96,6 +96,12 @@ pub fn files(s: &Shadows) -> Vec<String> {
         if names.iter().all(|n| dir.join(n).is_file()) {
             out.extend(names);
         }
+        for rank in 0..super::curves::WORST_TEXELS {
+            let vz = super::curves::vz_file(k, rank);
+            if dir.join(&vz).is_file() {
+                out.push(vz);
+            }
+        }
     }
     out
 }
@@ -104,7 +110,7 @@ pub fn files(s: &Shadows) -> Vec<String> {
 /// geometry passes and image metrics from `results.csv`; `None` when no images were rendered.
 pub fn configurations(s: &Shadows, images_dir: &str) -> Option<String> {
     let present = files(s);
-    if present.len() < 2 {
+    if !present.iter().any(|f| f.ends_with("_flip.png")) {
         return None;
     }
     let t = &s.results;
@@ -156,6 +162,22 @@ pub fn configurations(s: &Shadows, images_dir: &str) -> Option<String> {
             ),
         ] {
             content += &super::page::figure(&src, &alt, &caption);
+        }
+        content += "</div>\n<div class=\"grid3\">\n";
+        for rank in 0..super::curves::WORST_TEXELS {
+            let vz = super::curves::vz_file(k, rank);
+            if present.contains(&vz) {
+                content += &super::page::figure(
+                    &format!("{images_dir}/{vz}"),
+                    &format!(
+                        "Line chart of V(z) at the texel where {label} errs most (number {} of {}), against the \
+                         exact reference's",
+                        rank + 1,
+                        super::curves::WORST_TEXELS
+                    ),
+                    &format!("V(z) at worst texel {}", rank + 1),
+                );
+            }
         }
         content += "</div>\n</article>\n";
     }

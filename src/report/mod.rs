@@ -9,6 +9,7 @@
 //! fetches nothing (no `http`, no `https`), so it opens from `file://`.
 
 pub mod claims;
+pub mod curves;
 pub mod data;
 pub mod images;
 pub mod page;
@@ -65,6 +66,7 @@ const SHADOWS_FILES: &[&str] = &[
     "results.json",
     "speed_vs_accuracy.svg",
     "speed_vs_accuracy.png",
+    curves::HISTOGRAM_CSV,
 ];
 const TRANSPARENCY_FILES: &[&str] = &[
     "transparency.csv",
@@ -130,6 +132,12 @@ impl Draft {
             let pictures = images::files(s);
             let names: Vec<&str> = pictures.iter().map(String::as_str).collect();
             copy_part(&s.dir.join(images::IMAGES), &dir.join(images::IMAGES), &names)?;
+            if let Some(t) = &s.depth_complexity {
+                crate::io::write_atomic(
+                    &dir.join(curves::HISTOGRAM_SVG),
+                    curves::histogram_svg(t)?.as_bytes(),
+                )?;
+            }
         }
         if let Some(t) = &study.transparency {
             copy_part(&t.dir, &root.join(sections::TRANSPARENCY_DIR), TRANSPARENCY_FILES)?;

@@ -32,7 +32,7 @@ td:first-child,th:first-child{text-align:left}
 .scroll{overflow-x:auto;max-width:100%}
 figure{margin:1em 0}figure img{max-width:100%;height:auto;border:1px solid #ddd}
 figcaption{font-size:.85em;color:#555}
-.grid{display:grid;grid-template-columns:repeat(4,1fr);gap:.5em}.grid figure{margin:0}
+.grid{display:grid;grid-template-columns:repeat(4,1fr);gap:.5em}.grid3{display:grid;grid-template-columns:repeat(3,1fr);gap:.5em}.grid figure,.grid3 figure{margin:0}
 h3{font-size:1.05em;margin:1em 0 .2em}
 dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em}dt{font-weight:bold}dd{margin:0}
 code{background:#f4f4f4;padding:.1em .3em;white-space:pre-wrap;word-break:break-all}

@@ -138,6 +138,8 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
         crate::bench::write_results(&dir, result)?;
         let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
         super::images::render_configs(&gpu, &settings, &configs, &dir, cancel, log)?;
+        log("  the worst texels' V(z) and the depth-complexity histogram");
+        super::curves::write(&gpu, &settings, &configs, &dir)?;
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) {

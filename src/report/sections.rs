@@ -6,7 +6,7 @@
 use super::Meta;
 use super::data::{Motion, Shadows, Study, Transparency};
 use super::page::{facts, figure, link, section, sortable_table};
-use crate::bench::chart::{self, Axis, Chart, Mark, Point, Scale, Series};
+use crate::bench::chart::{self, Axis, Chart, Point, Scale};
 use anyhow::Result;
 use serde_json::Value;
 
@@ -66,7 +66,11 @@ pub fn scene(study: &Study, meta: &Meta) -> Option<String> {
     if let Some(l) = &meta.light {
         pairs.push(("light", l.clone()));
     }
-    if pairs.is_empty() && meta.thumbnail.is_none() {
+    let histogram = study
+        .shadows
+        .as_ref()
+        .is_some_and(|s| s.depth_complexity.is_some());
+    if pairs.is_empty() && meta.thumbnail.is_none() && !histogram {
         return None;
     }
     let mut content = String::new();
@@ -75,6 +79,17 @@ pub fn scene(study: &Study, meta: &Meta) -> Option<String> {
             t,
             "The study's scene rendered from the preset's camera with its default shadow method",
             "The scene (frame 0, the preset's camera and shadow method).",
+        );
+    }
+    if study
+        .shadows
+        .as_ref()
+        .is_some_and(|s| s.depth_complexity.is_some())
+    {
+        content += &figure(
+            &format!("{SHADOWS_DIR}/{}", super::curves::HISTOGRAM_SVG),
+            "Line chart of the light map's occupied texels by their depth complexity (fragments per texel)",
+            "Light depth complexity: occupied texels by the number of fragments in them.",
         );
     }
     content += &facts(&pairs);
@@ -208,7 +223,7 @@ pub fn transparency(t: &Transparency) -> String {
 /// The per-frame map error of every configuration of `m`, one line each, as the bench's chart model.
 pub fn motion_chart(m: &Motion) -> Chart {
     let f = &m.frames;
-    let mut series: Vec<Series> = Vec::new();
+    let mut lines: Vec<(String, Vec<Point>)> = Vec::new();
     for i in 0..f.rows.len() {
         let (Some(config), Some(frame), Some(error)) = (
             f.text(i, "config"),
@@ -223,19 +238,18 @@ pub fn motion_chart(m: &Motion) -> Chart {
             label: String::new(),
             row: Some(i),
         };
-        match series.iter_mut().find(|s| s.name == config) {
-            Some(s) => s.points.push(point),
-            None => {
-                let method = config.split(':').next().unwrap_or(config);
-                series.push(Series {
-                    name: config.to_string(),
-                    color: chart::method_color(method),
-                    mark: Mark::Line,
-                    points: vec![point],
-                })
-            }
+        match lines.iter_mut().find(|(name, _)| name == config) {
+            Some((_, points)) => points.push(point),
+            None => lines.push((config.to_string(), vec![point])),
         }
     }
+    let series = lines
+        .into_iter()
+        .flat_map(|(name, points)| {
+            let method = name.split(':').next().unwrap_or(&name).to_string();
+            super::curves::named_line(name, chart::method_color(&method), points)
+        })
+        .collect();
     Chart {
         title: "Map error per frame".to_string(),
         notes: vec!["mean |ΔV| per occupied texel against the exact reference, each frame".to_string()],

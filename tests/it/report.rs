@@ -198,12 +198,27 @@ fn a_fresh_report_has_every_section_its_tables_equal_the_csv_and_from_gives_the_
     assert!(o.status.success(), "{}", stderr(&o));
     assert_self_contained(&again);
     let from = page(&again);
-    // No thumbnail and no light without a fresh run, but the scene's figures from results.json.
+    // No thumbnail and no light without a fresh run, but the scene's figures from results.json and the
+    // histogram.
     assert_eq!(sections(&from), SECTIONS);
     for id in ["results", "transparency", "motion", "claims"] {
         assert_eq!(table(&from, id), table(&html, id), "{id}");
     }
-    assert!(select(&from, "#scene img").is_empty());
+    let srcs = |html: &Html, css: &str| -> Vec<String> {
+        select(html, css)
+            .iter()
+            .map(|i| i.value().attr("src").unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(
+        srcs(&html, "#scene img"),
+        ["scene.png", "data/shadows/depth_complexity.svg"]
+    );
+    assert_eq!(srcs(&from, "#scene img"), ["data/shadows/depth_complexity.svg"]);
+    // Per configuration: its image, the reference, the difference, FLIP and V(z) at its 3 worst texels.
+    let configurations = srcs(&html, "#configurations img");
+    assert_eq!(configurations.len(), 2 * 7, "{configurations:?}");
+    assert_eq!(srcs(&from, "#configurations img"), configurations);
 }
 
 const SUMMARY: &str = "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms,\

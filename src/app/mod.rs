@@ -162,7 +162,7 @@ pub struct HairlabApp {
     time_view: time_view::TimeView,
     /// The motion exported as a PNG sequence or a GIF (`export_animation.rs`).
     animation_export: export_animation::AnimationExport,
-    /// The whole motion's box for `light.fit = bound`, found on a worker (`motion_bound.rs`).
+    /// The whole motion's box for `light.fit = bound` or `stable`, found on a worker (`motion_bound.rs`).
     motion_bound: motion_bound::MotionBound,
     /// The context the jobs' workers wake when they report (`jobs.rs`).
     egui_ctx: egui::Context,
@@ -388,12 +388,12 @@ impl HairlabApp {
         })
     }
 
-    /// The timeline of the scene's motion.
     /// The box the renderer fits the hair maps' light frame to under the current `light.fit`.
     pub fn light_fit_box(&self) -> Option<crate::scene::Aabb> {
         Some(self.renderer.as_ref()?.fit_box(self.settings.light.fit))
     }
 
+    /// The timeline of the scene's motion.
     pub fn timeline(&self) -> &timeline::Timeline {
         &self.timeline
     }

@@ -1,5 +1,6 @@
-//! `light.fit = bound` in the window: the light's frame fitted once to the box of the whole motion, so the hair
-//! maps do not rescale from frame to frame (docs/design.md, "A scene that moves"). The box needs every frame of
+//! `light.fit = bound` (and `stable`, which takes the box's bounding sphere) in the window: the light's frame
+//! fitted once to the box of the whole motion, so the hair maps do not rescale from frame to frame
+//! (docs/design.md, "A scene that moves"). The box needs every frame of
 //! the motion, so it is found on a worker (a job in the bottom bar, with progress and Cancel) from the settings the
 //! scene on screen was built with, the way `render` and `measure motion` find it in line (`Motion::bound`). Until
 //! it arrives, the renderer fits to the scene as uploaded joined with the frame shown, as before.
@@ -42,7 +43,7 @@ impl MotionBound {
     }
 
     /// Starts, polls or drops the job for the motion on screen. `wanted`: the scene's and motion's settings when
-    /// `light.fit = bound` and the scene moves, else `None`. `settings` supplies everything else the motion needs.
+    /// `light.fit` is `bound` or `stable` and the scene moves, else `None`. `settings` supplies everything else the motion needs.
     pub fn update(
         &mut self,
         wanted: Option<Key>,

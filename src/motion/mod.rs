@@ -366,8 +366,8 @@ impl Motion {
     }
 
     /// The box holding the strands of every frame of the motion (`light.fit = bound` fits the hair maps' light
-    /// frame to it once, so normalised light depth does not swim). Plays the whole motion once; frame `k` is
-    /// the same bits afterwards.
+    /// frame to it once, `stable` to its bounding sphere, so normalised light depth does not swim). Plays the
+    /// whole motion once; frame `k` is the same bits afterwards.
     pub fn bound(&mut self, m: &MotionSettings) -> Result<crate::scene::Aabb> {
         let mut bound = crate::scene::Aabb::EMPTY;
         for k in 0..self.frame_count(m) {

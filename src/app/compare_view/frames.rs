@@ -184,7 +184,7 @@ pub struct CompareSource {
     pub gpu: Gpu,
     pub scene: Scene,
     pub fur: Option<crate::fur::settings::FurScene>,
-    /// The box the window's renderer fits the hair maps to under `light.fit = bound` (the whole motion's once
+    /// The box the window's renderer fits the hair maps to under `light.fit = bound` or `stable` (the whole motion's once
     /// it is known), so the compare images fit the same light frame as the viewport.
     pub fit_bound: Option<crate::scene::Aabb>,
     /// The meshes riding on the motion's root frame and their pose at the timeline's frame (the turned head).

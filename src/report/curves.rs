@@ -4,7 +4,7 @@
 //! the samples and the texel error of the bench's map error (`crate::measure`'s texel samples, the method's GPU
 //! lookup).
 
-use super::data::Table;
+use super::data::{HISTOGRAM_CSV, IMAGES, Table, WORST_TEXELS, vz_file};
 use crate::bench::chart::{self, Axis, Chart, Mark, Point, Scale, Series};
 use crate::gpu::Gpu;
 use crate::measure::{MethodConfig, TexelSamples, evaluate_all};
@@ -14,16 +14,10 @@ use anyhow::Result;
 use serde::Serialize;
 use std::path::Path;
 
-/// Texels whose curves each configuration shows, and the size of each chart.
-pub const WORST_TEXELS: usize = 3;
+/// The size of each `V(z)` chart.
 const VZ_SIZE: (u32, u32) = (600, 450);
 /// Markers on a named line (the chart writer's legend lists named point series).
 const MARKERS: usize = 12;
-
-/// The file of configuration `k`'s curves at its worst texel `rank` (0: the worst).
-pub fn vz_file(k: usize, rank: usize) -> String {
-    format!("{k}_vz_{rank}.svg")
-}
 
 /// A line through `points` and, under `name` in the legend, a dozen of its points as markers (the texel
 /// inspector's plots do the same).
@@ -45,8 +39,7 @@ pub fn named_line(name: String, color: chart::Color, points: Vec<Point>) -> [Ser
         },
     ]
 }
-/// The histogram's table in the bench's folder, and its chart in the report.
-pub const HISTOGRAM_CSV: &str = "depth_complexity.csv";
+/// The histogram's chart in the report.
 pub const HISTOGRAM_SVG: &str = "depth_complexity.svg";
 
 #[derive(Serialize)]
@@ -82,7 +75,7 @@ pub fn write(gpu: &Gpu, settings: &Settings, configs: &[MethodConfig], bench_dir
     let texels = TexelSamples::of(&lists, res);
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();
     let technique = crate::render::transparency::registry::reference();
-    let dir = bench_dir.join(super::images::IMAGES);
+    let dir = bench_dir.join(IMAGES);
     std::fs::create_dir_all(&dir)?;
     for (k, c) in configs.iter().enumerate() {
         let method = crate::methods::registry::find(&c.name).map_err(anyhow::Error::msg)?;

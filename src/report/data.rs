@@ -6,6 +6,17 @@
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
+/// A fresh study's additions to the bench's folder: the light map's depth-complexity histogram, and the
+/// images folder (each configuration's image, maps and `V(z)` curves at its [`WORST_TEXELS`] worst texels).
+pub const HISTOGRAM_CSV: &str = "depth_complexity.csv";
+pub const IMAGES: &str = "images";
+pub const WORST_TEXELS: usize = 3;
+
+/// The file of configuration `k`'s curves at its worst texel `rank` (0: the worst).
+pub fn vz_file(k: usize, rank: usize) -> String {
+    format!("{k}_vz_{rank}.svg")
+}
+
 /// One CSV file as read: its header and its rows, each cell the file's text.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {
@@ -299,7 +310,7 @@ impl Study {
                     results: read_table(&csv, &results_columns())?,
                     json: read_json(&dir.join("results.json"))?,
                     chart: existing(dir.join("speed_vs_accuracy.svg")),
-                    depth_complexity: existing(dir.join(super::curves::HISTOGRAM_CSV))
+                    depth_complexity: existing(dir.join(HISTOGRAM_CSV))
                         .map(|p| read_table(&p, &columns(&["depth_complexity", "texels"], 0, Cell::Number)))
                         .transpose()?,
                 };

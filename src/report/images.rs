@@ -4,7 +4,7 @@
 //! difference ×[`DIFFERENCE_GAIN`] as a heat map, the Compare window's) and `images/k_flip.png` (FLIP's heat
 //! map). The section shows the rows whose files are there.
 
-use super::data::Shadows;
+use super::data::{IMAGES, Shadows, WORST_TEXELS, vz_file};
 use super::page::{escape, section};
 use crate::gpu::Gpu;
 use crate::measure::MethodConfig;
@@ -19,8 +19,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The gain of the difference maps.
 pub const DIFFERENCE_GAIN: f32 = 8.0;
-/// The images' folder inside the bench's folder.
-pub const IMAGES: &str = "images";
 
 /// `settings`' scene rendered with `method` (frame 0).
 fn render(gpu: &Gpu, settings: &Settings, method: &MethodConfig) -> Result<RgbaImage> {
@@ -96,8 +94,8 @@ pub fn files(s: &Shadows) -> Vec<String> {
         if names.iter().all(|n| dir.join(n).is_file()) {
             out.extend(names);
         }
-        for rank in 0..super::curves::WORST_TEXELS {
-            let vz = super::curves::vz_file(k, rank);
+        for rank in 0..WORST_TEXELS {
+            let vz = vz_file(k, rank);
             if dir.join(&vz).is_file() {
                 out.push(vz);
             }
@@ -164,8 +162,8 @@ pub fn configurations(s: &Shadows, images_dir: &str) -> Option<String> {
             content += &super::page::figure(&src, &alt, &caption);
         }
         content += "</div>\n<div class=\"grid3\">\n";
-        for rank in 0..super::curves::WORST_TEXELS {
-            let vz = super::curves::vz_file(k, rank);
+        for rank in 0..WORST_TEXELS {
+            let vz = vz_file(k, rank);
             if present.contains(&vz) {
                 content += &super::page::figure(
                     &format!("{images_dir}/{vz}"),
@@ -173,7 +171,7 @@ pub fn configurations(s: &Shadows, images_dir: &str) -> Option<String> {
                         "Line chart of V(z) at the texel where {label} errs most (number {} of {}), against the \
                          exact reference's",
                         rank + 1,
-                        super::curves::WORST_TEXELS
+                        WORST_TEXELS
                     ),
                     &format!("V(z) at worst texel {}", rank + 1),
                 );

@@ -66,7 +66,7 @@ const SHADOWS_FILES: &[&str] = &[
     "results.json",
     "speed_vs_accuracy.svg",
     "speed_vs_accuracy.png",
-    curves::HISTOGRAM_CSV,
+    data::HISTOGRAM_CSV,
 ];
 const TRANSPARENCY_FILES: &[&str] = &[
     "transparency.csv",
@@ -131,7 +131,7 @@ impl Draft {
             copy_part(&s.dir, &dir, SHADOWS_FILES)?;
             let pictures = images::files(s);
             let names: Vec<&str> = pictures.iter().map(String::as_str).collect();
-            copy_part(&s.dir.join(images::IMAGES), &dir.join(images::IMAGES), &names)?;
+            copy_part(&s.dir.join(data::IMAGES), &dir.join(data::IMAGES), &names)?;
             if let Some(t) = &s.depth_complexity {
                 crate::io::write_atomic(
                     &dir.join(curves::HISTOGRAM_SVG),
@@ -206,7 +206,7 @@ pub fn html(study: &Study, meta: &Meta) -> String {
     body += &sections::machine(study, meta);
     if let Some(s) = &study.shadows {
         body += &sections::shadows(s);
-        let dir = format!("{}/{}", sections::SHADOWS_DIR, images::IMAGES);
+        let dir = format!("{}/{}", sections::SHADOWS_DIR, data::IMAGES);
         body += &images::configurations(s, &dir).unwrap_or_default();
     }
     if let Some(t) = &study.transparency {

@@ -386,3 +386,95 @@ fn ctrl_c_writes_a_consistent_page_of_what_finished() {
         .collect();
     assert_eq!(names, ["r"], "a draft left behind");
 }
+
+/// `--from` the folders a finished `bench shadows`, `bench transparency` and `measure motion` wrote: every
+/// table equals its CSV, and the sections are those their data gives (the scene from results.json and
+/// transparency.json, no per-configuration images, which only a fresh study renders).
+#[test]
+fn from_the_folders_of_finished_bench_and_measure_runs_gives_their_tables() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = |name: &str| tmp.path().join(name).to_str().unwrap().to_string();
+    let small = [
+        "--set",
+        "scene.generator.strands=300",
+        "--set",
+        "scene.generator.segments=12",
+        "--set",
+        "render.map_resolution=128",
+        "--set",
+        "render.width=320",
+        "--set",
+        "render.height=240",
+    ];
+    let runs: [Vec<&str>; 3] = [
+        vec![
+            "bench",
+            "shadows",
+            "--preset",
+            "stray-strand",
+            "--methods",
+            "dom",
+            "--frames",
+            "1",
+        ],
+        vec![
+            "bench",
+            "transparency",
+            "--preset",
+            "stray-strand",
+            "--frames",
+            "1",
+        ],
+        vec![
+            "measure",
+            "motion",
+            "--preset",
+            "stray-sweep",
+            "--config",
+            "dom:layers=3",
+            "--config",
+            "occupancy",
+            "--frames",
+            "2",
+        ],
+    ];
+    let outs = [dir("shadows"), dir("transparency"), dir("motion")];
+    for (args, out) in runs.iter().zip(&outs) {
+        let mut args = args.clone();
+        args.extend(small);
+        args.extend(["--out", out]);
+        let o = hairlab(&args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    }
+    let report = dir("r");
+    let o = hairlab(&[
+        "report", "--from", &outs[0], "--from", &outs[1], "--from", &outs[2], "--out", &report,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = Path::new(&report);
+    assert_self_contained(report);
+    let html = page(report);
+    assert_eq!(
+        sections(&html),
+        [
+            "scene",
+            "machine",
+            "speed-accuracy",
+            "transparency",
+            "motion",
+            "claims"
+        ]
+    );
+    for (id, csv) in [
+        ("results", Path::new(&outs[0]).join("results.csv")),
+        ("transparency", Path::new(&outs[1]).join("transparency.csv")),
+        ("motion", Path::new(&outs[2]).join("motion_summary.csv")),
+    ] {
+        let (header, rows) = csv_file(&csv);
+        assert!(!rows.is_empty(), "{id}");
+        assert_eq!(table(&html, id), (header, rows), "{id}");
+    }
+}

@@ -13,6 +13,8 @@ use crate::scene::Aabb;
 const BINS: usize = 16;
 /// A node holds at most this many segments as a leaf when a split would not pay.
 const MAX_LEAF: usize = 8;
+/// Traversal keeps its stack on the stack for trees up to this deep.
+const STACK: usize = 64;
 
 #[derive(Clone, Copy, Debug)]
 struct Node {
@@ -31,6 +33,8 @@ pub struct Bvh {
     triangles: Vec<Triangle>,
     nodes: Vec<Node>,
     order: Vec<u32>,
+    /// The longest path from the root to a leaf, in edges.
+    depth: usize,
 }
 
 fn area(b: &Aabb) -> f32 {
@@ -70,6 +74,7 @@ impl Bvh {
             segments,
             triangles,
             nodes: Vec::new(),
+            depth: 0,
         };
         bvh.nodes.push(Node {
             min: Vec3::ZERO,
@@ -77,8 +82,9 @@ impl Bvh {
             first: 0,
             count: 0,
         });
-        let mut stack = vec![(0usize, 0usize, bvh.order.len())];
-        while let Some((node, first, count)) = stack.pop() {
+        let mut stack = vec![(0usize, 0usize, bvh.order.len(), 0usize)];
+        while let Some((node, first, count, level)) = stack.pop() {
+            bvh.depth = bvh.depth.max(level);
             let items = &mut bvh.order[first..first + count];
             let b = items
                 .iter()
@@ -139,7 +145,10 @@ impl Bvh {
                         count: 0,
                         ..bvh.nodes[node]
                     };
-                    stack.extend([(child, first, half), (child + 1, first + half, count - half)]);
+                    stack.extend([
+                        (child, first, half, level + 1),
+                        (child + 1, first + half, count - half, level + 1),
+                    ]);
                 }
                 continue;
             }
@@ -158,7 +167,10 @@ impl Bvh {
             bvh.nodes.extend([bvh.nodes[node]; 2]);
             bvh.nodes[node].count = 0;
             bvh.nodes[node].first = child as u32;
-            stack.extend([(child, first, left), (child + 1, first + left, count - left)]);
+            stack.extend([
+                (child, first, left, level + 1),
+                (child + 1, first + left, count - left, level + 1),
+            ]);
         }
         bvh
     }
@@ -188,13 +200,27 @@ impl Bvh {
             return;
         }
         let inv = ray.dir.recip();
-        let mut stack = Vec::with_capacity(64);
-        stack.push(0u32);
-        while let Some(n) = stack.pop() {
-            let node = self.nodes[n as usize];
-            if slab(node.min, node.max, ray, inv, t_max).is_none() {
+        // Nodes to visit with their entry distance; at most one per level besides the one being visited.
+        let mut fixed = [(0u32, 0.0f32); STACK];
+        let mut grown;
+        let stack: &mut [(u32, f32)] = if self.depth < STACK {
+            &mut fixed
+        } else {
+            grown = vec![(0u32, 0.0f32); self.depth + 1];
+            &mut grown
+        };
+        let Some(entry) = slab(self.nodes[0].min, self.nodes[0].max, ray, inv, t_max) else {
+            return;
+        };
+        stack[0] = (0, entry);
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (n, entry) = stack[top];
+            if entry > t_max {
                 continue;
             }
+            let node = self.nodes[n as usize];
             if node.count > 0 {
                 for &i in &self.order[node.first as usize..(node.first + node.count) as usize] {
                     t_max = match visit(i, t_max) {
@@ -209,11 +235,21 @@ impl Bvh {
                 let c = self.nodes[c as usize];
                 slab(c.min, c.max, ray, inv, t_max)
             };
+            let mut push = |c: u32, t: f32| {
+                stack[top] = (c, t);
+                top += 1;
+            };
             match (near(l), near(r)) {
-                (Some(tl), Some(tr)) if tl <= tr => stack.extend([r, l]),
-                (Some(_), Some(_)) => stack.extend([l, r]),
-                (Some(_), None) => stack.push(l),
-                (None, Some(_)) => stack.push(r),
+                (Some(tl), Some(tr)) if tl <= tr => {
+                    push(r, tr);
+                    push(l, tl);
+                }
+                (Some(tl), Some(tr)) => {
+                    push(l, tl);
+                    push(r, tr);
+                }
+                (Some(tl), None) => push(l, tl),
+                (None, Some(tr)) => push(r, tr),
                 (None, None) => {}
             }
         }

@@ -134,6 +134,17 @@ impl Segment {
     /// The nearest crossing into this segment with `t` in `(t_min, t_max)` (back faces culled); `segment` is
     /// set to 0.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        // A ray whose line passes farther from the axis's line than the widest radius misses (a lower bound on
+        // the distance to the segment, so this never drops a crossing; the margin covers f32 rounding).
+        let (axis, w) = (self.b - self.a, ray.origin - self.a);
+        let normal = ray.dir.cross(axis);
+        let r = self.ra.max(self.rb);
+        let margin = 1e-5 * (1.0 + w.abs().max_element() + axis.abs().max_element());
+        if normal.length_squared() > 1e-12 * axis.length_squared()
+            && w.dot(normal).abs() > (r + margin) * normal.length()
+        {
+            return None;
+        }
         let d = ray.dir.as_dvec3();
         let (a, b) = (self.a.as_dvec3(), self.b.as_dvec3());
         let (ra, rb) = (self.ra as f64, self.rb as f64);

@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 pub const HISTOGRAM_CSV: &str = "depth_complexity.csv";
 pub const IMAGES: &str = "images";
 pub const WORST_TEXELS: usize = 3;
+/// A fresh study's looping animations in the motion's folder.
+pub const ANIMATIONS: &str = "animations";
 
 /// The file of configuration `k`'s curves at its worst texel `rank` (0: the worst).
 pub fn vz_file(k: usize, rank: usize) -> String {

@@ -8,6 +8,7 @@
 //! failure leaves nothing half-written; every image and file the page names is inside the folder, and the page
 //! fetches nothing (no `http`, no `https`), so it opens from `file://`.
 
+pub mod animations;
 pub mod claims;
 pub mod curves;
 pub mod data;
@@ -145,6 +146,9 @@ impl Draft {
         if let Some(m) = &study.motion {
             let dir = root.join(sections::MOTION_DIR);
             copy_part(&m.dir, &dir, MOTION_FILES)?;
+            let gifs = animations::files(m);
+            let names: Vec<&str> = gifs.iter().map(String::as_str).collect();
+            copy_part(&m.dir.join(data::ANIMATIONS), &dir.join(data::ANIMATIONS), &names)?;
             crate::io::write_atomic(
                 &dir.join(sections::MOTION_CHART),
                 sections::motion_chart_svg(m)?.as_bytes(),

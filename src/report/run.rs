@@ -209,6 +209,8 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     )?;
     written.into_inner()?;
     if !m.rows.is_empty() {
+        let configs: Vec<MethodConfig> = m.rows.iter().map(|r| r.config.config.clone()).collect();
+        super::animations::write(&gpu, &settings, &configs, frames.max(2), &dir, cancel, log)?;
         dirs.push(dir);
     }
     Ok(Done {

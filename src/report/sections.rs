@@ -280,6 +280,7 @@ pub fn motion(m: &Motion) -> String {
          the motion",
         "Map error per frame over the motion.",
     );
+    content += &super::animations::figures(m, &format!("{MOTION_DIR}/{}", super::data::ANIMATIONS));
     content += &sortable_table(
         "motion",
         "motion_summary.csv: flicker, pop rate and map error per configuration",

@@ -219,6 +219,19 @@ fn a_fresh_report_has_every_section_its_tables_equal_the_csv_and_from_gives_the_
     let configurations = srcs(&html, "#configurations img");
     assert_eq!(configurations.len(), 2 * 7, "{configurations:?}");
     assert_eq!(srcs(&from, "#configurations img"), configurations);
+    // Motion: the per-frame chart, then each configuration's animation beside the reference's.
+    let motion = srcs(&html, "#motion img");
+    assert_eq!(
+        motion,
+        [
+            "data/motion/motion_map_error_per_frame.svg",
+            "data/motion/animations/0.gif",
+            "data/motion/animations/reference.gif",
+            "data/motion/animations/1.gif",
+            "data/motion/animations/reference.gif",
+        ]
+    );
+    assert_eq!(srcs(&from, "#motion img"), motion);
 }
 
 const SUMMARY: &str = "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms,\

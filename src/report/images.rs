@@ -4,10 +4,11 @@
 //! difference ×[`DIFFERENCE_GAIN`] as a heat map, the Compare window's) and `images/k_flip.png` (FLIP's heat
 //! map). The section shows the rows whose files are there.
 
-use super::data::{IMAGES, Shadows, WORST_TEXELS, vz_file};
+use super::data::{IMAGES, Shadows, Transparency, WORST_TEXELS, vz_file};
 use super::page::{escape, section};
 use crate::gpu::Gpu;
 use crate::measure::MethodConfig;
+use crate::measure::transparency::TechniqueConfig;
 use crate::settings::Settings;
 use crate::transparency::FlipMap;
 use crate::transparency::metrics::difference_image;
@@ -20,11 +21,24 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// The gain of the difference maps.
 pub const DIFFERENCE_GAIN: f32 = 8.0;
 
-/// `settings`' scene rendered with `method` (frame 0).
-fn render(gpu: &Gpu, settings: &Settings, method: &MethodConfig) -> Result<RgbaImage> {
+/// `settings` with the shadow method `method`.
+pub fn with_method(settings: &Settings, method: &MethodConfig) -> Settings {
     let mut s = settings.clone();
     s.method.name = method.name.clone();
     s.method.params = method.params.clone();
+    s
+}
+
+/// `settings` with the eye transparency technique `technique`.
+pub fn with_technique(settings: &Settings, technique: &TechniqueConfig) -> Settings {
+    let mut s = settings.clone();
+    s.transparency.name = technique.name.clone();
+    s.transparency.params = technique.params.clone();
+    s
+}
+
+/// Frame 0 of `settings`' scene.
+fn render(gpu: &Gpu, mut s: Settings) -> Result<RgbaImage> {
     let mut out = None;
     crate::animation::render_frames_on(gpu, &mut s, &[0], &mut |_| {}, &mut |_, image| {
         out = Some(image);
@@ -41,8 +55,37 @@ fn save(image: &image::DynamicImage, path: &Path) -> Result<()> {
     crate::io::write_atomic(path, bytes.get_ref())
 }
 
-/// Renders the reference and each of `configs` (the bench's rows, in order) into `bench_dir/images`; stops
-/// after the image in progress when `cancel` is set.
+/// Renders `reference` and each of `variants` (label, settings; a table's rows in order) into `dir`
+/// (`reference.png`, and per row `k.png`, `k_difference.png`, `k_flip.png`); stops after the image in progress
+/// when `cancel` is set.
+pub fn render_set(
+    gpu: &Gpu,
+    reference: Settings,
+    variants: Vec<(String, Settings)>,
+    dir: &Path,
+    cancel: &AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    log("  rendering the reference image");
+    let reference = render(gpu, reference)?;
+    save(&reference.clone().into(), &dir.join("reference.png"))?;
+    for (k, (label, s)) in variants.into_iter().enumerate() {
+        if cancel.load(Ordering::SeqCst) {
+            break;
+        }
+        log(&format!("  rendering {label}"));
+        let image = render(gpu, s)?;
+        let difference = difference_image(&image, &reference, DIFFERENCE_GAIN);
+        let flip = FlipMap::new(&image, &reference).heat_map();
+        save(&difference.into(), &dir.join(format!("{k}_difference.png")))?;
+        save(&flip.into(), &dir.join(format!("{k}_flip.png")))?;
+        save(&image.into(), &dir.join(format!("{k}.png")))?;
+    }
+    Ok(())
+}
+
+/// Renders the reference shadows and each of `configs` (the bench's rows, in order) into `bench_dir/images`.
 pub fn render_configs(
     gpu: &Gpu,
     settings: &Settings,
@@ -51,26 +94,126 @@ pub fn render_configs(
     cancel: &AtomicBool,
     log: &mut dyn FnMut(&str),
 ) -> Result<()> {
+    let reference = MethodConfig::new(crate::methods::registry::reference().name(), Default::default());
+    let variants = configs
+        .iter()
+        .map(|c| (c.label(), with_method(settings, c)))
+        .collect();
     let dir = bench_dir.join(IMAGES);
-    std::fs::create_dir_all(&dir).with_context(|| format!("{}: cannot create", dir.display()))?;
-    let reference_method =
-        MethodConfig::new(crate::methods::registry::reference().name(), Default::default());
-    log("  rendering the reference image");
-    let reference = render(gpu, settings, &reference_method)?;
-    save(&reference.clone().into(), &dir.join("reference.png"))?;
-    for (k, c) in configs.iter().enumerate() {
-        if cancel.load(Ordering::SeqCst) {
-            break;
-        }
-        log(&format!("  rendering {}", c.label()));
-        let image = render(gpu, settings, c)?;
-        let difference = difference_image(&image, &reference, DIFFERENCE_GAIN);
-        let flip = FlipMap::new(&image, &reference).heat_map();
-        save(&difference.into(), &dir.join(format!("{k}_difference.png")))?;
-        save(&flip.into(), &dir.join(format!("{k}_flip.png")))?;
-        save(&image.into(), &dir.join(format!("{k}.png")))?;
+    render_set(
+        gpu,
+        with_method(settings, &reference),
+        variants,
+        &dir,
+        cancel,
+        log,
+    )
+}
+
+/// Renders the exact composite and each of `techniques` (the transparency bench's rows, in order) into
+/// `bench_dir/images`: Sintorn & Assarsson's Fig. 2 grid.
+pub fn render_techniques(
+    gpu: &Gpu,
+    settings: &Settings,
+    techniques: &[TechniqueConfig],
+    bench_dir: &Path,
+    cancel: &AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<()> {
+    let reference = TechniqueConfig::new(
+        crate::render::transparency::registry::reference().name(),
+        Default::default(),
+    );
+    let variants = techniques
+        .iter()
+        .map(|t| (t.label(), with_technique(settings, t)))
+        .collect();
+    let dir = bench_dir.join(IMAGES);
+    render_set(
+        gpu,
+        with_technique(settings, &reference),
+        variants,
+        &dir,
+        cancel,
+        log,
+    )
+}
+
+/// The images of `rows` rows in `dir` whose three files are there, after `reference.png` (none without it).
+fn files_in(dir: &Path, rows: usize) -> Vec<String> {
+    if !dir.join("reference.png").is_file() {
+        return Vec::new();
     }
-    Ok(())
+    let mut out = vec!["reference.png".to_string()];
+    for k in 0..rows {
+        let names = row_files(k);
+        if names.iter().all(|n| dir.join(n).is_file()) {
+            out.extend(names);
+        }
+    }
+    out
+}
+
+/// The transparency folder's images the report copies.
+pub fn technique_files(t: &Transparency) -> Vec<String> {
+    files_in(&t.dir.join(IMAGES), t.table.rows.len())
+}
+
+/// Sintorn & Assarsson's Fig. 2 layout: the exact composite, then each technique's image with its metrics from
+/// `transparency.csv`, and its difference and FLIP maps; nothing when no images were rendered.
+pub fn fig2(t: &Transparency, images_dir: &str) -> String {
+    let present = technique_files(t);
+    if !present.iter().any(|f| f.ends_with("_flip.png")) {
+        return String::new();
+    }
+    let tab = &t.table;
+    // Three rows as in Fig. 2: the images (the reference first), the differences, the FLIP maps.
+    let mut rows = [
+        super::page::figure(
+            &format!("{images_dir}/reference.png"),
+            "The scene's hair composited exactly (every fragment sorted), the reference",
+            "exact composite (reference)",
+        ),
+        String::new(),
+        String::new(),
+    ];
+    for k in 0..tab.rows.len() {
+        let files = row_files(k);
+        if !present.contains(&files[0]) {
+            continue;
+        }
+        let label = tab.text(k, "configuration").unwrap_or("?");
+        let cell = |name: &str| tab.text(k, name).unwrap_or("");
+        let captions = [
+            (
+                format!("The hair composited by {label}"),
+                format!(
+                    "{label}: hair RMSE {}, SSIM {}, FLIP {}, {} ms",
+                    cell("rmse_hair"),
+                    cell("ssim_hair"),
+                    cell("flip_hair"),
+                    cell("gpu_ms")
+                ),
+            ),
+            (
+                format!("Heat map of the difference between {label} and the exact composite"),
+                format!("{label}: difference ×{DIFFERENCE_GAIN}"),
+            ),
+            (
+                format!("FLIP heat map of {label} against the exact composite"),
+                format!("{label}: FLIP"),
+            ),
+        ];
+        for ((row, file), (alt, caption)) in rows.iter_mut().zip(&files).zip(captions) {
+            *row += &super::page::figure(&format!("{images_dir}/{file}"), &alt, &caption);
+        }
+    }
+    let mut out =
+        String::from("<h3>The techniques' images (Sintorn &amp; Assarsson 2009, Fig. 2 layout)</h3>\n");
+    for row in rows {
+        out += &format!("<div class=\"grid\">\n{row}</div>\n");
+    }
+    out
 }
 
 /// The names of row `k`'s files, in the order shown.
@@ -82,18 +225,14 @@ fn row_files(k: usize) -> [String; 3] {
     ]
 }
 
-/// The files of the images folder the report copies: the reference and every row's whose three are there.
+/// The bench folder's images the report copies: the reference, every row's three, and its `V(z)` charts.
 pub fn files(s: &Shadows) -> Vec<String> {
     let dir = s.dir.join(IMAGES);
-    if !dir.join("reference.png").is_file() {
-        return Vec::new();
+    let mut out = files_in(&dir, s.results.rows.len());
+    if out.is_empty() {
+        return out;
     }
-    let mut out = vec!["reference.png".to_string()];
     for k in 0..s.results.rows.len() {
-        let names = row_files(k);
-        if names.iter().all(|n| dir.join(n).is_file()) {
-            out.extend(names);
-        }
         for rank in 0..WORST_TEXELS {
             let vz = vz_file(k, rank);
             if dir.join(&vz).is_file() {

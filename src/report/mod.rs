@@ -141,7 +141,11 @@ impl Draft {
             }
         }
         if let Some(t) = &study.transparency {
-            copy_part(&t.dir, &root.join(sections::TRANSPARENCY_DIR), TRANSPARENCY_FILES)?;
+            let dir = root.join(sections::TRANSPARENCY_DIR);
+            copy_part(&t.dir, &dir, TRANSPARENCY_FILES)?;
+            let pictures = images::technique_files(t);
+            let names: Vec<&str> = pictures.iter().map(String::as_str).collect();
+            copy_part(&t.dir.join(data::IMAGES), &dir.join(data::IMAGES), &names)?;
         }
         if let Some(m) = &study.motion {
             let dir = root.join(sections::MOTION_DIR);

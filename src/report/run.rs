@@ -173,6 +173,8 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     write_err?;
     if !bench.rows.is_empty() {
         bench.write(&dir)?;
+        let rows: Vec<TechniqueConfig> = bench.rows.iter().map(|r| r.config.clone()).collect();
+        super::images::render_techniques(&gpu, &settings, &rows, &dir, cancel, log)?;
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) || !plan.motion {

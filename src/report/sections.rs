@@ -200,6 +200,7 @@ pub fn transparency(t: &Transparency) -> String {
             super::page::escape(&paper)
         );
     }
+    content += &super::images::fig2(t, &format!("{TRANSPARENCY_DIR}/{}", super::data::IMAGES));
     content += &sortable_table(
         "transparency",
         "transparency.csv: every technique configuration",

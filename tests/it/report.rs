@@ -232,6 +232,20 @@ fn a_fresh_report_has_every_section_its_tables_equal_the_csv_and_from_gives_the_
         ]
     );
     assert_eq!(srcs(&from, "#motion img"), motion);
+    // Transparency: the chart, then the Fig. 2 rows: the reference and each technique's image, the
+    // differences, the FLIP maps.
+    let images = "data/transparency/images";
+    let mut expected = vec![
+        "data/transparency/transparency_speed_vs_accuracy.svg".to_string(),
+        format!("{images}/reference.png"),
+    ];
+    for suffix in ["", "_difference", "_flip"] {
+        for k in 0..2 {
+            expected.push(format!("{images}/{k}{suffix}.png"));
+        }
+    }
+    assert_eq!(srcs(&html, "#transparency img"), expected);
+    assert_eq!(srcs(&from, "#transparency img"), srcs(&html, "#transparency img"));
 }
 
 const SUMMARY: &str = "config,map_error,shading_error,flicker,flicker_p99,pop_rate,max_pop,image_flicker,gpu_ms,\

@@ -203,7 +203,7 @@ fn gpu_volume_equals_the_cpu_store_on_mixed_levels() {
 fn the_preset_volume_on_the_gpu_and_its_time() {
     use hairlab::fur::settings::FurScene;
     let Some(gpu) = Gpu::for_tests() else { return };
-    let s = hairlab::settings::Settings::load_preset("fur-cylinder", &[]).unwrap();
+    let s = crate::common::measured_preset("fur-cylinder", &[]);
     let scene = s.scene.build().unwrap();
     let fur = FurScene::build(&scene, &s.fur).unwrap().expect("fur is on");
     let shell = &fur.shell;

@@ -166,7 +166,7 @@ fn wgsl_environment_shading_equals_the_cpu_model() {
 
 /// The `fur-hat` preset at test size: 600 of its guard hairs and a coarse shell (4 layers, levels ≤ 2).
 fn hat() -> (Settings, Scene) {
-    let mut s = Settings::load_preset(
+    let mut s = crate::common::measured_preset(
         "fur-hat",
         &[
             "scene.generator.strands=600".into(),
@@ -174,8 +174,7 @@ fn hat() -> (Settings, Scene) {
             format!("render.height={HEIGHT}"),
             "render.map_resolution=256".into(),
         ],
-    )
-    .expect("fur-hat preset");
+    );
     s.fur = FurSettings {
         layers: 4,
         max_level: 2,

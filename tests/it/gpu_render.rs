@@ -23,8 +23,6 @@ fn render(gpu: &Gpu, settings: &mut Settings) -> (Renderer, image::RgbaImage) {
 fn default_scene_matches_snapshot() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let mut s = common::small_settings(160, 120);
-    // The snapshot was taken under `light.fit = per-frame`, the default before `stable` (issue 35).
-    s.light.fit = hairlab::scene::LightFit::PerFrame;
     let (_, img) = render(&gpu, &mut s);
     // Up to 1% of pixels may differ by more than 8/255 (rasterisation differences between driver versions).
     common::compare_snapshot("render_default", &img, 8, 0.01);

@@ -23,14 +23,14 @@ fn head() -> (Settings, Scene) {
 #[test]
 fn moved_points_render_like_the_moved_strands_loaded_from_a_file() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let (mut s, scene) = head();
+    let (s, scene) = head();
     assert!(
         !scene.meshes.is_empty(),
         "the head's mesh must be part of the comparison"
     );
-    // Under `per-frame` the light frame follows the hair, so the moved points and the loaded file get one frame
-    // (`bound` and `stable` keep the frame of the points as uploaded).
-    s.light.fit = LightFit::PerFrame;
+    // Under `per-frame` (`small_settings`) the light frame follows the hair, so the moved points and the loaded
+    // file get one frame (`bound` and `stable` keep the frame of the points as uploaded).
+    assert_eq!(s.light.fit, LightFit::PerFrame);
     // An offset that is not a multiple of a texel or a pixel, so the light frame must follow the hair.
     let offset = Vec3::new(0.0131, -0.0207, 0.0089);
     let moved: Vec<Vec3> = scene.strands.points.iter().map(|p| *p + offset).collect();

@@ -308,7 +308,7 @@ fn max(v: &[f32]) -> f32 {
 
 /// The back-lit preset shrunk to a test scene: 7200 segments, 96×72.
 fn small_back_lit() -> Settings {
-    let mut s = Settings::load_preset(
+    let mut s = crate::common::measured_preset(
         "back-lit",
         &[
             "scene.generator.strands=600".into(),
@@ -317,8 +317,7 @@ fn small_back_lit() -> Settings {
             "render.height=72".into(),
             "render.map_resolution=128".into(),
         ],
-    )
-    .unwrap();
+    );
     let scene = s.scene.build().unwrap();
     s.camera.frame(&scene.framing_bounds());
     s

@@ -6,11 +6,10 @@
 
 use hairlab::gpu::Gpu;
 use hairlab::measure::{Measurement, MethodConfig, measure_on};
-use hairlab::settings::Settings;
 
 fn run(gpu: &Gpu, preset: &str, overrides: &[&str], configs: &[&str]) -> Vec<Measurement> {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let settings = Settings::load_preset(preset, &overrides).unwrap();
+    let settings = crate::common::measured_preset(preset, &overrides);
     let configs: Vec<MethodConfig> = configs.iter().map(|c| MethodConfig::parse(c).unwrap()).collect();
     let (_, rows) = measure_on(gpu, &settings, &configs, 1, |_| {}).unwrap();
     for m in &rows {

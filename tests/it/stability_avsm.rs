@@ -8,7 +8,6 @@
 
 use hairlab::gpu::Gpu;
 use hairlab::measure::{Measurement, MethodConfig, measure_on};
-use hairlab::settings::Settings;
 
 const CONFIGS: [&str; 4] = [
     "avsm:nodes=4",
@@ -19,7 +18,7 @@ const CONFIGS: [&str; 4] = [
 
 fn run(gpu: &Gpu, preset: &str, overrides: &[&str]) -> Vec<Measurement> {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let settings = Settings::load_preset(preset, &overrides).unwrap();
+    let settings = crate::common::measured_preset(preset, &overrides);
     let configs: Vec<MethodConfig> = CONFIGS.iter().map(|c| MethodConfig::parse(c).unwrap()).collect();
     let (_, rows) = measure_on(gpu, &settings, &configs, 1, |_| {}).unwrap();
     for m in &rows {

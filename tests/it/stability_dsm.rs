@@ -7,14 +7,13 @@
 use hairlab::gpu::Gpu;
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::Renderer;
-use hairlab::settings::Settings;
 use hairlab::visibility::Fragment;
 
 const EPSILONS: [f32; 4] = [0.0, 0.01, 0.05, 0.1];
 
 /// Mean fragments and, per ε of [`EPSILONS`], mean vertices per occupied texel of `preset`.
 fn vertices_per_texel(gpu: &Gpu, preset: &str) -> (f64, Vec<f64>) {
-    let mut s = Settings::load_preset(preset, &[]).unwrap();
+    let mut s = crate::common::measured_preset(preset, &[]);
     let scene = s.scene.build().unwrap();
     s.camera.frame(&scene.framing_bounds());
     let mut r = Renderer::new(gpu, &scene, s.render.map_resolution).unwrap();

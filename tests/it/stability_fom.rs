@@ -9,7 +9,6 @@
 use hairlab::gpu::Gpu;
 use hairlab::measure::{MethodConfig, measure_on};
 use hairlab::render::Renderer;
-use hairlab::settings::Settings;
 use hairlab::visibility::fom::{FomParams, FomWindow, build, unclamped_visibility};
 use hairlab::visibility::{Fragment, OsmParams, Reference, TexelModel, depth_range, osm};
 
@@ -89,7 +88,7 @@ fn ringing(texels: &[Vec<Fragment>], models: &[Option<u32>], global: bool) -> Ve
 
 /// The occupied texels of `preset`'s light map, as the reference A-buffer lists them.
 fn texels(gpu: &Gpu, preset: &str) -> Vec<Vec<Fragment>> {
-    let mut s = Settings::load_preset(preset, &[]).unwrap();
+    let mut s = crate::common::measured_preset(preset, &[]);
     let scene = s.scene.build().unwrap();
     if s.camera.distance <= 0.0 {
         s.camera.frame(&scene.framing_bounds());
@@ -149,7 +148,7 @@ fn straight_grazing_rings_fourier_opacity_maps_less_with_more_terms() {
         fom.iter().map(|r| r.max_rise).collect::<Vec<_>>()
     );
 
-    let settings = Settings::load_preset("straight-grazing", &[]).unwrap();
+    let settings = crate::common::measured_preset("straight-grazing", &[]);
     let mut labels: Vec<String> = TERMS
         .iter()
         .map(|k| format!("fom:terms={k},window=plain"))

@@ -8,14 +8,13 @@ use hairlab::gpu::Gpu;
 use hairlab::measure::{Measurement, MethodConfig, measure_on};
 use hairlab::methods::{ParamValues, registry};
 use hairlab::render::Renderer;
-use hairlab::settings::Settings;
 use hairlab::visibility::optical_depth;
 
 const MSM4: &str = "msm";
 const MSM6: &str = "msm:moments=6,bias=5e-6";
 
 fn run(gpu: &Gpu, preset: &str) -> Vec<Measurement> {
-    let settings = Settings::load_preset(preset, &[]).unwrap();
+    let settings = crate::common::measured_preset(preset, &[]);
     let configs: Vec<MethodConfig> = [MSM4, MSM6]
         .iter()
         .map(|c| MethodConfig::parse(c).unwrap())
@@ -61,7 +60,7 @@ fn six_moments_fit_better_than_four() {
 /// texel (and a little in front of and behind it): the largest V above 1, below exp(-b_0), and increase from
 /// one depth to the next.
 fn bound_violations(gpu: &Gpu, params: &[(&str, f32)]) -> (f32, f32, f32, usize) {
-    let s = Settings::load_preset("stray-strand", &[]).unwrap();
+    let s = crate::common::measured_preset("stray-strand", &[]);
     let scene = s.scene.build().unwrap();
     let resolution = s.render.map_resolution;
     let mut r = Renderer::new(gpu, &scene, resolution).unwrap();

@@ -16,14 +16,13 @@ use hairlab::transparency::metrics::compare;
 
 /// The Fig. 2-like preset shrunk for the tests: the head at 1500 strands, occupancy shadows, α = 0.35.
 fn fig2_settings() -> Settings {
-    Settings::load_preset(
+    crate::common::measured_preset(
         "transparency-head",
         &[
             "scene.generator.strands=1500".into(),
             "render.map_resolution=256".into(),
         ],
     )
-    .unwrap()
 }
 
 fn configs(texts: &[&str]) -> Vec<TechniqueConfig> {
@@ -142,7 +141,7 @@ fn single_fragment_pixels_are_exact_for_every_technique() {
 #[test]
 fn half_precision_departs_and_the_lambda_correction_helps_deep_pixels() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let mut s = Settings::load_preset("transparency-dense", &["render.map_resolution=256".into()]).unwrap();
+    let mut s = crate::common::measured_preset("transparency-dense", &["render.map_resolution=256".into()]);
     let scene = s.scene.build().unwrap();
     s.camera.frame(&scene.framing_bounds());
     let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();

@@ -42,11 +42,13 @@ pub struct BenchPanel {
     pub open: bool,
     /// Methods to sweep, and whether each is on.
     methods: Vec<(&'static str, bool)>,
-    frames: u32,
+    pub(super) frames: u32,
     job: Option<Job>,
     result: Option<BenchResult>,
     /// Where each row's point was drawn in the last frame (screen points).
     on_screen: Vec<Option<egui::Pos2>>,
+    /// **Export report…** under way, and its folder (`report_export.rs`).
+    pub(super) report: Option<(jobs::Job<super::report_export::ReportDone>, std::path::PathBuf)>,
 }
 
 impl Default for BenchPanel {
@@ -58,6 +60,7 @@ impl Default for BenchPanel {
             job: None,
             result: None,
             on_screen: Vec::new(),
+            report: None,
         }
     }
 }
@@ -215,7 +218,8 @@ impl HairlabApp {
     /// The Bench window, when open.
     pub(super) fn bench_window(&mut self, ctx: &egui::Context) {
         self.poll_bench();
-        if self.bench.job.is_some() {
+        self.poll_report_export();
+        if self.bench.job.is_some() || self.bench.report.is_some() {
             ctx.request_repaint_after(std::time::Duration::from_millis(250));
         }
         let mut open = self.bench.open;
@@ -288,6 +292,27 @@ impl HairlabApp {
                 if ui.button("Copy chart").on_hover_text("the chart as an image").clicked() {
                     self.copy_bench_chart(ctx);
                 }
+            }
+        });
+        ui.horizontal(|ui| match &self.bench.report {
+            None => {
+                if ui
+                    .button("Export report…")
+                    .on_hover_text(
+                        "one HTML page of the current scene, shadow method and transparency technique (and the \
+                         motion), as `hairlab report` writes it, into hairlab-report/ of a chosen folder",
+                    )
+                    .clicked()
+                {
+                    self.request_export(super::exports::Export::Report, ctx);
+                }
+            }
+            Some((job, _)) => {
+                let status = job.status();
+                if ui.button("Cancel report").clicked() {
+                    status.cancel();
+                }
+                ui.add(egui::ProgressBar::new(status.fraction).text(format!("report: {}", status.stage)));
             }
         });
         let Some(result) = &mut self.bench.result else {

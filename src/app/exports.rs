@@ -22,6 +22,7 @@ pub enum Export {
     Compare,
     Pixel,
     Texel,
+    Report,
 }
 
 impl Export {
@@ -32,6 +33,7 @@ impl Export {
             Export::Compare => "Export the compared images to a folder",
             Export::Pixel => "Export the pixel's fragments and plot to a folder",
             Export::Texel => "Export the texel inspector's plot to a folder",
+            Export::Report => "Export a report of the current scene to a folder",
         }
     }
 }
@@ -57,6 +59,7 @@ impl HairlabApp {
             Export::Compare => self.export_compare(dir),
             Export::Pixel => self.export_pixel(dir),
             Export::Texel => self.export_texel(dir),
+            Export::Report => self.start_report_export(dir),
         }
     }
 

@@ -14,6 +14,7 @@ mod lightmap_view;
 mod motion_bound;
 mod panels;
 pub mod pixel_inspector;
+mod report_export;
 mod scene_jobs;
 mod shader_watch;
 pub mod texel_lab;

@@ -5,6 +5,7 @@
 use crate::report::data::Study;
 use crate::report::run::Plan;
 use crate::report::{Draft, Meta};
+use crate::settings::Settings;
 use anyhow::{Result, bail};
 use std::path::PathBuf;
 
@@ -75,42 +76,38 @@ pub fn report(a: &ReportArgs) -> Result<()> {
     if !(1..=1000).contains(&a.frames) {
         bail!("--frames must be in 1..=1000 (got {})", a.frames);
     }
-    let draft = Draft::new(&a.out)?;
-    let mut interrupted = None;
-    let (study, meta) = if a.from.is_empty() {
+    if a.from.is_empty() {
+        let settings = Settings::load_preset(&a.preset, &a.set)?;
         let plan = Plan {
             preset: a.preset.clone(),
-            set: a.set.clone(),
             configs: a.configs.clone(),
             techniques: a.techniques.clone(),
             motion: a.motion,
             frames: a.frames,
         };
         let cancel = super::interrupt::flag();
-        let done = crate::report::run::run(&draft, &plan, cancel, &mut |line| eprintln!("{line}"))?;
-        if done.dirs.is_empty() {
-            bail!("interrupted (Ctrl-C) before any configuration finished; no report written");
+        let (page, interrupted) = crate::report::fresh(
+            &a.out,
+            &plan,
+            &settings,
+            command_line(),
+            &[],
+            cancel,
+            &mut |line| eprintln!("{line}"),
+        )?;
+        println!("wrote {}", page.display());
+        if let Some(done) = interrupted {
+            return Err(super::interrupt::Interrupted { done }.into());
         }
-        let study = Study::read(&done.dirs)?;
-        if !done.finished {
-            interrupted = Some(study.configurations());
-        }
-        (study, done.meta)
-    } else {
-        let meta = Meta {
-            version: env!("CARGO_PKG_VERSION"),
-            ..Meta::default()
-        };
-        (Study::read(&a.from)?, meta)
-    };
-    let meta = Meta {
-        command: command_line(),
-        ..meta
-    };
-    let page = draft.finish(&study, &meta)?;
-    println!("wrote {}", page.display());
-    if let Some(done) = interrupted {
-        return Err(super::interrupt::Interrupted { done }.into());
+        return Ok(());
     }
+    let draft = Draft::new(&a.out)?;
+    let study = Study::read(&a.from)?;
+    let meta = Meta {
+        version: env!("CARGO_PKG_VERSION"),
+        command: command_line(),
+        ..Meta::default()
+    };
+    println!("wrote {}", draft.finish(&study, &meta)?.display());
     Ok(())
 }

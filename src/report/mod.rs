@@ -183,6 +183,32 @@ impl Draft {
     }
 }
 
+/// A fresh study of `settings` (`plan`) written as a report into `out`, with `extra` files (name, bytes) beside
+/// the page: the page's path, and the configurations finished when `cancel` stopped the study (`None`: it ran
+/// to the end). Nothing is written when it fails, or when it was cancelled before any configuration finished.
+pub fn fresh(
+    out: &Path,
+    plan: &run::Plan,
+    settings: &crate::settings::Settings,
+    command: String,
+    extra: &[(&str, Vec<u8>)],
+    cancel: &std::sync::atomic::AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<(PathBuf, Option<usize>)> {
+    let draft = Draft::new(out)?;
+    for (name, bytes) in extra {
+        crate::io::write_atomic(&draft.path().join(name), bytes)?;
+    }
+    let done = run::run(&draft, plan, settings, cancel, log)?;
+    if done.dirs.is_empty() {
+        bail!("interrupted before any configuration finished; no report written");
+    }
+    let study = Study::read(&done.dirs)?;
+    let interrupted = (!done.finished).then(|| study.configurations());
+    let meta = Meta { command, ..done.meta };
+    Ok((draft.finish(&study, &meta)?, interrupted))
+}
+
 /// Copies `names` present in `from` into `to` (created), unless `from` is `to` or there are none.
 fn copy_part(from: &Path, to: &Path, names: &[&str]) -> Result<()> {
     if names.is_empty() {

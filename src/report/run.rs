@@ -24,8 +24,8 @@ const THUMBNAIL_WIDTH: u32 = 480;
 /// What a fresh study measures.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Plan {
+    /// The preset's name or path, for the page's title.
     pub preset: String,
-    pub set: Vec<String>,
     /// Shadow method configurations (`name` or `name:key=value,...`): the bench measures these, and the motion
     /// these; none means the bench's whole sweep and the motion's usual configurations.
     pub configs: Vec<String>,
@@ -43,9 +43,14 @@ pub struct Done {
     pub finished: bool,
 }
 
-/// Runs `plan` into `draft`; `log` hears what is measured.
-pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(&str)) -> Result<Done> {
-    let settings = Settings::load_preset(&plan.preset, &plan.set)?;
+/// Runs `plan` on `settings` into `draft`; `log` hears what is measured.
+pub fn run(
+    draft: &Draft,
+    plan: &Plan,
+    settings: &Settings,
+    cancel: &AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<Done> {
     if plan.motion && settings.motion.source == crate::motion::MotionSource::None {
         bail!(
             "--motion: preset {} has no [motion] (try stray-sweep, wind, head-turn or straight-motion)",
@@ -69,7 +74,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
             .collect::<Result<_>>()?
     };
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let l = &settings.light;
+    let l = settings.light;
     let mut meta = Meta {
         version: env!("CARGO_PKG_VERSION"),
         preset: Some(plan.preset.clone()),
@@ -107,7 +112,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     let result = if plan.configs.is_empty() {
         let methods = crate::bench::parse_methods(&[])?;
         crate::bench::run_each(
-            &settings,
+            settings,
             &plan.preset,
             &methods,
             frames,
@@ -124,7 +129,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
             })
             .collect();
         crate::bench::measure_configs_each(
-            &settings,
+            settings,
             &plan.preset,
             &configs,
             frames,
@@ -137,9 +142,9 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     if let Some(result) = &result {
         crate::bench::write_results(&dir, result)?;
         let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
-        super::images::render_configs(&gpu, &settings, &configs, &dir, cancel, log)?;
+        super::images::render_configs(&gpu, settings, &configs, &dir, cancel, log)?;
         log("  the worst texels' V(z) and the depth-complexity histogram");
-        super::curves::write(&gpu, &settings, &configs, &dir)?;
+        super::curves::write(&gpu, settings, &configs, &dir)?;
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) {
@@ -156,7 +161,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     let mut write_err = Ok(());
     let bench = crate::bench::transparency::TransparencyBench::run_each(
         &gpu,
-        &settings,
+        settings,
         &plan.preset,
         &techniques,
         frames,
@@ -174,7 +179,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     if !bench.rows.is_empty() {
         bench.write(&dir)?;
         let rows: Vec<TechniqueConfig> = bench.rows.iter().map(|r| r.config.clone()).collect();
-        super::images::render_techniques(&gpu, &settings, &rows, &dir, cancel, log)?;
+        super::images::render_techniques(&gpu, settings, &rows, &dir, cancel, log)?;
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) || !plan.motion {
@@ -203,7 +208,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     };
     let m = measure_motion(
         &gpu,
-        &settings,
+        settings,
         &motion_configs,
         frames.max(2),
         options,
@@ -212,7 +217,7 @@ pub fn run(draft: &Draft, plan: &Plan, cancel: &AtomicBool, log: &mut dyn FnMut(
     written.into_inner()?;
     if !m.rows.is_empty() {
         let configs: Vec<MethodConfig> = m.rows.iter().map(|r| r.config.config.clone()).collect();
-        super::animations::write(&gpu, &settings, &configs, frames.max(2), &dir, cancel, log)?;
+        super::animations::write(&gpu, settings, &configs, frames.max(2), &dir, cancel, log)?;
         dirs.push(dir);
     }
     Ok(Done {

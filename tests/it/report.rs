@@ -505,3 +505,86 @@ fn from_the_folders_of_finished_bench_and_measure_runs_gives_their_tables() {
         assert_eq!(table(&html, id), (header, rows), "{id}");
     }
 }
+
+/// The Bench window's **Export report…**: the page of the window's scene, method and technique, written by a job
+/// into `hairlab-report/` of the folder, with the window's settings beside it and the command that reproduces
+/// it from them.
+#[test]
+fn the_window_exports_a_report_of_its_scene_and_selection() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = hairlab::settings::Settings::load_preset(
+        "stray-strand",
+        &[
+            "scene.generator.strands=300".into(),
+            "scene.generator.segments=12".into(),
+            "render.map_resolution=128".into(),
+            "render.width=320".into(),
+            "render.height=240".into(),
+            "method.name=dom".into(),
+        ],
+    )
+    .unwrap();
+    let mut harness = egui_kittest::Harness::builder()
+        .with_size([1200.0, 900.0])
+        .wgpu_setup(hairlab::app::wgpu_setup(
+            hairlab::gpu::AdapterPreference::Software,
+        ))
+        .build_eframe(move |cc| hairlab::app::HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    use egui_kittest::kittest::Queryable;
+    harness.get_by_label("Bench").click();
+    harness.run();
+    let export = tempfile::tempdir().unwrap();
+    harness
+        .state_mut()
+        .set_export_dir(Some(export.path().to_path_buf()));
+    harness.get_by_label("Export report…").click();
+    harness.step();
+    let start = std::time::Instant::now();
+    let wrote = |h: &egui_kittest::Harness<'_, hairlab::app::HairlabApp>| {
+        h.state()
+            .message()
+            .is_some_and(|(m, _)| m.starts_with("report: wrote"))
+    };
+    while !wrote(&harness) {
+        let message = harness.state().message().map(|(m, e)| (m.to_string(), e));
+        assert!(!message.as_ref().is_some_and(|(_, e)| *e), "{message:?}");
+        assert!(
+            start.elapsed().as_secs() < 300,
+            "no report after 5 minutes: {message:?}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        harness.step();
+    }
+    let out = export.path().join("hairlab-report");
+    assert_self_contained(&out);
+    let html = page(&out);
+    assert_eq!(
+        sections(&html),
+        [
+            "scene",
+            "machine",
+            "speed-accuracy",
+            "configurations",
+            "transparency"
+        ]
+    );
+    let (header, rows) = csv_file(&out.join("data/shadows/results.csv"));
+    assert_eq!(table(&html, "results"), (header, rows.clone()));
+    assert_eq!(rows.len(), 1);
+    assert_eq!(rows[0][2], "dom");
+    let command: String = select(&html, "#machine code")[0].text().collect();
+    let toml = out.join("settings.toml");
+    assert!(
+        command.starts_with(&format!(
+            "hairlab report --preset {} --config dom --technique",
+            toml.display()
+        )),
+        "{command}"
+    );
+    let saved = hairlab::settings::Settings::load_preset(toml.to_str().unwrap(), &[]).unwrap();
+    assert_eq!(saved.method.name, "dom");
+    assert_eq!(saved.scene.generator.strands, 300);
+}

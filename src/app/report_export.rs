@@ -1,0 +1,116 @@
+//! The Bench window's **Export report…**: `hairlab report` of the current scene and selection (the window's
+//! settings, its shadow method and transparency technique, the motion when the scene has one, the Bench
+//! window's timed frames) as a job ([`super::jobs`]) with its progress and Cancel, written into
+//! `hairlab-report/` of the chosen folder with the window's settings beside the page (`settings.toml`) and the
+//! command that reproduces it from them. Cancel keeps the page of what finished, as Ctrl-C does.
+
+use super::HairlabApp;
+use super::jobs::{Job, Poll};
+use crate::measure::MethodConfig;
+use crate::measure::transparency::TechniqueConfig;
+use crate::report::run::Plan;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The folder the report is written to inside the chosen one.
+pub const REPORT_DIR: &str = "hairlab-report";
+
+/// What the export job gives back: the page, and the configurations finished when it was cancelled.
+pub type ReportDone = Result<(PathBuf, Option<usize>), String>;
+
+/// The share of the job done when a phase of the study starts, by the line the study logs at its start.
+const PHASES: [(&str, f32); 4] = [
+    ("rendering the scene", 0.0),
+    ("measuring the shadow", 0.05),
+    ("measuring the transparency", 0.5),
+    ("measuring the motion", 0.75),
+];
+
+/// The report's folder for the chosen folder `dir`.
+fn out_shown(dir: &Path) -> PathBuf {
+    dir.join(REPORT_DIR)
+}
+
+/// The command that reproduces a report of `plan` from `settings.toml` in `out`.
+fn command(plan: &Plan, out: &Path) -> String {
+    let mut words = vec![
+        "hairlab report --preset".to_string(),
+        out.join("settings.toml").display().to_string(),
+    ];
+    for c in &plan.configs {
+        words.push(format!("--config {c}"));
+    }
+    for t in &plan.techniques {
+        words.push(format!("--technique {t}"));
+    }
+    if plan.motion {
+        words.push("--motion".to_string());
+    }
+    words.push(format!("--frames {} --out {}", plan.frames, out.display()));
+    words.join(" ")
+}
+
+impl HairlabApp {
+    /// Starts the report of the current scene and selection into `dir/hairlab-report` (replacing an earlier
+    /// report there).
+    pub(super) fn start_report_export(&mut self, dir: &Path) {
+        let settings = self.settings.clone();
+        let out = dir.join(REPORT_DIR);
+        let method = MethodConfig::new(settings.method.name.clone(), settings.method.params.clone());
+        let technique = TechniqueConfig::new(
+            settings.transparency.name.clone(),
+            settings.transparency.params.clone(),
+        );
+        let plan = Plan {
+            preset: "the window's settings".to_string(),
+            configs: vec![method.label()],
+            techniques: vec![technique.label()],
+            motion: settings.motion.source != crate::motion::MotionSource::None,
+            frames: self.bench.frames,
+        };
+        let command = command(&plan, &out);
+        let toml = settings.to_toml().into_bytes();
+        let job = Job::spawn("report", &self.egui_ctx, self.job_gate.clone(), move |ctl| {
+            let cancel = Arc::new(AtomicBool::new(false));
+            let mut fraction = 0.0;
+            let mut log = |line: &str| {
+                if let Some((_, f)) = PHASES.iter().find(|(start, _)| line.starts_with(start)) {
+                    fraction = *f;
+                }
+                if !ctl.step(line.trim(), fraction) {
+                    cancel.store(true, Ordering::SeqCst);
+                }
+            };
+            let extra = [("settings.toml", toml)];
+            let done = crate::report::fresh(&out, &plan, &settings, command, &extra, &cancel, &mut log);
+            Some(done.map_err(|e| format!("{e:#}")))
+        });
+        self.info(format!("report: writing {}", out_shown(dir).display()));
+        self.bench.report = Some((job, out_shown(dir)));
+    }
+
+    /// Takes the export's result once it finished.
+    pub(super) fn poll_report_export(&mut self) {
+        let Some((job, out)) = &self.bench.report else {
+            return;
+        };
+        let done = match job.poll() {
+            Poll::Running => return,
+            // Cancelled: the study stops after the configuration in progress and writes the page of those
+            // finished (or nothing, before the first).
+            Poll::Gone if job.cancelled() => Ok((out.join("index.html"), Some(0))),
+            Poll::Gone => Err("the report stopped without a page".to_string()),
+            Poll::Done(done) => done,
+        };
+        self.bench.report = None;
+        match done {
+            Ok((page, None)) => self.info(format!("report: wrote {}", page.display())),
+            Ok((page, Some(_))) => self.info(format!(
+                "report: cancelled; {} gets the configurations finished",
+                page.display()
+            )),
+            Err(e) => self.error(format!("report: {e}")),
+        }
+    }
+}

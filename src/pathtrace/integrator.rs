@@ -2,7 +2,7 @@
 //! next-event estimation to a directional light through an `any_hit` shadow ray, BSDF sampling, Russian
 //! roulette after depth 3 (pbrt's throughput-based survival), at most `max_depth` bounces, linear float RGB.
 //! Each sample's random stream is `SplitMix64::stream(seed, pixel << 32 ^ sample)`, so an image depends only on
-//! its seed, whatever the thread count. Rows are shared between `std::thread::scope` threads in bands.
+//! its seed, whatever the thread count. `std::thread::scope` threads take rows two at a time from one queue.
 //!
 //! Each hit scatters by Chiang et al. 2016's fibre BSDF (`bsdf.rs`) in the frame x = tangent, y along the hit's
 //! offset `h` (tangent × ray direction), z = x × y (towards where the ray came from). The fibre is a volume the
@@ -114,6 +114,9 @@ pub fn camera_ray(camera: &Camera, width: usize, height: usize, x: f32, y: f32) 
     )
 }
 
+/// Rows of pixels a thread takes from the queue at a time.
+const ROWS_PER_TASK: usize = 2;
+
 /// Radiance along `ray`.
 fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
@@ -185,20 +188,24 @@ fn accumulate(
     samples: std::ops::Range<u32>,
     sums: &mut [Vec3],
 ) {
+    // Threads take rows a few at a time from one queue, so the rows that cross the groom do not all fall to one.
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let band = s.height.div_ceil(threads).max(1) * s.width;
+    let band = ROWS_PER_TASK * s.width.max(1);
+    let queue = std::sync::Mutex::new(sums.chunks_mut(band).enumerate());
     std::thread::scope(|scope| {
-        for (b, rows) in sums.chunks_mut(band.max(1)).enumerate() {
-            let samples = samples.clone();
+        for _ in 0..threads {
+            let (samples, queue) = (samples.clone(), &queue);
             scope.spawn(move || {
-                for (k, px) in rows.iter_mut().enumerate() {
-                    let pixel = b * band + k;
-                    let (x, y) = (pixel % s.width, pixel / s.width);
-                    for sample in samples.clone() {
-                        let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
-                        let (jx, jy) = (rng.unit(), rng.unit());
-                        let ray = camera_ray(camera, s.width, s.height, x as f32 + jx, y as f32 + jy);
-                        *px += radiance(bvh, light, s, ray, &mut rng);
+                while let Some((b, rows)) = queue.lock().map_or(None, |mut q| q.next()) {
+                    for (k, px) in rows.iter_mut().enumerate() {
+                        let pixel = b * band + k;
+                        let (x, y) = (pixel % s.width, pixel / s.width);
+                        for sample in samples.clone() {
+                            let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
+                            let (jx, jy) = (rng.unit(), rng.unit());
+                            let ray = camera_ray(camera, s.width, s.height, x as f32 + jx, y as f32 + jy);
+                            *px += radiance(bvh, light, s, ray, &mut rng);
+                        }
                     }
                 }
             });

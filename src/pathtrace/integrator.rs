@@ -217,6 +217,7 @@ fn accumulate(
 mod tests {
     use super::*;
     use crate::pathtrace::fibre::Segment;
+    use crate::pathtrace::triangle::Triangle;
 
     fn settings(seed: u64) -> Settings {
         Settings {
@@ -276,6 +277,43 @@ mod tests {
         assert_eq!((passes, done), (a, 4));
         let (_, stopped) = render_in_passes(&bvh, &camera(), &light, &settings(1), 1, &mut |n| n < 2);
         assert_eq!(stopped, 2);
+    }
+
+    /// A Lambertian square facing the camera, lit at 60° from its normal by irradiance π: every pixel on it shows
+    /// albedo × cos 60° exactly (the light's one bounce; what leaves the square escapes), from either side.
+    #[test]
+    fn a_lambertian_square_shows_albedo_times_cosine() {
+        let albedo = Vec3::new(0.8, 0.5, 0.25);
+        for facing in [1.0f32, -1.0] {
+            let corner = |x: f32, y: f32| Vec3::new(x, y, 0.0);
+            let tri = |p0: Vec3, p1: Vec3, p2: Vec3| Triangle {
+                p0,
+                e1: p1 - p0,
+                e2: p2 - p0,
+                albedo,
+            };
+            let bvh = Bvh::with_triangles(
+                Vec::new(),
+                vec![
+                    tri(corner(-5.0, -5.0), corner(5.0, -5.0), corner(5.0, 5.0)),
+                    tri(corner(-5.0, -5.0), corner(5.0, 5.0), corner(-5.0, 5.0)),
+                ],
+            );
+            let light = DirectionalLight {
+                to_light: Vec3::new(0.0, 60f32.to_radians().sin(), facing * 0.5),
+                irradiance: Vec3::splat(std::f32::consts::PI),
+            };
+            let mut cam = camera();
+            cam.yaw_deg = if facing > 0.0 { 0.0 } else { 180.0 };
+            let image = render(&bvh, &cam, &light, &settings(5));
+            for p in &image {
+                assert!(
+                    (*p - albedo * 0.5).abs().max_element() < 1e-5,
+                    "{p} for {}",
+                    albedo * 0.5
+                );
+            }
+        }
     }
 
     /// A lone fibre along x through the view's centre, lit from the camera: pixels whose four corner rays all

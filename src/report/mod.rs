@@ -2,7 +2,11 @@
 //! bench shadows`, `bench transparency` and `measure motion` write ([`data`]): a fresh report runs those into
 //! its own folder first ([`run`]), `--from` reads folders an earlier run wrote, and both go through the same
 //! reader, so the two give the same tables. Each section ([`sections`], [`claims`]) appears only where its data
-//! exists; the table cells are the CSV text; the charts are the bench's chart writer's SVG.
+//! exists; the table cells are the CSV text; the charts are the bench's chart writer's SVG. A fresh study also
+//! renders what only it can, into the same folders: each configuration's image, difference and FLIP maps
+//! ([`images`], the transparency Fig. 2 grid too), the worst texels' `V(z)` and the depth-complexity histogram
+//! ([`curves`]), and the motion as looping GIFs ([`animations`]); [`page`] is the frame every section shares.
+//! The window's **Export report…** runs [`fresh`] as a job (`crate::app`).
 //!
 //! The page is built in a temporary folder beside the output ([`Draft`]) and renamed into place whole, so a
 //! failure leaves nothing half-written; every image and file the page names is inside the folder, and the page

@@ -143,8 +143,10 @@ pub fn run(
         crate::bench::write_results(&dir, result)?;
         let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
         super::images::render_configs(&gpu, settings, &configs, &dir, cancel, log)?;
-        log("  the worst texels' V(z) and the depth-complexity histogram");
-        super::curves::write(&gpu, settings, &configs, &dir)?;
+        if !cancel.load(Ordering::SeqCst) {
+            log("  the worst texels' V(z) and the depth-complexity histogram");
+            super::curves::write(&gpu, settings, &configs, &dir)?;
+        }
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) {

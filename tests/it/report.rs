@@ -309,6 +309,22 @@ fn sections_appear_only_where_their_data_is() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(sections(&page(&out)), ["machine", "motion"]);
+    // An earlier report is replaced whole, leaving nothing beside it.
+    let o = hairlab(&[
+        "report",
+        "--from",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(sections(&page(&out)), ["machine", "motion"]);
+    let mut names: Vec<String> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["b", "motion", "r", "r2"]);
 }
 
 /// Nothing but the temporary folder's parent's own files: no report, no leftover draft.
@@ -353,6 +369,14 @@ fn bad_input_is_one_error_naming_the_file_and_writes_nothing() {
         &["col/motion/motion_summary.csv", "unknown column 'pops'"],
     );
     assert_nothing_written(root, &["col", "cut", "empty"]);
+
+    // A folder that is not an earlier report is never written over.
+    let good = motion_folder(&root.join("good"), SUMMARY);
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    assert_fails(&run(&good), &["exists and is not an earlier report"]);
+    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+    assert_nothing_written(root, &["col", "cut", "empty", "good", "r"]);
 }
 
 /// Ctrl-C once the first configuration's row is written: the run stops after the configuration in progress

@@ -40,7 +40,6 @@ pub(super) fn export(a: &ExportArgs) -> Result<()> {
     settings.render.width = a.width.unwrap_or(settings.render.width);
     settings.render.height = a.height.unwrap_or(settings.render.height);
     settings.validate().context("--width/--height")?;
-    crate::pathtrace::setup::light(&settings)?;
     let scene = settings.scene.build()?;
     let files = match a.format {
         ExportFormat::Mitsuba => crate::pathtrace::mitsuba::export(&settings, &scene, &a.out)?,

@@ -129,7 +129,6 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
     settings.render.width = a.width.unwrap_or(settings.render.width);
     settings.render.height = a.height.unwrap_or(settings.render.height);
     settings.validate().context("--width/--height")?;
-    crate::pathtrace::setup::light(&settings)?;
     let scene = settings.scene.build()?;
     let start = std::time::Instant::now();
     let path = PathScene::new(&settings, &scene)?;

@@ -1,5 +1,5 @@
 //! A CPU path tracer over the fibres (the reference the real-time methods are compared with): camera rays,
-//! next-event estimation to a directional light through an `any_hit` shadow ray, BSDF sampling, Russian
+//! next-event estimation to the light (`light.rs`) through an `any_hit` shadow ray, BSDF sampling, Russian
 //! roulette after depth 3 (pbrt's throughput-based survival), at most `max_depth` bounces, linear float RGB.
 //! Each sample's random stream is `SplitMix64::stream(seed, pixel << 32 ^ sample)`, so an image depends only on
 //! its seed, whatever the thread count. `std::thread::scope` threads take rows two at a time from one queue.
@@ -15,15 +15,9 @@ use glam::Vec3;
 use super::bsdf::{FibreBsdf, FibreParams};
 use super::bvh::Bvh;
 use super::fibre::{Hit, Ray, Surface};
+use super::light::Light;
 use crate::rng::SplitMix64;
 use crate::scene::Camera;
-
-/// A directional light: the unit direction towards it and the irradiance it gives a surface facing it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DirectionalLight {
-    pub to_light: Vec3,
-    pub irradiance: Vec3,
-}
 
 #[derive(Clone, Copy, Debug)]
 pub struct Settings {
@@ -118,7 +112,7 @@ pub fn camera_ray(camera: &Camera, width: usize, height: usize, x: f32, y: f32) 
 const ROWS_PER_TASK: usize = 2;
 
 /// Radiance along `ray`.
-fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
+fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
     for depth in 0..s.max_depth {
         let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
@@ -126,11 +120,13 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
         };
         let eps = 1e-5 * (1.0 + hit.point.abs().max_element());
         let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
-        let (direct, next) = scatter(&hit, ray.dir, s, light.to_light, u);
-        if direct.max_element() > 0.0 {
-            let shadow = Ray::new(leave(&hit, light.to_light, eps), light.to_light);
-            if !bvh.any_hit(&shadow, f32::INFINITY) {
-                sum += beta * direct * light.irradiance;
+        let arrival = light.arrival(hit.point);
+        let to_light = arrival.map_or(Vec3::Z, |a| a.to_light);
+        let (direct, next) = scatter(&hit, ray.dir, s, to_light, u);
+        if let Some(a) = arrival.filter(|_| direct.max_element() > 0.0) {
+            let shadow = Ray::new(leave(&hit, a.to_light, eps), a.to_light);
+            if !bvh.any_hit(&shadow, a.distance * (1.0 - 1e-4)) {
+                sum += beta * direct * a.irradiance;
             }
         }
         let Some((wi, weight)) = next else {
@@ -150,7 +146,7 @@ fn radiance(bvh: &Bvh, light: &DirectionalLight, s: &Settings, mut ray: Ray, rng
 }
 
 /// The image, row after row, `width × height` linear RGB.
-pub fn render(bvh: &Bvh, camera: &Camera, light: &DirectionalLight, s: &Settings) -> Vec<Vec3> {
+pub fn render(bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings) -> Vec<Vec3> {
     render_in_passes(bvh, camera, light, s, s.samples, &mut |_| true).0
 }
 
@@ -160,7 +156,7 @@ pub fn render(bvh: &Bvh, camera: &Camera, light: &DirectionalLight, s: &Settings
 pub fn render_in_passes(
     bvh: &Bvh,
     camera: &Camera,
-    light: &DirectionalLight,
+    light: &Light,
     s: &Settings,
     pass: u32,
     after_pass: &mut dyn FnMut(u32) -> bool,
@@ -183,7 +179,7 @@ pub fn render_in_passes(
 fn accumulate(
     bvh: &Bvh,
     camera: &Camera,
-    light: &DirectionalLight,
+    light: &Light,
     s: &Settings,
     samples: std::ops::Range<u32>,
     sums: &mut [Vec3],
@@ -217,6 +213,7 @@ fn accumulate(
 mod tests {
     use super::*;
     use crate::pathtrace::fibre::Segment;
+    use crate::pathtrace::light::DirectionalLight;
     use crate::pathtrace::triangle::Triangle;
 
     fn settings(seed: u64) -> Settings {
@@ -245,10 +242,10 @@ mod tests {
         }
     }
 
-    const LIGHT: DirectionalLight = DirectionalLight {
+    const LIGHT: Light = Light::Directional(DirectionalLight {
         to_light: Vec3::Z,
         irradiance: Vec3::ONE,
-    };
+    });
 
     #[test]
     fn the_same_seed_gives_the_same_image() {
@@ -265,10 +262,10 @@ mod tests {
             })
             .collect();
         let bvh = Bvh::new(segments);
-        let light = DirectionalLight {
+        let light = Light::Directional(DirectionalLight {
             to_light: Vec3::new(0.3, 0.8, 0.5).normalize(),
             irradiance: Vec3::ONE,
-        };
+        });
         let a = render(&bvh, &camera(), &light, &settings(1));
         assert_eq!(a, render(&bvh, &camera(), &light, &settings(1)));
         assert_ne!(a, render(&bvh, &camera(), &light, &settings(2)));
@@ -299,10 +296,10 @@ mod tests {
                     tri(corner(-5.0, -5.0), corner(5.0, 5.0), corner(-5.0, 5.0)),
                 ],
             );
-            let light = DirectionalLight {
+            let light = Light::Directional(DirectionalLight {
                 to_light: Vec3::new(0.0, 60f32.to_radians().sin(), facing * 0.5),
                 irradiance: Vec3::splat(std::f32::consts::PI),
-            };
+            });
             let mut cam = camera();
             cam.yaw_deg = if facing > 0.0 { 0.0 } else { 180.0 };
             let image = render(&bvh, &cam, &light, &settings(5));

@@ -4,7 +4,8 @@
 //!
 //! The mapping, one to one with `setup.rs`: the camera's eye, target and +Y up as a `perspective` sensor's
 //! `lookat` with `fov_axis = y`; a `box` pixel filter (hairlab jitters uniformly in each pixel); the light's
-//! direction and π × colour × intensity as a `directional` emitter's `irradiance` (`setup::light`); the fibre as Mitsuba's `hair`
+//! direction and π × colour × intensity as a `directional` emitter's `irradiance`, or a spot light as a `spot`
+//! emitter of the same position, axis, intensity, beam width and cutoff (`setup::light`, `light.rs`); the fibre as Mitsuba's `hair`
 //! BSDF (Chiang et al. 2016) with hairlab's absorption `sigma_a` (per unit radius, as both implementations read it),
 //! roughness, cuticle tilt in degrees and index of refraction; meshes as a `twosided` `diffuse` with the mesh colour
 //! and `face_normals` (hairlab flat-shades triangles); the `path` integrator with `max_depth` = bounces + 1
@@ -15,6 +16,7 @@ use anyhow::Result;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+use super::light::Light;
 use super::setup::{self, MAX_DEPTH};
 use crate::scene::{Mesh, Scene, Strands};
 use crate::settings::Settings;
@@ -54,7 +56,7 @@ fn rgb(v: glam::Vec3) -> String {
 
 /// The scene XML for `scene` under `settings` (`render.width`, `render.height`, `render.spp`).
 fn scene_xml(settings: &Settings, scene: &Scene, meshes: &[String]) -> Result<String> {
-    let light = setup::light(settings)?;
+    let light = setup::light(settings, scene);
     let camera = setup::camera(settings, scene);
     let fibre = setup::fibre_params(settings.render.hair_color);
     let r = &settings.render;
@@ -83,12 +85,32 @@ fn scene_xml(settings: &Settings, scene: &Scene, meshes: &[String]) -> Result<St
         r.width,
         r.height
     );
-    let _ = writeln!(
-        x,
-        "  <emitter type=\"directional\">\n    <vector name=\"direction\" value=\"{}\"/>\n    <rgb name=\"irradiance\" value=\"{}\"/>\n  </emitter>",
-        rgb(-light.to_light),
-        rgb(light.irradiance)
-    );
+    match light {
+        Light::Directional(d) => {
+            let _ = writeln!(
+                x,
+                "  <emitter type=\"directional\">\n    <vector name=\"direction\" value=\"{}\"/>\n    <rgb name=\"irradiance\" value=\"{}\"/>\n  </emitter>",
+                rgb(-d.to_light),
+                rgb(d.irradiance)
+            );
+        }
+        Light::Spot(s) => {
+            let _ = writeln!(
+                x,
+                "  <emitter type=\"spot\">\n    <transform name=\"to_world\">\n      <lookat origin=\"{}\" target=\"{}\" up=\"{}\"/>\n    </transform>\n    <rgb name=\"intensity\" value=\"{}\"/>\n    <float name=\"cutoff_angle\" value=\"{}\"/>\n    <float name=\"beam_width\" value=\"{}\"/>\n  </emitter>",
+                rgb(s.position),
+                rgb(s.position + s.axis),
+                rgb(if s.axis.y.abs() > 0.99 {
+                    glam::Vec3::Z
+                } else {
+                    glam::Vec3::Y
+                }),
+                rgb(s.intensity),
+                s.cutoff.to_degrees(),
+                s.beam.to_degrees()
+            );
+        }
+    }
     let _ = writeln!(
         x,
         "  <shape type=\"linearcurve\">\n    <string name=\"filename\" value=\"hair.txt\"/>\n    <bsdf type=\"hair\">\n      <rgb name=\"sigma_a\" value=\"{}\"/>\n      <float name=\"longitudinal_roughness\" value=\"{}\"/>\n      <float name=\"azimuthal_roughness\" value=\"{}\"/>\n      <float name=\"scale_tilt\" value=\"{}\"/>\n      <float name=\"int_ior\" value=\"{}\"/>\n      <float name=\"ext_ior\" value=\"1\"/>\n    </bsdf>\n  </shape>",

@@ -5,6 +5,7 @@ pub mod bsdf;
 pub mod bvh;
 pub mod fibre;
 pub mod integrator;
+pub mod light;
 pub mod mitsuba;
 pub mod setup;
 pub mod triangle;

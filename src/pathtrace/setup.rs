@@ -1,6 +1,6 @@
 //! A preset's still scene as the path tracer sees it, one place for `render`, the window, `measure` and
 //! `export --format mitsuba`: the fibres (per-point widths from the file's thickness times
-//! `render.strand_width`), the meshes as Lambertian triangles, the framed camera, the directional light and the
+//! `render.strand_width`), the meshes as Lambertian triangles, the framed camera, the light and the
 //! fibre BSDF's parameters from the hair colour through the real-time Marschner model's constants.
 
 use anyhow::Result;
@@ -8,7 +8,8 @@ use glam::Vec3;
 
 use super::bsdf::FibreParams;
 use super::bvh::Bvh;
-use super::integrator::{self, DirectionalLight};
+use super::integrator;
+use super::light::{DirectionalLight, Light, SpotLight};
 use super::{fibre, triangle};
 use crate::scene::{Camera, LightKind, Scene};
 use crate::settings::Settings;
@@ -28,20 +29,41 @@ pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
     )
 }
 
-/// The directional light of `settings`; an error for a spot light, which the path tracer does not model. Its
-/// irradiance is π × colour × intensity: the raster shades a mesh `colour × light × N·L`, so a white Lambertian
-/// surface facing a light of intensity 1 shows 1, which is what irradiance π gives it.
-pub fn light(settings: &Settings) -> Result<DirectionalLight> {
-    if settings.light.kind != LightKind::Directional {
-        anyhow::bail!(
-            "light.kind: the path tracer lights the scene with a directional light only (light.kind = directional)"
-        );
+/// The light of `settings` over `scene`. Both kinds give a white Lambertian surface facing the light at the
+/// scene's centre what the raster shows it (`colour × light × N·L`: the light's colour × intensity): the
+/// directional light irradiance π × colour × intensity; the spot, placed as the raster places it (`light.distance`
+/// scene radii from the scene's centre towards the light), a radiant intensity that gives that irradiance at the
+/// centre, full within the half-angle where the raster's cone edge ramp reaches 1 and none beyond half of
+/// `light.cone_deg`, linear in angle between (Mitsuba's `spot`).
+pub fn light(settings: &Settings, scene: &Scene) -> Light {
+    let l = &settings.light;
+    let irradiance = Vec3::from(l.color) * l.intensity * std::f32::consts::PI;
+    match l.kind {
+        LightKind::Directional => Light::Directional(DirectionalLight {
+            to_light: l.to_light(),
+            irradiance,
+        }),
+        LightKind::Spot => {
+            let bounds = scene.bounds();
+            let centre = bounds.center();
+            let position = centre + l.to_light() * bounds.radius().max(1e-3) * l.distance.max(1.01);
+            let cutoff = (l.cone_deg * 0.5).to_radians();
+            let edge = cutoff.cos();
+            let beam = (edge + SPOT_RAMP * (1.0 - edge)).acos();
+            Light::Spot(SpotLight {
+                position,
+                axis: (centre - position).normalize(),
+                intensity: irradiance * centre.distance_squared(position),
+                beam,
+                cutoff,
+            })
+        }
     }
-    Ok(DirectionalLight {
-        to_light: settings.light.to_light(),
-        irradiance: Vec3::from(settings.light.color) * settings.light.intensity * std::f32::consts::PI,
-    })
 }
+
+/// The raster spot's edge ramp: `smoothstep(edge, edge + SPOT_RAMP · (1 − edge), cos θ)` (`light_radiance` in
+/// `shaders/common/frame.wgsl`).
+const SPOT_RAMP: f32 = 0.15;
 
 /// The camera of `settings`, framed on `scene` where the preset leaves the distance at 0.
 pub fn camera(settings: &Settings, scene: &Scene) -> Camera {
@@ -56,7 +78,7 @@ pub fn camera(settings: &Settings, scene: &Scene) -> Camera {
 pub struct PathScene {
     pub bvh: Bvh,
     pub camera: Camera,
-    pub light: DirectionalLight,
+    pub light: Light,
     pub settings: integrator::Settings,
 }
 
@@ -64,7 +86,7 @@ impl PathScene {
     /// `scene` under `settings` at `render.width × render.height` and `render.spp` samples per pixel.
     pub fn new(settings: &Settings, scene: &Scene) -> Result<PathScene> {
         let r = &settings.render;
-        let light = light(settings)?;
+        let light = light(settings, scene);
         let bvh = Bvh::with_triangles(
             fibre::segments(&scene.strands, r.strand_width),
             triangle::triangles(&scene.meshes),

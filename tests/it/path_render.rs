@@ -130,21 +130,42 @@ fn exports_a_mitsuba_scene_of_the_preset() {
     );
 }
 
+/// A spot light exports as Mitsuba's `spot`: cutoff at half of `light.cone_deg`, full beam within the angle where
+/// the raster's edge ramp `smoothstep(edge, edge + 0.15 (1 − edge), cos θ)` reaches 1; and it path-traces.
 #[test]
-fn export_of_a_spot_lit_scene_fails_naming_the_key_and_writes_nothing() {
+fn a_spot_light_exports_as_mitsubas_spot_and_path_traces() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("scene");
-    let o = hairlab(&[
-        "export",
-        "--format",
-        "mitsuba",
-        "--set",
-        "light.kind=spot",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_fails(&o, &["light.kind", "directional"]);
-    assert!(!out.exists(), "a folder was left behind");
+    let spot = ["--set", "light.kind=spot", "--set", "light.cone_deg=50"];
+    let mut args = vec!["export", "--format", "mitsuba", "--out", out.to_str().unwrap()];
+    args.extend(spot);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let xml = std::fs::read_to_string(out.join("scene.xml")).unwrap();
+    let value = |name: &str| -> f64 {
+        let line = xml
+            .lines()
+            .find(|l| l.contains(&format!("name=\"{name}\"")))
+            .unwrap();
+        line.split('"').nth(3).unwrap().parse().unwrap()
+    };
+    let edge = 25f64.to_radians().cos();
+    let beam = (edge + 0.15 * (1.0 - edge)).acos().to_degrees();
+    assert!((value("cutoff_angle") - 25.0).abs() < 1e-4, "{xml}");
+    assert!(
+        (value("beam_width") - beam).abs() < 1e-3,
+        "beam {} for {beam}",
+        value("beam_width")
+    );
+    assert!(xml.contains("<emitter type=\"spot\">") && !xml.contains("directional"));
+    let shot = dir.path().join("spot.png");
+    let mut args = TINY.to_vec();
+    args.extend(["24", "--set", "render.spp=1", "--out", shot.to_str().unwrap()]);
+    args.extend(spot);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let image = image::open(&shot).unwrap().to_rgb8();
+    assert!(image.pixels().filter(|p| p.0.iter().any(|&c| c > 0)).count() >= 20);
 }
 
 #[test]

@@ -2,7 +2,10 @@
 # Opens a `hairlab report` page (DIR/index.html) from disk in headless Chromium (Debian's `chromium` package:
 # apt-get install -y chromium), with no network, and saves screenshots into SHOTS (default: DIR-browser):
 #   page.png         the page as it opens (1280 px wide, the top 3000 px)
-#   sorted.png       after a click on the results table's "gpu_ms_median" header, then a second (descending)
+#   sorted.png       after a click on the results table's "gpu_ms_median" header, then a second (descending),
+#                    when the page has that table
+#   page.pdf         the page printed (its print style sheet starts each section on a new page, so the PDF has
+#                    at least as many pages as the page has sections; checked here)
 # The click: the page's own script clicks header N of its first sortable table for each `click=N` in the query
 # (`index.html?click=4&click=4`), through the same click listener a mouse click reaches. Chromium's --dump-dom of
 # that page is then checked here: the table's rows must be in descending order of that column, the header marked
@@ -22,12 +25,13 @@ run() {
     "$browser" --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run \
         --proxy-server=127.0.0.1:9 --proxy-bypass-list='<-loopback>' --window-size=1280,3000 "$@" 2>/dev/null
 }
-column=$(python3 -c 'import csv,sys; print(next(csv.reader(open(sys.argv[1]))).index("gpu_ms_median"))' \
-    "$dir/data/shadows/results.csv")
 run --screenshot="$shots/page.png" "$page"
-run --screenshot="$shots/sorted.png" "$page?click=$column&click=$column"
-run --dump-dom "$page?click=$column&click=$column" > "$shots/sorted.html"
-python3 - "$shots/sorted.html" "$column" <<'EOF'
+if [ -f "$dir/data/shadows/results.csv" ]; then
+    column=$(python3 -c 'import csv,sys; print(next(csv.reader(open(sys.argv[1]))).index("gpu_ms_median"))' \
+        "$dir/data/shadows/results.csv")
+    run --screenshot="$shots/sorted.png" "$page?click=$column&click=$column"
+    run --dump-dom "$page?click=$column&click=$column" > "$shots/sorted.html"
+    python3 - "$shots/sorted.html" "$column" <<'EOF'
 import html.parser, sys
 class Rows(html.parser.HTMLParser):
     def __init__(self):
@@ -50,4 +54,12 @@ assert p.sort[c] == "descending", f"header {c} is {p.sort[c]!r}, not descending"
 assert values == sorted(values, reverse=True), f"not sorted: {values}"
 print(f"sorted by column {c} descending in Chromium: {values}")
 EOF
-echo "screenshots: $shots/page.png $shots/sorted.png"
+else
+    echo "no results table (data/shadows/results.csv): sorting not checked"
+fi
+run --no-pdf-header-footer --print-to-pdf="$shots/page.pdf" "$page"
+sections=$(grep -c '<section ' "$dir/index.html")
+pages=$(python3 -c 'import re,sys; print(len(re.findall(rb"/Type\s*/Page(?![a-z])", open(sys.argv[1],"rb").read())))' "$shots/page.pdf")
+[ "$pages" -ge "$sections" ] || { echo "printed on $pages pages, fewer than its $sections sections" >&2; exit 1; }
+echo "printed: $pages pages for $sections sections"
+echo "screenshots and print: $(ls "$shots"/*.png "$shots"/*.pdf | tr '\n' ' ')"

@@ -29,6 +29,7 @@ th,td{border:1px solid #ccc;padding:.15em .4em;text-align:right;white-space:nowr
 th{background:#eee;cursor:pointer;position:sticky;top:0}
 th[aria-sort=ascending]::after{content:' \\25B2'}th[aria-sort=descending]::after{content:' \\25BC'}
 td:first-child,th:first-child{text-align:left}
+#claims td,#claims th{white-space:normal;text-align:left;min-width:8em}
 .scroll{overflow-x:auto;max-width:100%}
 figure{margin:1em 0}figure img{max-width:100%;height:auto;border:1px solid #ddd}
 figcaption{font-size:.85em;color:#555}

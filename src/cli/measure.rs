@@ -38,6 +38,9 @@ pub enum MeasureMode {
     /// Shadow methods over a preset's motion against the exact reference of every frame: per-frame map and
     /// shading errors, flicker, pop rate, image flicker, GPU ms; `motion_summary.csv` and `motion_frames.csv`.
     Motion(super::measure_motion::MeasureMotionArgs),
+    /// The exact reference's V(z) against ray-traced fibres in every occupied texel of the hair map: the mean,
+    /// p95 and largest difference after each fragment, and the α that fits the fibres best.
+    Visibility(super::measure_visibility::MeasureVisibilityArgs),
 }
 
 /// The scene and the timing, shared by every mode.
@@ -500,6 +503,7 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
         MeasureMode::Transparency(a) => measure_transparency(a),
         MeasureMode::Fur(a) => measure_fur(a),
         MeasureMode::Motion(a) => super::measure_motion::run(a),
+        MeasureMode::Visibility(a) => super::measure_visibility::run(a),
     }
 }
 

@@ -14,6 +14,7 @@ pub mod interrupt;
 pub mod manual;
 pub mod measure;
 pub mod measure_motion;
+pub mod measure_visibility;
 pub mod render;
 pub mod report;
 pub mod simulate;

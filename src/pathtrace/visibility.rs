@@ -8,6 +8,7 @@ use glam::Vec3;
 
 use super::bvh::Bvh;
 use super::fibre::{Hit, Ray};
+use crate::render::light_frame::LightFrame;
 use crate::rng::SplitMix64;
 
 /// A light-space texel: the parallelogram `corner + s·edge_u + t·edge_v` (`s, t` in [0, 1)) on a plane facing
@@ -29,6 +30,28 @@ impl Texel {
             let t = ((k % n) as f32 + rng.unit()) / n as f32;
             Ray::new(self.corner + s * self.edge_u + t * self.edge_v, self.dir)
         })
+    }
+}
+
+/// Texel `(x, y)` (row 0 at the top, as the maps are stored) of a `side × side` hair map in a directional light's
+/// orthographic `frame`: its footprint on the near plane and the light's direction. Depth along its rays is
+/// distance from the near plane; the maps' normalised depth is that over `frame.far − frame.near`.
+pub fn light_map_texel(frame: &LightFrame, side: u32, x: u32, y: u32) -> Texel {
+    let clip_to_world = frame.world_to_clip().inverse();
+    let at = |u: u32, v: u32| {
+        let ndc = Vec3::new(
+            2.0 * u as f32 / side as f32 - 1.0,
+            1.0 - 2.0 * v as f32 / side as f32,
+            0.0,
+        );
+        clip_to_world.project_point3(ndc)
+    };
+    let corner = at(x, y);
+    Texel {
+        corner,
+        edge_u: at(x + 1, y) - corner,
+        edge_v: at(x, y + 1) - corner,
+        dir: -frame.to_light,
     }
 }
 

@@ -556,11 +556,8 @@ impl MotionMeasurement {
                 frame: f as u32,
                 v,
                 reference: reference[f],
-                pop: (f > 0).then(|| {
-                    let dm = f64::from(v) - f64::from(r.followed[f - 1]);
-                    let dr = f64::from(reference[f]) - f64::from(reference[f - 1]);
-                    (dm - dr).abs()
-                }),
+                pop: (f > 0)
+                    .then(|| super::temporal::pop((r.followed[f - 1], reference[f - 1]), (v, reference[f]))),
             })
         });
         crate::io::csv_text("motion_point.csv", rows).map(Some)

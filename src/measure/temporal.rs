@@ -103,15 +103,21 @@ impl FollowedPoint {
     }
 }
 
+/// The pop of one point between two frames, `|ΔV_m − ΔV_ref|`: the method's change in visibility less the
+/// reference's, from `(method, reference)` before to after. The one definition every pop figure uses.
+pub fn pop(before: (f32, f32), after: (f32, f32)) -> f64 {
+    let dm = f64::from(after.0) - f64::from(before.0);
+    let dr = f64::from(after.1) - f64::from(before.1);
+    (dm - dr).abs()
+}
+
 /// One followed point's visibility over the frames: the reference's, a method's, and the method's pops
 /// (frame `f` ≥ 1 and `|ΔV_m − ΔV_ref|` from frame `f − 1`, where it exceeds [`POP_THRESHOLD`]).
 pub fn followed_pops(method: &[f32], reference: &[f32]) -> Vec<(usize, f64)> {
     (1..method.len().min(reference.len()))
         .filter_map(|f| {
-            let dm = f64::from(method[f]) - f64::from(method[f - 1]);
-            let dr = f64::from(reference[f]) - f64::from(reference[f - 1]);
-            let pop = (dm - dr).abs();
-            (pop > POP_THRESHOLD).then_some((f, pop))
+            let p = pop((method[f - 1], reference[f - 1]), (method[f], reference[f]));
+            (p > POP_THRESHOLD).then_some((f, p))
         })
         .collect()
 }
@@ -177,9 +183,7 @@ pub fn pops(a: &TrackedFrame, b: &TrackedFrame) -> Vec<f64> {
             std::cmp::Ordering::Less => i += 1,
             std::cmp::Ordering::Greater => j += 1,
             std::cmp::Ordering::Equal => {
-                let dm = b.method[j] as f64 - a.method[i] as f64;
-                let dr = b.reference[j] as f64 - a.reference[i] as f64;
-                out.push((dm - dr).abs());
+                out.push(pop((a.method[i], a.reference[i]), (b.method[j], b.reference[j])));
                 i += 1;
                 j += 1;
             }

@@ -11,7 +11,7 @@ use crate::measure::MethodConfig;
 use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion};
 use crate::measure::transparency::TechniqueConfig;
 use crate::settings::Settings;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use std::cell::RefCell;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
@@ -43,6 +43,9 @@ pub struct Done {
     pub finished: bool,
 }
 
+/// The preset whose `[motion]` a still preset's `--motion` study plays.
+pub const STILL_MOTION: &str = "stray-sweep";
+
 /// Runs `plan` on `settings` into `draft`; `log` hears what is measured.
 pub fn run(
     draft: &Draft,
@@ -51,12 +54,21 @@ pub fn run(
     cancel: &AtomicBool,
     log: &mut dyn FnMut(&str),
 ) -> Result<Done> {
-    if plan.motion && settings.motion.source == crate::motion::MotionSource::None {
-        bail!(
-            "--motion: preset {} has no [motion] (try stray-sweep, wind, head-turn or straight-motion)",
+    // A still preset's study in motion plays the stray-strand sweep (one strand's root sliding across the hair's
+    // light-facing front, the motion of Sintorn & Assarsson's Fig. 4 failure), as `stray-sweep` declares it.
+    let swept;
+    let settings = if plan.motion && settings.motion.source == crate::motion::MotionSource::None {
+        let mut s = settings.clone();
+        s.motion = Settings::load_preset(STILL_MOTION, &[])?.motion;
+        log(&format!(
+            "preset {} has no [motion]: --motion plays {STILL_MOTION}'s (one strand's root sweeping across the hair)",
             plan.preset
-        );
-    }
+        ));
+        swept = s;
+        &swept
+    } else {
+        settings
+    };
     let motion_configs: Vec<MotionConfig> = if plan.configs.is_empty() {
         crate::measure::motion::usual_configs()
     } else {

@@ -84,8 +84,12 @@ fn rendering_frame_k_after_playing_equals_a_fresh_render_for_every_method() {
     s.camera.frame(&scene.framing_bounds());
     let k = 8;
     let methods = registry::all();
+    // Both renderers fit the light to the whole motion's bound, as `render --frames` and `measure motion` do
+    // under the default `light.fit = stable` (a renderer left to its own would fit the strands it was made on).
+    let bound = motion.bound(&s.motion).unwrap();
     // Played: frames 0..k−1 rendered in order, each with a different method, through the one write path.
     let mut played = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    played.set_fit_bound(Some(bound));
     for f in 0..k {
         played.update_points(motion.frame(f).unwrap()).unwrap();
         played
@@ -99,6 +103,7 @@ fn rendering_frame_k_after_playing_equals_a_fresh_render_for_every_method() {
     assert_eq!(fresh_motion.frame(k).unwrap(), &points_k[..]);
     scene.set_strand_points(&points_k).unwrap();
     let mut fresh = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    fresh.set_fit_bound(Some(bound));
     for &m in methods {
         played.render(&common::frame_input(&s, m)).unwrap();
         let a = played.read_output().unwrap();
@@ -165,7 +170,8 @@ fn a_baked_simulation_plays_back_as_a_sequence_bit_for_bit() {
     assert!(out.join("frame_0000.hair").is_file() && out.join("frame_0011.hair").is_file());
     assert!(!out.join("frame_0012.hair").exists());
 
-    let live = small("head-turn", &[]);
+    // The live motion cut to the 12 frames baked, so both have one whole-motion bound to fit the light to.
+    let live = small("head-turn", &["motion.frames=12"]);
     let path = format!("motion.path={}", out.display());
     let mut seq_settings = small("head-turn", &["motion.source=sequence", &path]);
     let (live_scene, mut live_motion) = live.open_motion().unwrap();

@@ -68,6 +68,7 @@ impl HairlabApp {
             techniques: vec![technique.label()],
             motion: settings.motion.source != crate::motion::MotionSource::None,
             frames: self.bench.frames,
+            truth: false,
         };
         let command = command(&plan, &out);
         let toml = settings.to_toml().into_bytes();

@@ -711,10 +711,11 @@ fn shading_table(
         crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows).as_bytes())?;
         let mut written = vec![path];
         if let Some(t) = &truth {
-            let path = dir.join("decomposition.csv");
-            let text = crate::io::csv_text("decomposition.csv", &decomposition)?;
+            use crate::measure::truth::{DECOMPOSITION_CSV, TRUTH_PNG};
+            let path = dir.join(DECOMPOSITION_CSV);
+            let text = crate::io::csv_text(DECOMPOSITION_CSV, &decomposition)?;
             crate::io::write_atomic(&path, text.as_bytes())?;
-            let image = dir.join("truth_path_traced.png");
+            let image = dir.join(TRUTH_PNG);
             crate::io::write_atomic(&image, &crate::animation::encode_png(&t.image)?)?;
             written.extend([path, image]);
         }

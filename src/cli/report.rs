@@ -38,6 +38,10 @@ pub struct ReportArgs {
     /// Timed frames per configuration.
     #[arg(long, default_value_t = 5, conflicts_with = "from")]
     pub frames: u32,
+    /// `path-traced` adds the path-traced truth and each configuration's error decomposition under each shading
+    /// model (as `measure shadows --truth path-traced`, `render.spp` samples per pixel).
+    #[arg(long, value_enum, default_value = "depth-peeled", conflicts_with = "from")]
+    pub truth: super::measure::TruthKind,
     /// Read a folder an earlier `hairlab bench shadows`, `bench transparency` or `measure motion` wrote
     /// (repeatable), measuring nothing again.
     #[arg(long, value_name = "DIR")]
@@ -84,6 +88,7 @@ pub fn report(a: &ReportArgs) -> Result<()> {
             techniques: a.techniques.clone(),
             motion: a.motion,
             frames: a.frames,
+            truth: a.truth == super::measure::TruthKind::PathTraced,
         };
         let cancel = super::interrupt::flag();
         let (page, interrupted) = crate::report::fresh(

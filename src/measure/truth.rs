@@ -12,6 +12,10 @@ use super::IMAGE_SIZE;
 use crate::pathtrace::setup::PathScene;
 use crate::settings::Settings;
 
+/// The files `measure shadows --truth path-traced --out` (and a report) write beside `results.csv`.
+pub const DECOMPOSITION_CSV: &str = "decomposition.csv";
+pub const TRUTH_PNG: &str = "truth_path_traced.png";
+
 /// The path-traced image of a still scene.
 pub struct Truth {
     /// sRGB over black, as the raster images it is compared with.

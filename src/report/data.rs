@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 pub const HISTOGRAM_CSV: &str = "depth_complexity.csv";
 pub const IMAGES: &str = "images";
 pub const WORST_TEXELS: usize = 3;
+/// The path-traced truth beside `results.csv` (`measure shadows --truth path-traced`, `report --truth`).
+pub use crate::measure::truth::{DECOMPOSITION_CSV, TRUTH_PNG};
 /// A fresh study's looping animations in the motion's folder.
 pub const ANIMATIONS: &str = "animations";
 
@@ -260,6 +262,31 @@ pub struct Shadows {
     pub depth_complexity: Option<Table>,
 }
 
+/// The path-traced truth in the shadows' folder: `decomposition.csv` and the image where written.
+#[derive(Clone, Debug)]
+pub struct Truth {
+    pub table: Table,
+    pub image: Option<PathBuf>,
+}
+
+/// `decomposition.csv`'s columns ([`crate::measure::truth::Decomposition`]).
+fn decomposition_columns() -> Vec<(String, Cell)> {
+    columns(
+        &[
+            "method",
+            "shading",
+            "method_rmse",
+            "opacity_model_rmse",
+            "total_rmse",
+            "method_flip",
+            "opacity_model_flip",
+            "total_flip",
+        ],
+        2,
+        Cell::Number,
+    )
+}
+
 /// `bench transparency`'s folder.
 #[derive(Clone, Debug)]
 pub struct Transparency {
@@ -283,6 +310,7 @@ pub struct Study {
     pub shadows: Option<Shadows>,
     pub transparency: Option<Transparency>,
     pub motion: Option<Motion>,
+    pub truth: Option<Truth>,
 }
 
 /// The files of a study folder a report reads.
@@ -317,6 +345,12 @@ impl Study {
                         .transpose()?,
                 };
                 set_once(&mut study.shadows, part, &csv)?;
+                if let Some(path) = existing(dir.join(DECOMPOSITION_CSV)) {
+                    study.truth = Some(Truth {
+                        table: read_table(&path, &decomposition_columns())?,
+                        image: existing(dir.join(TRUTH_PNG)),
+                    });
+                }
             }
             if let Some(csv) = existing(dir.join("transparency.csv")) {
                 found = true;

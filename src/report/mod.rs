@@ -72,6 +72,8 @@ const SHADOWS_FILES: &[&str] = &[
     "speed_vs_accuracy.svg",
     "speed_vs_accuracy.png",
     data::HISTOGRAM_CSV,
+    data::DECOMPOSITION_CSV,
+    data::TRUTH_PNG,
 ];
 const TRANSPARENCY_FILES: &[&str] = &[
     "transparency.csv",
@@ -252,6 +254,9 @@ pub fn html(study: &Study, meta: &Meta) -> String {
     }
     if let Some(m) = &study.motion {
         body += &sections::motion(m);
+    }
+    if let Some(t) = &study.truth {
+        body += &sections::truth(t);
     }
     body += &claims::claims(study).unwrap_or_default();
     body += "</main>\n";

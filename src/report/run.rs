@@ -34,6 +34,8 @@ pub struct Plan {
     pub motion: bool,
     /// Timed frames per configuration (the motion plays frames 0..max(frames, 2)).
     pub frames: u32,
+    /// Path-trace the scene and decompose each configuration's error against it (into the shadows' folder).
+    pub truth: bool,
 }
 
 /// The folders a fresh study wrote, its meta data, and whether it ran to the end (false: cancelled).
@@ -159,6 +161,9 @@ pub fn run(
             log("  the worst texels' V(z) and the depth-complexity histogram");
             super::curves::write(&gpu, settings, &configs, &dir)?;
         }
+        if plan.truth && !cancel.load(Ordering::SeqCst) {
+            truth(&gpu, settings, &configs, &dir, cancel, log)?;
+        }
         dirs.push(dir);
     }
     if cancel.load(Ordering::SeqCst) {
@@ -239,6 +244,37 @@ pub fn run(
         meta,
         finished: !cancel.load(Ordering::SeqCst),
     })
+}
+
+/// The path-traced truth of `settings` and the decomposition of each of `configs`' error against it under each
+/// shading model, written as `measure shadows --truth path-traced --out` writes them.
+fn truth(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[MethodConfig],
+    dir: &std::path::Path,
+    cancel: &AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<()> {
+    log("  path-tracing the truth…");
+    let t = crate::measure::truth::path_traced(settings, &mut |n, of| {
+        log(&format!("  path-traced truth: {n}/{of} spp"));
+        !cancel.load(Ordering::SeqCst)
+    })?;
+    if cancel.load(Ordering::SeqCst) {
+        return Ok(());
+    }
+    let models = crate::shading::ShadingModel::ALL;
+    let table = crate::measure::shading::shading_errors_on(gpu, settings, configs, &models, Some(&t), |m| {
+        log(&format!("  decomposing under {m}"))
+    })?;
+    let csv = crate::io::csv_text(super::data::DECOMPOSITION_CSV, table.decomposition())?;
+    crate::io::write_atomic(&dir.join(super::data::DECOMPOSITION_CSV), csv.as_bytes())?;
+    crate::io::write_atomic(
+        &dir.join(super::data::TRUTH_PNG),
+        &crate::animation::encode_png(&t.image)?,
+    )?;
+    Ok(())
 }
 
 /// `motion_summary.csv` and `motion_frames.csv` of `m`, as `hairlab measure motion` writes them.

@@ -4,7 +4,7 @@
 //! file a section names is in the report's folder; [`super::write`] puts it there.
 
 use super::Meta;
-use super::data::{Motion, Shadows, Study, Transparency};
+use super::data::{Motion, Shadows, Study, Transparency, Truth};
 use super::page::{facts, figure, link, section, sortable_table};
 use crate::bench::chart::{self, Axis, Chart, Point, Scale};
 use anyhow::Result;
@@ -295,4 +295,29 @@ pub fn motion(m: &Motion) -> String {
         ),
     );
     section("motion", "Motion", &content)
+}
+
+/// The path-traced truth: its image and each configuration's error decomposed under each shading model.
+pub fn truth(t: &Truth) -> String {
+    let mut content = String::from(
+        "<p>Each configuration's image error (RMSE and FLIP of sRGB in [0, 1], every image over black) split in \
+         three under each shading model: <em>method</em>, against the depth-peeled reference; <em>opacity \
+         model</em>, the reference against the path-traced image (strands as fragments of opacity α and one \
+         scattering event, against round fibres, Chiang et al. 2016's BSDF and multiple scattering); \
+         <em>total</em>, against the path-traced image.</p>\n",
+    );
+    if t.image.is_some() {
+        content += &figure(
+            &format!("{SHADOWS_DIR}/{}", super::data::TRUTH_PNG),
+            "The scene path-traced: the hair as fibres under Chiang et al.'s BSDF with multiple scattering",
+            "The path-traced truth (the measurement's size and render.spp samples per pixel).",
+        );
+    }
+    content += &sortable_table(
+        "decomposition",
+        "decomposition.csv: each configuration's error under each shading model (click a header to sort)",
+        &t.table,
+    );
+    content += &file_links(SHADOWS_DIR, &[super::data::DECOMPOSITION_CSV]);
+    section("truth", "Against the path-traced truth", &content)
 }

@@ -530,6 +530,60 @@ fn from_the_folders_of_finished_bench_and_measure_runs_gives_their_tables() {
     }
 }
 
+/// `--from` the folder of `measure shadows --truth path-traced` adds the truth section: the path-traced image
+/// and the decomposition table, cell for cell `decomposition.csv` (one row per configuration and model).
+#[test]
+fn from_a_measurement_against_the_path_traced_truth_gives_its_decomposition() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let measured = tmp.path().join("measured");
+    let o = hairlab(&[
+        "measure",
+        "shadows",
+        "--preset",
+        "stray-strand",
+        "--config",
+        "dom:layers=3",
+        "--config",
+        "occupancy",
+        "--frames",
+        "1",
+        "--truth",
+        "path-traced",
+        "--shading",
+        "kajiya-kay,marschner",
+        "--set",
+        "scene.generator.strands=300",
+        "--set",
+        "scene.generator.segments=12",
+        "--set",
+        "render.map_resolution=128",
+        "--set",
+        "render.spp=1",
+        "--out",
+        measured.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = tmp.path().join("r");
+    let o = hairlab(&[
+        "report",
+        "--from",
+        measured.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_self_contained(&report);
+    let html = page(&report);
+    assert_eq!(sections(&html), ["scene", "machine", "speed-accuracy", "truth"]);
+    let (header, rows) = csv_file(&measured.join("decomposition.csv"));
+    assert_eq!(rows.len(), 4, "two configurations under two models");
+    assert_eq!(table(&html, "decomposition"), (header, rows));
+    assert_eq!(select(&html, "section#truth img").len(), 1);
+}
+
 /// The Bench window's **Export report…**: the page of the window's scene, method and technique, written by a job
 /// into `hairlab-report/` of the folder, with the window's settings beside it and the command that reproduces
 /// it from them.

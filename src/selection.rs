@@ -60,6 +60,23 @@ pub struct Selection<F> {
     family: PhantomData<F>,
 }
 
+/// `name` or `name:key=value,...` split into the name and its `(key, value)` pairs, each trimmed: the one reader
+/// of that spelling (methods, techniques, motion and fur configurations). A pair without `=` is one error
+/// naming `text`.
+pub fn split_config(text: &str) -> Result<(&str, Vec<(&str, &str)>)> {
+    let (name, rest) = text.split_once(':').unwrap_or((text, ""));
+    let pairs = rest
+        .split(',')
+        .filter(|kv| !kv.trim().is_empty())
+        .map(|kv| {
+            kv.split_once('=')
+                .map(|(k, v)| (k.trim(), v.trim()))
+                .with_context(|| format!("'{text}': expected key=value in '{kv}'"))
+        })
+        .collect::<Result<_>>()?;
+    Ok((name.trim(), pairs))
+}
+
 /// A shadow method with parameter values.
 pub type MethodConfig = Selection<Methods>;
 /// An eye transparency technique with parameter values.
@@ -76,17 +93,14 @@ impl<F: Family> Selection<F> {
 
     /// `name` or `name:key=value,...`: the name must be registered and every value in its parameter's range.
     pub fn parse(text: &str) -> Result<Selection<F>> {
-        let (name, rest) = text.split_once(':').unwrap_or((text, ""));
-        let plugin = F::find(name.trim())?;
+        let (name, pairs) = split_config(text)?;
+        let plugin = F::find(name)?;
         let mut params = ParamValues::new();
-        for kv in rest.split(',').filter(|s| !s.trim().is_empty()) {
-            let (k, v) = kv
-                .split_once('=')
-                .with_context(|| format!("'{text}': expected key=value in '{kv}'"))?;
-            let v = F::spec(plugin, k.trim())
+        for (k, v) in pairs {
+            let v = F::spec(plugin, k)
                 .and_then(|s| s.parse(v))
                 .map_err(|e| anyhow::anyhow!("'{text}': {e}"))?;
-            params.insert(k.trim().to_string(), v);
+            params.insert(k.to_string(), v);
         }
         Ok(Selection::new(F::name(plugin), params))
     }

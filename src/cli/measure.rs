@@ -236,17 +236,14 @@ fn print_written(files: &[PathBuf]) {
 /// A `--config` with `key=auto` pairs, resolved by the method's analysis to `name:key=value,...`; `None` when
 /// it has none.
 pub(super) fn auto_config(settings: &Settings, text: &str) -> Result<Option<String>> {
-    let (name, rest) = text.split_once(':').unwrap_or((text, ""));
-    let pairs: Vec<&str> = rest.split(',').filter(|kv| !kv.trim().is_empty()).collect();
-    let is_auto = |kv: &&str| kv.split_once('=').is_some_and(|(_, v)| v.trim() == "auto");
-    if !pairs.iter().any(is_auto) {
+    let (name, pairs) = crate::selection::split_config(text)?;
+    if !pairs.iter().any(|(_, v)| *v == "auto") {
         return Ok(None);
     }
-    let method = registry::find(name.trim()).map_err(anyhow::Error::msg)?;
+    let method = registry::find(name).map_err(anyhow::Error::msg)?;
     let tunes = method.analysis().map(|a| a.tunes);
-    for kv in pairs.iter().filter(|kv| is_auto(kv)) {
-        let key = kv.split_once('=').map_or("", |(k, _)| k.trim());
-        if Some(key) != tunes {
+    for (key, _) in pairs.iter().filter(|(_, v)| *v == "auto") {
+        if Some(*key) != tunes {
             anyhow::bail!(
                 "'{text}': {} cannot choose '{key}' (its analysis chooses {})",
                 method.name(),
@@ -254,7 +251,11 @@ pub(super) fn auto_config(settings: &Settings, text: &str) -> Result<Option<Stri
             );
         }
     }
-    let fixed: Vec<&str> = pairs.iter().copied().filter(|kv| !is_auto(kv)).collect();
+    let fixed: Vec<String> = pairs
+        .iter()
+        .filter(|(_, v)| *v != "auto")
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
     let base = crate::measure::MethodConfig::parse(&format!("{name}:{}", fixed.join(",")))?;
     let values = crate::bench::tune(settings, method, &base.params)?;
     Ok(Some(crate::measure::MethodConfig::new(base.name, values).label()))

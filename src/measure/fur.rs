@@ -68,15 +68,15 @@ impl FurConfig {
 
     /// `naive`, `simplified` or `virtual:k=K`.
     pub fn parse(text: &str) -> Result<FurConfig> {
-        let (name, rest) = text.split_once(':').unwrap_or((text, ""));
+        let (name, pairs) = crate::selection::split_config(text).map_err(|e| anyhow!("--fur-config {e}"))?;
         let blending = Blending::ALL
             .into_iter()
             .find(|b| b.word() == name)
             .ok_or_else(|| anyhow!("--fur-config '{text}': the blendings are naive, simplified, virtual"))?;
         let mut group_steps = FurSettings::default().group_steps;
-        for kv in rest.split(',').filter(|s| !s.is_empty()) {
-            match kv.split_once('=') {
-                Some(("k", v)) if blending == Blending::Virtual => {
+        for pair in pairs {
+            match pair {
+                ("k", v) if blending == Blending::Virtual => {
                     group_steps = v
                         .parse()
                         .ok()

@@ -54,20 +54,19 @@ impl MotionConfig {
     /// `name:key=value,...`, where the key the method's analysis chooses may be `auto` (chosen on frame 0) or
     /// `auto-per-frame` (chosen on every frame).
     pub fn parse(text: &str) -> Result<MotionConfig> {
-        let (name, rest) = text.split_once(':').unwrap_or((text, ""));
+        let (name, pairs) = crate::selection::split_config(text)?;
         let mut fixed = Vec::new();
         let mut tuning = Tuning::Fixed;
-        for kv in rest.split(',').filter(|kv| !kv.trim().is_empty()) {
-            let (key, value) = kv.split_once('=').map_or((kv, ""), |(k, v)| (k.trim(), v.trim()));
+        for (key, value) in pairs {
             let t = match value {
                 AUTO => Tuning::FirstFrame,
                 AUTO_PER_FRAME => Tuning::EveryFrame,
                 _ => {
-                    fixed.push(kv);
+                    fixed.push(format!("{key}={value}"));
                     continue;
                 }
             };
-            let method = registry::find(name.trim()).map_err(anyhow::Error::msg)?;
+            let method = registry::find(name).map_err(anyhow::Error::msg)?;
             let tunes = method.analysis().map(|a| a.tunes);
             if tunes != Some(key) || tuning != Tuning::Fixed {
                 bail!(

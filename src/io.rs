@@ -134,6 +134,54 @@ pub fn csv_text<T: serde::Serialize>(name: &str, rows: impl IntoIterator<Item = 
     String::from_utf8(bytes).with_context(|| format!("cannot encode {name}"))
 }
 
+/// The rows of a small hand-written CSV (`curve`'s fragments, `composite`'s pixel), each with its line number:
+/// blank lines and `#` comments skipped, an optional first line naming exactly `columns` (any order and case),
+/// then rows of exactly `columns.len()` fields read into `T` (in `columns` order without a header). The one
+/// reader of such files; an error names `source:line` and, for a bad row, what a row must be (`shape`).
+pub fn read_rows<T: serde::de::DeserializeOwned>(
+    text: &str,
+    source: &str,
+    columns: &[&str],
+    shape: &str,
+) -> Result<Vec<(usize, T)>> {
+    let mut header: Option<csv::StringRecord> = None;
+    let mut first = true;
+    let mut out = Vec::new();
+    // Line by line, so that line numbers count blank and comment lines (the reader's own count skips them).
+    for (i, text_line) in text.lines().enumerate() {
+        let line = i + 1;
+        let row_text = text_line.trim();
+        if row_text.is_empty() || row_text.starts_with('#') {
+            continue;
+        }
+        let record = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .trim(csv::Trim::All)
+            .from_reader(row_text.as_bytes())
+            .records()
+            .next();
+        let Some(Ok(record)) = record else {
+            anyhow::bail!("{source}:{line}: cannot read `{row_text}` as CSV");
+        };
+        if std::mem::replace(&mut first, false) {
+            let names: csv::StringRecord = record.iter().map(str::to_ascii_lowercase).collect();
+            let mut sorted: Vec<&str> = names.iter().collect();
+            sorted.sort_unstable();
+            let mut expected = columns.to_vec();
+            expected.sort_unstable();
+            if sorted == expected {
+                header = Some(names);
+                continue;
+            }
+        }
+        match record.deserialize(header.as_ref()) {
+            Ok(row) if record.len() == columns.len() => out.push((line, row)),
+            _ => anyhow::bail!("{source}:{line}: expected {shape}, got `{row_text}`"),
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::{check_output, read_regular_file, write_atomic};

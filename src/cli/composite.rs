@@ -74,41 +74,10 @@ pub(super) const PIXEL_COLUMNS: [&str; 5] = ["depth", "r", "g", "b", "alpha"];
 /// header naming the five columns (any order, any case). Row `i` (counting rows only) is segment `i`. Errors
 /// name `source`, the line and the value; a text without rows is an error too.
 pub fn parse_pixel_csv(text: &str, source: &str) -> Result<Vec<crate::transparency::EyeFragment>> {
-    let mut header: Option<csv::StringRecord> = None;
-    let mut first = true;
+    let rows: Vec<(usize, PixelRow)> =
+        crate::io::read_rows(text, source, &PIXEL_COLUMNS, "`depth,r,g,b,alpha` (five numbers)")?;
     let mut out = Vec::new();
-    for (i, text_line) in text.lines().enumerate() {
-        let line = i + 1;
-        let row_text = text_line.trim();
-        if row_text.is_empty() || row_text.starts_with('#') {
-            continue;
-        }
-        let record = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .trim(csv::Trim::All)
-            .from_reader(row_text.as_bytes())
-            .records()
-            .next();
-        let Some(Ok(record)) = record else {
-            anyhow::bail!("{source}:{line}: cannot read `{row_text}` as CSV");
-        };
-        if std::mem::replace(&mut first, false) {
-            let names: csv::StringRecord = record.iter().map(str::to_ascii_lowercase).collect();
-            let mut sorted: Vec<&str> = names.iter().collect();
-            sorted.sort_unstable();
-            let mut expected = PIXEL_COLUMNS;
-            expected.sort_unstable();
-            if sorted == expected {
-                header = Some(names);
-                continue;
-            }
-        }
-        let row: PixelRow = match record.deserialize(header.as_ref()) {
-            Ok(row) if record.len() == PIXEL_COLUMNS.len() => row,
-            _ => anyhow::bail!(
-                "{source}:{line}: expected `depth,r,g,b,alpha` (five numbers), got `{row_text}`"
-            ),
-        };
+    for (line, row) in rows {
         for (name, v) in [("depth", row.depth), ("r", row.r), ("g", row.g), ("b", row.b)] {
             if !(v.is_finite() && v >= 0.0) {
                 anyhow::bail!("{source}:{line}: {name} {v} is not a finite number >= 0");

@@ -70,38 +70,10 @@ pub(super) struct FragmentRow {
 /// (either order, any case). Every other line must be a row: errors name `source`, the line and the value,
 /// and a text without rows is an error too.
 pub fn parse_fragments_csv(text: &str, source: &str) -> Result<Vec<Fragment>> {
-    let mut header: Option<csv::StringRecord> = None;
-    let mut first = true;
+    let rows: Vec<(usize, FragmentRow)> =
+        crate::io::read_rows(text, source, &["depth", "alpha"], "`depth,alpha` (two numbers)")?;
     let mut out = Vec::new();
-    // Line by line, so that line numbers count blank and comment lines (the reader's own count skips them).
-    for (i, text_line) in text.lines().enumerate() {
-        let line = i + 1;
-        let row_text = text_line.trim();
-        if row_text.is_empty() || row_text.starts_with('#') {
-            continue;
-        }
-        let record = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .trim(csv::Trim::All)
-            .from_reader(row_text.as_bytes())
-            .records()
-            .next();
-        let Some(Ok(record)) = record else {
-            anyhow::bail!("{source}:{line}: cannot read `{row_text}` as CSV");
-        };
-        if std::mem::replace(&mut first, false) {
-            let names: csv::StringRecord = record.iter().map(str::to_ascii_lowercase).collect();
-            let mut sorted: Vec<&str> = names.iter().collect();
-            sorted.sort_unstable();
-            if sorted == ["alpha", "depth"] {
-                header = Some(names);
-                continue;
-            }
-        }
-        let row: FragmentRow = match record.deserialize(header.as_ref()) {
-            Ok(row) if record.len() == 2 => row,
-            _ => anyhow::bail!("{source}:{line}: expected `depth,alpha` (two numbers), got `{row_text}`"),
-        };
+    for (line, row) in rows {
         if !(0.0..=1.0).contains(&row.depth) {
             anyhow::bail!("{source}:{line}: depth {} is outside [0, 1]", row.depth);
         }

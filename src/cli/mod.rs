@@ -85,13 +85,14 @@ Tests only (cargo test):
 pub enum Command {
     /// Render a preset headlessly to a PNG: the same image the window shows.
     Render(RenderArgs),
-    /// Print what a `.hair` / glTF / `.tfx` / `.data` file holds: strands, points, segments, bounds, arrays, and
+    /// Print what a `.hair` / glTF / `.tfx` / `.data` / USD (`.usda`, `.usdc`, `.usdz`) file holds: strands, points, segments, bounds, arrays, and
     /// what hairlab drops of it.
     Info(InfoArgs),
     /// Generate procedural hair and write it as a `.hair` file.
     Gen(GenArgs),
-    /// Convert strands between formats: any file `info` reads in, `.hair`, TressFX `.tfx` or USC-HairSalon
-    /// `.data` out (written whole or not at all); prints what the output cannot hold.
+    /// Convert strands between formats: any file `info` reads in, `.hair`, TressFX `.tfx`, USC-HairSalon `.data`
+    /// or `.usda` out (written whole or not at all; a time-sampled stage keeps its frames in `.usda`); prints
+    /// what the output cannot hold.
     Convert(ConvertArgs),
     /// Write a preset's still scene for another renderer: `--format mitsuba` gives a Mitsuba 3 scene (XML, the
     /// strands as a linearcurve file, meshes as OBJ) of the path tracer's camera, light and fibre BSDF.

@@ -1,7 +1,7 @@
 //! Hair in motion (issue 18): where frame `k`'s strand points come from, chosen by the `[motion]` preset
 //! section. `none` keeps the scene still; `simulate` runs the CPU strand simulation ([`sim`], the
-//! specification of any GPU simulation); `sequence` plays a folder of `.hair` files of identical topology
-//! ([`sequence`]). Every source is deterministic: frame `k` is the same bits whatever was played before.
+//! specification of any GPU simulation); `sequence` plays a recording ([`sequence`]): a folder of `.hair` files
+//! of identical topology, or a USD stage with time-sampled points. Every source is deterministic: frame `k` is the same bits whatever was played before.
 //! The simulation collides with the generator's head ellipsoid or with the scene's meshes as a signed distance
 //! grid ([`sdf`], `motion.colliders`), and the meshes that ride on the root frame are drawn at its pose
 //! ([`Motion::show`]).

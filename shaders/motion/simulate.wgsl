@@ -6,14 +6,18 @@
 
 #include "motion/collide.wgsl"
 
+// Strands fall into this many wind classes by index (`WIND_CLASSES` in src/motion/sim.rs; the Params layout test
+// holds the two equal).
+const WIND_CLASSES: u32 = 20u;
+
 struct Params {
     head_rot: vec4<f32>,     // root frame rotation (quaternion xyzw)
     pivot: vec4<f32>,        // xyz: pivot; w: h²
     sweep: vec4<f32>,        // xyz: translation of the swept strands; w: Verlet decay exp(−d·h·60)
-    k: vec4<f32>,            // gravity, local ks = 0.5·min(k, 0.95), global stiffness, global range
-    m: vec4<f32>,            // x: ftl_damping
+    stiffness: vec4<f32>,    // gravity, local ks = 0.5·min(k, 0.95), global stiffness, global range
+    damping: vec4<f32>,      // x: ftl_damping
     counts: vec4<u32>,       // x: strands, y: first swept strand
-    wind: array<vec4<f32>, 20>,
+    wind: array<vec4<f32>, WIND_CLASSES>,
 };
 
 @group(0) @binding(0) var<uniform> p: Params;
@@ -95,11 +99,11 @@ fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
     if (n == 0u) { return; }
     let hh = p.pivot.w;
     let decay = p.sweep.w;
-    let ks = p.k.y;
+    let ks = p.stiffness.y;
     var t = vec3<f32>(0.0);
     if (s >= p.counts.y) { t = p.sweep.xyz; }
-    let wind = p.wind[s % 20u].xyz;
-    let gravity = vec3<f32>(0.0, -p.k.x, 0.0);
+    let wind = p.wind[s % WIND_CLASSES].xyz;
+    let gravity = vec3<f32>(0.0, -p.stiffness.x, 0.0);
     // 1. Verlet.
     for (var i = 0u; i < n; i++) {
         var a = gravity;
@@ -113,12 +117,12 @@ fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
     // 2. Root.
     sq(first, pose_apply(ld(first), t));
     // 3. Global shape.
-    if (p.k.z > 0.0) {
-        let reach = p.k.w * f32(n);
+    if (p.stiffness.z > 0.0) {
+        let reach = p.stiffness.w * f32(n);
         for (var i = 1u; i < n; i++) {
             if (f32(i) < reach) {
                 let qi = lq(first + i);
-                sq(first + i, qi + (pose_apply(ld(first + i), t) - qi) * p.k.z);
+                sq(first + i, qi + (pose_apply(ld(first + i), t) - qi) * p.stiffness.z);
             }
         }
     }
@@ -178,7 +182,7 @@ fn substep(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var i = 0u; i < n; i++) {
         var next = vec3<f32>(0.0);
         if (i + 1u < n) { next = lc(first + i + 1u); }
-        sp(first + i, lx(first + i) + next * p.m.x);
+        sp(first + i, lx(first + i) + next * p.damping.x);
         sx(first + i, lq(first + i));
     }
 }

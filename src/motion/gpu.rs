@@ -7,7 +7,7 @@
 //! the phase [`Phase::Simulation`] (from the first substep's beginning to the last one's end).
 
 use super::pose::Collider;
-use super::sim::Simulation;
+use super::sim::{Simulation, WIND_CLASSES};
 use crate::gpu::timing::{GpuTimer, PassTime, Phase};
 use crate::gpu::{Gpu, GpuError, readback::copy_out};
 use crate::render::pipelines::{self, ComputePass};
@@ -22,10 +22,12 @@ pub struct Params {
     head_rot: [f32; 4],
     pivot: [f32; 4],
     sweep: [f32; 4],
-    k: [f32; 4],
-    m: [f32; 4],
+    /// Gravity, the local stiffness as applied (`0.5 · min(k, 0.95)`), the global stiffness and its range.
+    stiffness: [f32; 4],
+    /// x: the follow-the-leader damping.
+    damping: [f32; 4],
     counts: [u32; 4],
-    wind: [[f32; 4]; 20],
+    wind: [[f32; 4]; WIND_CLASSES],
 }
 
 /// The root frame's pose for the guide-and-follow pass (`shaders/motion/follow.wgsl`).
@@ -45,8 +47,8 @@ pub const PARAMS_FIELDS: &[(&str, usize)] = {
         ("head_rot", offset_of!(Params, head_rot)),
         ("pivot", offset_of!(Params, pivot)),
         ("sweep", offset_of!(Params, sweep)),
-        ("k", offset_of!(Params, k)),
-        ("m", offset_of!(Params, m)),
+        ("stiffness", offset_of!(Params, stiffness)),
+        ("damping", offset_of!(Params, damping)),
         ("counts", offset_of!(Params, counts)),
         ("wind", offset_of!(Params, wind)),
     ]
@@ -286,7 +288,7 @@ impl GpuSimulation {
         let t = step as f64 / (f64::from(p.fps) * f64::from(p.substeps));
         let decay = (-p.damping * h * 60.0).exp();
         let pose = p.head_pose(t, pivot);
-        let mut wind = [[0.0; 4]; 20];
+        let mut wind = [[0.0; 4]; WIND_CLASSES];
         for (s, w) in wind.iter_mut().enumerate() {
             *w = p.wind_at(t, s).extend(0.0).to_array();
         }
@@ -294,13 +296,13 @@ impl GpuSimulation {
             head_rot: pose.rotation.to_array(),
             pivot: pivot.extend(h * h).to_array(),
             sweep: p.sweep_offset(t).extend(decay).to_array(),
-            k: [
+            stiffness: [
                 p.gravity,
                 0.5 * p.local_stiffness.min(0.95),
                 p.global_stiffness,
                 p.global_range,
             ],
-            m: [p.ftl_damping, 0.0, 0.0, 0.0],
+            damping: [p.ftl_damping, 0.0, 0.0, 0.0],
             counts: [self.strands, self.sim.first_swept_strand() as u32, 0, 0],
             wind,
         }

@@ -27,7 +27,8 @@
 //! unnormalised `v = x_i − x_{i+1}` scales it with the segment length squared) and signed to push along `w`.
 //! The wind vector is `wind · dir(t) · (1 + gust · g(t − φ_s))`: `dir` swings ±20° about +Y (a 40° cone, as
 //! TressFX's four wind vectors span), `g(t) = 0.6 sin(2π·0.7 t) + 0.4 sin(2π·1.9 t + 1.3)` and the phase
-//! `φ_s = 0.25 s · (s mod 20)/20` differs per strand like TressFX's per-strand mix of its four winds.
+//! `φ_s = 0.25 s · (s mod 20)/20` ([`WIND_CLASSES`] = 20) differs per strand like TressFX's per-strand mix of
+//! its four winds.
 //!
 //! The length pass also collides: a follower it puts inside the collider is moved out as in step 5 and put
 //! back on its leader's sphere, up to sixteen rounds, so segments stay exact and a point may stay slightly
@@ -38,6 +39,10 @@ use glam::{Quat, Vec3};
 use super::follow::Follow;
 pub use super::pose::{Collider, Ellipsoid, Pose};
 use super::{HeadMotion, MotionSettings};
+
+/// Strands fall into this many wind classes by index, each gusting with its own phase
+/// (`shaders/motion/simulate.wgsl` holds one wind vector per class).
+pub const WIND_CLASSES: usize = 20;
 
 /// Smooth 0 → 1 over `[0, 1]` (cubic), clamped outside.
 fn ease(u: f64) -> f64 {
@@ -151,7 +156,8 @@ impl SimParams {
             return Vec3::ZERO;
         }
         let tau = std::f64::consts::TAU;
-        let ts = t - 0.25 * (s % 20) as f64 / 20.0;
+        let class = (s % WIND_CLASSES) as f64 / WIND_CLASSES as f64;
+        let ts = t - 0.25 * class;
         let g = 0.6 * (tau * 0.7 * ts).sin() + 0.4 * (tau * 1.9 * ts + 1.3).sin();
         let swing = 20f64.to_radians() * (tau * 0.23 * t).sin();
         let dir = Quat::from_rotation_y(swing as f32) * self.wind_dir;

@@ -5,8 +5,9 @@
 //! strands' lines, `casters/lines.wgsl`, where none is named).
 //! Included files may include others; each file is pasted once per composed shader, where it is first named.
 //! One more step serves the per-pixel lists' resolves (`crate::render::eye::lists`): the lines between
-//! `#sort_sizes begin` and `#sort_sizes end` are written for 64 nodes and pasted once per sort size, `_64` and
-//! `64u` replaced by the size, and `#sort_dispatch` becomes the line that calls the smallest size holding a pixel's
+//! `#sort_sizes begin` and `#sort_sizes end` are written for 64 nodes and pasted once per sort size, the whole
+//! tokens `…_64` and `64u` replaced by the size (WGSL's `override` cannot do this: one module holds every size,
+//! and a function-local array's length must be a constant), and `#sort_dispatch` becomes the line that calls the smallest size holding a pixel's
 //! `n` nodes ([`compose_sorts`]; [`compose`] instantiates the 64 alone).
 //!
 //! Composition keeps a source map ([`Composed`]): the file and line every line of the composed shader came from,
@@ -242,6 +243,33 @@ fn compose_from(
 /// The sort size the `#sort_sizes` template is written for.
 const TEMPLATE_SIZE: u32 = 64;
 
+/// `template` written for `size` nodes: each whole token `<name>_64` and `64u` of it (never `164u`, `_640` or
+/// `x64u`) with the size in place of 64.
+fn sized(template: &str, size: u32) -> String {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let (suffix, literal) = (format!("_{TEMPLATE_SIZE}"), format!("{TEMPLATE_SIZE}u"));
+    let mut out = String::with_capacity(template.len());
+    let mut rest = template;
+    while let Some(c) = rest.chars().next() {
+        let before = out.chars().next_back();
+        let after = |n: usize| rest[n..].chars().next();
+        if rest.starts_with(&suffix) && before.is_some_and(ident) && !after(suffix.len()).is_some_and(ident) {
+            out += &format!("_{size}");
+            rest = &rest[suffix.len()..];
+        } else if rest.starts_with(&literal)
+            && !before.is_some_and(ident)
+            && !after(literal.len()).is_some_and(ident)
+        {
+            out += &format!("{size}u");
+            rest = &rest[literal.len()..];
+        } else {
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
+}
+
 struct Composer<'a> {
     sources: &'a [(&'a str, &'a str)],
     /// Files read before `sources`.
@@ -293,11 +321,7 @@ impl<'a> Composer<'a> {
                 let template = std::mem::replace(&mut self.out, before);
                 let template_lines = std::mem::replace(&mut self.lines, before_lines);
                 for s in self.sizes {
-                    self.out.push_str(
-                        &template
-                            .replace(&format!("_{TEMPLATE_SIZE}"), &format!("_{s}"))
-                            .replace(&format!("{TEMPLATE_SIZE}u"), &format!("{s}u")),
-                    );
+                    self.out.push_str(&sized(&template, *s));
                     self.lines.extend_from_slice(&template_lines);
                 }
             }
@@ -506,6 +530,18 @@ mod tests {
         ),
         ("unpaired.wgsl", "#sort_sizes end"),
     ];
+
+    /// Only whole tokens change: `164u`, `x64u`, `resolve_640` and `a_64b` are left as written.
+    #[test]
+    fn a_size_replaces_whole_tokens_only() {
+        assert_eq!(
+            super::sized(
+                "fn resolve_64() -> array<u32, 64u> { let a = 164u + x64u; resolve_640(a_64b, 64u); }",
+                16
+            ),
+            "fn resolve_16() -> array<u32, 16u> { let a = 164u + x64u; resolve_640(a_64b, 16u); }"
+        );
+    }
 
     #[test]
     fn a_sort_template_is_pasted_once_per_size_and_dispatched_to_the_smallest() {

@@ -18,7 +18,7 @@
 use super::opacity_layers::{self, BUILD, LayerMethod, LayerSetup, LayersGpu, STORAGE, VALUES_PER_LAYER};
 use super::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, ParamKind, ParamSpec, ParamValues, Role, ShadowMethod,
-    SweepPoint, UniformMirror, value,
+    SweepPoint, UniformMirror, choice, value,
 };
 use crate::gpu::GpuError;
 use crate::visibility::dom::{MAX_LAYERS, layer_ends};
@@ -73,14 +73,14 @@ fn dom_params(values: &ParamValues) -> DomParams {
     DomParams {
         layers: value(values, &LAYERS) as u32,
         depth_span: value(values, &DEPTH_SPAN),
-        spacing: match value(values, &SPACING) as i32 {
-            1 => LayerSpacing::Uniform,
-            2 => LayerSpacing::Unreal,
+        spacing: match choice(values, &SPACING) {
+            "uniform" => LayerSpacing::Uniform,
+            "unreal" => LayerSpacing::Unreal,
             _ => LayerSpacing::LinearlyIncreasing,
         },
-        beyond: match value(values, &BEYOND) as i32 {
-            0 => BeyondLastLayer::Ignore,
-            2 => BeyondLastLayer::Stretch,
+        beyond: match choice(values, &BEYOND) {
+            "ignore" => BeyondLastLayer::Ignore,
+            "stretch" => BeyondLastLayer::Stretch,
             _ => BeyondLastLayer::AddToLast,
         },
     }

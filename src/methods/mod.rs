@@ -20,7 +20,7 @@ pub mod registry;
 
 pub use crate::render::method::{
     LightMethod, MethodContext, MethodGpu, MethodInfo, NoMaps, ParamError, ParamKind, ParamSpec, ParamValues,
-    Role, UniformMirror, UnknownName, value,
+    Role, UniformMirror, UnknownName, choice, value,
 };
 use crate::visibility::TexelModel;
 
@@ -159,5 +159,10 @@ mod tests {
         assert_eq!(CHOICE.format(1.0), "uniform");
         assert_eq!(CHOICE.option(0.0), Some("linear"));
         assert_eq!(CHOICE.option(2.0), None);
+        let chosen = ParamValues::from([("spacing".to_string(), 1.0)]);
+        assert_eq!(
+            (choice(&chosen, &CHOICE), choice(&ParamValues::new(), &CHOICE)),
+            ("uniform", "linear")
+        );
     }
 }

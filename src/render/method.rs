@@ -359,3 +359,9 @@ impl MethodGpu for NoMaps {
 pub fn value(values: &ParamValues, spec: &ParamSpec) -> f32 {
     values.get(spec.key).copied().unwrap_or(spec.default)
 }
+
+/// The option `values` choose for the choice parameter `spec`, as its word (`""` for no option), so a method
+/// matches on the words its spec lists rather than on indices.
+pub fn choice(values: &ParamValues, spec: &ParamSpec) -> &'static str {
+    spec.option(value(values, spec)).unwrap_or("")
+}

@@ -30,7 +30,7 @@
 //! atomic build the counters' pages (3, 5, 6, 7) and [`LayerBuildUniforms`] (4); the lookup's group 1 is the
 //! array view (0) and the uniform (1).
 
-use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, UniformMirror, value};
+use super::{MethodContext, MethodGpu, ParamKind, ParamSpec, ParamValues, UniformMirror, choice, value};
 use crate::gpu::GpuError;
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::render::caster::draw_casters;
@@ -95,9 +95,9 @@ pub fn build(values: &ParamValues, entries: u32) -> LayerBuild {
         .get(value(values, &STORAGE) as usize)
         .copied()
         .unwrap_or_default();
-    match value(values, &BUILD) as usize {
-        1 => LayerBuild::Atomic(storage),
-        2 => LayerBuild::Targets,
+    match choice(values, &BUILD) {
+        "atomic" => LayerBuild::Atomic(storage),
+        "targets" => LayerBuild::Targets,
         _ if entries > AUTO_TARGETS_MAX_ENTRIES || storage != LayerStorage::F32 => {
             LayerBuild::Atomic(storage)
         }

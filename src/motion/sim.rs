@@ -246,8 +246,6 @@ pub struct Simulation {
     spacing: u32,
     /// FTL corrections of the current substep (scratch).
     corr: Vec<Vec3>,
-    /// One strand's new positions (scratch).
-    scratch: Vec<Vec3>,
     /// The guides and followers when only a share of the strands is simulated.
     follow: Option<Follow>,
 }
@@ -290,7 +288,6 @@ impl Simulation {
             state,
             spacing: 16,
             corr: vec![Vec3::ZERO; rest.len()],
-            scratch: Vec::new(),
             follow,
         }
     }
@@ -383,12 +380,7 @@ impl Simulation {
 
     /// The pose of strand `s` at time `t`.
     fn strand_pose(&self, t: f64, s: usize) -> Pose {
-        let mut pose = self.params.head_pose(t, self.pivot);
-        let n = self.ranges.len();
-        if self.params.head == HeadMotion::Sweep && s + (self.params.sweep_strands as usize) >= n {
-            pose.translation = self.params.sweep_offset(t);
-        }
-        pose
+        strand_pose(&self.params, self.pivot, self.ranges.len(), t, s)
     }
 
     /// One frame: `substeps` substeps.
@@ -415,113 +407,74 @@ impl Simulation {
         }
     }
 
-    /// Advances to substep number `step` (its end time `step · h`).
+    /// Advances to substep number `step` (its end time `step · h`): the strands on every core, blocks of
+    /// [`STRANDS_PER_TASK`] taken from one queue (strands do not interact, so the state is the same bits whatever
+    /// the thread count).
     fn substep(&mut self, step: u64) {
         let p = &self.params;
-        let h = p.h();
         let t = step as f64 / (f64::from(p.fps) * f64::from(p.substeps));
-        let decay = (-p.damping * h * 60.0).exp();
-        let gravity = Vec3::new(0.0, -p.gravity, 0.0);
-        let ks = 0.5 * p.local_stiffness.min(0.95);
-        let head_pose = p.head_pose(t, self.pivot);
-        let mut q = std::mem::take(&mut self.scratch);
-        for s in 0..self.ranges.len() {
-            let (first, n) = self.ranges[s];
-            if n == 0 || !self.simulated(s) {
-                continue;
-            }
-            let pose = self.strand_pose(t, s);
-            let wind = self.params.wind_at(t, s);
-            let p = &self.params;
-            let x = &self.state.x[first..first + n];
-            let prev = &self.state.prev[first..first + n];
-            let rest = &self.rest[first..first + n];
-            let rest_len = &self.rest_len[first..first + n];
-            // 1. Verlet.
-            q.clear();
-            for i in 0..n {
-                let mut a = gravity;
-                if i > 0 {
-                    let seg = (x[i] - x[i - 1]).normalize_or_zero();
-                    a += wind - seg * seg.dot(wind);
-                }
-                q.push(x[i] + (x[i] - prev[i]) * decay + a * (h * h));
-            }
-            // 2. Root.
-            q[0] = pose.apply(rest[0]);
-            // 3. Global shape.
-            if p.global_stiffness > 0.0 {
-                let reach = p.global_range * n as f32;
-                for i in 1..n {
-                    if (i as f32) < reach {
-                        let pull = (pose.apply(rest[i]) - q[i]) * p.global_stiffness;
-                        q[i] += pull;
-                    }
-                }
-            }
-            // 4. Local shape.
-            if ks > 0.0 {
-                let mut g = pose.rotation;
-                for i in 0..n - 1 {
-                    let target = q[i] + g * (rest[i + 1] - rest[i]);
-                    let del = (target - q[i + 1]) * ks;
-                    if i > 0 {
-                        q[i] -= del;
-                    }
-                    q[i + 1] += del;
-                    let from = (target - q[i]).normalize_or_zero();
-                    let to = (q[i + 1] - q[i]).normalize_or_zero();
-                    if from != Vec3::ZERO && to != Vec3::ZERO {
-                        g = (Quat::from_rotation_arc(from, to) * g).normalize();
-                    }
-                }
-            }
-            // 5. Collision (the head's own pose, also for swept strands).
-            if let Some(c) = &self.head {
-                for qi in q.iter_mut().skip(1) {
-                    if let Some(out) = c.push_out(head_pose.inverse_apply(*qi)) {
-                        *qi = head_pose.apply(out);
-                    }
-                }
-            }
-            // 6. Follow the leader.
-            let corr = &mut self.corr[first..first + n];
-            corr[0] = Vec3::ZERO;
-            for i in 1..n {
-                let lead = q[i - 1];
-                let follow = |to: Vec3| {
-                    let d = to - lead;
-                    let len = d.length();
-                    if len > 0.0 {
-                        lead + d * (rest_len[i] / len)
-                    } else {
-                        lead + (pose.apply(rest[i]) - pose.apply(rest[i - 1]))
-                    }
-                };
-                let mut fixed = follow(q[i]);
-                // A follower the length pass put back inside the collider: out as in step 5, then back on its
-                // leader's sphere, a few times (each round leaves it shallower on a convex collider).
-                if let Some(c) = &self.head {
-                    for _ in 0..COLLISION_ROUNDS {
-                        let Some(out) = c.push_out(head_pose.inverse_apply(fixed)) else {
-                            break;
-                        };
-                        fixed = follow(head_pose.apply(out));
-                    }
-                }
-                corr[i] = fixed - q[i];
-                q[i] = fixed;
-            }
-            // 7. Velocity (DFTL) and the new state.
-            let s_damp = p.ftl_damping;
-            let (xs, ps) = (&mut self.state.x, &mut self.state.prev);
-            for i in 0..n {
-                let next = if i + 1 < n { corr[i + 1] } else { Vec3::ZERO };
-                ps[first + i] = xs[first + i] + next * s_damp;
-                xs[first + i] = q[i];
-            }
+        let ctx = Substep {
+            sim: Shared {
+                params: &self.params,
+                rest: &self.rest,
+                rest_len: &self.rest_len,
+                head: self.head.as_ref(),
+                pivot: self.pivot,
+                ranges: &self.ranges,
+                follow: self.follow.as_ref(),
+            },
+            t,
+            h: p.h(),
+            decay: (-p.damping * p.h() * 60.0).exp(),
+            gravity: Vec3::new(0.0, -p.gravity, 0.0),
+            ks: 0.5 * p.local_stiffness.min(0.95),
+            head_pose: p.head_pose(t, self.pivot),
+        };
+        // The state cut into blocks of whole strands.
+        let mut blocks = Vec::new();
+        let (mut x, mut prev, mut corr) = (
+            self.state.x.as_mut_slice(),
+            self.state.prev.as_mut_slice(),
+            self.corr.as_mut_slice(),
+        );
+        for strands in (0..self.ranges.len())
+            .collect::<Vec<_>>()
+            .chunks(STRANDS_PER_TASK)
+        {
+            let (first, _) = self.ranges[strands[0]];
+            let last = strands[strands.len() - 1];
+            let end = self.ranges[last].0 + self.ranges[last].1;
+            let (bx, rx) = std::mem::take(&mut x).split_at_mut(end - first);
+            let (bp, rp) = std::mem::take(&mut prev).split_at_mut(end - first);
+            let (bc, rc) = std::mem::take(&mut corr).split_at_mut(end - first);
+            (x, prev, corr) = (rx, rp, rc);
+            blocks.push((strands[0]..last + 1, first, bx, bp, bc));
         }
-        self.scratch = q;
+        let queue = std::sync::Mutex::new(blocks.into_iter());
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        std::thread::scope(|scope| {
+            for _ in 0..threads {
+                let (ctx, queue) = (&ctx, &queue);
+                scope.spawn(move || {
+                    let mut q = Vec::new();
+                    while let Some((strands, base, x, prev, corr)) =
+                        queue.lock().map_or(None, |mut b| b.next())
+                    {
+                        for s in strands {
+                            let (first, n) = ctx.sim.ranges[s];
+                            let at = first - base..first - base + n;
+                            ctx.strand(
+                                s,
+                                &mut q,
+                                &mut x[at.clone()],
+                                &mut prev[at.clone()],
+                                &mut corr[at],
+                            );
+                        }
+                    }
+                });
+            }
+        });
     }
 
     /// The invariants of the current state (see [`FrameStats`]).
@@ -563,6 +516,144 @@ impl Simulation {
             st.max_speed = st.max_speed.max(v.length());
         }
         st
+    }
+}
+
+/// The pose of strand `s` of `strands` at time `t`: the head's, or the sweep's for the last swept strands.
+fn strand_pose(params: &SimParams, pivot: Vec3, strands: usize, t: f64, s: usize) -> Pose {
+    let mut pose = params.head_pose(t, pivot);
+    if params.head == HeadMotion::Sweep && s + (params.sweep_strands as usize) >= strands {
+        pose.translation = params.sweep_offset(t);
+    }
+    pose
+}
+
+/// What every strand of a substep reads of the simulation.
+struct Shared<'a> {
+    params: &'a SimParams,
+    rest: &'a [Vec3],
+    rest_len: &'a [f32],
+    head: Option<&'a Collider>,
+    pivot: Vec3,
+    ranges: &'a [(usize, usize)],
+    follow: Option<&'a Follow>,
+}
+
+/// Strands a thread takes from the substep's queue at a time.
+const STRANDS_PER_TASK: usize = 64;
+
+/// One substep's values, shared by its strands.
+struct Substep<'a> {
+    sim: Shared<'a>,
+    t: f64,
+    h: f32,
+    decay: f32,
+    gravity: Vec3,
+    ks: f32,
+    head_pose: Pose,
+}
+
+impl Substep<'_> {
+    /// Steps strand `s`, whose points are `x` (now), `prev` (before) and `corr` (scratch), `q` scratch too.
+    fn strand(&self, s: usize, q: &mut Vec<Vec3>, x: &mut [Vec3], prev: &mut [Vec3], corr: &mut [Vec3]) {
+        let (sim, h, decay, gravity, ks, head_pose) = (
+            &self.sim,
+            self.h,
+            self.decay,
+            self.gravity,
+            self.ks,
+            self.head_pose,
+        );
+        let (first, n) = sim.ranges[s];
+        if n == 0 || !sim.follow.is_none_or(|f| f.simulated[s]) {
+            return;
+        }
+        let p = sim.params;
+        let pose = strand_pose(p, sim.pivot, sim.ranges.len(), self.t, s);
+        let wind = p.wind_at(self.t, s);
+        let rest = &sim.rest[first..first + n];
+        let rest_len = &sim.rest_len[first..first + n];
+        // 1. Verlet.
+        q.clear();
+        for i in 0..n {
+            let mut a = gravity;
+            if i > 0 {
+                let seg = (x[i] - x[i - 1]).normalize_or_zero();
+                a += wind - seg * seg.dot(wind);
+            }
+            q.push(x[i] + (x[i] - prev[i]) * decay + a * (h * h));
+        }
+        // 2. Root.
+        q[0] = pose.apply(rest[0]);
+        // 3. Global shape.
+        if p.global_stiffness > 0.0 {
+            let reach = p.global_range * n as f32;
+            for i in 1..n {
+                if (i as f32) < reach {
+                    let pull = (pose.apply(rest[i]) - q[i]) * p.global_stiffness;
+                    q[i] += pull;
+                }
+            }
+        }
+        // 4. Local shape.
+        if ks > 0.0 {
+            let mut g = pose.rotation;
+            for i in 0..n - 1 {
+                let target = q[i] + g * (rest[i + 1] - rest[i]);
+                let del = (target - q[i + 1]) * ks;
+                if i > 0 {
+                    q[i] -= del;
+                }
+                q[i + 1] += del;
+                let from = (target - q[i]).normalize_or_zero();
+                let to = (q[i + 1] - q[i]).normalize_or_zero();
+                if from != Vec3::ZERO && to != Vec3::ZERO {
+                    g = (Quat::from_rotation_arc(from, to) * g).normalize();
+                }
+            }
+        }
+        // 5. Collision (the head's own pose, also for swept strands).
+        if let Some(c) = sim.head {
+            for qi in q.iter_mut().skip(1) {
+                if let Some(out) = c.push_out(head_pose.inverse_apply(*qi)) {
+                    *qi = head_pose.apply(out);
+                }
+            }
+        }
+        // 6. Follow the leader.
+        corr[0] = Vec3::ZERO;
+        for i in 1..n {
+            let lead = q[i - 1];
+            let follow = |to: Vec3| {
+                let d = to - lead;
+                let len = d.length();
+                if len > 0.0 {
+                    lead + d * (rest_len[i] / len)
+                } else {
+                    lead + (pose.apply(rest[i]) - pose.apply(rest[i - 1]))
+                }
+            };
+            let mut fixed = follow(q[i]);
+            // A follower the length pass put back inside the collider: out as in step 5, then back on its
+            // leader's sphere, a few times (each round leaves it shallower on a convex collider).
+            if let Some(c) = sim.head {
+                for _ in 0..COLLISION_ROUNDS {
+                    let Some(out) = c.push_out(head_pose.inverse_apply(fixed)) else {
+                        break;
+                    };
+                    fixed = follow(head_pose.apply(out));
+                }
+            }
+            corr[i] = fixed - q[i];
+            q[i] = fixed;
+        }
+        // 7. Velocity (DFTL) and the new state.
+        let s_damp = p.ftl_damping;
+        for i in 0..n {
+            let next = if i + 1 < n { corr[i + 1] } else { Vec3::ZERO };
+            prev[i] = x[i] + next * s_damp;
+            x[i] = q[i];
+        }
     }
 }
 

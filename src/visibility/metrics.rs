@@ -155,7 +155,9 @@ pub fn texel_errors_on<T: AsRef<[Fragment]> + Sync>(
                     loop {
                         let b = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                         let Some(block) = blocks.get(b) else { break };
-                        let errors = block.iter().filter_map(|t| texel_error(method, t.as_ref(), grid_points));
+                        let errors = block
+                            .iter()
+                            .filter_map(|t| texel_error(method, t.as_ref(), grid_points));
                         out.push((b, errors.collect::<Vec<_>>()));
                     }
                     out
@@ -297,7 +299,13 @@ mod tests {
     fn texel_errors_do_not_depend_on_the_threads() {
         let mut rng = Rng::new(35);
         let map: Vec<Vec<Fragment>> = (0..3000)
-            .map(|i| if i % 7 == 0 { Vec::new() } else { random_texel(&mut rng, 40) })
+            .map(|i| {
+                if i % 7 == 0 {
+                    Vec::new()
+                } else {
+                    random_texel(&mut rng, 40)
+                }
+            })
             .collect();
         let dom = DomParams::default();
         let one = texel_errors_on(&dom, &map, 8, 1);

@@ -22,15 +22,13 @@
 //! that lands inside the collider is moved out (as the simulation's collision step does) and put back on its
 //! leader's sphere, up to sixteen rounds, exactly as the simulation's length pass does for the guides.
 
-use super::pose::{Collider, Pose};
+use super::pose::{COLLISION_ROUNDS, Collider, Pose};
 use glam::Vec3;
 
 /// Guides each follower interpolates.
 pub const NEIGHBOURS: usize = 3;
 /// Added to a root distance before it is inverted (world units).
 const EPSILON: f32 = 1e-6;
-/// Rounds of collision and re-following per point, as the simulation's length pass.
-const COLLISION_ROUNDS: usize = 16;
 
 /// Which strands are simulated, and each follower's guides and weights.
 #[derive(Clone, Debug, PartialEq)]

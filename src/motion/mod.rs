@@ -10,10 +10,12 @@
 
 pub mod follow;
 pub mod gpu;
+pub mod params;
 pub mod pose;
 pub mod sdf;
 pub mod sequence;
 pub mod sim;
+mod strand_step;
 
 use crate::render::Renderer;
 use crate::scene::{Aabb, Scene};

@@ -6,6 +6,9 @@ use super::sdf::SdfGrid;
 use glam::{Affine3A, Quat, Vec3};
 use std::sync::Arc;
 
+/// Rounds of collision and re-following per point in the length pass (the simulation's and the followers').
+pub const COLLISION_ROUNDS: usize = 16;
+
 /// A rigid pose: `x ↦ rotation · (x − pivot) + pivot + translation`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {

@@ -11,8 +11,9 @@ use clap::Args;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
+/// The scene flags `render` and `export` share: the preset, its overrides and the image size.
 #[derive(Args, Debug)]
-pub struct RenderArgs {
+pub struct SceneFlags {
     /// Preset: built-in name (default, patch), `presets/<name>.toml`, or a path to a TOML file.
     #[arg(long, default_value = "default")]
     pub preset: String,
@@ -25,6 +26,28 @@ pub struct RenderArgs {
     /// Image height in pixels (overrides render.height).
     #[arg(long)]
     pub height: Option<u32>,
+}
+
+impl SceneFlags {
+    /// The preset with its overrides; the image size flags apply after them and are checked as themselves.
+    pub fn settings(&self) -> Result<Settings> {
+        let mut settings = Settings::load_preset(&self.preset, &self.set)?;
+        self.size(&mut settings)?;
+        Ok(settings)
+    }
+
+    /// Applies `--width`/`--height` to `settings` and checks them.
+    fn size(&self, settings: &mut Settings) -> Result<()> {
+        settings.render.width = self.width.unwrap_or(settings.render.width);
+        settings.render.height = self.height.unwrap_or(settings.render.height);
+        settings.validate().context("--width/--height")
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneFlags,
     /// Render frame K of the preset's motion (`[motion]`; frame 0 is the still scene of a simulation).
     #[arg(long, value_name = "K", conflicts_with = "frames")]
     pub frame: Option<u32>,
@@ -53,7 +76,7 @@ pub fn parse_frame_range(text: &str) -> Result<std::ops::Range<u32>> {
 }
 
 pub(super) fn render(a: &RenderArgs) -> Result<()> {
-    let mut settings = Settings::load_preset(&a.preset, &a.set)?;
+    let mut settings = Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     if settings.render.mode == RenderMode::Path {
         return path_render(a, settings);
     }
@@ -64,10 +87,7 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
     } else if gif {
         crate::io::check_output(&a.out, "gif")?;
     }
-    // The image size flags apply after the preset and its overrides, and are checked as themselves.
-    settings.render.width = a.width.unwrap_or(settings.render.width);
-    settings.render.height = a.height.unwrap_or(settings.render.height);
-    settings.validate().context("--width/--height")?;
+    a.scene.size(&mut settings)?;
     let encode = encode_png;
     match range {
         None => {
@@ -126,9 +146,7 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
     }
     let exr = a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     crate::io::check_output(&a.out, if exr { "exr" } else { "png" })?;
-    settings.render.width = a.width.unwrap_or(settings.render.width);
-    settings.render.height = a.height.unwrap_or(settings.render.height);
-    settings.validate().context("--width/--height")?;
+    a.scene.size(&mut settings)?;
     let scene = settings.scene.build()?;
     let start = std::time::Instant::now();
     let path = PathScene::new(&settings, &scene)?;

@@ -76,17 +76,6 @@ pub fn check_output(path: &Path, extension: &str) -> Result<()> {
     Ok(())
 }
 
-/// One CSV field as RFC 4180 writes it: quoted (with inner quotes doubled) when it holds a comma, a quote or a line
-/// break, as it is otherwise. For the hand-written CSV files whose labels carry a method's parameters
-/// (`dom:layers=4,spacing=unreal`).
-pub fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\"")).into()
-    } else {
-        text.into()
-    }
-}
-
 /// Writes `bytes` to `path` atomically; the error names `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_io(path, bytes).with_context(|| format!("{}: cannot write", path.display()))
@@ -120,6 +109,26 @@ pub fn write_atomic_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     // On failure the error hands the temporary file back, and dropping it deletes it.
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
+}
+
+/// A table whose columns are known only at run time (one per model, per plotted curve) as CSV text: `header`,
+/// then `rows`, each field quoted where it needs it, through the same `csv` writer as [`csv_text`].
+pub fn csv_table(
+    name: &str,
+    header: &[String],
+    rows: impl IntoIterator<Item = Vec<String>>,
+) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header)
+        .with_context(|| format!("cannot encode {name}"))?;
+    for r in rows {
+        w.write_record(&r)
+            .with_context(|| format!("cannot encode {name}"))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot encode {name}: {}", e.error()))?;
+    String::from_utf8(bytes).with_context(|| format!("cannot encode {name}"))
 }
 
 /// `rows` as CSV text: a header from the first row's field names, then one line per row (none when empty).

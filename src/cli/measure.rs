@@ -709,7 +709,7 @@ fn shading_table(
     }
     if let Some(dir) = &a.out {
         let path = dir.join("shading.csv");
-        crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows).as_bytes())?;
+        crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows)?.as_bytes())?;
         let mut written = vec![path];
         if let Some(t) = &truth {
             use crate::measure::truth::{DECOMPOSITION_CSV, TRUTH_PNG};

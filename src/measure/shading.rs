@@ -142,20 +142,19 @@ pub fn shading_errors_on(
 }
 
 /// CSV `method,<model> img RMSE,<model> FLIP,...`: one row per configuration.
-pub fn csv(models: &[ShadingModel], rows: &[ShadingRow]) -> String {
-    let mut out = String::from("method");
+pub fn csv(models: &[ShadingModel], rows: &[ShadingRow]) -> Result<String> {
+    let mut header = vec!["method".to_string()];
     for m in models {
-        out += &format!(",{} img RMSE,{} FLIP", m.word(), m.word());
+        header.extend([format!("{} img RMSE", m.word()), format!("{} FLIP", m.word())]);
     }
-    out.push('\n');
-    for row in rows {
-        out += &crate::io::csv_field(&row.config.label());
+    let rows = rows.iter().map(|row| {
+        let mut r = vec![row.config.label()];
         for e in &row.errors {
-            out += &format!(",{},{}", e.image_rmse, e.image_flip);
+            r.extend([e.image_rmse.to_string(), e.image_flip.to_string()]);
         }
-        out.push('\n');
-    }
-    out
+        r
+    });
+    crate::io::csv_table("shading.csv", &header, rows)
 }
 
 #[cfg(test)]
@@ -180,7 +179,7 @@ mod tests {
                 })
                 .collect(),
         }];
-        let text = csv(&models, &rows);
+        let text = csv(&models, &rows).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(
             lines[0],
@@ -266,7 +265,7 @@ mod tests {
                 against_truth: None,
             }],
         }];
-        let text = csv(&models, &rows);
+        let text = csv(&models, &rows).unwrap();
         let mut reader = ::csv::Reader::from_reader(text.as_bytes());
         let record = reader.records().next().expect("one row").expect("a valid row");
         assert_eq!(record.len(), 3);

@@ -21,7 +21,7 @@ impl TexelCurves {
 
     /// CSV `depth,reference,reference count,<method>,<method> count...,pin1 reference,pin1 reference count,...`:
     /// every curve shown and its hair count beside it, evaluated at [`TexelCurves::csv_depths`].
-    pub fn csv(&self) -> String {
+    pub fn csv(&self) -> anyhow::Result<String> {
         let zs = self.csv_depths();
         let mut header = vec!["depth".to_string()];
         let mut columns: Vec<Vec<f32>> = Vec::new();
@@ -43,18 +43,12 @@ impl TexelCurves {
                 columns.push(m.model.model.count_curve(&t.fragments, &zs, t.hair_alpha));
             }
         }
-        let header: Vec<_> = header.iter().map(|h| crate::io::csv_field(h)).collect();
-        let mut out = header.join(",");
-        out.push('\n');
-        for (i, z) in zs.iter().enumerate() {
-            out.push_str(&z.to_string());
-            for c in &columns {
-                out.push(',');
-                out.push_str(&c[i].to_string());
-            }
-            out.push('\n');
-        }
-        out
+        let rows = zs.iter().enumerate().map(|(i, z)| {
+            std::iter::once(z.to_string())
+                .chain(columns.iter().map(|c| c[i].to_string()))
+                .collect()
+        });
+        crate::io::csv_table("the texel curves", &header, rows)
     }
 }
 
@@ -65,7 +59,9 @@ pub fn export(curves: Option<&TexelCurves>, path: &Path) -> Result<String, Strin
         .filter(|c| c.current.is_some() || !c.pins.is_empty())
         .ok_or("texel inspector: nothing to export (select a texel first)")?;
     let rows = curves.csv_depths().len();
-    crate::io::write_atomic(path, curves.csv().as_bytes())
+    curves
+        .csv()
+        .and_then(|text| crate::io::write_atomic(path, text.as_bytes()))
         .map(|()| format!("curves exported: {} ({rows} depths)", path.display()))
         .map_err(|e| format!("curve export failed: {e:#}"))
 }
@@ -98,7 +94,7 @@ mod tests {
             stored: None,
             pins: vec![texel((0.25, 0.75), &[0.3, 0.4])],
         };
-        let text = curves.csv();
+        let text = curves.csv().unwrap();
         let mut lines = text.lines();
         assert_eq!(
             lines.next(),

@@ -22,22 +22,7 @@ const MARKERS: usize = 12;
 /// A line through `points` and, under `name` in the legend, a dozen of its points as markers (the texel
 /// inspector's plots do the same).
 pub fn named_line(name: String, color: chart::Color, points: Vec<Point>) -> [Series; 2] {
-    let step = points.len().div_ceil(MARKERS).max(1);
-    let markers = points.iter().step_by(step).cloned().collect();
-    [
-        Series {
-            name: String::new(),
-            color,
-            mark: Mark::Line,
-            points,
-        },
-        Series {
-            name,
-            color,
-            mark: Mark::Points,
-            points: markers,
-        },
-    ]
+    Series::named_line(name, color, points, MARKERS)
 }
 /// The histogram's chart in the report.
 pub const HISTOGRAM_SVG: &str = "depth_complexity.svg";

@@ -51,22 +51,7 @@ fn line(name: String, color: [u8; 3], depths: &[f32], values: &[f32]) -> [Series
             row: None,
         })
         .collect();
-    let step = points.len().div_ceil(MARKERS).max(1);
-    let markers = points.iter().step_by(step).cloned().collect();
-    [
-        Series {
-            name: String::new(),
-            color,
-            mark: Mark::Line,
-            points,
-        },
-        Series {
-            name,
-            color,
-            mark: Mark::Points,
-            points: markers,
-        },
-    ]
+    Series::named_line(name, color, points, MARKERS)
 }
 
 /// The reference's and each method's curve of `t` (`kind`'s values), named with `prefix`, in `color` when given

@@ -104,6 +104,29 @@ pub struct Series {
     pub points: Vec<Point>,
 }
 
+impl Series {
+    /// A curve through `points`: the line, unnamed, and `markers` of its points evenly spaced as markers under
+    /// `name` (the legend names marked series, not lines).
+    pub fn named_line(name: String, color: Color, points: Vec<Point>, markers: usize) -> [Series; 2] {
+        let step = points.len().div_ceil(markers.max(1)).max(1);
+        let marked = points.iter().step_by(step).cloned().collect();
+        [
+            Series {
+                name: String::new(),
+                color,
+                mark: Mark::Line,
+                points,
+            },
+            Series {
+                name,
+                color,
+                mark: Mark::Points,
+                points: marked,
+            },
+        ]
+    }
+}
+
 /// The highlighted front: its points connected in order, ringed and labelled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Front {

@@ -44,7 +44,7 @@ pub fn write(
     let dir = motion_dir.join(ANIMATIONS);
     std::fs::create_dir_all(&dir)?;
     let reference = MethodConfig::new(crate::methods::registry::reference().name(), Default::default());
-    let jobs = std::iter::once(("reference".to_string(), &reference))
+    let jobs = std::iter::once((reference.name.clone(), &reference))
         .chain(configs.iter().enumerate().map(|(k, c)| (k.to_string(), c)));
     for (name, c) in jobs {
         if cancel.load(Ordering::SeqCst) {
@@ -94,7 +94,7 @@ pub fn figures(m: &Motion, dir: &str) -> String {
         out += &figure(
             &format!("{dir}/reference.gif"),
             "Looping animation of the motion's frames with the exact reference shadows",
-            "reference",
+            crate::methods::registry::reference().name(),
         );
         out += "</div>\n";
     }

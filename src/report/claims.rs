@@ -4,6 +4,13 @@
 
 use super::data::Study;
 use super::page::{escape, section};
+use crate::measure::MethodConfig;
+use crate::methods::LightMethod;
+use crate::methods::dom::Dom;
+use crate::methods::occupancy::Occupancy;
+use crate::render::transparency::EyeTransparency;
+use crate::render::transparency::occupancy_order::OccupancyOrder;
+use crate::render::transparency::weighted_average::WeightedAverage;
 use std::fmt::Write as _;
 
 /// One claim as measured on a scene.
@@ -18,6 +25,11 @@ pub struct Claim {
     /// What hairlab measured.
     pub measured: String,
     pub holds: bool,
+}
+
+/// The Deep Opacity Maps configuration MC-1 reads: three layers, as the sweep test measures it.
+pub fn mc1_dom_label() -> String {
+    MethodConfig::new(Dom.name(), [("layers".to_string(), 3.0)].into()).label()
 }
 
 /// How many times occupancy maps' pop rate Deep Opacity Maps' must reach for MC-1 to hold.
@@ -73,8 +85,9 @@ pub fn of_study(study: &Study) -> Vec<Claim> {
                 .find(|&i| t.text(i, "config") == Some(label))
                 .and_then(|i| t.number(i, "pop_rate"))
         };
-        if let (Some(dom), Some(occ)) = (pop("dom:layers=3"), pop("occupancy")) {
-            out.push(mc1("dom:layers=3", dom, occ));
+        let dom = mc1_dom_label();
+        if let (Some(d), Some(occ)) = (pop(&dom), pop(Occupancy.name())) {
+            out.push(mc1(&dom, d, occ));
         }
     }
     if let Some(tr) = &study.transparency {
@@ -84,7 +97,7 @@ pub fn of_study(study: &Study) -> Vec<Claim> {
                 .find(|&i| t.text(i, "configuration") == Some(label))
                 .and_then(|i| t.number(i, "rmse_hair"))
         };
-        if let (Some(occ), Some(wa)) = (rmse("occupancy-order"), rmse("weighted-average")) {
+        if let (Some(occ), Some(wa)) = (rmse(OccupancyOrder.name()), rmse(WeightedAverage.name())) {
             out.push(tc1(occ, wa));
         }
     }
@@ -130,9 +143,9 @@ mod tests {
 
     #[test]
     fn verdicts_follow_the_thresholds() {
-        assert!(mc1("dom", 0.008, 0.0022).holds);
-        assert!(!mc1("dom", 0.005, 0.0022).holds);
-        assert!(!mc1("dom", 0.008, 0.0).holds);
+        assert!(mc1(&mc1_dom_label(), 0.008, 0.0022).holds);
+        assert!(!mc1(&mc1_dom_label(), 0.005, 0.0022).holds);
+        assert!(!mc1(&mc1_dom_label(), 0.008, 0.0).holds);
         assert!(tc1(0.01, 0.03).holds);
         assert!(!tc1(0.02, 0.03).holds);
     }

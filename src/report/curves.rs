@@ -97,7 +97,7 @@ pub fn write(gpu: &Gpu, settings: &Settings, configs: &[MethodConfig], bench_dir
             };
             let mut series = named_line(c.label(), chart::method_color(&c.name), curve(&v)).to_vec();
             series.extend(named_line(
-                "reference".to_string(),
+                crate::methods::registry::reference().name().to_string(),
                 [40, 40, 40],
                 curve(&texels.reference),
             ));

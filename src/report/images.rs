@@ -285,7 +285,7 @@ pub fn configurations(s: &Shadows, images_dir: &str) -> Option<String> {
             (
                 reference.clone(),
                 "The scene rendered with the exact reference shadows".to_string(),
-                "reference".to_string(),
+                crate::methods::registry::reference().name().to_string(),
             ),
             (
                 format!("{images_dir}/{difference}"),

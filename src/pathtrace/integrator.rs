@@ -161,18 +161,51 @@ pub fn render_in_passes(
     pass: u32,
     after_pass: &mut dyn FnMut(u32) -> bool,
 ) -> (Vec<Vec3>, u32) {
-    let mut sums = vec![Vec3::ZERO; s.width * s.height];
-    let mut done = 0;
-    while done < s.samples {
-        let next = (done + pass.max(1)).min(s.samples);
-        accumulate(bvh, camera, light, s, done..next, &mut sums);
-        done = next;
-        if !after_pass(done) {
+    let mut acc = Accumulation::new(s);
+    while acc.samples() < s.samples {
+        let n = pass.max(1).min(s.samples - acc.samples());
+        acc.add(bvh, camera, light, s, n);
+        if !after_pass(acc.samples()) {
             break;
         }
     }
-    let scale = 1.0 / done.max(1) as f32;
-    (sums.into_iter().map(|v| v * scale).collect(), done)
+    (acc.mean(), acc.samples())
+}
+
+/// A progressive image: the radiance summed over samples `0..samples()` of every pixel. Adding `n` more samples
+/// takes samples `samples()..samples() + n` of each pixel's streams, so the mean after any sequence of additions
+/// is [`render`]'s at that sample count.
+#[derive(Clone, Debug)]
+pub struct Accumulation {
+    sums: Vec<Vec3>,
+    done: u32,
+}
+
+impl Accumulation {
+    /// No samples yet, sized for `s`' image.
+    pub fn new(s: &Settings) -> Accumulation {
+        Accumulation {
+            sums: vec![Vec3::ZERO; s.width * s.height],
+            done: 0,
+        }
+    }
+
+    /// Samples per pixel so far.
+    pub fn samples(&self) -> u32 {
+        self.done
+    }
+
+    /// Adds the next `n` samples of every pixel.
+    pub fn add(&mut self, bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings, n: u32) {
+        accumulate(bvh, camera, light, s, self.done..self.done + n, &mut self.sums);
+        self.done += n;
+    }
+
+    /// The mean radiance per pixel (black before the first sample).
+    pub fn mean(&self) -> Vec<Vec3> {
+        let scale = 1.0 / self.done.max(1) as f32;
+        self.sums.iter().map(|&v| v * scale).collect()
+    }
 }
 
 /// Adds the radiance of samples `samples` of every pixel to `sums`.

@@ -117,6 +117,16 @@ impl PathScene {
             after_pass,
         )
     }
+
+    /// Adds `n` samples per pixel to `acc` (made by [`PathScene::accumulation`]).
+    pub fn add_samples(&self, acc: &mut integrator::Accumulation, n: u32) {
+        acc.add(&self.bvh, &self.camera, &self.light, &self.settings, n);
+    }
+
+    /// An empty progressive image of this scene's size.
+    pub fn accumulation(&self) -> integrator::Accumulation {
+        integrator::Accumulation::new(&self.settings)
+    }
 }
 
 /// `image` (`width × height` linear RGB, row after row) as an OpenEXR file of 32-bit floats.

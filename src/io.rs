@@ -191,6 +191,17 @@ pub fn read_rows<T: serde::de::DeserializeOwned>(
     Ok(out)
 }
 
+/// Linear `c` clamped to `[0, 1]` and sRGB-encoded (IEC 61966-2-1) to 8 bits.
+pub fn srgb8(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let v = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (v * 255.0).round() as u8
+}
+
 #[cfg(test)]
 mod tests {
     use super::{check_output, read_regular_file, write_atomic};
@@ -295,3 +306,4 @@ mod tests {
         assert!(read_regular_file(&dir.path().join("missing")).is_err());
     }
 }
+

@@ -160,15 +160,7 @@ pub struct FurSceneStats {
 /// The fur over black as an 8-bit sRGB image: each pixel's premultiplied linear `H` clamped to `[0, 1]` and
 /// sRGB-encoded (IEC 61966-2-1), row-major `(H, 1 − T)` of a `width`-wide capture.
 pub fn over_black(capture: &[[f32; 4]], width: u32, height: u32) -> image::RgbaImage {
-    let encode = |c: f32| {
-        let c = c.clamp(0.0, 1.0);
-        let v = if c <= 0.003_130_8 {
-            12.92 * c
-        } else {
-            1.055 * c.powf(1.0 / 2.4) - 0.055
-        };
-        (v * 255.0).round() as u8
-    };
+    let encode = crate::io::srgb8;
     image::RgbaImage::from_fn(width, height, |x, y| {
         let p = capture
             .get(y as usize * width as usize + x as usize)

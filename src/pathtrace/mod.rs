@@ -3,6 +3,7 @@
 
 pub mod bsdf;
 pub mod bvh;
+pub mod composite;
 pub mod fibre;
 pub mod integrator;
 pub mod light;

@@ -306,4 +306,3 @@ mod tests {
         assert!(read_regular_file(&dir.path().join("missing")).is_err());
     }
 }
-

@@ -99,7 +99,14 @@ impl HairlabApp {
             self.error("no viewport to save");
             return;
         };
-        let result = r.read_output().map_err(anyhow::Error::from).and_then(|img| {
+        // The path-traced view saves the image it shows (at its own size), the raster view its frame.
+        let shown = match self.path_view.latest() {
+            Some(p) if self.settings.render.mode == crate::render::render_settings::RenderMode::Path => {
+                Ok(p.image)
+            }
+            _ => r.read_output().map_err(anyhow::Error::from),
+        };
+        let result = shown.and_then(|img| {
             let mut png = Vec::new();
             img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
             crate::io::write_atomic(&path, &png)?;

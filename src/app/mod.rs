@@ -13,6 +13,7 @@ pub mod jobs;
 mod lightmap_view;
 mod motion_bound;
 mod panels;
+pub mod path_view;
 pub mod pixel_inspector;
 mod report_export;
 mod scene_jobs;
@@ -159,6 +160,8 @@ pub struct HairlabApp {
     about_open: bool,
     /// The scene's motion and its playback (`timeline.rs`).
     timeline: timeline::Timeline,
+    /// The viewport path-traced under `render.mode = path` (`path_view.rs`).
+    path_view: path_view::PathView,
     /// The picked hair point followed over the motion (`time_view.rs`).
     time_view: time_view::TimeView,
     /// The motion exported as a PNG sequence or a GIF (`export_animation.rs`).
@@ -235,6 +238,7 @@ impl HairlabApp {
             help_open: false,
             about_open: false,
             timeline: Default::default(),
+            path_view: Default::default(),
             time_view: Default::default(),
             animation_export: Default::default(),
             motion_bound: Default::default(),
@@ -423,6 +427,11 @@ impl HairlabApp {
 
     pub fn inspector_mut(&mut self) -> &mut Inspector {
         &mut self.inspector
+    }
+
+    /// The path-traced view (`render.mode = path`).
+    pub fn path_view(&self) -> &path_view::PathView {
+        &self.path_view
     }
 
     pub fn compare(&self) -> &compare_view::CompareView {

@@ -301,6 +301,24 @@ impl HairlabApp {
                 };
                 let r = &mut self.settings.render;
                 egui::Grid::new("render").num_columns(2).show(ui, |ui| {
+                    use crate::render::render_settings::{MAX_SPP, RenderMode};
+                    let label = ui.label("viewport");
+                    ui.horizontal(|ui| {
+                        ui.selectable_value(&mut r.mode, RenderMode::Raster, "GPU raster")
+                            .on_hover_text("the GPU rasteriser with the shadow method and transparency technique");
+                        ui.selectable_value(&mut r.mode, RenderMode::Path, "path-traced")
+                            .on_hover_text(
+                                "the CPU path tracer over round fibres (Chiang et al. 2016), converging while \
+                                 the scene is still (render.mode = path)",
+                            );
+                    })
+                    .response
+                    .labelled_by(label.id);
+                    ui.end_row();
+                    if r.mode == RenderMode::Path {
+                        row(ui, "samples per pixel", egui::DragValue::new(&mut r.spp).range(1..=MAX_SPP))
+                            .on_hover_text("the path-traced view converges to this many (render.spp)");
+                    }
                     // The alpha mode is the hair-alpha label's context menu, so the default panel keeps its
                     // layout; coverage mode shows the mode and the strand width as rows.
                     let label = ui

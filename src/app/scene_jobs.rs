@@ -169,6 +169,7 @@ impl HairlabApp {
         self.poll_map_stats(FOREVER);
         self.fit_motion_bound(FOREVER);
         self.poll_compare(FOREVER);
+        self.path_view.wait(FOREVER);
     }
 
     /// Takes the results of the jobs that finished (waiting up to `patience` for each).

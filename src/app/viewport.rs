@@ -6,8 +6,10 @@
 
 use super::HairlabApp;
 use super::inspector::SceneTexel;
+use super::path_view;
 use crate::methods::registry;
 use crate::render::FrameInput;
+use crate::render::render_settings::RenderMode;
 use crate::scene::pick::{light_texel, mesh_depth, pick_segment, to_pixels};
 use glam::Vec2;
 use std::time::Instant;
@@ -154,12 +156,31 @@ impl HairlabApp {
                 id
             }
         };
-        ui.painter().image(
-            id,
-            rect,
-            egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-            egui::Color32::WHITE,
-        );
+        let path_mode = self.settings.render.mode == RenderMode::Path;
+        if path_mode {
+            let (scene, timeline) = (&self.scene, &self.timeline);
+            self.path_view.sync(
+                &self.settings,
+                timeline.frame(),
+                (width, height),
+                || scene.as_ref().map(|s| path_view::posed(s, timeline.mesh_pose())),
+                ui.ctx(),
+                self.job_gate.clone(),
+            );
+        } else if self.path_view.active() {
+            self.path_view.clear();
+        }
+        if !(path_mode && self.path_view.update(ui.ctx())) {
+            ui.painter().image(
+                id,
+                rect,
+                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                egui::Color32::WHITE,
+            );
+        }
+        if path_mode {
+            self.path_view.paint(ui, rect);
+        }
         self.paint_pick(ui.painter(), rect, width, height);
     }
 

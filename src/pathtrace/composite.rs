@@ -75,7 +75,6 @@ mod tests {
             yaw_deg: 0.0,
             pitch_deg: 0.0,
             fov_y_deg: 90.0,
-            ..Camera::default()
         };
         let quad = |x0: f32, x1: f32| {
             let (a, b, c, d) = (

@@ -1120,7 +1120,15 @@ fn a_compare_render_is_a_job_that_cancel_leaves_and_that_renders_what_render_com
     let scene = app.scene().unwrap();
     let mut r = Renderer::new(&gpu, scene, frames.settings.render.map_resolution).unwrap();
     let slots = app.compare().slots;
-    let sync = render_compare(&mut r, &frames.settings, &slots, frames.width, frames.height).unwrap();
+    let sync = render_compare(
+        &mut r,
+        scene,
+        &frames.settings,
+        &slots,
+        frames.width,
+        frames.height,
+    )
+    .unwrap();
     for (k, (a, b)) in frames.images.iter().zip(&sync.images).enumerate() {
         assert_eq!(a.name, b.name);
         assert!(

@@ -45,6 +45,7 @@ mod motion;
 mod motion_claims;
 mod motion_colliders;
 mod path_render;
+mod path_view;
 mod presets;
 mod reference;
 mod report;

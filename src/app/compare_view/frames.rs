@@ -1,8 +1,9 @@
 //! The compare view's frames: the four slots rendered on a worker with a renderer of their own, the exact per-pixel
 //! lists and the opaque image read beside them, and the difference heat map between two images.
 
-use super::Slot;
+use super::{PATH_TRACED, Slot};
 use crate::app::jobs::JobCtl;
+use crate::app::path_view;
 use crate::gpu::Gpu;
 use crate::gpu::timing::PassTime;
 use crate::methods::{LightMethod, ParamValues, registry as methods};
@@ -24,6 +25,8 @@ pub struct CompareImage {
     pub geometry_passes: u32,
     /// Against the first image.
     pub metrics: ImageMetrics,
+    /// The path-traced slot's CPU time (the raster slots have their GPU passes).
+    pub cpu_seconds: Option<f64>,
 }
 
 impl CompareImage {
@@ -88,15 +91,17 @@ impl CompareFrames {
     }
 }
 
-/// Renders the four `slots` at `width`×`height` with `settings`, reads the exact lists and the opaque image.
+/// Renders the four `slots` at `width`×`height` with `settings`, reads the exact lists and the opaque image;
+/// `scene` (as on screen, meshes posed) is what a path-traced slot traces.
 pub fn render_compare(
     r: &mut Renderer,
+    scene: &Scene,
     settings: &Settings,
     slots: &[Slot; 4],
     width: u32,
     height: u32,
 ) -> Result<CompareFrames, String> {
-    render_compare_steps(r, settings, slots, width, height, &mut |_, _| true)
+    render_compare_steps(r, scene, settings, slots, width, height, &mut |_, _| true)
         .and_then(|frames| frames.ok_or_else(|| "compare view: stopped".to_string()))
 }
 
@@ -107,6 +112,7 @@ pub(super) const STEPS: f32 = 6.0;
 /// `Ok(None)` once `step` answers `false` (cancelled).
 pub(super) fn render_compare_steps(
     r: &mut Renderer,
+    scene: &Scene,
     settings: &Settings,
     slots: &[Slot; 4],
     width: u32,
@@ -122,6 +128,25 @@ pub(super) fn render_compare_steps(
     let gpu_error = |what: &str, e: crate::gpu::GpuError| format!("compare view: {what}: {e}");
     let mut rendered = Vec::with_capacity(4);
     for (k, slot) in slots.iter().enumerate() {
+        if *slot == Slot::PathTraced {
+            let start = std::time::Instant::now();
+            let mut pass = |done: u32, of: u32| {
+                let label = format!("slot {} · {} · {done}/{of} spp", k + 1, PATH_TRACED.1);
+                step(&label, (k as f32 + done as f32 / of as f32) / STEPS)
+            };
+            let image = path_view::render_image_steps(settings, scene, (width, height), &mut pass)
+                .map_err(|e| format!("compare view: {}: {e:#}", PATH_TRACED.0))?;
+            let Some(image) = image else { return Ok(None) };
+            rendered.push(Rendered {
+                name: PATH_TRACED.0,
+                label: PATH_TRACED.1,
+                image,
+                passes: Vec::new(),
+                geometry_passes: 0,
+                cpu_seconds: Some(start.elapsed().as_secs_f64()),
+            });
+            continue;
+        }
         let (technique, params) = slot.resolve(settings, &defaults)?;
         if !step(
             &format!("slot {} · {}", k + 1, technique.info().label),
@@ -133,7 +158,14 @@ pub(super) fn render_compare_steps(
             .map_err(|e| gpu_error(technique.name(), e))?;
         let passes = r.wait_timings();
         let image = r.read_output().map_err(|e| gpu_error(technique.name(), e))?;
-        rendered.push((technique, image, passes, r.eye_geometry_passes()));
+        rendered.push(Rendered {
+            name: technique.name(),
+            label: technique.info().label,
+            image,
+            passes,
+            geometry_passes: r.eye_geometry_passes(),
+            cpu_seconds: None,
+        });
     }
     if !step("exact lists", 4.0 / STEPS) {
         return Ok(None);
@@ -151,16 +183,17 @@ pub(super) fn render_compare_steps(
     // must not finish together with them.
     r.wait_timings();
     let hair: Vec<bool> = lists.iter().map(|l| !l.is_empty()).collect();
-    let first = rendered[0].1.clone();
+    let first = rendered[0].image.clone();
     let images = rendered
         .into_iter()
-        .map(|(t, image, passes, geometry_passes)| CompareImage {
-            name: t.name(),
-            label: t.info().label,
-            metrics: metrics::compare(&image, &first, &hair),
-            image,
-            passes,
-            geometry_passes,
+        .map(|r| CompareImage {
+            name: r.name,
+            label: r.label,
+            metrics: metrics::compare(&r.image, &first, &hair),
+            image: r.image,
+            passes: r.passes,
+            geometry_passes: r.geometry_passes,
+            cpu_seconds: r.cpu_seconds,
         })
         .collect();
     Ok(Some(CompareFrames {
@@ -176,6 +209,16 @@ pub(super) fn render_compare_steps(
         },
         settings: settings.clone(),
     }))
+}
+
+/// One slot's image before the metrics against the first.
+struct Rendered {
+    name: &'static str,
+    label: &'static str,
+    image: RgbaImage,
+    passes: Vec<PassTime>,
+    geometry_passes: u32,
+    cpu_seconds: Option<f64>,
 }
 
 /// What a compare render takes from the window: its GPU (a clone: the same device and queue), the scene on
@@ -219,9 +262,16 @@ pub(super) fn render_job(
         Ok(r) => r,
         Err(e) => return Some(Err(e)),
     };
-    render_compare_steps(&mut r, settings, slots, width, height, &mut |what, done| {
-        ctl.step(what, done)
-    })
+    let scene = path_view::posed(&source.scene, source.mesh_pose.clone());
+    render_compare_steps(
+        &mut r,
+        &scene,
+        settings,
+        slots,
+        width,
+        height,
+        &mut |what, done| ctl.step(what, done),
+    )
     .transpose()
 }
 

@@ -37,7 +37,13 @@ pub enum Slot {
     Selected,
     /// A registered technique with its default parameters.
     Technique(&'static str),
+    /// The scene path-traced on the CPU (round fibres, multiple scattering) at `render.spp` samples per pixel:
+    /// the light the techniques and the shadow method approximate (`path_view.rs`).
+    PathTraced,
 }
+
+/// The path-traced slot's name in exported files and its label.
+pub const PATH_TRACED: (&str, &str) = ("path-traced", "path-traced (fibres)");
 
 impl Slot {
     /// The technique shown and its parameters under `settings`.
@@ -62,6 +68,7 @@ impl Slot {
                     (t, params)
                 })
                 .map_err(|e| e.to_string()),
+            Slot::PathTraced => Err("the path-traced slot has no transparency technique".to_string()),
         }
     }
 
@@ -71,6 +78,7 @@ impl Slot {
             Slot::Technique(name) => {
                 registry::find(name).map_or(name.to_string(), |t| t.info().label.to_string())
             }
+            Slot::PathTraced => PATH_TRACED.1.to_string(),
         }
     }
 }
@@ -334,6 +342,9 @@ impl CompareView {
                     ui.selectable_value(slot, Slot::Technique(t.name()), t.info().label)
                         .on_hover_text(t.info().paper);
                 }
+                ui.selectable_value(slot, Slot::PathTraced, PATH_TRACED.1).on_hover_text(
+                    "the scene path-traced on the CPU at render.spp samples per pixel (Chiang et al. 2016's fibres)",
+                );
             });
         let (frames, tex) = (self.frames.as_ref()?, self.textures.get(i)?);
         let img = frames.images.get(i)?;
@@ -463,10 +474,11 @@ fn clicked_pixel(response: &egui::Response, w: u32, h: u32) -> Option<[u32; 2]> 
 
 /// "label — GPU x ms · y fps · n geometry passes".
 fn caption(img: &CompareImage, hide_times: bool) -> String {
-    let time = match img.gpu_ms() {
+    let time = match (img.gpu_ms(), img.cpu_seconds) {
         _ if hide_times => "GPU time hidden".to_string(),
-        Some(ms) => format!("GPU {ms:.2} ms · {:.0} fps", 1000.0 / ms.max(1e-6)),
-        None => "GPU: no timestamp queries".to_string(),
+        (_, Some(s)) => format!("CPU {s:.1} s"),
+        (Some(ms), None) => format!("GPU {ms:.2} ms · {:.0} fps", 1000.0 / ms.max(1e-6)),
+        (None, None) => "GPU: no timestamp queries".to_string(),
     };
     format!("{} — {time} · {} geometry passes", img.label, img.geometry_passes)
 }

@@ -1,0 +1,406 @@
+//! The viewport's path-traced view (`render.mode = path`): the scene on screen — the timeline's frame, its posed
+//! meshes, the camera and light of the panels — path-traced on the CPU (`crate::pathtrace`, Chiang et al. 2016's
+//! fibres) by a job that adds passes of samples to a progressive image until `render.spp` samples per pixel, and
+//! shows each pass's mean as it lands, over the raster's background (`pathtrace::composite`). Any change the path
+//! tracer sees (scene, frame, camera, light, strand width, hair colour, seed, background, viewport size) restarts
+//! it; raising `render.spp` goes on from the samples already taken. The work runs on a worker (a job, `jobs.rs`),
+//! so the window stays interactive; the caption over the image shows the samples per pixel and whether it is
+//! converging. It stays out of the job bar: that bar taking and giving back its row would resize the viewport,
+//! and a new size starts the image again. Switching the viewport back to raster stops it.
+//!
+//! The image is the viewport's aspect with its longer side at most [`MAX_SIDE`] pixels (the CPU's budget), kept
+//! through changes of the viewport's size within [`RESIZE_SLACK`]; pixel for pixel the image [`render_image`]
+//! gives, which the compare view's path-traced slot shows too.
+
+use std::sync::{Arc, Mutex};
+
+use super::jobs::{Job, JobGate, Poll};
+use crate::pathtrace::composite::{coverage, over_background};
+use crate::pathtrace::integrator::Accumulation;
+use crate::pathtrace::setup::PathScene;
+use crate::scene::Scene;
+use crate::settings::Settings;
+
+/// The path-traced image's longer side at most, in pixels.
+pub const MAX_SIDE: u32 = 400;
+/// Camera rays per pixel side that estimate the covered share of each pixel (the background's weight).
+pub const COVERAGE_RAYS: usize = 4;
+/// Samples per pixel a pass adds once the first few passes (one sample each) have shown a picture.
+const PASS: u32 = 4;
+
+/// The size of the path-traced image for a viewport of `width × height` pixels: the same aspect, the longer side
+/// at most [`MAX_SIDE`].
+pub fn image_size(width: u32, height: u32) -> (u32, u32) {
+    let (w, h) = (width.max(1), height.max(1));
+    let scale = (MAX_SIDE as f32 / w.max(h) as f32).min(1.0);
+    (
+        ((w as f32 * scale).round() as u32).max(1),
+        ((h as f32 * scale).round() as u32).max(1),
+    )
+}
+
+/// How much the viewport may change size (a share of each side) before the image starts again at the new
+/// size; until then the image is stretched to the viewport. Panels that come and go (a job's progress row, a
+/// message) change the viewport's height by a few per cent.
+pub const RESIZE_SLACK: f32 = 0.05;
+
+/// Whether `b` is within [`RESIZE_SLACK`] of `a` on both sides.
+fn near(a: (u32, u32), b: (u32, u32)) -> bool {
+    let close = |x: u32, y: u32| (x as f32 - y as f32).abs() <= RESIZE_SLACK * x as f32;
+    close(a.0, b.0) && close(a.1, b.1)
+}
+
+/// What the path tracer sees of the window's state: a change of any of it starts the image again.
+#[derive(Clone, Debug, PartialEq)]
+struct Key {
+    scene: crate::settings::SceneSettings,
+    motion: crate::motion::MotionSettings,
+    frame: u32,
+    camera: crate::scene::Camera,
+    light: crate::scene::Light,
+    strand_width: f32,
+    hair_color: [f32; 3],
+    seed: u64,
+    background: [f32; 3],
+    size: (u32, u32),
+}
+
+impl Key {
+    fn new(settings: &Settings, frame: u32, size: (u32, u32)) -> Key {
+        let r = &settings.render;
+        Key {
+            scene: settings.scene.clone(),
+            motion: settings.motion.clone(),
+            frame,
+            camera: settings.camera,
+            light: settings.light,
+            strand_width: r.strand_width,
+            hair_color: r.hair_color,
+            seed: r.seed,
+            background: r.background,
+            size,
+        }
+    }
+}
+
+/// A path-traced scene ready for more samples: the BVH, each pixel's coverage and the samples so far.
+struct Progress {
+    path: Arc<PathScene>,
+    coverage: Arc<Vec<f32>>,
+    acc: Accumulation,
+}
+
+impl Progress {
+    fn image(&self, background: [f32; 3]) -> image::RgbaImage {
+        let s = &self.path.settings;
+        over_background(
+            &self.acc.mean(),
+            &self.coverage,
+            background,
+            s.width as u32,
+            s.height as u32,
+        )
+    }
+}
+
+/// `scene` under `settings` at `size`, ready for samples (no samples yet).
+fn prepare(settings: &Settings, scene: &Scene, size: (u32, u32)) -> anyhow::Result<Progress> {
+    let mut s = settings.clone();
+    (s.render.width, s.render.height) = size;
+    let path = PathScene::new(&s, scene)?;
+    let coverage = coverage(
+        &path.bvh,
+        &path.camera,
+        size.0 as usize,
+        size.1 as usize,
+        COVERAGE_RAYS,
+    );
+    let acc = path.accumulation();
+    Ok(Progress {
+        path: Arc::new(path),
+        coverage: Arc::new(coverage),
+        acc,
+    })
+}
+
+/// The path-traced image of `scene` under `settings` at `size` and `render.spp` samples per pixel, over
+/// `render.background`: what the view shows once it has converged.
+pub fn render_image(
+    settings: &Settings,
+    scene: &Scene,
+    size: (u32, u32),
+) -> anyhow::Result<image::RgbaImage> {
+    Ok(render_image_steps(settings, scene, size, &mut |_, _| true)?.unwrap_or_default())
+}
+
+/// [`render_image`] one sample per pixel at a time, telling `after_pass(samples so far, of)` after each;
+/// `Ok(None)` once that answers `false`.
+pub fn render_image_steps(
+    settings: &Settings,
+    scene: &Scene,
+    size: (u32, u32),
+    after_pass: &mut dyn FnMut(u32, u32) -> bool,
+) -> anyhow::Result<Option<image::RgbaImage>> {
+    let mut p = prepare(settings, scene, size)?;
+    let (spp, path) = (settings.render.spp, p.path.clone());
+    while p.acc.samples() < spp {
+        path.add_samples(&mut p.acc, 1);
+        if !after_pass(p.acc.samples(), spp) {
+            return Ok(None);
+        }
+    }
+    Ok(Some(p.image(settings.render.background)))
+}
+
+/// `scene` with `pose` (the meshes riding on the motion's root frame and their transform at the timeline's
+/// frame, as the renderer poses them) applied to the meshes it names.
+pub fn posed(scene: &Scene, pose: Option<(Vec<usize>, glam::Affine3A)>) -> Scene {
+    let mut scene = scene.clone();
+    if let Some((meshes, pose)) = pose {
+        for m in meshes {
+            let Some(mesh) = scene.meshes.get_mut(m) else {
+                continue;
+            };
+            mesh.positions
+                .iter_mut()
+                .for_each(|p| *p = pose.transform_point3(*p));
+            mesh.normals
+                .iter_mut()
+                .for_each(|n| *n = pose.transform_vector3(*n).normalize_or_zero());
+        }
+    }
+    scene
+}
+
+/// The newest image a pass published.
+#[derive(Clone)]
+pub struct Shown {
+    pub image: image::RgbaImage,
+    pub spp: u32,
+}
+
+/// The view's state.
+#[derive(Default)]
+pub struct PathView {
+    key: Option<Key>,
+    /// The samples per pixel the running (or last) job goes to.
+    target: u32,
+    job: Option<Job<Result<Progress, String>>>,
+    /// A finished job's scene and samples, to go on from when `render.spp` rises.
+    done: Option<Progress>,
+    /// What the worker published last (it writes, the window reads).
+    latest: Arc<Mutex<Option<Shown>>>,
+    /// The texture of the image shown, and that image's samples per pixel.
+    texture: Option<(egui::TextureHandle, u32)>,
+    error: Option<String>,
+}
+
+impl PathView {
+    /// Keeps the view on `settings` at the timeline's `frame` for a viewport of `viewport` pixels: starts the
+    /// image again when anything the path tracer sees changed, goes on when only `render.spp` rose. `scene`
+    /// gives the scene on screen (strands at the frame, meshes posed) only when a job starts.
+    pub fn sync(
+        &mut self,
+        settings: &Settings,
+        frame: u32,
+        viewport: (u32, u32),
+        scene: impl FnOnce() -> Option<Scene>,
+        ctx: &egui::Context,
+        gate: Option<JobGate>,
+    ) {
+        let mut size = image_size(viewport.0, viewport.1);
+        if let Some(old) = &self.key
+            && near(old.size, size)
+        {
+            size = old.size;
+        }
+        let key = Key::new(settings, frame, size);
+        let spp = settings.render.spp;
+        let same = self.key.as_ref() == Some(&key);
+        if same && (self.job.is_some() || self.error.is_some() || spp <= self.target) {
+            return;
+        }
+        let resume = if same { self.done.take() } else { None };
+        if !same {
+            self.job = None;
+            self.done = None;
+            self.texture = None;
+            *self.latest.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        }
+        self.key = Some(key.clone());
+        self.target = spp;
+        self.error = None;
+        let start = match resume {
+            Some(p) => Ok(p),
+            None => match scene() {
+                Some(scene) => Err((settings.clone(), scene)),
+                None => return,
+            },
+        };
+        let (latest, background) = (self.latest.clone(), settings.render.background);
+        self.job = Some(Job::spawn("path-traced view", ctx, gate, move |ctl| {
+            let mut p = match start {
+                Ok(p) => p,
+                Err((settings, scene)) => {
+                    ctl.step("building the BVH and the coverage", 0.0).then_some(())?;
+                    match prepare(&settings, &scene, key.size) {
+                        Ok(p) => p,
+                        Err(e) => return Some(Err(format!("{e:#}"))),
+                    }
+                }
+            };
+            let path = p.path.clone();
+            while p.acc.samples() < spp {
+                let done = p.acc.samples();
+                let label = format!("{done} / {spp} samples per pixel");
+                ctl.step(&label, done as f32 / spp as f32).then_some(())?;
+                let n = if done < PASS { 1 } else { PASS }.min(spp - done);
+                path.add_samples(&mut p.acc, n);
+                let shown = Shown {
+                    image: p.image(background),
+                    spp: p.acc.samples(),
+                };
+                *latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(shown);
+            }
+            Some(Ok(p))
+        }));
+    }
+
+    /// Takes the job's outcome from `poll`: its samples (to go on from later) or its error.
+    fn take(&mut self, poll: Poll<Result<Progress, String>>) {
+        match poll {
+            Poll::Running => return,
+            Poll::Done(Ok(p)) => self.done = Some(p),
+            Poll::Done(Err(e)) => self.error = Some(e),
+            Poll::Gone => {}
+        }
+        self.job = None;
+    }
+
+    /// Takes a finished job (its samples, for going on later) and the newest published image; `true` when there
+    /// is an image to show (before the first pass the caller shows the raster image under [`PathView::paint`]'s
+    /// caption).
+    pub fn update(&mut self, ctx: &egui::Context) -> bool {
+        if let Some(poll) = self.job.as_ref().map(Job::poll) {
+            self.take(poll);
+        }
+        let latest = self.latest.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        if let Some(shown) = latest
+            && self.texture.as_ref().is_none_or(|(_, spp)| *spp != shown.spp)
+        {
+            let image = egui::ColorImage::from_rgba_unmultiplied(
+                [shown.image.width() as usize, shown.image.height() as usize],
+                shown.image.as_raw(),
+            );
+            let options = egui::TextureOptions::LINEAR;
+            match &mut self.texture {
+                Some((tex, spp)) => {
+                    tex.set(image, options);
+                    *spp = shown.spp;
+                }
+                None => {
+                    self.texture = Some((ctx.load_texture("path-traced view", image, options), shown.spp))
+                }
+            }
+        }
+        self.error.is_none() && self.texture.is_some()
+    }
+
+    /// Draws the image into `rect` with a caption: its samples per pixel, size and state, or the error, or that
+    /// the first samples are on their way.
+    pub fn paint(&self, ui: &egui::Ui, rect: egui::Rect) {
+        let painter = ui.painter();
+        let caption = |text: String, color| {
+            let at = rect.left_top() + egui::vec2(8.0, 8.0);
+            let galley = painter.layout_no_wrap(text, egui::FontId::proportional(14.0), color);
+            painter.rect_filled(
+                egui::Rect::from_min_size(at, galley.size()).expand(4.0),
+                3.0,
+                egui::Color32::from_black_alpha(160),
+            );
+            painter.galley(at, galley, color);
+        };
+        if let Some(e) = &self.error {
+            return caption(format!("path-traced view: {e}"), ui.visuals().error_fg_color);
+        }
+        let Some((tex, spp)) = &self.texture else {
+            return caption(
+                "path-traced view: tracing the first samples…".to_string(),
+                egui::Color32::WHITE,
+            );
+        };
+        let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+        painter.image(tex.id(), rect, uv, egui::Color32::WHITE);
+        let size = tex.size();
+        let state = if self.job.is_some() {
+            "converging"
+        } else if *spp < self.target {
+            "stopped"
+        } else {
+            "converged"
+        };
+        caption(
+            format!(
+                "path-traced · {spp} / {} spp · {}×{} · {state}",
+                self.target, size[0], size[1]
+            ),
+            egui::Color32::WHITE,
+        );
+    }
+
+    /// Whether the view holds anything (a job, an image or an error).
+    pub fn active(&self) -> bool {
+        self.key.is_some()
+    }
+
+    /// The newest image and its samples per pixel (the screenshot in path mode, tests).
+    pub fn latest(&self) -> Option<Shown> {
+        self.latest.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// Why the view has no image (the scene could not be path-traced), if so.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// Whether samples are still being added.
+    pub fn is_converging(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Waits up to `patience` for the job under way, then takes its outcome as [`PathView::show`] does.
+    pub fn wait(&mut self, patience: std::time::Duration) {
+        if let Some(poll) = self.job.as_ref().map(|j| j.wait(patience)) {
+            self.take(poll);
+        }
+    }
+
+    /// Forgets the image, so the next [`PathView::sync`] starts again (the raster mode shown meanwhile).
+    pub fn clear(&mut self) {
+        *self = PathView::default();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_small_change_of_the_viewport_keeps_the_image_size() {
+        assert!(near((400, 350), (400, 343)), "a progress row coming and going");
+        assert!(!near((400, 350), (400, 300)), "a real resize");
+        assert!(!near((400, 350), (360, 350)));
+    }
+
+    #[test]
+    fn the_image_keeps_the_viewport_aspect_within_the_budget() {
+        assert_eq!(image_size(800, 600), (400, 300));
+        assert_eq!(image_size(300, 900), (133, 400));
+        assert_eq!(
+            image_size(320, 240),
+            (320, 240),
+            "a small viewport is traced at its own size"
+        );
+        assert_eq!(image_size(0, 0), (1, 1));
+    }
+}

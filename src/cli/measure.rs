@@ -609,14 +609,12 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
          the same shading model"
     );
     let cancelled = rows.len() < configs.len();
+    let result = bench_result(a, &stats, &rows, cancelled);
     if let Some(dir) = &a.out {
-        print_written(&crate::bench::write_results(
-            dir,
-            &bench_result(a, &stats, &rows, cancelled),
-        )?);
+        print_written(&crate::bench::write_results(dir, &result)?);
     }
     if !cancelled && (!a.shading.is_empty() || a.truth == TruthKind::PathTraced) {
-        shading_table(a, &settings, &configs)?;
+        shading_table(a, &settings, &configs, &result)?;
     }
     if cancelled {
         return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
@@ -626,11 +624,12 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
 
 /// `--shading` and `--truth path-traced`: every configuration's image error under each shading model, printed
 /// as a table (and shading.csv with `--out`); with the path-traced truth, the decomposition table too (and
-/// decomposition.csv).
+/// decomposition.csv, the truth's image and the speed chart against the truth).
 fn shading_table(
     a: &ShadowsArgs,
     settings: &Settings,
     configs: &[crate::measure::MethodConfig],
+    result: &crate::bench::BenchResult,
 ) -> Result<()> {
     use crate::gpu::{AdapterPreference, Gpu};
     let models = if a.shading.is_empty() {
@@ -719,6 +718,18 @@ fn shading_table(
             let image = dir.join(TRUTH_PNG);
             crate::io::write_atomic(&image, &crate::animation::encode_png(&t.image)?)?;
             written.extend([path, image]);
+            // The speed chart against the truth under the settings' shading model (else the first measured).
+            let shading = models
+                .iter()
+                .find(|m| **m == settings.render.shading)
+                .unwrap_or(&models[0])
+                .word();
+            written.extend(crate::bench::report::write_truth_chart(
+                dir,
+                result,
+                &decomposition,
+                shading,
+            )?);
         }
         print_written(&written);
     }

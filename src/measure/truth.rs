@@ -15,6 +15,9 @@ use crate::settings::Settings;
 /// The files `measure shadows --truth path-traced --out` (and a report) write beside `results.csv`.
 pub const DECOMPOSITION_CSV: &str = "decomposition.csv";
 pub const TRUTH_PNG: &str = "truth_path_traced.png";
+/// The stem of the speed chart against the truth, and its two files.
+pub const TRUTH_CHART: &str = "speed_vs_truth";
+pub const TRUTH_CHART_FILES: [&str; 2] = ["speed_vs_truth.png", "speed_vs_truth.svg"];
 
 /// The path-traced image of a still scene.
 pub struct Truth {

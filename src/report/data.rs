@@ -12,7 +12,7 @@ pub const HISTOGRAM_CSV: &str = "depth_complexity.csv";
 pub const IMAGES: &str = "images";
 pub const WORST_TEXELS: usize = 3;
 /// The path-traced truth beside `results.csv` (`measure shadows --truth path-traced`, `report --truth`).
-pub use crate::measure::truth::{DECOMPOSITION_CSV, TRUTH_PNG};
+pub use crate::measure::truth::{DECOMPOSITION_CSV, TRUTH_CHART_FILES, TRUTH_PNG};
 /// A fresh study's looping animations in the motion's folder.
 pub const ANIMATIONS: &str = "animations";
 
@@ -267,6 +267,8 @@ pub struct Shadows {
 pub struct Truth {
     pub table: Table,
     pub image: Option<PathBuf>,
+    /// The speed chart against the truth (`speed_vs_truth.svg`) where written.
+    pub chart: Option<PathBuf>,
 }
 
 /// `decomposition.csv`'s columns ([`crate::measure::truth::Decomposition`]).
@@ -349,6 +351,7 @@ impl Study {
                     study.truth = Some(Truth {
                         table: read_table(&path, &decomposition_columns())?,
                         image: existing(dir.join(TRUTH_PNG)),
+                        chart: existing(dir.join(TRUTH_CHART_FILES[1])),
                     });
                 }
             }

@@ -74,6 +74,8 @@ const SHADOWS_FILES: &[&str] = &[
     data::HISTOGRAM_CSV,
     data::DECOMPOSITION_CSV,
     data::TRUTH_PNG,
+    data::TRUTH_CHART_FILES[0],
+    data::TRUTH_CHART_FILES[1],
 ];
 const TRANSPARENCY_FILES: &[&str] = &[
     "transparency.csv",

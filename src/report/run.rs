@@ -162,7 +162,7 @@ pub fn run(
             super::curves::write(&gpu, settings, &configs, &dir)?;
         }
         if plan.truth && !cancel.load(Ordering::SeqCst) {
-            truth(&gpu, settings, &configs, &dir, cancel, log)?;
+            truth(&gpu, settings, result, &dir, cancel, log)?;
         }
         dirs.push(dir);
     }
@@ -251,7 +251,7 @@ pub fn run(
 fn truth(
     gpu: &Gpu,
     settings: &Settings,
-    configs: &[MethodConfig],
+    result: &crate::bench::BenchResult,
     dir: &std::path::Path,
     cancel: &AtomicBool,
     log: &mut dyn FnMut(&str),
@@ -265,15 +265,19 @@ fn truth(
         return Ok(());
     }
     let models = crate::shading::ShadingModel::ALL;
-    let table = crate::measure::shading::shading_errors_on(gpu, settings, configs, &models, Some(&t), |m| {
-        log(&format!("  decomposing under {m}"))
-    })?;
-    let csv = crate::io::csv_text(super::data::DECOMPOSITION_CSV, table.decomposition())?;
+    let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
+    let table =
+        crate::measure::shading::shading_errors_on(gpu, settings, &configs, &models, Some(&t), |m| {
+            log(&format!("  decomposing under {m}"))
+        })?;
+    let decomposition = table.decomposition();
+    let csv = crate::io::csv_text(super::data::DECOMPOSITION_CSV, &decomposition)?;
     crate::io::write_atomic(&dir.join(super::data::DECOMPOSITION_CSV), csv.as_bytes())?;
     crate::io::write_atomic(
         &dir.join(super::data::TRUTH_PNG),
         &crate::animation::encode_png(&t.image)?,
     )?;
+    crate::bench::report::write_truth_chart(dir, result, &decomposition, settings.render.shading.word())?;
     Ok(())
 }
 

@@ -313,6 +313,14 @@ pub fn truth(t: &Truth) -> String {
             "The path-traced truth (the measurement's size and render.spp samples per pixel).",
         );
     }
+    if t.chart.is_some() {
+        content += &figure(
+            &format!("{SHADOWS_DIR}/{}", super::data::TRUTH_CHART_FILES[1]),
+            "GPU time per frame against each configuration's image RMSE against the path-traced image",
+            "Speed against accuracy judged by the path-traced truth (the decomposition's total, under the \
+             settings' shading model), its Pareto front ringed.",
+        );
+    }
     content += &sortable_table(
         "decomposition",
         "decomposition.csv: each configuration's error under each shading model (click a header to sort)",

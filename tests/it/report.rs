@@ -581,7 +581,17 @@ fn from_a_measurement_against_the_path_traced_truth_gives_its_decomposition() {
     let (header, rows) = csv_file(&measured.join("decomposition.csv"));
     assert_eq!(rows.len(), 4, "two configurations under two models");
     assert_eq!(table(&html, "decomposition"), (header, rows));
-    assert_eq!(select(&html, "section#truth img").len(), 1);
+    // The truth's image and the speed chart judged by it, whose points are the two configurations.
+    assert_eq!(select(&html, "section#truth img").len(), 2);
+    let svg = std::fs::read_to_string(measured.join("speed_vs_truth.svg")).unwrap();
+    assert!(
+        svg.contains("path-traced truth (kajiya-kay shading)"),
+        "the y axis names the truth"
+    );
+    assert!(
+        svg.contains("\ndom\n") && svg.contains("\noccupancy\n"),
+        "both methods in the legend"
+    );
 }
 
 /// The Bench window's **Export report…**: the page of the window's scene, method and technique, written by a job

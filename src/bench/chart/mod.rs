@@ -290,12 +290,28 @@ fn scene_notes(preset: &str, s: &SceneStats, extra: &str) -> Vec<String> {
 
 /// The speed-against-accuracy chart of a result: one colour per method, the Pareto front connected.
 pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
+    speed_chart_by(
+        result,
+        &|r| result.accuracy(r),
+        metric_axis(result.metric),
+        "Speed vs accuracy",
+    )
+}
+
+/// The speed chart of a result against another accuracy than its metric: `error(row)` on the y axis (NaN keeps
+/// a row off the chart) under `y_label`, e.g. each configuration's image error against the path-traced truth.
+pub fn speed_chart_by(
+    result: &BenchResult,
+    error: &dyn Fn(&super::BenchRow) -> f64,
+    y_label: &str,
+    title: &str,
+) -> Chart {
     let mut series: Vec<Series> = Vec::new();
     let point = |i: usize| {
         let r = &result.rows[i];
         Point {
             x: r.total_ms.median,
-            y: result.accuracy(r),
+            y: error(r),
             label: r.short_label(),
             row: Some(i),
         }
@@ -311,13 +327,14 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
             }),
         }
     }
+    let xy: Vec<[f64; 2]> = (0..result.rows.len()).map(&point).map(|p| [p.x, p.y]).collect();
     let front = Front {
         name: "Pareto front".to_string(),
-        points: result.front().into_iter().map(point).collect(),
+        points: super::pareto_front(&xy).into_iter().map(point).collect(),
     };
     let partial = if result.cancelled { " (cancelled)" } else { "" };
     Chart {
-        title: format!("Speed vs accuracy{partial}"),
+        title: format!("{title}{partial}"),
         notes: scene_notes(&result.preset, &result.stats, ""),
         x: Axis {
             label: format!(
@@ -331,7 +348,7 @@ pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
             scale: Scale::Log,
         },
         y: Axis {
-            label: metric_axis(result.metric).to_string(),
+            label: y_label.to_string(),
             scale: Scale::Linear,
         },
         series,

@@ -137,6 +137,7 @@ pub fn export(settings: &Settings, scene: &Scene, dir: &Path) -> Result<Vec<Path
     if scene.strands.segment_count() == 0 {
         anyhow::bail!("the scene has no strand with two or more points: Mitsuba's linearcurve needs one");
     }
+    super::setup::check_width(settings, scene)?;
     let names: Vec<String> = (0..scene.meshes.len()).map(|k| format!("mesh{k}.obj")).collect();
     let xml = scene_xml(settings, scene, &names)?;
     std::fs::create_dir_all(dir)

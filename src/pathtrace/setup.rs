@@ -74,6 +74,32 @@ pub fn camera(settings: &Settings, scene: &Scene) -> Camera {
     camera
 }
 
+/// Checks that `scene`'s fibres under `render.strand_width` are thinner than the strands' bounds are across: a
+/// fibre wider than the whole hair is a unit mistake (millimetres for metres), and a BVH of such fibres would
+/// swallow the scene. The widest fibre is `render.strand_width` times the largest point thickness.
+pub fn check_width(settings: &Settings, scene: &Scene) -> Result<()> {
+    let width = settings.render.strand_width;
+    let thickest = scene
+        .strands
+        .thickness
+        .as_ref()
+        .map_or(1.0, |t| t.iter().copied().fold(0.0f32, f32::max));
+    let bounds = scene.strand_bounds();
+    let across = if bounds.is_empty() {
+        0.0
+    } else {
+        (bounds.max - bounds.min).length()
+    };
+    let widest = width * thickest;
+    if scene.strands.segment_count() > 0 && !(widest < across) {
+        anyhow::bail!(
+            "render.strand_width = {width} makes fibres {widest} wide (× the largest point thickness {thickest}): \
+             wider than the hair, whose bounds are {across} across; the width is in the scene's world units"
+        );
+    }
+    Ok(())
+}
+
 /// Everything one path-traced image of a still scene needs.
 pub struct PathScene {
     pub bvh: Bvh,
@@ -85,6 +111,7 @@ pub struct PathScene {
 impl PathScene {
     /// `scene` under `settings` at `render.width × render.height` and `render.spp` samples per pixel.
     pub fn new(settings: &Settings, scene: &Scene) -> Result<PathScene> {
+        check_width(settings, scene)?;
         let r = &settings.render;
         let light = light(settings, scene);
         let bvh = Bvh::with_triangles(

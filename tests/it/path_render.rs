@@ -172,7 +172,7 @@ fn a_spot_light_exports_as_mitsubas_spot_and_path_traces() {
 }
 
 #[test]
-fn a_bad_spp_or_width_fails_naming_the_key_and_writes_nothing() {
+fn a_bad_spp_width_or_strand_width_fails_naming_the_key_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("shot.png");
     let out_arg = out.to_str().unwrap();
@@ -186,6 +186,32 @@ fn a_bad_spp_or_width_fails_naming_the_key_and_writes_nothing() {
     args[6] = "0";
     args.extend(["24", "--set", "render.spp=1", "--out", out_arg]);
     assert_fails(&hairlab(&args), &["render.width"]);
+    // Fibres wider than the whole hair (a unit mistake): refused by the path tracer and by the export.
+    let mut args = TINY.to_vec();
+    args.extend(["24", "--set", "render.strand_width=5", "--out", out_arg]);
+    assert_fails(
+        &hairlab(&args),
+        &["render.strand_width = 5", "wider than the hair"],
+    );
+    let scene_dir = dir.path().join("scene");
+    let o = hairlab(&[
+        "export",
+        "--format",
+        "mitsuba",
+        "--preset",
+        "default",
+        "--set",
+        "render.strand_width=5",
+        "--out",
+        scene_dir.to_str().unwrap(),
+    ]);
+    assert_fails(&o, &["render.strand_width = 5", "wider than the hair"]);
+    for bad in ["nan", "0", "-1"] {
+        let mut args = TINY.to_vec();
+        let set = format!("render.strand_width={bad}");
+        args.extend(["24", "--set", &set, "--out", out_arg]);
+        assert_fails(&hairlab(&args), &["render.strand_width must be in (0,"]);
+    }
     assert_eq!(
         std::fs::read_dir(dir.path()).unwrap().count(),
         0,

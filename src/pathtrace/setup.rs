@@ -91,7 +91,7 @@ pub fn check_width(settings: &Settings, scene: &Scene) -> Result<()> {
         (bounds.max - bounds.min).length()
     };
     let widest = width * thickest;
-    if scene.strands.segment_count() > 0 && !(widest < across) {
+    if scene.strands.segment_count() > 0 && (widest >= across || widest.is_nan()) {
         anyhow::bail!(
             "render.strand_width = {width} makes fibres {widest} wide (× the largest point thickness {thickest}): \
              wider than the hair, whose bounds are {across} across; the width is in the scene's world units"

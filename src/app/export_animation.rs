@@ -1,30 +1,15 @@
 //! The window's animation export: frames `A..B` of the scene's motion at a chosen image size, as a numbered PNG
-//! sequence in a folder or one looping animated GIF, rendered offscreen by [`crate::animation`] — the
-//! code of `hairlab render --frames A..B --out …`, so the files are the CLI's bit for bit — on a worker thread
-//! with a progress bar and Cancel. Nothing is written until every frame is rendered, and each file is written
-//! whole, so a cancelled or failed export leaves no partial file.
+//! sequence in a folder or one looping animated GIF, rendered offscreen by [`crate::animation`] and streamed by
+//! [`AnimationOut::write`] — the code of `hairlab render --frames A..B --out …`, so the files are the CLI's bit
+//! for bit. It is a [`Job`] in the window's job bar (progress, time left, Cancel). Each frame is written as it
+//! renders into a temporary file or folder beside the target, renamed into place once every frame is in, so a
+//! cancelled or failed export leaves nothing at the target.
 
-use crate::animation::{animated_gif, render_frames_on, write_png_sequence};
+use super::jobs::{Job, JobGate, JobStatus, Poll};
+use crate::animation::{AnimationOut, render_frames_on};
 use crate::gpu::Gpu;
 use crate::settings::Settings;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, mpsc};
-
-/// What the worker tells the window.
-enum Message {
-    /// Frames rendered so far.
-    Rendered(u32),
-    Done(Result<String, String>),
-}
-
-/// An export under way.
-struct Running {
-    messages: mpsc::Receiver<Message>,
-    cancel: Arc<AtomicBool>,
-    rendered: u32,
-    total: u32,
-}
 
 /// A stop asked through Cancel.
 #[derive(Debug, thiserror::Error)]
@@ -44,7 +29,8 @@ pub struct AnimationExport {
     pub gif: bool,
     /// The GIF file or the folder.
     pub path: String,
-    running: Option<Running>,
+    /// The export under way: what was written, or the error; `None` when cancelled.
+    job: Option<Job<Result<String, String>>>,
     /// The last export's outcome.
     outcome: Option<Result<String, String>>,
 }
@@ -65,7 +51,7 @@ impl AnimationExport {
     }
 
     pub fn is_running(&self) -> bool {
-        self.running.is_some()
+        self.job.is_some()
     }
 
     /// The last export's outcome: what was written, or the error.
@@ -73,8 +59,15 @@ impl AnimationExport {
         self.outcome.as_ref()
     }
 
-    /// Starts rendering and writing on a worker thread with `gpu` and the window's `settings`.
-    fn start(&mut self, gpu: Gpu, settings: &Settings, ctx: &egui::Context) {
+    /// The export under way, as the job bar shows it.
+    pub fn job_status(&self) -> Option<JobStatus> {
+        self.job.as_ref().map(Job::status)
+    }
+
+    /// Starts rendering and writing with `gpu` and the window's `settings` (a job; an export under way is
+    /// cancelled).
+    fn start(&mut self, gpu: Gpu, settings: &Settings, ctx: &egui::Context, gate: Option<JobGate>) {
+        self.job = None;
         let mut s = settings.clone();
         (s.render.width, s.render.height) = (self.width, self.height);
         if let Err(e) = s.validate() {
@@ -82,82 +75,87 @@ impl AnimationExport {
             return;
         }
         let path = PathBuf::from(self.path.trim());
-        if self.gif
-            && let Err(e) = crate::io::check_output(&path, "gif")
-        {
+        let out = if self.gif {
+            AnimationOut::Gif {
+                file: path,
+                fps: s.motion.fps,
+            }
+        } else {
+            AnimationOut::Pngs {
+                dir: path,
+                end: self.end,
+            }
+        };
+        if let Err(e) = out.check() {
             self.outcome = Some(Err(format!("{e:#}")));
             return;
         }
-        let (tx, rx) = mpsc::channel();
-        let cancel = Arc::new(AtomicBool::new(false));
-        let (stop, ctx) = (cancel.clone(), ctx.clone());
-        let (frames, end, gif) = ((self.start..self.end).collect::<Vec<u32>>(), self.end, self.gif);
-        std::thread::spawn(move || {
-            let mut images = Vec::with_capacity(frames.len());
-            let mut keep = |k: u32, image: image::RgbaImage| -> anyhow::Result<()> {
-                if stop.load(Ordering::Relaxed) {
-                    return Err(Cancelled.into());
-                }
-                images.push((k, image));
-                let _ = tx.send(Message::Rendered(images.len() as u32));
-                ctx.request_repaint();
-                Ok(())
-            };
-            let written = render_frames_on(&gpu, &mut s, &frames, &mut |_| {}, &mut keep).and_then(|()| {
-                let range = format!("{}..{end}", frames[0]);
-                if gif {
-                    let only: Vec<image::RgbaImage> = images.into_iter().map(|(_, i)| i).collect();
-                    crate::io::write_atomic(&path, &animated_gif(&only, s.motion.fps)?)?;
-                    Ok(format!(
-                        "wrote frames {range} to {} as an animated GIF",
-                        path.display()
-                    ))
-                } else {
-                    write_png_sequence(&path, &images, end)?;
-                    Ok(format!("wrote frames {range} to {} as PNG files", path.display()))
-                }
-            });
-            let _ = tx.send(Message::Done(written.map_err(|e| format!("{e:#}"))));
-            ctx.request_repaint();
-        });
+        let frames: Vec<u32> = (self.start..self.end).collect();
+        let range = format!("{}..{}", self.start, self.end);
         self.outcome = None;
-        self.running = Some(Running {
-            messages: rx,
-            cancel,
-            rendered: 0,
-            total: self.end - self.start,
-        });
+        self.job = Some(Job::spawn("animation export", ctx, gate, move |ctl| {
+            let total = frames.len();
+            let mut written = 0;
+            let result = out.write(|sink| {
+                render_frames_on(&gpu, &mut s, &frames, &mut |_| {}, &mut |k, image| {
+                    sink(k, image)?;
+                    written += 1;
+                    let what = format!("frame {written} of {total} written");
+                    if ctl.step(&what, written as f32 / total.max(1) as f32) {
+                        Ok(())
+                    } else {
+                        Err(Cancelled.into())
+                    }
+                })
+            });
+            let (how, target) = match &out {
+                AnimationOut::Gif { file, .. } => ("an animated GIF", file),
+                AnimationOut::Pngs { dir, .. } => ("PNG files", dir),
+            };
+            match result {
+                Ok(()) => Some(Ok(format!(
+                    "wrote frames {range} to {} as {how}",
+                    target.display()
+                ))),
+                Err(e) if e.is::<Cancelled>() => None,
+                Err(e) => Some(Err(format!("{e:#}"))),
+            }
+        }));
     }
 
     /// Stops the export under way; nothing is written.
     pub fn cancel(&mut self) {
-        if let Some(r) = self.running.take() {
-            r.cancel.store(true, Ordering::Relaxed);
+        if self.job.take().is_some() {
+            self.outcome = Some(Ok("the export was cancelled: nothing was written".to_string()));
         }
     }
 
-    /// Takes the worker's messages.
+    /// Takes the export's outcome once it is done.
     pub fn poll(&mut self) {
-        let Some(r) = &mut self.running else { return };
-        while let Ok(m) = r.messages.try_recv() {
-            match m {
-                Message::Rendered(n) => r.rendered = n,
-                Message::Done(outcome) => {
-                    self.outcome = Some(outcome);
-                    self.running = None;
-                    return;
-                }
+        let Some(job) = &self.job else { return };
+        match job.poll() {
+            Poll::Running => {}
+            Poll::Done(outcome) => {
+                self.job = None;
+                self.outcome = Some(outcome);
+            }
+            Poll::Gone if job.cancelled() => self.cancel(),
+            Poll::Gone => {
+                self.job = None;
+                self.outcome = Some(Err("the export stopped without a result".to_string()));
             }
         }
     }
 
-    /// The window's contents, for a motion of `frame_count` frames; `gpu` gives the device an export runs on.
+    /// The window's contents, for a motion of `frame_count` frames; `gpu` gives the device an export runs on,
+    /// `gate` the test hook of [`Job::spawn`].
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
         frame_count: u32,
         settings: &Settings,
         gpu: impl FnOnce() -> Option<Gpu>,
+        gate: Option<JobGate>,
     ) {
         let last = frame_count.max(1);
         egui::Grid::new("animation_export").num_columns(2).show(ui, |ui| {
@@ -195,23 +193,15 @@ impl AnimationExport {
         });
         self.end = self.end.max(self.start + 1).min(last);
         self.start = self.start.min(self.end - 1);
-        ui.horizontal(|ui| {
-            if let Some(r) = &self.running {
-                ui.add(
-                    egui::ProgressBar::new(r.rendered as f32 / r.total.max(1) as f32)
-                        .desired_width(220.0)
-                        .text(format!("frame {} of {}", r.rendered, r.total)),
-                );
-                if ui.button("Cancel").clicked() {
-                    self.cancel();
-                }
-            } else if ui.button("Export").clicked() {
-                match gpu() {
-                    Some(g) => self.start(g, settings, ui.ctx()),
-                    None => self.outcome = Some(Err("no GPU renderer".to_string())),
-                }
+        let export = ui
+            .add_enabled(!self.is_running(), egui::Button::new("Export"))
+            .on_disabled_hover_text("exporting: the job bar under the viewport shows how far, with Cancel");
+        if export.clicked() {
+            match gpu() {
+                Some(g) => self.start(g, settings, ui.ctx(), gate),
+                None => self.outcome = Some(Err("no GPU renderer".to_string())),
             }
-        });
+        }
         match &self.outcome {
             Some(Ok(m)) => {
                 ui.label(m);

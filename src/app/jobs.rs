@@ -82,6 +82,12 @@ impl JobCtl {
     pub fn cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
     }
+
+    /// The job's cancel flag, for library loops that take one (`MotionOptions::cancel`) and report through a
+    /// progress closure that calls [`JobCtl::step`].
+    pub fn cancel_flag(&self) -> &AtomicBool {
+        &self.cancel
+    }
 }
 
 /// A running job as the progress bar shows it.

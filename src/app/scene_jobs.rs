@@ -149,13 +149,16 @@ impl HairlabApp {
         gate
     }
 
-    /// Every job under way (scene, analysis, whole-map statistics, compare, bench), as the progress bar shows them.
+    /// Every job under way (scene, analysis, whole-map statistics, compare, time view, animation export, bench), as
+    /// the progress bar shows them.
     pub fn jobs(&self) -> Vec<JobStatus> {
         let mut all: Vec<JobStatus> = self.scene_job.iter().map(|j| j.job.status()).collect();
         all.extend(self.analysis_job.iter().map(|j| j.job.status()));
         all.extend(self.inspector.job_status());
         all.extend(self.motion_bound.status());
         all.extend(self.compare.job_status());
+        all.extend(self.time_view.job_status());
+        all.extend(self.animation_export.job_status());
         all.extend(self.bench_status());
         all
     }

@@ -102,10 +102,11 @@ impl HairlabApp {
             return self.error("time view: no GPU renderer");
         };
         let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
-        self.time_view.start(gpu, &self.settings, ctx);
+        self.time_view
+            .start(gpu, &self.settings, ctx, self.job_gate.clone());
     }
 
-    /// The time view's window while it is open (its measurement runs on a worker thread).
+    /// The time view's window while it is open (its measurement is a job).
     pub(super) fn time_view_window(&mut self, ctx: &egui::Context) {
         self.time_view.poll();
         if !self.time_view.open {
@@ -132,7 +133,7 @@ impl HairlabApp {
         }
     }
 
-    /// The animation export window while it is open (its frames render on a worker thread).
+    /// The animation export window while it is open (its frames render in a job).
     pub(super) fn animation_export_window(&mut self, ctx: &egui::Context) {
         self.animation_export.poll();
         if !self.animation_export.open {
@@ -140,7 +141,7 @@ impl HairlabApp {
         }
         let mut open = true;
         let count = self.timeline.frame_count();
-        let (settings, rs) = (&self.settings, &self.render_state);
+        let (settings, rs, gate) = (&self.settings, &self.render_state, self.job_gate.clone());
         let gpu = || {
             rs.as_ref()
                 .map(|rs| gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()))
@@ -148,7 +149,7 @@ impl HairlabApp {
         let export = &mut self.animation_export;
         egui::Window::new("Export animation")
             .open(&mut open)
-            .show(ctx, |ui| export.ui(ui, count, settings, gpu));
+            .show(ctx, |ui| export.ui(ui, count, settings, gpu, gate));
         if !open {
             self.animation_export.cancel();
         }

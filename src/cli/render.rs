@@ -1,8 +1,8 @@
 //! `hairlab render`: a preset rendered headlessly to a PNG, the same image the window shows; under
 //! `render.mode = path`, the CPU path-traced reference of its still scene instead.
 
+use crate::animation::{AnimationOut, encode_png};
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
-use crate::animation::{encode_png, frame_file_name};
 use crate::pathtrace::setup::PathScene;
 use crate::render::render_settings::RenderMode;
 use crate::settings::Settings;
@@ -82,55 +82,45 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
     }
     let range = a.frames.as_deref().map(parse_frame_range).transpose()?;
     let gif = range.is_some() && a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif"));
-    if range.is_none() {
-        crate::io::check_output(&a.out, "png")?;
-    } else if gif {
-        crate::io::check_output(&a.out, "gif")?;
+    let out = range.clone().map(|r| {
+        if gif {
+            AnimationOut::Gif {
+                file: a.out.clone(),
+                fps: settings.motion.fps,
+            }
+        } else {
+            AnimationOut::Pngs {
+                dir: a.out.clone(),
+                end: r.end,
+            }
+        }
+    });
+    match &out {
+        None => crate::io::check_output(&a.out, "png")?,
+        Some(out) => out.check()?,
     }
     a.scene.size(&mut settings)?;
-    let encode = encode_png;
-    match range {
-        None => {
-            let image = render_frame_image(&mut settings, a.frame.unwrap_or(0))?;
-            crate::io::write_atomic(&a.out, &encode(&image)?)?;
-            println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
-        }
-        Some(range) if gif => {
-            let frames: Vec<u32> = range.clone().collect();
-            let mut images = Vec::new();
-            render_frames(&mut settings, &frames, &mut |_, image| {
-                images.push(image);
-                Ok(())
-            })?;
-            crate::io::write_atomic(&a.out, &animated_gif(&images, settings.motion.fps)?)?;
-            println!(
-                "wrote frames {}..{} to {} as an animated GIF ({}×{}, {} fps)",
-                range.start,
-                range.end,
-                a.out.display(),
-                settings.render.width,
-                settings.render.height,
-                settings.motion.fps
-            );
-        }
-        Some(range) => {
-            std::fs::create_dir_all(&a.out)
-                .with_context(|| format!("--out {}: cannot create", a.out.display()))?;
-            let frames: Vec<u32> = range.clone().collect();
-            render_frames(&mut settings, &frames, &mut |k, image| {
-                let path = a.out.join(frame_file_name(k, range.end));
-                crate::io::write_atomic(&path, &encode(&image)?)
-            })?;
-            println!(
-                "wrote frames {}..{} to {} ({}×{})",
-                range.start,
-                range.end,
-                a.out.display(),
-                settings.render.width,
-                settings.render.height
-            );
-        }
-    }
+    let (Some(range), Some(out)) = (range, out) else {
+        let image = render_frame_image(&mut settings, a.frame.unwrap_or(0))?;
+        crate::io::write_atomic(&a.out, &encode_png(&image)?)?;
+        println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
+        return Ok(());
+    };
+    // Each frame is written as it renders (into a temporary beside `--out`, renamed into place at the end).
+    let frames: Vec<u32> = range.clone().collect();
+    out.write(|sink| render_frames(&mut settings, &frames, sink))?;
+    let (w, h) = (settings.render.width, settings.render.height);
+    let what = if gif {
+        format!(" as an animated GIF ({w}×{h}, {} fps)", settings.motion.fps)
+    } else {
+        format!(" ({w}×{h})")
+    };
+    println!(
+        "wrote frames {}..{} to {}{what}",
+        range.start,
+        range.end,
+        a.out.display()
+    );
     Ok(())
 }
 

@@ -857,6 +857,10 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
         harness.state().time_view().is_running(),
         "the time view measures on a worker"
     );
+    assert!(
+        harness.state().jobs().iter().any(|j| j.name == "time view"),
+        "a job in the job bar"
+    );
     // The window keeps drawing and answering while it runs: a timeline step lands.
     harness.key_combination(&[egui::Key::ArrowRight]);
     harness.step();
@@ -903,11 +907,11 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
         configs.iter().map(MotionConfig::label).collect::<Vec<_>>(),
         shown.rows.iter().map(|r| r.config.label()).collect::<Vec<_>>()
     );
-    // Cancel stops a new run at once and keeps the figures shown.
+    // The job bar's Cancel stops a new run at once and keeps the figures shown.
     harness.get_by_label("Run").click();
     harness.step();
     assert!(harness.state().time_view().is_running());
-    // The progress bar and its Cancel button are drawn from the next frame on.
+    // The job bar and its Cancel button are drawn from the next frame on.
     harness.step();
     harness.get_by_label("Cancel").click();
     harness.step();
@@ -919,7 +923,9 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
 }
 
 /// The timeline's Export…: frames of the motion at a chosen size as a PNG sequence and as an animated GIF,
-/// rendered on a worker thread; the files are the CLI's (`render --frames A..B`) bit for bit.
+/// rendered in a job and streamed frame by frame; the files are, byte for byte, what the export wrote when it held
+/// every frame and encoded them at the end (each frame of the CLI's `render --frames A..B` encoded as PNG, and
+/// all of them as one GIF).
 #[test]
 fn the_window_exports_the_motion_as_the_cli_does() {
     if Gpu::for_tests().is_none() {
@@ -972,15 +978,110 @@ fn the_window_exports_the_motion_as_the_cli_does() {
     };
     assert_eq!(names, ["frame_0001.png", "frame_0002.png"]);
     for (name, expected) in names.iter().zip(&cli) {
-        let png = image::open(dir.path().join("frames").join(name))
-            .unwrap()
-            .to_rgba8();
-        assert_eq!(png.dimensions(), (96, 72));
-        assert!(png == *expected, "{name} differs from the CLI's frame");
+        let bytes = std::fs::read(dir.path().join("frames").join(name)).unwrap();
+        assert_eq!(
+            image::load_from_memory(&bytes).unwrap().to_rgba8().dimensions(),
+            (96, 72)
+        );
+        assert!(
+            bytes == hairlab::animation::encode_png(expected).unwrap(),
+            "{name} differs from the CLI's frame"
+        );
     }
     let gif = std::fs::read(dir.path().join("anim.gif")).unwrap();
-    let cli_gif = hairlab::cli::render::animated_gif(&cli, s.motion.fps).unwrap();
-    assert!(gif == cli_gif, "the window's GIF differs from the CLI's");
+    // The GIF as the export encoded it when it held every frame: all at once by the image crate.
+    let mut whole = Vec::new();
+    {
+        use image::codecs::gif::{GifEncoder, Repeat};
+        let mut encoder = GifEncoder::new_with_speed(&mut whole, 10);
+        encoder.set_repeat(Repeat::Infinite).unwrap();
+        let delay = image::Delay::from_numer_denom_ms(1000, s.motion.fps.round() as u32);
+        encoder
+            .encode_frames(
+                cli.iter()
+                    .map(|i| image::Frame::from_parts(i.clone(), 0, 0, delay)),
+            )
+            .unwrap();
+    }
+    assert!(
+        gif == whole,
+        "the window's GIF differs from the CLI's frames encoded whole"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        2,
+        "no temporary left beside the targets"
+    );
+}
+
+/// An export cancelled from the job bar while a test gate holds it after its first frame: nothing appears at the
+/// target (a PNG folder, then a GIF), and the temporary it was writing beside the target goes.
+#[test]
+fn a_cancelled_export_leaves_nothing_at_the_target() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = small_wind(4);
+    let mut harness = Harness::builder()
+        .with_size([1100.0, 700.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    harness.get_by_label("Export…").click();
+    harness.run();
+    let dir = tempfile::tempdir().unwrap();
+    let listing = || -> Vec<std::path::PathBuf> {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect()
+    };
+    let gate = harness.state_mut().hold_jobs();
+    for gif in [false, true] {
+        let target = dir.path().join(if gif { "anim.gif" } else { "frames" });
+        let e = harness.state_mut().animation_export_mut();
+        (e.start, e.end, e.width, e.height, e.gif) = (0, 3, 64, 48, gif);
+        e.path = target.display().to_string();
+        harness.get_by_label("Export").click();
+        harness.step();
+        harness.step();
+        let jobs = harness.state().jobs();
+        assert_eq!(jobs.len(), 1, "{jobs:?}");
+        assert_eq!(jobs[0].name, "animation export");
+        // Held at its first step, after the first frame went into the temporary (a PNG sequence's first file).
+        let mut waited = 0;
+        loop {
+            let partial = listing();
+            let written = partial
+                .iter()
+                .any(|p| gif || p.is_dir() && std::fs::read_dir(p).unwrap().next().is_some());
+            if written {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(100));
+            waited += 1;
+            assert!(waited < 3000, "no frame written in 5 minutes: {partial:?}");
+        }
+        assert!(!target.exists(), "nothing at the target while it runs");
+        harness.get_by_label("Cancel").click();
+        harness.step();
+        let e = harness.state_mut().animation_export_mut();
+        assert!(!e.is_running());
+        let outcome = e.outcome().cloned();
+        assert!(
+            matches!(&outcome, Some(Ok(m)) if m.contains("cancelled")),
+            "{outcome:?}"
+        );
+        // The worker stops at the gate and removes its temporary.
+        let mut waited = 0;
+        while !listing().is_empty() {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            waited += 1;
+            assert!(waited < 1200, "left behind: {:?}", listing());
+        }
+        assert!(!target.exists());
+    }
+    drop(gate);
 }
 /// A scene build is a job: while a test gate holds it at its first step, the window keeps drawing and answering
 /// (a build on the UI thread would never return from the frame while the gate is shut), its progress bar and

@@ -4,17 +4,20 @@
 //! previous frame), and under it each method's whole-map error per frame as a strip chart. A line marks the
 //! timeline's frame; a click on either chart moves the timeline there. The figures are those of
 //! `hairlab measure motion --point FIRST:T` (`motion_point.csv`, `motion_frames.csv`): the same
-//! [`measure_motion`] runs on a worker thread with its own renderer, so the window keeps answering, a progress bar
-//! shows how far it is, and Cancel stops it and keeps the previous figures.
+//! [`measure_motion`] runs as a [`Job`] with its own renderer, so the window keeps answering, the job bar shows
+//! how far it is, and its Cancel stops it and keeps the previous figures.
 //!
 //! Readable at twenty configurations: the frame axis spans exactly the frames computed; the legend is a list
 //! beside the charts (never over them) whose boxes hide or show a configuration; each method family has its own
 //! hue with a shade per configuration; hovering a curve names it.
 
 use super::inspector::method_color;
+use super::jobs::{Job, JobGate, JobStatus, Poll};
 use crate::gpu::Gpu;
 use crate::measure::MethodConfig;
-use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs};
+use crate::measure::motion::{
+    Cancelled, MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs,
+};
 use crate::measure::temporal::{FollowedPoint, followed_pops};
 use crate::methods::registry;
 use crate::scene::Strands;
@@ -22,27 +25,9 @@ use crate::settings::Settings;
 use egui::Color32;
 use egui_plot::{HoverPosition, Line, MarkerShape, Plot, PlotPoints, Points, VLine};
 use std::collections::BTreeSet;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, mpsc};
-use std::time::Instant;
 
 /// Frames measured when the view opens, at most (the motion's own count when shorter).
 const DEFAULT_FRAMES: u32 = 12;
-
-/// What the worker tells the window.
-enum Message {
-    Progress(String, f32),
-    Done(Result<MotionMeasurement, String>),
-}
-
-/// A measurement under way.
-struct Running {
-    messages: mpsc::Receiver<Message>,
-    cancel: Arc<AtomicBool>,
-    what: String,
-    done: f32,
-    started: Instant,
-}
 
 /// What the view asks of the app.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,7 +49,8 @@ pub struct TimeView {
     frames: u32,
     /// Every method's usual configurations, or only the selected method as set.
     every_method: bool,
-    running: Option<Running>,
+    /// The measurement under way: its figures or the error; `None` when cancelled.
+    job: Option<Job<Result<MotionMeasurement, String>>>,
     result: Option<MotionMeasurement>,
     error: Option<String>,
     /// Configurations (labels) the legend's boxes hide.
@@ -106,7 +92,12 @@ impl TimeView {
     }
 
     pub fn is_running(&self) -> bool {
-        self.running.is_some()
+        self.job.is_some()
+    }
+
+    /// The measurement under way, as the job bar shows it.
+    pub fn job_status(&self) -> Option<JobStatus> {
+        self.job.as_ref().map(Job::status)
     }
 
     /// The configurations measured: every method's usual ones, or the selected method as `settings` set it.
@@ -121,60 +112,52 @@ impl TimeView {
         ))]
     }
 
-    /// Starts measuring the followed point over frames `0..frames` of `settings`' motion on `gpu` (a previous
-    /// run is cancelled).
-    pub fn start(&mut self, gpu: Gpu, settings: &Settings, ctx: &egui::Context) {
+    /// Starts measuring the followed point over frames `0..frames` of `settings`' motion on `gpu` (a job; a
+    /// previous run is cancelled). `gate`: the test hook of [`Job::spawn`].
+    pub fn start(&mut self, gpu: Gpu, settings: &Settings, ctx: &egui::Context, gate: Option<JobGate>) {
         let Some(point) = self.point else { return };
         self.cancel();
         self.error = None;
-        let (tx, rx) = mpsc::channel();
-        let cancel = Arc::new(AtomicBool::new(false));
         let (settings, configs, frames) = (settings.clone(), self.configs(settings), self.frames);
-        let (stop, ctx) = (cancel.clone(), ctx.clone());
-        std::thread::spawn(move || {
+        self.job = Some(Job::spawn("time view", ctx, gate, move |ctl| {
             let options = MotionOptions {
                 follow: Some(point),
-                cancel: Some(&stop),
+                cancel: Some(ctl.cancel_flag()),
                 after_each: None,
             };
             let mut progress = |what: &str, done: f32| {
-                let _ = tx.send(Message::Progress(what.to_string(), done));
-                ctx.request_repaint();
+                ctl.step(what, done);
             };
-            let result = measure_motion(&gpu, &settings, &configs, frames, options, &mut progress);
-            let _ = tx.send(Message::Done(result.map_err(|e| format!("{e:#}"))));
-            ctx.request_repaint();
-        });
-        self.running = Some(Running {
-            messages: rx,
-            cancel,
-            what: "starting".to_string(),
-            done: 0.0,
-            started: Instant::now(),
-        });
+            match measure_motion(&gpu, &settings, &configs, frames, options, &mut progress) {
+                Ok(m) => Some(Ok(m)),
+                Err(e) if e.is::<Cancelled>() => None,
+                Err(e) => Some(Err(format!("{e:#}"))),
+            }
+        }));
     }
 
     /// Stops the measurement under way; the previous figures stay.
     pub fn cancel(&mut self) {
-        if let Some(r) = self.running.take() {
-            r.cancel.store(true, Ordering::Relaxed);
-        }
+        self.job = None;
     }
 
-    /// Takes the worker's messages; a finished measurement replaces the figures.
+    /// Takes the measurement once it is done: its figures replace the previous ones; a cancelled run leaves them.
     pub fn poll(&mut self) {
-        let Some(r) = &mut self.running else { return };
-        while let Ok(m) = r.messages.try_recv() {
-            match m {
-                Message::Progress(what, done) => (r.what, r.done) = (what, done),
-                Message::Done(result) => {
-                    match result {
-                        Ok(m) => self.result = Some(m),
-                        Err(e) => self.error = Some(e),
-                    }
-                    self.running = None;
-                    return;
+        let Some(job) = &self.job else { return };
+        match job.poll() {
+            Poll::Running => {}
+            Poll::Done(result) => {
+                self.job = None;
+                match result {
+                    Ok(m) => self.result = Some(m),
+                    Err(e) => self.error = Some(e),
                 }
+            }
+            Poll::Gone => {
+                if !job.cancelled() {
+                    self.error = Some("the measurement stopped without a result".to_string());
+                }
+                self.job = None;
             }
         }
     }
@@ -203,22 +186,12 @@ impl TimeView {
                 .labelled_by(label.id);
             ui.checkbox(&mut self.every_method, "every method")
                 .on_hover_text("every method's usual configurations; unticked, the selected method as set");
-            if let Some(r) = &self.running {
-                let elapsed = r.started.elapsed().as_secs_f32();
-                let left = if r.done > 0.01 {
-                    format!(", {:.0} s left", elapsed * (1.0 - r.done) / r.done)
-                } else {
-                    String::new()
-                };
-                ui.add(
-                    egui::ProgressBar::new(r.done)
-                        .desired_width(340.0)
-                        .text(format!("{}{left}", r.what)),
+            let run = ui
+                .add_enabled(!self.is_running(), egui::Button::new("Run"))
+                .on_disabled_hover_text(
+                    "measuring: the job bar under the viewport shows how far, with Cancel",
                 );
-                if ui.button("Cancel").clicked() {
-                    self.cancel();
-                }
-            } else if ui.button("Run").clicked() {
+            if run.clicked() {
                 action = Some(TimeViewAction::Run);
             }
             if let Some(csv) = self.result.as_ref().and_then(|m| m.point_csv().ok().flatten())
@@ -247,7 +220,8 @@ impl TimeView {
     }
 }
 
-/// Each configuration's colour: its method family's hue, a shade per configuration of the family (darkest first).
+/// Each configuration's colour: its method family's hue, a shade per configuration of the family (the hue first,
+/// then lighter).
 fn colors(labels: &[String]) -> Vec<Color32> {
     let family = |l: &str| l.split(':').next().unwrap_or(l).to_string();
     labels
@@ -260,13 +234,12 @@ fn colors(labels: &[String]) -> Vec<Color32> {
             if siblings.len() < 2 {
                 return base;
             }
-            // From 55 % of the hue's brightness to a mix half-way to white.
+            // From the hue itself to a mix 60 % of the way to white: every shade at least as bright as the hue,
+            // so none sinks into the dark plot background.
             let t = k as f32 / (siblings.len() - 1) as f32;
             let shade = |c: u8| {
                 let c = f32::from(c);
-                let dark = c * 0.55;
-                let light = c + (255.0 - c) * 0.5;
-                (dark + (light - dark) * t).round() as u8
+                (c + (255.0 - c) * 0.6 * t).round() as u8
             };
             Color32::from_rgb(shade(base.r()), shade(base.g()), shade(base.b()))
         })
@@ -316,6 +289,8 @@ fn charts(
                     .width(width)
                     .default_x_bounds(0.0, last)
                     .x_axis_label("frame")
+                    // A grid line on every frame, labelled every frame where they fit, else every fifth.
+                    .x_grid_spacer(egui_plot::uniform_grid_spacer(|_| [1.0, 5.0, 10.0]))
                     .label_formatter(|pos| {
                         Some(match pos {
                             HoverPosition::NearDataPoint {
@@ -434,4 +409,26 @@ fn charts(
         legend: legend_rect,
     };
     (seek, layout)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_familys_shades_are_distinct_and_never_darker_than_its_hue() {
+        use crate::methods::{LightMethod, occupancy::Occupancy, osm::Osm};
+        let (osm, occupancy) = (Osm.name(), Occupancy.name());
+        let mut labels: Vec<String> = [16, 64, 256].map(|n| format!("{osm}:slices={n}")).to_vec();
+        labels.push(occupancy.to_string());
+        let c = colors(&labels);
+        let hue = |name| method_color(registry::find(name).unwrap());
+        let sum = |c: Color32| u32::from(c.r()) + u32::from(c.g()) + u32::from(c.b());
+        assert_eq!(c[0], hue(osm), "the first configuration has the family's hue");
+        assert!(
+            sum(c[1]) > sum(c[0]) && sum(c[2]) > sum(c[1]),
+            "lighter in turn: {c:?}"
+        );
+        assert_eq!(c[3], hue(occupancy), "a family of one keeps its hue");
+    }
 }

@@ -1,19 +1,26 @@
-//! A bounding volume hierarchy over fibre segments and mesh triangles: a top-down build binned by the surface area heuristic
-//! (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies": 16 bins on each axis over the
-//! centroids), and stack traversal nearest child first. Written in-tree rather than taken from a crate: the
-//! primitives are our own round fibres (`fibre.rs`), we need every hit along a ray besides the first, and the
-//! whole of it is ~200 lines.
+//! A bounding volume hierarchy over fibre segments and mesh triangles: a top-down binary build binned by the
+//! surface area heuristic (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies": 16 bins on
+//! each axis over the centroids, a node visit costed as one primitive test), collapsed into four-wide nodes whose
+//! four child boxes a ray tests at once (Wald et al. 2008), and stack traversal nearest child first. A slanted
+//! segment enters the build as a few boxes along its length (its one box is mostly empty), and each leaf keeps
+//! its segments' axes side by side so the cheap line-distance test before the exact solve reads no other memory.
+//! Written in-tree rather than taken from a crate: the primitives are our own round fibres (`fibre.rs`) and we
+//! need every hit along a ray besides the first.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
-use super::fibre::{Hit, Ray, Segment};
+use super::fibre::{Hit, Ray, Segment, misses_line};
 use super::triangle::Triangle;
 use crate::scene::Aabb;
 
 const BINS: usize = 16;
 /// A node holds at most this many segments as a leaf when a split would not pay.
 const MAX_LEAF: usize = 8;
-/// Traversal keeps its stack on the stack for trees up to this deep.
+/// The cost of visiting a node relative to testing a primitive, for the surface area heuristic.
+const TRAVERSAL_COST: f32 = 1.0;
+/// A segment enters the hierarchy as at most this many boxes along its length.
+const MAX_PIECES: usize = 4;
+/// Traversal keeps its stack of nodes to visit on the stack up to this many entries.
 const STACK: usize = 64;
 
 #[derive(Clone, Copy, Debug)]
@@ -26,13 +33,95 @@ struct Node {
     count: u32,
 }
 
+#[derive(Clone, Copy, Debug, Default)]
+struct Line {
+    a: Vec3,
+    r: f32,
+    b: Vec3,
+}
+
+/// A node of the four-wide hierarchy the queries walk: its children's boxes side by side, one lane each (Wald et
+/// al. 2008, "Getting rid of packets": a binary tree collapsed into nodes whose four boxes a ray tests at once).
+#[derive(Clone, Copy, Debug)]
+#[repr(align(64))]
+struct Node4 {
+    min: [Vec4; 3],
+    max: [Vec4; 3],
+    /// Per lane: the child node, or the first entry of `order` of a leaf.
+    first: [u32; 4],
+    /// Per lane: the primitives of a leaf; 0 for a child node, [`UNUSED`] for a lane not in use.
+    count: [u32; 4],
+}
+
+/// The `count` of a lane a node does not use (which keeps a node two cache lines).
+const UNUSED: u32 = u32::MAX;
+
+/// The binary tree `nodes` (root first) as four-wide nodes (root first) and their depth: each node takes the
+/// children of a binary node and opens the largest inner one among them until it has four.
+fn collapse(nodes: &[Node]) -> (Vec<Node4>, usize) {
+    let empty = Node4 {
+        min: [Vec4::ZERO; 3],
+        max: [Vec4::ZERO; 3],
+        first: [0; 4],
+        count: [UNUSED; 4],
+    };
+    let mut out = vec![empty];
+    let mut depth = 0;
+    let mut todo = vec![(0usize, 0usize, 0usize)];
+    while let Some((b, o, level)) = todo.pop() {
+        depth = depth.max(level);
+        let node = nodes[b];
+        let mut kids = if node.count > 0 {
+            vec![b]
+        } else {
+            vec![node.first as usize, node.first as usize + 1]
+        };
+        while kids.len() < 4 {
+            let area_of = |k: usize| {
+                area(&Aabb {
+                    min: nodes[k].min,
+                    max: nodes[k].max,
+                })
+            };
+            let Some(j) = (0..kids.len())
+                .filter(|&j| nodes[kids[j]].count == 0)
+                .max_by(|&i, &j| area_of(kids[i]).total_cmp(&area_of(kids[j])))
+            else {
+                break;
+            };
+            let k = kids.swap_remove(j);
+            kids.extend([nodes[k].first as usize, nodes[k].first as usize + 1]);
+        }
+        let mut wide = empty;
+        for (lane, &k) in kids.iter().enumerate() {
+            for axis in 0..3 {
+                wide.min[axis][lane] = nodes[k].min[axis];
+                wide.max[axis][lane] = nodes[k].max[axis];
+            }
+            if nodes[k].count > 0 {
+                (wide.first[lane], wide.count[lane]) = (nodes[k].first, nodes[k].count);
+            } else {
+                (wide.first[lane], wide.count[lane]) = (out.len() as u32, 0);
+                todo.push((k, out.len(), level + 1));
+                out.push(empty);
+            }
+        }
+        out[o] = wide;
+    }
+    (out, depth)
+}
+
 /// The segments, the triangles (primitive `segments.len() + k` is triangle `k`) and their hierarchy.
 #[derive(Clone, Debug)]
 pub struct Bvh {
     segments: Vec<Segment>,
     triangles: Vec<Triangle>,
-    nodes: Vec<Node>,
+    nodes: Vec<Node4>,
+    /// The leaves' primitives, leaf after leaf.
     order: Vec<u32>,
+    /// Per entry of `order`, the segment's axis and widest radius (all 0 for a triangle) side by side with the
+    /// leaf's others, for a cheap first test that needs no other memory.
+    lines: Vec<Line>,
     /// The longest path from the root to a leaf, in edges.
     depth: usize,
 }
@@ -45,14 +134,49 @@ fn area(b: &Aabb) -> f32 {
     e.x * e.y + e.y * e.z + e.z * e.x
 }
 
-/// The entry distance of `ray` (inverse direction `inv`) into the box, if it meets it within `(0, t_max)`. The far
-/// distance is grown by pbrt's `1 + 2γ₃` so rounding never culls a box the ray touches.
-fn slab(min: Vec3, max: Vec3, ray: &Ray, inv: Vec3, t_max: f32) -> Option<f32> {
-    let t1 = (min - ray.origin) * inv;
-    let t2 = (max - ray.origin) * inv;
-    let near = t1.min(t2).max_element().max(0.0);
-    let far = t1.max(t2).min_element() * (1.0 + 2.0 * 3.0 * f32::EPSILON);
-    (near <= far.min(t_max)).then_some(near)
+/// The entry and exit distances of the ray from `o` (inverse direction `inv`, one axis a vector) through each of
+/// `node`'s boxes, the entry no less than 0; a box is met where entry ≤ exit. The exit is grown by pbrt's
+/// `1 + 2γ₃` so rounding never culls a box the ray touches.
+fn slab4(node: &Node4, o: [Vec4; 3], inv: [Vec4; 3]) -> (Vec4, Vec4) {
+    let (mut near, mut far) = (Vec4::ZERO, Vec4::INFINITY);
+    for axis in 0..3 {
+        let t1 = (node.min[axis] - o[axis]) * inv[axis];
+        let t2 = (node.max[axis] - o[axis]) * inv[axis];
+        near = near.max(t1.min(t2));
+        far = far.min(t1.max(t2));
+    }
+    (near, far * (1.0 + 2.0 * 3.0 * f32::EPSILON))
+}
+
+/// How many pieces of `s` to bound apart: the count, up to [`MAX_PIECES`], whose boxes' areas sum least (a
+/// segment's box grows with the square of its length when it runs diagonally; pieces' boxes overlap at the
+/// joints only by the radius).
+fn pieces(s: &Segment) -> usize {
+    let r = Vec3::splat(s.ra.max(s.rb));
+    let d = (s.b - s.a).abs();
+    let cost = |k: usize| {
+        let e = d / k as f32 + 2.0 * r;
+        k as f32 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    };
+    (1..=MAX_PIECES).fold(1, |best, k| if cost(k) < cost(best) { k } else { best })
+}
+
+/// The boxes of [`pieces`]`(s)` pieces of `s`, each around its stretch of the axis grown by the larger end
+/// radius (and a hair more, so rounding at the cuts leaves no gap).
+fn piece_bounds(s: &Segment) -> impl Iterator<Item = Aabb> + use<> {
+    let k = pieces(s);
+    let (a, b) = (s.a, s.b);
+    let pad = Vec3::splat(s.ra.max(s.rb) * (1.0 + 1e-3) + 1e-6 * (1.0 + a.abs().max(b.abs()).max_element()));
+    (0..k).map(move |j| {
+        let (p, q) = (
+            a.lerp(b, j as f32 / k as f32),
+            a.lerp(b, (j + 1) as f32 / k as f32),
+        );
+        Aabb {
+            min: p.min(q) - pad,
+            max: p.max(q) + pad,
+        }
+    })
 }
 
 impl Bvh {
@@ -63,39 +187,45 @@ impl Bvh {
 
     /// Builds the hierarchy over `segments` and `triangles`.
     pub fn with_triangles(segments: Vec<Segment>, triangles: Vec<Triangle>) -> Bvh {
-        let bounds: Vec<Aabb> = segments
+        // References (primitive, box): a slanted segment enters as a few boxes along its length, which hug it
+        // closer than one box around it.
+        let n = segments.len();
+        let refs: Vec<(u32, Aabb)> = segments
             .iter()
-            .map(Segment::bounds)
-            .chain(triangles.iter().map(Triangle::bounds))
+            .enumerate()
+            .flat_map(|(i, s)| piece_bounds(s).map(move |b| (i as u32, b)))
+            .chain(
+                triangles
+                    .iter()
+                    .enumerate()
+                    .map(|(k, t)| ((n + k) as u32, t.bounds())),
+            )
             .collect();
+        let bounds: Vec<Aabb> = refs.iter().map(|r| r.1).collect();
         let centres: Vec<Vec3> = bounds.iter().map(Aabb::center).collect();
-        let mut bvh = Bvh {
-            order: (0..bounds.len() as u32).collect(),
-            segments,
-            triangles,
-            nodes: Vec::new(),
-            depth: 0,
-        };
-        bvh.nodes.push(Node {
+        let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+        let mut nodes = vec![Node {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
             first: 0,
             count: 0,
-        });
-        let mut stack = vec![(0usize, 0usize, bvh.order.len(), 0usize)];
-        while let Some((node, first, count, level)) = stack.pop() {
-            bvh.depth = bvh.depth.max(level);
-            let items = &mut bvh.order[first..first + count];
+        }];
+        let mut stack = vec![(0usize, 0usize, order.len())];
+        while let Some((node, first, count)) = stack.pop() {
+            let items = &mut order[first..first + count];
             let b = items
                 .iter()
                 .fold(Aabb::EMPTY, |b, &i| b.union(bounds[i as usize]));
-            bvh.nodes[node] = Node {
+            nodes[node] = Node {
                 min: b.min,
                 max: b.max,
                 first: first as u32,
                 count: count as u32,
             };
-            if count <= 2 {
+            if count <= 1 {
+                if let Some(i) = items.first_mut() {
+                    *i = refs[*i as usize].0;
+                }
                 continue;
             }
             let cb = Aabb::from_points(items.iter().map(|&i| &centres[i as usize]));
@@ -134,21 +264,32 @@ impl Bvh {
                 }
             }
             let leaf_cost = area(&b) * count as f32;
-            if best.0 == f32::MAX || (best.0 >= leaf_cost && count <= MAX_LEAF) {
-                if count > MAX_LEAF {
+            if best.0 == f32::MAX || (best.0 + TRAVERSAL_COST * area(&b) >= leaf_cost && count <= MAX_LEAF) {
+                if count <= MAX_LEAF {
+                    // A leaf lists each primitive once, however many of its references it holds.
+                    for i in items.iter_mut() {
+                        *i = refs[*i as usize].0;
+                    }
+                    items.sort_unstable();
+                    let mut unique = 0;
+                    for j in 0..count {
+                        if j == 0 || items[j] != items[unique - 1] {
+                            items[unique] = items[j];
+                            unique += 1;
+                        }
+                    }
+                    nodes[node].count = unique as u32;
+                } else {
                     // All centres coincide: halve the list.
                     let half = count / 2;
-                    let child = bvh.nodes.len();
-                    bvh.nodes.extend([bvh.nodes[node]; 2]);
-                    bvh.nodes[node] = Node {
+                    let child = nodes.len();
+                    nodes.extend([nodes[node]; 2]);
+                    nodes[node] = Node {
                         first: child as u32,
                         count: 0,
-                        ..bvh.nodes[node]
+                        ..nodes[node]
                     };
-                    stack.extend([
-                        (child, first, half, level + 1),
-                        (child + 1, first + half, count - half, level + 1),
-                    ]);
+                    stack.extend([(child, first, half), (child + 1, first + half, count - half)]);
                 }
                 continue;
             }
@@ -163,16 +304,35 @@ impl Bvh {
                     left += 1;
                 }
             }
-            let child = bvh.nodes.len();
-            bvh.nodes.extend([bvh.nodes[node]; 2]);
-            bvh.nodes[node].count = 0;
-            bvh.nodes[node].first = child as u32;
-            stack.extend([
-                (child, first, left, level + 1),
-                (child + 1, first + left, count - left, level + 1),
-            ]);
+            let child = nodes.len();
+            nodes.extend([nodes[node]; 2]);
+            nodes[node].count = 0;
+            nodes[node].first = child as u32;
+            stack.extend([(child, first, left), (child + 1, first + left, count - left)]);
         }
-        bvh
+        let (nodes, depth) = if order.is_empty() {
+            (Vec::new(), 0)
+        } else {
+            collapse(&nodes)
+        };
+        let lines = order
+            .iter()
+            .map(|&i| {
+                segments.get(i as usize).map_or(Line::default(), |s| Line {
+                    a: s.a,
+                    r: s.ra.max(s.rb),
+                    b: s.b,
+                })
+            })
+            .collect();
+        Bvh {
+            segments,
+            triangles,
+            nodes,
+            order,
+            lines,
+            depth,
+        }
     }
 
     pub fn segments(&self) -> &[Segment] {
@@ -183,46 +343,51 @@ impl Bvh {
         self.triangles.len()
     }
 
-    /// Primitive `i`'s crossing with `t` in `(0, t_max)`, `segment` set to `i`.
+    /// Primitive `i`'s crossing with `t` in `(0, t_max)`, `segment` set to `i`, for a ray that [`misses_line`]
+    /// has not ruled out.
     fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
         let n = self.segments.len();
         let hit = match self.segments.get(i as usize) {
-            Some(s) => s.intersect(ray, 0.0, t_max),
+            Some(s) => s.crossing(ray, 0.0, t_max),
             None => self.triangles[i as usize - n].intersect(ray, 0.0, t_max),
         };
         hit.map(|h| Hit { segment: i, ..h })
     }
 
-    /// Calls `visit` with each segment whose box the ray meets within `(0, t_max)`, nearest box first where
-    /// cheap; `visit` returns the new `t_max` (a shorter one prunes), or `None` to stop.
+    /// Calls `visit` with each primitive of each leaf whose box the ray meets within `(0, t_max)`, nearest box
+    /// first, but for segments whose line the ray's passes too far from ([`misses_line`]); `visit` returns the new `t_max` (a shorter one prunes), or `None` to stop.
     fn traverse(&self, ray: &Ray, mut t_max: f32, mut visit: impl FnMut(u32, f32) -> Option<f32>) {
-        if self.order.is_empty() {
+        if self.nodes.is_empty() {
             return;
         }
         let inv = ray.dir.recip();
-        // Nodes to visit with their entry distance; at most one per level besides the one being visited.
-        let mut fixed = [(0u32, 0.0f32); STACK];
+        let (o, inv) = (
+            ray.origin.to_array().map(Vec4::splat),
+            inv.to_array().map(Vec4::splat),
+        );
+        // Nodes and leaves to visit, (first, count, entry distance); at most three per level besides the one
+        // being visited.
+        let mut fixed = [(0u32, 0u32, 0.0f32); STACK];
         let mut grown;
-        let stack: &mut [(u32, f32)] = if self.depth < STACK {
+        let stack: &mut [(u32, u32, f32)] = if 3 * self.depth + 4 <= STACK {
             &mut fixed
         } else {
-            grown = vec![(0u32, 0.0f32); self.depth + 1];
+            grown = vec![(0u32, 0u32, 0.0f32); 3 * self.depth + 4];
             &mut grown
         };
-        let Some(entry) = slab(self.nodes[0].min, self.nodes[0].max, ray, inv, t_max) else {
-            return;
-        };
-        stack[0] = (0, entry);
         let mut top = 1;
         while top > 0 {
             top -= 1;
-            let (n, entry) = stack[top];
+            let (first, count, entry) = stack[top];
             if entry > t_max {
                 continue;
             }
-            let node = self.nodes[n as usize];
-            if node.count > 0 {
-                for &i in &self.order[node.first as usize..(node.first + node.count) as usize] {
+            if count > 0 {
+                let range = first as usize..(first + count) as usize;
+                for (&i, l) in self.order[range.clone()].iter().zip(&self.lines[range]) {
+                    if misses_line(l.a, l.b, l.r, ray) {
+                        continue;
+                    }
                     t_max = match visit(i, t_max) {
                         Some(t) => t,
                         None => return,
@@ -230,27 +395,26 @@ impl Bvh {
                 }
                 continue;
             }
-            let (l, r) = (node.first, node.first + 1);
-            let near = |c: u32| {
-                let c = self.nodes[c as usize];
-                slab(c.min, c.max, ray, inv, t_max)
-            };
-            let mut push = |c: u32, t: f32| {
-                stack[top] = (c, t);
+            let node = &self.nodes[first as usize];
+            let (near, far) = slab4(node, o, inv);
+            let far = far.min(Vec4::splat(t_max));
+            // The lanes met, farthest first, so the nearest is popped first.
+            let mut met = [(0.0f32, 0usize); 4];
+            let mut n = 0;
+            for lane in 0..4 {
+                if near[lane] <= far[lane] && node.count[lane] != UNUSED {
+                    let mut j = n;
+                    while j > 0 && met[j - 1].0 < near[lane] {
+                        met[j] = met[j - 1];
+                        j -= 1;
+                    }
+                    met[j] = (near[lane], lane);
+                    n += 1;
+                }
+            }
+            for &(t, lane) in &met[..n] {
+                stack[top] = (node.first[lane], node.count[lane], t);
                 top += 1;
-            };
-            match (near(l), near(r)) {
-                (Some(tl), Some(tr)) if tl <= tr => {
-                    push(r, tr);
-                    push(l, tl);
-                }
-                (Some(tl), Some(tr)) => {
-                    push(l, tl);
-                    push(r, tr);
-                }
-                (Some(tl), None) => push(l, tl),
-                (None, Some(tr)) => push(r, tr),
-                (None, None) => {}
             }
         }
     }
@@ -287,7 +451,9 @@ impl Bvh {
             }
             Some(t_max)
         });
-        hits.sort_by(|a, b| a.t.total_cmp(&b.t));
+        // A segment bounded in pieces may sit in several leaves.
+        hits.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.segment.cmp(&b.segment)));
+        hits.dedup_by_key(|h| h.segment);
         hits
     }
 }
@@ -335,8 +501,19 @@ mod tests {
         for _ in 0..3000 {
             let ray = random_ray(&mut rng);
             let t_max = rng.range(1.0, 6.0);
-            let all: Vec<Hit> = (0..bvh.order.len() as u32)
-                .filter_map(|i| bvh.intersect(i, &ray, t_max))
+            // Every primitive's own full test (the line test included).
+            let n = bvh.segments.len();
+            let all: Vec<Hit> = (0..n + bvh.triangle_count())
+                .filter_map(|i| {
+                    let hit = match bvh.segments.get(i) {
+                        Some(s) => s.intersect(&ray, 0.0, t_max),
+                        None => bvh.triangles[i - n].intersect(&ray, 0.0, t_max),
+                    };
+                    hit.map(|h| Hit {
+                        segment: i as u32,
+                        ..h
+                    })
+                })
                 .collect();
             let brute = all.iter().copied().reduce(|a, b| if b.t < a.t { b } else { a });
             let got = bvh.closest_hit(&ray, t_max);

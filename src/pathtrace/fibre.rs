@@ -100,6 +100,17 @@ pub fn segments(strands: &Strands, width: f32) -> Vec<Segment> {
     out
 }
 
+/// Whether the ray's line passes farther than `r` from the line through `a` and `b`, so the ray misses a segment
+/// `a`–`b` of radius at most `r` (a lower bound on the distance to the segment, so this never drops a crossing;
+/// the margin covers f32 rounding). Never for `a = b`.
+pub fn misses_line(a: Vec3, b: Vec3, r: f32, ray: &Ray) -> bool {
+    let (axis, w) = (b - a, ray.origin - a);
+    let normal = ray.dir.cross(axis);
+    let margin = 1e-5 * (1.0 + w.abs().max_element() + axis.abs().max_element());
+    normal.length_squared() > 1e-12 * axis.length_squared()
+        && w.dot(normal).abs() > (r + margin) * normal.length()
+}
+
 /// The roots of `a t² + 2 hb t + c` (stable form; a linear equation when `a` is 0), non-finite ones dropped.
 fn roots(a: f64, hb: f64, c: f64) -> [f64; 2] {
     let disc = hb * hb - a * c;
@@ -134,17 +145,14 @@ impl Segment {
     /// The nearest crossing into this segment with `t` in `(t_min, t_max)` (back faces culled); `segment` is
     /// set to 0.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        // A ray whose line passes farther from the axis's line than the widest radius misses (a lower bound on
-        // the distance to the segment, so this never drops a crossing; the margin covers f32 rounding).
-        let (axis, w) = (self.b - self.a, ray.origin - self.a);
-        let normal = ray.dir.cross(axis);
-        let r = self.ra.max(self.rb);
-        let margin = 1e-5 * (1.0 + w.abs().max_element() + axis.abs().max_element());
-        if normal.length_squared() > 1e-12 * axis.length_squared()
-            && w.dot(normal).abs() > (r + margin) * normal.length()
-        {
+        if misses_line(self.a, self.b, self.ra.max(self.rb), ray) {
             return None;
         }
+        self.crossing(ray, t_min, t_max)
+    }
+
+    /// [`Self::intersect`] for a ray that [`misses_line`] has not ruled out.
+    pub(crate) fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let d = ray.dir.as_dvec3();
         let (a, b) = (self.a.as_dvec3(), self.b.as_dvec3());
         let (ra, rb) = (self.ra as f64, self.rb as f64);

@@ -95,17 +95,37 @@ fn scatter(hit: &Hit, dir: Vec3, s: &Settings, to_light: Vec3, u: [f32; 4]) -> (
 
 /// The camera ray through image point `(x, y)` in pixels (top left origin).
 pub fn camera_ray(camera: &Camera, width: usize, height: usize, x: f32, y: f32) -> Ray {
-    let tan = (camera.fov_y_deg.to_radians() * 0.5).tan();
-    let aspect = width as f32 / height as f32;
-    let d = Vec3::new(
-        (2.0 * x / width as f32 - 1.0) * tan * aspect,
-        (1.0 - 2.0 * y / height as f32) * tan,
-        -1.0,
-    );
-    Ray::new(
-        camera.eye(),
-        camera.world_to_view().inverse().transform_vector3(d),
-    )
+    Rays::new(camera, width, height).at(x, y)
+}
+
+/// [`camera_ray`]'s per-image part, worked out once.
+struct Rays {
+    eye: Vec3,
+    to_world: glam::Mat4,
+    tan: f32,
+    aspect: f32,
+    size: (f32, f32),
+}
+
+impl Rays {
+    fn new(camera: &Camera, width: usize, height: usize) -> Rays {
+        Rays {
+            eye: camera.eye(),
+            to_world: camera.world_to_view().inverse(),
+            tan: (camera.fov_y_deg.to_radians() * 0.5).tan(),
+            aspect: width as f32 / height as f32,
+            size: (width as f32, height as f32),
+        }
+    }
+
+    fn at(&self, x: f32, y: f32) -> Ray {
+        let d = Vec3::new(
+            (2.0 * x / self.size.0 - 1.0) * self.tan * self.aspect,
+            (1.0 - 2.0 * y / self.size.1) * self.tan,
+            -1.0,
+        );
+        Ray::new(self.eye, self.to_world.transform_vector3(d))
+    }
 }
 
 /// Rows of pixels a thread takes from the queue at a time.
@@ -221,9 +241,10 @@ fn accumulate(
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let band = ROWS_PER_TASK * s.width.max(1);
     let queue = std::sync::Mutex::new(sums.chunks_mut(band).enumerate());
+    let rays = Rays::new(camera, s.width, s.height);
     std::thread::scope(|scope| {
         for _ in 0..threads {
-            let (samples, queue) = (samples.clone(), &queue);
+            let (samples, queue, rays) = (samples.clone(), &queue, &rays);
             scope.spawn(move || {
                 while let Some((b, rows)) = queue.lock().map_or(None, |mut q| q.next()) {
                     for (k, px) in rows.iter_mut().enumerate() {
@@ -232,7 +253,7 @@ fn accumulate(
                         for sample in samples.clone() {
                             let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
                             let (jx, jy) = (rng.unit(), rng.unit());
-                            let ray = camera_ray(camera, s.width, s.height, x as f32 + jx, y as f32 + jy);
+                            let ray = rays.at(x as f32 + jx, y as f32 + jy);
                             *px += radiance(bvh, light, s, ray, &mut rng);
                         }
                     }

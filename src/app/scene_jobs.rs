@@ -149,7 +149,7 @@ impl HairlabApp {
         gate
     }
 
-    /// Every job under way (scene, analysis, whole-map statistics, compare, time view, animation export, bench), as
+    /// Every job under way (scene, analysis, the inspector's, compare, time view, animation export, bench), as
     /// the progress bar shows them.
     pub fn jobs(&self) -> Vec<JobStatus> {
         let mut all: Vec<JobStatus> = self.scene_job.iter().map(|j| j.job.status()).collect();
@@ -163,13 +163,13 @@ impl HairlabApp {
         all
     }
 
-    /// Waits for the scene, analysis, whole-map statistics and compare jobs under way and applies their results (for
+    /// Waits for the scene, analysis, inspector and compare jobs under way and applies their results (for
     /// scripts and tests that need a finished state).
     pub fn finish_jobs(&mut self) {
         const FOREVER: Duration = Duration::from_secs(24 * 3600);
         self.poll_scene_job(FOREVER);
         self.poll_analysis_job(FOREVER);
-        self.poll_map_stats(FOREVER);
+        self.poll_inspector_jobs(FOREVER);
         self.fit_motion_bound(FOREVER);
         self.poll_compare(FOREVER);
         self.path_view.wait(FOREVER);
@@ -179,7 +179,7 @@ impl HairlabApp {
     pub(super) fn poll_jobs(&mut self, patience: Duration) {
         self.poll_scene_job(patience);
         self.poll_analysis_job(patience);
-        self.poll_map_stats(patience);
+        self.poll_inspector_jobs(patience);
         self.fit_motion_bound(patience);
         self.poll_compare(patience);
     }
@@ -213,13 +213,33 @@ impl HairlabApp {
     /// Starts the whole-map statistics job of the inspector and gives it [`PATIENCE`] to finish.
     pub(super) fn start_map_stats(&mut self, ctx: &egui::Context) {
         if self.inspector.compute_map_stats(ctx, self.job_gate.clone()) {
-            self.poll_map_stats(PATIENCE);
+            self.poll_inspector_jobs(PATIENCE);
         }
     }
 
-    pub(super) fn poll_map_stats(&mut self, patience: Duration) {
+    /// Starts the inspector's `α` fit to the ray-traced fibres (a job on the window's GPU) and gives it
+    /// [`PATIENCE`] to finish.
+    pub(super) fn start_alpha_fit(&mut self, ctx: &egui::Context) {
+        let Some(rs) = &self.render_state else {
+            return self.error("α fit: no GPU renderer");
+        };
+        let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
+        self.inspector
+            .start_alpha_fit(gpu, &self.settings, ctx, self.job_gate.clone());
+        self.poll_inspector_jobs(PATIENCE);
+    }
+
+    /// Takes the inspector's finished jobs (whole-map statistics, ray-traced texels, `α` fit), waiting up to
+    /// `patience` for each.
+    pub(super) fn poll_inspector_jobs(&mut self, patience: Duration) {
         if let Some(m) = self.inspector.poll_map_stats(patience) {
             self.info(m);
+        }
+        self.inspector.poll_traced(patience);
+        match self.inspector.poll_alpha_fit(patience) {
+            Some(Ok(m)) => self.info(m),
+            Some(Err(e)) => self.error(e),
+            None => {}
         }
     }
 

@@ -207,8 +207,20 @@ impl HairlabApp {
         }
     }
 
-    /// Recomputes the inspector's curves when their inputs changed; reports a new error in the lab's text.
+    /// Recomputes the inspector's curves when their inputs changed (tracing the fibres of its texels first, a
+    /// job); reports a new error in the lab's text.
     pub(super) fn update_curves(&mut self) {
+        let fibres = match (&self.scene, &self.renderer) {
+            (Some(s), Some(r)) => Some(inspector::FibreScene {
+                strands: &s.strands,
+                generation: r.scene_generation(),
+                frame: r.hair_light_frame(&self.settings.light),
+            }),
+            _ => None,
+        };
+        let gate = self.job_gate.clone();
+        self.inspector
+            .update_traced(fibres, &self.settings, self.settled, &self.egui_ctx, gate);
         if let Some(e) = self.inspector.update_curves(&self.settings) {
             self.error(e);
         }
@@ -245,6 +257,13 @@ impl HairlabApp {
             Some(InspectorAction::OpenLightMap) => self.light_map.open = true,
             Some(InspectorAction::TimeView) => self.open_time_view(ctx),
             Some(InspectorAction::ComputeMapStats) => self.start_map_stats(ctx),
+            Some(InspectorAction::FitAlpha) => self.start_alpha_fit(ctx),
+            Some(InspectorAction::ApplyFittedAlpha) => {
+                if let Some(a) = self.inspector.alpha_fit(&self.settings).and_then(|f| f.alpha()) {
+                    self.settings.render.hair_alpha = a;
+                    self.info(format!("render.hair_alpha = {a} (the α fitted to the fibres)"));
+                }
+            }
             None => {}
         }
         let mut open = self.light_map.open;

@@ -222,7 +222,12 @@ fn inspector_plots_pins_exports_and_compares() {
     assert_eq!(curves.pins.len(), 1);
     assert_eq!(curves.pins[0].fragments, other_fragments);
 
-    // CSV: one row per plotted depth of either texel, the reference and every curve shown.
+    // CSV: one row per plotted depth of either texel, the reference, the ray-traced V of both texels' fibres
+    // (traced by a job: wait for it) and every curve shown.
+    harness.state_mut().finish_jobs();
+    harness.run();
+    let curves = harness.state().inspector().curves().unwrap().clone();
+    assert!(curves.current.as_ref().unwrap().traced.is_some() && curves.pins[0].traced.is_some());
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("curves.csv");
     harness.state_mut().export_inspector_csv(&path);
@@ -236,8 +241,10 @@ fn inspector_plots_pins_exports_and_compares() {
     };
     let mut header = vec!["depth".to_string()];
     header.extend(curve_and_count("reference".into()));
+    header.push("ray-traced".into());
     header.extend(labels.iter().cloned().flat_map(curve_and_count));
     header.extend(curve_and_count("pin1 reference".into()));
+    header.push("pin1 ray-traced".into());
     header.extend(curve_and_count("pin1 osm-4".into()));
     assert_eq!(lines.next().unwrap(), header.join(","));
     let rows: Vec<Vec<f32>> = lines
@@ -252,15 +259,18 @@ fn inspector_plots_pins_exports_and_compares() {
     depths.sort_by(f32::total_cmp);
     depths.dedup();
     assert_eq!(rows.len(), depths.len());
-    // The rows hold the plotted values: the densest texel's reference and OSM-4 at its own depths.
+    // The rows hold the plotted values: the densest texel's reference, its ray-traced V and OSM-4 at its own
+    // depths.
     let cur = curves.current.as_ref().unwrap();
+    let traced = &cur.traced.as_ref().unwrap().values;
     for (i, z) in cur.depths.iter().enumerate() {
         let row = rows.iter().find(|r| r[0] == *z).expect("a row per plotted depth");
         assert_eq!(
-            (row[1], row[2], row[3], row[4]),
+            (row[1], row[2], row[3], row[4], row[5]),
             (
                 cur.reference[i],
                 cur.reference_count[i],
+                traced[i],
                 cur.methods[0].values[i],
                 cur.methods[0].counts[i]
             )
@@ -422,4 +432,209 @@ fn the_texel_plot_is_exported_as_png_with_its_curves() {
         "{:?}",
         harness.state().message()
     );
+}
+
+/// The inspected texel's ray-traced `V(z)`: the inspector's series is `pathtrace::visibility::texel_visibility`
+/// of the texel's footprint in the hair maps' light frame (a renderer of its own on the app's scene), with
+/// `TRACED_RAYS`² rays seeded as `compare_map` seeds them, at the plotted depths times `far − near`; the legend
+/// names it, and the figures give its value beyond the last fragment.
+#[test]
+fn the_inspected_texel_shows_its_ray_traced_visibility() {
+    use hairlab::app::inspector::{TRACED_RAYS, traced_label};
+    use hairlab::pathtrace::visibility::{light_map_texel, texel_visibility};
+    use hairlab::pathtrace::{bvh::Bvh, fibre};
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let settings = common::small_settings(320, 240);
+    let mut harness = harness(settings.clone());
+    harness.run();
+    harness.get_by_label("Light map").click();
+    harness.run();
+    harness.get_by_label("Densest texel").click();
+    harness.run();
+    harness.state_mut().finish_jobs();
+    harness.run();
+    let t = current(&harness);
+    let traced = t
+        .traced
+        .clone()
+        .expect("the ray-traced curve of the inspected texel");
+    let [x, y] = harness.state().inspector().scene_texel().unwrap();
+    let scene = harness.state().scene().unwrap();
+    let side = settings.render.light_map_side();
+    let frame = hairlab::render::Renderer::new(&gpu, scene, settings.render.map_resolution)
+        .unwrap()
+        .hair_light_frame(&settings.light);
+    let footprint = light_map_texel(&frame, side, x, y);
+    let span = frame.far - frame.near;
+    assert_eq!(traced.rays.footprint, footprint);
+    assert_eq!(
+        (traced.rays.span, traced.rays.seed),
+        (span, u64::from(y * side + x))
+    );
+    let bvh = Bvh::new(fibre::segments(&scene.strands, settings.render.strand_width));
+    let at: Vec<f32> = t.depths.iter().map(|z| z * span).collect();
+    let want = texel_visibility(&bvh, &footprint, TRACED_RAYS, traced.rays.seed, &at);
+    assert_eq!(traced.values, want);
+    // The densest texel's fibres block some of its rays, not before its first fragment.
+    assert_eq!(traced.values[0], 1.0);
+    assert!(*traced.values.last().unwrap() < 1.0, "{:?}", traced.values.last());
+    assert!(
+        harness.query_by_label_contains(&traced_label()).is_some(),
+        "the legend names the series"
+    );
+    assert!(
+        harness.query_by_label("ray-traced, beyond").is_some(),
+        "the figures row"
+    );
+}
+
+/// Strands along x at depths 1.6 apart, each alone in a row of the 16² map of a light along −z (azimuth and
+/// elevation 0, light space x and y the world's), 0.3 of a texel wide and well inside its row; one strand along y
+/// at x = −0.5 makes the map square (8.5 deep). Returns the settings (coverage alpha: each fragment's `α` is the strand's
+/// share of the texel, 0.3) and the directory holding the file.
+fn row_strands_scene() -> (Settings, tempfile::TempDir) {
+    use glam::Vec3;
+    use hairlab::scene::Strands;
+    const SIDE: u32 = 16;
+    // The per-frame window: the strands' box [-0.5, 0.5]² grown by 1e-3 of its side on each side.
+    let texel = 1.002 / SIDE as f32;
+    let width = 0.3 * texel;
+    let mut points = vec![Vec3::new(-0.5, -0.5, 4.5), Vec3::new(-0.5, 0.5, 4.5)];
+    for (k, row) in [2u32, 4, 6, 9, 11, 13].into_iter().enumerate() {
+        // A tenth of a texel off the row's centre (clear of the line rasteriser's ties).
+        let y = 0.501 - (row as f32 + 0.5) * texel + 0.1 * texel;
+        let z = -4.0 + 1.6 * k as f32;
+        points.extend([Vec3::new(-0.4, y, z), Vec3::new(0.5, y, z)]);
+    }
+    let strands = Strands {
+        counts: vec![2; points.len() / 2],
+        points,
+        ..Strands::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rows.hair");
+    hairlab::scene::load::save_strands(&path, &strands, "rows").unwrap();
+    let settings = common::measured_preset(
+        "default",
+        &[
+            format!("scene.file={}", path.display()),
+            "render.width=320".into(),
+            "render.height=240".into(),
+            format!("render.map_resolution={SIDE}"),
+            "render.alpha=coverage".into(),
+            "render.hair_alpha=1".into(),
+            format!("render.strand_width={width}"),
+            "light.azimuth_deg=0".into(),
+            "light.elevation_deg=0".into(),
+        ],
+    );
+    (settings, dir)
+}
+
+/// Where each strand is alone in its texel and the fragment's `α` is its coverage, the product of `(1 − α)` is
+/// the geometry: the ray-traced and depth-peeled curves agree. Measured away from the fragment (the fibre's front
+/// surface lies half a width before the centre line the rasteriser draws, 0.0011 of the normalised depth here;
+/// the plot spans 0.005 either side of a lone fragment),
+/// within 0.05: the 16 × 16 jittered rays estimate the 0.3 coverage with σ ≈ 0.01 (two partly covered strata
+/// rows of 16 rays).
+#[test]
+fn lone_strands_with_coverage_alpha_trace_as_the_reference() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let (settings, _dir) = row_strands_scene();
+    let mut harness = harness(settings);
+    harness.run();
+    harness.get_by_label("Texel inspector").click();
+    harness.run();
+    harness.state_mut().select_texel(0, 0);
+    harness.run();
+    let lists = harness.state().inspector().lists().expect("fragment lists");
+    // Texels of the horizontal strands, clear of their ends: one fragment each.
+    let lone: Vec<[u32; 2]> = (0..lists.lists.len())
+        .map(|i| [i as u32 % lists.resolution, i as u32 / lists.resolution])
+        .filter(|&[x, y]| {
+            (3..=13).contains(&x) && lists.lists[(y * lists.resolution + x) as usize].len() == 1
+        })
+        .collect();
+    let rows: std::collections::BTreeSet<u32> = lone.iter().map(|t| t[1]).collect();
+    assert_eq!(
+        rows.into_iter().collect::<Vec<_>>(),
+        [2, 4, 6, 9, 11, 13],
+        "{lone:?}"
+    );
+    for [x, y] in lone.into_iter().filter(|t| t[0] == 8) {
+        harness.state_mut().select_texel(x, y);
+        harness.run();
+        harness.state_mut().finish_jobs();
+        harness.run();
+        let t = current(&harness);
+        let f = t.fragments[0];
+        assert!(
+            (f.alpha - 0.3).abs() < 0.01,
+            "texel ({x}, {y}): α {} is not the coverage",
+            f.alpha
+        );
+        let traced = t.traced.as_ref().expect("traced");
+        let mut compared = 0;
+        for ((z, v_ref), v_ray) in t.depths.iter().zip(&t.reference).zip(&traced.values) {
+            if (z - f.depth).abs() > 0.002 {
+                assert!(
+                    (v_ray - v_ref).abs() < 0.05,
+                    "texel ({x}, {y}) at z {z}: ray-traced {v_ray}, reference {v_ref}"
+                );
+                compared += 1;
+            }
+        }
+        assert!(compared > 200, "{compared} of {} depths compared", t.depths.len());
+        eprintln!(
+            "texel ({x}, {y}): V beyond: reference {}, ray-traced {}",
+            t.reference.last().unwrap(),
+            traced.values.last().unwrap()
+        );
+    }
+}
+
+/// "Fit α to fibres" runs `compare_map` as a job and shows its result: the same comparison as `compare_map` run
+/// directly on the window's settings. On the lone strands of 0.3 coverage the fitted α is about 0.3 whatever the
+/// scene's; under a constant α the window offers it for `render.hair_alpha`, and applying it sets it.
+#[test]
+fn the_alpha_fit_is_compare_maps_and_applies_to_the_hair_alpha() {
+    use hairlab::app::inspector::FIT_RAYS;
+    use hairlab::measure::fibre_visibility::compare_map;
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (mut settings, _dir) = row_strands_scene();
+    settings.render.alpha = hairlab::render::AlphaMode::Constant;
+    settings.render.hair_alpha = 0.5;
+    let mut harness = harness(settings);
+    harness.run();
+    harness.get_by_label("Texel inspector").click();
+    harness.run();
+    harness.state_mut().select_texel(8, 2);
+    harness.run();
+    harness.get_by_label("Fit α to fibres").click();
+    harness.step();
+    harness.state_mut().finish_jobs();
+    harness.run();
+    let settings = harness.state().settings().clone();
+    let fit = harness
+        .state()
+        .inspector()
+        .alpha_fit(&settings)
+        .expect("fitted")
+        .clone();
+    let direct = compare_map(&gpu, &settings, FIT_RAYS, &mut |_, _| true).unwrap();
+    assert_eq!(fit.comparison, direct);
+    let a = fit.alpha().unwrap();
+    eprintln!("{}", fit.summary(&settings));
+    assert!((a - 0.3).abs() < 0.05, "best-fit α {a}");
+    assert!(fit.comparison.mean_abs_dv_at_best < fit.comparison.mean_abs_dv);
+    assert!(harness.query_by_label_contains("best-fit α = ").is_some());
+    harness.get_by_label(&format!("Set hair α {a:.3}")).click();
+    harness.run();
+    assert_eq!(harness.state().settings().render.hair_alpha, a);
+    // The fit is of the scene, light and map, not of the hair alpha: it stays shown, with nothing left to apply.
+    let settings = harness.state().settings().clone();
+    assert!(harness.state().inspector().alpha_fit(&settings).is_some());
+    assert!(harness.query_by_label_contains("Set hair α").is_none());
 }

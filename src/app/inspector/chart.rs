@@ -1,9 +1,10 @@
 //! The inspector's plots as charts for the image writers of the bench (`crate::bench::chart`, drawn by
-//! `plotters` as PNG and SVG): the `V(z)` plot and the hair count plot `n(z)` of the inspected texel and of each
-//! pin, the curves in the colours the window gives them (each with a few named markers, which the chart's legend
+//! `plotters` as PNG and SVG): the `V(z)` plot (with the ray-traced `V` of the fibres where traced) and the hair
+//! count plot `n(z)` of the inspected texel and of each pin, the curves in the colours the window gives them (each with a few named markers, which the chart's legend
 //! lists), the fragments as marks under the curves.
 
 use super::curves::{TexelCurves, TexelPlot};
+use super::traced::{TRACED_COLOR, traced_label};
 use crate::bench::chart::{Axis, Chart, Mark, Point, Scale, Series};
 use crate::methods::registry;
 use egui::Color32;
@@ -68,6 +69,14 @@ fn texel_series(t: &TexelPlot, kind: PlotKind, prefix: &str, color: Option<[u8; 
         &t.depths,
         reference_values,
     ));
+    if let (PlotKind::Visibility, Some(traced)) = (kind, &t.traced) {
+        series.extend(line(
+            format!("{prefix}{}", traced_label()),
+            color.unwrap_or(rgb(TRACED_COLOR)),
+            &t.depths,
+            &traced.values,
+        ));
+    }
     for m in &t.methods {
         let values = match kind {
             PlotKind::Visibility => &m.values,

@@ -5,6 +5,9 @@ use super::curves::TexelCurves;
 use crate::visibility::{self, TexelModel};
 use std::path::Path;
 
+/// The ray-traced curve's column (after the texel's reference count, when traced).
+const CSV_TRACED: &str = "ray-traced";
+
 impl TexelCurves {
     /// The depths of the CSV: every plotted depth of every texel, sorted, once each.
     pub fn csv_depths(&self) -> Vec<f32> {
@@ -19,8 +22,9 @@ impl TexelCurves {
         zs
     }
 
-    /// CSV `depth,reference,reference count,<method>,<method> count...,pin1 reference,pin1 reference count,...`:
-    /// every curve shown and its hair count beside it, evaluated at [`TexelCurves::csv_depths`].
+    /// CSV `depth,reference,reference count,[ray-traced,]<method>,<method> count...,pin1 reference,pin1 reference
+    /// count,...`: every curve shown and its hair count beside it, evaluated at [`TexelCurves::csv_depths`]; the
+    /// ray-traced `V` of the fibres ([`super::traced::TRACED_RAYS`]² rays) after a texel's reference where it was traced.
     pub fn csv(&self) -> anyhow::Result<String> {
         let zs = self.csv_depths();
         let mut header = vec!["depth".to_string()];
@@ -36,6 +40,10 @@ impl TexelCurves {
             columns.push(visibility::Reference.curve(&t.fragments, &zs));
             header.push(format!("{prefix}reference count"));
             columns.push(visibility::Reference.count_curve(&t.fragments, &zs, t.hair_alpha));
+            if let Some(traced) = &t.traced {
+                header.push(format!("{prefix}{CSV_TRACED}"));
+                columns.push(traced.rays.curve(&zs));
+            }
             for m in &t.methods {
                 header.push(format!("{prefix}{}", m.label));
                 columns.push(m.model.model.curve(&t.fragments, &zs));
@@ -83,6 +91,7 @@ mod tests {
             reference_error: None,
             hair_alpha: 0.5,
             methods: Vec::new(),
+            traced: None,
             color: None,
         }
     }

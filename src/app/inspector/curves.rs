@@ -3,6 +3,7 @@
 //! what the selected method stores. The GPU lookups equal these models (tested in `tests/gpu_*.rs`), so the
 //! curves show what the GPU computes.
 
+use super::traced::TracedRays;
 use crate::methods::{ParamValues, Role, ShadowMethod, registry};
 use crate::visibility::{self, Fragment, Stored, TexelError, TexelModel, depth_range, metrics};
 use egui::Color32;
@@ -64,8 +65,19 @@ pub struct TexelPlot {
     /// The uniform hair alpha the methods' counts are read at ([`visibility::count_from_visibility`]).
     pub hair_alpha: f32,
     pub methods: Vec<MethodCurve>,
+    /// The ray-traced `V` of the texel's fibres, once traced (scene texels under a directional light).
+    pub traced: Option<TracedCurve>,
     /// A pin's colour.
     pub color: Option<Color32>,
+}
+
+/// The ray-traced `V(z)` of a texel ([`super::traced`]).
+#[derive(Clone, Debug)]
+pub struct TracedCurve {
+    /// `V` at [`TexelPlot::depths`].
+    pub values: Vec<f32>,
+    /// The rays it counts (their footprint, seed and first crossings).
+    pub rays: Arc<TracedRays>,
 }
 
 impl TexelPlot {
@@ -93,6 +105,8 @@ pub(super) struct TexelInput {
     /// The uniform alpha the occupancy model assumes.
     pub hair_alpha: f32,
     pub color: Option<Color32>,
+    /// The texel's ray-traced rays, when traced.
+    pub traced: Option<Arc<TracedRays>>,
 }
 
 /// Everything the curves depend on (they are recomputed when it changes).
@@ -199,6 +213,10 @@ fn texel_plot(
                 selected: selected == Some(i),
             })
             .collect(),
+        traced: input.traced.as_ref().map(|r| TracedCurve {
+            values: r.curve(&depths),
+            rays: r.clone(),
+        }),
         depths,
         color: input.color,
     }
@@ -251,6 +269,7 @@ mod tests {
             fragments: f.clone(),
             hair_alpha: 0.5,
             color: None,
+            traced: None,
         };
         let mut params = ParamValues::new();
         params.insert("slices".into(), 4.0);

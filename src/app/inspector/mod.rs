@@ -6,8 +6,9 @@
 //! (`lightmap_view.rs`), or made up in the synthetic texel lab (`texel_lab.rs`). Texels can be pinned for
 //! comparison, and every curve shown exported as CSV; the plotted methods' error over the whole map (its
 //! distribution over the texels) is computed on demand. Parts: the fragment-list cache (`lists`), the curves
-//! (`curves`), their drawing (`plot`), the whole-map statistics (`map_stats`) and the CSV export (`csv`); [`Inspector::ui`] draws the window from its own
-//! state and the [`InspectorDeps`] it is given.
+//! (`curves`), their drawing (`plot`), the whole-map statistics (`map_stats`), the ray-traced `V(z)` of the fibres
+//! beside the depth-peeled reference and the `α` that fits it over the map (`traced`) and the CSV export (`csv`);
+//! [`Inspector::ui`] draws the window from its own state and the [`InspectorDeps`] it is given.
 
 mod chart;
 mod count_plot;
@@ -16,13 +17,17 @@ mod curves;
 mod lists;
 mod map_stats;
 mod plot;
+mod traced;
 
 pub use chart::{PlotKind, REFERENCE_COLOR};
 pub use csv::export;
-pub use curves::{MethodCurve, PlotModel, TexelCurves, TexelPlot, inspected, method_color, plot_range};
+pub use curves::{
+    MethodCurve, PlotModel, TexelCurves, TexelPlot, TracedCurve, inspected, method_color, plot_range,
+};
 pub use lists::{ListsKey, ReferenceLists, read_reference_lists};
 pub use map_stats::{MapStats, MethodMapError};
 pub(super) use plot::series;
+pub use traced::{AlphaFit, FIT_RAYS, FibreScene, TRACED_COLOR, TRACED_RAYS, TracedRays, traced_label};
 
 use super::jobs::{Job, JobGate, JobStatus, Poll};
 use super::texel_lab::LabSettings;
@@ -115,6 +120,10 @@ pub enum InspectorAction {
     TimeView,
     /// Compute the whole-map statistics (a job).
     ComputeMapStats,
+    /// Fit `α` to the ray-traced fibres over the whole map (a job, [`Inspector::start_alpha_fit`]).
+    FitAlpha,
+    /// Make the fitted `α` ([`Inspector::alpha_fit`]) the scene's `hair_alpha`.
+    ApplyFittedAlpha,
 }
 
 /// The inspector's state (the window's contents, the cached fragment lists and curves).
@@ -137,6 +146,8 @@ pub struct Inspector {
     lab_error: Option<String>,
     map_stats: Option<MapStats>,
     map_stats_job: Option<Job<MapStats>>,
+    traced: traced::Traced,
+    fit: traced::Fit,
 }
 
 impl Inspector {
@@ -197,9 +208,66 @@ impl Inspector {
         }
     }
 
-    /// The whole-map statistics job under way.
-    pub fn job_status(&self) -> Option<JobStatus> {
-        self.map_stats_job.as_ref().map(Job::status)
+    /// The inspector's jobs under way: the whole-map statistics, the ray-traced curves, the `α` fit.
+    pub fn job_status(&self) -> Vec<JobStatus> {
+        let stats = self.map_stats_job.as_ref().map(Job::status);
+        stats
+            .into_iter()
+            .chain(self.traced.status())
+            .chain(self.fit.status())
+            .collect()
+    }
+
+    /// Traces the rays of the inspected scene texel and the scene pins not traced yet for `fibres` (a job, one
+    /// at a time; not while `allow` is false, i.e. during a drag) and takes a finished batch. Nothing under a
+    /// spot light or while the window is closed.
+    pub fn update_traced(
+        &mut self,
+        fibres: Option<FibreScene<'_>>,
+        settings: &Settings,
+        allow: bool,
+        ctx: &egui::Context,
+        gate: Option<JobGate>,
+    ) {
+        let wanted: Vec<[u32; 2]> = self
+            .scene_texel()
+            .into_iter()
+            .chain(self.pins.iter().filter_map(Pin::texel))
+            .collect();
+        let fibres = fibres.filter(|_| self.open);
+        self.traced.update(fibres, settings, &wanted, allow, ctx, gate);
+    }
+
+    /// Takes the ray-traced texels when their job finished, waiting up to `patience`.
+    pub fn poll_traced(&mut self, patience: std::time::Duration) {
+        self.traced.poll(patience);
+    }
+
+    /// The ray-traced rays of scene texel `texel`, when traced for the current scene, light and width.
+    pub fn traced(&self, texel: [u32; 2]) -> Option<std::sync::Arc<TracedRays>> {
+        self.traced.get(texel)
+    }
+
+    /// Starts fitting `α` to the ray-traced fibres over the whole map of `settings` on `gpu` (a job,
+    /// `measure::fibre_visibility::compare_map` at [`FIT_RAYS`]² rays a texel), replacing a fit under way.
+    pub fn start_alpha_fit(
+        &mut self,
+        gpu: crate::gpu::Gpu,
+        settings: &Settings,
+        ctx: &egui::Context,
+        gate: Option<JobGate>,
+    ) {
+        self.fit.start(gpu, settings, ctx, gate);
+    }
+
+    /// Takes the `α` fit when its job finished, waiting up to `patience`: the status line's message when it ended.
+    pub fn poll_alpha_fit(&mut self, patience: std::time::Duration) -> Option<Result<String, String>> {
+        self.fit.poll(patience)
+    }
+
+    /// The last `α` fit, when it is of the scene, light and map of `settings`.
+    pub fn alpha_fit(&self, settings: &Settings) -> Option<&AlphaFit> {
+        self.fit.fit.as_ref().filter(|f| f.is_of(settings))
     }
 
     /// The models of the methods on the plot.
@@ -327,6 +395,7 @@ impl Inspector {
                     fragments: scene_fragments(s.texel)?,
                     hair_alpha: alpha,
                     color: None,
+                    traced: self.traced.get(s.texel),
                 })
             }),
             Source::Synthetic => self.lab.fragments().ok().map(|fragments| TexelInput {
@@ -334,6 +403,7 @@ impl Inspector {
                 hair_alpha: self.lab.hair_alpha(&fragments),
                 fragments,
                 color: None,
+                traced: None,
             }),
         };
         // Every pin, so that the plot, the CSV and the list number them alike (a scene pin without fragment
@@ -342,18 +412,23 @@ impl Inspector {
             .pins
             .iter()
             .map(|p| {
-                let (fragments, hair_alpha) = match &p.source {
-                    PinSource::Scene(t) => (scene_fragments(*t).unwrap_or_default(), alpha),
+                let (fragments, hair_alpha, traced) = match &p.source {
+                    PinSource::Scene(t) => (
+                        scene_fragments(*t).unwrap_or_default(),
+                        alpha,
+                        self.traced.get(*t),
+                    ),
                     PinSource::Synthetic {
                         fragments,
                         hair_alpha,
-                    } => (fragments.clone(), *hair_alpha),
+                    } => (fragments.clone(), *hair_alpha, None),
                 };
                 TexelInput {
                     label: p.label.clone(),
                     fragments,
                     hair_alpha,
                     color: Some(p.color),
+                    traced,
                 }
             })
             .collect();
@@ -423,6 +498,11 @@ impl Inspector {
             Source::Scene => {
                 if self.scene_source_ui(ui, deps) {
                     action = Some(InspectorAction::OpenLightMap);
+                }
+                match self.traced_ui(ui, deps) {
+                    Some(traced::FitClick::Start) => action = Some(InspectorAction::FitAlpha),
+                    Some(traced::FitClick::Apply) => action = Some(InspectorAction::ApplyFittedAlpha),
+                    None => {}
                 }
             }
             Source::Synthetic => self.lab.ui(ui, self.lab_error.as_deref()),
@@ -513,6 +593,24 @@ impl Inspector {
             }
         }
         open_light_map
+    }
+
+    /// The ray-traced curve's state when it is not on the plot, and the `α` fit's row; what the row asks for.
+    fn traced_ui(&self, ui: &mut egui::Ui, deps: InspectorDeps<'_>) -> Option<traced::FitClick> {
+        let settings = deps.settings;
+        if settings.light.kind != crate::scene::LightKind::Directional {
+            ui.weak(traced::SPOT_NOTE);
+        } else if let Some(t) = self.scene_texel().filter(|t| self.traced.get(*t).is_none()) {
+            let inside = t[0] < settings.render.light_map_side() && t[1] < settings.render.light_map_side();
+            if inside {
+                ui.weak(if self.traced.running() {
+                    "ray-traced V(z): tracing the texel's fibres (see the job bar)"
+                } else {
+                    "ray-traced V(z): not traced yet (it traces once the view settles)"
+                });
+            }
+        }
+        traced::fit_row(ui, &self.fit, settings)
     }
 
     fn pins_ui(&mut self, ui: &mut egui::Ui) {

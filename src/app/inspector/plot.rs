@@ -1,7 +1,9 @@
-//! The inspector's drawing: the egui_plot of the reference, the methods' curves, what the selected method stores
-//! (slice planes, layer boundaries, cluster bins, occupied slices) and the pins, and the figures table beside it.
+//! The inspector's drawing: the egui_plot of the reference, the ray-traced `V` of the fibres beside it, the
+//! methods' curves, what the selected method stores (slice planes, layer boundaries, cluster bins, occupied
+//! slices) and the pins, and the figures table beside it.
 
 use super::curves::{MethodCurve, TexelCurves, TexelPlot, plot_range};
+use super::traced::{TRACED_COLOR, traced_label};
 use crate::methods::registry;
 use crate::visibility::{Stored, TexelError};
 use egui::Color32;
@@ -80,12 +82,28 @@ pub(super) fn plot(ui: &mut egui::Ui, curves: &TexelCurves, height: f32) {
                     .color(text)
                     .width(2.0),
             );
+            if let Some(traced) = &t.traced {
+                p.line(
+                    Line::new(traced_label(), series(&t.depths, &traced.values))
+                        .color(TRACED_COLOR)
+                        .width(2.0)
+                        .style(LineStyle::dashed_loose()),
+                );
+            }
             method_curves(p, t, text, "", |m| &m.values, -0.02);
         }
         for (i, t) in curves.pins.iter().enumerate() {
             let color = t.color.unwrap_or(text);
             let name = format!("pin {} {}", i + 1, t.label);
             p.line(Line::new(format!("{name} reference"), series(&t.depths, &t.reference)).color(color));
+            if let Some(traced) = &t.traced {
+                p.line(
+                    Line::new(format!("{name} ray-traced"), series(&t.depths, &traced.values))
+                        .color(color)
+                        .width(2.0)
+                        .style(LineStyle::dotted_dense()),
+                );
+            }
             for m in &t.methods {
                 p.line(
                     Line::new(format!("{name} {}", m.label), series(&t.depths, &m.values))
@@ -173,6 +191,15 @@ pub(super) fn figures(ui: &mut egui::Ui, curves: &TexelCurves) {
         ui.label("V beyond far");
         ui.label(format!("{:.5}", (-total).exp()));
         ui.end_row();
+        if let Some(traced) = &t.traced {
+            ui.colored_label(TRACED_COLOR, "ray-traced, beyond");
+            ui.label(format!("{:.5}", traced.values.last().copied().unwrap_or(1.0)))
+                .on_hover_text(format!(
+                    "the share of the texel's {} rays no fibre blocks before the last plotted depth",
+                    traced.rays.first.len()
+                ));
+            ui.end_row();
+        }
     });
     ui.add_space(4.0);
     egui::Grid::new("texel_errors")

@@ -220,15 +220,15 @@ impl TimeView {
     }
 }
 
-/// Each configuration's colour: its method family's hue, a shade per configuration of the family (the hue first,
-/// then lighter).
+/// Each configuration's colour: its method family's hue (lightened to [`MIN_LUMINANCE`] where darker), a shade per
+/// configuration of the family (the hue first, then lighter).
 fn colors(labels: &[String]) -> Vec<Color32> {
     let family = |l: &str| l.split(':').next().unwrap_or(l).to_string();
     labels
         .iter()
         .map(|label| {
             let name = family(label);
-            let base = registry::find(&name).map_or(Color32::GRAY, method_color);
+            let base = readable(registry::find(&name).map_or(Color32::GRAY, method_color));
             let siblings: Vec<&String> = labels.iter().filter(|l| family(l) == name).collect();
             let k = siblings.iter().position(|l| *l == label).unwrap_or(0);
             if siblings.len() < 2 {
@@ -244,6 +244,25 @@ fn colors(labels: &[String]) -> Vec<Color32> {
             Color32::from_rgb(shade(base.r()), shade(base.g()), shade(base.b()))
         })
         .collect()
+}
+
+/// The least luminance (Rec. 709 weights of the 8-bit channels, 0..1) a curve or legend colour may have on the
+/// dark plot: fom's slate (0.24) and dsm's purple (0.30) were hard to read there.
+const MIN_LUMINANCE: f32 = 0.45;
+
+fn luminance(c: Color32) -> f32 {
+    (0.2126 * f32::from(c.r()) + 0.7152 * f32::from(c.g()) + 0.0722 * f32::from(c.b())) / 255.0
+}
+
+/// `c` mixed towards white just enough to reach [`MIN_LUMINANCE`] (unchanged when it does).
+fn readable(c: Color32) -> Color32 {
+    let l = luminance(c);
+    if l >= MIN_LUMINANCE {
+        return c;
+    }
+    let t = (MIN_LUMINANCE - l) / (1.0 - l);
+    let mix = |v: u8| (f32::from(v) + (255.0 - f32::from(v)) * t).ceil().min(255.0) as u8;
+    Color32::from_rgb(mix(c.r()), mix(c.g()), mix(c.b()))
 }
 
 fn frame_series(values: impl Iterator<Item = f64>) -> PlotPoints<'static> {
@@ -424,11 +443,24 @@ mod tests {
         let c = colors(&labels);
         let hue = |name| method_color(registry::find(name).unwrap());
         let sum = |c: Color32| u32::from(c.r()) + u32::from(c.g()) + u32::from(c.b());
-        assert_eq!(c[0], hue(osm), "the first configuration has the family's hue");
+        assert_eq!(c[0], readable(hue(osm)), "the first configuration has the family's hue");
         assert!(
             sum(c[1]) > sum(c[0]) && sum(c[2]) > sum(c[1]),
             "lighter in turn: {c:?}"
         );
-        assert_eq!(c[3], hue(occupancy), "a family of one keeps its hue");
+        assert_eq!(c[3], readable(hue(occupancy)), "a family of one keeps its hue");
+    }
+
+    #[test]
+    fn every_methods_colour_is_bright_enough_for_the_dark_plot() {
+        for m in registry::all() {
+            let c = readable(method_color(*m));
+            assert!(luminance(c) >= MIN_LUMINANCE - 1e-3, "{}: {c:?}", m.name());
+        }
+        // A bright hue is left alone; a dark one keeps its hue (its channels' order).
+        let bright = Color32::from_rgb(255, 200, 0);
+        assert_eq!(readable(bright), bright);
+        let dark = readable(Color32::from_rgb(0x39, 0x3b, 0x79));
+        assert!(dark.b() > dark.g() && dark.g() >= dark.r(), "{dark:?}");
     }
 }

@@ -443,7 +443,11 @@ mod tests {
         let c = colors(&labels);
         let hue = |name| method_color(registry::find(name).unwrap());
         let sum = |c: Color32| u32::from(c.r()) + u32::from(c.g()) + u32::from(c.b());
-        assert_eq!(c[0], readable(hue(osm)), "the first configuration has the family's hue");
+        assert_eq!(
+            c[0],
+            readable(hue(osm)),
+            "the first configuration has the family's hue"
+        );
         assert!(
             sum(c[1]) > sum(c[0]) && sum(c[2]) > sum(c[1]),
             "lighter in turn: {c:?}"

@@ -922,6 +922,19 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
     );
 }
 
+/// The window on a small wind motion with the timeline's Export… window open.
+fn export_window() -> Harness<'static, HairlabApp> {
+    let settings = small_wind(4);
+    let mut harness = Harness::builder()
+        .with_size([1100.0, 700.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    harness.get_by_label("Export…").click();
+    harness.run();
+    harness
+}
+
 /// The timeline's Export…: frames of the motion at a chosen size as a PNG sequence and as an animated GIF,
 /// rendered in a job and streamed frame by frame; the files are, byte for byte, what the export wrote when it held
 /// every frame and encoded them at the end (each frame of the CLI's `render --frames A..B` encoded as PNG, and
@@ -931,14 +944,7 @@ fn the_window_exports_the_motion_as_the_cli_does() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = small_wind(4);
-    let mut harness = Harness::builder()
-        .with_size([1100.0, 700.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
-    harness.run();
-    harness.get_by_label("Export…").click();
-    harness.run();
+    let mut harness = export_window();
     let dir = tempfile::tempdir().unwrap();
     let export = |harness: &mut Harness<'_, HairlabApp>, gif: bool, path: std::path::PathBuf| {
         let e = harness.state_mut().animation_export_mut();
@@ -1021,14 +1027,7 @@ fn a_cancelled_export_leaves_nothing_at_the_target() {
     if Gpu::for_tests().is_none() {
         return;
     }
-    let settings = small_wind(4);
-    let mut harness = Harness::builder()
-        .with_size([1100.0, 700.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
-    harness.run();
-    harness.get_by_label("Export…").click();
-    harness.run();
+    let mut harness = export_window();
     let dir = tempfile::tempdir().unwrap();
     let listing = || -> Vec<std::path::PathBuf> {
         std::fs::read_dir(dir.path())

@@ -200,17 +200,33 @@ pub fn render_frames(
     sink: &mut dyn FnMut(u32, image::RgbaImage) -> Result<()>,
 ) -> Result<()> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    render_frames_on(&gpu, settings, frames, &mut |line| eprintln!("{line}"), sink)
+    let log = &mut |line: &str| eprintln!("{line}");
+    render_frames_on(&gpu, settings, frames, log, &mut crate::progress::Quiet, sink)
 }
 
-/// [`render_frames`] on `gpu`, the scene, adapter, GPU times and fur figures told to `log` line by line.
+/// [`render_frames`] on `gpu`, the scene, adapter, GPU times and fur figures told to `log` line by line, each
+/// frame's image handed to `sink` once `progress` is told of it; a stop `progress` asks for fails with
+/// [`crate::progress::Stopped`] (so a streamed output is discarded).
 pub fn render_frames_on(
     gpu: &Gpu,
     settings: &mut Settings,
     frames: &[u32],
     log: &mut dyn FnMut(&str),
+    progress: &mut dyn crate::progress::Progress,
     sink: &mut dyn FnMut(u32, image::RgbaImage) -> Result<()>,
 ) -> Result<()> {
+    let total = frames.len();
+    let mut sent = 0;
+    let mut sink = |k: u32, image: image::RgbaImage| -> Result<()> {
+        sink(k, image)?;
+        sent += 1;
+        let what = format!("frame {sent} of {total} written");
+        if progress.step(&what, crate::progress::share(sent, total)) {
+            Ok(())
+        } else {
+            Err(crate::progress::Stopped.into())
+        }
+    };
     let Some((&first, rest)) = frames.split_first() else {
         return Ok(());
     };

@@ -13,6 +13,7 @@ pub mod measure;
 pub mod methods;
 pub mod motion;
 pub mod pathtrace;
+pub mod progress;
 pub mod render;
 pub mod report;
 pub mod rng;

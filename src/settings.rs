@@ -260,9 +260,15 @@ pub const BUILTIN_PRESETS: &[(&str, &str)] = &[
 impl SceneSettings {
     /// Builds the scene: loads `file` when set, runs the generator otherwise.
     pub fn build(&self) -> Result<crate::scene::Scene> {
+        self.build_with(&mut crate::progress::Quiet)
+    }
+
+    /// [`SceneSettings::build`] telling `progress` how far the load or the growth got; once it answers `false`
+    /// the build stops early (an error, or the strands so far: the caller drops either).
+    pub fn build_with(&self, progress: &mut dyn crate::progress::Progress) -> Result<crate::scene::Scene> {
         use crate::scene::{Mesh, generate, gltf_load};
         match (&self.file, &self.scalp) {
-            (Some(f), _) => crate::scene::load::load_scene(f),
+            (Some(f), _) => crate::scene::load::load_scene_with(f, progress),
             (None, Some(scalp)) => {
                 let meshes = gltf_load::load_gltf(scalp)?.meshes;
                 if meshes.is_empty() {
@@ -271,12 +277,11 @@ impl SceneSettings {
                         scalp.display()
                     );
                 }
-                generate::generate_on_scalp(&self.generator, &Mesh::merged(&meshes))
+                generate::generate_on_scalp_with(&self.generator, &Mesh::merged(&meshes), progress)
                     .map_err(|e| anyhow::anyhow!("scene generator on {}: {e}", scalp.display()))
             }
-            (None, None) => {
-                generate::generate(&self.generator).map_err(|e| anyhow::anyhow!("scene generator: {e}"))
-            }
+            (None, None) => generate::generate_with(&self.generator, progress)
+                .map_err(|e| anyhow::anyhow!("scene generator: {e}")),
         }
     }
 }
@@ -492,7 +497,15 @@ impl Settings {
     /// frame's; the simulation collides with the generator's head ellipsoid when the scene is that head, or
     /// with the meshes that ride on the root frame (`motion.colliders`): every mesh but the generator's floor.
     pub fn open_motion(&self) -> Result<(crate::scene::Scene, crate::motion::Motion)> {
-        let mut scene = self.scene.build()?;
+        self.open_motion_with(&mut crate::progress::Quiet)
+    }
+
+    /// [`Settings::open_motion`] telling `progress` how far the scene's build got ([`SceneSettings::build_with`]).
+    pub fn open_motion_with(
+        &self,
+        progress: &mut dyn crate::progress::Progress,
+    ) -> Result<(crate::scene::Scene, crate::motion::Motion)> {
+        let mut scene = self.scene.build_with(progress)?;
         let s = &self.scene;
         let generated = s.file.is_none();
         let head =

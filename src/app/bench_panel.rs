@@ -1,40 +1,27 @@
-//! The Bench window: the sweep of `hairlab bench` on the current settings, run on a background thread with its
-//! own headless GPU device and cancellable, charted as GPU time (log scale) against the chosen accuracy metric
+//! The Bench window: the sweep of `hairlab bench` on the current settings, a job ([`super::jobs`]) with its
+//! own headless GPU device (Stop keeps the configurations measured, the job bar's Cancel drops them), charted as GPU time (log scale) against the chosen accuracy metric
 //! (map error, a texel-error percentile, the share of bad texels, ...) in egui_plot —
 //! the same chart model (`bench::chart`) as the PNG and SVG: one colour per method, the Pareto front connected,
 //! the configuration named on hover. Clicking a point (or a configuration in the table) makes it the app's
 //! shadow method.
 
 use super::HairlabApp;
-use super::jobs::{self, JobStatus};
+use super::jobs::{self, JobStatus, Poll};
 use crate::bench::chart::{Chart, Mark};
-use crate::bench::{self, BenchResult, BenchRow, Progress};
+use crate::bench::{self, BenchResult, BenchRow};
 use egui_plot::{GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, Points};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, mpsc};
 
-/// Configurations per `measure` call: a cancel takes effect after at most this many.
+/// Configurations per `measure` call: a stop takes effect after at most this many.
 const CHUNK: usize = 4;
 /// How near (points) a click must land to pick a configuration.
 const PICK_RADIUS: f32 = 12.0;
 
-/// What the worker thread reports.
-enum Report {
-    Progress(Progress),
-    Done(Result<Option<BenchResult>, String>),
-}
-
-/// A running sweep; dropping it asks the worker to stop.
+/// A running sweep: the job, and the flag its Stop button sets.
 struct Job {
-    cancel: Arc<AtomicBool>,
-    rx: mpsc::Receiver<Report>,
-    progress: Option<Progress>,
-}
-
-impl Drop for Job {
-    fn drop(&mut self) {
-        self.cancel.store(true, Ordering::Relaxed);
-    }
+    job: jobs::Job<Result<Option<BenchResult>, String>>,
+    stop: Arc<AtomicBool>,
 }
 
 /// State of the Bench window.
@@ -96,26 +83,7 @@ impl HairlabApp {
 
     /// The sweep under way, for the progress bar of every job (`jobs.rs`).
     pub(super) fn bench_status(&self) -> Option<JobStatus> {
-        let job = self.bench.job.as_ref()?;
-        let (stage, fraction, elapsed) = match &job.progress {
-            Some(p) => (
-                format!("{}/{} {}", (p.done + 1).min(p.total.max(1)), p.total, p.label),
-                if p.total > 0 {
-                    p.done as f32 / p.total as f32
-                } else {
-                    0.0
-                },
-                p.elapsed,
-            ),
-            None => ("starting".to_string(), 0.0, std::time::Duration::ZERO),
-        };
-        Some(jobs::external_status(
-            "bench",
-            stage,
-            fraction,
-            elapsed,
-            job.cancel.clone(),
-        ))
+        self.bench.job.as_ref().map(|j| j.job.status())
     }
 
     /// Where the point of result row `row` was drawn in the last frame, in screen points.
@@ -138,63 +106,39 @@ impl HairlabApp {
         }
         let settings = self.settings.clone();
         let frames = self.bench.frames;
-        let cancel = Arc::new(AtomicBool::new(false));
-        let (tx, rx) = mpsc::channel();
-        let worker_cancel = cancel.clone();
-        let ctx = ctx.clone();
-        std::thread::spawn(move || {
-            let progress_tx = tx.clone();
-            let progress_ctx = ctx.clone();
-            let mut progress = move |p: Progress| {
-                let _ = progress_tx.send(Report::Progress(p));
-                progress_ctx.request_repaint();
-            };
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopping = stop.clone();
+        let job = jobs::Job::spawn("bench", ctx, self.job_gate.clone(), move |ctl| {
+            let mut progress = |label: &str, f: f32| ctl.step(label, f) && !stopping.load(Ordering::Relaxed);
             let result = bench::run(
                 &settings,
                 "current settings",
                 &methods,
                 frames,
                 CHUNK,
-                &worker_cancel,
                 &mut progress,
-            )
-            .map_err(|e| format!("{e:#}"));
-            let _ = tx.send(Report::Done(result));
-            ctx.request_repaint();
+            );
+            // A stop keeps what was measured; a cancel (the job bar) drops it.
+            (!ctl.cancelled()).then(|| result.map_err(|e| format!("{e:#}")))
         });
-        self.bench.job = Some(Job {
-            cancel,
-            rx,
-            progress: None,
-        });
+        self.bench.job = Some(Job { job, stop });
         self.info("bench started");
     }
 
-    /// Takes the worker's reports.
+    /// Takes the sweep's result once it is done.
     fn poll_bench(&mut self) {
-        let Some(job) = self.bench.job.as_mut() else {
+        let Some(job) = self.bench.job.as_ref() else {
             return;
         };
-        let mut done = None;
-        loop {
-            match job.rx.try_recv() {
-                Ok(Report::Progress(p)) => job.progress = Some(p),
-                Ok(Report::Done(r)) => {
-                    done = Some(r);
-                    break;
-                }
-                Err(mpsc::TryRecvError::Empty) => break,
-                Err(mpsc::TryRecvError::Disconnected) => {
-                    done = Some(Err("the bench thread stopped without a result".to_string()));
-                    break;
-                }
-            }
-        }
-        let Some(done) = done else { return };
+        let done = match job.job.poll() {
+            Poll::Running => return,
+            Poll::Done(r) => r,
+            Poll::Gone => Ok(None),
+        };
         self.bench.job = None;
         match done {
             Ok(Some(r)) => {
-                let what = if r.cancelled { "cancelled after" } else { "done:" };
+                let what = if r.cancelled { "stopped after" } else { "done:" };
                 self.info(format!("bench {what} {} configurations measured", r.rows.len()));
                 self.bench.on_screen.clear();
                 self.bench.result = Some(r);
@@ -256,27 +200,22 @@ impl HairlabApp {
                 if ui.button("Run bench").clicked() {
                     self.start_bench(ctx);
                 }
-            } else if ui.button("Cancel").clicked()
+            } else if ui
+                .button("Stop")
+                .on_hover_text("stop after the configurations under way and keep those measured")
+                .clicked()
                 && let Some(job) = &self.bench.job
             {
-                job.cancel.store(true, Ordering::Relaxed);
-                self.info("bench: cancelling after the configurations under way");
+                job.stop.store(true, Ordering::Relaxed);
+                self.info("bench: stopping after the configurations under way");
             }
-            if let Some(p) = self.bench.job.as_ref().and_then(|j| j.progress.as_ref()) {
-                let fraction = if p.total > 0 {
-                    p.done as f32 / p.total as f32
-                } else {
-                    0.0
-                };
-                ui.add(egui::ProgressBar::new(fraction).text(format!(
-                    "{}/{} {} · {:.0} s",
-                    (p.done + 1).min(p.total.max(1)),
-                    p.total,
-                    p.label,
-                    p.elapsed.as_secs_f64()
+            if let Some(job) = &self.bench.job {
+                let s = job.job.status();
+                ui.add(egui::ProgressBar::new(s.fraction).text(format!(
+                    "{} · {:.0} s",
+                    s.stage,
+                    s.elapsed.as_secs_f64()
                 )));
-            } else if running {
-                ui.spinner();
             }
             if !running && self.bench.result.is_some() {
                 if ui

@@ -11,11 +11,6 @@ use crate::gpu::Gpu;
 use crate::settings::Settings;
 use std::path::PathBuf;
 
-/// A stop asked through Cancel.
-#[derive(Debug, thiserror::Error)]
-#[error("the export was cancelled")]
-struct Cancelled;
-
 /// The export window's state.
 #[derive(Default)]
 pub struct AnimationExport {
@@ -94,20 +89,8 @@ impl AnimationExport {
         let range = format!("{}..{}", self.start, self.end);
         self.outcome = None;
         self.job = Some(Job::spawn("animation export", ctx, gate, move |ctl| {
-            let total = frames.len();
-            let mut written = 0;
-            let result = out.write(|sink| {
-                render_frames_on(&gpu, &mut s, &frames, &mut |_| {}, &mut |k, image| {
-                    sink(k, image)?;
-                    written += 1;
-                    let what = format!("frame {written} of {total} written");
-                    if ctl.step(&what, written as f32 / total.max(1) as f32) {
-                        Ok(())
-                    } else {
-                        Err(Cancelled.into())
-                    }
-                })
-            });
+            let result = out
+                .write(|sink| render_frames_on(&gpu, &mut s, &frames, &mut |_| {}, &mut ctl.clone(), sink));
             let (how, target) = match &out {
                 AnimationOut::Gif { file, .. } => ("an animated GIF", file),
                 AnimationOut::Pngs { dir, .. } => ("PNG files", dir),
@@ -117,7 +100,7 @@ impl AnimationExport {
                     "wrote frames {range} to {} as {how}",
                     target.display()
                 ))),
-                Err(e) if e.is::<Cancelled>() => None,
+                Err(_) if ctl.cancelled() => None,
                 Err(e) => Some(Err(format!("{e:#}"))),
             }
         }));

@@ -1,5 +1,5 @@
 //! Long jobs off the UI thread. A [`Job`] runs its work on a worker thread; the work reports its stage and
-//! how far it got through a [`JobCtl`] at its natural steps (a batch of strands, a method's map error, ...),
+//! how far it got through a [`JobCtl`] (the library loops' [`crate::progress::Progress`]) at its natural steps (a batch of strands, a method's map error, ...),
 //! and stops early once cancelled. The UI thread polls the job each frame and applies a finished result in
 //! one go, so while it runs the window keeps drawing the previous state, and a cancelled job leaves that state
 //! exactly as it was. Dropping a job cancels it, which is how a second job of the same kind replaces the
@@ -82,11 +82,11 @@ impl JobCtl {
     pub fn cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
     }
+}
 
-    /// The job's cancel flag, for library loops that take one (`MotionOptions::cancel`) and report through a
-    /// progress closure that calls [`JobCtl::step`].
-    pub fn cancel_flag(&self) -> &AtomicBool {
-        &self.cancel
+impl crate::progress::Progress for JobCtl {
+    fn step(&mut self, label: &str, fraction: f32) -> bool {
+        JobCtl::step(self, label, fraction)
     }
 }
 
@@ -221,23 +221,6 @@ impl<T> Drop for Job<T> {
     }
 }
 
-/// A job status of a worker with its own progress report (the bench), for [`jobs_bar`].
-pub fn external_status(
-    name: &'static str,
-    stage: String,
-    fraction: f32,
-    elapsed: Duration,
-    cancel: Arc<AtomicBool>,
-) -> JobStatus {
-    JobStatus {
-        name,
-        stage,
-        fraction,
-        elapsed,
-        cancel,
-    }
-}
-
 /// One row per running job: its name and stage, a progress bar with the time left, and Cancel. `hide_times`
 /// replaces the times (UI snapshots).
 pub fn jobs_bar(ui: &mut egui::Ui, jobs: &[JobStatus], hide_times: bool) {
@@ -335,16 +318,15 @@ mod tests {
 
     #[test]
     fn eta_extrapolates_the_elapsed_time() {
-        let s = external_status(
-            "test",
-            String::new(),
-            0.25,
-            Duration::from_secs(3),
-            Arc::default(),
-        );
-        assert_eq!(s.eta(), Some(Duration::from_secs(9)));
-        let early = external_status("test", String::new(), 0.0, Duration::from_secs(3), Arc::default());
-        assert_eq!(early.eta(), None);
+        let status = |fraction| JobStatus {
+            name: "test",
+            stage: String::new(),
+            fraction,
+            elapsed: Duration::from_secs(3),
+            cancel: Arc::default(),
+        };
+        assert_eq!(status(0.25).eta(), Some(Duration::from_secs(9)));
+        assert_eq!(status(0.0).eta(), None);
     }
 
     #[test]

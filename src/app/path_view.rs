@@ -130,22 +130,24 @@ pub fn render_image(
     scene: &Scene,
     size: (u32, u32),
 ) -> anyhow::Result<image::RgbaImage> {
-    Ok(render_image_steps(settings, scene, size, &mut |_, _| true)?.unwrap_or_default())
+    Ok(render_image_steps(settings, scene, size, &mut crate::progress::Quiet)?.unwrap_or_default())
 }
 
-/// [`render_image`] one sample per pixel at a time, telling `after_pass(samples so far, of)` after each;
-/// `Ok(None)` once that answers `false`.
+/// [`render_image`] one sample per pixel at a time, telling `progress` after each; `Ok(None)` once that answers
+/// `false`.
 pub fn render_image_steps(
     settings: &Settings,
     scene: &Scene,
     size: (u32, u32),
-    after_pass: &mut dyn FnMut(u32, u32) -> bool,
+    progress: &mut dyn crate::progress::Progress,
 ) -> anyhow::Result<Option<image::RgbaImage>> {
     let mut p = prepare(settings, scene, size)?;
     let (spp, path) = (settings.render.spp, p.path.clone());
     while p.acc.samples() < spp {
         path.add_samples(&mut p.acc, 1);
-        if !after_pass(p.acc.samples(), spp) {
+        let done = p.acc.samples();
+        let label = format!("{done}/{spp} spp");
+        if !progress.step(&label, crate::progress::share(done as usize, spp as usize)) {
             return Ok(None);
         }
     }

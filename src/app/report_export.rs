@@ -10,22 +10,12 @@ use crate::measure::MethodConfig;
 use crate::measure::transparency::TechniqueConfig;
 use crate::report::run::Plan;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The folder the report is written to inside the chosen one.
 pub const REPORT_DIR: &str = "hairlab-report";
 
 /// What the export job gives back: the page, and the configurations finished when it was cancelled.
 pub type ReportDone = Result<(PathBuf, Option<usize>), String>;
-
-/// The share of the job done when a phase of the study starts, by the line the study logs at its start.
-const PHASES: [(&str, f32); 4] = [
-    ("rendering the scene", 0.0),
-    ("measuring the shadow", 0.05),
-    ("measuring the transparency", 0.5),
-    ("measuring the motion", 0.75),
-];
 
 /// The report's folder for the chosen folder `dir`.
 fn out_shown(dir: &Path) -> PathBuf {
@@ -73,18 +63,8 @@ impl HairlabApp {
         let command = command(&plan, &out);
         let toml = settings.to_toml().into_bytes();
         let job = Job::spawn("report", &self.egui_ctx, self.job_gate.clone(), move |ctl| {
-            let cancel = Arc::new(AtomicBool::new(false));
-            let mut fraction = 0.0;
-            let mut log = |line: &str| {
-                if let Some((_, f)) = PHASES.iter().find(|(start, _)| line.starts_with(start)) {
-                    fraction = *f;
-                }
-                if !ctl.step(line.trim(), fraction) {
-                    cancel.store(true, Ordering::SeqCst);
-                }
-            };
             let extra = [("settings.toml", toml)];
-            let done = crate::report::fresh(&out, &plan, &settings, command, &extra, &cancel, &mut log);
+            let done = crate::report::fresh(&out, &plan, &settings, command, &extra, &mut ctl.clone());
             Some(done.map_err(|e| format!("{e:#}")))
         });
         self.info(format!("report: writing {}", out_shown(dir).display()));

@@ -2,6 +2,7 @@
 //! statistics and a method's analysis, each a job (`jobs.rs`) applied when it is done.
 
 use super::*;
+use crate::progress::Progress as _;
 
 impl HairlabApp {
     /// Starts building the scene from the settings (generator or file) on a worker thread, replacing a build
@@ -27,11 +28,8 @@ impl HairlabApp {
             if !ctl.step(what, 0.0) {
                 return None;
             }
-            let progress = ctl.clone();
-            let built = crate::scene::progress::observed(
-                move |f| progress.step(what, 0.9 * f),
-                || settings.open_motion(),
-            )?;
+            let built = settings.open_motion_with(&mut ctl.clone().part(0.0, 0.9));
+            // A stopped build's partial scene (or its error) is dropped.
             ctl.step("preparing the motion", 0.95).then_some(())?;
             let ms = start.elapsed().as_secs_f64() * 1e3;
             Some(built.map(|(s, m)| (s, m, ms)).map_err(|e| format!("{e:#}")))

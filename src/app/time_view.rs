@@ -15,9 +15,7 @@ use super::inspector::method_color;
 use super::jobs::{Job, JobGate, JobStatus, Poll};
 use crate::gpu::Gpu;
 use crate::measure::MethodConfig;
-use crate::measure::motion::{
-    Cancelled, MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs,
-};
+use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs};
 use crate::measure::temporal::{FollowedPoint, followed_pops};
 use crate::methods::registry;
 use crate::scene::Strands;
@@ -122,17 +120,10 @@ impl TimeView {
         self.job = Some(Job::spawn("time view", ctx, gate, move |ctl| {
             let options = MotionOptions {
                 follow: Some(point),
-                cancel: Some(ctl.cancel_flag()),
                 after_each: None,
             };
-            let mut progress = |what: &str, done: f32| {
-                ctl.step(what, done);
-            };
-            match measure_motion(&gpu, &settings, &configs, frames, options, &mut progress) {
-                Ok(m) => Some(Ok(m)),
-                Err(e) if e.is::<Cancelled>() => None,
-                Err(e) => Some(Err(format!("{e:#}"))),
-            }
+            let m = measure_motion(&gpu, &settings, &configs, frames, options, &mut ctl.clone());
+            (!ctl.cancelled()).then(|| m.map_err(|e| format!("{e:#}")))
         }));
     }
 

@@ -179,13 +179,12 @@ pub fn write_motion_bench(
     write_files(dir, files)
 }
 
-/// `hairlab bench motion`: measures, prints the table and the front, writes the files.
-pub fn run(a: &MotionBenchArgs) -> Result<()> {
+/// `hairlab bench motion`: measures, prints the table and the front, writes the files; `progress` hears what is
+/// measured.
+pub fn run(a: &MotionBenchArgs, progress: &mut dyn crate::progress::Progress) -> Result<()> {
     let (settings, configs) = a.run.resolve()?;
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let m = measure_motion_on(&gpu, &settings, &configs, a.run.frames, |what| {
-        eprintln!("measuring {what}…")
-    })?;
+    let m = measure_motion_on(&gpu, &settings, &configs, a.run.frames, progress)?;
     print!("{}", m.table(&a.run.preset));
     let coords: Vec<[f64; 2]> = m.rows.iter().map(|r| [r.gpu_ms, a.metric.value(r)]).collect();
     let front: Vec<String> = pareto_front(&coords)

@@ -1,5 +1,5 @@
-//! Running the bench: the configurations measured in chunks (cancellable between configurations), the scaling
-//! mode's densities, and progress reports (a bar on the terminal).
+//! Running the bench: the configurations measured in chunks (stopping between configurations when the
+//! [`Progress`] says so) and the scaling mode's densities.
 
 use super::{
     BenchConfig, BenchResult, BenchRow, DEFAULT_ACCURACY_METRIC, MIN_SCALING_FRAMES, ScalingFit,
@@ -7,32 +7,22 @@ use super::{
     growth_exponent, sweep_configs, tune_analysed,
 };
 use crate::measure::{self, MethodConfig};
+use crate::progress::{Part, Progress, share};
 use crate::render::caster::Raster;
 use crate::settings::Settings;
 use anyhow::{Result, bail};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
-
-/// Where a run is: `done` of `total` steps, what runs now, and the time since the start.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Progress {
-    pub done: usize,
-    pub total: usize,
-    pub label: String,
-    pub elapsed: Duration,
-}
+use std::cell::{Cell, RefCell};
 
 /// Measures `configs` on `settings`' scene, `chunk` configurations per `measure` call (each call renders the
-/// reference again; cancelling takes effect after the configuration in progress). `None` when cancelled before
-/// any row.
+/// reference again; a stop `progress` asks for takes effect after the configuration in progress). `None` when
+/// stopped before any row.
 pub fn measure_configs(
     settings: &Settings,
     preset: &str,
     configs: &[BenchConfig],
     frames: u32,
     chunk: usize,
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut dyn Progress,
 ) -> Result<Option<BenchResult>> {
     measure_configs_each(
         settings,
@@ -40,7 +30,6 @@ pub fn measure_configs(
         configs,
         frames,
         chunk,
-        cancel,
         progress,
         &mut |_| Ok(()),
     )
@@ -53,22 +42,25 @@ pub fn measure_configs_each(
     configs: &[BenchConfig],
     frames: u32,
     chunk: usize,
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut dyn Progress,
     finished: &mut dyn FnMut(&BenchResult) -> Result<()>,
 ) -> Result<Option<BenchResult>> {
-    let start = Instant::now();
     let total = configs.len();
     let mut stats = None;
     let mut rows = Vec::with_capacity(total);
+    let progress = RefCell::new(progress);
     for group in configs.chunks(chunk.max(1)) {
-        if cancel.load(Ordering::Relaxed) {
+        if !progress
+            .borrow_mut()
+            .step("next configurations", share(rows.len(), total))
+        {
             break;
         }
         let methods: Vec<MethodConfig> = group.iter().map(|c| c.config.clone()).collect();
         let first = rows.len();
         let mut next = 0;
         let mut written = Ok(());
+        let stopped = Cell::new(false);
         let (s, measured) = measure::measure_each(
             settings,
             &methods,
@@ -78,12 +70,8 @@ pub fn measure_configs_each(
                 if group.get(next).is_some_and(|c| c.config.label() == label) {
                     next += 1;
                 }
-                progress(Progress {
-                    done: first + next.saturating_sub(1),
-                    total,
-                    label: label.to_string(),
-                    elapsed: start.elapsed(),
-                });
+                let done = share(first + next.saturating_sub(1), total);
+                stopped.set(stopped.get() || !progress.borrow_mut().step(label, done));
             },
             |s, so_far| {
                 let partial = BenchResult {
@@ -104,7 +92,10 @@ pub fn measure_configs_each(
                     metric: DEFAULT_ACCURACY_METRIC,
                 };
                 written = finished(&partial);
-                if written.is_err() || cancel.load(Ordering::Relaxed) {
+                let label = so_far.last().map_or(String::new(), |m| m.config.label());
+                let done = share(first + so_far.len(), total);
+                stopped.set(stopped.get() || !progress.borrow_mut().step(&label, done));
+                if written.is_err() || stopped.get() {
                     std::ops::ControlFlow::Break(())
                 } else {
                     std::ops::ControlFlow::Continue(())
@@ -119,13 +110,11 @@ pub fn measure_configs_each(
                 .map(|(m, c)| BenchRow::from_measurement(m, &c.note, &s.device)),
         );
         stats.get_or_insert(s);
+        if stopped.get() {
+            break;
+        }
     }
-    progress(Progress {
-        done: rows.len(),
-        total,
-        label: "done".to_string(),
-        elapsed: start.elapsed(),
-    });
+    progress.borrow_mut().step("done", share(rows.len(), total));
     Ok(stats.map(|stats| BenchResult {
         preset: preset.to_string(),
         stats,
@@ -136,22 +125,26 @@ pub fn measure_configs_each(
     }))
 }
 
+/// The share of a bench's progress bar that tuning the analysed sweep points stands for.
+const TUNE_SHARE: f32 = 0.1;
+
 /// The whole bench of `methods` on `settings`: the analysed sweep points tuned first (e.g. Bounding Opacity
-/// Maps' automatic split ratios), then every configuration. `None` when cancelled before any row.
+/// Maps' automatic split ratios), then every configuration. `None` when stopped before any row.
 pub fn run(
     settings: &Settings,
     preset: &str,
     methods: &[&str],
     frames: u32,
     chunk: usize,
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut dyn Progress,
 ) -> Result<Option<BenchResult>> {
-    let Some(tuned) = tune_analysed(settings, methods, cancel, progress)? else {
+    let Some(tuned) = tune_analysed(settings, methods, &mut Part::of(&mut *progress, 0.0, TUNE_SHARE))?
+    else {
         return Ok(None);
     };
     let configs = sweep_configs(methods, &tuned);
-    measure_configs(settings, preset, &configs, frames, chunk, cancel, progress)
+    let mut measuring = Part::of(progress, TUNE_SHARE, 1.0);
+    measure_configs(settings, preset, &configs, frames, chunk, &mut measuring)
 }
 
 /// [`run`] with [`measure_configs_each`]'s `finished`.
@@ -160,22 +153,22 @@ pub fn run_each(
     preset: &str,
     methods: &[&str],
     frames: u32,
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut dyn Progress,
     finished: &mut dyn FnMut(&BenchResult) -> Result<()>,
 ) -> Result<Option<BenchResult>> {
-    let Some(tuned) = tune_analysed(settings, methods, cancel, progress)? else {
+    let Some(tuned) = tune_analysed(settings, methods, &mut Part::of(&mut *progress, 0.0, TUNE_SHARE))?
+    else {
         return Ok(None);
     };
     let configs = sweep_configs(methods, &tuned);
+    let mut measuring = Part::of(progress, TUNE_SHARE, 1.0);
     measure_configs_each(
         settings,
         preset,
         &configs,
         frames,
         usize::MAX,
-        cancel,
-        progress,
+        &mut measuring,
         finished,
     )
 }
@@ -204,15 +197,14 @@ pub fn scaling_densities(base_segments: usize, max_segments: usize, points: usiz
 
 /// Times `configs` at each density of `plan` under each of its rasterisers and fits each (configuration,
 /// rasteriser)'s GPU ms against segments. After each density, `written` gets the result so far (its fits over
-/// the densities done); `cancel` (Ctrl-C) stops the run after the density in progress, and the result returned
-/// is then marked `cancelled` and holds the densities done.
+/// the densities done); a stop `progress` asks for (Ctrl-C) ends the run after the density in progress, and the
+/// result returned is then marked `cancelled` and holds the densities done.
 pub fn run_scaling(
     settings: &Settings,
     preset: &str,
     configs: &[MethodConfig],
     plan: &ScalingPlan,
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut dyn Progress,
     written: &mut dyn FnMut(&ScalingResult) -> Result<()>,
 ) -> Result<ScalingResult> {
     if let Some(f) = &settings.scene.file {
@@ -243,7 +235,6 @@ pub fn run_scaling(
     if base == 0 {
         bail!("--scaling: the preset's generator makes no segments at density × 1");
     }
-    let start = Instant::now();
     let densities = scaling_densities(base, plan.max_segments, plan.points);
     let mut r = ScalingResult {
         preset: preset.to_string(),
@@ -259,8 +250,10 @@ pub fn run_scaling(
         cancelled: false,
     };
     let total = densities.len() * plan.rasters.len() * configs.len();
+    let mut stopped = false;
     for (i, &factor) in densities.iter().enumerate() {
-        if cancel.load(Ordering::SeqCst) {
+        let label = format!("density x{factor:.3}");
+        if stopped || !progress.step(&label, share(i * plan.rasters.len() * configs.len(), total)) {
             r.cancelled = true;
             break;
         }
@@ -271,12 +264,8 @@ pub fn run_scaling(
             let done = (i * plan.rasters.len() + j) * configs.len();
             let mut n = 0;
             let t = measure::time_configs(&s, configs, plan.frames, plan.warmup, |label| {
-                progress(Progress {
-                    done: done + n,
-                    total,
-                    label: format!("density x{factor:.3}, {} raster: {label}", raster.word()),
-                    elapsed: start.elapsed(),
-                });
+                let what = format!("density x{factor:.3}, {} raster: {label}", raster.word());
+                stopped |= !progress.step(&what, share(done + n, total));
                 n += 1;
             })?;
             // Every configuration's frames pooled: per frame the shared passes' total, and per pass its times.
@@ -383,76 +372,6 @@ fn scaling_fits(configs: &[MethodConfig], rasters: &[Raster], points: &[ScalingP
         .collect()
 }
 
-/// `text` cut to `max` characters, ending in `...` when cut.
-fn cut(text: &str, max: usize) -> String {
-    if text.chars().count() <= max {
-        return text.to_string();
-    }
-    let kept: String = text.chars().take(max.saturating_sub(3)).collect();
-    format!("{kept}...")
-}
-
-/// A progress bar on stderr: redrawn in place (`\r`) on a terminal, one line per step otherwise.
-pub struct TerminalProgress {
-    tty: bool,
-    drawn: bool,
-    last_line: String,
-}
-
-impl TerminalProgress {
-    pub fn new() -> TerminalProgress {
-        use std::io::IsTerminal;
-        TerminalProgress {
-            tty: std::io::stderr().is_terminal(),
-            drawn: false,
-            last_line: String::new(),
-        }
-    }
-
-    /// The line for `p`: a 24-cell bar, step i/n, the label, the elapsed time.
-    pub fn line(p: &Progress) -> String {
-        const CELLS: usize = 24;
-        let filled = (p.done * CELLS).checked_div(p.total).unwrap_or(0).min(CELLS);
-        let step = (p.done + 1).min(p.total.max(1));
-        format!(
-            "[{}{}] {step}/{} {:<32} {:>6.1} s",
-            "#".repeat(filled),
-            ".".repeat(CELLS - filled),
-            p.total,
-            cut(&p.label, 32),
-            p.elapsed.as_secs_f64()
-        )
-    }
-
-    pub fn update(&mut self, p: &Progress) {
-        if self.tty {
-            eprint!("\r{}", Self::line(p));
-            self.drawn = true;
-            return;
-        }
-        let key = format!("{} {}", p.done, p.label);
-        if key != self.last_line {
-            eprintln!("{}", Self::line(p));
-            self.last_line = key;
-        }
-    }
-}
-
-impl Default for TerminalProgress {
-    fn default() -> Self {
-        TerminalProgress::new()
-    }
-}
-
-impl Drop for TerminalProgress {
-    /// Ends the redrawn line so what follows starts on its own.
-    fn drop(&mut self) {
-        if self.drawn {
-            eprintln!();
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -466,21 +385,5 @@ mod tests {
         for w in d.windows(2) {
             assert!((w[1] - w[0] - 6.25 / 6.0).abs() < 1e-5, "{d:?}");
         }
-    }
-
-    #[test]
-    fn progress_line_has_bar_step_and_cut_label() {
-        let p = Progress {
-            done: 3,
-            total: 12,
-            label: "a label much longer than the thirty-two characters".to_string(),
-            elapsed: Duration::from_millis(2500),
-        };
-        let line = TerminalProgress::line(&p);
-        assert!(
-            line.starts_with("[######..................] 4/12 a label much longer than the ... "),
-            "{line}"
-        );
-        assert!(line.ends_with("2.5 s"), "{line}");
     }
 }

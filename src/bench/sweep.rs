@@ -3,16 +3,14 @@
 //! scene's exact fragment lists, e.g. Bounding Opacity Maps' automatic split ratio), and the scaling mode's
 //! configurations. No method is named here.
 
-use super::Progress;
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::measure::MethodConfig;
 use crate::methods::{ParamValues, Role, ShadowMethod, registry};
+use crate::progress::Progress;
 use crate::render::Renderer;
 use crate::render::passes::abuffer::RefFragment;
 use crate::settings::Settings;
 use anyhow::{Result, bail};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 
 /// The scaling mode's points: strand densities evenly spaced in segment count, the last at `--max-segments`.
 /// Evenly spaced points weigh the fit alike (a doubling ladder put half its points below an eighth of the range,
@@ -128,12 +126,11 @@ fn reference_lists(settings: &Settings) -> Result<Vec<Vec<RefFragment>>> {
 }
 
 /// Runs each method's analysis on the analysed points of its sweep, on the reference's fragment lists of
-/// `settings`' scene (read once). `None` when cancelled.
+/// `settings`' scene (read once). `None` when `progress` asked to stop.
 pub fn tune_analysed(
     settings: &Settings,
     methods: &[&str],
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut dyn Progress,
 ) -> Result<Option<Vec<Tuned>>> {
     let mut points = Vec::new();
     for name in methods {
@@ -150,30 +147,22 @@ pub fn tune_analysed(
     if points.is_empty() {
         return Ok(Some(Vec::new()));
     }
-    let start = Instant::now();
-    progress(Progress {
-        done: 0,
-        total: points.len(),
-        label: "reference fragment lists".to_string(),
-        elapsed: start.elapsed(),
-    });
+    if !progress.step("reference fragment lists", 0.0) {
+        return Ok(None);
+    }
     let lists = reference_lists(settings)?;
-    let mut out = Vec::with_capacity(points.len());
+    let total = points.len();
+    let mut out = Vec::with_capacity(total);
     for (i, (m, a, point)) in points.into_iter().enumerate() {
-        if cancel.load(Ordering::Relaxed) {
+        let label = format!(
+            "{}: {} for {}",
+            m.name(),
+            a.note,
+            crate::methods::format_values(m, &point)
+        );
+        if !progress.step(&label, crate::progress::share(i, total)) {
             return Ok(None);
         }
-        progress(Progress {
-            done: i,
-            total: out.capacity(),
-            label: format!(
-                "{}: {} for {}",
-                m.name(),
-                a.note,
-                crate::methods::format_values(m, &point)
-            ),
-            elapsed: start.elapsed(),
-        });
         let mut values = point.clone();
         values.extend((a.run)(&lists, &point).apply);
         out.push(Tuned {

@@ -1,9 +1,9 @@
 //! `hairlab bench`: the arguments, the run, and the tables printed on stdout.
 
 use crate::bench::{
-    BenchResult, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP, Progress,
-    ScalingFit, ScalingPlan, ScalingResult, TerminalProgress, parse_methods, parse_metric, prepare_out_dir,
-    run_each, run_scaling, scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
+    BenchResult, DEFAULT_SCALING_POINTS, DEFAULT_SCALING_SEGMENTS, DEFAULT_SCALING_WARMUP, ScalingFit,
+    ScalingPlan, ScalingResult, parse_methods, parse_metric, prepare_out_dir, run_each, run_scaling,
+    scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
 };
 use crate::render::caster::Raster;
 use crate::settings::Settings;
@@ -211,7 +211,9 @@ impl BenchMode {
 /// `hairlab bench`.
 pub fn run_cli(args: &BenchArgs) -> Result<()> {
     let a = match &args.mode {
-        Some(BenchMode::Motion(m)) => return crate::bench::motion::run(m),
+        Some(BenchMode::Motion(m)) => {
+            return crate::bench::motion::run(m, &mut super::progress::TerminalProgress::uninterruptible());
+        }
         Some(mode) => mode.flags().context("a bench mode without flags")?,
         None => {
             if args.legacy.max_segments.is_some() && !args.legacy.scaling {
@@ -236,8 +238,8 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     }
     let settings = Settings::load_preset(&a.preset, &a.set)?;
     prepare_out_dir(&out)?;
-    let mut bar = TerminalProgress::new();
-    let mut progress = |p: Progress| bar.update(&p);
+    // Ctrl-C answers the bar's next step with a stop.
+    let mut bar = super::progress::TerminalProgress::new();
     if a.fur {
         // Ctrl-C stops after the configuration in progress; fur.csv and fur.json are rewritten whole after each
         // one.
@@ -307,17 +309,8 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             warmup: a.warmup.unwrap_or(DEFAULT_SCALING_WARMUP),
             rasters: parse_rasters(&a.raster, settings.render.raster)?,
         };
-        let interrupted = super::interrupt::flag();
         let mut written = |partial: &ScalingResult| write_scaling_tables(&out, partial).map(|_| ());
-        let r = run_scaling(
-            &settings,
-            &a.preset,
-            &configs,
-            &plan,
-            interrupted,
-            &mut progress,
-            &mut written,
-        )?;
+        let r = run_scaling(&settings, &a.preset, &configs, &plan, &mut bar, &mut written)?;
         drop(bar);
         print_scaling(&r);
         for f in write_scaling(&out, &r)? {
@@ -333,21 +326,12 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
     }
     // Ctrl-C stops after the configuration in progress; results.csv and results.json are rewritten whole after
     // each one.
-    let interrupted = super::interrupt::flag();
     let mut write = |partial: &BenchResult| {
         let mut partial = partial.clone();
         partial.metric = metric;
         write_tables(&out, &partial).map(|_| ())
     };
-    let result = run_each(
-        &settings,
-        &a.preset,
-        &methods,
-        a.frames,
-        interrupted,
-        &mut progress,
-        &mut write,
-    )?;
+    let result = run_each(&settings, &a.preset, &methods, a.frames, &mut bar, &mut write)?;
     drop(bar);
     let Some(mut result) = result else {
         return Err(super::interrupt::Interrupted { done: 0 }.into());

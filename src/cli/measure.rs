@@ -640,14 +640,13 @@ fn shading_table(
     let truth = match a.truth {
         TruthKind::DepthPeeled => None,
         TruthKind::PathTraced => {
-            let interrupted = crate::cli::interrupt::flag();
-            let t = crate::measure::truth::path_traced(settings, &mut |n, of| {
-                eprintln!("path-traced truth: {n}/{of} spp");
-                !interrupted.load(Ordering::SeqCst)
-            })?;
-            if interrupted.load(Ordering::SeqCst) {
+            // Ctrl-C answers the bar's next step with a stop.
+            let mut bar = super::progress::TerminalProgress::new();
+            let t = crate::measure::truth::path_traced(settings, &mut bar)?;
+            drop(bar);
+            let Some(t) = t else {
                 return Err(crate::cli::interrupt::Interrupted { done: configs.len() }.into());
-            }
+            };
             eprintln!("path-traced truth: {} spp in {:.1} s", t.spp, t.seconds);
             Some(t)
         }

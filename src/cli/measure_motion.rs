@@ -12,7 +12,6 @@ use clap::Args;
 use std::cell::RefCell;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
 
 #[derive(Args, Debug)]
 pub struct MeasureMotionArgs {
@@ -32,11 +31,10 @@ pub struct MeasureMotionArgs {
 pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     let (settings, configs) = a.run.resolve()?;
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let interrupted = crate::cli::interrupt::flag();
     let written = RefCell::new(Ok(Vec::new()));
     let after_each = |m: &MotionMeasurement| {
         let w = write(&a.out, m);
-        let stop = w.is_err() || interrupted.load(Ordering::SeqCst);
+        let stop = w.is_err();
         *written.borrow_mut() = w;
         if stop {
             ControlFlow::Break(())
@@ -46,17 +44,12 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     };
     let options = MotionOptions {
         follow: a.point,
-        cancel: None,
         after_each: Some(&after_each),
     };
-    let m = measure_motion(
-        &gpu,
-        &settings,
-        &configs,
-        a.run.frames,
-        options,
-        &mut |what, _| eprintln!("measuring {what}…"),
-    )?;
+    // Ctrl-C answers the bar's next step with a stop: the configurations finished are kept.
+    let mut bar = super::progress::TerminalProgress::new();
+    let m = measure_motion(&gpu, &settings, &configs, a.run.frames, options, &mut bar)?;
+    drop(bar);
     let files = written.into_inner()?;
     print!("{}", m.table(&a.run.preset));
     for path in files {

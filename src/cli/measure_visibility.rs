@@ -31,21 +31,11 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
         crate::bench::prepare_out_dir(dir)?;
     }
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let interrupted = crate::cli::interrupt::flag();
-    let start = std::time::Instant::now();
-    let mut last = 0;
-    let m =
-        crate::measure::fibre_visibility::compare_map(&gpu, &settings, a.rays as usize, &mut |done, of| {
-            if done * 10 / of > last {
-                last = done * 10 / of;
-                eprintln!(
-                    "visibility: {done}/{of} texels ({:.1} s)",
-                    start.elapsed().as_secs_f64()
-                );
-            }
-            !interrupted.load(Ordering::SeqCst)
-        })?;
-    if interrupted.load(Ordering::SeqCst) {
+    // Ctrl-C answers the bar's next step with a stop: the texels done are kept.
+    let mut bar = super::progress::TerminalProgress::new();
+    let m = crate::measure::fibre_visibility::compare_map(&gpu, &settings, a.rays as usize, &mut bar)?;
+    drop(bar);
+    if crate::cli::interrupt::flag().load(Ordering::SeqCst) {
         return Err(crate::cli::interrupt::Interrupted { done: m.texels.len() }.into());
     }
     let fragments: usize = m.texels.iter().map(|t| t.fragments).sum();

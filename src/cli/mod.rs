@@ -15,6 +15,7 @@ pub mod manual;
 pub mod measure;
 pub mod measure_motion;
 pub mod measure_visibility;
+pub mod progress;
 pub mod render;
 pub mod report;
 pub mod simulate;

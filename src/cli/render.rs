@@ -9,7 +9,6 @@ use crate::settings::Settings;
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 
 /// The scene flags `render` and `export` share: the preset, its overrides and the image size.
 #[derive(Args, Debug)]
@@ -150,16 +149,10 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
         s.height,
         s.samples
     );
-    let interrupted = super::interrupt::flag();
-    let (image, done) = path.render(s.samples.div_ceil(20), &mut |n| {
-        eprintln!(
-            "path: {n}/{} spp ({:.0}%, {:.1} s)",
-            s.samples,
-            100.0 * n as f64 / s.samples as f64,
-            start.elapsed().as_secs_f64()
-        );
-        !interrupted.load(Ordering::SeqCst)
-    });
+    // Ctrl-C answers the bar's next step with a stop: the image holds the samples taken.
+    let mut bar = super::progress::TerminalProgress::new();
+    let (image, done) = path.render(s.samples.div_ceil(20), &mut bar);
+    drop(bar);
     let (w, h) = (settings.render.width, settings.render.height);
     let bytes = if exr {
         crate::pathtrace::setup::encode_exr(&image, w, h)?

@@ -90,16 +90,11 @@ pub fn report(a: &ReportArgs) -> Result<()> {
             frames: a.frames,
             truth: a.truth == super::measure::TruthKind::PathTraced,
         };
-        let cancel = super::interrupt::flag();
-        let (page, interrupted) = crate::report::fresh(
-            &a.out,
-            &plan,
-            &settings,
-            command_line(),
-            &[],
-            cancel,
-            &mut |line| eprintln!("{line}"),
-        )?;
+        // Ctrl-C answers the bar's next step with a stop.
+        let mut bar = super::progress::TerminalProgress::new();
+        let (page, interrupted) =
+            crate::report::fresh(&a.out, &plan, &settings, command_line(), &[], &mut bar)?;
+        drop(bar);
         println!("wrote {}", page.display());
         if let Some(done) = interrupted {
             return Err(super::interrupt::Interrupted { done }.into());

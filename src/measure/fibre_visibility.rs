@@ -75,13 +75,13 @@ pub fn best_alpha(samples: &[(usize, f32)]) -> f64 {
 }
 
 /// Compares the reference with the ray-traced fibres in every occupied texel of the hair map of `settings`
-/// (`render.map_resolution × render.light_supersample` a side), `rays × rays` rays per texel, telling
-/// `progress(texels done, of)` after each texel; it stops early, with the texels done, when that returns `false`.
+/// (`render.map_resolution × render.light_supersample` a side), `rays × rays` rays per texel, telling `progress`
+/// after each texel; it stops early, with the texels done, when that answers `false`.
 pub fn compare_map(
     gpu: &Gpu,
     settings: &Settings,
     rays: usize,
-    progress: &mut dyn FnMut(usize, usize) -> bool,
+    progress: &mut dyn crate::progress::Progress,
 ) -> Result<MapComparison> {
     if settings.light.kind != LightKind::Directional {
         anyhow::bail!(
@@ -129,7 +129,8 @@ pub fn compare_map(
             mean_abs_dv: sum / list.len() as f32,
             max_abs_dv: max,
         });
-        if !progress(n + 1, occupied.len()) {
+        let label = format!("ray-tracing {} texels", occupied.len());
+        if !progress.step(&label, crate::progress::share(n + 1, occupied.len())) {
             break;
         }
     }

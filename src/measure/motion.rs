@@ -10,6 +10,7 @@ use super::{IMAGE_SIZE, MethodConfig, PointSamples, TexelSamples, evaluate_all, 
 use crate::gpu::Gpu;
 use crate::gpu::timing::{Phase, phase_ms};
 use crate::methods::{self, ParamValues, registry};
+use crate::progress::{Progress, share};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use anyhow::{Result, bail};
@@ -17,7 +18,6 @@ use glam::Vec3;
 use image::RgbaImage;
 use serde::Serialize;
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// When a configuration's `auto` parameter is chosen by the method's analysis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,8 +168,8 @@ pub struct MotionMeasurement {
     pub followed: Option<(FollowedPoint, Vec<f32>)>,
 }
 
-/// Told the measurement so far after each configuration finishes; `Break` stops there (Ctrl-C in `measure
-/// motion`), and the measurement returns the configurations finished.
+/// Told the measurement so far after each configuration finishes (to write it); `Break` stops there, and the
+/// measurement returns the configurations finished.
 pub type AfterEach<'a> = &'a dyn Fn(&MotionMeasurement) -> ControlFlow<()>;
 
 /// What a motion measurement does beyond its configurations.
@@ -177,16 +177,9 @@ pub type AfterEach<'a> = &'a dyn Fn(&MotionMeasurement) -> ControlFlow<()>;
 pub struct MotionOptions<'a> {
     /// A hair point whose visibility is recorded every frame, for the reference and each configuration.
     pub follow: Option<FollowedPoint>,
-    /// Set (from another thread) to stop the measurement, which then fails with [`Cancelled`].
-    pub cancel: Option<&'a AtomicBool>,
     /// Called after each configuration ([`AfterEach`]).
     pub after_each: Option<AfterEach<'a>>,
 }
-
-/// A measurement stopped through [`MotionOptions::cancel`].
-#[derive(Debug, thiserror::Error)]
-#[error("the motion measurement was cancelled")]
-pub struct Cancelled;
 
 /// The exact reference's view of one frame.
 struct FrameReference {
@@ -201,42 +194,32 @@ struct FrameReference {
 }
 
 /// Measures `configs` over frames `0..frames` of `settings`' motion on `gpu`. A still preset is refused: there
-/// is nothing temporal to measure.
+/// is nothing temporal to measure. [`measure_motion`] with no options.
 pub fn measure_motion_on(
     gpu: &Gpu,
     settings: &Settings,
     configs: &[MotionConfig],
     frames: u32,
-    mut progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<MotionMeasurement> {
-    measure_motion(
-        gpu,
-        settings,
-        configs,
-        frames,
-        MotionOptions::default(),
-        &mut |what, _| progress(what),
-    )
+    measure_motion(gpu, settings, configs, frames, MotionOptions::default(), progress)
 }
 
 /// [`measure_motion_on`] with `options`; `progress` is told what is measured and the share of the work done.
+/// A stop it asks for returns the configurations finished (none when it came before the first finished).
 pub fn measure_motion(
     gpu: &Gpu,
     settings: &Settings,
     configs: &[MotionConfig],
     frames: u32,
     options: MotionOptions<'_>,
-    progress: &mut dyn FnMut(&str, f32),
+    progress: &mut dyn Progress,
 ) -> Result<MotionMeasurement> {
-    let steps = (frames as usize * (configs.len() + 2)) as f32;
+    let steps = frames as usize * (configs.len() + 2);
     let mut done = 0usize;
-    let mut step = |what: &str| -> Result<()> {
-        if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            return Err(Cancelled.into());
-        }
-        progress(what, done as f32 / steps);
+    let mut step = |what: &str| -> bool {
         done += 1;
-        Ok(())
+        progress.step(what, share(done - 1, steps))
     };
     let mut s = settings.clone();
     let (mut scene, mut motion) = s.open_motion()?;
@@ -258,7 +241,9 @@ pub fn measure_motion(
     let mut mesh_poses = Vec::with_capacity(frames as usize);
     let mut cpu_ms = Vec::with_capacity(frames as usize);
     for k in 0..frames {
-        step(&format!("motion frame {k}"))?;
+        if !step(&format!("motion frame {k}")) {
+            return Ok(nothing_measured(gpu, &scene, frames));
+        }
         let start = std::time::Instant::now();
         points.push(motion.frame(k)?.to_vec());
         mesh_poses.push(motion.mesh_pose(k).map(|(m, pose)| (m.to_vec(), pose)));
@@ -303,7 +288,9 @@ pub fn measure_motion(
     let mut references: Vec<FrameReference> = Vec::with_capacity(points.len());
     let mut reference_images = Vec::with_capacity(points.len());
     for (k, p) in points.iter().enumerate() {
-        step(&format!("{} frame {k}", registry::reference().name()))?;
+        if !step(&format!("{} frame {k}", registry::reference().name())) {
+            return Ok(nothing_measured(gpu, &scene, frames));
+        }
         scene.set_strand_points(p)?;
         r.update_points(p)?;
         if let Some((m, pose)) = &mesh_poses[k] {
@@ -374,7 +361,9 @@ pub fn measure_motion(
         let mut images: Vec<RgbaImage> = Vec::with_capacity(points.len());
         let mut followed = Vec::new();
         for (k, (p, reference)) in points.iter().zip(&references).enumerate() {
-            step(&format!("{label} frame {k}"))?;
+            if !step(&format!("{label} frame {k}")) {
+                return Ok(measurement(rows));
+            }
             r.update_points(p)?;
             if let Some((m, pose)) = &mesh_poses[k] {
                 r.pose_meshes(m, *pose)?;
@@ -456,6 +445,19 @@ pub fn measure_motion(
         }
     }
     Ok(measurement(rows))
+}
+
+/// The measurement of a run stopped before any configuration finished.
+fn nothing_measured(gpu: &Gpu, scene: &crate::scene::Scene, frames: u32) -> MotionMeasurement {
+    MotionMeasurement {
+        device: crate::gpu::describe(&gpu.info),
+        strands: scene.strands.strand_count(),
+        segments: scene.strands.segment_count(),
+        frames,
+        rows: Vec::new(),
+        sim: None,
+        followed: None,
+    }
 }
 
 /// A frame of `s`'s view at [`IMAGE_SIZE`] shaded with `method`, composited exactly (the reference technique),

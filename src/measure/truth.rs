@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use super::IMAGE_SIZE;
 use crate::pathtrace::setup::PathScene;
+use crate::progress::Progress;
 use crate::settings::Settings;
 
 /// The files `measure shadows --truth path-traced --out` (and a report) write beside `results.csv`.
@@ -28,21 +29,24 @@ pub struct Truth {
 }
 
 /// Path-traces the still scene of `settings` at [`IMAGE_SIZE`] and `render.spp` samples per pixel, telling
-/// `after_pass(samples so far, of)` after each pass; it stops early when that returns `false`.
-pub fn path_traced(settings: &Settings, after_pass: &mut dyn FnMut(u32, u32) -> bool) -> Result<Truth> {
+/// `progress` after each pass; `None` when it asked to stop before the last.
+pub fn path_traced(settings: &Settings, progress: &mut dyn Progress) -> Result<Option<Truth>> {
     let mut s = settings.clone();
     (s.render.width, s.render.height) = IMAGE_SIZE;
     let scene = s.scene.build()?;
     let start = std::time::Instant::now();
     let path = PathScene::new(&s, &scene)?;
     let of = path.settings.samples;
-    let (linear, spp) = path.render(of.div_ceil(16), &mut |n| after_pass(n, of));
+    let (linear, spp) = path.render(of.div_ceil(16), progress);
+    if spp < of {
+        return Ok(None);
+    }
     let rgba: Vec<[f32; 4]> = linear.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
-    Ok(Truth {
+    Ok(Some(Truth {
         image: super::fur::over_black(&rgba, IMAGE_SIZE.0, IMAGE_SIZE.1),
         spp,
         seconds: start.elapsed().as_secs_f64(),
-    })
+    }))
 }
 
 /// One image against another: RMSE of sRGB in [0, 1] and mean FLIP.

@@ -167,11 +167,11 @@ fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut Spli
 
 /// The image, row after row, `width × height` linear RGB.
 pub fn render(bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings) -> Vec<Vec3> {
-    render_in_passes(bvh, camera, light, s, s.samples, &mut |_| true).0
+    render_in_passes(bvh, camera, light, s, s.samples, &mut crate::progress::Quiet).0
 }
 
-/// [`render`] in passes of `pass` samples per pixel, `after_pass(samples so far)` told after each; it stops early
-/// when that returns `false`. Returns the mean over the samples taken and their count per pixel. Sample `k` of a
+/// [`render`] in passes of `pass` samples per pixel, `progress` told the samples so far after each; it stops early
+/// when that answers `false`. Returns the mean over the samples taken and their count per pixel. Sample `k` of a
 /// pixel has its own stream and the sums run in sample order, so the image is [`render`]'s whatever `pass`.
 pub fn render_in_passes(
     bvh: &Bvh,
@@ -179,13 +179,15 @@ pub fn render_in_passes(
     light: &Light,
     s: &Settings,
     pass: u32,
-    after_pass: &mut dyn FnMut(u32) -> bool,
+    progress: &mut dyn crate::progress::Progress,
 ) -> (Vec<Vec3>, u32) {
     let mut acc = Accumulation::new(s);
     while acc.samples() < s.samples {
         let n = pass.max(1).min(s.samples - acc.samples());
         acc.add(bvh, camera, light, s, n);
-        if !after_pass(acc.samples()) {
+        let done = acc.samples();
+        let label = format!("path tracing: {done}/{} spp", s.samples);
+        if !progress.step(&label, crate::progress::share(done as usize, s.samples as usize)) {
             break;
         }
     }
@@ -324,9 +326,12 @@ mod tests {
         assert_eq!(a, render(&bvh, &camera(), &light, &settings(1)));
         assert_ne!(a, render(&bvh, &camera(), &light, &settings(2)));
         assert!(a.iter().any(|p| p.max_element() > 0.0));
-        let (passes, done) = render_in_passes(&bvh, &camera(), &light, &settings(1), 3, &mut |_| true);
+        let mut quiet = crate::progress::Quiet;
+        let (passes, done) = render_in_passes(&bvh, &camera(), &light, &settings(1), 3, &mut quiet);
         assert_eq!((passes, done), (a, 4));
-        let (_, stopped) = render_in_passes(&bvh, &camera(), &light, &settings(1), 1, &mut |n| n < 2);
+        // Stops once told half the samples are in (2 of 4).
+        let mut half = |_: &str, f: f32| f < 0.5;
+        let (_, stopped) = render_in_passes(&bvh, &camera(), &light, &settings(1), 1, &mut half);
         assert_eq!(stopped, 2);
     }
 

@@ -134,14 +134,14 @@ impl PathScene {
     }
 
     /// The image in passes of `pass` samples per pixel ([`integrator::render_in_passes`]).
-    pub fn render(&self, pass: u32, after_pass: &mut dyn FnMut(u32) -> bool) -> (Vec<Vec3>, u32) {
+    pub fn render(&self, pass: u32, progress: &mut dyn crate::progress::Progress) -> (Vec<Vec3>, u32) {
         integrator::render_in_passes(
             &self.bvh,
             &self.camera,
             &self.light,
             &self.settings,
             pass,
-            after_pass,
+            progress,
         )
     }
 

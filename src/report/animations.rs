@@ -8,10 +8,10 @@ use super::data::{ANIMATIONS, Motion};
 use super::page::figure;
 use crate::gpu::Gpu;
 use crate::measure::MethodConfig;
+use crate::progress::{Progress, share};
 use crate::settings::Settings;
 use anyhow::Result;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The animations' width in pixels.
 pub const WIDTH: u32 = 240;
@@ -22,41 +22,47 @@ fn animation(gpu: &Gpu, settings: &Settings, method: &MethodConfig, frames: u32)
     s.method.params = method.params.clone();
     let mut images = Vec::new();
     let ks: Vec<u32> = (0..frames).collect();
-    crate::animation::render_frames_on(gpu, &mut s, &ks, &mut |_| {}, &mut |_, image| {
-        let h = (image.height() * WIDTH / image.width().max(1)).max(1);
-        images.push(image::imageops::thumbnail(&image, WIDTH.min(image.width()), h));
-        Ok(())
-    })?;
+    crate::animation::render_frames_on(
+        gpu,
+        &mut s,
+        &ks,
+        &mut |_| {},
+        &mut crate::progress::Quiet,
+        &mut |_, image| {
+            let h = (image.height() * WIDTH / image.width().max(1)).max(1);
+            images.push(image::imageops::thumbnail(&image, WIDTH.min(image.width()), h));
+            Ok(())
+        },
+    )?;
     crate::animation::animated_gif(&images, settings.motion.fps)
 }
 
 /// Renders frames `0..frames` of the reference and of each of `configs` (the summary's rows, in order) into
-/// `motion_dir/animations`; stops after the animation in progress when `cancel` is set.
+/// `motion_dir/animations`; stops after the animation in progress when `progress` asks. Whether every animation
+/// was written.
 pub fn write(
     gpu: &Gpu,
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
     motion_dir: &Path,
-    cancel: &AtomicBool,
-    log: &mut dyn FnMut(&str),
-) -> Result<()> {
+    progress: &mut dyn Progress,
+) -> Result<bool> {
     let dir = motion_dir.join(ANIMATIONS);
     std::fs::create_dir_all(&dir)?;
     let reference = MethodConfig::new(crate::methods::registry::reference().name(), Default::default());
     let jobs = std::iter::once((reference.name.clone(), &reference))
         .chain(configs.iter().enumerate().map(|(k, c)| (k.to_string(), c)));
-    for (name, c) in jobs {
-        if cancel.load(Ordering::SeqCst) {
-            break;
+    for (k, (name, c)) in jobs.enumerate() {
+        if !progress.step(&format!("animating {}", c.label()), share(k, configs.len() + 1)) {
+            return Ok(false);
         }
-        log(&format!("  animating {}", c.label()));
         crate::io::write_atomic(
             &dir.join(format!("{name}.gif")),
             &animation(gpu, settings, c, frames)?,
         )?;
     }
-    Ok(())
+    Ok(true)
 }
 
 /// The names of the animations present in `m`'s folder: the reference's and each row's, when the reference's

@@ -9,6 +9,7 @@ use super::page::{escape, section};
 use crate::gpu::Gpu;
 use crate::measure::MethodConfig;
 use crate::measure::transparency::TechniqueConfig;
+use crate::progress::{Progress, share};
 use crate::settings::Settings;
 use crate::transparency::FlipMap;
 use crate::transparency::metrics::difference_image;
@@ -16,7 +17,6 @@ use anyhow::{Context, Result};
 use image::RgbaImage;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The gain of the difference maps.
 pub const DIFFERENCE_GAIN: f32 = 8.0;
@@ -40,10 +40,17 @@ pub fn with_technique(settings: &Settings, technique: &TechniqueConfig) -> Setti
 /// Frame 0 of `settings`' scene.
 fn render(gpu: &Gpu, mut s: Settings) -> Result<RgbaImage> {
     let mut out = None;
-    crate::animation::render_frames_on(gpu, &mut s, &[0], &mut |_| {}, &mut |_, image| {
-        out = Some(image);
-        Ok(())
-    })?;
+    crate::animation::render_frames_on(
+        gpu,
+        &mut s,
+        &[0],
+        &mut |_| {},
+        &mut crate::progress::Quiet,
+        &mut |_, image| {
+            out = Some(image);
+            Ok(())
+        },
+    )?;
     out.context("no frame rendered")
 }
 
@@ -57,24 +64,25 @@ fn save(image: &image::DynamicImage, path: &Path) -> Result<()> {
 
 /// Renders `reference` and each of `variants` (label, settings; a table's rows in order) into `dir`
 /// (`reference.png`, and per row `k.png`, `k_difference.png`, `k_flip.png`); stops after the image in progress
-/// when `cancel` is set.
+/// when `progress` asks. Whether every image was rendered.
 pub fn render_set(
     gpu: &Gpu,
     reference: Settings,
     variants: Vec<(String, Settings)>,
     dir: &Path,
-    cancel: &AtomicBool,
-    log: &mut dyn FnMut(&str),
-) -> Result<()> {
+    progress: &mut dyn Progress,
+) -> Result<bool> {
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
-    log("  rendering the reference image");
+    if !progress.step("rendering the reference image", 0.0) {
+        return Ok(false);
+    }
     let reference = render(gpu, reference)?;
     save(&reference.clone().into(), &dir.join("reference.png"))?;
+    let total = variants.len() + 1;
     for (k, (label, s)) in variants.into_iter().enumerate() {
-        if cancel.load(Ordering::SeqCst) {
-            break;
+        if !progress.step(&format!("rendering {label}"), share(k + 1, total)) {
+            return Ok(false);
         }
-        log(&format!("  rendering {label}"));
         let image = render(gpu, s)?;
         let difference = difference_image(&image, &reference, DIFFERENCE_GAIN);
         let flip = FlipMap::new(&image, &reference).heat_map();
@@ -82,44 +90,36 @@ pub fn render_set(
         save(&flip.into(), &dir.join(format!("{k}_flip.png")))?;
         save(&image.into(), &dir.join(format!("{k}.png")))?;
     }
-    Ok(())
+    Ok(true)
 }
 
-/// Renders the reference shadows and each of `configs` (the bench's rows, in order) into `bench_dir/images`.
+/// Renders the reference shadows and each of `configs` (the bench's rows, in order) into `bench_dir/images`;
+/// whether every image was rendered.
 pub fn render_configs(
     gpu: &Gpu,
     settings: &Settings,
     configs: &[MethodConfig],
     bench_dir: &Path,
-    cancel: &AtomicBool,
-    log: &mut dyn FnMut(&str),
-) -> Result<()> {
+    progress: &mut dyn Progress,
+) -> Result<bool> {
     let reference = MethodConfig::new(crate::methods::registry::reference().name(), Default::default());
     let variants = configs
         .iter()
         .map(|c| (c.label(), with_method(settings, c)))
         .collect();
     let dir = bench_dir.join(IMAGES);
-    render_set(
-        gpu,
-        with_method(settings, &reference),
-        variants,
-        &dir,
-        cancel,
-        log,
-    )
+    render_set(gpu, with_method(settings, &reference), variants, &dir, progress)
 }
 
 /// Renders the exact composite and each of `techniques` (the transparency bench's rows, in order) into
-/// `bench_dir/images`: Sintorn & Assarsson's Fig. 2 grid.
+/// `bench_dir/images`: Sintorn & Assarsson's Fig. 2 grid; whether every image was rendered.
 pub fn render_techniques(
     gpu: &Gpu,
     settings: &Settings,
     techniques: &[TechniqueConfig],
     bench_dir: &Path,
-    cancel: &AtomicBool,
-    log: &mut dyn FnMut(&str),
-) -> Result<()> {
+    progress: &mut dyn Progress,
+) -> Result<bool> {
     let reference = TechniqueConfig::new(
         crate::render::transparency::registry::reference().name(),
         Default::default(),
@@ -134,8 +134,7 @@ pub fn render_techniques(
         with_technique(settings, &reference),
         variants,
         &dir,
-        cancel,
-        log,
+        progress,
     )
 }
 

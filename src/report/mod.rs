@@ -192,22 +192,21 @@ impl Draft {
 }
 
 /// A fresh study of `settings` (`plan`) written as a report into `out`, with `extra` files (name, bytes) beside
-/// the page: the page's path, and the configurations finished when `cancel` stopped the study (`None`: it ran
-/// to the end). Nothing is written when it fails, or when it was cancelled before any configuration finished.
+/// the page: the page's path, and the configurations finished when `progress` stopped the study (`None`: it ran
+/// to the end). Nothing is written when it fails, or when it was stopped before any configuration finished.
 pub fn fresh(
     out: &Path,
     plan: &run::Plan,
     settings: &crate::settings::Settings,
     command: String,
     extra: &[(&str, Vec<u8>)],
-    cancel: &std::sync::atomic::AtomicBool,
-    log: &mut dyn FnMut(&str),
+    progress: &mut dyn crate::progress::Progress,
 ) -> Result<(PathBuf, Option<usize>)> {
     let draft = Draft::new(out)?;
     for (name, bytes) in extra {
         crate::io::write_atomic(&draft.path().join(name), bytes)?;
     }
-    let done = run::run(&draft, plan, settings, cancel, log)?;
+    let done = run::run(&draft, plan, settings, progress)?;
     if done.dirs.is_empty() {
         bail!("interrupted before any configuration finished; no report written");
     }

@@ -1,7 +1,8 @@
 //! A fresh study for a report: the scene's thumbnail, the shadow methods' bench, the transparency bench and,
 //! when asked, the motion measurement, each written into the draft's `data/` folder by the writers `hairlab
-//! bench` and `hairlab measure motion` use, after every configuration. A cancel (Ctrl-C) stops after the
-//! configuration in progress; what finished is then read back like any `--from` folder.
+//! bench` and `hairlab measure motion` use, after every configuration. A stop the [`Progress`] asks for (Ctrl-C,
+//! Cancel) takes effect after the configuration in progress; what finished is then read back like any `--from`
+//! folder.
 
 use super::sections::{MOTION_DIR, SHADOWS_DIR, TRANSPARENCY_DIR};
 use super::{AdapterFacts, Draft, Meta};
@@ -10,12 +11,12 @@ use crate::gpu::{AdapterPreference, Gpu};
 use crate::measure::MethodConfig;
 use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion};
 use crate::measure::transparency::TechniqueConfig;
+use crate::progress::{Part, Progress};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The scene thumbnail's file in the report, and its width in pixels.
 pub const THUMBNAIL: &str = "scene.png";
@@ -48,24 +49,40 @@ pub struct Done {
 /// The preset whose `[motion]` a still preset's `--motion` study plays.
 pub const STILL_MOTION: &str = "stray-sweep";
 
-/// Runs `plan` on `settings` into `draft`; `log` hears what is measured.
-pub fn run(
-    draft: &Draft,
-    plan: &Plan,
-    settings: &Settings,
-    cancel: &AtomicBool,
-    log: &mut dyn FnMut(&str),
-) -> Result<Done> {
+/// The share of a study's progress each of its phases stands for: the thumbnail, the shadow methods (bench,
+/// images, curves), the truth, the transparency techniques and the motion, by rough cost.
+fn phases(plan: &Plan) -> [(f32, f32); 5] {
+    let weights = [
+        0.2,
+        4.0,
+        if plan.truth { 1.0 } else { 0.0 },
+        2.0,
+        if plan.motion { 2.0 } else { 0.0 },
+    ];
+    let total: f32 = weights.iter().sum();
+    let mut start = 0.0;
+    weights.map(|w| {
+        let range = (start / total, (start + w) / total);
+        start += w;
+        range
+    })
+}
+
+/// Runs `plan` on `settings` into `draft`; `progress` hears what is measured and may stop the study after the
+/// configuration in progress.
+pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn Progress) -> Result<Done> {
+    let [thumbnail, shadows, truth_phase, transparency, motion] = phases(plan);
     // A still preset's study in motion plays the stray-strand sweep (one strand's root sliding across the hair's
     // light-facing front, the motion of Sintorn & Assarsson's Fig. 4 failure), as `stray-sweep` declares it.
     let swept;
     let settings = if plan.motion && settings.motion.source == crate::motion::MotionSource::None {
         let mut s = settings.clone();
         s.motion = Settings::load_preset(STILL_MOTION, &[])?.motion;
-        log(&format!(
+        let note = format!(
             "preset {} has no [motion]: --motion plays {STILL_MOTION}'s (one strand's root sweeping across the hair)",
             plan.preset
-        ));
+        );
+        progress.step(&note, 0.0);
         swept = s;
         &swept
     } else {
@@ -100,12 +117,19 @@ pub fn run(
         ..Meta::default()
     };
     let root = draft.path();
-    log("rendering the scene's thumbnail…");
+    progress.step("rendering the scene's thumbnail…", thumbnail.0);
     let mut thumb = None;
-    crate::animation::render_frames_on(&gpu, &mut settings.clone(), &[0], &mut |_| {}, &mut |_, image| {
-        thumb = Some(image);
-        Ok(())
-    })?;
+    crate::animation::render_frames_on(
+        &gpu,
+        &mut settings.clone(),
+        &[0],
+        &mut |_| {},
+        &mut crate::progress::Quiet,
+        &mut |_, image| {
+            thumb = Some(image);
+            Ok(())
+        },
+    )?;
     if let Some(image) = thumb {
         let h = (image.height() * THUMBNAIL_WIDTH / image.width().max(1)).max(1);
         let small = image::imageops::thumbnail(&image, THUMBNAIL_WIDTH.min(image.width()), h);
@@ -119,8 +143,9 @@ pub fn run(
 
     // The shadow methods: the given configurations, or every method's sweep.
     let dir = root.join(SHADOWS_DIR);
-    log("measuring the shadow methods…");
-    let mut progress = |p: crate::bench::Progress| log(&format!("  {}/{} {}", p.done, p.total, p.label));
+    // The bench takes the first 70 % of the shadow methods' share, their images the rest.
+    let bench_end = shadows.0 + 0.7 * (shadows.1 - shadows.0);
+    let mut bench_progress = Part::of(&mut *progress, shadows.0, bench_end);
     let mut written =
         |partial: &crate::bench::BenchResult| crate::bench::write_tables(&dir, partial).map(|_| ());
     let result = if plan.configs.is_empty() {
@@ -130,8 +155,7 @@ pub fn run(
             &plan.preset,
             &methods,
             frames,
-            cancel,
-            &mut progress,
+            &mut bench_progress,
             &mut written,
         )?
     } else {
@@ -148,25 +172,29 @@ pub fn run(
             &configs,
             frames,
             usize::MAX,
-            cancel,
-            &mut progress,
+            &mut bench_progress,
             &mut written,
         )?
     };
     if let Some(result) = &result {
         crate::bench::write_results(&dir, result)?;
         let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
-        super::images::render_configs(&gpu, settings, &configs, &dir, cancel, log)?;
-        if !cancel.load(Ordering::SeqCst) {
-            log("  the worst texels' V(z) and the depth-complexity histogram");
+        let mut images = Part::of(&mut *progress, bench_end, shadows.1);
+        if super::images::render_configs(&gpu, settings, &configs, &dir, &mut images)?
+            && progress.step(
+                "the worst texels' V(z) and the depth-complexity histogram",
+                shadows.1,
+            )
+        {
             super::curves::write(&gpu, settings, &configs, &dir)?;
-        }
-        if plan.truth && !cancel.load(Ordering::SeqCst) {
-            truth(&gpu, settings, result, &dir, cancel, log)?;
+            if plan.truth {
+                let mut phase = Part::of(&mut *progress, truth_phase.0, truth_phase.1);
+                truth(&gpu, settings, result, &dir, &mut phase)?;
+            }
         }
         dirs.push(dir);
     }
-    if cancel.load(Ordering::SeqCst) {
+    if !progress.step("measuring the transparency techniques…", transparency.0) {
         return Ok(Done {
             dirs,
             meta,
@@ -176,7 +204,10 @@ pub fn run(
 
     // Eye transparency.
     let dir = root.join(TRANSPARENCY_DIR);
-    log("measuring the transparency techniques…");
+    // The bench takes the first 70 % of the techniques' share, their images the rest.
+    let bench_end = transparency.0 + 0.7 * (transparency.1 - transparency.0);
+    let measured = Cell::new(0);
+    let stopped = Cell::new(false);
     let mut write_err = Ok(());
     let bench = crate::bench::transparency::TransparencyBench::run_each(
         &gpu,
@@ -184,10 +215,15 @@ pub fn run(
         &plan.preset,
         &techniques,
         frames,
-        |what| log(&format!("  {what}")),
+        |what| {
+            let f = crate::progress::share(measured.get(), techniques.len());
+            let at = transparency.0 + f * (bench_end - transparency.0);
+            stopped.set(stopped.get() || !progress.step(what, at));
+        },
         |partial| {
             write_err = partial.write_tables(&dir).map(|_| ());
-            if write_err.is_err() || cancel.load(Ordering::SeqCst) {
+            measured.set(partial.rows.len());
+            if write_err.is_err() || stopped.get() {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
@@ -198,21 +234,28 @@ pub fn run(
     if !bench.rows.is_empty() {
         bench.write(&dir)?;
         let rows: Vec<TechniqueConfig> = bench.rows.iter().map(|r| r.config.clone()).collect();
-        super::images::render_techniques(&gpu, settings, &rows, &dir, cancel, log)?;
+        let mut images = Part::of(&mut *progress, bench_end, transparency.1);
+        let all = super::images::render_techniques(&gpu, settings, &rows, &dir, &mut images)?;
+        stopped.set(stopped.get() || !all);
         dirs.push(dir);
     }
-    if cancel.load(Ordering::SeqCst) || !plan.motion {
-        let finished = !cancel.load(Ordering::SeqCst);
-        return Ok(Done { dirs, meta, finished });
+    let stopped = stopped.get() || !progress.step("measured the transparency techniques", transparency.1);
+    if stopped || !plan.motion {
+        return Ok(Done {
+            dirs,
+            meta,
+            finished: !stopped,
+        });
     }
 
     // Motion.
     let dir = root.join(MOTION_DIR);
-    log("measuring the motion…");
+    // The measurement takes the first 70 % of the motion's share, the animations the rest.
+    let measure_end = motion.0 + 0.7 * (motion.1 - motion.0);
     let written = RefCell::new(Ok(()));
     let after_each = |m: &MotionMeasurement| {
         let w = write_motion(&dir, m);
-        let stop = w.is_err() || cancel.load(Ordering::SeqCst);
+        let stop = w.is_err();
         *written.borrow_mut() = w;
         if stop {
             ControlFlow::Break(())
@@ -222,7 +265,6 @@ pub fn run(
     };
     let options = MotionOptions {
         follow: None,
-        cancel: None,
         after_each: Some(&after_each),
     };
     let m = measure_motion(
@@ -231,19 +273,17 @@ pub fn run(
         &motion_configs,
         frames.max(2),
         options,
-        &mut |what, _| log(&format!("  {what}")),
+        &mut Part::of(&mut *progress, motion.0, measure_end),
     )?;
     written.into_inner()?;
+    let mut finished = m.rows.len() == motion_configs.len();
     if !m.rows.is_empty() {
         let configs: Vec<MethodConfig> = m.rows.iter().map(|r| r.config.config.clone()).collect();
-        super::animations::write(&gpu, settings, &configs, frames.max(2), &dir, cancel, log)?;
+        let mut animating = Part::of(&mut *progress, measure_end, motion.1);
+        finished &= super::animations::write(&gpu, settings, &configs, frames.max(2), &dir, &mut animating)?;
         dirs.push(dir);
     }
-    Ok(Done {
-        dirs,
-        meta,
-        finished: !cancel.load(Ordering::SeqCst),
-    })
+    Ok(Done { dirs, meta, finished })
 }
 
 /// The path-traced truth of `settings` and the decomposition of each of `configs`' error against it under each
@@ -253,22 +293,17 @@ fn truth(
     settings: &Settings,
     result: &crate::bench::BenchResult,
     dir: &std::path::Path,
-    cancel: &AtomicBool,
-    log: &mut dyn FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<()> {
-    log("  path-tracing the truth…");
-    let t = crate::measure::truth::path_traced(settings, &mut |n, of| {
-        log(&format!("  path-traced truth: {n}/{of} spp"));
-        !cancel.load(Ordering::SeqCst)
-    })?;
-    if cancel.load(Ordering::SeqCst) {
+    let Some(t) = crate::measure::truth::path_traced(settings, &mut Part::of(&mut *progress, 0.0, 0.8))?
+    else {
         return Ok(());
-    }
+    };
     let models = crate::shading::ShadingModel::ALL;
     let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
     let table =
         crate::measure::shading::shading_errors_on(gpu, settings, &configs, &models, Some(&t), |m| {
-            log(&format!("  decomposing under {m}"))
+            progress.step(&format!("decomposing under {m}"), 0.9);
         })?;
     let decomposition = table.decomposition();
     let csv = crate::io::csv_text(super::data::DECOMPOSITION_CSV, &decomposition)?;

@@ -18,6 +18,8 @@
 //! Randomness comes from [`crate::rng::SplitMix64`] streams derived from `seed` (one for roots, one per strand), so the same
 //! parameters give bit-identical output.
 
+use super::progress::BATCH;
+use crate::progress::{Progress, Quiet, share};
 use glam::{Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -194,30 +196,36 @@ pub enum GenError {
 /// Generates the scene `p` describes: hair plus the head mesh (head kind) or the fur base mesh (fur kinds)
 /// and the floor (if `p.floor`), the strands styled by `taper` and `tip_transparency`.
 pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
+    generate_with(p, &mut Quiet)
+}
+
+/// [`generate`] telling `progress` the share of the strands grown every [`BATCH`] strands; once it answers
+/// `false` the growth stops and the scene holds the strands grown so far.
+pub fn generate_with(p: &GenParams, progress: &mut dyn Progress) -> Result<Scene, GenError> {
     let n = validate(p)?;
     let mut rng = Rng::stream(p.seed, 0);
     let (mut strands, mut meshes) = match p.kind {
         GenKind::Head => {
             let roots: Vec<Root> = (0..n).map(|_| head_root(&mut rng)).collect();
             (
-                grow_all(p, p.gravity, &roots, Some(HEAD_RADII)),
+                grow_all(p, p.gravity, &roots, Some(HEAD_RADII), progress),
                 vec![ellipsoid_mesh(HEAD_RADII)],
             )
         }
         GenKind::Patch => (
-            grow_all(p, 0.0, &patch_roots(n, p.length * 0.6, &mut rng), None),
+            grow_all(p, 0.0, &patch_roots(n, p.length * 0.6, &mut rng), None, progress),
             Vec::new(),
         ),
-        GenKind::StrayStrand => (stray_strand(p, n, &mut rng), Vec::new()),
-        GenKind::MixedSizes => (mixed_sizes(p, n, &mut rng), Vec::new()),
-        GenKind::ManyClumps => (many_clumps(p, n, &mut rng), Vec::new()),
+        GenKind::StrayStrand => (stray_strand(p, n, &mut rng, progress), Vec::new()),
+        GenKind::MixedSizes => (mixed_sizes(p, n, &mut rng, progress), Vec::new()),
+        GenKind::ManyClumps => (many_clumps(p, n, &mut rng, progress), Vec::new()),
         GenKind::FurCylinder | GenKind::FurHat => {
             let mesh = if p.kind == GenKind::FurCylinder {
                 shapes::fur_cylinder()
             } else {
                 shapes::fur_hat()
             };
-            (grow_on_mesh(p, &mesh)?, vec![mesh])
+            (grow_on_mesh(p, &mesh, progress)?, vec![mesh])
         }
     };
     style::style(&mut strands, p.taper, p.tip_transparency);
@@ -236,12 +244,21 @@ pub fn generate(p: &GenParams) -> Result<Scene, GenError> {
 /// ignored; the scene holds the scalp mesh itself, the hair and (if `p.floor`) a floor. Strands are not kept
 /// out of the mesh.
 pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError> {
+    generate_on_scalp_with(p, scalp, &mut Quiet)
+}
+
+/// [`generate_on_scalp`] telling `progress` as [`generate_with`] does.
+pub fn generate_on_scalp_with(
+    p: &GenParams,
+    scalp: &Mesh,
+    progress: &mut dyn Progress,
+) -> Result<Scene, GenError> {
     let n = validate(p)?;
     let tris = mesh_triangles(scalp, Some(SCALP_MIN_NORMAL_Y))?;
     if tris.last().is_none_or(|t| t.cum_area <= 0.0) {
         return Err(GenError::NoScalpArea);
     }
-    let mut strands = grow_all(p, p.gravity, &mesh_roots(scalp, &tris, n, p.seed), None);
+    let mut strands = grow_all(p, p.gravity, &mesh_roots(scalp, &tris, n, p.seed), None, progress);
     style::style(&mut strands, p.taper, p.tip_transparency);
     let mut meshes = vec![scalp.clone()];
     if p.floor {
@@ -254,13 +271,19 @@ pub fn generate_on_scalp(p: &GenParams, scalp: &Mesh) -> Result<Scene, GenError>
 /// drooping with gravity), unstyled: the growth [`generate_on_scalp`] does, without its upward-facing filter,
 /// for fur base meshes ([`crate::scene::style`]). `p.kind`, `p.floor`, `p.taper` and `p.tip_transparency`
 /// are not used here.
-pub fn grow_on_mesh(p: &GenParams, mesh: &Mesh) -> Result<Strands, GenError> {
+pub fn grow_on_mesh(p: &GenParams, mesh: &Mesh, progress: &mut dyn Progress) -> Result<Strands, GenError> {
     let n = validate(p)?;
     let tris = mesh_triangles(mesh, None)?;
     if tris.last().is_none_or(|t| t.cum_area <= 0.0) {
         return Err(GenError::NoMeshArea);
     }
-    Ok(grow_all(p, p.gravity, &mesh_roots(mesh, &tris, n, p.seed), None))
+    Ok(grow_all(
+        p,
+        p.gravity,
+        &mesh_roots(mesh, &tris, n, p.seed),
+        None,
+        progress,
+    ))
 }
 
 /// `n` roots on `tris` of `mesh` (non-empty, positive total area), area-weighted, from `seed`'s root stream.
@@ -424,22 +447,30 @@ fn patch_roots(n: usize, side: f32, rng: &mut Rng) -> Vec<Root> {
 
 /// A patch of `n` strands of `length` on a square of side `side`, growing up +Y (no clumping), moved by
 /// `offset`.
-fn patch_block(p: &GenParams, n: usize, side: f32, length: f32, offset: Vec3, rng: &mut Rng) -> Strands {
+fn patch_block(
+    p: &GenParams,
+    n: usize,
+    side: f32,
+    length: f32,
+    offset: Vec3,
+    rng: &mut Rng,
+    progress: &mut dyn Progress,
+) -> Strands {
     let q = GenParams {
         length,
         clumps: 0,
         ..p.clone()
     };
-    let mut s = grow_all(&q, 0.0, &patch_roots(n, side, rng), None);
+    let mut s = grow_all(&q, 0.0, &patch_roots(n, side, rng), None, progress);
     for x in &mut s.points {
         *x += offset;
     }
     s
 }
 
-fn stray_strand(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
+fn stray_strand(p: &GenParams, n: usize, rng: &mut Rng, progress: &mut dyn Progress) -> Strands {
     let side = p.length * 0.4;
-    let mut s = patch_block(p, n, side, p.length, Vec3::ZERO, rng);
+    let mut s = patch_block(p, n, side, p.length, Vec3::ZERO, rng, progress);
     let stray = GenParams {
         style: HairStyle::Straight,
         ..p.clone()
@@ -459,15 +490,17 @@ fn stray_strand(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
             p.length,
             Vec3::new(p.length * 0.6, 0.0, z),
             rng,
+            progress,
         ));
     }
     s
 }
 
-fn mixed_sizes(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
+fn mixed_sizes(p: &GenParams, n: usize, rng: &mut Rng, progress: &mut dyn Progress) -> Strands {
     let half = n.div_ceil(2);
     let l = p.length;
-    let mut s = patch_block(p, half, l * 0.4, l * 0.1, Vec3::new(-l * 0.3, 0.0, 0.0), rng);
+    let at = Vec3::new(-l * 0.3, 0.0, 0.0);
+    let mut s = patch_block(p, half, l * 0.4, l * 0.1, at, rng, progress);
     s.append(&patch_block(
         p,
         (n - half).max(1),
@@ -475,17 +508,18 @@ fn mixed_sizes(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
         l,
         Vec3::new(l * 0.2, 0.0, 0.0),
         rng,
+        progress,
     ));
     s
 }
 
-fn many_clumps(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
+fn many_clumps(p: &GenParams, n: usize, rng: &mut Rng, progress: &mut dyn Progress) -> Strands {
     let q = p.clumps.max(1) as usize;
     let gap = p.length * 0.3;
     let mut out = Strands::default();
     for k in 0..q {
         // A patch grown along +Y, laid down along +X and squashed into a thin sheet at height k * gap.
-        let mut sheet = patch_block(p, (n / q).max(1), p.length, p.length, Vec3::ZERO, rng);
+        let mut sheet = patch_block(p, (n / q).max(1), p.length, p.length, Vec3::ZERO, rng, progress);
         for x in &mut sheet.points {
             *x = Vec3::new(x.y - p.length * 0.5, k as f32 * gap + x.x * 0.03, x.z);
         }
@@ -495,14 +529,21 @@ fn many_clumps(p: &GenParams, n: usize, rng: &mut Rng) -> Strands {
 }
 
 /// Grows one strand per root (drooping with `gravity`, kept out of the ellipsoid `head`), applies clumping,
-/// and colours the strands when `p.strand_colors` is set. Reports its progress to [`super::progress`].
-fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> Strands {
+/// and colours the strands when `p.strand_colors` is set. Tells `progress` the share grown every [`BATCH`]
+/// strands and stops growing once it answers `false`.
+fn grow_all(
+    p: &GenParams,
+    gravity: f32,
+    roots: &[Root],
+    head: Option<Vec3>,
+    progress: &mut dyn Progress,
+) -> Strands {
     let per = p.segments as usize + 1;
     let mut points = Vec::with_capacity(roots.len() * per);
     let mut color = Vec::with_capacity(if p.strand_colors { roots.len() * per } else { 0 });
     let mut grown = 0;
     for (i, root) in roots.iter().enumerate() {
-        if i % super::progress::BATCH == 0 && !super::progress::step(i as f32 / roots.len() as f32) {
+        if i % BATCH == 0 && !progress.step("growing the strands", share(i, roots.len())) {
             break;
         }
         grown = i + 1;
@@ -514,7 +555,7 @@ fn grow_all(p: &GenParams, gravity: f32, roots: &[Root], head: Option<Vec3>) -> 
             color.extend(std::iter::repeat_n((BROWN * tint).min(Vec3::ONE), per));
         }
     }
-    // A stopped build (`progress::observed`) keeps the strands grown so far.
+    // A stopped build keeps the strands grown so far.
     let roots = &roots[..grown];
     clump(p, roots, head, &mut points);
     Strands {
@@ -794,7 +835,7 @@ fn mesh_triangles(mesh: &Mesh, min_normal_y: Option<f32>) -> Result<Vec<MeshTri>
 /// Guard hairs (Andersen et al. 2016 §3.1) of `p` (count, length, segments, gravity, style, clumps, seed, taper, tip transparency) grown on
 /// every triangle of `mesh`.
 pub fn guard_hairs(p: &GenParams, mesh: &Mesh) -> Result<Strands, GenError> {
-    let mut strands = grow_on_mesh(p, mesh)?;
+    let mut strands = grow_on_mesh(p, mesh, &mut Quiet)?;
     style::style(&mut strands, p.taper, p.tip_transparency);
     Ok(strands)
 }

@@ -446,15 +446,15 @@ fn read_hair_from(bytes: &[u8], source: &str) -> Result<HairFile, HairError> {
 
 /// Reads and validates a `.hair` file; every error names the file.
 pub fn read_hair_file(path: &Path) -> Result<HairFile, HairError> {
-    read_hair_file_via(path, crate::io::read_regular_file)
+    read_hair_file_with(path, &mut crate::progress::Quiet)
 }
 
-/// [`read_hair_file`] with the bytes read by `read` (the scene loader's reads report their progress).
-pub(super) fn read_hair_file_via(
+/// [`read_hair_file`] telling `progress` how far the read got ([`super::progress::read_file`]).
+pub(super) fn read_hair_file_with(
     path: &Path,
-    read: fn(&Path) -> std::io::Result<Vec<u8>>,
+    progress: &mut dyn crate::progress::Progress,
 ) -> Result<HairFile, HairError> {
-    let bytes = read(path).map_err(|cause| HairError::Io {
+    let bytes = super::progress::read_file(path, progress).map_err(|cause| HairError::Io {
         path: path.to_owned(),
         cause,
     })?;

@@ -24,23 +24,27 @@ pub const SCENE_EXTENSIONS: &[&str] = &["hair", "gltf", "glb", "tfx", "data"];
 /// and USD stages give meshes and strands (a time-sampled stage its first time code). The extension is matched case-insensitively; anything else is an error naming the
 /// file.
 pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
-    // `.hair`, `.tfx` and `.data` files report their progress as they are read ([`super::progress`]).
-    let read = super::progress::read_file;
+    load_scene_with(path, &mut crate::progress::Quiet)
+}
+
+/// [`load_scene`] telling `progress` how far a `.hair`, `.tfx` or `.data` file's read (and a `.data` file's
+/// parse) got ([`super::progress`]); once it answers `false` the load stops (an error, or the strands so far).
+pub fn load_scene_with(path: &Path, progress: &mut dyn crate::progress::Progress) -> anyhow::Result<Scene> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("hair") => {
-            let strands = hair::read_hair_file_via(path, read)?
+            let strands = hair::read_hair_file_with(path, progress)?
                 .to_strands()
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
             Ok(Scene::new(strands, Vec::new()))
         }
         Some("gltf" | "glb") => Ok(gltf_load::load_gltf(path)?),
         Some("tfx") => Ok(Scene::new(
-            tfx::read_tfx_file_via(path, read)?.to_strands(),
+            tfx::read_tfx_file_with(path, progress)?.to_strands(),
             Vec::new(),
         )),
         Some("data") => Ok(Scene::new(
-            usc_data::read_data_file_via(path, read)?.strands,
+            usc_data::read_data_file_with(path, progress)?.strands,
             Vec::new(),
         )),
         #[cfg(feature = "usd")]

@@ -1,97 +1,70 @@
-//! Progress and cancellation of a long scene build on the current thread, without threading a callback
-//! through every builder: [`observed`] installs a step function for the duration of one build, and the
-//! generator's strand loop calls [`step`] every [`BATCH`] strands. The scene loader reads the files that can be
-//! large (`.hair`, `.tfx`, `.data`) through [`read_file`], which steps every [`crate::io::READ_CHUNK`] bytes
-//! over the first [`READ_SHARE`] of the load; the `.data` parser steps every [`BATCH`] strands over the rest
-//! (the `.hair` and `.tfx` arrays convert in bulk). Once the step function answers `false` the loop or the
-//! read stops, and [`observed`] drops the partial result (or the error) and returns `None`. Builds outside
-//! [`observed`] (the CLI, the tests) never stop.
+//! Progress of a long scene build: the generator's strand loop tells its [`Progress`] every [`BATCH`] strands;
+//! the scene loader reads the files that can be large (`.hair`, `.tfx`, `.data`) through [`read_file`], which
+//! steps every [`crate::io::READ_CHUNK`] bytes over the first [`READ_SHARE`] of the load, and the `.data` parser
+//! steps every [`BATCH`] strands over the rest ([`parsed`]; the `.hair` and `.tfx` arrays convert in bulk). Once
+//! the progress answers `false` the loop or the read stops: a stopped read fails
+//! ([`std::io::ErrorKind::Interrupted`]), a stopped loop keeps what it made so far, and the caller (the window's
+//! scene job) drops either.
 
-use std::cell::RefCell;
+use crate::progress::Progress;
 use std::path::Path;
 
-/// Strands grown between two calls of the step function.
+/// Strands grown or parsed between two steps.
 pub const BATCH: usize = 1024;
-
-type StepFn = Box<dyn FnMut(f32) -> bool>;
-
-thread_local! {
-    /// The step function of the build under way on this thread, and whether it asked to stop.
-    static OBSERVER: RefCell<Option<(StepFn, bool)>> = const { RefCell::new(None) };
-}
-
-/// Runs `build` with `step(fraction of the strands grown)` called as the generator grows them; `None` when
-/// `step` answered `false` (the build stopped early and its partial result is dropped).
-pub fn observed<R>(step: impl FnMut(f32) -> bool + 'static, build: impl FnOnce() -> R) -> Option<R> {
-    OBSERVER.with(|o| *o.borrow_mut() = Some((Box::new(step), false)));
-    let result = build();
-    let stopped = OBSERVER.with(|o| o.borrow_mut().take().is_some_and(|(_, stopped)| stopped));
-    (!stopped).then_some(result)
-}
-
-/// Reports `fraction` of the strands grown; `false` when the build should stop.
-pub fn step(fraction: f32) -> bool {
-    OBSERVER.with(|o| match o.borrow_mut().as_mut() {
-        Some((f, stopped)) => {
-            *stopped = *stopped || !f(fraction);
-            !*stopped
-        }
-        None => true,
-    })
-}
 
 /// The share of a file load that reading its bytes stands for; parsing them is the rest.
 pub const READ_SHARE: f32 = 0.5;
 
-/// Reads `path` as [`crate::io::read_regular_file`] does, stepping through `0..READ_SHARE` as the bytes come.
-pub fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+/// The label of a load's steps.
+const LOADING: &str = "loading the strands";
+
+/// Reads `path` as [`crate::io::read_regular_file`] does, stepping `progress` through `0..READ_SHARE` as the
+/// bytes come.
+pub fn read_file(path: &Path, progress: &mut dyn Progress) -> std::io::Result<Vec<u8>> {
     crate::io::read_regular_file_observed(path, &mut |read, size| {
-        step(READ_SHARE * (read as f64 / size.max(1) as f64) as f32)
+        progress.step(LOADING, READ_SHARE * (read as f64 / size.max(1) as f64) as f32)
     })
 }
 
-/// Steps to `READ_SHARE + (1 - READ_SHARE) × done / total` (parsing after [`read_file`]) when `done` is a
-/// multiple of [`BATCH`]; `false` when the parse should stop.
-pub fn parsed(done: usize, total: usize) -> bool {
+/// Steps `progress` to `READ_SHARE + (1 - READ_SHARE) × done / total` (parsing after [`read_file`]) when `done`
+/// is a multiple of [`BATCH`]; `false` when the parse should stop.
+pub fn parsed(done: usize, total: usize, progress: &mut dyn Progress) -> bool {
     !done.is_multiple_of(BATCH)
-        || step(READ_SHARE + (1.0 - READ_SHARE) * (done as f64 / total.max(1) as f64) as f32)
+        || progress.step(
+            LOADING,
+            READ_SHARE + (1.0 - READ_SHARE) * (done as f64 / total.max(1) as f64) as f32,
+        )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::generate::{GenParams, generate};
+    use crate::scene::generate::{GenParams, generate, generate_with};
 
     #[test]
-    fn a_stopped_generation_returns_nothing_and_a_full_one_is_unchanged() {
+    fn a_stopped_generation_keeps_the_first_batch_and_a_full_one_is_unchanged() {
         let p = GenParams {
             strands: 3 * BATCH as u32,
             segments: 4,
             ..GenParams::default()
         };
         let plain = generate(&p).unwrap();
-        let fractions = std::rc::Rc::new(RefCell::new(Vec::new()));
-        let seen = fractions.clone();
-        let full = observed(
-            move |f| {
-                seen.borrow_mut().push(f);
-                true
-            },
-            || generate(&p).unwrap(),
-        )
-        .expect("not stopped");
+        let mut fractions = Vec::new();
+        let full = generate_with(&p, &mut |_: &str, f: f32| {
+            fractions.push(f);
+            true
+        })
+        .unwrap();
         assert_eq!(full.strands.points, plain.strands.points);
-        assert_eq!(*fractions.borrow(), vec![0.0, 1.0 / 3.0, 2.0 / 3.0]);
+        assert_eq!(fractions, vec![0.0, 1.0 / 3.0, 2.0 / 3.0]);
+        // Stopped at the second step: the first batch of strands only.
         let mut calls = 0;
-        let stopped = observed(
-            move |_| {
-                calls += 1;
-                calls < 2
-            },
-            || generate(&p).unwrap(),
-        );
-        assert!(stopped.is_none());
-        assert!(step(0.5), "outside a build nothing stops");
+        let stopped = generate_with(&p, &mut |_: &str, _: f32| {
+            calls += 1;
+            calls < 2
+        })
+        .unwrap();
+        assert_eq!(stopped.strands.strand_count(), BATCH);
     }
 
     /// Loading a `.hair`, `.tfx` or `.data` file of 1.6 MB (two read chunks; 3 × BATCH strands) reports
@@ -99,7 +72,7 @@ mod tests {
     /// as a load without the hook; a step answering `false` drops the load.
     #[test]
     fn a_load_reports_its_progress_and_gives_the_same_scene() {
-        use crate::scene::load::{load_scene, save_strands};
+        use crate::scene::load::{load_scene, load_scene_with, save_strands};
         let p = GenParams {
             strands: 3 * BATCH as u32,
             segments: 40,
@@ -113,18 +86,13 @@ mod tests {
             let size = std::fs::metadata(&path).unwrap().len();
             assert!(size > crate::io::READ_CHUNK, "{ext}: {size} bytes, one chunk");
             let plain = load_scene(&path).unwrap();
-            let fractions = std::rc::Rc::new(RefCell::new(Vec::new()));
-            let seen = fractions.clone();
-            let hooked = observed(
-                move |f| {
-                    seen.borrow_mut().push(f);
-                    true
-                },
-                || load_scene(&path).unwrap(),
-            )
-            .expect("not stopped");
+            let mut f = Vec::new();
+            let hooked = load_scene_with(&path, &mut |_: &str, x: f32| {
+                f.push(x);
+                true
+            })
+            .unwrap();
             assert!(hooked == plain, "{ext}: the same scene with the hook");
-            let f = fractions.borrow();
             assert!(f.windows(2).all(|w| w[0] <= w[1]), "{ext}: {f:?}");
             assert!(f.iter().all(|x| (0.0..=1.0).contains(x)), "{ext}: {f:?}");
             let reads = f.iter().filter(|&&x| x <= READ_SHARE).count();
@@ -138,11 +106,10 @@ mod tests {
                 assert_eq!(f.iter().filter(|&&x| x >= READ_SHARE).count(), 4, "{ext}: {f:?}");
                 assert!((f[f.len() - 1] - (READ_SHARE + 2.0 / 3.0 * (1.0 - READ_SHARE))).abs() < 1e-6);
             }
-            let path = dir.path().join(format!("s.{ext}"));
-            assert!(
-                observed(|_| false, || load_scene(&path)).is_none(),
-                "{ext}: stopped"
-            );
+            // Stopped at the first step: the read fails, naming the file.
+            let stopped = load_scene_with(&path, &mut |_: &str, _: f32| false);
+            let e = format!("{:#}", stopped.expect_err("stopped"));
+            assert!(e.contains(&format!("s.{ext}")), "{ext}: {e}");
         }
     }
 }

@@ -338,15 +338,15 @@ pub fn read_tfx(bytes: &[u8]) -> Result<TfxFile, TfxError> {
 
 /// Reads and validates a `.tfx` file; every error names the file.
 pub fn read_tfx_file(path: &Path) -> Result<TfxFile, TfxError> {
-    read_tfx_file_via(path, crate::io::read_regular_file)
+    read_tfx_file_with(path, &mut crate::progress::Quiet)
 }
 
-/// [`read_tfx_file`] with the bytes read by `read` (the scene loader's reads report their progress).
-pub(super) fn read_tfx_file_via(
+/// [`read_tfx_file`] telling `progress` how far the read got ([`super::progress::read_file`]).
+pub(super) fn read_tfx_file_with(
     path: &Path,
-    read: fn(&Path) -> std::io::Result<Vec<u8>>,
+    progress: &mut dyn crate::progress::Progress,
 ) -> Result<TfxFile, TfxError> {
-    let bytes = read(path).map_err(|cause| TfxError::Io {
+    let bytes = super::progress::read_file(path, progress).map_err(|cause| TfxError::Io {
         path: path.to_owned(),
         cause,
     })?;

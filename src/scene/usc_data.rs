@@ -81,10 +81,16 @@ pub struct DataFile {
 
 /// Decodes and validates a `.data` file held in memory.
 pub fn read_data(bytes: &[u8]) -> Result<DataFile, DataError> {
-    read_data_from(bytes, ".data file")
+    read_data_from(bytes, ".data file", &mut crate::progress::Quiet)
 }
 
-fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
+/// Parses `bytes` (from `source`), telling `progress` every [`super::progress::BATCH`] strands; once it answers
+/// `false` the parse stops and gives the strands parsed so far.
+fn read_data_from(
+    bytes: &[u8],
+    source: &str,
+    progress: &mut dyn crate::progress::Progress,
+) -> Result<DataFile, DataError> {
     let (head, mut rest) = bytes
         .split_first_chunk::<4>()
         .ok_or(DataError::NoCount { len: bytes.len() })?;
@@ -107,8 +113,7 @@ fn read_data_from(bytes: &[u8], source: &str) -> Result<DataFile, DataError> {
     let mut empty_strands = 0;
     let mut bare_roots = Vec::new();
     for strand in 0..strands {
-        // A stopped load (`progress::observed`) drops what was parsed.
-        if !super::progress::parsed(strand, strands) {
+        if !super::progress::parsed(strand, strands, progress) {
             return Ok(DataFile {
                 strands: out,
                 bare_roots,
@@ -197,19 +202,19 @@ impl DataFile {
 
 /// Reads and validates a `.data` file; every error names the file.
 pub fn read_data_file(path: &Path) -> Result<DataFile, DataError> {
-    read_data_file_via(path, crate::io::read_regular_file)
+    read_data_file_with(path, &mut crate::progress::Quiet)
 }
 
-/// [`read_data_file`] with the bytes read by `read` (the scene loader's reads report their progress).
-pub(super) fn read_data_file_via(
+/// [`read_data_file`] telling `progress` how far the read and the parse got ([`super::progress`]).
+pub(super) fn read_data_file_with(
     path: &Path,
-    read: fn(&Path) -> std::io::Result<Vec<u8>>,
+    progress: &mut dyn crate::progress::Progress,
 ) -> Result<DataFile, DataError> {
-    let bytes = read(path).map_err(|cause| DataError::Io {
+    let bytes = super::progress::read_file(path, &mut *progress).map_err(|cause| DataError::Io {
         path: path.to_owned(),
         cause,
     })?;
-    read_data_from(&bytes, &path.display().to_string()).map_err(|e| DataError::InFile {
+    read_data_from(&bytes, &path.display().to_string(), progress).map_err(|e| DataError::InFile {
         path: path.to_owned(),
         cause: Box::new(e),
     })

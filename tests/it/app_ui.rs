@@ -893,11 +893,18 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
     let gpu = Gpu::for_tests().unwrap();
     let options = MotionOptions {
         follow: Some(point),
-        cancel: None,
         after_each: None,
     };
     let measured = harness.state().settings().clone();
-    let headless = measure_motion(&gpu, &measured, &configs, 4, options, &mut |_, _| {}).unwrap();
+    let headless = measure_motion(
+        &gpu,
+        &measured,
+        &configs,
+        4,
+        options,
+        &mut hairlab::progress::Quiet,
+    )
+    .unwrap();
     assert_eq!(headless.followed.as_ref().unwrap().1, reference);
     for (a, b) in headless.rows.iter().zip(&shown.rows) {
         assert_eq!(a.config, b.config);

@@ -629,7 +629,7 @@ fn the_alpha_fit_is_compare_maps_and_applies_to_the_hair_alpha() {
         .alpha_fit(&settings)
         .expect("fitted")
         .clone();
-    let direct = compare_map(&gpu, &settings, FIT_RAYS, &mut |_, _| true).unwrap();
+    let direct = compare_map(&gpu, &settings, FIT_RAYS, &mut hairlab::progress::Quiet).unwrap();
     assert_eq!(fit.comparison, direct);
     let a = fit.alpha().unwrap();
     eprintln!("{}", fit.summary(&settings));

@@ -55,10 +55,17 @@ fn a_motion_that_does_not_move_has_no_flicker_and_the_same_errors_every_frame() 
     // Strand 0's middle segment (12 segments: points 0..=12), followed.
     let options = MotionOptions {
         follow: Some(FollowedPoint { first: 6, t: 0.5 }),
-        cancel: None,
         after_each: None,
     };
-    let m = measure_motion(&gpu, &settings, &configs, 3, options, &mut |_, _| {}).unwrap();
+    let m = measure_motion(
+        &gpu,
+        &settings,
+        &configs,
+        3,
+        options,
+        &mut hairlab::progress::Quiet,
+    )
+    .unwrap();
     let (_, reference) = m.followed.clone().expect("the followed point's series");
     assert_eq!(reference.len(), 3);
     assert!(reference.iter().all(|v| *v == reference[0]), "{reference:?}");

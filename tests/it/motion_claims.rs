@@ -34,7 +34,7 @@ fn measure(
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let settings = Settings::load_preset(preset, &overrides).unwrap();
     let configs: Vec<MotionConfig> = configs.iter().map(|c| MotionConfig::parse(c).unwrap()).collect();
-    let m = measure_motion_on(gpu, &settings, &configs, frames, |_| {}).unwrap();
+    let m = measure_motion_on(gpu, &settings, &configs, frames, &mut hairlab::progress::Quiet).unwrap();
     eprint!("{}", m.table(&format!("{preset} {overrides:?}")));
     m
 }

@@ -235,7 +235,7 @@ fn the_ray_traced_map_lines_up_with_the_reference() {
             "render.strand_width=0.004".into(),
         ],
     );
-    let m = compare_map(&gpu, &settings, 8, &mut |_, _| true).unwrap();
+    let m = compare_map(&gpu, &settings, 8, &mut hairlab::progress::Quiet).unwrap();
     let crossed = m.texels.iter().filter(|t| t.ray_visibility < 1.0).count();
     eprintln!(
         "{} texels, {crossed} crossed by a fibre; mean |dV| {:.4}, best alpha {:.3}",

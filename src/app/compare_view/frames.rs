@@ -7,6 +7,7 @@ use crate::app::path_view;
 use crate::gpu::Gpu;
 use crate::gpu::timing::PassTime;
 use crate::methods::{LightMethod, ParamValues, registry as methods};
+use crate::progress::Progress;
 use crate::render::transparency::{EyeTransparency, registry};
 use crate::render::{FrameInput, Renderer};
 use crate::scene::Scene;
@@ -101,15 +102,23 @@ pub fn render_compare(
     width: u32,
     height: u32,
 ) -> Result<CompareFrames, String> {
-    render_compare_steps(r, scene, settings, slots, width, height, &mut |_, _| true)
-        .and_then(|frames| frames.ok_or_else(|| "compare view: stopped".to_string()))
+    render_compare_steps(
+        r,
+        scene,
+        settings,
+        slots,
+        width,
+        height,
+        &mut crate::progress::Quiet,
+    )
+    .and_then(|frames| frames.ok_or_else(|| "compare view: stopped".to_string()))
 }
 
 /// Steps of a compare render: four slots, the exact lists, the opaque image.
 pub(super) const STEPS: f32 = 6.0;
 
-/// [`render_compare`] telling `step` what it renders next and the share done (of [`STEPS`]) before each image;
-/// `Ok(None)` once `step` answers `false` (cancelled).
+/// [`render_compare`] telling `progress` what it renders next and the share done before each image; `Ok(None)`
+/// once it answers `false` (cancelled).
 pub(super) fn render_compare_steps(
     r: &mut Renderer,
     scene: &Scene,
@@ -117,7 +126,7 @@ pub(super) fn render_compare_steps(
     slots: &[Slot; 4],
     width: u32,
     height: u32,
-    step: &mut dyn FnMut(&str, f32) -> bool,
+    progress: &mut dyn Progress,
 ) -> Result<Option<CompareFrames>, String> {
     let method = methods::find(&settings.method.name).map_err(|e| format!("method.name: {e}"))?;
     let defaults = ParamValues::new();
@@ -130,9 +139,9 @@ pub(super) fn render_compare_steps(
     for (k, slot) in slots.iter().enumerate() {
         if *slot == Slot::PathTraced {
             let start = std::time::Instant::now();
-            let mut pass = |done: u32, of: u32| {
-                let label = format!("slot {} · {} · {done}/{of} spp", k + 1, PATH_TRACED.1);
-                step(&label, (k as f32 + done as f32 / of as f32) / STEPS)
+            let mut pass = |spp: &str, f: f32| {
+                let label = format!("slot {} · {} · {spp}", k + 1, PATH_TRACED.1);
+                progress.step(&label, (k as f32 + f) / STEPS)
             };
             let image = path_view::render_image_steps(settings, scene, (width, height), &mut pass)
                 .map_err(|e| format!("compare view: {}: {e:#}", PATH_TRACED.0))?;
@@ -148,7 +157,7 @@ pub(super) fn render_compare_steps(
             continue;
         }
         let (technique, params) = slot.resolve(settings, &defaults)?;
-        if !step(
+        if !progress.step(
             &format!("slot {} · {}", k + 1, technique.info().label),
             k as f32 / STEPS,
         ) {
@@ -167,13 +176,13 @@ pub(super) fn render_compare_steps(
             cpu_seconds: None,
         });
     }
-    if !step("exact lists", 4.0 / STEPS) {
+    if !progress.step("exact lists", 4.0 / STEPS) {
         return Ok(None);
     }
     let lists = r
         .eye_lists(&input(reference, &defaults))
         .map_err(|e| gpu_error("exact lists", e))?;
-    if !step("opaque image", 5.0 / STEPS) {
+    if !progress.step("opaque image", 5.0 / STEPS) {
         return Ok(None);
     }
     r.render_capture(&input(reference, &defaults))
@@ -263,16 +272,7 @@ pub(super) fn render_job(
         Err(e) => return Some(Err(e)),
     };
     let scene = path_view::posed(&source.scene, source.mesh_pose.clone());
-    render_compare_steps(
-        &mut r,
-        &scene,
-        settings,
-        slots,
-        width,
-        height,
-        &mut |what, done| ctl.step(what, done),
-    )
-    .transpose()
+    render_compare_steps(&mut r, &scene, settings, slots, width, height, &mut ctl.clone()).transpose()
 }
 
 /// The frame of `settings` with `technique` at `width`×`height`.

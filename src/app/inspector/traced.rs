@@ -17,6 +17,7 @@ use crate::measure::fibre_visibility::{MapComparison, compare_map};
 use crate::pathtrace::bvh::Bvh;
 use crate::pathtrace::fibre;
 use crate::pathtrace::visibility::{Texel, crossings, light_map_texel};
+use crate::progress::{Progress, share};
 use crate::render::AlphaMode;
 use crate::render::light_frame::LightFrame;
 use crate::scene::{LightKind, Strands};
@@ -109,12 +110,13 @@ impl TracedRays {
     }
 }
 
-/// The rays of `texels` (inside the map) through `bvh`, as `compare_map` seeds them; `keep_going` between texels.
+/// The rays of `texels` (inside the map) through `bvh`, as `compare_map` seeds them, telling `progress` before
+/// each texel; `None` once it answers `false`.
 fn trace(
     bvh: &Bvh,
     geometry: &Geometry,
     texels: &[[u32; 2]],
-    keep_going: &mut dyn FnMut(usize) -> bool,
+    progress: &mut dyn Progress,
 ) -> Option<Vec<TracedRays>> {
     let frame = &geometry.frame;
     let span = frame.far - frame.near;
@@ -122,7 +124,7 @@ fn trace(
     let max_depth = 2.0 * span;
     let mut out = Vec::with_capacity(texels.len());
     for (i, &[x, y]) in texels.iter().enumerate() {
-        if !keep_going(i) {
+        if !progress.step(&format!("tracing texel ({x}, {y})"), share(i, texels.len())) {
             return None;
         }
         let footprint = light_map_texel(frame, geometry.side, x, y);
@@ -247,14 +249,7 @@ impl Traced {
                     Arc::new(Bvh::new(fibre::segments(&strands, width)))
                 }
             };
-            let n = missing.len();
-            let rays = trace(&bvh, &geometry, &missing, &mut |i| {
-                let [x, y] = missing[i];
-                ctl.step(
-                    &format!("tracing texel ({x}, {y})"),
-                    0.5 + 0.5 * i as f32 / n as f32,
-                )
-            })?;
+            let rays = trace(&bvh, &geometry, &missing, &mut ctl.clone().part(0.5, 1.0))?;
             Some(Batch { geometry, bvh, rays })
         });
         self.job = Some((attempt, job));
@@ -345,16 +340,7 @@ impl Fit {
         let settings = settings.clone();
         self.job = Some(Job::spawn("α fit to the fibres", ctx, gate, move |ctl| {
             ctl.step("reading the fragment lists", 0.0).then_some(())?;
-            let mut shown = 0;
-            let comparison = compare_map(&gpu, &settings, FIT_RAYS, &mut |done, of| {
-                // A report per percent; the cancel flag at every texel.
-                let percent = done * 100 / of.max(1);
-                if percent > shown {
-                    shown = percent;
-                    return ctl.step(&format!("tracing {of} texels"), done as f32 / of as f32);
-                }
-                !ctl.cancelled()
-            });
+            let comparison = compare_map(&gpu, &settings, FIT_RAYS, &mut ctl.clone());
             if ctl.cancelled() {
                 return None;
             }
@@ -499,7 +485,7 @@ mod tests {
             frame,
             side: 1,
         };
-        let rays = trace(&bvh, &geometry, &[[0, 0]], &mut |_| true).unwrap();
+        let rays = trace(&bvh, &geometry, &[[0, 0]], &mut crate::progress::Quiet).unwrap();
         let r = &rays[0];
         assert_eq!(
             (r.rays, r.seed, r.first.len()),

@@ -4,8 +4,6 @@
 //! window's jobs (`app::jobs::JobCtl`), the terminal's bar with Ctrl-C (`cli::progress`), a closure and
 //! [`Quiet`] (never stops) implement it; [`Part`] maps a phase onto a sub-range of the whole.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-
 /// Told how far a long loop got; answers whether to go on.
 pub trait Progress {
     /// `label`: what runs now; `fraction` (0..=1): the share of the whole done. `false` asks the loop to stop
@@ -37,15 +35,6 @@ pub struct Quiet;
 impl Progress for Quiet {
     fn step(&mut self, _: &str, _: f32) -> bool {
         true
-    }
-}
-
-/// Stops once the flag is set (e.g. by Ctrl-C) and reports nothing.
-pub struct StopOn<'a>(pub &'a AtomicBool);
-
-impl Progress for StopOn<'_> {
-    fn step(&mut self, _: &str, _: f32) -> bool {
-        !self.0.load(Ordering::Relaxed)
     }
 }
 
@@ -108,12 +97,8 @@ mod tests {
     }
 
     #[test]
-    fn quiet_goes_on_and_a_flag_stops_once_set() {
+    fn quiet_goes_on_and_shares_count_steps() {
         assert!(Quiet.step("x", 0.5));
-        let flag = AtomicBool::new(false);
-        assert!(StopOn(&flag).step("x", 0.1));
-        flag.store(true, Ordering::Relaxed);
-        assert!(!StopOn(&flag).step("x", 0.2));
         assert_eq!(share(3, 4), 0.75);
         assert_eq!(share(0, 0), 1.0);
     }

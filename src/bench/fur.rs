@@ -109,18 +109,25 @@ struct Json<'a> {
 impl FurBench {
     /// Measures the usual blendings on `settings`' fur.
     pub fn run(settings: &Settings, preset: &str, frames: u32) -> Result<FurBench> {
-        Self::run_each(settings, preset, &usual_configs(), frames, |_| {
-            ControlFlow::Continue(())
-        })
+        let configs = usual_configs();
+        Self::run_each(
+            settings,
+            preset,
+            &configs,
+            frames,
+            &mut crate::progress::Quiet,
+            |_| ControlFlow::Continue(()),
+        )
     }
 
-    /// `configs` measured, `after` called with the bench so far after each configuration; the run stops, with
-    /// the rows so far, when it breaks (Ctrl-C, `crate::cli::interrupt`).
+    /// `configs` measured, `progress` told each as it starts, `after` called with the bench so far after each
+    /// (to write it); the run stops, with the rows so far, when `after` breaks or `progress` asks (Ctrl-C).
     pub fn run_each(
         settings: &Settings,
         preset: &str,
         configs: &[FurConfig],
         frames: u32,
+        progress: &mut dyn crate::progress::Progress,
         mut after: impl FnMut(&FurBench) -> ControlFlow<()>,
     ) -> Result<FurBench> {
         let bench = |stats: &FurSceneStats, rows: &[FurMeasurement]| FurBench {
@@ -129,7 +136,7 @@ impl FurBench {
             stats: stats.clone(),
             rows: rows.to_vec(),
         };
-        let (stats, rows) = measure_each(settings, configs, frames, |stats, rows| {
+        let (stats, rows) = measure_each(settings, configs, frames, progress, |stats, rows| {
             after(&bench(stats, rows))
         })?;
         Ok(bench(&stats, &rows))

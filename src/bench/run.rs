@@ -65,13 +65,14 @@ pub fn measure_configs_each(
             settings,
             &methods,
             frames,
-            |label| {
+            &mut |label: &str, _: f32| {
                 // `measure` names the configuration it starts, or a phase of its own (the reference).
                 if group.get(next).is_some_and(|c| c.config.label() == label) {
                     next += 1;
                 }
                 let done = share(first + next.saturating_sub(1), total);
                 stopped.set(stopped.get() || !progress.borrow_mut().step(label, done));
+                !stopped.get()
             },
             |s, so_far| {
                 let partial = BenchResult {
@@ -263,11 +264,14 @@ pub fn run_scaling(
             s.render.raster = raster;
             let done = (i * plan.rasters.len() + j) * configs.len();
             let mut n = 0;
-            let t = measure::time_configs(&s, configs, plan.frames, plan.warmup, |label| {
+            // A stop takes effect after the density: its point is measured whole.
+            let mut timing = |label: &str, _: f32| {
                 let what = format!("density x{factor:.3}, {} raster: {label}", raster.word());
                 stopped |= !progress.step(&what, share(done + n, total));
                 n += 1;
-            })?;
+                true
+            };
+            let t = measure::time_configs(&s, configs, plan.frames, plan.warmup, &mut timing)?;
             // Every configuration's frames pooled: per frame the shared passes' total, and per pass its times.
             let mut shared: Vec<f64> = Vec::new();
             let mut shared_passes: Vec<(String, Vec<f64>)> = Vec::new();

@@ -48,12 +48,12 @@ impl TransparencyBench {
         settings: &Settings,
         preset: &str,
         frames: u32,
-        mut progress: impl FnMut(&str),
+        progress: &mut dyn crate::progress::Progress,
     ) -> Result<Self> {
         let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
             crate::gpu::AdapterPreference::Hardware,
         ))?;
-        let (stats, rows) = measure_on(&gpu, settings, &sweep_configs(), frames, &mut progress)?;
+        let (stats, rows) = measure_on(&gpu, settings, &sweep_configs(), frames, progress)?;
         Ok(TransparencyBench {
             preset: preset.to_string(),
             device: crate::gpu::describe(&gpu.info),
@@ -63,15 +63,15 @@ impl TransparencyBench {
         })
     }
 
-    /// `configs` measured on `gpu`, `after` called with the bench so far after each configuration; the run stops,
-    /// with the rows so far, when it breaks (Ctrl-C, `crate::cli::interrupt`).
+    /// `configs` measured on `gpu`, `progress` told each as it starts, `after` called with the bench so far after
+    /// each (to write it); the run stops, with the rows so far, when `after` breaks or `progress` asks (Ctrl-C).
     pub fn run_each(
         gpu: &crate::gpu::Gpu,
         settings: &Settings,
         preset: &str,
         configs: &[TechniqueConfig],
         frames: u32,
-        progress: impl FnMut(&str),
+        progress: &mut dyn crate::progress::Progress,
         mut after: impl FnMut(&TransparencyBench) -> ControlFlow<()>,
     ) -> Result<Self> {
         let bench = |stats: &EyeStats, rows: &[TechniqueMeasurement]| TransparencyBench {

@@ -244,16 +244,23 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         // Ctrl-C stops after the configuration in progress; fur.csv and fur.json are rewritten whole after each
         // one.
         let configs = crate::measure::fur::usual_configs();
-        let interrupted = super::interrupt::flag();
         let mut written = Ok(());
-        let b = crate::bench::fur::FurBench::run_each(&settings, &a.preset, &configs, a.frames, |partial| {
-            written = partial.write(&out).map(|_| ());
-            if written.is_err() || interrupted.load(std::sync::atomic::Ordering::SeqCst) {
-                std::ops::ControlFlow::Break(())
-            } else {
-                std::ops::ControlFlow::Continue(())
-            }
-        })?;
+        let b = crate::bench::fur::FurBench::run_each(
+            &settings,
+            &a.preset,
+            &configs,
+            a.frames,
+            &mut bar,
+            |partial| {
+                written = partial.write(&out).map(|_| ());
+                if written.is_err() {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            },
+        )?;
+        drop(bar);
         written?;
         for f in b.write(&out)? {
             println!("wrote {}", f.display());
@@ -270,7 +277,6 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             crate::gpu::AdapterPreference::Hardware,
         ))?;
         let configs = crate::bench::transparency::sweep_configs();
-        let interrupted = super::interrupt::flag();
         let mut written = Ok(());
         let b = crate::bench::transparency::TransparencyBench::run_each(
             &gpu,
@@ -278,16 +284,17 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             &a.preset,
             &configs,
             a.frames,
-            |what| eprintln!("measuring {what}…"),
+            &mut bar,
             |partial| {
                 written = partial.write_tables(&out).map(|_| ());
-                if written.is_err() || interrupted.load(std::sync::atomic::Ordering::SeqCst) {
+                if written.is_err() {
                     std::ops::ControlFlow::Break(())
                 } else {
                     std::ops::ControlFlow::Continue(())
                 }
             },
         )?;
+        drop(bar);
         written?;
         print_transparency(&b);
         for f in b.write(&out)? {

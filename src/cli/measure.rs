@@ -6,7 +6,6 @@ use anyhow::Result;
 use clap::Args;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 
 /// `hairlab measure`: a mode as a subcommand, each with only its own options; today's flags (`measure
 /// --transparency`, `--fur`, or none for the shadow methods) still work, hidden, and print the new spelling.
@@ -280,7 +279,8 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
     ))?;
     // Ctrl-C stops after the configuration in progress; with --out, transparency.csv and transparency.json are
     // rewritten whole after each one.
-    let interrupted = crate::cli::interrupt::flag();
+    // Ctrl-C answers the bar's next step with a stop.
+    let mut bar = super::progress::TerminalProgress::new();
     let mut written = Ok(());
     let bench = crate::bench::transparency::TransparencyBench::run_each(
         &gpu,
@@ -288,18 +288,19 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
         &a.scene.preset,
         &configs,
         a.scene.frames,
-        |what| eprintln!("measuring {what}…"),
+        &mut bar,
         |partial| {
             if let Some(dir) = &a.out {
                 written = partial.write_tables(dir).map(|_| ());
             }
-            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+            if written.is_err() {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
             }
         },
     )?;
+    drop(bar);
     written?;
     let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
@@ -397,24 +398,27 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
     }
     // Ctrl-C stops after the configuration in progress; with --out, fur.csv and fur.json are rewritten whole
     // after each one.
-    let interrupted = crate::cli::interrupt::flag();
+    // Ctrl-C answers the bar's next step with a stop.
+    let mut bar = super::progress::TerminalProgress::new();
     let mut written = Ok(());
     let bench = crate::bench::fur::FurBench::run_each(
         settings,
         &a.scene.preset,
         &configs,
         a.scene.frames,
+        &mut bar,
         |partial| {
             if let Some(dir) = &a.out {
                 written = partial.write(dir).map(|_| ());
             }
-            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+            if written.is_err() {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
             }
         },
     )?;
+    drop(bar);
     written?;
     let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
@@ -532,24 +536,21 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
     }
     // Ctrl-C stops after the configuration in progress; with --out, results.csv and results.json are rewritten
     // whole after each one.
-    let interrupted = crate::cli::interrupt::flag();
+    // Ctrl-C answers the bar's next step with a stop.
+    let mut bar = super::progress::TerminalProgress::new();
     let mut written = Ok(());
-    let (stats, rows) = crate::measure::measure_each(
-        &settings,
-        &configs,
-        a.scene.frames,
-        |what| eprintln!("measuring {what}…"),
-        |stats, so_far| {
+    let (stats, rows) =
+        crate::measure::measure_each(&settings, &configs, a.scene.frames, &mut bar, |stats, so_far| {
             if let Some(dir) = &a.out {
                 written = crate::bench::write_tables(dir, &bench_result(a, stats, so_far, true)).map(|_| ());
             }
-            if written.is_err() || interrupted.load(Ordering::SeqCst) {
+            if written.is_err() {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
             }
-        },
-    )?;
+        })?;
+    drop(bar);
     written?;
     println!(
         "preset {} (shading {}): {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity \

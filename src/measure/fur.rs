@@ -194,15 +194,18 @@ pub fn measure(
     configs: &[FurConfig],
     frames: u32,
 ) -> Result<(FurSceneStats, Vec<FurMeasurement>)> {
-    measure_each(settings, configs, frames, |_, _| ControlFlow::Continue(()))
+    measure_each(settings, configs, frames, &mut crate::progress::Quiet, |_, _| {
+        ControlFlow::Continue(())
+    })
 }
 
-/// [`measure`] calling `after` with the rows so far after each configuration; the run stops, with those rows,
-/// when it breaks (Ctrl-C, `crate::cli::interrupt`).
+/// [`measure`] telling `progress` each configuration as it starts and calling `after` with the rows so far after
+/// each (to write them); the run stops, with those rows, when `after` breaks or `progress` asks.
 pub fn measure_each(
     settings: &Settings,
     configs: &[FurConfig],
     frames: u32,
+    progress: &mut dyn crate::progress::Progress,
     mut after: impl FnMut(&FurSceneStats, &[FurMeasurement]) -> ControlFlow<()>,
 ) -> Result<(FurSceneStats, Vec<FurMeasurement>)> {
     let mut s = settings.clone();
@@ -285,7 +288,10 @@ pub fn measure_each(
         device: crate::gpu::describe(&gpu.info),
     };
     let mut out = Vec::with_capacity(configs.len());
-    for c in configs {
+    for (i, c) in configs.iter().enumerate() {
+        if !progress.step(&c.label(), crate::progress::share(i, configs.len())) {
+            break;
+        }
         let fs = FurSettings {
             blending: c.blending,
             group_steps: c.group_steps,

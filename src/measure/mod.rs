@@ -15,6 +15,7 @@ pub mod truth;
 use crate::gpu::timing::Phase;
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::{self, ParamValues, registry};
+use crate::progress::{Progress, share};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::visibility::{self, ErrorDistribution, Fragment, TexelModel, metrics};
@@ -108,20 +109,21 @@ pub fn measure(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
-    progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     measure_each(settings, configs, frames, progress, |_, _| {
         ControlFlow::Continue(())
     })
 }
 
-/// [`measure`], handing the measurements so far to `finished` after each configuration; `Break` stops there
-/// (Ctrl-C: the configurations finished so far are returned).
+/// [`measure`], handing the measurements so far to `finished` after each configuration (to write them);
+/// `Break` stops there. A stop `progress` asks for ends the run before the next configuration; either way the
+/// configurations finished so far are returned.
 pub fn measure_each(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
-    progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
     finished: impl FnMut(&SceneStats, &[Measurement]) -> ControlFlow<()>,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
@@ -134,7 +136,7 @@ pub fn measure_on(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
-    progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     measure_on_each(gpu, settings, configs, frames, progress, |_, _| {
         ControlFlow::Continue(())
@@ -147,7 +149,7 @@ pub fn measure_on_each(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
-    mut progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
     mut finished: impl FnMut(&SceneStats, &[Measurement]) -> ControlFlow<()>,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     let mut s = settings.clone();
@@ -171,7 +173,8 @@ pub fn measure_on_each(
         width: 8,
         height: 8,
     };
-    progress(registry::reference().name());
+    // The reference runs whatever the answer: the stats need it (a stop ends before the first configuration).
+    progress.step(registry::reference().name(), 0.0);
     let empty = ParamValues::new();
     let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();
@@ -219,8 +222,10 @@ pub fn measure_on_each(
     let reference_shading = &reference_frames[0];
     let reference_change = mean_change(&reference_frames);
     let mut out = Vec::new();
-    for c in configs {
-        progress(&c.label());
+    for (i, c) in configs.iter().enumerate() {
+        if !progress.step(&c.label(), share(i, configs.len())) {
+            break;
+        }
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
         let per_pass = time_light_passes(&mut r, &input(method, &c.params), frames, 1)?.method;
         let texel_errors = texels.errors(&evaluate_all(&mut r, method, &texels.samples)?);
@@ -336,7 +341,7 @@ pub fn time_configs(
     configs: &[MethodConfig],
     frames: u32,
     warmup: u32,
-    mut progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<Timings> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let mut s = settings.clone();
@@ -347,8 +352,10 @@ pub fn time_configs(
     let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution)?;
     let technique = s.transparency.technique()?;
     let mut out = Vec::with_capacity(configs.len());
-    for c in configs {
-        progress(&c.label());
+    for (i, c) in configs.iter().enumerate() {
+        if !progress.step(&c.label(), share(i, configs.len())) {
+            break;
+        }
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;
         let input = FrameInput {
             camera: &s.camera,

@@ -6,6 +6,7 @@
 use super::{IMAGE_SIZE, median};
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::registry as methods;
+use crate::progress::{Progress, share};
 use crate::render::method::ParamValues;
 use crate::render::transparency::registry;
 use crate::render::{FrameInput, Renderer};
@@ -60,7 +61,7 @@ pub fn measure(
     settings: &Settings,
     configs: &[TechniqueConfig],
     frames: u32,
-    progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     measure_on(&gpu, settings, configs, frames, progress)
@@ -72,7 +73,7 @@ pub fn measure_on(
     settings: &Settings,
     configs: &[TechniqueConfig],
     frames: u32,
-    progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
 ) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
     measure_each_on(gpu, settings, configs, frames, progress, |_, _| {
         ControlFlow::Continue(())
@@ -86,7 +87,7 @@ pub fn measure_each_on(
     settings: &Settings,
     configs: &[TechniqueConfig],
     frames: u32,
-    mut progress: impl FnMut(&str),
+    progress: &mut dyn Progress,
     mut after: impl FnMut(&EyeStats, &[TechniqueMeasurement]) -> ControlFlow<()>,
 ) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
     let mut s = settings.clone();
@@ -108,7 +109,8 @@ pub fn measure_each_on(
         width,
         height,
     };
-    progress(registry::reference().name());
+    // The reference runs whatever the answer: the stats need it (a stop ends before the first configuration).
+    progress.step(registry::reference().name(), 0.0);
     let empty = ParamValues::new();
     let lists = r.eye_lists(&frame(registry::reference(), &empty))?;
     r.render(&frame(registry::reference(), &empty))?;
@@ -131,8 +133,10 @@ pub fn measure_each_on(
         },
     };
     let mut out = Vec::with_capacity(configs.len());
-    for c in configs {
-        progress(&c.label());
+    for (i, c) in configs.iter().enumerate() {
+        if !progress.step(&c.label(), share(i, configs.len())) {
+            break;
+        }
         let input = frame(c.plugin()?, &c.params);
         let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
         for f in 0..=frames {

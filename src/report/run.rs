@@ -206,7 +206,6 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     let dir = root.join(TRANSPARENCY_DIR);
     // The bench takes the first 70 % of the techniques' share, their images the rest.
     let bench_end = transparency.0 + 0.7 * (transparency.1 - transparency.0);
-    let measured = Cell::new(0);
     let stopped = Cell::new(false);
     let mut write_err = Ok(());
     let bench = crate::bench::transparency::TransparencyBench::run_each(
@@ -215,14 +214,13 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
         &plan.preset,
         &techniques,
         frames,
-        |what| {
-            let f = crate::progress::share(measured.get(), techniques.len());
+        &mut |what: &str, f: f32| {
             let at = transparency.0 + f * (bench_end - transparency.0);
             stopped.set(stopped.get() || !progress.step(what, at));
+            !stopped.get()
         },
         |partial| {
             write_err = partial.write_tables(&dir).map(|_| ());
-            measured.set(partial.rows.len());
             if write_err.is_err() || stopped.get() {
                 ControlFlow::Break(())
             } else {

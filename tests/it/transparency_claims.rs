@@ -42,7 +42,7 @@ fn occupancy_order_is_nearly_exact_and_weighted_average_is_dull() {
         &s,
         &configs(&["occupancy-order", "weighted-average", "wboit"]),
         0,
-        |_| {},
+        &mut hairlab::progress::Quiet,
     )
     .unwrap();
     let [occ, wa, wboit] = [&rows[0].metrics, &rows[1].metrics, &rows[2].metrics];

@@ -1,7 +1,7 @@
 //! `hairlab measure motion`: shadow methods against the exact reference over a preset's motion, frame by
 //! frame, with the temporal metrics (docs/design.md, "Temporal metrics"); a table, `motion_summary.csv` and
-//! `motion_frames.csv`, written whole after each configuration, so that Ctrl-C (which stops after the
-//! configuration in progress, exit code 130) leaves every finished one.
+//! `motion_frames.csv`, written whole after each configuration, so that Ctrl-C (which stops at the next frame,
+//! leaving the configuration in progress out, exit code 130) leaves every finished one.
 
 use crate::bench::motion::MotionRun;
 use crate::gpu::{AdapterPreference, Gpu};

@@ -1,5 +1,5 @@
 //! The terminal's [`Progress`]: a bar on stderr, one line per stage (on a terminal the stage's line is redrawn in
-//! place as it advances) that answers `false` once Ctrl-C was pressed ([`super::interrupt`]), so every long run of the CLI
+//! place as it advances; off one, a stage also prints a line each tenth of the whole) that answers `false` once Ctrl-C was pressed ([`super::interrupt`]), so every long run of the CLI
 //! reports and stops through the same parameter as the window's jobs.
 
 use crate::progress::Progress;
@@ -11,6 +11,8 @@ pub struct TerminalProgress {
     tty: bool,
     drawn: bool,
     last_label: String,
+    /// The tenth of the whole the last printed line reached (off a terminal).
+    last_tenth: u32,
     start: Instant,
     stop: Option<&'static AtomicBool>,
 }
@@ -30,6 +32,7 @@ impl TerminalProgress {
             tty: std::io::stderr().is_terminal(),
             drawn: false,
             last_label: String::new(),
+            last_tenth: 0,
             start: Instant::now(),
             stop: None,
         }
@@ -66,8 +69,13 @@ impl Progress for TerminalProgress {
             }
             eprint!("\r{line}");
             self.drawn = true;
-        } else if new {
-            eprintln!("{line}");
+        } else {
+            // Off a terminal: a line per stage, and one each tenth of the whole within a long stage.
+            let tenth = (fraction.clamp(0.0, 1.0) * 10.0) as u32;
+            if new || tenth > self.last_tenth {
+                eprintln!("{line}");
+                self.last_tenth = tenth;
+            }
         }
         !self.stop.is_some_and(|s| s.load(Ordering::SeqCst))
     }

@@ -24,10 +24,15 @@ use glam::{Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+mod mesh_roots;
+mod meshes;
+
 use super::fur_shapes as shapes;
 use super::style;
-use super::{Aabb, Mesh, Scene, Strands};
+use super::{Mesh, Scene, Strands};
 use crate::rng::SplitMix64 as Rng;
+use mesh_roots::{SCALP_MIN_NORMAL_Y, mesh_roots, mesh_triangles};
+use meshes::{ellipsoid_mesh, floor_mesh};
 
 /// Most points [`generate`] produces (about 1.2 GB of positions and colours).
 pub const MAX_POINTS: u64 = 50_000_000;
@@ -35,11 +40,6 @@ pub const MAX_POINTS: u64 = 50_000_000;
 pub const MAX_LENGTH: f32 = 10_000.0;
 /// Radii of the generated head ellipsoid (x: ear to ear, y: up, z: towards the face, which looks down +Z).
 pub const HEAD_RADII: Vec3 = Vec3::new(0.09, 0.115, 0.10);
-/// Longitude and latitude subdivisions of the head mesh.
-const HEAD_LON: u32 = 40;
-const HEAD_LAT: u32 = 24;
-const SKIN: Vec3 = Vec3::new(0.80, 0.60, 0.50);
-const FLOOR_COLOR: Vec3 = Vec3::new(0.55, 0.55, 0.55);
 const BROWN: Vec3 = Vec3::new(0.30, 0.19, 0.11);
 /// Turning rate towards −Y, in radians per strand length, at `gravity` = 1.
 const GRAVITY_TURN: f32 = 8.0;
@@ -284,27 +284,6 @@ pub fn grow_on_mesh(p: &GenParams, mesh: &Mesh, progress: &mut dyn Progress) -> 
         None,
         progress,
     ))
-}
-
-/// `n` roots on `tris` of `mesh` (non-empty, positive total area), area-weighted, from `seed`'s root stream.
-fn mesh_roots(mesh: &Mesh, tris: &[MeshTri], n: usize, seed: u64) -> Vec<Root> {
-    let total = tris.last().map_or(0.0, |t| t.cum_area);
-    let mut rng = Rng::stream(seed, 0);
-    (0..n)
-        .map(|_| {
-            let target = f64::from(rng.unit()) * total;
-            let k = tris
-                .partition_point(|t| t.cum_area <= target)
-                .min(tris.len().saturating_sub(1));
-            tris.get(k).map_or(
-                Root {
-                    pos: Vec3::ZERO,
-                    dir: Vec3::Y,
-                },
-                |t| t.sample(mesh, &mut rng),
-            )
-        })
-        .collect()
 }
 
 /// Checks the parameters and returns the strand count after density scaling.
@@ -686,150 +665,6 @@ fn clump(p: &GenParams, roots: &[Root], head: Option<Vec3>, points: &mut [Vec3])
             }
         }
     }
-}
-
-/// Lat/long ellipsoid with outward normals; degenerate triangles at the poles are left out.
-fn ellipsoid_mesh(r: Vec3) -> Mesh {
-    let mut positions = Vec::new();
-    let mut normals = Vec::new();
-    for i in 0..=HEAD_LAT {
-        let theta = std::f32::consts::PI * i as f32 / HEAD_LAT as f32;
-        for j in 0..=HEAD_LON {
-            let phi = std::f32::consts::TAU * j as f32 / HEAD_LON as f32;
-            let w = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-            positions.push(w * r);
-            normals.push((w / r).normalize_or(Vec3::Y));
-        }
-    }
-    let row = HEAD_LON + 1;
-    let mut indices = Vec::new();
-    for i in 0..HEAD_LAT {
-        for j in 0..HEAD_LON {
-            let a = i * row + j;
-            let (b, c, d) = (a + row, a + row + 1, a + 1);
-            if i + 1 < HEAD_LAT {
-                indices.extend_from_slice(&[a, c, b]);
-            }
-            if i > 0 {
-                indices.extend_from_slice(&[a, d, c]);
-            }
-        }
-    }
-    Mesh {
-        positions,
-        normals,
-        indices,
-        color: SKIN,
-    }
-}
-
-/// A square ground quad facing +Y below everything (at `y` when given), wide enough to catch the hair's
-/// shadow.
-fn floor_mesh(strands: &Strands, meshes: &[Mesh], y: Option<f32>) -> Mesh {
-    let b = meshes.iter().fold(Aabb::from_points(&strands.points), |b, m| {
-        b.union(Aabb::from_points(&m.positions))
-    });
-    let (c, e) = (b.center(), b.extent());
-    // Wide enough for the shadow of the top of the hair from a light about 50° up.
-    let half = 0.5 * e.x.max(e.z) + 0.9 * e.y;
-    let y = y.unwrap_or(b.min.y - 0.01 * e.y.max(1e-3));
-    let positions = vec![
-        Vec3::new(c.x - half, y, c.z - half),
-        Vec3::new(c.x - half, y, c.z + half),
-        Vec3::new(c.x + half, y, c.z + half),
-        Vec3::new(c.x + half, y, c.z - half),
-    ];
-    Mesh {
-        normals: vec![Vec3::Y; 4],
-        positions,
-        indices: vec![0, 1, 2, 0, 2, 3],
-        color: FLOOR_COLOR,
-    }
-}
-
-/// The scalp's upward-facing filter: triangles whose normal has y above this grow hair.
-const SCALP_MIN_NORMAL_Y: f32 = -0.2;
-
-/// A triangle hair grows on, with the running total of area up to and including it.
-struct MeshTri {
-    corners: [u32; 3],
-    normal: Vec3,
-    cum_area: f64,
-}
-
-impl MeshTri {
-    /// A uniform point on the triangle, with the interpolated vertex normal (or the face normal).
-    fn sample(&self, mesh: &Mesh, rng: &mut Rng) -> Root {
-        let (r1, r2) = (rng.unit().sqrt(), rng.unit());
-        let (wb, wc) = (r1 * (1.0 - r2), r1 * r2);
-        let corner = |k: usize, v: &[Vec3]| {
-            self.corners
-                .get(k)
-                .and_then(|&i| v.get(i as usize))
-                .copied()
-                .unwrap_or(Vec3::ZERO)
-        };
-        let [a, b, c] = [0, 1, 2].map(|k| corner(k, &mesh.positions));
-        let pos = a + (b - a) * wb + (c - a) * wc;
-        let normal = if mesh.normals.len() == mesh.positions.len() {
-            let [na, nb, nc] = [0, 1, 2].map(|k| corner(k, &mesh.normals));
-            na + (nb - na) * wb + (nc - na) * wc
-        } else {
-            self.normal
-        };
-        Root {
-            pos,
-            dir: normal
-                .try_normalize()
-                .filter(|n| n.is_finite())
-                .unwrap_or(self.normal),
-        }
-    }
-}
-
-/// The mesh's non-degenerate triangles (only those with normal.y above `min_normal_y` when given) with
-/// cumulative areas; errors on indices out of range or non-finite positions.
-fn mesh_triangles(mesh: &Mesh, min_normal_y: Option<f32>) -> Result<Vec<MeshTri>, GenError> {
-    let bad = |reason: String| GenError::BadScalp { reason };
-    let vertex = |i: u32| {
-        let p = mesh.positions.get(i as usize).copied().ok_or_else(|| {
-            bad(format!(
-                "index {i} is out of range for {} vertices",
-                mesh.positions.len()
-            ))
-        })?;
-        if p.is_finite() {
-            Ok(p)
-        } else {
-            Err(bad(format!("vertex {i} has a non-finite position {p}")))
-        }
-    };
-    let has_normals = mesh.normals.len() == mesh.positions.len();
-    let mut out = Vec::new();
-    let mut total = 0.0f64;
-    for &corners in mesh.indices.as_chunks::<3>().0 {
-        let [a, b, c] = corners;
-        let (pa, pb, pc) = (vertex(a)?, vertex(b)?, vertex(c)?);
-        let cross = (pb - pa).cross(pc - pa);
-        let Some(mut normal) = cross.try_normalize() else {
-            continue;
-        };
-        if has_normals {
-            let vn: Vec3 = corners.iter().filter_map(|&i| mesh.normals.get(i as usize)).sum();
-            if vn.dot(normal) < 0.0 {
-                normal = -normal;
-            }
-        }
-        if min_normal_y.is_none_or(|y| normal.y > y) {
-            total += f64::from(cross.length()) * 0.5;
-            out.push(MeshTri {
-                corners,
-                normal,
-                cum_area: total,
-            });
-        }
-    }
-    Ok(out)
 }
 
 /// Guard hairs (Andersen et al. 2016 §3.1) of `p` (count, length, segments, gravity, style, clumps, seed, taper, tip transparency) grown on

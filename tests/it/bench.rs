@@ -229,7 +229,15 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
     ]);
     let o = hairlab(&args);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("9/9"), "no progress: {}", stderr(&o));
+    // A progress line per configuration, and the last at 100 %.
+    let err = stderr(&o);
+    for label in ["osm:slices=4", "osm:slices=256", "occupancy"] {
+        assert!(
+            err.lines().any(|l| l.contains(label)),
+            "no progress line for {label}: {err}"
+        );
+    }
+    assert!(err.contains("100 % done"), "no progress: {err}");
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
         stdout

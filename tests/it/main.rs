@@ -47,6 +47,7 @@ mod motion_colliders;
 mod path_render;
 mod path_view;
 mod presets;
+mod progress;
 mod reference;
 mod report;
 mod ribbons;

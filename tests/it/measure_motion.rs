@@ -283,8 +283,8 @@ fn bench_motion_writes_the_csv_files_and_the_chart() {
     assert_eq!(summary.lines().count(), 3, "{summary}");
 }
 
-/// Ctrl-C (SIGINT to the `hairlab` process) stops `measure motion` after the configuration in progress:
-/// motion_summary.csv and motion_frames.csv hold every finished configuration, whole and in order (a row each,
+/// Ctrl-C (SIGINT to the `hairlab` process) stops `measure motion` at the next frame, leaving the configuration
+/// in progress out: motion_summary.csv and motion_frames.csv hold every finished configuration, whole and in order (a row each,
 /// and a row per frame), and the run exits 130 saying how many.
 #[test]
 fn sigint_leaves_complete_motion_csvs_of_the_finished_configurations() {
@@ -334,7 +334,7 @@ fn sigint_leaves_complete_motion_csvs_of_the_finished_configurations() {
     let done = rows("motion_summary.csv");
     assert!(
         !done.is_empty() && done.len() < configs.len(),
-        "stopped after the configuration in progress: {done:?}"
+        "stopped before the last configuration: {done:?}"
     );
     for (r, expected) in done.iter().zip(&configs) {
         assert_eq!(&r[0], expected);

@@ -29,7 +29,11 @@ fn renders_the_default_scene_to_a_png_and_its_linear_image_to_an_exr() {
         args.extend(["24", "--set", "render.spp=2", "--out", out.to_str().unwrap()]);
         let o = hairlab(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        assert!(stderr(&o).contains("path: 2/2 spp (100%"), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("100 % path tracing: 2/2 spp"),
+            "{}",
+            stderr(&o)
+        );
         images.push(image::open(&out).unwrap());
     }
     let (png, exr) = (images[0].to_rgba8(), images[1].to_rgb32f());

@@ -1,0 +1,107 @@
+//! Where the library loops stop when their `Progress` answers `false` (`hairlab::progress`): a bench ends after
+//! the configuration in progress and keeps it, a motion measurement keeps the configurations finished, a
+//! streamed animation fails with `Stopped` after the frames handed over, and the reported fractions rise from 0
+//! to 1.
+
+use hairlab::bench::{self, BenchConfig};
+use hairlab::gpu::Gpu;
+use hairlab::measure::MethodConfig;
+use hairlab::measure::motion::{MotionConfig, MotionOptions, measure_motion};
+use hairlab::progress::Stopped;
+use hairlab::settings::Settings;
+
+/// A small scene: 200 strands, a 64² map, a 96×72 image.
+fn small(preset: &str) -> Settings {
+    let set: Vec<String> = [
+        "scene.generator.strands=200",
+        "render.map_resolution=64",
+        "render.width=96",
+        "render.height=72",
+    ]
+    .map(String::from)
+    .to_vec();
+    Settings::load_preset(preset, &set).unwrap()
+}
+
+/// A stop asked while the first of three configurations runs (the first step after its start answers `false`)
+/// ends the bench after it: its row is kept, the result says it was cut short, and the fractions told rose.
+#[test]
+fn a_bench_stopped_during_a_configuration_keeps_that_one_and_measures_no_more() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let configs: Vec<BenchConfig> = [4, 8, 16]
+        .map(|n| BenchConfig {
+            config: MethodConfig::parse(&format!("osm:slices={n}")).unwrap(),
+            note: String::new(),
+        })
+        .to_vec();
+    let first = configs[0].config.label();
+    let mut started = false;
+    let mut fractions = Vec::new();
+    let mut progress = |label: &str, f: f32| {
+        fractions.push(f);
+        let go_on = !started;
+        started |= label == first;
+        go_on
+    };
+    let r = bench::measure_configs(&small("default"), "small", &configs, 1, usize::MAX, &mut progress)
+        .unwrap()
+        .expect("a row before the stop");
+    let labels: Vec<String> = r.rows.iter().map(|row| row.config.label()).collect();
+    assert_eq!(labels, [first]);
+    assert!(r.cancelled);
+    assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "{fractions:?}");
+    assert!(fractions.iter().all(|f| (0.0..=1.0).contains(f)), "{fractions:?}");
+    // The step after the first configuration says one of three is done.
+    assert!(fractions.contains(&(1.0 / 3.0)), "{fractions:?}");
+}
+
+/// A stop asked at the second configuration's first frame ends a motion measurement there: the first
+/// configuration's row is whole (a frame row per frame), the second has none.
+#[test]
+fn a_motion_measurement_stopped_in_a_configuration_keeps_the_ones_finished() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let configs: Vec<MotionConfig> = ["osm:slices=16", "dom:layers=3"]
+        .iter()
+        .map(|c| MotionConfig::parse(c).unwrap())
+        .collect();
+    let second = configs[1].label();
+    let mut progress = |label: &str, _: f32| !label.starts_with(&second);
+    let m = measure_motion(
+        &gpu,
+        &small("stray-sweep"),
+        &configs,
+        3,
+        MotionOptions::default(),
+        &mut progress,
+    )
+    .unwrap();
+    assert_eq!(m.rows.len(), 1);
+    assert_eq!(m.rows[0].config.label(), configs[0].label());
+    assert_eq!(m.rows[0].frames.len(), 3);
+}
+
+/// A stop asked after the second of four frames fails the run with `Stopped` once that frame was handed over:
+/// two frames reached the sink, none after.
+#[test]
+fn stopped_animation_frames_fail_after_the_frames_handed_over() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut s = small("stray-sweep");
+    let mut handed = Vec::new();
+    let mut progress = |_: &str, f: f32| f < 0.5;
+    let result = hairlab::animation::render_frames_on(
+        &gpu,
+        &mut s,
+        &[0, 1, 2, 3],
+        &mut |_| {},
+        &mut progress,
+        &mut |k, _| {
+            handed.push(k);
+            Ok(())
+        },
+    );
+    let e = result.expect_err("stopped");
+    assert!(e.is::<Stopped>(), "{e:#}");
+    assert_eq!(handed, [0, 1]);
+}

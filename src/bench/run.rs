@@ -50,10 +50,8 @@ pub fn measure_configs_each(
     let mut rows = Vec::with_capacity(total);
     let progress = RefCell::new(progress);
     for group in configs.chunks(chunk.max(1)) {
-        if !progress
-            .borrow_mut()
-            .step("next configurations", share(rows.len(), total))
-        {
+        let label = format!("measuring {} of {total} configurations", group.len());
+        if !progress.borrow_mut().step(&label, share(rows.len(), total)) {
             break;
         }
         let methods: Vec<MethodConfig> = group.iter().map(|c| c.config.clone()).collect();
@@ -115,7 +113,8 @@ pub fn measure_configs_each(
             break;
         }
     }
-    progress.borrow_mut().step("done", share(rows.len(), total));
+    let done = format!("measured {} of {total} configurations", rows.len());
+    progress.borrow_mut().step(&done, share(rows.len(), total));
     Ok(stats.map(|stats| BenchResult {
         preset: preset.to_string(),
         stats,

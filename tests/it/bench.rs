@@ -237,7 +237,10 @@ fn bench_cli_writes_results_chart_and_osm_error_falls() {
             "no progress line for {label}: {err}"
         );
     }
-    assert!(err.contains("100 % done"), "no progress: {err}");
+    assert!(
+        err.contains("100 % measured 9 of 9 configurations"),
+        "no progress: {err}"
+    );
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
         stdout

@@ -133,7 +133,11 @@ impl HairlabApp {
         let done = match job.job.poll() {
             Poll::Running => return,
             Poll::Done(r) => r,
-            Poll::Gone => Ok(None),
+            Poll::Gone => {
+                self.bench.job = None;
+                self.info("bench cancelled");
+                return;
+            }
         };
         self.bench.job = None;
         match done {
@@ -143,7 +147,7 @@ impl HairlabApp {
                 self.bench.on_screen.clear();
                 self.bench.result = Some(r);
             }
-            Ok(None) => self.info("bench cancelled"),
+            Ok(None) => self.info("bench stopped before any configuration finished"),
             Err(e) => self.error(format!("bench: {e}")),
         }
     }

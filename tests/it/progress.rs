@@ -105,3 +105,68 @@ fn stopped_animation_frames_fail_after_the_frames_handed_over() {
     assert!(e.is::<Stopped>(), "{e:#}");
     assert_eq!(handed, [0, 1]);
 }
+
+/// The Bench window's sweep is a job in the job bar. Held at its first step by a test gate: the bar's Cancel drops
+/// it at once (no result, "bench cancelled"); a second run stopped with the window's Stop ends at its next step,
+/// before any configuration, saying so, and leaves no result either.
+#[test]
+fn the_bench_window_runs_a_job_that_cancel_drops_and_stop_ends() {
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::Queryable;
+    use hairlab::app::{HairlabApp, wgpu_setup};
+    use hairlab::gpu::AdapterPreference;
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let settings = small("default");
+    let mut harness = Harness::builder()
+        .with_size([1200.0, 900.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| {
+            let mut app = HairlabApp::new(cc, Some(settings));
+            app.set_snapshot_mode(true);
+            app
+        });
+    harness.run();
+    harness.get_by_label("Bench").click();
+    harness.run();
+    let gate = harness.state_mut().hold_jobs();
+    let says = |harness: &Harness<'_, HairlabApp>, what: &str| {
+        assert!(
+            harness
+                .state()
+                .message()
+                .is_some_and(|(m, err)| !err && m.contains(what)),
+            "{what}: {:?}",
+            harness.state().message()
+        );
+    };
+
+    harness.get_by_label("Run bench").click();
+    harness.step();
+    assert!(harness.state().bench_running());
+    let jobs: Vec<&str> = harness.state().jobs().iter().map(|j| j.name).collect();
+    assert_eq!(jobs, ["bench"], "the sweep in the job bar");
+    harness.step();
+    harness.get_by_label("Cancel").click();
+    harness.step();
+    harness.step();
+    assert!(!harness.state().bench_running());
+    assert!(harness.state().bench_result().is_none());
+    says(&harness, "bench cancelled");
+
+    harness.get_by_label("Run bench").click();
+    harness.step();
+    harness.step();
+    harness.get_by_label("Stop").click();
+    harness.step();
+    gate.open();
+    let start = std::time::Instant::now();
+    while harness.state().bench_running() {
+        assert!(start.elapsed().as_secs() < 120, "the stopped bench did not end");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    assert!(harness.state().bench_result().is_none());
+    says(&harness, "bench stopped before any configuration finished");
+}

@@ -11,7 +11,6 @@ use crate::measure::fur::{
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use serde::Serialize;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 pub struct FurBench {
@@ -116,19 +115,19 @@ impl FurBench {
             &configs,
             frames,
             &mut crate::progress::Quiet,
-            |_| ControlFlow::Continue(()),
+            |_| Ok(()),
         )
     }
 
     /// `configs` measured, `progress` told each as it starts, `after` called with the bench so far after each
-    /// (to write it); the run stops, with the rows so far, when `after` breaks or `progress` asks (Ctrl-C).
+    /// (to write it): its error ends the run with it; a stop `progress` asks for (Ctrl-C) ends it with the rows so far.
     pub fn run_each(
         settings: &Settings,
         preset: &str,
         configs: &[FurConfig],
         frames: u32,
         progress: &mut dyn crate::progress::Progress,
-        mut after: impl FnMut(&FurBench) -> ControlFlow<()>,
+        mut after: impl FnMut(&FurBench) -> Result<()>,
     ) -> Result<FurBench> {
         let bench = |stats: &FurSceneStats, rows: &[FurMeasurement]| FurBench {
             preset: preset.to_string(),

@@ -57,7 +57,6 @@ pub fn measure_configs_each(
         let methods: Vec<MethodConfig> = group.iter().map(|c| c.config.clone()).collect();
         let first = rows.len();
         let mut next = 0;
-        let mut written = Ok(());
         let stopped = Cell::new(false);
         let (s, measured) = measure::measure_each(
             settings,
@@ -90,18 +89,14 @@ pub fn measure_configs_each(
                     cancelled: true,
                     metric: DEFAULT_ACCURACY_METRIC,
                 };
-                written = finished(&partial);
+                finished(&partial)?;
+                // Told after each configuration, so a stop asked while it ran ends the run before the next.
                 let label = so_far.last().map_or(String::new(), |m| m.config.label());
                 let done = share(first + so_far.len(), total);
                 stopped.set(stopped.get() || !progress.borrow_mut().step(&label, done));
-                if written.is_err() || stopped.get() {
-                    std::ops::ControlFlow::Break(())
-                } else {
-                    std::ops::ControlFlow::Continue(())
-                }
+                Ok(())
             },
         )?;
-        written?;
         rows.extend(
             measured
                 .iter()

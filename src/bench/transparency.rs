@@ -16,7 +16,6 @@ use crate::render::transparency::{EyeTransparency, registry};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use serde::Serialize;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 /// The paper's speed-up of occupancy ordering over depth peeling (Fig. 2: 51 fps / 4.01 fps) and its layers.
@@ -64,7 +63,7 @@ impl TransparencyBench {
     }
 
     /// `configs` measured on `gpu`, `progress` told each as it starts, `after` called with the bench so far after
-    /// each (to write it); the run stops, with the rows so far, when `after` breaks or `progress` asks (Ctrl-C).
+    /// each (to write it); its error ends the run with it; a stop `progress` asks for (Ctrl-C) ends it with the rows so far.
     pub fn run_each(
         gpu: &crate::gpu::Gpu,
         settings: &Settings,
@@ -72,7 +71,7 @@ impl TransparencyBench {
         configs: &[TechniqueConfig],
         frames: u32,
         progress: &mut dyn crate::progress::Progress,
-        mut after: impl FnMut(&TransparencyBench) -> ControlFlow<()>,
+        mut after: impl FnMut(&TransparencyBench) -> Result<()>,
     ) -> Result<Self> {
         let bench = |stats: &EyeStats, rows: &[TechniqueMeasurement]| TransparencyBench {
             preset: preset.to_string(),

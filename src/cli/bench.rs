@@ -244,24 +244,15 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         // Ctrl-C stops after the configuration in progress; fur.csv and fur.json are rewritten whole after each
         // one.
         let configs = crate::measure::fur::usual_configs();
-        let mut written = Ok(());
         let b = crate::bench::fur::FurBench::run_each(
             &settings,
             &a.preset,
             &configs,
             a.frames,
             &mut bar,
-            |partial| {
-                written = partial.write(&out).map(|_| ());
-                if written.is_err() {
-                    std::ops::ControlFlow::Break(())
-                } else {
-                    std::ops::ControlFlow::Continue(())
-                }
-            },
+            |partial| partial.write(&out).map(|_| ()),
         )?;
         drop(bar);
-        written?;
         for f in b.write(&out)? {
             println!("wrote {}", f.display());
         }
@@ -277,7 +268,6 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             crate::gpu::AdapterPreference::Hardware,
         ))?;
         let configs = crate::bench::transparency::sweep_configs();
-        let mut written = Ok(());
         let b = crate::bench::transparency::TransparencyBench::run_each(
             &gpu,
             &settings,
@@ -285,17 +275,9 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
             &configs,
             a.frames,
             &mut bar,
-            |partial| {
-                written = partial.write_tables(&out).map(|_| ());
-                if written.is_err() {
-                    std::ops::ControlFlow::Break(())
-                } else {
-                    std::ops::ControlFlow::Continue(())
-                }
-            },
+            |partial| partial.write_tables(&out).map(|_| ()),
         )?;
         drop(bar);
-        written?;
         print_transparency(&b);
         for f in b.write(&out)? {
             println!("wrote {}", f.display());

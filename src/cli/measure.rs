@@ -4,7 +4,6 @@ use crate::methods::registry;
 use crate::settings::Settings;
 use anyhow::Result;
 use clap::Args;
-use std::ops::ControlFlow;
 use std::path::PathBuf;
 
 /// `hairlab measure`: a mode as a subcommand, each with only its own options; today's flags (`measure
@@ -279,9 +278,7 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
     ))?;
     // Ctrl-C stops after the configuration in progress; with --out, transparency.csv and transparency.json are
     // rewritten whole after each one.
-    // Ctrl-C answers the bar's next step with a stop.
     let mut bar = super::progress::TerminalProgress::new();
-    let mut written = Ok(());
     let bench = crate::bench::transparency::TransparencyBench::run_each(
         &gpu,
         settings,
@@ -291,17 +288,12 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
         &mut bar,
         |partial| {
             if let Some(dir) = &a.out {
-                written = partial.write_tables(dir).map(|_| ());
+                partial.write_tables(dir)?;
             }
-            if written.is_err() {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
+            Ok(())
         },
     )?;
     drop(bar);
-    written?;
     let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
         "preset {}: {} strands, {} segments; view {}x{} (shadows: {}): {} hair pixels, {} fragments, eye depth \
@@ -398,9 +390,7 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
     }
     // Ctrl-C stops after the configuration in progress; with --out, fur.csv and fur.json are rewritten whole
     // after each one.
-    // Ctrl-C answers the bar's next step with a stop.
     let mut bar = super::progress::TerminalProgress::new();
-    let mut written = Ok(());
     let bench = crate::bench::fur::FurBench::run_each(
         settings,
         &a.scene.preset,
@@ -409,17 +399,12 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
         &mut bar,
         |partial| {
             if let Some(dir) = &a.out {
-                written = partial.write(dir).map(|_| ());
+                partial.write(dir)?;
             }
-            if written.is_err() {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
+            Ok(())
         },
     )?;
     drop(bar);
-    written?;
     let (stats, rows) = (&bench.stats, &bench.rows);
     println!(
         "preset {}: {} triangles, {} sub-elements, {} guard hairs; view {}x{}: {} fur pixels; mode {}, \
@@ -536,22 +521,15 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
     }
     // Ctrl-C stops after the configuration in progress; with --out, results.csv and results.json are rewritten
     // whole after each one.
-    // Ctrl-C answers the bar's next step with a stop.
     let mut bar = super::progress::TerminalProgress::new();
-    let mut written = Ok(());
     let (stats, rows) =
         crate::measure::measure_each(&settings, &configs, a.scene.frames, &mut bar, |stats, so_far| {
             if let Some(dir) = &a.out {
-                written = crate::bench::write_tables(dir, &bench_result(a, stats, so_far, true)).map(|_| ());
+                crate::bench::write_tables(dir, &bench_result(a, stats, so_far, true))?;
             }
-            if written.is_err() {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
+            Ok(())
         })?;
     drop(bar);
-    written?;
     println!(
         "preset {} (shading {}): {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity \
          max {} mean {:.1}",

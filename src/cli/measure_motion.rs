@@ -10,7 +10,6 @@ use crate::measure::temporal::FollowedPoint;
 use anyhow::Result;
 use clap::Args;
 use std::cell::RefCell;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -31,16 +30,10 @@ pub struct MeasureMotionArgs {
 pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     let (settings, configs) = a.run.resolve()?;
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let written = RefCell::new(Ok(Vec::new()));
-    let after_each = |m: &MotionMeasurement| {
-        let w = write(&a.out, m);
-        let stop = w.is_err();
-        *written.borrow_mut() = w;
-        if stop {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
+    let written = RefCell::new(Vec::new());
+    let after_each = |m: &MotionMeasurement| -> Result<()> {
+        *written.borrow_mut() = write(&a.out, m)?;
+        Ok(())
     };
     let options = MotionOptions {
         follow: a.point,
@@ -50,7 +43,7 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     let mut bar = super::progress::TerminalProgress::new();
     let m = measure_motion(&gpu, &settings, &configs, a.run.frames, options, &mut bar)?;
     drop(bar);
-    let files = written.into_inner()?;
+    let files = written.into_inner();
     print!("{}", m.table(&a.run.preset));
     for path in files {
         println!("wrote {}", path.display());

@@ -3,7 +3,6 @@
 //! image error over fur pixels (of `(H, 1 − T)`, and FLIP of the fur over black), Table 1 per blending,
 //! fragments.
 
-use std::ops::ControlFlow;
 use std::time::Instant;
 
 use anyhow::{Result, anyhow};
@@ -195,18 +194,18 @@ pub fn measure(
     frames: u32,
 ) -> Result<(FurSceneStats, Vec<FurMeasurement>)> {
     measure_each(settings, configs, frames, &mut crate::progress::Quiet, |_, _| {
-        ControlFlow::Continue(())
+        Ok(())
     })
 }
 
 /// [`measure`] telling `progress` each configuration as it starts and calling `after` with the rows so far after
-/// each (to write them); the run stops, with those rows, when `after` breaks or `progress` asks.
+/// each (to write them; its error ends the run with it); a stop `progress` asks for ends the run with those rows.
 pub fn measure_each(
     settings: &Settings,
     configs: &[FurConfig],
     frames: u32,
     progress: &mut dyn crate::progress::Progress,
-    mut after: impl FnMut(&FurSceneStats, &[FurMeasurement]) -> ControlFlow<()>,
+    mut after: impl FnMut(&FurSceneStats, &[FurMeasurement]) -> Result<()>,
 ) -> Result<(FurSceneStats, Vec<FurMeasurement>)> {
     let mut s = settings.clone();
     if s.fur.mode == FurMode::Off {
@@ -326,9 +325,7 @@ pub fn measure_each(
             shell_fragments: stats.shell,
             deepest: stats.deepest,
         });
-        if after(&scene_stats, &out).is_break() {
-            break;
-        }
+        after(&scene_stats, &out)?;
     }
     Ok((scene_stats, out))
 }

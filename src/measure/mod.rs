@@ -20,7 +20,6 @@ use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::visibility::{self, ErrorDistribution, Fragment, TexelModel, metrics};
 use anyhow::Result;
-use std::ops::ControlFlow;
 
 pub use crate::selection::MethodConfig;
 
@@ -111,20 +110,18 @@ pub fn measure(
     frames: u32,
     progress: &mut dyn Progress,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
-    measure_each(settings, configs, frames, progress, |_, _| {
-        ControlFlow::Continue(())
-    })
+    measure_each(settings, configs, frames, progress, |_, _| Ok(()))
 }
 
-/// [`measure`], handing the measurements so far to `finished` after each configuration (to write them);
-/// `Break` stops there. A stop `progress` asks for ends the run before the next configuration; either way the
-/// configurations finished so far are returned.
+/// [`measure`], handing the measurements so far to `finished` after each configuration (to write them; its error
+/// ends the run with it). A stop `progress` asks for ends the run before the next configuration, with the
+/// configurations finished so far.
 pub fn measure_each(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
     progress: &mut dyn Progress,
-    finished: impl FnMut(&SceneStats, &[Measurement]) -> ControlFlow<()>,
+    finished: impl FnMut(&SceneStats, &[Measurement]) -> Result<()>,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     measure_on_each(&gpu, settings, configs, frames, progress, finished)
@@ -138,9 +135,7 @@ pub fn measure_on(
     frames: u32,
     progress: &mut dyn Progress,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
-    measure_on_each(gpu, settings, configs, frames, progress, |_, _| {
-        ControlFlow::Continue(())
-    })
+    measure_on_each(gpu, settings, configs, frames, progress, |_, _| Ok(()))
 }
 
 /// [`measure_each`] on a given device.
@@ -150,7 +145,7 @@ pub fn measure_on_each(
     configs: &[MethodConfig],
     frames: u32,
     progress: &mut dyn Progress,
-    mut finished: impl FnMut(&SceneStats, &[Measurement]) -> ControlFlow<()>,
+    mut finished: impl FnMut(&SceneStats, &[Measurement]) -> Result<()>,
 ) -> Result<(SceneStats, Vec<Measurement>)> {
     let mut s = settings.clone();
     let scene = s.scene.build()?;
@@ -266,9 +261,7 @@ pub fn measure_on_each(
             image_flip,
             light_turn_flicker: mean_change(&frames_v) - reference_change,
         });
-        if finished(&stats, &out).is_break() {
-            break;
-        }
+        finished(&stats, &out)?;
     }
     Ok((stats, out))
 }

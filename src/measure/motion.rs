@@ -17,7 +17,6 @@ use anyhow::{Result, bail};
 use glam::Vec3;
 use image::RgbaImage;
 use serde::Serialize;
-use std::ops::ControlFlow;
 
 /// When a configuration's `auto` parameter is chosen by the method's analysis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,9 +167,9 @@ pub struct MotionMeasurement {
     pub followed: Option<(FollowedPoint, Vec<f32>)>,
 }
 
-/// Told the measurement so far after each configuration finishes (to write it); `Break` stops there, and the
-/// measurement returns the configurations finished.
-pub type AfterEach<'a> = &'a dyn Fn(&MotionMeasurement) -> ControlFlow<()>;
+/// Told the measurement so far after each configuration finishes (to write it); its error ends the
+/// measurement with it.
+pub type AfterEach<'a> = &'a dyn Fn(&MotionMeasurement) -> Result<()>;
 
 /// What a motion measurement does beyond its configurations.
 #[derive(Clone, Copy, Default)]
@@ -439,9 +438,7 @@ pub fn measure_motion(
         });
         if let Some(after) = options.after_each {
             let so_far = measurement(rows.clone());
-            if after(&so_far).is_break() {
-                return Ok(so_far);
-            }
+            after(&so_far)?;
         }
     }
     Ok(measurement(rows))

@@ -13,7 +13,6 @@ use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::transparency::metrics::{ImageMetrics, compare};
 use anyhow::Result;
-use std::ops::ControlFlow;
 
 pub use crate::selection::TechniqueConfig;
 
@@ -75,9 +74,7 @@ pub fn measure_on(
     frames: u32,
     progress: &mut dyn Progress,
 ) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
-    measure_each_on(gpu, settings, configs, frames, progress, |_, _| {
-        ControlFlow::Continue(())
-    })
+    measure_each_on(gpu, settings, configs, frames, progress, |_, _| Ok(()))
 }
 
 /// [`measure_on`] calling `after` with the rows so far after each configuration; the run stops, with those rows,
@@ -88,7 +85,7 @@ pub fn measure_each_on(
     configs: &[TechniqueConfig],
     frames: u32,
     progress: &mut dyn Progress,
-    mut after: impl FnMut(&EyeStats, &[TechniqueMeasurement]) -> ControlFlow<()>,
+    mut after: impl FnMut(&EyeStats, &[TechniqueMeasurement]) -> Result<()>,
 ) -> Result<(EyeStats, Vec<TechniqueMeasurement>)> {
     let mut s = settings.clone();
     let scene = s.scene.build()?;
@@ -161,9 +158,7 @@ pub fn measure_each_on(
             memory_bytes: r.memory().transparency_targets,
             geometry_passes: r.eye_geometry_passes(),
         });
-        if after(&stats, &out).is_break() {
-            break;
-        }
+        after(&stats, &out)?;
     }
     Ok((stats, out))
 }

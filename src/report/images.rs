@@ -38,7 +38,7 @@ pub fn with_technique(settings: &Settings, technique: &TechniqueConfig) -> Setti
 }
 
 /// Frame 0 of `settings`' scene.
-fn render(gpu: &Gpu, mut s: Settings) -> Result<RgbaImage> {
+pub(super) fn render(gpu: &Gpu, mut s: Settings) -> Result<RgbaImage> {
     let mut out = None;
     crate::animation::render_frames_on(
         gpu,

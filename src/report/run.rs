@@ -14,8 +14,7 @@ use crate::measure::transparency::TechniqueConfig;
 use crate::progress::{Part, Progress};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
-use std::cell::{Cell, RefCell};
-use std::ops::ControlFlow;
+use std::cell::Cell;
 use std::path::PathBuf;
 
 /// The scene thumbnail's file in the report, and its width in pixels.
@@ -118,26 +117,13 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     };
     let root = draft.path();
     progress.step("rendering the scene's thumbnail…", thumbnail.0);
-    let mut thumb = None;
-    crate::animation::render_frames_on(
-        &gpu,
-        &mut settings.clone(),
-        &[0],
-        &mut |_| {},
-        &mut crate::progress::Quiet,
-        &mut |_, image| {
-            thumb = Some(image);
-            Ok(())
-        },
-    )?;
-    if let Some(image) = thumb {
-        let h = (image.height() * THUMBNAIL_WIDTH / image.width().max(1)).max(1);
-        let small = image::imageops::thumbnail(&image, THUMBNAIL_WIDTH.min(image.width()), h);
-        small
-            .save(root.join(THUMBNAIL))
-            .with_context(|| format!("{}: cannot write", root.join(THUMBNAIL).display()))?;
-        meta.thumbnail = Some(THUMBNAIL.to_string());
-    }
+    let image = super::images::render(&gpu, settings.clone())?;
+    let h = (image.height() * THUMBNAIL_WIDTH / image.width().max(1)).max(1);
+    let small = image::imageops::thumbnail(&image, THUMBNAIL_WIDTH.min(image.width()), h);
+    small
+        .save(root.join(THUMBNAIL))
+        .with_context(|| format!("{}: cannot write", root.join(THUMBNAIL).display()))?;
+    meta.thumbnail = Some(THUMBNAIL.to_string());
     let mut dirs = Vec::new();
     let frames = plan.frames.max(1);
 
@@ -207,7 +193,6 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     // The bench takes the first 70 % of the techniques' share, their images the rest.
     let bench_end = transparency.0 + 0.7 * (transparency.1 - transparency.0);
     let stopped = Cell::new(false);
-    let mut write_err = Ok(());
     let bench = crate::bench::transparency::TransparencyBench::run_each(
         &gpu,
         settings,
@@ -219,16 +204,8 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
             stopped.set(stopped.get() || !progress.step(what, at));
             !stopped.get()
         },
-        |partial| {
-            write_err = partial.write_tables(&dir).map(|_| ());
-            if write_err.is_err() || stopped.get() {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        },
+        |partial| partial.write_tables(&dir).map(|_| ()),
     )?;
-    write_err?;
     if !bench.rows.is_empty() {
         bench.write(&dir)?;
         let rows: Vec<TechniqueConfig> = bench.rows.iter().map(|r| r.config.clone()).collect();
@@ -250,17 +227,7 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     let dir = root.join(MOTION_DIR);
     // The measurement takes the first 70 % of the motion's share, the animations the rest.
     let measure_end = motion.0 + 0.7 * (motion.1 - motion.0);
-    let written = RefCell::new(Ok(()));
-    let after_each = |m: &MotionMeasurement| {
-        let w = write_motion(&dir, m);
-        let stop = w.is_err();
-        *written.borrow_mut() = w;
-        if stop {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    };
+    let after_each = |m: &MotionMeasurement| write_motion(&dir, m);
     let options = MotionOptions {
         follow: None,
         after_each: Some(&after_each),
@@ -273,7 +240,6 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
         options,
         &mut Part::of(&mut *progress, motion.0, measure_end),
     )?;
-    written.into_inner()?;
     let mut finished = m.rows.len() == motion_configs.len();
     if !m.rows.is_empty() {
         let configs: Vec<MethodConfig> = m.rows.iter().map(|r| r.config.config.clone()).collect();

@@ -19,15 +19,7 @@ fn workbench_headless() {
         return;
     }
     let settings = common::small_settings(320, 240);
-    let mut harness = Harness::builder()
-        .with_size([1000.0, 640.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| {
-            let mut app = HairlabApp::new(cc, Some(settings));
-            app.set_snapshot_mode(true);
-            app
-        });
-    harness.run();
+    let mut harness = crate::common::snapshot_harness(settings, [1000.0, 640.0]);
     let segments_before = harness
         .state()
         .scene()

@@ -6,9 +6,9 @@
 use crate::common::cli::{error_lines, hairlab, interrupt_once_written, stderr};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use hairlab::app::{HairlabApp, wgpu_setup};
+use hairlab::app::HairlabApp;
 use hairlab::bench::{chart, pareto_front};
-use hairlab::gpu::{AdapterPreference, Gpu};
+use hairlab::gpu::Gpu;
 use hairlab::settings::Settings;
 use std::path::Path;
 
@@ -684,15 +684,7 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
         ],
     )
     .unwrap();
-    let mut harness = Harness::builder()
-        .with_size([1200.0, 900.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| {
-            let mut app = HairlabApp::new(cc, Some(settings));
-            app.set_snapshot_mode(true);
-            app
-        });
-    harness.run();
+    let mut harness = crate::common::snapshot_harness(settings, [1200.0, 900.0]);
     harness.get_by_label("Bench").click();
     harness.run();
     // Sweep only OSM: uncheck the others.

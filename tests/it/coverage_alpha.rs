@@ -170,21 +170,12 @@ fn the_render_panel_sets_the_alpha_mode_and_the_strand_width() {
     use egui::accesskit::Role;
     use egui_kittest::Harness;
     use egui_kittest::kittest::{By, Queryable};
-    use hairlab::app::{HairlabApp, wgpu_setup};
-    use hairlab::gpu::AdapterPreference;
+    use hairlab::app::HairlabApp;
     if Gpu::for_tests().is_none() {
         return;
     }
     let settings = small_settings(160, 120);
-    let mut harness = Harness::builder()
-        .with_size([1000.0, 640.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| {
-            let mut app = HairlabApp::new(cc, Some(settings));
-            app.set_snapshot_mode(true);
-            app
-        });
-    harness.run();
+    let mut harness = crate::common::snapshot_harness(settings, [1000.0, 640.0]);
     let width_slider =
         |h: &Harness<'_, HairlabApp>| h.query_by_role_and_label(Role::Slider, "strand width").is_some();
     assert!(!width_slider(&harness), "strand width shown in constant mode");

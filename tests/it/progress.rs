@@ -113,21 +113,12 @@ fn stopped_animation_frames_fail_after_the_frames_handed_over() {
 fn the_bench_window_runs_a_job_that_cancel_drops_and_stop_ends() {
     use egui_kittest::Harness;
     use egui_kittest::kittest::Queryable;
-    use hairlab::app::{HairlabApp, wgpu_setup};
-    use hairlab::gpu::AdapterPreference;
+    use hairlab::app::HairlabApp;
     if Gpu::for_tests().is_none() {
         return;
     }
     let settings = small("default");
-    let mut harness = Harness::builder()
-        .with_size([1200.0, 900.0])
-        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
-        .build_eframe(move |cc| {
-            let mut app = HairlabApp::new(cc, Some(settings));
-            app.set_snapshot_mode(true);
-            app
-        });
-    harness.run();
+    let mut harness = crate::common::snapshot_harness(settings, [1200.0, 900.0]);
     harness.get_by_label("Bench").click();
     harness.run();
     let gate = harness.state_mut().hold_jobs();

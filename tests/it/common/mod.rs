@@ -26,6 +26,26 @@ pub fn measured_preset(name: &str, overrides: &[String]) -> Settings {
     Settings::load_preset(name, &all).unwrap_or_else(|e| panic!("{name}: {e:#}"))
 }
 
+/// The workbench on `settings` in a `size`-point window on the software adapter, in snapshot mode (no timings on
+/// screen), after its first frames.
+pub fn snapshot_harness(
+    settings: Settings,
+    size: [f32; 2],
+) -> egui_kittest::Harness<'static, hairlab::app::HairlabApp> {
+    let mut harness = egui_kittest::Harness::builder()
+        .with_size(size)
+        .wgpu_setup(hairlab::app::wgpu_setup(
+            hairlab::gpu::AdapterPreference::Software,
+        ))
+        .build_eframe(move |cc| {
+            let mut app = hairlab::app::HairlabApp::new(cc, Some(settings));
+            app.set_snapshot_mode(true);
+            app
+        });
+    harness.run();
+    harness
+}
+
 /// The default preset shrunk to a test-sized scene and image, under [`MEASURED_FIT`].
 pub fn small_settings(width: u32, height: u32) -> Settings {
     measured_preset(

@@ -64,20 +64,10 @@ impl MotionBound {
             let mut s = settings.clone();
             (s.scene, s.motion) = key;
             self.job = Some(Job::spawn("light fit", ctx, gate, move |ctl| {
-                const WHAT: &str = "fitting the light to the whole motion";
-                ctl.step(WHAT, 0.0).then_some(())?;
-                let bound = (|| {
-                    let (_, mut motion) = s.open_motion()?;
-                    let n = motion.frame_count(&s.motion);
-                    let mut bound = Aabb::EMPTY;
-                    for k in 0..n {
-                        if !ctl.step(WHAT, k as f32 / n as f32) {
-                            return Ok(None);
-                        }
-                        bound = bound.union(Aabb::from_points(motion.frame(k)?));
-                    }
-                    anyhow::Ok(Some(bound))
-                })();
+                ctl.step("fitting the light to the whole motion", 0.0).then_some(())?;
+                let bound = s
+                    .open_motion()
+                    .and_then(|(_, mut motion)| motion.bound_with(&s.motion, &mut ctl.clone()));
                 match bound {
                     Ok(b) => b.map(Ok),
                     Err(e) => Some(Err(format!("light fit: {e:#}"))),

@@ -371,11 +371,26 @@ impl Motion {
     /// frame to it once, `stable` to its bounding sphere, so normalised light depth does not swim). Plays the
     /// whole motion once; frame `k` is the same bits afterwards.
     pub fn bound(&mut self, m: &MotionSettings) -> Result<crate::scene::Aabb> {
+        let bound = self.bound_with(m, &mut crate::progress::Quiet)?;
+        Ok(bound.unwrap_or(crate::scene::Aabb::EMPTY))
+    }
+
+    /// [`Motion::bound`] telling `progress` before each frame; `None` once it answers `false`.
+    pub fn bound_with(
+        &mut self,
+        m: &MotionSettings,
+        progress: &mut dyn crate::progress::Progress,
+    ) -> Result<Option<crate::scene::Aabb>> {
+        let n = self.frame_count(m);
         let mut bound = crate::scene::Aabb::EMPTY;
-        for k in 0..self.frame_count(m) {
+        for k in 0..n {
+            let label = format!("fitting the light to the whole motion: frame {k}");
+            if !progress.step(&label, crate::progress::share(k as usize, n as usize)) {
+                return Ok(None);
+            }
             bound = bound.union(crate::scene::Aabb::from_points(self.frame(k)?));
         }
-        Ok(bound)
+        Ok(Some(bound))
     }
 }
 

@@ -64,7 +64,8 @@ impl MotionBound {
             let mut s = settings.clone();
             (s.scene, s.motion) = key;
             self.job = Some(Job::spawn("light fit", ctx, gate, move |ctl| {
-                ctl.step("fitting the light to the whole motion", 0.0).then_some(())?;
+                ctl.step("fitting the light to the whole motion", 0.0)
+                    .then_some(())?;
                 let bound = s
                     .open_motion()
                     .and_then(|(_, mut motion)| motion.bound_with(&s.motion, &mut ctl.clone()));

@@ -55,27 +55,33 @@ impl TerminalProgress {
     }
 }
 
-impl Progress for TerminalProgress {
-    fn step(&mut self, label: &str, fraction: f32) -> bool {
+impl TerminalProgress {
+    /// What a step writes to stderr: on a terminal the stage's line redrawn in place (a new stage first ends the
+    /// last one's line, so the stages stay on screen as a log); off one, a line per stage and one each tenth of
+    /// the whole within a long stage, or nothing.
+    fn output(&mut self, label: &str, fraction: f32) -> Option<String> {
         let line = Self::line(label, fraction, self.start.elapsed().as_secs_f64());
         let new = label != self.last_label;
         if new {
             self.last_label = label.to_string();
         }
         if self.tty {
-            // A new stage starts its own line: the stages stay on screen as a log.
-            if new && self.drawn {
-                eprintln!();
-            }
-            eprint!("\r{line}");
+            let end = if new && self.drawn { "\n" } else { "" };
             self.drawn = true;
-        } else {
-            // Off a terminal: a line per stage, and one each tenth of the whole within a long stage.
-            let tenth = (fraction.clamp(0.0, 1.0) * 10.0) as u32;
-            if new || tenth > self.last_tenth {
-                eprintln!("{line}");
-                self.last_tenth = tenth;
-            }
+            return Some(format!("{end}\r{line}"));
+        }
+        let tenth = (fraction.clamp(0.0, 1.0) * 10.0) as u32;
+        (new || tenth > self.last_tenth).then(|| {
+            self.last_tenth = tenth;
+            format!("{line}\n")
+        })
+    }
+}
+
+impl Progress for TerminalProgress {
+    fn step(&mut self, label: &str, fraction: f32) -> bool {
+        if let Some(text) = self.output(label, fraction) {
+            eprint!("{text}");
         }
         !self.stop.is_some_and(|s| s.load(Ordering::SeqCst))
     }
@@ -121,5 +127,32 @@ mod tests {
             "{line}"
         );
         assert!(line.ends_with("2.5 s"), "{line}");
+    }
+
+    /// Off a terminal: a line for each new stage and for each tenth crossed within one, nothing else; on a
+    /// terminal every step redraws its stage's line, a new stage after the first starting a line of its own.
+    #[test]
+    fn off_a_terminal_a_line_per_stage_and_tenth_on_one_a_redrawn_line() {
+        let mut bar = TerminalProgress::uninterruptible();
+        bar.tty = false;
+        let printed: Vec<bool> = [
+            ("a", 0.0),
+            ("a", 0.05),
+            ("a", 0.1),
+            ("a", 0.15),
+            ("b", 0.15),
+            ("b", 0.35),
+        ]
+        .iter()
+        .map(|&(label, f)| bar.output(label, f).is_some())
+        .collect();
+        assert_eq!(printed, [true, false, true, false, true, true]);
+        assert!(bar.output("b", 0.36).is_none());
+        let mut bar = TerminalProgress::uninterruptible();
+        bar.tty = true;
+        let a = bar.output("a", 0.0).unwrap();
+        assert!(a.starts_with("\r[") && a.contains(" a "), "{a:?}");
+        assert!(bar.output("a", 0.5).unwrap().starts_with("\r[#"));
+        assert!(bar.output("b", 0.6).unwrap().starts_with("\n\r["));
     }
 }

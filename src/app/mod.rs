@@ -557,6 +557,12 @@ impl eframe::App for HairlabApp {
 }
 
 /// Names of registered methods, for the UI.
+/// The window's GPU (its device, queue and adapter) as a [`gpu::Gpu`] for work beside the window's renderer: the
+/// compare view, the time view, the α fit, the animation export.
+fn window_gpu(rs: Option<&egui_wgpu::RenderState>) -> Option<gpu::Gpu> {
+    rs.map(|rs| gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()))
+}
+
 fn method_names() -> Vec<(&'static str, &'static str)> {
     registry::all().iter().map(|m| (m.name(), m.label())).collect()
 }

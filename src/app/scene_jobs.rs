@@ -102,13 +102,12 @@ impl HairlabApp {
         {
             self.settings.camera.frame(&scene.framing_bounds());
         }
-        let Some(rs) = &self.render_state else {
+        let Some(gpu) = window_gpu(self.render_state.as_ref()) else {
             self.scene = Some(scene);
             self.built_scene = Some(scene_settings);
             self.timeline.set_motion(motion, motion_settings);
             return;
         };
-        let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
         let result = match self.renderer.as_mut() {
             Some(r) => r.set_scene(&scene),
             None => Renderer::new(&gpu, &scene, self.settings.render.map_resolution).map(|r| {
@@ -218,10 +217,9 @@ impl HairlabApp {
     /// Starts the inspector's `α` fit to the ray-traced fibres (a job on the window's GPU) and gives it
     /// [`PATIENCE`] to finish.
     pub(super) fn start_alpha_fit(&mut self, ctx: &egui::Context) {
-        let Some(rs) = &self.render_state else {
+        let Some(gpu) = window_gpu(self.render_state.as_ref()) else {
             return self.error("α fit: no GPU renderer");
         };
-        let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
         self.inspector
             .start_alpha_fit(gpu, &self.settings, ctx, self.job_gate.clone());
         self.poll_inspector_jobs(PATIENCE);

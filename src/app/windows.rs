@@ -55,11 +55,12 @@ impl HairlabApp {
 
     /// Starts the compare render (a job with a renderer of its own) and gives it [`PATIENCE`] to finish.
     pub(super) fn render_compare(&mut self, size: (u32, u32), ctx: &egui::Context) {
-        let (Some(rs), Some(scene), Some(_)) = (&self.render_state, &self.scene, &self.renderer) else {
+        let gpu = window_gpu(self.render_state.as_ref());
+        let (Some(gpu), Some(scene), Some(_)) = (gpu, &self.scene, &self.renderer) else {
             return self.error("compare view: no GPU renderer");
         };
         let source = compare_view::CompareSource {
-            gpu: gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()),
+            gpu,
             scene: scene.clone(),
             fur: self.fur.clone(),
             fit_bound: self
@@ -98,10 +99,9 @@ impl HairlabApp {
     }
 
     pub(super) fn start_time_view(&mut self, ctx: &egui::Context) {
-        let Some(rs) = &self.render_state else {
+        let Some(gpu) = window_gpu(self.render_state.as_ref()) else {
             return self.error("time view: no GPU renderer");
         };
-        let gpu = gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info());
         self.time_view
             .start(gpu, &self.settings, ctx, self.job_gate.clone());
     }
@@ -142,10 +142,7 @@ impl HairlabApp {
         let mut open = true;
         let count = self.timeline.frame_count();
         let (settings, rs, gate) = (&self.settings, &self.render_state, self.job_gate.clone());
-        let gpu = || {
-            rs.as_ref()
-                .map(|rs| gpu::Gpu::from_parts(rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()))
-        };
+        let gpu = || window_gpu(rs.as_ref());
         let export = &mut self.animation_export;
         egui::Window::new("Export animation")
             .open(&mut open)

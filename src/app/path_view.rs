@@ -2,7 +2,7 @@
 //! meshes, the camera and light of the panels — path-traced on the CPU (`crate::pathtrace`, Chiang et al. 2016's
 //! fibres) by a job that adds passes of samples to a progressive image until `render.spp` samples per pixel, and
 //! shows each pass's mean as it lands, over the raster's background (`pathtrace::composite`). Any change the path
-//! tracer sees (scene, frame, camera, light, strand width, hair colour, seed, background, viewport size) restarts
+//! tracer sees (scene, frame, camera, light, strand width, hair colour, seed, `render.path` switches, background, viewport size) restarts
 //! it; raising `render.spp` goes on from the samples already taken. The work runs on a worker (a job, `jobs.rs`),
 //! so the window stays interactive; the caption over the image shows the samples per pixel and whether it is
 //! converging. It stays out of the job bar: that bar taking and giving back its row would resize the viewport,
@@ -61,6 +61,10 @@ struct Key {
     strand_width: f32,
     hair_color: [f32; 3],
     seed: u64,
+    /// The path tracer's switches, and what the raster shading at the first hit reads.
+    effects: crate::render::render_settings::PathEffects,
+    shading: crate::shading::ShadingModel,
+    hair_alpha: f32,
     background: [f32; 3],
     size: (u32, u32),
 }
@@ -77,6 +81,9 @@ impl Key {
             strand_width: r.strand_width,
             hair_color: r.hair_color,
             seed: r.seed,
+            effects: r.path,
+            shading: r.shading,
+            hair_alpha: r.hair_alpha,
             background: r.background,
             size,
         }

@@ -342,25 +342,28 @@ pub fn write_results(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
     write_files(dir, files)
 }
 
-/// The speed chart of `result` against the path-traced truth: each configuration's GPU time against its image
-/// RMSE against the path-traced image under `shading` (a shading model's word), the decomposition's total, with
-/// its Pareto front; a configuration with no decomposition row under `shading` stays off it.
+/// The speed chart of `result` against the path-traced truth: each configuration's GPU time against its RMSE
+/// over the hair against the path-traced image under `shading` (a shading model's word; the decomposition's
+/// total, the truth's noise removed), with its Pareto front; a configuration with no total under `shading`
+/// stays off it.
 pub fn truth_chart(
     result: &BenchResult,
-    decomposition: &[crate::measure::truth::Decomposition],
+    decomposition: &[crate::measure::decompose::Decomposition],
     shading: &str,
 ) -> Chart {
     let total = |r: &super::BenchRow| {
         let label = r.config.label();
         decomposition
             .iter()
-            .find(|d| d.method == label && d.shading == shading)
-            .map_or(f64::NAN, |d| d.total_rmse)
+            .find(|d| {
+                d.method == label && d.shading == shading && d.effect == crate::measure::decompose::TOTAL
+            })
+            .map_or(f64::NAN, |d| d.hair_rmse)
     };
     chart::speed_chart_by(
         result,
         &total,
-        &format!("image RMSE against the path-traced truth ({shading} shading)"),
+        &format!("hair RMSE against the path-traced truth ({shading} shading)"),
         "Speed vs accuracy against the path-traced truth",
     )
 }
@@ -369,7 +372,7 @@ pub fn truth_chart(
 pub fn write_truth_chart(
     dir: &Path,
     result: &BenchResult,
-    decomposition: &[crate::measure::truth::Decomposition],
+    decomposition: &[crate::measure::decompose::Decomposition],
     shading: &str,
 ) -> Result<Vec<PathBuf>> {
     let chart = truth_chart(result, decomposition, shading);
@@ -502,11 +505,28 @@ mod tests {
 
     #[test]
     fn the_truth_chart_plots_each_rows_total_error_under_the_shading_model() {
-        use crate::measure::truth::{Decomposition, ImageError};
+        use crate::measure::decompose::{Decomposition, METHOD, RegionError, StepError, TOTAL};
         let r = result();
-        let e = |rmse| ImageError { rmse, flip: 0.0 };
+        let e = |rmse| {
+            let region = RegionError {
+                rmse,
+                ratio: 1.0,
+                noise: 0.0,
+            };
+            StepError {
+                hair: region,
+                receivers: region,
+                image_rmse: 0.0,
+                image_flip: 0.0,
+            }
+        };
+        // Each configuration's method step (which the chart must not take) and its total.
         let d = |k: usize, shading, total| {
-            Decomposition::new(r.rows[k].config.label(), shading, e(0.1), e(0.2), e(total))
+            let label = r.rows[k].config.label();
+            [
+                Decomposition::new(&label, shading, METHOD, &e(0.05)),
+                Decomposition::new(&label, shading, TOTAL, &e(total)),
+            ]
         };
         // Under Kajiya-Kay method-b is more accurate against the truth than method-a: both are on the front
         // (method-a faster, method-b more accurate), unlike under the bench's own metric.
@@ -514,7 +534,8 @@ mod tests {
             d(0, "kajiya-kay", 0.3),
             d(1, "kajiya-kay", 0.2),
             d(0, "marschner", 0.9),
-        ];
+        ]
+        .concat();
         let ys = |c: &Chart| -> Vec<f64> {
             c.series
                 .iter()
@@ -532,7 +553,7 @@ mod tests {
         let written = write_truth_chart(dir.path(), &r, &decomposition, "kajiya-kay").unwrap();
         assert_eq!(written.len(), 2);
         let svg = std::fs::read_to_string(dir.path().join("speed_vs_truth.svg")).unwrap();
-        assert!(svg.contains("against the path-traced truth (kajiya-kay shading)"));
+        assert!(svg.contains("hair RMSE against the path-traced truth (kajiya-kay shading)"));
     }
 
     fn scaling_point(label: &str, raster: Raster, density: f32, segments: usize, ms: f64) -> ScalingPoint {

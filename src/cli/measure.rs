@@ -616,25 +616,30 @@ fn shading_table(
     } else {
         a.shading.clone()
     };
-    let truth = match a.truth {
-        TruthKind::DepthPeeled => None,
+    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    let (truth, table) = match a.truth {
+        TruthKind::DepthPeeled => {
+            let table =
+                crate::measure::shading::shading_errors_on(&gpu, settings, configs, &models, None, |m| {
+                    eprintln!("shading {m}…")
+                })?;
+            (None, table)
+        }
         TruthKind::PathTraced => {
             // Ctrl-C answers the bar's next step with a stop.
             let mut bar = super::progress::TerminalProgress::new();
-            let t = crate::measure::truth::path_traced(settings, &mut bar)?;
+            let measured = crate::measure::truth::measure(&gpu, settings, configs, &models, &mut bar)?;
             drop(bar);
-            let Some(t) = t else {
+            let Some((t, table)) = measured else {
                 return Err(crate::cli::interrupt::Interrupted { done: configs.len() }.into());
             };
             eprintln!("path-traced truth: {} spp in {:.1} s", t.spp, t.seconds);
-            Some(t)
+            if let Some(note) = crate::pathtrace::accumulation::dropped_note(t.dropped) {
+                eprintln!("{note}");
+            }
+            (Some(t), table)
         }
     };
-    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let table =
-        crate::measure::shading::shading_errors_on(&gpu, settings, configs, &models, truth.as_ref(), |m| {
-            eprintln!("shading {m}…")
-        })?;
     let rows = &table.rows;
     let width = rows
         .iter()
@@ -659,59 +664,52 @@ fn shading_table(
         }
         println!("{line}");
     }
-    let decomposition = table.decomposition();
     if let Some(t) = &truth {
-        println!(
-            "\nerror decomposition against the path-traced truth ({} spp): method = against the depth-peeled \
-             reference, opacity model = the reference against the truth, total = against the truth (RMSE | FLIP)",
-            t.spp
-        );
-        println!(
-            "{:<width$} {:<15} {:>8} {:>8} {:>8}   {:>8} {:>8} {:>8}",
-            "method", "shading", "method", "opacity", "total", "method", "opacity", "total"
-        );
-        for d in &decomposition {
-            println!(
-                "{:<width$} {:<15} {:>8.5} {:>8.5} {:>8.5}   {:>8.5} {:>8.5} {:>8.5}",
-                d.method,
-                d.shading,
-                d.method_rmse,
-                d.opacity_model_rmse,
-                d.total_rmse,
-                d.method_flip,
-                d.opacity_model_flip,
-                d.total_flip
-            );
-        }
+        print_decomposition(t, &table.decomposition, width);
     }
     if let Some(dir) = &a.out {
         let path = dir.join("shading.csv");
         crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows)?.as_bytes())?;
         let mut written = vec![path];
         if let Some(t) = &truth {
-            use crate::measure::truth::{DECOMPOSITION_CSV, TRUTH_PNG};
-            let path = dir.join(DECOMPOSITION_CSV);
-            let text = crate::io::csv_text(DECOMPOSITION_CSV, &decomposition)?;
-            crate::io::write_atomic(&path, text.as_bytes())?;
-            let image = dir.join(TRUTH_PNG);
-            crate::io::write_atomic(&image, &crate::animation::encode_png(&t.image)?)?;
-            written.extend([path, image]);
-            // The speed chart against the truth under the settings' shading model (else the first measured).
-            let shading = models
-                .iter()
-                .find(|m| **m == settings.render.shading)
-                .unwrap_or(&models[0])
-                .word();
-            written.extend(crate::bench::report::write_truth_chart(
+            let shading = crate::measure::truth::chart_shading(settings, &models);
+            written.extend(crate::measure::truth::write(
                 dir,
+                t,
+                &table.decomposition,
                 result,
-                &decomposition,
                 shading,
             )?);
         }
         print_written(&written);
     }
     Ok(())
+}
+
+/// The decomposition by effect as a table: per configuration and shading model, each step's RMSE (noise
+/// removed) and mean ratio over the hair and over the shadow receivers.
+fn print_decomposition(
+    t: &crate::measure::truth::Truth,
+    rows: &[crate::measure::decompose::Decomposition],
+    width: usize,
+) {
+    println!(
+        "\nerror by effect against the path-traced truth ({} spp, {} hair and {} receiver pixels): RMSE of sRGB \
+         with the noise removed, and the ratio of mean linear luminance (later image over earlier)",
+        t.spp,
+        t.masks.hair.iter().filter(|&&m| m).count(),
+        t.masks.receivers.iter().filter(|&&m| m).count(),
+    );
+    println!(
+        "{:<width$} {:<15} {:<19} {:>9} {:>9}   {:>9} {:>9}",
+        "method", "shading", "effect", "hair RMSE", "ratio", "recv RMSE", "ratio"
+    );
+    for d in rows {
+        println!(
+            "{:<width$} {:<15} {:<19} {:>9.4} {:>9.3}   {:>9.4} {:>9.3}",
+            d.method, d.shading, d.effect, d.hair_rmse, d.hair_ratio, d.receivers_rmse, d.receivers_ratio
+        );
+    }
 }
 
 /// `measure`'s rows as a bench result, for `bench`'s writers.

@@ -4,6 +4,7 @@
 //! pass (median over frames) and memory. The method side is read through its GPU lookup (the evaluation
 //! pass), so what is measured is what the GPU computes.
 
+pub mod decompose;
 pub mod fibre_visibility;
 pub mod fur;
 pub mod motion;

@@ -4,9 +4,10 @@
 //! model, so each figure is the shadows' error alone under that shading. The visibility error at the visible
 //! hair points (`Measurement::shading_error`) does not depend on the shading model and is not repeated here.
 //! Given a path-traced truth (`truth.rs`), every image is drawn over black, as the path tracer's, and each
-//! configuration's error is decomposed against it.
+//! configuration's error is decomposed against it by effect (`decompose.rs`).
 
-use super::truth::{Decomposition, ImageError, Truth};
+use super::decompose::{Decomposition, Stage, rows as decomposition_rows, step};
+use super::truth::Truth;
 use super::{IMAGE_SIZE, MethodConfig, image_error};
 use crate::gpu::Gpu;
 use crate::methods::{ParamValues, ShadowMethod, registry};
@@ -23,8 +24,6 @@ pub struct ShadingError {
     pub image_rmse: f64,
     /// Mean FLIP over all pixels against the same reference image.
     pub image_flip: f64,
-    /// The image against the path-traced truth, where one was given.
-    pub against_truth: Option<ImageError>,
 }
 
 /// One configuration's errors, one per shading model asked for, in the order asked.
@@ -34,37 +33,14 @@ pub struct ShadingRow {
     pub errors: Vec<ShadingError>,
 }
 
-/// Every configuration's errors, and, with a truth, the reference image's own error against it per model.
+/// Every configuration's errors, and, with a truth, every configuration's error decomposed by effect under
+/// every model (`decompose.rs`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShadingTable {
     pub rows: Vec<ShadingRow>,
-    /// The depth-peeled reference against the truth, one per model in the order asked (empty without a truth).
-    pub reference_vs_truth: Vec<ImageError>,
-}
-
-impl ShadingTable {
-    /// The decomposition of every configuration's error under every model (empty without a truth).
-    pub fn decomposition(&self) -> Vec<Decomposition> {
-        let mut out = Vec::new();
-        for row in &self.rows {
-            for (e, model) in row.errors.iter().zip(&self.reference_vs_truth) {
-                if let Some(total) = e.against_truth {
-                    let own = ImageError {
-                        rmse: e.image_rmse,
-                        flip: e.image_flip,
-                    };
-                    out.push(Decomposition::new(
-                        row.config.label(),
-                        e.model.word(),
-                        own,
-                        *model,
-                        total,
-                    ));
-                }
-            }
-        }
-        out
-    }
+    /// Model after model, configuration after configuration, the chain's steps and the total (empty without a
+    /// truth).
+    pub decomposition: Vec<Decomposition>,
 }
 
 /// Renders the scene of `settings` at [`IMAGE_SIZE`] under each of `models`, with the reference and with each
@@ -96,7 +72,7 @@ pub fn shading_errors_on(
             errors: Vec::new(),
         })
         .collect();
-    let mut reference_vs_truth = Vec::new();
+    let mut decomposition = Vec::new();
     for &model in models {
         progress(model.word());
         let mut render = s.render.clone();
@@ -117,28 +93,33 @@ pub fn shading_errors_on(
                 })?;
                 Ok(r.read_output()?)
             };
-        let reference = image(registry::reference(), &empty)?;
-        let against_truth = |image: &image::RgbaImage| truth.map(|t| ImageError::of(image, &t.image));
-        reference_vs_truth.extend(against_truth(&reference));
+        let reference = Stage::exact(image(registry::reference(), &empty)?);
+        let chain = truth.and_then(|t| Some((t, t.shared_steps(model, &reference)?)));
         for row in &mut rows {
             let method = registry::find(&row.config.name).map_err(anyhow::Error::msg)?;
             let shaded = image(method, &row.config.params)?;
-            let (image_rmse, _) = image_error(&shaded, &reference);
-            let image_flip = crate::transparency::FlipMap::new(&shaded, &reference)
+            let (image_rmse, _) = image_error(&shaded, &reference.image);
+            let image_flip = crate::transparency::FlipMap::new(&shaded, &reference.image)
                 .metrics(|_, _| false)
                 .mean;
             row.errors.push(ShadingError {
                 model,
                 image_rmse,
                 image_flip,
-                against_truth: against_truth(&shaded),
             });
+            if let Some((t, shared)) = &chain {
+                let shaded = Stage::exact(shaded);
+                decomposition.extend(decomposition_rows(
+                    &row.config.label(),
+                    model.word(),
+                    shared,
+                    &step(&reference, &shaded, &t.masks),
+                    &step(&t.truth, &shaded, &t.masks),
+                ));
+            }
         }
     }
-    Ok(ShadingTable {
-        rows,
-        reference_vs_truth,
-    })
+    Ok(ShadingTable { rows, decomposition })
 }
 
 /// CSV `method,<model> img RMSE,<model> FLIP,...`: one row per configuration.
@@ -175,7 +156,6 @@ mod tests {
                     model,
                     image_rmse,
                     image_flip,
-                    against_truth: None,
                 })
                 .collect(),
         }];
@@ -187,57 +167,6 @@ mod tests {
         );
         assert_eq!(lines[1], format!("{},0.5,0.25,0.125,0.75", config.label()));
         assert_eq!(lines.len(), 2);
-    }
-
-    /// The decomposition pairs each configuration's errors under a model with that model's reference-vs-truth
-    /// error: method = against the reference, opacity model = the reference against the truth, total = against
-    /// the truth.
-    #[test]
-    fn decomposition_pairs_each_model_with_the_reference_against_the_truth() {
-        let models = [ShadingModel::KajiyaKay, ShadingModel::Marschner];
-        let config = MethodConfig::new(registry::reference().name(), ParamValues::new());
-        let e = |rmse, flip| ImageError { rmse, flip };
-        let table = ShadingTable {
-            rows: vec![ShadingRow {
-                config: config.clone(),
-                errors: vec![
-                    ShadingError {
-                        model: models[0],
-                        image_rmse: 0.01,
-                        image_flip: 0.02,
-                        against_truth: Some(e(0.3, 0.4)),
-                    },
-                    ShadingError {
-                        model: models[1],
-                        image_rmse: 0.05,
-                        image_flip: 0.06,
-                        against_truth: Some(e(0.7, 0.8)),
-                    },
-                ],
-            }],
-            reference_vs_truth: vec![e(0.25, 0.375), e(0.625, 0.75)],
-        };
-        let d = table.decomposition();
-        assert_eq!(d.len(), 2);
-        assert_eq!(
-            (
-                d[1].method.as_str(),
-                d[1].shading,
-                d[1].method_rmse,
-                d[1].opacity_model_rmse,
-                d[1].total_rmse
-            ),
-            (config.label().as_str(), "marschner", 0.05, 0.625, 0.7)
-        );
-        assert_eq!(
-            (d[0].method_flip, d[0].opacity_model_flip, d[0].total_flip),
-            (0.02, 0.375, 0.4)
-        );
-        let csv = crate::io::csv_text("decomposition.csv", &d).unwrap();
-        assert_eq!(
-            csv.lines().next().unwrap(),
-            "method,shading,method_rmse,opacity_model_rmse,total_rmse,method_flip,opacity_model_flip,total_flip"
-        );
     }
 
     /// A configuration whose label lists several parameters (commas) stays one field: a CSV reader gets the
@@ -262,7 +191,6 @@ mod tests {
                 model: models[0],
                 image_rmse: 0.5,
                 image_flip: 0.25,
-                against_truth: None,
             }],
         }];
         let text = csv(&models, &rows).unwrap();

@@ -1,17 +1,30 @@
-//! The path-traced truth of `measure shadows --truth path-traced` and the error decomposition it gives: under
-//! each shading model, a method's image error against the depth-peeled reference (the method's own error), the
-//! reference's error against the path-traced image (the opacity model's and the shading model's: every strand
-//! fragment attenuating by `α`, light scattering once, against fibres and multiple scattering), and the method's
-//! error against the path-traced image (the total). The truth does not depend on the shading model: it is the
-//! scene's fibres under Chiang et al. 2016's BSDF (`crate::pathtrace`), rendered once at [`super::IMAGE_SIZE`].
+//! The path-traced truth of `measure shadows --truth path-traced` (and a report's truth section), measured and
+//! written in this one place: the scene's fibres under Chiang et al. 2016's BSDF (`crate::pathtrace`) with every
+//! scattering event, and the chain of path-traced images that turn the real-time model's effects on one at a
+//! time (`decompose.rs`, `docs/truth.md`): one scattering event; the fibres' shadow read from the depth-peeled
+//! reference's light map; the raster's shading at the first hit, one image per shading model. Each is the mean
+//! of two renders (seeds `render.seed` and `render.seed + 1`, `render.spp / 2` samples each) so that their
+//! difference measures its noise. The regions (hair, receivers) come from the first hits of 4 × 4 rays a pixel.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::Result;
-use serde::Serialize;
+use glam::{Vec2, Vec3};
 
 use super::IMAGE_SIZE;
-use crate::pathtrace::setup::PathScene;
-use crate::progress::Progress;
+use super::decompose::{Decomposition, Masks, SharedSteps, Stage, step};
+use crate::gpu::Gpu;
+use crate::pathtrace::effects::{Effects, Events, FirstHit, HairShadows, VisibilityMap};
+use crate::pathtrace::setup::{PathScene, raster_shading};
+use crate::pathtrace::{integrator, masks};
+use crate::progress::{Part, Progress};
+use crate::render::Renderer;
 use crate::settings::Settings;
+use crate::shading::ShadingModel;
+use crate::visibility::lookup::Lookup;
+use crate::visibility::reference::Reference;
+use crate::visibility::{Fragment, Model};
 
 /// The files `measure shadows --truth path-traced --out` (and a report) write beside `results.csv`.
 pub const DECOMPOSITION_CSV: &str = "decomposition.csv";
@@ -20,86 +33,245 @@ pub const TRUTH_PNG: &str = "truth_path_traced.png";
 pub const TRUTH_CHART: &str = "speed_vs_truth";
 pub const TRUTH_CHART_FILES: [&str; 2] = ["speed_vs_truth.png", "speed_vs_truth.svg"];
 
-/// The path-traced image of a still scene.
+/// Rays a side per pixel for the regions' first hits.
+const MASK_RAYS: usize = 4;
+
+/// The path-traced chain of a still scene at [`IMAGE_SIZE`].
 pub struct Truth {
-    /// sRGB over black, as the raster images it is compared with.
-    pub image: image::RgbaImage,
+    /// The truth (every effect).
+    pub truth: Stage,
+    /// One scattering event, the fibres' shadow traced.
+    pub one_event: Stage,
+    /// One event, the fibres' shadow from the depth-peeled reference's light map.
+    pub map_shadows: Stage,
+    /// One event, the map's shadow, the raster's shading at the first hit: one per shading model asked for.
+    pub raster_shading: Vec<(ShadingModel, Stage)>,
+    pub masks: Masks,
+    /// The truth's samples per pixel (both seeds together).
     pub spp: u32,
+    /// Samples left out of the chain's images for a NaN or infinite radiance (the caller says so when any were).
+    pub dropped: u64,
     pub seconds: f64,
 }
 
-/// Path-traces the still scene of `settings` at [`IMAGE_SIZE`] and `render.spp` samples per pixel, telling
-/// `progress` after each pass; `None` when it asked to stop before the last.
-pub fn path_traced(settings: &Settings, progress: &mut dyn Progress) -> Result<Option<Truth>> {
+impl Truth {
+    /// The chain's path-traced images with the file names they are written as: [`TRUTH_PNG`], then
+    /// `truth_one_event.png`, `truth_map_shadows.png` and `truth_raster_<model>.png`.
+    pub fn chain_images(&self) -> Vec<(String, &Stage)> {
+        let mut out = vec![
+            (TRUTH_PNG.to_owned(), &self.truth),
+            ("truth_one_event.png".to_owned(), &self.one_event),
+            ("truth_map_shadows.png".to_owned(), &self.map_shadows),
+        ];
+        out.extend(
+            self.raster_shading
+                .iter()
+                .map(|(m, s)| (format!("truth_raster_{}.png", m.word()), s)),
+        );
+        out
+    }
+
+    /// The steps that do not depend on the method under `model` (one of those the chain was traced for).
+    pub fn shared_steps(&self, model: ShadingModel, reference: &Stage) -> Option<SharedSteps> {
+        let (_, raster) = self.raster_shading.iter().find(|(m, _)| *m == model)?;
+        Some(SharedSteps {
+            multiple_scattering: step(&self.truth, &self.one_event, &self.masks),
+            shadowing: step(&self.one_event, &self.map_shadows, &self.masks),
+            shading: step(&self.map_shadows, raster, &self.masks),
+            eye_coverage: step(raster, reference, &self.masks),
+        })
+    }
+}
+
+/// The depth-peeled reference's visibility at a world point, read as the eye pass reads it (`Lookup`: the
+/// base texel, supersampling and 3×3 PCF of `render`; half-texel jitter is not modelled).
+fn reference_map(gpu: &Gpu, settings: &Settings, scene: &crate::scene::Scene) -> Result<VisibilityMap> {
+    let camera = crate::pathtrace::setup::camera(settings, scene);
+    let mut r = Renderer::new(gpu, scene, settings.render.map_resolution)?;
+    let lists = r.reference_lists(&camera, &settings.light, &settings.render)?;
+    let frame = r.hair_light_frame(&settings.light);
+    let texels: Vec<_> = lists
+        .iter()
+        .map(|l| Reference.build(&l.iter().map(|f| f.fragment()).collect::<Vec<Fragment>>()))
+        .collect();
+    let lookup = Lookup {
+        base: settings.render.map_resolution,
+        supersample: settings.render.light_supersample.max(1),
+        pcf: settings.render.pcf,
+    };
+    let side = lookup.side() as usize;
+    let to_clip = frame.world_to_clip();
+    Ok(Arc::new(move |p: Vec3| {
+        let c = to_clip * p.extend(1.0);
+        if c.w <= 0.0 {
+            return 1.0;
+        }
+        let uv = Vec2::new(c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5);
+        lookup.visibility(uv, frame.depth(p), |[x, y], z| {
+            texels
+                .get(y as usize * side + x as usize)
+                .map_or(1.0, |t| Reference.visibility(t, z))
+        })
+    }))
+}
+
+/// Path-traces the chain of `settings`' still scene at [`IMAGE_SIZE`] for `models`, telling `progress` as it
+/// goes; `None` when it asked to stop.
+pub fn path_traced(
+    gpu: &Gpu,
+    settings: &Settings,
+    models: &[ShadingModel],
+    progress: &mut dyn Progress,
+) -> Result<Option<Truth>> {
     let mut s = settings.clone();
     (s.render.width, s.render.height) = IMAGE_SIZE;
     let scene = s.scene.build()?;
     let start = std::time::Instant::now();
     let path = PathScene::new(&s, &scene)?;
-    let of = path.settings.samples;
-    let (linear, spp) = path.render(of.div_ceil(16), progress);
-    if spp < of {
-        return Ok(None);
+    let (w, h) = (path.settings.width, path.settings.height);
+    let masks = Masks::from_first_hits(&masks::first_hits(&path.bvh, &path.camera, w, h, MASK_RAYS));
+    let map = reference_map(gpu, &s, &scene)?;
+    let raster = raster_shading(&s, &scene);
+    let one = |hair_shadows, first_hit| Effects {
+        events: Events::One,
+        hair_shadows,
+        first_hit,
+    };
+    let mut chain = vec![
+        Effects::TRUTH,
+        one(HairShadows::Traced, FirstHit::Physical),
+        one(HairShadows::Map(map.clone()), FirstHit::Physical),
+    ];
+    chain.extend(models.iter().map(|&model| {
+        one(
+            HairShadows::Map(map.clone()),
+            FirstHit::Raster(crate::pathtrace::effects::RasterShading { model, ..raster }),
+        )
+    }));
+    let spp = path.settings.samples.max(2);
+    let (mut stages, mut dropped) = (Vec::with_capacity(chain.len()), 0);
+    let parts = chain.len() as f32;
+    for (k, effects) in chain.into_iter().enumerate() {
+        // The truth takes most of the time: the one-event images stop after one bounce.
+        let (from, to) = (k as f32 / parts, (k + 1) as f32 / parts);
+        let mut part = Part::of(&mut *progress, from, to);
+        let Some(stage) = traced_pair(&path, effects, spp, &masks, &mut dropped, &mut part) else {
+            return Ok(None);
+        };
+        stages.push(stage);
     }
-    let rgba: Vec<[f32; 4]> = linear.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
+    let mut stages = stages.into_iter();
+    let mut next = || stages.next().expect("one stage per effect set");
     Ok(Some(Truth {
-        image: super::fur::over_black(&rgba, IMAGE_SIZE.0, IMAGE_SIZE.1),
-        spp,
+        truth: next(),
+        one_event: next(),
+        map_shadows: next(),
+        raster_shading: models.iter().map(|&m| (m, next())).collect(),
+        masks,
+        spp: spp / 2 * 2,
+        dropped,
         seconds: start.elapsed().as_secs_f64(),
     }))
 }
 
-/// One image against another: RMSE of sRGB in [0, 1] and mean FLIP.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct ImageError {
-    pub rmse: f64,
-    pub flip: f64,
-}
-
-impl ImageError {
-    pub fn of(image: &image::RgbaImage, against: &image::RgbaImage) -> ImageError {
-        ImageError {
-            rmse: super::image_error(image, against).0,
-            flip: crate::transparency::FlipMap::new(image, against)
-                .metrics(|_, _| false)
-                .mean,
+/// The mean of two renders of `path` under `effects` (seeds `seed` and `seed + 1`, `spp / 2` samples each),
+/// adding the samples they left out (NaN or infinite) to `dropped`; `None` when `progress` asked to stop.
+fn traced_pair(
+    path: &PathScene,
+    effects: Effects,
+    spp: u32,
+    masks: &Masks,
+    dropped: &mut u64,
+    progress: &mut dyn Progress,
+) -> Option<Stage> {
+    let mut renders = Vec::with_capacity(2);
+    for k in 0..2u64 {
+        let s = integrator::Settings {
+            samples: spp / 2,
+            seed: path.settings.seed.wrapping_add(k),
+            effects: effects.clone(),
+            ..path.settings.clone()
+        };
+        let mut part = Part::of(&mut *progress, k as f32 * 0.5, (k + 1) as f32 * 0.5);
+        let pass = s.samples.div_ceil(8).max(1);
+        let acc = integrator::render_in_passes(&path.bvh, &path.camera, &path.light, &s, pass, &mut part);
+        if acc.samples() < s.samples {
+            return None;
         }
+        *dropped += acc.dropped();
+        renders.push(acc.mean());
     }
+    let (w, h) = (path.settings.width as u32, path.settings.height as u32);
+    let srgb = |v: &[Vec3]| {
+        let rgba: Vec<[f32; 4]> = v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect();
+        super::fur::over_black(&rgba, w, h)
+    };
+    let mean: Vec<Vec3> = renders[0]
+        .iter()
+        .zip(&renders[1])
+        .map(|(a, b)| 0.5 * (*a + *b))
+        .collect();
+    Some(Stage::of_two(
+        srgb(&mean),
+        &srgb(&renders[0]),
+        &srgb(&renders[1]),
+        masks,
+    ))
 }
 
-/// One row of `decomposition.csv`: a configuration under a shading model.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Decomposition {
-    pub method: String,
-    pub shading: &'static str,
-    /// The method against the depth-peeled reference.
-    pub method_rmse: f64,
-    /// The depth-peeled reference against the path-traced truth.
-    pub opacity_model_rmse: f64,
-    /// The method against the path-traced truth.
-    pub total_rmse: f64,
-    pub method_flip: f64,
-    pub opacity_model_flip: f64,
-    pub total_flip: f64,
+/// Writes `decomposition.csv`, the truth's image and the speed chart against the truth under `chart_shading`
+/// into `dir`, each atomically; returns their paths.
+pub fn write(
+    dir: &Path,
+    truth: &Truth,
+    decomposition: &[Decomposition],
+    result: &crate::bench::BenchResult,
+    chart_shading: ShadingModel,
+) -> Result<Vec<PathBuf>> {
+    let csv = dir.join(DECOMPOSITION_CSV);
+    crate::io::write_atomic(
+        &csv,
+        crate::io::csv_text(DECOMPOSITION_CSV, decomposition)?.as_bytes(),
+    )?;
+    let mut written = vec![csv];
+    for (name, stage) in truth.chain_images() {
+        let image = dir.join(name);
+        crate::io::write_atomic(&image, &crate::animation::encode_png(&stage.image)?)?;
+        written.push(image);
+    }
+    written.extend(crate::bench::report::write_truth_chart(
+        dir,
+        result,
+        decomposition,
+        chart_shading.word(),
+    )?);
+    Ok(written)
 }
 
-impl Decomposition {
-    pub fn new(
-        method: String,
-        shading: &'static str,
-        own: ImageError,
-        model: ImageError,
-        total: ImageError,
-    ) -> Self {
-        Decomposition {
-            method,
-            shading,
-            method_rmse: own.rmse,
-            opacity_model_rmse: model.rmse,
-            total_rmse: total.rmse,
-            method_flip: own.flip,
-            opacity_model_flip: model.flip,
-            total_flip: total.flip,
-        }
-    }
+/// The shading model the truth chart is drawn under: the settings' when measured, else the first measured.
+pub fn chart_shading(settings: &Settings, models: &[ShadingModel]) -> ShadingModel {
+    models
+        .iter()
+        .copied()
+        .find(|m| *m == settings.render.shading)
+        .unwrap_or(models[0])
+}
+
+/// The truth of `settings` for `models` and every configuration's error under each model, decomposed by
+/// effect: what `measure shadows --truth path-traced` and a report's truth section both run. `None` when
+/// `progress` asked to stop.
+pub fn measure(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[super::MethodConfig],
+    models: &[ShadingModel],
+    progress: &mut dyn Progress,
+) -> Result<Option<(Truth, super::shading::ShadingTable)>> {
+    let Some(truth) = path_traced(gpu, settings, models, &mut Part::of(&mut *progress, 0.0, 0.9))? else {
+        return Ok(None);
+    };
+    let table = super::shading::shading_errors_on(gpu, settings, configs, models, Some(&truth), |m| {
+        progress.step(&format!("decomposing under {m}"), 0.95);
+    })?;
+    Ok(Some((truth, table)))
 }

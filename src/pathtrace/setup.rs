@@ -8,9 +8,11 @@ use glam::Vec3;
 
 use super::bsdf::FibreParams;
 use super::bvh::Bvh;
+use super::effects::{Effects, FirstHit, HairShadows, RasterLight, RasterShading};
 use super::integrator;
 use super::light::{DirectionalLight, Light, SpotLight};
 use super::{fibre, triangle};
+use crate::render::render_settings::{PathFirstHit, PathHairShadows};
 use crate::scene::{Camera, LightKind, Scene};
 use crate::settings::Settings;
 use crate::shading::marschner;
@@ -49,7 +51,7 @@ pub fn light(settings: &Settings, scene: &Scene) -> Light {
             let position = centre + l.to_light() * bounds.radius().max(1e-3) * l.distance.max(1.01);
             let cutoff = (l.cone_deg * 0.5).to_radians();
             let edge = cutoff.cos();
-            let beam = (edge + SPOT_RAMP * (1.0 - edge)).acos();
+            let beam = (edge + super::effects::SPOT_RAMP * (1.0 - edge)).acos();
             Light::Spot(SpotLight {
                 position,
                 axis: (centre - position).normalize(),
@@ -61,9 +63,42 @@ pub fn light(settings: &Settings, scene: &Scene) -> Light {
     }
 }
 
-/// The raster spot's edge ramp: `smoothstep(edge, edge + SPOT_RAMP · (1 − edge), cos θ)` (`light_radiance` in
-/// `shaders/common/frame.wgsl`).
-const SPOT_RAMP: f32 = 0.15;
+/// The effects `render.path` asks for ([`Effects::TRUTH`] by default).
+pub fn effects(settings: &Settings, scene: &Scene) -> Effects {
+    let p = &settings.render.path;
+    Effects {
+        events: p.events,
+        hair_shadows: match p.hair_shadows {
+            PathHairShadows::Traced => HairShadows::Traced,
+            PathHairShadows::Off => HairShadows::Off,
+        },
+        first_hit: match p.first_hit {
+            PathFirstHit::Fibre => FirstHit::Physical,
+            PathFirstHit::Raster => FirstHit::Raster(raster_shading(settings, scene)),
+        },
+    }
+}
+
+/// The raster's shading of `settings` at a first hit ([`super::effects::FirstHit::Raster`]): its shading model,
+/// hair colour and alpha, and its light (colour × intensity; a spot with its smooth edge and no falloff, placed
+/// as [`light`] places the path tracer's).
+pub fn raster_shading(settings: &Settings, scene: &Scene) -> RasterShading {
+    let l = &settings.light;
+    let spot = match light(settings, scene) {
+        Light::Spot(s) => Some((s.position, s.axis, (l.cone_deg * 0.5).to_radians().cos())),
+        Light::Directional(_) => None,
+    };
+    RasterShading {
+        model: settings.render.shading,
+        colour: Vec3::from(settings.render.hair_color),
+        hair_alpha: settings.render.hair_alpha,
+        light: RasterLight {
+            radiance: Vec3::from(l.color) * l.intensity,
+            to_light: l.to_light(),
+            spot,
+        },
+    }
+}
 
 /// The camera of `settings`, framed on `scene` where the preset leaves the distance at 0.
 pub fn camera(settings: &Settings, scene: &Scene) -> Camera {
@@ -129,12 +164,17 @@ impl PathScene {
                 seed: r.seed,
                 max_depth: MAX_DEPTH,
                 fibre: fibre_params(r.hair_color),
+                effects: effects(settings, scene),
             },
         })
     }
 
     /// The image in passes of `pass` samples per pixel ([`integrator::render_in_passes`]).
-    pub fn render(&self, pass: u32, progress: &mut dyn crate::progress::Progress) -> (Vec<Vec3>, u32) {
+    pub fn render(
+        &self,
+        pass: u32,
+        progress: &mut dyn crate::progress::Progress,
+    ) -> integrator::Accumulation {
         integrator::render_in_passes(
             &self.bvh,
             &self.camera,

@@ -61,6 +61,49 @@ pub struct RenderSettings {
     pub spp: u32,
     /// The path tracer's seed: the same seed gives the same image (a second seed gives the noise floor).
     pub seed: u64,
+    /// The effects the path tracer carries under `mode = path` ([`PathEffects`]; all of them by default).
+    pub path: PathEffects,
+}
+
+/// The path tracer's switches (`render.path.*`), each turning one effect the real-time model approximates off
+/// alone (`docs/truth.md`): the defaults are the truth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PathEffects {
+    /// `all` scattering events, or `one`: the first hit's direct light only (single scattering).
+    pub events: PathEvents,
+    /// `traced`: the fibres block shadow rays; `off`: they do not (meshes always do).
+    pub hair_shadows: PathHairShadows,
+    /// The BSDF at the first hit: `fibre` (Chiang et al. 2016's, and Lambert on meshes), or `raster`: the raster's
+    /// shading model (`render.shading`), light and ambient terms at the first hit and nothing after it.
+    pub first_hit: PathFirstHit,
+}
+
+/// `render.path.events`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PathEvents {
+    #[default]
+    All,
+    One,
+}
+
+/// `render.path.hair_shadows`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PathHairShadows {
+    #[default]
+    Traced,
+    Off,
+}
+
+/// `render.path.first_hit`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PathFirstHit {
+    #[default]
+    Fibre,
+    Raster,
 }
 
 /// The most samples per pixel `render.spp` takes.
@@ -109,6 +152,7 @@ impl Default for RenderSettings {
             mode: RenderMode::Raster,
             spp: 16,
             seed: 0,
+            path: PathEffects::default(),
         }
     }
 }

@@ -271,20 +271,23 @@ pub struct Truth {
     pub chart: Option<PathBuf>,
 }
 
-/// `decomposition.csv`'s columns ([`crate::measure::truth::Decomposition`]).
+/// `decomposition.csv`'s columns ([`crate::measure::decompose::Decomposition`]).
 fn decomposition_columns() -> Vec<(String, Cell)> {
     columns(
         &[
             "method",
             "shading",
-            "method_rmse",
-            "opacity_model_rmse",
-            "total_rmse",
-            "method_flip",
-            "opacity_model_flip",
-            "total_flip",
+            "effect",
+            "hair_rmse",
+            "hair_ratio",
+            "hair_noise",
+            "receivers_rmse",
+            "receivers_ratio",
+            "receivers_noise",
+            "image_rmse",
+            "image_flip",
         ],
-        2,
+        3,
         Cell::Number,
     )
 }

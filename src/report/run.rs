@@ -259,24 +259,13 @@ fn truth(
     dir: &std::path::Path,
     progress: &mut dyn Progress,
 ) -> Result<()> {
-    let Some(t) = crate::measure::truth::path_traced(settings, &mut Part::of(&mut *progress, 0.0, 0.8))?
-    else {
-        return Ok(());
-    };
     let models = crate::shading::ShadingModel::ALL;
     let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
-    let table =
-        crate::measure::shading::shading_errors_on(gpu, settings, &configs, &models, Some(&t), |m| {
-            progress.step(&format!("decomposing under {m}"), 0.9);
-        })?;
-    let decomposition = table.decomposition();
-    let csv = crate::io::csv_text(super::data::DECOMPOSITION_CSV, &decomposition)?;
-    crate::io::write_atomic(&dir.join(super::data::DECOMPOSITION_CSV), csv.as_bytes())?;
-    crate::io::write_atomic(
-        &dir.join(super::data::TRUTH_PNG),
-        &crate::animation::encode_png(&t.image)?,
-    )?;
-    crate::bench::report::write_truth_chart(dir, result, &decomposition, settings.render.shading.word())?;
+    let Some((t, table)) = crate::measure::truth::measure(gpu, settings, &configs, &models, progress)? else {
+        return Ok(());
+    };
+    let shading = crate::measure::truth::chart_shading(settings, &models);
+    crate::measure::truth::write(dir, &t, &table.decomposition, result, shading)?;
     Ok(())
 }
 

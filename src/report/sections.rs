@@ -300,11 +300,16 @@ pub fn motion(m: &Motion) -> String {
 /// The path-traced truth: its image and each configuration's error decomposed under each shading model.
 pub fn truth(t: &Truth) -> String {
     let mut content = String::from(
-        "<p>Each configuration's image error (RMSE and FLIP of sRGB in [0, 1], every image over black) split in \
-         three under each shading model: <em>method</em>, against the depth-peeled reference; <em>opacity \
-         model</em>, the reference against the path-traced image (strands as fragments of opacity α and one \
-         scattering event, against round fibres, Chiang et al. 2016's BSDF and multiple scattering); \
-         <em>total</em>, against the path-traced image.</p>\n",
+        "<p>Each configuration's error against the path-traced image, split by physical effect under each \
+         shading model (hairlab's docs/truth.md): \
+         one chain of images turns the real-time model's effects on one at a time — <em>multiple \
+         scattering</em> (every event against one), <em>shadowing</em> (the fibres' traced shadow against the \
+         reference's (1 − α) products), <em>shading</em> (Chiang et al. 2016's fibre BSDF against the raster's \
+         model, light and ambient), <em>eye coverage</em> (round fibres against α-blended strand fragments), \
+         <em>method</em> (the exact light map against the method's) — and the <em>total</em>. Each step's RMSE \
+         of sRGB (the path-traced images' noise removed) and its ratio of mean linear luminance (later over \
+         earlier; the ratios multiply to the total's) are taken over the hair and over the shadow receivers \
+         apart, from the path tracer's first hits.</p>\n",
     );
     if t.image.is_some() {
         content += &figure(
@@ -317,13 +322,13 @@ pub fn truth(t: &Truth) -> String {
         content += &figure(
             &format!("{SHADOWS_DIR}/{}", super::data::TRUTH_CHART_FILES[1]),
             "GPU time per frame against each configuration's image RMSE against the path-traced image",
-            "Speed against accuracy judged by the path-traced truth (the decomposition's total, under the \
-             settings' shading model), its Pareto front ringed.",
+            "Speed against accuracy judged by the path-traced truth (the decomposition's total over the hair, \
+             under the settings' shading model), its Pareto front ringed.",
         );
     }
     content += &sortable_table(
         "decomposition",
-        "decomposition.csv: each configuration's error under each shading model (click a header to sort)",
+        "decomposition.csv: each configuration's error by effect under each shading model (click a header to sort)",
         &t.table,
     );
     content += &file_links(SHADOWS_DIR, &[super::data::DECOMPOSITION_CSV]);

@@ -531,7 +531,7 @@ fn from_the_folders_of_finished_bench_and_measure_runs_gives_their_tables() {
 }
 
 /// `--from` the folder of `measure shadows --truth path-traced` adds the truth section: the path-traced image
-/// and the decomposition table, cell for cell `decomposition.csv` (one row per configuration and model).
+/// and the decomposition table, cell for cell `decomposition.csv` (one row per configuration, model and effect).
 #[test]
 fn from_a_measurement_against_the_path_traced_truth_gives_its_decomposition() {
     if Gpu::for_tests().is_none() {
@@ -579,7 +579,11 @@ fn from_a_measurement_against_the_path_traced_truth_gives_its_decomposition() {
     let html = page(&report);
     assert_eq!(sections(&html), ["scene", "machine", "speed-accuracy", "truth"]);
     let (header, rows) = csv_file(&measured.join("decomposition.csv"));
-    assert_eq!(rows.len(), 4, "two configurations under two models");
+    assert_eq!(
+        rows.len(),
+        2 * 2 * 6,
+        "two configurations under two models, five steps and the total each"
+    );
     assert_eq!(table(&html, "decomposition"), (header, rows));
     // The truth's image and the speed chart judged by it, whose points are the two configurations.
     assert_eq!(select(&html, "section#truth img").len(), 2);

@@ -1,0 +1,300 @@
+//! The error of a real-time image against the path-traced truth, split by physical effect (issue 42;
+//! `docs/truth.md`). One chain of images leads from the truth to a method's image, each step turning one effect
+//! of the real-time model on:
+//!
+//! | step | from | to | what changes |
+//! |---|---|---|---|
+//! | multiple scattering | truth | one event | the light of every event after the first is dropped |
+//! | shadowing | one event | map shadows | the fibres' traced shadow becomes the reference's `(1 − α)` products |
+//! | shading | map shadows | raster shading | Chiang's BSDF and the physical light become the raster's model, light and ambient |
+//! | eye coverage | raster shading | reference | round fibres' pixel coverage becomes α-blended strand fragments |
+//! | method | reference | method | the exact light map becomes the method's |
+//!
+//! and the total, truth against method. Every figure is taken over two regions apart: the hair (pixels whose
+//! footprint the camera sees mostly as fibres) and the shadow receivers (mostly meshes), from the path tracer's
+//! first hits. The mean ratios multiply along the chain to the total's exactly; the RMSEs do not add (see the
+//! docs). The path-traced images carry noise: each is the mean of two renders of different seeds, whose
+//! difference measures it, and an RMSE is reported with the noise of both sides removed,
+//! `sqrt(max(0, rmse² − noise_a² − noise_b²))`.
+
+use image::RgbaImage;
+use serde::Serialize;
+
+use crate::pathtrace::masks::FirstHits;
+use crate::transparency::metrics::srgb_to_linear;
+
+/// The steps of the chain and the total, as `decomposition.csv`'s `effect` column names them.
+pub const MULTIPLE_SCATTERING: &str = "multiple-scattering";
+pub const SHADOWING: &str = "shadowing";
+pub const SHADING: &str = "shading";
+pub const EYE_COVERAGE: &str = "eye-coverage";
+pub const METHOD: &str = "method";
+pub const TOTAL: &str = "total";
+
+/// A pixel belongs to a region when at least this share of its footprint is seen as it.
+pub const REGION_SHARE: f32 = 0.5;
+
+/// The pixels of each region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Masks {
+    pub hair: Vec<bool>,
+    pub receivers: Vec<bool>,
+}
+
+impl Masks {
+    pub fn from_first_hits(hits: &[FirstHits]) -> Masks {
+        Masks {
+            hair: hits.iter().map(|h| h.fibre >= REGION_SHARE).collect(),
+            receivers: hits.iter().map(|h| h.mesh >= REGION_SHARE).collect(),
+        }
+    }
+
+    fn regions(&self) -> [&[bool]; 2] {
+        [&self.hair, &self.receivers]
+    }
+}
+
+/// An image of the chain (sRGB, over black) and its noise's mean square per region (hair, receivers): 0 for a
+/// raster image.
+#[derive(Clone, Debug)]
+pub struct Stage {
+    pub image: RgbaImage,
+    pub noise_sq: [f64; 2],
+}
+
+impl Stage {
+    /// A noiseless (raster) image.
+    pub fn exact(image: RgbaImage) -> Stage {
+        Stage {
+            image,
+            noise_sq: [0.0; 2],
+        }
+    }
+
+    /// The mean of two independent renders `a` and `b` (sRGB of their linear mean, `mean`): each differs from the
+    /// expectation by `rmse(a, b) / √2`, so their mean by `rmse(a, b) / 2`.
+    pub fn of_two(mean: RgbaImage, a: &RgbaImage, b: &RgbaImage, masks: &Masks) -> Stage {
+        let noise = |m: &[bool]| mean_square(a, b, m) / 4.0;
+        Stage {
+            image: mean,
+            noise_sq: [noise(&masks.hair), noise(&masks.receivers)],
+        }
+    }
+}
+
+/// Mean over the masked pixels and their three channels of the squared sRGB difference (in [0, 1]); 0 for an
+/// empty mask.
+fn mean_square(a: &RgbaImage, b: &RgbaImage, mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for ((pa, pb), &m) in a.pixels().zip(b.pixels()).zip(mask) {
+        if m {
+            n += 1;
+            for c in 0..3 {
+                let d = (f64::from(pa[c]) - f64::from(pb[c])) / 255.0;
+                sum += d * d;
+            }
+        }
+    }
+    if n == 0 { 0.0 } else { sum / (3 * n) as f64 }
+}
+
+/// Mean linear Rec. 709 luminance over the masked pixels; NaN for an empty mask.
+fn mean_luminance(image: &RgbaImage, mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for (p, &m) in image.pixels().zip(mask) {
+        if m {
+            n += 1;
+            let [r, g, b] = [0, 1, 2].map(|c| srgb_to_linear(p[c]));
+            sum += 0.2126 * r + 0.7152 * g + 0.0722 * b;
+        }
+    }
+    if n == 0 { f64::NAN } else { sum / n as f64 }
+}
+
+/// One step's figures over one region.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RegionError {
+    /// RMSE of sRGB in [0, 1] with both sides' noise removed.
+    pub rmse: f64,
+    /// The later image's mean linear luminance over the earlier's (NaN for an empty region).
+    pub ratio: f64,
+    /// The noise removed: `sqrt(noise_a² + noise_b²)`.
+    pub noise: f64,
+}
+
+/// One step's figures: over the hair, over the receivers, and the whole image's RMSE and FLIP (noise kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepError {
+    pub hair: RegionError,
+    pub receivers: RegionError,
+    pub image_rmse: f64,
+    pub image_flip: f64,
+}
+
+/// The step from `from` (the truth's side) to `to` (the real-time side).
+pub fn step(from: &Stage, to: &Stage, masks: &Masks) -> StepError {
+    let region = |k: usize, mask: &[bool]| {
+        let noise_sq = from.noise_sq[k] + to.noise_sq[k];
+        RegionError {
+            rmse: (mean_square(&from.image, &to.image, mask) - noise_sq)
+                .max(0.0)
+                .sqrt(),
+            ratio: mean_luminance(&to.image, mask) / mean_luminance(&from.image, mask),
+            noise: noise_sq.sqrt(),
+        }
+    };
+    let [hair, receivers] = masks.regions();
+    StepError {
+        hair: region(0, hair),
+        receivers: region(1, receivers),
+        image_rmse: super::image_error(&to.image, &from.image).0,
+        image_flip: crate::transparency::FlipMap::new(&to.image, &from.image)
+            .metrics(|_, _| false)
+            .mean,
+    }
+}
+
+/// One row of `decomposition.csv`: one step (or the total) of a configuration's error under a shading model.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Decomposition {
+    pub method: String,
+    pub shading: &'static str,
+    pub effect: &'static str,
+    pub hair_rmse: f64,
+    pub hair_ratio: f64,
+    pub hair_noise: f64,
+    pub receivers_rmse: f64,
+    pub receivers_ratio: f64,
+    pub receivers_noise: f64,
+    pub image_rmse: f64,
+    pub image_flip: f64,
+}
+
+impl Decomposition {
+    pub fn new(method: &str, shading: &'static str, effect: &'static str, e: &StepError) -> Decomposition {
+        Decomposition {
+            method: method.to_owned(),
+            shading,
+            effect,
+            hair_rmse: e.hair.rmse,
+            hair_ratio: e.hair.ratio,
+            hair_noise: e.hair.noise,
+            receivers_rmse: e.receivers.rmse,
+            receivers_ratio: e.receivers.ratio,
+            receivers_noise: e.receivers.noise,
+            image_rmse: e.image_rmse,
+            image_flip: e.image_flip,
+        }
+    }
+}
+
+/// The steps that do not depend on the method: the chain's first four images.
+#[derive(Clone, Debug)]
+pub struct SharedSteps {
+    pub multiple_scattering: StepError,
+    pub shadowing: StepError,
+    pub shading: StepError,
+    pub eye_coverage: StepError,
+}
+
+/// A configuration's rows under one shading model, in the chain's order and the total last.
+pub fn rows(
+    method: &str,
+    shading: &'static str,
+    shared: &SharedSteps,
+    own: &StepError,
+    total: &StepError,
+) -> Vec<Decomposition> {
+    [
+        (MULTIPLE_SCATTERING, &shared.multiple_scattering),
+        (SHADOWING, &shared.shadowing),
+        (SHADING, &shared.shading),
+        (EYE_COVERAGE, &shared.eye_coverage),
+        (METHOD, own),
+        (TOTAL, total),
+    ]
+    .into_iter()
+    .map(|(effect, e)| Decomposition::new(method, shading, effect, e))
+    .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(w: u32, h: u32, v: u8) -> RgbaImage {
+        RgbaImage::from_pixel(w, h, image::Rgba([v, v, v, 255]))
+    }
+
+    /// Three flat images of linear luminance L0, L1, L2 over a mask: each step's ratio is L_next / L_prev, and
+    /// the product of the two steps' ratios is the ratio of the whole (the chain telescopes); the other region,
+    /// empty, gives NaN ratios and zero RMSE.
+    #[test]
+    fn ratios_multiply_along_the_chain() {
+        let masks = Masks {
+            hair: vec![true; 4],
+            receivers: vec![false; 4],
+        };
+        let [a, b, c] = [200u8, 120, 60].map(|v| Stage::exact(flat(2, 2, v)));
+        let (ab, bc, ac) = (step(&a, &b, &masks), step(&b, &c, &masks), step(&a, &c, &masks));
+        let l = |v: u8| srgb_to_linear(v);
+        assert!((ab.hair.ratio - l(120) / l(200)).abs() < 1e-12);
+        assert!((ab.hair.ratio * bc.hair.ratio - ac.hair.ratio).abs() < 1e-12);
+        assert!((ab.hair.rmse - 80.0 / 255.0).abs() < 1e-12, "{}", ab.hair.rmse);
+        assert!(ab.receivers.ratio.is_nan());
+        assert_eq!(ab.receivers.rmse, 0.0);
+    }
+
+    /// Two noisy images of the same expectation step by an RMSE of 0 once their noise is removed; a real
+    /// difference keeps its RMSE less the noise, in quadrature.
+    #[test]
+    fn noise_is_removed_from_the_rmse() {
+        let masks = Masks {
+            hair: vec![true; 4],
+            receivers: vec![true; 4],
+        };
+        // Renders a and b: 100 and 110 on every pixel; their mean 105. Noise² = (10/255)² / 4.
+        let noisy =
+            |mean: u8, a: u8, b: u8| Stage::of_two(flat(2, 2, mean), &flat(2, 2, a), &flat(2, 2, b), &masks);
+        let x = noisy(105, 100, 110);
+        let y = noisy(105, 110, 100);
+        let e = step(&x, &y, &masks);
+        assert_eq!(e.hair.rmse, 0.0);
+        assert!((e.hair.noise - (2.0f64 * (10.0f64 / 255.0).powi(2) / 4.0).sqrt()).abs() < 1e-12);
+        // Against a raster image 40 levels away: sqrt(40² − 5²) / 255.
+        let far = Stage::exact(flat(2, 2, 145));
+        let e = step(&x, &far, &masks);
+        let expect = (40.0f64.powi(2) - 25.0).sqrt() / 255.0;
+        assert!(
+            (e.hair.rmse - expect).abs() < 1e-12,
+            "{} vs {expect}",
+            e.hair.rmse
+        );
+    }
+
+    /// Pixels at least half fibre are hair, at least half mesh are receivers, the rest neither.
+    #[test]
+    fn regions_take_the_pixels_mostly_seen_as_them() {
+        let hits = [
+            FirstHits {
+                fibre: 0.5,
+                mesh: 0.5,
+            },
+            FirstHits {
+                fibre: 0.25,
+                mesh: 0.0,
+            },
+            FirstHits {
+                fibre: 0.0,
+                mesh: 0.75,
+            },
+            FirstHits {
+                fibre: 1.0,
+                mesh: 0.0,
+            },
+        ];
+        let m = Masks::from_first_hits(&hits);
+        assert_eq!(m.hair, [true, false, false, true]);
+        assert_eq!(m.receivers, [true, false, true, false]);
+    }
+}

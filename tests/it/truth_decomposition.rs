@@ -1,0 +1,129 @@
+//! The path tracer's effect switches (`render.path.*`) and the error decomposition by effect against the
+//! path-traced truth (`measure::truth`, `docs/truth.md`), on small scenes under lavapipe.
+
+use crate::common::cli::{assert_fails, hairlab, stderr};
+use hairlab::gpu::Gpu;
+use hairlab::measure::MethodConfig;
+use hairlab::measure::decompose::{EYE_COVERAGE, METHOD, MULTIPLE_SCATTERING, SHADING, SHADOWING, TOTAL};
+use hairlab::methods::ParamValues;
+use hairlab::settings::Settings;
+use hairlab::shading::ShadingModel;
+
+const SMALL: [&str; 3] = [
+    "scene.generator.strands=300",
+    "scene.generator.segments=12",
+    "render.map_resolution=64",
+];
+
+fn small(preset: &str, more: &[&str]) -> Settings {
+    let overrides: Vec<String> = SMALL.iter().chain(more).map(|s| s.to_string()).collect();
+    Settings::load_preset(preset, &overrides).unwrap()
+}
+
+/// The chain on the stray strand and its clump: one row per effect in the chain's order, the total last; the
+/// hair's luminance ratios multiply along the chain to the total's (the chain telescopes); one scattering
+/// event carries less light than all of them; the scene has no mesh, so no receiver pixel and no receiver
+/// ratio.
+#[test]
+fn the_chain_telescopes_and_one_event_carries_less_light() {
+    let gpu = Gpu::for_tests().expect("GPU tests opted out");
+    let settings = small("stray-strand", &["render.spp=4"]);
+    let configs = [MethodConfig::new("occupancy", ParamValues::new())];
+    let (truth, table) = hairlab::measure::truth::measure(
+        &gpu,
+        &settings,
+        &configs,
+        &[ShadingModel::Marschner],
+        &mut hairlab::progress::Quiet,
+    )
+    .unwrap()
+    .expect("not stopped");
+    let effects: Vec<&str> = table.decomposition.iter().map(|d| d.effect).collect();
+    assert_eq!(
+        effects,
+        [
+            MULTIPLE_SCATTERING,
+            SHADOWING,
+            SHADING,
+            EYE_COVERAGE,
+            METHOD,
+            TOTAL
+        ]
+    );
+    let hair = truth.masks.hair.iter().filter(|&&m| m).count();
+    assert!(hair > 1000, "{hair} hair pixels");
+    assert!(!truth.masks.receivers.contains(&true));
+    let steps: f64 = table.decomposition[..5].iter().map(|d| d.hair_ratio).product();
+    let total = table.decomposition[5].hair_ratio;
+    assert!((steps / total - 1.0).abs() < 1e-9, "{steps} vs {total}");
+    let ms = &table.decomposition[0];
+    assert!(ms.hair_ratio > 0.0 && ms.hair_ratio < 0.9, "{ms:?}");
+    assert!(
+        table
+            .decomposition
+            .iter()
+            .all(|d| d.receivers_ratio.is_nan() && d.receivers_rmse == 0.0)
+    );
+    // Two seeds of 2 samples each: the noise is measured, not assumed.
+    assert!(ms.hair_noise > 0.0 && ms.hair_noise < ms.hair_rmse, "{ms:?}");
+}
+
+/// Mean linear luminance of a PNG written by `hairlab render`.
+fn mean_luminance(path: &std::path::Path) -> f64 {
+    let img = image::open(path).unwrap().to_rgba8();
+    let lin = hairlab::transparency::metrics::srgb_to_linear;
+    img.pixels()
+        .map(|p| 0.2126 * lin(p[0]) + 0.7152 * lin(p[1]) + 0.0722 * lin(p[2]))
+        .sum::<f64>()
+        / f64::from(img.width() * img.height())
+}
+
+/// `render --set render.path.*`: one event is darker than all on the side-lit clump, the fibres' shadow off is
+/// brighter than traced; an unknown value is refused naming the key.
+#[test]
+fn render_path_switches_turn_one_effect_off() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, switch: &str| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "render",
+            "--preset",
+            "stray-strand",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        let sets: Vec<String> = SMALL
+            .iter()
+            .chain(&[
+                "render.mode=path",
+                "render.spp=4",
+                "render.width=96",
+                "render.height=72",
+                switch,
+            ])
+            .map(|s| s.to_string())
+            .collect();
+        for s in &sets {
+            args.extend(["--set", s.as_str()]);
+        }
+        let o = hairlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        mean_luminance(&out)
+    };
+    let all = render("all.png", "render.path.events=all");
+    let one = render("one.png", "render.path.events=one");
+    let unshadowed = render("off.png", "render.path.hair_shadows=off");
+    assert!(one < 0.9 * all, "one event {one}, all {all}");
+    assert!(unshadowed > 1.1 * all, "shadows off {unshadowed}, traced {all}");
+    let bad = dir.path().join("bad.png");
+    let o = hairlab(&[
+        "render",
+        "--preset",
+        "stray-strand",
+        "--set",
+        "render.path.events=two",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert_fails(&o, &["render.path.events"]);
+}

@@ -1,6 +1,6 @@
 //! Bounded mutation runs over every input format hairlab reads (issue 11's "fuzzing as a habit"): glTF and glb,
-//! `.hair`, TressFX `.tfx`, USC-HairSalon `.data`, USD `.usda`, the fragment CSV of `hairlab curve`, and preset TOML with `--set`
-//! overrides. Each seed is a file the tests write; each case mutates it a few times (a number token replaced by an
+//! `.hair`, TressFX `.tfx`, USC-HairSalon `.data`, USD (text and composed stages in [`usda`], binary and zipped in
+//! [`usdc`]), the fragment CSV of `hairlab curve`, and preset TOML with `--set` overrides. Each seed is a file the tests write; each case mutates it a few times (a number token replaced by an
 //! extreme, a byte overwritten, the text cut short; for `.tfx` and `.data` also an aligned 32-bit word — a count,
 //! an offset, a coordinate — replaced by an extreme) and must load or fail with an error naming its source — never
 //! panic (a panic fails the test)
@@ -16,6 +16,11 @@ use hairlab::scene::tfx::{TfxFile, write_tfx};
 use hairlab::scene::usc_data::write_data;
 use hairlab::settings::Settings;
 use std::time::{Duration, Instant};
+
+#[cfg(feature = "usd")]
+mod usda;
+#[cfg(feature = "usd")]
+mod usdc;
 
 /// Number tokens a mutation puts in place of another.
 const NUMBERS: [&str; 10] = [
@@ -138,13 +143,17 @@ fn mutate_binary(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
     let mut bytes = mutate(rng, seed);
     if rng.int(0, 1) == 0 && bytes.len() >= 4 {
         let at = 4 * rng.int(0, bytes.len() / 4 - 1);
-        let word = match rng.int(0, WORDS.len()) {
-            i if i < WORDS.len() => WORDS[i],
-            _ => rng.int(0, 64) as u32,
-        };
-        bytes[at..at + 4].copy_from_slice(&word.to_le_bytes());
+        bytes[at..at + 4].copy_from_slice(&word32(rng).to_le_bytes());
     }
     bytes
+}
+
+/// One of [`WORDS`] or a small random count.
+fn word32(rng: &mut SplitMix64) -> u32 {
+    match rng.int(0, WORDS.len()) {
+        i if i < WORDS.len() => WORDS[i],
+        _ => rng.int(0, 64) as u32,
+    }
 }
 
 /// One binary format's run: `cases` mutations of `seeds` (picked in turn) loaded through [`load_scene`] as
@@ -155,7 +164,11 @@ fn fuzz_strand_format(ext: &str, seeds: &[Vec<u8>]) {
 }
 
 /// [`fuzz_strand_format`] with the mutation `mutator`.
-fn fuzz_strand_format_with(ext: &str, seeds: &[Vec<u8>], mutator: fn(&mut SplitMix64, &[u8]) -> Vec<u8>) {
+fn fuzz_strand_format_with(
+    ext: &str,
+    seeds: &[Vec<u8>],
+    mutator: impl Fn(&mut SplitMix64, &[u8]) -> Vec<u8>,
+) {
     let dir = tempfile::tempdir().expect("tempdir");
     let (cases, mut rng) = run();
     let (mut loaded, mut refused) = (0, 0);
@@ -201,24 +214,6 @@ fn mutated_tfx_files_fail_cleanly() {
 fn mutated_data_files_fail_cleanly() {
     let groom = write_data(&crate::groom_formats::uniform_groom()).unwrap();
     fuzz_strand_format("data", &[groom, crate::groom_formats::hand_built_data()]);
-}
-
-/// Text mutations of two stages: the hand-written one of the USD tests (Z-up centimetres, linear, bezier with time
-/// samples, bspline, transforms, vertex, constant, uniform and varying primvars) and the writer's output for a
-/// groom with every array. The `openusd` crate parses; a panic in it fails this test like one in hairlab.
-#[cfg(feature = "usd")]
-#[test]
-fn mutated_usda_files_fail_cleanly() {
-    let written =
-        hairlab::scene::usda_write::write_usda(&[crate::groom_formats::uniform_groom()], 24.0).unwrap();
-    fuzz_strand_format_with(
-        "usda",
-        &[
-            crate::usd_format::HAND_STAGE.as_bytes().to_vec(),
-            written.into_bytes(),
-        ],
-        mutate,
-    );
 }
 
 /// The glb form of a text glTF: its JSON as the one chunk.
@@ -379,68 +374,4 @@ fn mutated_presets_and_overrides_fail_cleanly() {
     }
     eprintln!("presets: {cases} cases, {loaded} load, {refused} refused, {slowest}");
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
-}
-
-/// 64-bit words a `.usdc` mutation puts in place of a count, size or offset (the crate file's are `u64`).
-const WORDS64: [u64; 8] = [
-    0,
-    1,
-    0xffff_ffff,
-    0x1_0000_0000,
-    0x7fff_ffff_ffff_ffff,
-    0xffff_ffff_ffff_ffff,
-    0x0000_1000_0000_00ae,
-    1 << 40,
-];
-
-/// [`mutate_binary`], then, in half the cases, one aligned 64-bit little-endian word replaced by one of
-/// [`WORDS64`] or a small random count (issue 34: the crate file's sizes, offsets and counts are `u64`).
-fn mutate_usdc(rng: &mut SplitMix64, seed: &[u8]) -> Vec<u8> {
-    let mut bytes = mutate_binary(rng, seed);
-    if rng.int(0, 1) == 0 && bytes.len() >= 8 {
-        let at = 8 * rng.int(0, bytes.len() / 8 - 1);
-        let word = match rng.int(0, WORDS64.len()) {
-            i if i < WORDS64.len() => WORDS64[i],
-            _ => rng.int(0, 256) as u64,
-        };
-        bytes[at..at + 8].copy_from_slice(&word.to_le_bytes());
-    }
-    bytes
-}
-
-/// The `.usdc` seeds: the USD tests' hand stage (BasisCurves with widths and time samples, transforms) and the
-/// writer's groom (every array), each re-encoded by the `openusd` crate's usdc writer.
-#[cfg(feature = "usd")]
-fn usdc_seeds() -> Vec<Vec<u8>> {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let written =
-        hairlab::scene::usda_write::write_usda(&[crate::groom_formats::uniform_groom()], 24.0).unwrap();
-    [crate::usd_format::HAND_STAGE.to_string(), written]
-        .iter()
-        .enumerate()
-        .map(|(i, text)| {
-            let usda = dir.path().join(format!("seed{i}.usda"));
-            std::fs::write(&usda, text).unwrap();
-            let stage = openusd::usd::Stage::open(usda.to_str().unwrap()).unwrap();
-            let usdc = dir.path().join(format!("seed{i}.usdc"));
-            stage.root_layer().export(usdc.to_str().unwrap()).unwrap();
-            std::fs::read(&usdc).unwrap()
-        })
-        .collect()
-}
-
-/// Binary mutations of `.usdc` stages (issue 34): the patched `openusd` reader must refuse, never panic or abort.
-#[cfg(feature = "usd")]
-#[test]
-fn mutated_usdc_files_fail_cleanly() {
-    fuzz_strand_format_with("usdc", &usdc_seeds(), mutate_usdc);
-}
-
-/// The same mutations of the inner `.usdc` of a `.usdz` whose zip stays valid (stored, 64-byte aligned).
-#[cfg(feature = "usd")]
-#[test]
-fn mutated_usdz_files_fail_cleanly() {
-    fuzz_strand_format_with("usdz", &usdc_seeds(), |rng, seed| {
-        crate::usd_format::usdz_of("stage.usdc", &mutate_usdc(rng, seed))
-    });
 }

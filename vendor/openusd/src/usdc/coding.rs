@@ -18,8 +18,10 @@ pub fn encoded_buffer_size<T: PrimInt>(count: usize) -> usize {
     if count == 0 {
         0
     } else {
+        // hairlab patch: saturating, as `count` comes from the file (the reader caps the buffer anyway).
         let sz = mem::size_of::<T>();
-        sz + (count * 2).div_ceil(8) + (sz * count)
+        sz.saturating_add(count.saturating_mul(2).div_ceil(8))
+            .saturating_add(sz.saturating_mul(count))
     }
 }
 
@@ -52,7 +54,8 @@ where
     };
 
     let mut prev = 0_i64;
-    let mut output = Vec::with_capacity(count.min(1 << 16));
+    // The code table fits in `data` (checked above), so `count` is at most 4x its length: bounded by the buffer.
+    let mut output = Vec::with_capacity(num_code_bytes * 4);
 
     for _ in 0..num_code_bytes {
         // Code byte stores integer types for the next 4 integers.

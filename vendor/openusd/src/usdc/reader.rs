@@ -50,9 +50,22 @@ pub struct CrateFile<R> {
     pub paths: Vec<sdf::Path>,
     // All specs.
     pub specs: Vec<Spec>,
-    /// Length of the file in bytes (hairlab patch: bounds every count/size read from it).
+    /// Length of the file in bytes (hairlab patch: bounds every uncompressed count/size read from it).
     file_len: u64,
+    /// Values being decoded inside one another (hairlab patch: dictionaries and time samples nest).
+    value_depth: usize,
 }
+
+/// LZ4 turns one input byte into at most 255 output bytes (a match-length extension byte adds 255; a token with
+/// its 2-byte offset gives at most 19, literals 1 each), so a block of `n` bytes decodes to at most `255 n`; the
+/// constant covers the block's chunk-count byte and the smallest blocks (hairlab patch).
+pub(crate) fn lz4_max_output(compressed: usize) -> usize {
+    compressed.saturating_mul(255).saturating_add(64)
+}
+
+/// How deep dictionaries and time samples may nest in one another (hairlab patch): a value pointing at itself
+/// would otherwise recurse until the stack overflows. USD's own files nest a few levels.
+const MAX_VALUE_DEPTH: usize = 32;
 
 impl<R> CrateFile<R> {
     /// Returns file's version extracted from bootstrap header.
@@ -80,6 +93,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             paths: Vec::new(),
             specs: Vec::new(),
             file_len,
+            value_depth: 0,
         };
 
         file.read_sections().context("Unable to read sections")?;
@@ -172,7 +186,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         ensure!(count > 0, "Crate file has no sections");
         ensure!(count < 64, "Suspiciously large number of sections: {count}");
 
-        self.sections = self.reader.read_vec::<Section>(count)?;
+        self.sections = self.read_array::<Section>(count)?;
 
         Ok(())
     }
@@ -193,7 +207,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             bail!("Unsupported: TOKENS reader for < 0.4.0 files");
         } else {
             let uncompressed_size = self.reader.read_count()?;
-            let mut buffer = self.read_compressed(uncompressed_size)?;
+            let mut buffer = self.read_compressed(uncompressed_size, true)?;
 
             ensure!(
                 buffer.len() == uncompressed_size,
@@ -245,12 +259,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         self.set_position(section.start)?;
 
         let count = self.reader.read_count()?;
-        ensure!(
-            count < 128 * 1024 * 1024,
-            "Suspiciously large number of strings: {count}"
-        );
-
-        let strings = self.reader.read_vec::<u32>(count)?;
+        let strings = self.read_array::<u32>(count)?;
 
         // These are indices, so convert to usize for convenience.
         self.strings = strings.into_iter().map(|offset| offset as usize).collect::<Vec<_>>();
@@ -276,7 +285,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             let indices = self.read_encoded_ints(field_count)?;
 
             // Compressed value reps.
-            let reps = self.read_compressed(field_count)?;
+            let reps = self.read_compressed(field_count, true)?;
 
             let fields: Vec<_> = indices
                 .iter()
@@ -337,19 +346,16 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         } else if file_ver < version(0, 4, 0) {
             bail!("Unsupported: PATHS reader for < 0.4.0 files");
         } else {
-            // Read # of paths.
+            // Read # of paths: each is named by an encoded entry, which bounds the table by its compressed blocks.
             let path_count = self.reader.read_count()?;
-            self.check_alloc(path_count, mem::size_of::<sdf::Path>(), "PATHS")?;
-            self.paths = vec![sdf::Path::default(); path_count];
-
-            self.read_compressed_paths()?;
+            self.read_compressed_paths(path_count)?;
         };
 
         Ok(())
     }
 
-    /// Read compressed paths.
-    fn read_compressed_paths(&mut self) -> Result<()> {
+    /// Read compressed paths into a table of `path_count` paths.
+    fn read_compressed_paths(&mut self, path_count: usize) -> Result<()> {
         // Read number of encoded paths.
         let count: usize = self.reader.read_count()?;
 
@@ -363,6 +369,12 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
         let jumps = self.read_encoded_ints::<i32>(count)?;
         ensure!(jumps.len() == count, "Decoded jumps.len() != count");
+
+        ensure!(
+            path_count <= count,
+            "PATHS: {path_count} paths claimed but only {count} encoded"
+        );
+        self.paths = vec![sdf::Path::default(); path_count];
 
         self.build_compressed_paths(&path_indexes, &element_token_indexes, &jumps)?;
 
@@ -531,19 +543,23 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             .with_context(|| format!("Path index {index} out of range"))
     }
 
-    /// Refuses an allocation of `count` elements of `elem` bytes that the file cannot hold
-    /// (hairlab patch): LZ4 expands at most ~255x, so anything beyond 256x the file is corrupt.
-    fn check_alloc(&self, count: usize, elem: usize, what: &str) -> Result<()> {
+    /// Bytes from the reader's position to the end of the file.
+    fn bytes_left(&mut self) -> Result<u64> {
+        Ok(self.file_len.saturating_sub(self.reader.stream_position()?))
+    }
+
+    /// Reads `count` uncompressed elements (hairlab patch): refused before allocating when they would run past
+    /// the end of the file, so the allocation is bounded by the bytes left in it.
+    fn read_array<T: Default + NoUninit + AnyBitPattern>(&mut self, count: usize) -> Result<Vec<T>> {
         let bytes = count
-            .checked_mul(elem.max(1))
-            .with_context(|| format!("{what}: size overflow ({count} elements)"))?;
-        let limit = self.file_len.saturating_mul(256).saturating_add(1 << 16);
+            .checked_mul(mem::size_of::<T>())
+            .with_context(|| format!("Array of {count} elements: size overflow"))?;
+        let left = self.bytes_left()?;
         ensure!(
-            (bytes as u64) <= limit,
-            "{what}: {count} elements ({bytes} bytes) exceed what a {}-byte file can hold",
-            self.file_len
+            bytes as u64 <= left,
+            "Array of {count} elements ({bytes} bytes) runs past the end of the file ({left} bytes left)"
         );
-        Ok(())
+        self.reader.read_vec(count)
     }
 
     fn set_position(&mut self, position: u64) -> Result<()> {
@@ -597,19 +613,32 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// Reads a lz4 compressed data and returns decompressed raw bytes.
     ///
     /// Format expected:
-    /// - u64 uncompressed size
+    /// - u64 compressed size
     /// - lz4 compressed block of data.
     ///
     /// # Arguments:
-    /// - `estimated_size`: Size enough to hold uncompressed data.
-    fn read_compressed<T: Default + NoUninit + AnyBitPattern>(&mut self, estimated_count: usize) -> Result<Vec<T>> {
+    /// - `count`: elements the block decodes to: exactly (`exact`, a size the file states) or at most (a
+    ///   worst-case estimate).
+    ///
+    /// hairlab patch: the compressed block must lie within the file, and the output is bounded by what the block
+    /// can decode to ([`lz4_max_output`]): a stated size beyond it is refused, an estimate is cut to it. So the
+    /// two allocations here are at most the bytes left in the file and 255x the block.
+    fn read_compressed<T: Default + NoUninit + AnyBitPattern>(&mut self, count: usize, exact: bool) -> Result<Vec<T>> {
         // Read data to memory.
         let compressed_size = self.reader.read_count()?;
+        let left = self.bytes_left()?;
         ensure!(
-            compressed_size as u64 <= self.file_len,
-            "Compressed block of {compressed_size} bytes is larger than the file"
+            compressed_size as u64 <= left,
+            "Compressed block of {compressed_size} bytes runs past the end of the file ({left} bytes left)"
         );
-        self.check_alloc(estimated_count, mem::size_of::<T>(), "Compressed block")?;
+        let max_bytes = lz4_max_output(compressed_size);
+        let max_count = max_bytes / mem::size_of::<T>().max(1);
+        ensure!(
+            !exact || count <= max_count,
+            "Compressed block of {compressed_size} bytes claims {count} elements of {} bytes, more than the {max_bytes} bytes LZ4 can expand it to",
+            mem::size_of::<T>()
+        );
+        let estimated_count = count.min(max_count);
         let mut input = vec![0_u8; compressed_size];
         self.reader.read_exact(&mut input)?;
 
@@ -631,10 +660,11 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     where
         i64: AsPrimitive<T>,
     {
-        self.check_alloc(count, mem::size_of::<T>(), "Encoded ints")?;
-        let estimated_size = coding::encoded_buffer_size::<u32>(count);
+        // `decode_ints` needs a 2-bit code per int inside the buffer, so `count` is at most 4x the decompressed
+        // bytes: the ints (up to 8 bytes each) take at most 32x `lz4_max_output` of the block.
+        let estimated_size = coding::encoded_buffer_size::<T>(count);
 
-        let buffer = self.read_compressed::<u8>(estimated_size)?;
+        let buffer = self.read_compressed::<u8>(estimated_size, false)?;
 
         let ints = coding::decode_ints(buffer.as_slice(), count)?;
         ensure!(ints.len() == count, "Decoded ints.len() != count");
@@ -712,7 +742,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         if compressed {
             self.read_encoded_ints(count)
         } else {
-            self.reader.read_vec(count)
+            self.read_array(count)
         }
     }
 
@@ -740,7 +770,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 // Lookup table and indexes
                 b't' => {
                     let lut_size = self.reader.read_pod::<u32>()? as usize;
-                    let lut: Vec<T> = self.reader.read_vec(lut_size)?;
+                    let lut: Vec<T> = self.read_array(lut_size)?;
 
                     let indexes: Vec<u32> = self.read_encoded_ints(count)?;
                     ensure!(
@@ -756,7 +786,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 _ => bail!("Invalid compressed double array code: {code}"),
             }
         } else {
-            self.reader.read_vec(count)?
+            self.read_array(count)?
         };
 
         Ok(vec)
@@ -808,7 +838,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// `lookup` to produce the element value.
     fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> Result<T>) -> Result<Vec<T>> {
         let count = self.reader.read_count()?;
-        let indices = self.reader.read_vec::<u32>(count)?;
+        let indices = self.read_array::<u32>(count)?;
 
         indices.into_iter().map(|index| lookup(self, index as usize)).collect()
     }
@@ -828,7 +858,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// Reads a count-prefixed vector of POD values.
     fn read_pod_vec<T: Default + NoUninit + AnyBitPattern>(&mut self) -> Result<Vec<T>> {
         let count = self.reader.read_count()?;
-        self.reader.read_vec(count)
+        self.read_array(count)
     }
 
     fn read_string(&mut self) -> Result<String> {
@@ -889,18 +919,13 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// See <https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1100>
     fn apply_recursive_offset(&mut self) -> Result<()> {
         let offset = self.reader.read_pod::<i64>()?;
-        self.reader.seek(io::SeekFrom::Current(offset - 8))?;
+        let relative = offset.checked_sub(8).context("Recursive offset out of range")?;
+        self.reader.seek(io::SeekFrom::Current(relative))?;
         Ok(())
     }
 
     /// Reads a crate dictionary value (`customData`, `assetInfo`, and nested
-    /// dictionaries).
-    ///
-    /// TODO: this recurses through `value`, which re-enters here for a nested
-    /// `Type::Dictionary`, so a deeply nested dictionary overflows the stack —
-    /// one Rust frame per nesting level over file-controlled data. Bound the
-    /// depth (a guard or an explicit stack), as `build_compressed_paths` does
-    /// for wide path trees.
+    /// dictionaries). It recurses through `value`, which bounds the nesting.
     fn read_custom_data(&mut self) -> Result<HashMap<String, Value>> {
         let mut count = self.reader.read_count()?;
         let mut dict = HashMap::default();
@@ -945,7 +970,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         if count == 0 {
             return Ok(Vec::default());
         }
-        self.reader.read_vec::<U>(count)
+        self.read_array::<U>(count)
     }
 
     fn read_vec_array<T: Default + NoUninit + AnyBitPattern, const N: usize>(
@@ -962,7 +987,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             return Ok(Vec::default());
         }
 
-        let flat: Vec<T> = self.reader.read_vec(count * N)?;
+        let flat: Vec<T> = self.read_array(count.checked_mul(N).context("Array size overflow")?)?;
 
         // Reinterpret the flat vec as a vec of fixed-size arrays. `chunks_exact(N)`
         // always yields slices of exactly N elements, so `try_into` cannot fail.
@@ -974,7 +999,20 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         Ok(result)
     }
 
+    /// Decodes a value (hairlab patch: dictionaries and time samples nested deeper than [`MAX_VALUE_DEPTH`], as a
+    /// value pointing at itself would be, are refused).
     pub fn value(&mut self, value: ValueRep) -> Result<sdf::Value> {
+        ensure!(
+            self.value_depth < MAX_VALUE_DEPTH,
+            "Values nested deeper than {MAX_VALUE_DEPTH} levels (a dictionary or time samples pointing at itself?)"
+        );
+        self.value_depth += 1;
+        let decoded = self.decode_value(value);
+        self.value_depth -= 1;
+        decoded
+    }
+
+    fn decode_value(&mut self, value: ValueRep) -> Result<sdf::Value> {
         let ty = value.ty()?;
         ensure!(ty != Type::Invalid, "Invalid value type");
 
@@ -1073,7 +1111,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
             Type::Token if value.is_array() => {
                 let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
-                let indices = self.reader.read_vec::<u32>(count)?;
+                let indices = self.read_array::<u32>(count)?;
                 let tokens = indices
                     .into_iter()
                     .map(|i| self.token(i as usize).map(Into::into))
@@ -1351,7 +1389,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 self.set_position(value.payload())?;
 
                 let count = self.reader.read_count()?;
-                let vec = self.reader.read_vec(count)?;
+                let vec = self.read_array(count)?;
 
                 sdf::Value::LayerOffsetVec(vec)
             }
@@ -1433,7 +1471,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 let count = self.reader.read_count()?;
                 ensure!(count == times.len(), "Invalid time samples count");
 
-                let value_reps = self.reader.read_vec::<ValueRep>(count)?;
+                let value_reps = self.read_array::<ValueRep>(count)?;
                 ensure!(value_reps.len() == count, "Decoded value_reps.len() != count");
 
                 let values = value_reps

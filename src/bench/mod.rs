@@ -25,6 +25,7 @@ pub mod run;
 pub mod stats;
 pub mod sweep;
 pub mod transparency;
+pub mod truth_chart;
 
 pub use chart::{CHART_SIZE, method_color, scaling_chart, speed_accuracy_chart};
 pub use report::{

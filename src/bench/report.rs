@@ -342,46 +342,6 @@ pub fn write_results(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
     write_files(dir, files)
 }
 
-/// The speed chart of `result` against the path-traced truth: each configuration's GPU time against its RMSE
-/// over the hair against the path-traced image under `shading` (a shading model's word; the decomposition's
-/// total, the truth's noise removed), with its Pareto front; a configuration with no total under `shading`
-/// stays off it.
-pub fn truth_chart(
-    result: &BenchResult,
-    decomposition: &[crate::measure::decompose::Decomposition],
-    shading: &str,
-) -> Chart {
-    let total = |r: &super::BenchRow| {
-        let label = r.config.label();
-        decomposition
-            .iter()
-            .find(|d| {
-                d.method == label && d.shading == shading && d.effect == crate::measure::decompose::TOTAL
-            })
-            .map_or(f64::NAN, |d| d.hair_rmse)
-    };
-    chart::speed_chart_by(
-        result,
-        &total,
-        &format!("hair RMSE against the path-traced truth ({shading} shading)"),
-        "Speed vs accuracy against the path-traced truth",
-    )
-}
-
-/// Writes [`truth_chart`] as `measure::truth::TRUTH_CHART_FILES` into `dir`.
-pub fn write_truth_chart(
-    dir: &Path,
-    result: &BenchResult,
-    decomposition: &[crate::measure::decompose::Decomposition],
-    shading: &str,
-) -> Result<Vec<PathBuf>> {
-    let chart = truth_chart(result, decomposition, shading);
-    write_files(
-        dir,
-        chart_files(crate::measure::truth::TRUTH_CHART, &chart)?.to_vec(),
-    )
-}
-
 fn scaling_tables(r: &ScalingResult) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(vec![
         ("scaling.csv".to_string(), scaling_csv(r)?.into_bytes()),
@@ -411,7 +371,7 @@ pub fn write_scaling(dir: &Path, r: &ScalingResult) -> Result<Vec<PathBuf>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::bench::{BenchRow, ScalingFit, ScalingPoint};
     use crate::measure::{MethodConfig, SceneStats};
@@ -439,7 +399,7 @@ mod tests {
         }
     }
 
-    fn result() -> BenchResult {
+    pub(crate) fn result() -> BenchResult {
         BenchResult {
             preset: "tiny".to_string(),
             stats: SceneStats {
@@ -501,59 +461,6 @@ mod tests {
         assert!(rows[0]["image_psnr"].is_null());
         assert_eq!(rows[0]["pareto"], true);
         assert_eq!(rows[1]["pareto"], false);
-    }
-
-    #[test]
-    fn the_truth_chart_plots_each_rows_total_error_under_the_shading_model() {
-        use crate::measure::decompose::{Decomposition, METHOD, RegionError, StepError, TOTAL};
-        let r = result();
-        let e = |rmse| {
-            let region = RegionError {
-                rmse,
-                ratio: 1.0,
-                noise: 0.0,
-            };
-            StepError {
-                hair: region,
-                receivers: region,
-                image_rmse: 0.0,
-                image_flip: 0.0,
-            }
-        };
-        // Each configuration's method step (which the chart must not take) and its total.
-        let d = |k: usize, shading, total| {
-            let label = r.rows[k].config.label();
-            [
-                Decomposition::new(&label, shading, METHOD, &e(0.05)),
-                Decomposition::new(&label, shading, TOTAL, &e(total)),
-            ]
-        };
-        // Under Kajiya-Kay method-b is more accurate against the truth than method-a: both are on the front
-        // (method-a faster, method-b more accurate), unlike under the bench's own metric.
-        let decomposition = [
-            d(0, "kajiya-kay", 0.3),
-            d(1, "kajiya-kay", 0.2),
-            d(0, "marschner", 0.9),
-        ]
-        .concat();
-        let ys = |c: &Chart| -> Vec<f64> {
-            c.series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.y))
-                .collect()
-        };
-        let chart = truth_chart(&r, &decomposition, "kajiya-kay");
-        assert_eq!(ys(&chart), [0.3, 0.2]);
-        assert_eq!(chart.front.unwrap().points.len(), 2);
-        // Under Marschner only method-a has a row: method-b is left off rather than drawn at a made-up error.
-        let chart = truth_chart(&r, &decomposition, "marschner");
-        assert!(ys(&chart)[0] == 0.9 && ys(&chart)[1].is_nan());
-        assert_eq!(chart.front.unwrap().points.len(), 1);
-        let dir = tempfile::tempdir().unwrap();
-        let written = write_truth_chart(dir.path(), &r, &decomposition, "kajiya-kay").unwrap();
-        assert_eq!(written.len(), 2);
-        let svg = std::fs::read_to_string(dir.path().join("speed_vs_truth.svg")).unwrap();
-        assert!(svg.contains("hair RMSE against the path-traced truth (kajiya-kay shading)"));
     }
 
     fn scaling_point(label: &str, raster: Raster, density: f32, segments: usize, ms: f64) -> ScalingPoint {

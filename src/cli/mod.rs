@@ -14,6 +14,7 @@ pub mod interrupt;
 pub mod manual;
 pub mod measure;
 pub mod measure_motion;
+mod measure_shading;
 pub mod measure_visibility;
 pub mod progress;
 pub mod render;

@@ -239,7 +239,7 @@ pub fn write(
         crate::io::write_atomic(&image, &crate::animation::encode_png(&stage.image)?)?;
         written.push(image);
     }
-    written.extend(crate::bench::report::write_truth_chart(
+    written.extend(crate::bench::truth_chart::write_truth_chart(
         dir,
         result,
         decomposition,

@@ -1,0 +1,117 @@
+//! `measure shadows --shading` and `--truth path-traced`: each configuration's image error under each shading
+//! model, and with the path-traced truth its error by physical effect (`crate::measure::truth`).
+
+use super::measure::{ShadowsArgs, TruthKind, print_written};
+use crate::settings::Settings;
+use anyhow::Result;
+
+/// `--shading` and `--truth path-traced`: every configuration's image error under each shading model, printed
+/// as a table (and shading.csv with `--out`); with the path-traced truth, the decomposition table too (and
+/// decomposition.csv, the truth's image and the speed chart against the truth).
+pub(super) fn shading_table(
+    a: &ShadowsArgs,
+    settings: &Settings,
+    configs: &[crate::measure::MethodConfig],
+    result: &crate::bench::BenchResult,
+) -> Result<()> {
+    use crate::gpu::{AdapterPreference, Gpu};
+    let models = if a.shading.is_empty() {
+        crate::shading::ShadingModel::ALL.to_vec()
+    } else {
+        a.shading.clone()
+    };
+    let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
+    let (truth, table) = match a.truth {
+        TruthKind::DepthPeeled => {
+            let table =
+                crate::measure::shading::shading_errors_on(&gpu, settings, configs, &models, None, |m| {
+                    eprintln!("shading {m}…")
+                })?;
+            (None, table)
+        }
+        TruthKind::PathTraced => {
+            // Ctrl-C answers the bar's next step with a stop.
+            let mut bar = super::progress::TerminalProgress::new();
+            let measured = crate::measure::truth::measure(&gpu, settings, configs, &models, &mut bar)?;
+            drop(bar);
+            let Some((t, table)) = measured else {
+                return Err(crate::cli::interrupt::Interrupted { done: configs.len() }.into());
+            };
+            eprintln!("path-traced truth: {} spp in {:.1} s", t.spp, t.seconds);
+            if let Some(note) = crate::pathtrace::accumulation::dropped_note(t.dropped) {
+                eprintln!("{note}");
+            }
+            (Some(t), table)
+        }
+    };
+    let rows = &table.rows;
+    let width = rows
+        .iter()
+        .map(|r| r.config.label().chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(6);
+    let mut header = format!("{:<width$}", "method");
+    for m in &models {
+        header += &format!(
+            " {:>24} {:>24}",
+            format!("{} img RMSE", m.word()),
+            format!("{} FLIP", m.word())
+        );
+    }
+    println!("\nimage error per shading model (each against the reference image under the same model)");
+    println!("{header}");
+    for r in rows {
+        let mut line = format!("{:<width$}", r.config.label());
+        for e in &r.errors {
+            line += &format!(" {:>24.5} {:>24.5}", e.image_rmse, e.image_flip);
+        }
+        println!("{line}");
+    }
+    if let Some(t) = &truth {
+        print_decomposition(t, &table.decomposition, width);
+    }
+    if let Some(dir) = &a.out {
+        let path = dir.join("shading.csv");
+        crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows)?.as_bytes())?;
+        let mut written = vec![path];
+        if let Some(t) = &truth {
+            let shading = crate::measure::truth::chart_shading(settings, &models);
+            written.extend(crate::measure::truth::write(
+                dir,
+                t,
+                &table.decomposition,
+                result,
+                shading,
+            )?);
+        }
+        print_written(&written);
+    }
+    Ok(())
+}
+
+/// The decomposition by effect as a table: per configuration and shading model, each step's RMSE (noise
+/// removed) and mean ratio over the hair and over the shadow receivers.
+fn print_decomposition(
+    t: &crate::measure::truth::Truth,
+    rows: &[crate::measure::decompose::Decomposition],
+    width: usize,
+) {
+    println!(
+        "\nerror by effect against the path-traced truth ({} spp, {} hair and {} receiver pixels): RMSE of sRGB \
+         with the noise removed, and the ratio of mean linear luminance (later image over earlier)",
+        t.spp,
+        t.masks.hair.iter().filter(|&&m| m).count(),
+        t.masks.receivers.iter().filter(|&&m| m).count(),
+    );
+    println!(
+        "{:<width$} {:<15} {:<19} {:>9} {:>9}   {:>9} {:>9}",
+        "method", "shading", "effect", "hair RMSE", "ratio", "recv RMSE", "ratio"
+    );
+    for d in rows {
+        println!(
+            "{:<width$} {:<15} {:<19} {:>9.4} {:>9.3}   {:>9.4} {:>9.3}",
+            d.method, d.shading, d.effect, d.hair_rmse, d.hair_ratio, d.receivers_rmse, d.receivers_ratio
+        );
+    }
+}

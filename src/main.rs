@@ -37,7 +37,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.is::<hairlab::cli::interrupt::Interrupted>() => {
+        Err(e) if hairlab::cli::interrupt::is_interrupted(&e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(hairlab::cli::interrupt::EXIT_CODE)
         }

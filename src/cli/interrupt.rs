@@ -1,6 +1,7 @@
-//! Ctrl-C in `bench` and `measure`: SIGINT sets a flag that the runs read after each configuration; they stop
-//! there, and the files they write after every configuration hold each one finished, written whole. The run
-//! then fails with [`Interrupted`] (exit code 130, as a shell reports a process stopped by SIGINT).
+//! Ctrl-C in `bench`, `measure`, `report` and `render`: SIGINT sets a flag that the runs read after each
+//! configuration (or pass of samples, or texel); they stop there, and the files they write hold each one finished,
+//! written whole. The run then fails with [`Interrupted`], or [`InterruptedAt`] for a run stopped partway
+//! through one long step (exit code 130 either way, as a shell reports a process stopped by SIGINT).
 
 use std::sync::Once;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -13,6 +14,25 @@ pub const EXIT_CODE: u8 = 130;
 #[error("interrupted (Ctrl-C) after {done} configurations; the files written hold those {done}")]
 pub struct Interrupted {
     pub done: usize,
+}
+
+/// A run stopped by Ctrl-C partway through its one long step, after `done` `unit` (e.g. "of 64 samples per
+/// pixel", "texels"), having written the file `wrote` of those `done` (if it writes one).
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted (Ctrl-C) after {done} {unit}{}", holds(.wrote.as_deref(), *.done))]
+pub struct InterruptedAt {
+    pub done: u64,
+    pub unit: String,
+    pub wrote: Option<std::path::PathBuf>,
+}
+
+fn holds(wrote: Option<&std::path::Path>, done: u64) -> String {
+    wrote.map_or(String::new(), |p| format!("; {} holds those {done}", p.display()))
+}
+
+/// Whether `e` is a run stopped by Ctrl-C ([`Interrupted`] or [`InterruptedAt`]), whose exit code is [`EXIT_CODE`].
+pub fn is_interrupted(e: &anyhow::Error) -> bool {
+    e.is::<Interrupted>() || e.is::<InterruptedAt>()
 }
 
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);

@@ -31,13 +31,12 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
         crate::bench::prepare_out_dir(dir)?;
     }
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    // Ctrl-C answers the bar's next step with a stop: the texels done are kept.
+    // Ctrl-C answers the bar's next step with a stop: the texels done are reported and written, then the run
+    // fails saying so.
     let mut bar = super::progress::TerminalProgress::new();
     let m = crate::measure::fibre_visibility::compare_map(&gpu, &settings, a.rays as usize, &mut bar)?;
     drop(bar);
-    if crate::cli::interrupt::flag().load(Ordering::SeqCst) {
-        return Err(crate::cli::interrupt::Interrupted { done: m.texels.len() }.into());
-    }
+    let interrupted = crate::cli::interrupt::flag().load(Ordering::SeqCst);
     let fragments: usize = m.texels.iter().map(|t| t.fragments).sum();
     println!(
         "preset {}: {}² map, {} occupied texels, {fragments} fragments, {} rays per texel (hair_alpha {}, strand width {})",
@@ -56,13 +55,25 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
         "best-fitting α {:.4} (the (1 − α)^k closest to the ray-traced V): mean |ΔV| {:.4} at it",
         m.best_alpha, m.mean_abs_dv_at_best
     );
-    if let Some(dir) = &a.out {
-        let path = dir.join("visibility_texels.csv");
-        crate::io::write_atomic(
-            &path,
-            crate::io::csv_text("visibility_texels.csv", &m.texels)?.as_bytes(),
-        )?;
-        println!("wrote {}", path.display());
+    let wrote = match &a.out {
+        Some(dir) => {
+            let path = dir.join("visibility_texels.csv");
+            crate::io::write_atomic(
+                &path,
+                crate::io::csv_text("visibility_texels.csv", &m.texels)?.as_bytes(),
+            )?;
+            println!("wrote {}", path.display());
+            Some(path)
+        }
+        None => None,
+    };
+    if interrupted {
+        return Err(crate::cli::interrupt::InterruptedAt {
+            done: m.texels.len() as u64,
+            unit: "texels".to_string(),
+            wrote,
+        }
+        .into());
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `hairlab render`: a preset rendered headlessly to a PNG, the same image the window shows; under
 //! `render.mode = path`, the CPU path-traced reference of its still scene instead.
 
+use super::interrupt::InterruptedAt;
 use crate::animation::{AnimationOut, encode_png};
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
 use crate::pathtrace::setup::PathScene;
@@ -126,7 +127,8 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
 /// `render.mode = path`: the still scene's fibres (widths from `render.strand_width`) and meshes path-traced on
 /// the CPU under the preset's camera and directional light, `render.spp` samples per pixel in passes, progress on
 /// stderr. `--out` is a `.png` (over black, sRGB) or a `.exr` (the linear float image). Ctrl-C stops after the
-/// pass in progress and writes the image of the samples taken so far.
+/// pass in progress, writes the image of the samples taken so far and fails with [`InterruptedAt`] (exit 130).
+/// Samples whose radiance was NaN or infinite are left out of their pixels' means and said once.
 fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
     if a.frame.is_some() || a.frames.is_some() {
         anyhow::bail!(
@@ -151,8 +153,9 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
     );
     // Ctrl-C answers the bar's next step with a stop: the image holds the samples taken.
     let mut bar = super::progress::TerminalProgress::new();
-    let (image, done) = path.render(s.samples.div_ceil(20), &mut bar);
+    let acc = path.render(s.samples.div_ceil(20), &mut bar);
     drop(bar);
+    let (image, done) = (acc.mean(), acc.samples());
     let (w, h) = (settings.render.width, settings.render.height);
     let bytes = if exr {
         crate::pathtrace::setup::encode_exr(&image, w, h)?
@@ -161,16 +164,21 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
         encode_png(&crate::measure::fur::over_black(&rgba, w, h))?
     };
     crate::io::write_atomic(&a.out, &bytes)?;
-    if done < s.samples {
-        eprintln!(
-            "interrupted (Ctrl-C) at {done} of {} samples per pixel: the image holds those {done}",
-            s.samples
-        );
+    if let Some(note) = crate::pathtrace::accumulation::dropped_note(acc.dropped()) {
+        eprintln!("{note}");
     }
     println!(
         "wrote {} ({w}×{h}, path-traced, {done} spp, {:.1} s)",
         a.out.display(),
         start.elapsed().as_secs_f64()
     );
+    if done < s.samples {
+        return Err(InterruptedAt {
+            done: done.into(),
+            unit: format!("of {} samples per pixel", s.samples),
+            wrote: Some(a.out.clone()),
+        }
+        .into());
+    }
     Ok(())
 }

@@ -135,15 +135,18 @@ fn area(b: &Aabb) -> f32 {
 }
 
 /// The entry and exit distances of the ray from `o` (inverse direction `inv`, one axis a vector) through each of
-/// `node`'s boxes, the entry no less than 0; a box is met where entry ≤ exit. The exit is grown by pbrt's
-/// `1 + 2γ₃` so rounding never culls a box the ray touches.
+/// `node`'s closed boxes, the entry no less than 0; a box is met where entry ≤ exit. The exit is grown by pbrt's
+/// `1 + 2γ₃` so rounding never culls a box the ray touches. A ray parallel to an axis's planes (`inv` ±∞) whose
+/// origin lies in one of them gives `0 × ∞ = NaN` there; it runs along the box's face all its length, so that
+/// axis bounds nothing (where `min`/`max` would pass the NaN on, or drop the other bound, by operand order).
 fn slab4(node: &Node4, o: [Vec4; 3], inv: [Vec4; 3]) -> (Vec4, Vec4) {
     let (mut near, mut far) = (Vec4::ZERO, Vec4::INFINITY);
     for axis in 0..3 {
         let t1 = (node.min[axis] - o[axis]) * inv[axis];
         let t2 = (node.max[axis] - o[axis]) * inv[axis];
-        near = near.max(t1.min(t2));
-        far = far.min(t1.max(t2));
+        let in_plane = t1.is_nan_mask() | t2.is_nan_mask();
+        near = near.max(Vec4::select(in_plane, Vec4::NEG_INFINITY, t1.min(t2)));
+        far = far.min(Vec4::select(in_plane, Vec4::INFINITY, t1.max(t2)));
     }
     (near, far * (1.0 + 2.0 * 3.0 * f32::EPSILON))
 }
@@ -442,6 +445,17 @@ impl Bvh {
         hit
     }
 
+    /// Whether a mesh triangle crosses the ray within `(0, t_max)` (a shadow ray the fibres do not block).
+    pub fn any_mesh_hit(&self, ray: &Ray, t_max: f32) -> bool {
+        let n = self.segments.len() as u32;
+        let mut hit = false;
+        self.traverse(ray, t_max, |i, t_max| {
+            hit = i >= n && self.intersect(i, ray, t_max).is_some();
+            (!hit).then_some(t_max)
+        });
+        hit
+    }
+
     /// Every primitive the ray crosses within `(0, t_max)`, each with its nearest crossing, in order of `t`.
     pub fn all_hits(&self, ray: &Ray, t_max: f32) -> Vec<Hit> {
         let mut hits = Vec::new();
@@ -459,73 +473,4 @@ impl Bvh {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::pathtrace::fibre::tests::random_segment;
-    use crate::rng::SplitMix64;
-
-    fn random_scene(rng: &mut SplitMix64, n: usize) -> Vec<Segment> {
-        (0..n)
-            .map(|_| {
-                let mut s = random_segment(rng);
-                s.ra *= 0.1;
-                s.rb *= 0.1;
-                s.b = s.a + (s.b - s.a) * 0.2;
-                s
-            })
-            .collect()
-    }
-
-    fn random_ray(rng: &mut SplitMix64) -> Ray {
-        let o = Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 2.0;
-        let target = Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.4;
-        Ray::new(o, target - o)
-    }
-
-    #[test]
-    fn queries_equal_brute_force() {
-        let mut rng = SplitMix64::new(7);
-        let triangles = (0..300)
-            .map(|_| {
-                let mut v = || Vec3::new(rng.normal(), rng.normal(), rng.normal());
-                Triangle {
-                    p0: v() * 0.5,
-                    e1: v() * 0.1,
-                    e2: v() * 0.1,
-                    albedo: Vec3::ONE,
-                }
-            })
-            .collect();
-        let bvh = Bvh::with_triangles(random_scene(&mut rng, 3000), triangles);
-        let mut hits = 0;
-        for _ in 0..3000 {
-            let ray = random_ray(&mut rng);
-            let t_max = rng.range(1.0, 6.0);
-            // Every primitive's own full test (the line test included).
-            let n = bvh.segments.len();
-            let all: Vec<Hit> = (0..n + bvh.triangle_count())
-                .filter_map(|i| {
-                    let hit = match bvh.segments.get(i) {
-                        Some(s) => s.intersect(&ray, 0.0, t_max),
-                        None => bvh.triangles[i - n].intersect(&ray, 0.0, t_max),
-                    };
-                    hit.map(|h| Hit {
-                        segment: i as u32,
-                        ..h
-                    })
-                })
-                .collect();
-            let brute = all.iter().copied().reduce(|a, b| if b.t < a.t { b } else { a });
-            let got = bvh.closest_hit(&ray, t_max);
-            assert_eq!(got.map(|h| (h.segment, h.t)), brute.map(|h| (h.segment, h.t)));
-            assert_eq!(bvh.any_hit(&ray, t_max), brute.is_some());
-            let mut sorted = all.clone();
-            sorted.sort_by(|a, b| a.t.total_cmp(&b.t));
-            let listed = bvh.all_hits(&ray, t_max);
-            assert_eq!(listed.len(), sorted.len());
-            assert!(listed.iter().zip(&sorted).all(|(a, b)| a.t == b.t));
-            hits += brute.is_some() as usize;
-        }
-        assert!(hits > 500, "only {hits} rays hit");
-    }
-}
+mod tests;

@@ -70,8 +70,31 @@ pub struct Hit {
     pub h: f32,
     /// Index of the primitive (the segment, or the triangle after the segments) in the hierarchy it came from.
     pub segment: u32,
+    /// The fibre's radius at the hit (0 on a triangle): what [`Hit::offset`] takes a fraction of.
+    pub radius: f32,
     /// What was hit.
     pub surface: Surface,
+}
+
+/// A ray leaving a fibre starts this fraction of the fibre's radius off its surface ([`Hit::offset`]).
+const OFFSET_OF_RADIUS: f32 = 1e-3;
+/// ... but no less than this many `f32` epsilons of the hit point's largest coordinate: the point is rounded to
+/// `f32` once (half an ulp a coordinate), and so is the offset point (half an ulp more), under a unit error each
+/// of `|p| · ε`; four keep the ray's origin on its side of the surface with room to spare.
+const OFFSET_ULPS: f32 = 4.0;
+
+impl Hit {
+    /// How far off the surface, along the normal to the side it leaves by, a ray leaving this hit starts: on a
+    /// fibre [`OFFSET_OF_RADIUS`] of its radius, at least [`OFFSET_ULPS`] `f32` epsilons of `|p|` (hair-thin
+    /// fibres far from the origin: a fixed offset there would jump past the fibre, or past its neighbours); on a
+    /// triangle `10⁻⁵ · (1 + |p|)`.
+    pub fn offset(&self) -> f32 {
+        let scale = self.point.abs().max_element();
+        match self.surface {
+            Surface::Fibre => (OFFSET_OF_RADIUS * self.radius).max(OFFSET_ULPS * f32::EPSILON * scale),
+            Surface::Mesh { .. } => 1e-5 * (1.0 + scale),
+        }
+    }
 }
 
 /// The surface a ray met: a fibre (Chiang et al.'s BSDF) or a mesh triangle (Lambertian, seen from both sides).
@@ -173,15 +196,16 @@ impl Segment {
                 .flatten()
                 .any(|&(q, c, rq, rc)| field(q, c, rq, rc, p) < -1e-4 * rq.min(rc))
         };
-        let mut best: Option<(f64, DVec3)> = None;
-        let mut consider = |t: f64, n: DVec3| {
+        // (t, normal, radius) of the nearest crossing so far.
+        let mut best: Option<(f64, DVec3, f64)> = None;
+        let mut consider = |t: f64, n: DVec3, r: f64| {
             if t > lo
                 && t < hi
                 && n.dot(d) < 0.0
-                && best.is_none_or(|(bt, _)| t < bt)
+                && best.is_none_or(|(bt, _, _)| t < bt)
                 && !inside_neighbour(o + t * d)
             {
-                best = Some((t, n));
+                best = Some((t, n, r));
             }
         };
         // Position along the axis of the point at `t`.
@@ -200,7 +224,7 @@ impl Segment {
                 let r = ra + g * x;
                 if t.is_finite() && (0.0..=len).contains(&x) && r > 0.0 {
                     let w = q + t * d - x * u;
-                    consider(t, (w - r * g * u).normalize());
+                    consider(t, (w - r * g * u).normalize(), r);
                 }
             }
         }
@@ -211,22 +235,25 @@ impl Segment {
                 let x = along(t);
                 let owned = len == 0.0 || (beyond < 0.0 && x < 0.0) || (beyond > 0.0 && x > len);
                 if t.is_finite() && owned {
-                    consider(t, (q + t * d) / r);
+                    consider(t, (q + t * d) / r, r);
                 }
             }
         }
-        let (t, n) = best?;
-        let t = (t0 + t) as f32;
+        let (t_near, n, r) = best?;
+        let t = (t0 + t_near) as f32;
         let (tangent, normal) = (u.as_vec3(), n.as_vec3().normalize());
         let across = tangent.cross(ray.dir).normalize_or_zero();
         let n_perp = (normal - normal.dot(tangent) * tangent).normalize_or_zero();
         Some(Hit {
             t,
-            point: ray.at(t),
+            // In f64 from the closest approach: rounded once to f32, where `ray.at(t)` rounds `t · dir` and the
+            // sum, with errors of the origin's size rather than the point's.
+            point: (o + t_near * d).as_vec3(),
             tangent,
             normal,
             h: n_perp.dot(across).clamp(-1.0, 1.0),
             segment: 0,
+            radius: r as f32,
             surface: Surface::Fibre,
         })
     }

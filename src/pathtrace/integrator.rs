@@ -2,7 +2,8 @@
 //! next-event estimation to the light (`light.rs`) through an `any_hit` shadow ray, BSDF sampling, Russian
 //! roulette after depth 3 (pbrt's throughput-based survival), at most `max_depth` bounces, linear float RGB.
 //! Each sample's random stream is `SplitMix64::stream(seed, pixel << 32 ^ sample)`, so an image depends only on
-//! its seed, whatever the thread count. `std::thread::scope` threads take rows two at a time from one queue.
+//! its seed, whatever the thread count; the samples are summed per pixel in `f64`, a NaN or infinite one left
+//! out and counted (`accumulation.rs`).
 //!
 //! Each hit scatters by Chiang et al. 2016's fibre BSDF (`bsdf.rs`) in the frame x = tangent, y along the hit's
 //! offset `h` (tangent × ray direction), z = x × y (towards where the ray came from). The fibre is a volume the
@@ -12,14 +13,16 @@
 
 use glam::Vec3;
 
+use super::accumulation::Sums;
 use super::bsdf::{FibreBsdf, FibreParams};
 use super::bvh::Bvh;
+use super::effects::{Effects, Events, FirstHit, map_point, transmittance};
 use super::fibre::{Hit, Ray, Surface};
 use super::light::Light;
 use crate::rng::SplitMix64;
 use crate::scene::Camera;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Settings {
     pub width: usize,
     pub height: usize,
@@ -29,6 +32,8 @@ pub struct Settings {
     pub max_depth: u32,
     /// The fibres' material.
     pub fibre: FibreParams,
+    /// The effects the image carries ([`Effects::TRUTH`] for the truth).
+    pub effects: Effects,
 }
 
 /// The BSDF at a hit and its local frame.
@@ -128,9 +133,6 @@ impl Rays {
     }
 }
 
-/// Rows of pixels a thread takes from the queue at a time.
-const ROWS_PER_TASK: usize = 2;
-
 /// Radiance along `ray`.
 fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
@@ -138,16 +140,31 @@ fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut Spli
         let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
             break;
         };
-        let eps = 1e-5 * (1.0 + hit.point.abs().max_element());
+        let eps = hit.offset();
         let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
+        // The shadow ray's share of the light under the image's hair shadows.
+        let visible = |to_light: Vec3, distance: f32| {
+            let shadow = Ray::new(leave(&hit, to_light, eps), to_light);
+            let reach = distance * (1.0 - 1e-4);
+            transmittance(
+                &s.effects.hair_shadows,
+                map_point(&hit, bvh.segments().get(hit.segment as usize).map(|g| (g.a, g.b))),
+                || bvh.any_hit(&shadow, reach),
+                || bvh.any_mesh_hit(&shadow, reach),
+            )
+        };
+        if let (0, FirstHit::Raster(raster)) = (depth, &s.effects.first_hit) {
+            let (to_light, distance) = raster.light.toward(hit.point);
+            return raster.radiance(&hit, -ray.dir, to_light, visible(to_light, distance));
+        }
         let arrival = light.arrival(hit.point);
         let to_light = arrival.map_or(Vec3::Z, |a| a.to_light);
         let (direct, next) = scatter(&hit, ray.dir, s, to_light, u);
         if let Some(a) = arrival.filter(|_| direct.max_element() > 0.0) {
-            let shadow = Ray::new(leave(&hit, a.to_light, eps), a.to_light);
-            if !bvh.any_hit(&shadow, a.distance * (1.0 - 1e-4)) {
-                sum += beta * direct * a.irradiance;
-            }
+            sum += beta * direct * a.irradiance * visible(a.to_light, a.distance);
+        }
+        if s.effects.events == Events::One {
+            break;
         }
         let Some((wi, weight)) = next else {
             break;
@@ -167,12 +184,13 @@ fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut Spli
 
 /// The image, row after row, `width × height` linear RGB.
 pub fn render(bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings) -> Vec<Vec3> {
-    render_in_passes(bvh, camera, light, s, s.samples, &mut crate::progress::Quiet).0
+    render_in_passes(bvh, camera, light, s, s.samples, &mut crate::progress::Quiet).mean()
 }
 
 /// [`render`] in passes of `pass` samples per pixel, `progress` told the samples so far after each; it stops early
-/// when that answers `false`. Returns the mean over the samples taken and their count per pixel. Sample `k` of a
-/// pixel has its own stream and the sums run in sample order, so the image is [`render`]'s whatever `pass`.
+/// when that answers `false`. Returns the samples taken: their mean, their count per pixel and those dropped.
+/// Sample `k` of a pixel has its own stream and the sums run in sample order, so the image is [`render`]'s
+/// whatever `pass`.
 pub fn render_in_passes(
     bvh: &Bvh,
     camera: &Camera,
@@ -180,7 +198,7 @@ pub fn render_in_passes(
     s: &Settings,
     pass: u32,
     progress: &mut dyn crate::progress::Progress,
-) -> (Vec<Vec3>, u32) {
+) -> Accumulation {
     let mut acc = Accumulation::new(s);
     while acc.samples() < s.samples {
         let n = pass.max(1).min(s.samples - acc.samples());
@@ -191,15 +209,15 @@ pub fn render_in_passes(
             break;
         }
     }
-    (acc.mean(), acc.samples())
+    acc
 }
 
-/// A progressive image: the radiance summed over samples `0..samples()` of every pixel. Adding `n` more samples
-/// takes samples `samples()..samples() + n` of each pixel's streams, so the mean after any sequence of additions
-/// is [`render`]'s at that sample count.
+/// A progressive image: the radiance of samples `0..samples()` of every pixel summed ([`Sums`]: in `f64`, a NaN
+/// or infinite sample left out and counted). Adding `n` more samples takes samples `samples()..samples() + n` of
+/// each pixel's streams, so the mean after any sequence of additions is [`render`]'s at that sample count.
 #[derive(Clone, Debug)]
 pub struct Accumulation {
-    sums: Vec<Vec3>,
+    sums: Sums,
     done: u32,
 }
 
@@ -207,7 +225,7 @@ impl Accumulation {
     /// No samples yet, sized for `s`' image.
     pub fn new(s: &Settings) -> Accumulation {
         Accumulation {
-            sums: vec![Vec3::ZERO; s.width * s.height],
+            sums: Sums::new(s.width, s.height),
             done: 0,
         }
     }
@@ -217,52 +235,27 @@ impl Accumulation {
         self.done
     }
 
+    /// Samples left out so far for a NaN or infinite radiance, over the whole image.
+    pub fn dropped(&self) -> u64 {
+        self.sums.dropped()
+    }
+
     /// Adds the next `n` samples of every pixel.
     pub fn add(&mut self, bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings, n: u32) {
-        accumulate(bvh, camera, light, s, self.done..self.done + n, &mut self.sums);
+        let rays = Rays::new(camera, s.width, s.height);
+        self.sums.add(self.done..self.done + n, |pixel, sample| {
+            let (x, y) = (pixel % s.width, pixel / s.width);
+            let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
+            let (jx, jy) = (rng.unit(), rng.unit());
+            radiance(bvh, light, s, rays.at(x as f32 + jx, y as f32 + jy), &mut rng)
+        });
         self.done += n;
     }
 
-    /// The mean radiance per pixel (black before the first sample).
+    /// The mean radiance per pixel of the samples kept (black before the first sample).
     pub fn mean(&self) -> Vec<Vec3> {
-        let scale = 1.0 / self.done.max(1) as f32;
-        self.sums.iter().map(|&v| v * scale).collect()
+        self.sums.mean()
     }
-}
-
-/// Adds the radiance of samples `samples` of every pixel to `sums`.
-fn accumulate(
-    bvh: &Bvh,
-    camera: &Camera,
-    light: &Light,
-    s: &Settings,
-    samples: std::ops::Range<u32>,
-    sums: &mut [Vec3],
-) {
-    // Threads take rows a few at a time from one queue, so the rows that cross the groom do not all fall to one.
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let band = ROWS_PER_TASK * s.width.max(1);
-    let queue = std::sync::Mutex::new(sums.chunks_mut(band).enumerate());
-    let rays = Rays::new(camera, s.width, s.height);
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            let (samples, queue, rays) = (samples.clone(), &queue, &rays);
-            scope.spawn(move || {
-                while let Some((b, rows)) = queue.lock().map_or(None, |mut q| q.next()) {
-                    for (k, px) in rows.iter_mut().enumerate() {
-                        let pixel = b * band + k;
-                        let (x, y) = (pixel % s.width, pixel / s.width);
-                        for sample in samples.clone() {
-                            let mut rng = SplitMix64::stream(s.seed, ((pixel as u64) << 32) ^ sample as u64);
-                            let (jx, jy) = (rng.unit(), rng.unit());
-                            let ray = rays.at(x as f32 + jx, y as f32 + jy);
-                            *px += radiance(bvh, light, s, ray, &mut rng);
-                        }
-                    }
-                }
-            });
-        }
-    });
 }
 
 #[cfg(test)]
@@ -279,6 +272,7 @@ mod tests {
             samples: 4,
             seed,
             max_depth: 32,
+            effects: Effects::TRUTH,
             fibre: FibreParams::from_colour(
                 Vec3::splat(0.8),
                 crate::shading::marschner::BETA_R,
@@ -327,12 +321,12 @@ mod tests {
         assert_ne!(a, render(&bvh, &camera(), &light, &settings(2)));
         assert!(a.iter().any(|p| p.max_element() > 0.0));
         let mut quiet = crate::progress::Quiet;
-        let (passes, done) = render_in_passes(&bvh, &camera(), &light, &settings(1), 3, &mut quiet);
-        assert_eq!((passes, done), (a, 4));
+        let passes = render_in_passes(&bvh, &camera(), &light, &settings(1), 3, &mut quiet);
+        assert_eq!((passes.mean(), passes.samples(), passes.dropped()), (a, 4, 0));
         // Stops once told half the samples are in (2 of 4).
         let mut half = |_: &str, f: f32| f < 0.5;
-        let (_, stopped) = render_in_passes(&bvh, &camera(), &light, &settings(1), 1, &mut half);
-        assert_eq!(stopped, 2);
+        let stopped = render_in_passes(&bvh, &camera(), &light, &settings(1), 1, &mut half);
+        assert_eq!(stopped.samples(), 2);
     }
 
     /// A Lambertian square facing the camera, lit at 60° from its normal by irradiance π: every pixel on it shows

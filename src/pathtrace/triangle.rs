@@ -71,6 +71,7 @@ impl Triangle {
             normal,
             h: 0.0,
             segment: 0,
+            radius: 0.0,
             surface: Surface::Mesh { albedo: self.albedo },
         })
     }

@@ -46,6 +46,7 @@ mod motion_claims;
 mod motion_colliders;
 mod path_render;
 mod path_view;
+mod pathtrace_numerics;
 mod presets;
 mod progress;
 mod reference;
@@ -62,6 +63,7 @@ mod stability_msm;
 mod transparency_claims;
 mod transparency_gpu;
 mod transparency_occupancy;
+mod truth_decomposition;
 #[cfg(feature = "usd")]
 mod usd_format;
 mod visibility_models;

@@ -1,5 +1,5 @@
 //! `hairlab render` under `render.mode = path`: the CPU path-traced reference of a preset, written as PNG, and
-//! its settings checked before anything is written.
+//! its settings checked before anything is written; Ctrl-C on it and on `measure visibility` writes what was done.
 
 use crate::common::cli::{assert_fails, hairlab, stderr};
 use crate::common::measured_preset;
@@ -256,5 +256,146 @@ fn the_ray_traced_map_lines_up_with_the_reference() {
     assert!(
         m.mean_abs_dv < 0.2 && m.best_alpha > 0.05 && m.best_alpha < 0.95,
         "{m:?}"
+    );
+}
+
+/// Runs `hairlab ARGS` until it prints a line on stderr holding `needle`, then sends it SIGINT (Ctrl-C); returns
+/// its exit status and its stderr lines. Fails the test when it ends first or says nothing for 10 minutes.
+fn interrupt_once_said(args: &[&str], needle: &str) -> (std::process::ExitStatus, Vec<String>) {
+    use std::io::BufRead;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run hairlab");
+    let err = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut lines = Vec::new();
+        for line in std::io::BufReader::new(err).lines().map_while(Result::ok) {
+            let _ = tx.send(line.clone());
+            lines.push(line);
+        }
+        lines
+    });
+    loop {
+        let line = rx
+            .recv_timeout(std::time::Duration::from_secs(600))
+            .unwrap_or_else(|e| panic!("hairlab said no {needle:?} ({e})"));
+        if line.contains(needle) {
+            break;
+        }
+    }
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success());
+    let status = child.wait().expect("wait for hairlab");
+    (status, reader.join().unwrap())
+}
+
+/// The one `error:` line of `lines`.
+fn the_error(lines: &[String]) -> String {
+    let errors: Vec<&String> = lines
+        .iter()
+        .filter(|l| l.starts_with("error: ") && !l.contains("XDG_RUNTIME_DIR"))
+        .collect();
+    assert_eq!(errors.len(), 1, "{lines:?}");
+    errors[0].clone()
+}
+
+/// Ctrl-C during a path-traced `render` stops it after the pass in progress: it writes the image of the samples
+/// taken, whole, and exits 130 naming how many and the file; that image is exactly the render asked for that
+/// many samples (each pixel's samples are summed in order, whatever the passes).
+#[test]
+fn sigint_writes_the_path_traced_image_of_the_samples_taken_and_exits_130() {
+    let dir = tempfile::tempdir().unwrap();
+    let (stopped, whole) = (dir.path().join("stopped.exr"), dir.path().join("whole.exr"));
+    let mut args = TINY.to_vec();
+    args.extend([
+        "24",
+        "--set",
+        "render.spp=1000",
+        "--out",
+        stopped.to_str().unwrap(),
+    ]);
+    let (status, lines) = interrupt_once_said(&args, "path tracing: ");
+    assert_eq!(status.code(), Some(130), "{lines:?}");
+    let error = the_error(&lines);
+    let done: u32 = error
+        .strip_prefix("error: interrupted (Ctrl-C) after ")
+        .and_then(|r| r.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{error}"));
+    assert!(done > 0 && done < 1000 && done.is_multiple_of(50), "{error}");
+    assert!(
+        error.ends_with(&format!(
+            "of 1000 samples per pixel; {} holds those {done}",
+            stopped.display()
+        )),
+        "{error}"
+    );
+    let mut args = TINY.to_vec();
+    let spp = format!("render.spp={done}");
+    args.extend(["24", "--set", &spp, "--out", whole.to_str().unwrap()]);
+    let o = hairlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (a, b) = (
+        image::open(&stopped).unwrap().to_rgb32f(),
+        image::open(&whole).unwrap().to_rgb32f(),
+    );
+    assert_eq!(a.dimensions(), (32, 24));
+    assert!(a.pixels().any(|p| p.0.iter().any(|&c| c > 0.0)));
+    assert!(a == b, "the stopped render differs from {done} spp asked for");
+}
+
+/// Ctrl-C during `measure visibility` stops it after the texel in progress: it writes visibility_texels.csv of
+/// the texels measured, each row whole, and exits 130 naming how many (fewer than the map's).
+#[test]
+fn sigint_writes_the_visibility_texels_measured_and_exits_130() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let (status, lines) = interrupt_once_said(
+        &[
+            "measure",
+            "visibility",
+            "--preset",
+            "default",
+            "--set",
+            "scene.generator.strands=600",
+            "--set",
+            "render.map_resolution=64",
+            "--rays",
+            "64",
+            "--out",
+            out.path().to_str().unwrap(),
+        ],
+        "ray-tracing ",
+    );
+    assert_eq!(status.code(), Some(130), "{lines:?}");
+    let total: usize = lines
+        .iter()
+        .find_map(|l| l.split("ray-tracing ").nth(1)?.split(' ').next()?.parse().ok())
+        .unwrap();
+    let csv = out.path().join("visibility_texels.csv");
+    let mut r = csv::Reader::from_path(&csv).unwrap();
+    let width = r.headers().unwrap().len();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap())
+        .inspect(|rec| assert_eq!(rec.len(), width, "{rec:?}"))
+        .count();
+    assert!(rows > 0 && rows < total, "{rows} of {total} texels written");
+    assert_eq!(
+        the_error(&lines),
+        format!(
+            "error: interrupted (Ctrl-C) after {rows} texels; {} holds those {rows}",
+            csv.display()
+        )
     );
 }

@@ -22,23 +22,31 @@ fn out_shown(dir: &Path) -> PathBuf {
     dir.join(REPORT_DIR)
 }
 
-/// The command that reproduces a report of `plan` from `settings.toml` in `out`.
+/// The command that reproduces a report of `plan` from `settings.toml` in `out`, quoted for a POSIX shell as
+/// `hairlab report` quotes its own ([`crate::cli::report::shell_command`]).
 fn command(plan: &Plan, out: &Path) -> String {
     let mut words = vec![
-        "hairlab report --preset".to_string(),
+        "hairlab".to_string(),
+        "report".to_string(),
+        "--preset".to_string(),
         out.join("settings.toml").display().to_string(),
     ];
     for c in &plan.configs {
-        words.push(format!("--config {c}"));
+        words.extend(["--config".to_string(), c.clone()]);
     }
     for t in &plan.techniques {
-        words.push(format!("--technique {t}"));
+        words.extend(["--technique".to_string(), t.clone()]);
     }
     if plan.motion {
         words.push("--motion".to_string());
     }
-    words.push(format!("--frames {} --out {}", plan.frames, out.display()));
-    words.join(" ")
+    words.extend([
+        "--frames".to_string(),
+        plan.frames.to_string(),
+        "--out".to_string(),
+        out.display().to_string(),
+    ]);
+    crate::cli::report::shell_command(words)
 }
 
 impl HairlabApp {
@@ -93,5 +101,56 @@ impl HairlabApp {
             )),
             Err(e) => self.error(format!("report: {e}")),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The command read back by `sh -c` (with `hairlab` a shell function that prints its arguments) gives back
+    /// every word: a folder with a space, a `$(…)`, a `'`, a `"` and a backquote in its name, and a configuration
+    /// with a space and a `;`.
+    #[test]
+    fn the_reproducing_command_survives_a_shell() {
+        let out = Path::new("/tmp/my reports/$(echo injected)/it's \"here\" `x`/hairlab-report");
+        let plan = Plan {
+            preset: String::new(),
+            configs: vec!["dom:slices=8".to_string(), "a b;c".to_string()],
+            techniques: vec!["wboit".to_string()],
+            motion: true,
+            frames: 12,
+            truth: false,
+        };
+        let command = command(&plan, out);
+        let script = format!("hairlab() {{ printf '%s\\0' \"$@\"; }}; {command}");
+        let o = std::process::Command::new("sh")
+            .args(["-c", &script])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let words: Vec<String> = String::from_utf8(o.stdout)
+            .unwrap()
+            .split_terminator('\0')
+            .map(str::to_string)
+            .collect();
+        let settings = out.join("settings.toml").display().to_string();
+        let want = [
+            "report",
+            "--preset",
+            &settings,
+            "--config",
+            "dom:slices=8",
+            "--config",
+            "a b;c",
+            "--technique",
+            "wboit",
+            "--motion",
+            "--frames",
+            "12",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        assert_eq!(words, want, "{command}");
     }
 }

@@ -51,28 +51,35 @@ pub struct ReportArgs {
     pub out: PathBuf,
 }
 
-/// The command line as typed, each argument quoted for a POSIX shell where it needs it.
-fn command_line() -> String {
-    let quote = |a: String| {
+/// `words` as one POSIX shell command line: each word as it is where it holds only characters a shell leaves
+/// alone, else in single quotes (a `'` inside written `'\''`), so `sh -c` gives back the same words.
+pub fn shell_command<S: AsRef<str>>(words: impl IntoIterator<Item = S>) -> String {
+    let quote = |a: &str| {
         if !a.is_empty()
             && a.chars()
                 .all(|c| c.is_ascii_alphanumeric() || "-_=.,:/@+".contains(c))
         {
-            a
+            a.to_string()
         } else {
             format!("'{}'", a.replace('\'', "'\\''"))
         }
     };
+    words
+        .into_iter()
+        .map(|w| quote(w.as_ref()))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The command line as typed (the program by its file name), quoted by [`shell_command`].
+fn command_line() -> String {
     let mut args = std::env::args();
     let first = args.next().map_or("hairlab".to_string(), |p| {
         std::path::Path::new(&p)
             .file_name()
             .map_or(p.clone(), |n| n.to_string_lossy().into_owned())
     });
-    std::iter::once(first)
-        .chain(args.map(quote))
-        .collect::<Vec<_>>()
-        .join(" ")
+    shell_command(std::iter::once(first).chain(args))
 }
 
 /// `hairlab report`.

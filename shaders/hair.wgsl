@@ -92,7 +92,7 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     }
     let dark = guard_darkening(in.base_height, frame.guard_shell_height, frame.guard_sigma);
     var out: ShadedHair;
-    out.color = (lit + in.color * 0.08) * dark;
+    out.color = (lit + in.color * frame.hair_ambient) * dark;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

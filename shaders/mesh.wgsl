@@ -38,5 +38,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let l = light_dir(in.world);
     let v = mesh_visibility(in.world, 3) * hair_visibility(in.world);
     let lit = in.color * light_radiance(in.world) * max(dot(n, l), 0.0) * v;
-    return vec4<f32>(lit + in.color * 0.12, 1.0);
+    return vec4<f32>(lit + in.color * frame.mesh_ambient, 1.0);
 }

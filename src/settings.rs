@@ -325,6 +325,9 @@ impl Settings {
                 r.strand_width
             );
         }
+        if !(r.ambient.is_finite() && r.ambient >= 0.0) {
+            anyhow::bail!("render.ambient must be finite and at least 0 (got {})", r.ambient);
+        }
         if !(1.0..=8.0).contains(&r.light_min_width) {
             bail!(
                 "render.light_min_width must be in 1..=8 light texels (got {})",

@@ -58,10 +58,12 @@ struct FrameUniforms {
     env_count: u32,
     // Light-map supersampling s (`render.light_supersample`; 0 reads as 1): the hair maps are s times the base
     // resolution a side, and hair_visibility (common/method_lookup.wgsl) averages the s x s sub-texels of the
-    // point's base texel. Then padding to the alignment of env_to_light.
+    // point's base texel.
     light_supersample: u32,
-    pad0: u32,
-    pad1: u32,
+    // The ambient terms every hair and mesh fragment adds, times its colour (`render.ambient` x 0.08 and 0.12;
+    // the path tracer has none). Then padding to the alignment of env_to_light.
+    hair_ambient: f32,
+    mesh_ambient: f32,
     pad2: u32,
     env_to_light: array<vec4<f32>, 64>,
     env_radiance: array<vec4<f32>, 64>,

@@ -82,9 +82,7 @@ impl RasterLight {
     }
 }
 
-/// The raster's ambient terms: what `shaders/hair.wgsl` and `shaders/mesh.wgsl` add to every lit colour.
-pub const HAIR_AMBIENT: f32 = 0.08;
-pub const MESH_AMBIENT: f32 = 0.12;
+pub use crate::render::render_settings::{HAIR_AMBIENT, MESH_AMBIENT};
 
 /// The real-time model's shading at the first hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,6 +92,8 @@ pub struct RasterShading {
     pub colour: Vec3,
     /// `render.hair_alpha`: dual scattering's hair count from the visibility.
     pub hair_alpha: f32,
+    /// `render.ambient`: the scale of the ambient terms.
+    pub ambient: f32,
     pub light: RasterLight,
 }
 
@@ -117,7 +117,7 @@ impl RasterShading {
                     ),
                     m => m.shade(t, to_light, to_eye, self.colour) * visibility,
                 };
-                lit * light + self.colour * HAIR_AMBIENT
+                lit * light + self.colour * (HAIR_AMBIENT * self.ambient)
             }
             super::fibre::Surface::Mesh { albedo } => {
                 let n = if hit.normal.dot(to_eye) < 0.0 {
@@ -125,7 +125,8 @@ impl RasterShading {
                 } else {
                     hit.normal
                 };
-                albedo * light * n.dot(to_light).max(0.0) * visibility + albedo * MESH_AMBIENT
+                albedo * light * n.dot(to_light).max(0.0) * visibility
+                    + albedo * (MESH_AMBIENT * self.ambient)
             }
         }
     }
@@ -320,6 +321,7 @@ mod tests {
             model: ShadingModel::KajiyaKay,
             colour: COLOUR,
             hair_alpha: 0.35,
+            ambient: 1.0,
             light: RasterLight {
                 radiance: Vec3::ONE,
                 to_light: Vec3::Z,

@@ -92,6 +92,7 @@ pub fn raster_shading(settings: &Settings, scene: &Scene) -> RasterShading {
         model: settings.render.shading,
         colour: Vec3::from(settings.render.hair_color),
         hair_alpha: settings.render.hair_alpha,
+        ambient: settings.render.ambient,
         light: RasterLight {
             radiance: Vec3::from(l.color) * l.intensity,
             to_light: l.to_light(),

@@ -61,6 +61,10 @@ pub struct RenderSettings {
     pub spp: u32,
     /// The path tracer's seed: the same seed gives the same image (a second seed gives the noise floor).
     pub seed: u64,
+    /// Scale of the raster's ambient terms: every hair fragment adds `0.08 × ambient ×` its colour, every mesh
+    /// fragment `0.12 × ambient ×` its colour. 1 is the workbench's look; 0 drops them, as the path tracer has
+    /// no environment light (`docs/truth.md`).
+    pub ambient: f32,
     /// The effects the path tracer carries under `mode = path` ([`PathEffects`]; all of them by default).
     pub path: PathEffects,
 }
@@ -78,6 +82,11 @@ pub struct PathEffects {
     /// shading model (`render.shading`), light and ambient terms at the first hit and nothing after it.
     pub first_hit: PathFirstHit,
 }
+
+/// The raster's ambient terms at `render.ambient = 1`: what `shaders/hair.wgsl` and `shaders/mesh.wgsl` add to
+/// every lit colour, times the colour (`frame.hair_ambient`, `frame.mesh_ambient`).
+pub const HAIR_AMBIENT: f32 = 0.08;
+pub const MESH_AMBIENT: f32 = 0.12;
 
 /// `render.path.events`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -152,6 +161,7 @@ impl Default for RenderSettings {
             mode: RenderMode::Raster,
             spp: 16,
             seed: 0,
+            ambient: 1.0,
             path: PathEffects::default(),
         }
     }

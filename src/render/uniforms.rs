@@ -64,9 +64,11 @@ pub struct FrameUniforms {
     /// `render.map_resolution` a side and the eye lookup averages the `s × s` sub-texels of the point's base
     /// texel ([`crate::visibility::lookup`]); 0 reads as 1.
     pub light_supersample: u32,
+    /// The raster's ambient terms (`render.ambient` × [`crate::render::render_settings::HAIR_AMBIENT`] and
+    /// [`crate::render::render_settings::MESH_AMBIENT`]): what every hair and mesh fragment adds, times its colour.
+    pub hair_ambient: f32,
+    pub mesh_ambient: f32,
     /// Padding to the 16-byte alignment of `env_to_light`.
-    pub pad0: u32,
-    pub pad1: u32,
     pub pad2: u32,
     /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
@@ -129,8 +131,8 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
         ),
         ("env_count", offset_of!(FrameUniforms, env_count)),
         ("light_supersample", offset_of!(FrameUniforms, light_supersample)),
-        ("pad0", offset_of!(FrameUniforms, pad0)),
-        ("pad1", offset_of!(FrameUniforms, pad1)),
+        ("hair_ambient", offset_of!(FrameUniforms, hair_ambient)),
+        ("mesh_ambient", offset_of!(FrameUniforms, mesh_ambient)),
         ("pad2", offset_of!(FrameUniforms, pad2)),
         ("env_to_light", offset_of!(FrameUniforms, env_to_light)),
         ("env_radiance", offset_of!(FrameUniforms, env_radiance)),

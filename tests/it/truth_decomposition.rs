@@ -127,3 +127,46 @@ fn render_path_switches_turn_one_effect_off() {
     ]);
     assert_fails(&o, &["render.path.events"]);
 }
+
+/// `render.ambient` scales the raster's ambient terms: with the light off, `render.ambient = 0` leaves the hair
+/// and the floor black over a black background (what the path tracer shows of an unlit scene) and 1 shows
+/// them; a negative value is refused naming the key.
+#[test]
+fn the_ambient_term_can_be_left_out_as_the_path_tracer_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |ambient: &str| {
+        let out = dir.path().join(format!("ambient-{ambient}.png"));
+        let sets = [
+            "scene.generator.strands=200",
+            "scene.generator.segments=8",
+            "render.map_resolution=64",
+            "render.width=96",
+            "render.height=72",
+            "render.background=[0.0, 0.0, 0.0]",
+            "light.intensity=0",
+        ];
+        let mut args = vec!["render", "--preset", "default", "--out", out.to_str().unwrap()];
+        let ambient = format!("render.ambient={ambient}");
+        for s in sets.iter().copied().chain([ambient.as_str()]) {
+            args.extend(["--set", s]);
+        }
+        let o = hairlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let dark = render("0");
+    assert!(dark.pixels().all(|p| p[0] == 0 && p[1] == 0 && p[2] == 0));
+    let lit = render("1");
+    assert!(lit.pixels().filter(|p| p[0] > 0).count() > 500);
+    let bad = dir.path().join("bad.png");
+    let o = hairlab(&[
+        "render",
+        "--preset",
+        "default",
+        "--set",
+        "render.ambient=-1",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert_fails(&o, &["render.ambient"]);
+}

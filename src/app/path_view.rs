@@ -8,6 +8,10 @@
 //! converging. It stays out of the job bar: that bar taking and giving back its row would resize the viewport,
 //! and a new size starts the image again. Switching the viewport back to raster stops it.
 //!
+//! On a motion, the samples of each frame the timeline leaves are kept (up to [`KEPT_FRAMES`] frames, the
+//! oldest dropped first): coming back to a frame goes on from its samples instead of starting again, so a
+//! scrubbed or looping timeline converges frame by frame.
+//!
 //! The image is the viewport's aspect with its longer side at most [`MAX_SIDE`] pixels (the CPU's budget), kept
 //! through changes of the viewport's size within [`RESIZE_SLACK`]; pixel for pixel the image [`render_image`]
 //! gives, which the compare view's path-traced slot shows too.
@@ -27,6 +31,9 @@ pub const MAX_SIDE: u32 = 400;
 pub const COVERAGE_RAYS: usize = 4;
 /// Samples per pixel a pass adds once the first few passes (one sample each) have shown a picture.
 const PASS: u32 = 4;
+/// Frames whose samples the view keeps when the timeline (or any other change) leaves them: each holds its
+/// pixels' sums (about 28 bytes a pixel, 3.4 MB at 400 × 300), so at most about 160 MB.
+pub const KEPT_FRAMES: usize = 48;
 
 /// The size of the path-traced image for a viewport of `width × height` pixels: the same aspect, the longer side
 /// at most [`MAX_SIDE`].
@@ -90,7 +97,14 @@ impl Key {
     }
 }
 
+/// What the view keeps of a frame it left.
+struct Kept {
+    acc: Accumulation,
+    coverage: Arc<Vec<f32>>,
+}
+
 /// A path-traced scene ready for more samples: the BVH, each pixel's coverage and the samples so far.
+#[derive(Clone)]
 struct Progress {
     path: Arc<PathScene>,
     coverage: Arc<Vec<f32>>,
@@ -197,6 +211,11 @@ pub struct PathView {
     job: Option<Job<Result<Progress, String>>>,
     /// A finished job's scene and samples, to go on from when `render.spp` rises.
     done: Option<Progress>,
+    /// The running job's samples after its latest pass (it writes, the window takes them when the key changes).
+    partial: Arc<Mutex<Option<Progress>>>,
+    /// The samples of keys the view left (a motion's other frames), oldest first, at most [`KEPT_FRAMES`]; only
+    /// the sums and the pixels' coverage are kept, the scene is built again on return.
+    kept: Vec<(Key, Kept)>,
     /// What the worker published last (it writes, the window reads).
     latest: Arc<Mutex<Option<Shown>>>,
     /// The texture of the image shown, and that image's samples per pixel.
@@ -230,9 +249,27 @@ impl PathView {
             return;
         }
         let resume = if same { self.done.take() } else { None };
+        let mut returning = None;
         if !same {
             self.job = None;
-            self.done = None;
+            let left = self
+                .done
+                .take()
+                .or_else(|| self.partial.lock().unwrap_or_else(|e| e.into_inner()).take());
+            if let (Some(old), Some(p)) = (self.key.take(), left) {
+                self.keep(
+                    old,
+                    Kept {
+                        acc: p.acc,
+                        coverage: p.coverage,
+                    },
+                );
+            }
+            returning = self
+                .kept
+                .iter()
+                .position(|(k, _)| *k == key)
+                .map(|i| self.kept.remove(i).1);
             self.texture = None;
             *self.latest.lock().unwrap_or_else(|e| e.into_inner()) = None;
         }
@@ -247,15 +284,27 @@ impl PathView {
             },
         };
         let (latest, background) = (self.latest.clone(), settings.render.background);
+        let partial = self.partial.clone();
+        *partial.lock().unwrap_or_else(|e| e.into_inner()) = None;
         self.job = Some(Job::spawn("path-traced view", ctx, gate, move |ctl| {
             let mut p = match start {
                 Ok(p) => p,
                 Err((settings, scene)) => {
                     ctl.step("building the BVH and the coverage", 0.0).then_some(())?;
-                    match prepare(&settings, &scene, key.size) {
+                    let mut p = match prepare(&settings, &scene, key.size) {
                         Ok(p) => p,
                         Err(e) => return Some(Err(format!("{e:#}"))),
+                    };
+                    if let Some(kept) = returning {
+                        // Back on a frame the view left: its samples go on.
+                        (p.acc, p.coverage) = (kept.acc, kept.coverage);
+                        let shown = Shown {
+                            image: p.image(background),
+                            spp: p.acc.samples(),
+                        };
+                        *latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(shown);
                     }
+                    p
                 }
             };
             let path = p.path.clone();
@@ -270,9 +319,28 @@ impl PathView {
                     spp: p.acc.samples(),
                 };
                 *latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(shown);
+                *partial.lock().unwrap_or_else(|e| e.into_inner()) = Some(p.clone());
             }
             Some(Ok(p))
         }));
+    }
+
+    /// Keeps the samples of `key` (a frame or state the view leaves), dropping the oldest beyond
+    /// [`KEPT_FRAMES`]; none are kept of an image with no samples yet.
+    fn keep(&mut self, key: Key, kept: Kept) {
+        if kept.acc.samples() == 0 {
+            return;
+        }
+        self.kept.retain(|(k, _)| *k != key);
+        self.kept.push((key, kept));
+        if self.kept.len() > KEPT_FRAMES {
+            self.kept.remove(0);
+        }
+    }
+
+    /// How many left frames' samples are kept.
+    pub fn kept_frames(&self) -> usize {
+        self.kept.len()
     }
 
     /// Takes the job's outcome from `poll`: its samples (to go on from later) or its error.
@@ -348,9 +416,13 @@ impl PathView {
         } else {
             "converged"
         };
+        let kept = match self.kept.len() {
+            0 => String::new(),
+            n => format!(" · samples of {n} other frames kept"),
+        };
         caption(
             format!(
-                "path-traced · {spp} / {} spp · {}×{} · {state}",
+                "path-traced · {spp} / {} spp · {}×{} · {state}{kept}",
                 self.target, size[0], size[1]
             ),
             egui::Color32::WHITE,
@@ -393,6 +465,41 @@ impl PathView {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Leaving frame 0 for frame 1 keeps frame 0's samples; back on frame 0 the view goes on from them: with
+    /// `render.spp` already reached it shows the first image again bit for bit, although the scene it is
+    /// handed now has its strands moved (a restart would trace those).
+    #[test]
+    fn coming_back_to_a_frame_goes_on_from_its_samples() {
+        let overrides: Vec<String> = [
+            "scene.generator.strands=40",
+            "scene.generator.segments=4",
+            "render.spp=2",
+        ]
+        .map(String::from)
+        .to_vec();
+        let settings = Settings::load_preset("stray-strand", &overrides).unwrap();
+        let scene = settings.scene.build().unwrap();
+        let mut moved = scene.clone();
+        moved.strands.points.iter_mut().for_each(|p| p.x += 0.01);
+        let ctx = egui::Context::default();
+        let mut view = PathView::default();
+        let mut show = |view: &mut PathView, frame: u32, scene: &Scene| {
+            let scene = scene.clone();
+            view.sync(&settings, frame, (24, 18), move || Some(scene), &ctx, None);
+            view.wait(std::time::Duration::from_secs(120));
+            view.latest().expect("an image")
+        };
+        let first = show(&mut view, 0, &scene);
+        assert_eq!(first.spp, 2);
+        let other = show(&mut view, 1, &moved);
+        assert_eq!((other.spp, view.kept_frames()), (2, 1));
+        assert_ne!(other.image, first.image, "frame 1 traces the moved strands");
+        let back = show(&mut view, 0, &moved);
+        assert_eq!(back.spp, 2);
+        assert!(back.image == first.image, "frame 0's samples were traced again");
+        assert_eq!(view.kept_frames(), 1, "frame 1 kept, frame 0 shown");
+    }
 
     #[test]
     fn a_small_change_of_the_viewport_keeps_the_image_size() {

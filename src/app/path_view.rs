@@ -484,7 +484,7 @@ mod tests {
         moved.strands.points.iter_mut().for_each(|p| p.x += 0.01);
         let ctx = egui::Context::default();
         let mut view = PathView::default();
-        let mut show = |view: &mut PathView, frame: u32, scene: &Scene| {
+        let show = |view: &mut PathView, frame: u32, scene: &Scene| {
             let scene = scene.clone();
             view.sync(&settings, frame, (24, 18), move || Some(scene), &ctx, None);
             view.wait(std::time::Duration::from_secs(120));

@@ -39,6 +39,10 @@ pub enum MeasureMode {
     /// The exact reference's V(z) against ray-traced fibres in every occupied texel of the hair map: the mean,
     /// p95 and largest difference after each fragment, and the α that fits the fibres best.
     Visibility(super::measure_visibility::MeasureVisibilityArgs),
+    /// Dual scattering's constants from the preset's fibre: the forward and backward attenuations ā_f(θ), ā_b(θ)
+    /// of Chiang's BSDF by quadrature, slabs of parallel fibres path-traced at several depths, and the fitted
+    /// d_f, d_b; `fibre_constants.csv` and `.json`.
+    Fibres(super::measure_fibres::MeasureFibresArgs),
 }
 
 /// The scene and the timing, shared by every mode.
@@ -494,6 +498,7 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
         MeasureMode::Fur(a) => measure_fur(a),
         MeasureMode::Motion(a) => super::measure_motion::run(a),
         MeasureMode::Visibility(a) => super::measure_visibility::run(a),
+        MeasureMode::Fibres(a) => super::measure_fibres::run(a),
     }
 }
 

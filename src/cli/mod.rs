@@ -13,6 +13,7 @@ pub mod info;
 pub mod interrupt;
 pub mod manual;
 pub mod measure;
+pub mod measure_fibres;
 pub mod measure_motion;
 mod measure_shading;
 pub mod measure_visibility;

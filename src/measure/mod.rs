@@ -5,6 +5,7 @@
 //! pass), so what is measured is what the GPU computes.
 
 pub mod decompose;
+pub mod fibre_slab;
 pub mod fibre_visibility;
 pub mod fur;
 pub mod motion;

@@ -12,6 +12,7 @@ mod cli;
 mod compute_raster;
 mod coverage_alpha;
 mod docs;
+mod fibre_slab;
 mod fur_density;
 mod fur_gpu;
 mod fur_guard;

@@ -21,6 +21,10 @@ pub struct Parser<'a> {
     iter: Peekable<logos::SpannedIter<'a, Token<'a>>>,
     source: &'a str,
     last_span: Option<Range<usize>>,
+    /// How many dictionaries and metadata arrays enclose the value being parsed (see [`MAX_VALUE_NESTING`]).
+    value_depth: usize,
+    /// The bytes of the prim and property paths read so far (see [`MAX_PATH_BYTES`]).
+    path_bytes: usize,
 }
 
 /// Captures the line context for the most recent token consumed by the parser.
@@ -42,12 +46,113 @@ impl ErrorHighlight {
     }
 }
 
+/// Prims nested deeper than this are refused by the text parser: each prim's path holds its ancestors' names, so
+/// the work and memory of a stage grow with the square of its depth (a real groom nests a few tens of prims).
+/// Hairlab patch, like [`MAX_PATH_BYTES`] and [`MAX_VALUE_NESTING`].
+pub const MAX_PRIM_NESTING: usize = 2048;
+
+/// The most bytes the paths of a layer's prims and properties may total (16 MiB): composition keeps several copies
+/// of each path, so deep nesting with long names is refused here rather than exhausting memory later. A
+/// 2,000-deep chain of short names totals about 12 MB.
+pub const MAX_PATH_BYTES: usize = 16 << 20;
+
+/// Dictionaries and metadata arrays nested deeper than this are refused: their parser recurses, and this bound
+/// keeps it far inside a 2 MiB thread stack.
+pub const MAX_VALUE_NESTING: usize = 64;
+
+/// An open `{ … }` block of the prim hierarchy while [`Parser::read_prim`] walks it.
+enum Block {
+    /// A prim's body (`specifier` set) or a variant's body (`specifier` `None`): its spec and what it collects.
+    Body {
+        path: sdf::Path,
+        spec: sdf::SpecData,
+        specifier: Option<sdf::Specifier>,
+        children: Vec<String>,
+        properties: Vec<String>,
+        /// Properties declared only through suffixed forms (`.connect`, `.timeSamples`).
+        suffixed: Vec<String>,
+        variant_sets: Vec<String>,
+    },
+    /// A variant set's list of variants, `variantSet "name" = { … }`.
+    VariantSet {
+        prim_path: sdf::Path,
+        name: String,
+        variants: Vec<String>,
+    },
+}
+
+impl Block {
+    fn body(path: sdf::Path, spec: sdf::SpecData, specifier: Option<sdf::Specifier>) -> Block {
+        Block::Body {
+            path,
+            spec,
+            specifier,
+            children: Vec::new(),
+            properties: Vec::new(),
+            suffixed: Vec::new(),
+            variant_sets: Vec::new(),
+        }
+    }
+
+    fn path(&self) -> &sdf::Path {
+        match self {
+            Block::Body { path, .. } => path,
+            Block::VariantSet { prim_path, .. } => prim_path,
+        }
+    }
+
+    /// Stores the closed block's spec in `data`; a variant set returns its name for its prim's list.
+    fn finish(self, data: &mut HashMap<sdf::Path, sdf::SpecData>) -> Option<String> {
+        match self {
+            Block::Body {
+                path,
+                mut spec,
+                specifier,
+                children,
+                mut properties,
+                suffixed,
+                variant_sets,
+            } => {
+                for name in suffixed {
+                    push_unique(&mut properties, &name);
+                }
+                if !children.is_empty() {
+                    spec.add(ChildrenKey::PrimChildren, sdf::Value::token_vec(children));
+                }
+                if let Some(specifier) = specifier {
+                    spec.add(FieldKey::Specifier, sdf::Value::Specifier(specifier));
+                }
+                if !properties.is_empty() {
+                    spec.add(ChildrenKey::PropertyChildren, sdf::Value::token_vec(properties));
+                }
+                if !variant_sets.is_empty() {
+                    spec.add(ChildrenKey::VariantSetChildren, sdf::Value::token_vec(variant_sets));
+                }
+                data.insert(path, spec);
+                None
+            }
+            Block::VariantSet {
+                prim_path,
+                name,
+                variants,
+            } => {
+                let mut spec = sdf::SpecData::new(sdf::SpecType::VariantSet);
+                spec.add(ChildrenKey::VariantChildren, sdf::Value::token_vec(variants));
+                data.insert(prim_path.append_variant_selection(&name, ""), spec);
+                Some(name)
+            }
+        }
+    }
+}
+
 impl<'a> Parser<'a> {
     pub fn new(data: &'a str) -> Self {
         Self {
             iter: Token::lexer(data).spanned().peekable(),
             source: data,
             last_span: None,
+            value_depth: 0,
+            path_bytes: 0,
         }
     }
 
@@ -319,13 +424,132 @@ impl<'a> Parser<'a> {
         Ok(root)
     }
 
-    /// Parse a prim declaration, capture its metadata, and recursively traverse nested prims/props.
+    /// Parse a prim declaration and everything nested in it: its metadata, properties, child prims, variant sets
+    /// and their variants. The hierarchy is walked with an explicit stack of open blocks ([`Block`]), not by
+    /// recursion, so a deeply nested file cannot overflow the thread's stack; prims nested deeper than
+    /// [`MAX_PRIM_NESTING`] are refused (the cost of a prim grows with its path, and so with its depth).
     fn read_prim(
         &mut self,
         current_path: &sdf::Path,
         parent_children: &mut Vec<String>,
         data: &mut HashMap<sdf::Path, sdf::SpecData>,
     ) -> Result<()> {
+        let mut stack = vec![self.read_prim_head(current_path, parent_children)?];
+        // The number of prim and variant bodies open on the stack.
+        let mut bodies = 1;
+        while let Some(top) = stack.last_mut() {
+            let opened = match top {
+                Block::Body {
+                    path,
+                    spec,
+                    children,
+                    properties,
+                    suffixed,
+                    ..
+                } => {
+                    if self.try_consume(Token::Punctuation('}')) {
+                        None
+                    } else {
+                        match self
+                            .peek_next()
+                            .context("Unexpected end of prim body")?
+                            .as_ref()
+                            .map_err(|e| anyhow!("{e:?}"))?
+                        {
+                            Token::Def | Token::Over | Token::Class => Some(Some(self.read_prim_head(path, children)?)),
+                            Token::VariantSet => {
+                                self.fetch_next()?; // consume `variantSet`
+                                let name = self.fetch_str().context("Expected variant set name")?.to_string();
+                                self.ensure_pun('=')?;
+                                self.ensure_pun('{')?;
+                                Some(Some(Block::VariantSet {
+                                    prim_path: path.clone(),
+                                    name,
+                                    variants: Vec::new(),
+                                }))
+                            }
+                            Token::Rel => {
+                                self.fetch_next()?;
+                                self.read_relationship(path, false, properties, data, None)?;
+                                Some(None)
+                            }
+                            Token::Reorder => {
+                                self.read_reorder(spec)?;
+                                Some(None)
+                            }
+                            _ => {
+                                self.read_attribute(path, properties, suffixed, data)?;
+                                Some(None)
+                            }
+                        }
+                    }
+                }
+                Block::VariantSet {
+                    prim_path,
+                    name,
+                    variants,
+                } => {
+                    if self.try_consume(Token::Punctuation('}')) {
+                        None
+                    } else {
+                        // Each variant: "name" (metadata) { body }, stored at `/{prim}{set=name}`.
+                        let variant_name = self.fetch_str().context("Expected variant name")?.to_string();
+                        let path = prim_path.append_variant_selection(name, &variant_name);
+                        variants.push(variant_name);
+                        let mut spec = sdf::SpecData::new(sdf::SpecType::Variant);
+                        if self.is_next(Token::Punctuation('(')) {
+                            self.parse_block('(', ')', |this| {
+                                this.read_prim_metadata_entry(&mut spec)
+                                    .context("Unable to parse variant metadata entry")
+                            })?;
+                        }
+                        self.ensure_pun('{')?;
+                        Some(Some(Block::body(path, spec, None)))
+                    }
+                }
+            };
+            match opened {
+                // A property, relationship or reorder statement was read (its path is about its prim's).
+                Some(None) => {
+                    let prim_path = stack.last().map_or(0, |b| b.path().as_str().len());
+                    self.count_path_bytes(prim_path)?;
+                    self.skip_separators();
+                }
+                Some(Some(block)) => {
+                    self.count_path_bytes(block.path().as_str().len())?;
+                    if matches!(block, Block::Body { .. }) {
+                        ensure!(
+                            bodies < MAX_PRIM_NESTING,
+                            "prims nested more than {MAX_PRIM_NESTING} deep (prim {:?}); at most \
+                             {MAX_PRIM_NESTING} nested prims are read",
+                            block.path().name().unwrap_or_default()
+                        );
+                        bodies += 1;
+                    }
+                    stack.push(block);
+                }
+                // The top block's closing `}` was read.
+                None => {
+                    let Some(block) = stack.pop() else { break };
+                    if matches!(block, Block::Body { .. }) {
+                        bodies -= 1;
+                    }
+                    let set_name = block.finish(data);
+                    if let (Some(name), Some(Block::Body { variant_sets, .. })) = (set_name, stack.last_mut()) {
+                        variant_sets.push(name);
+                    }
+                    if !stack.is_empty() {
+                        self.skip_separators();
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads a prim's declaration up to and including the `{` of its body: specifier, type, name (appended to
+    /// `parent_children`) and metadata.
+    fn read_prim_head(&mut self, parent: &sdf::Path, parent_children: &mut Vec<String>) -> Result<Block> {
         let mut spec = sdf::SpecData::new(sdf::SpecType::Prim);
 
         let specifier = {
@@ -348,9 +572,7 @@ impl<'a> Parser<'a> {
             bail!("Expected prim name string, got {name_token:?}");
         };
         parent_children.push(name.to_string());
-        let prim_path = current_path.append_path(name)?;
-
-        let mut properties = Vec::new();
+        let prim_path = parent.append_path(name)?;
 
         // Optional metadata block.
         if self.is_next(Token::Punctuation('(')) {
@@ -359,76 +581,36 @@ impl<'a> Parser<'a> {
                     .context("Unable to parse prim metadata entry")
             })?;
         }
+        self.ensure_pun('{')?;
+        Ok(Block::body(prim_path, spec, Some(specifier)))
+    }
 
-        let (children, props, variant_sets) = self.read_prim_body(&prim_path, &mut spec, data)?;
-        if !children.is_empty() {
-            spec.add(ChildrenKey::PrimChildren, sdf::Value::token_vec(children));
-        }
-        properties.extend(props);
-
-        spec.add(FieldKey::Specifier, sdf::Value::Specifier(specifier));
-        if !properties.is_empty() {
-            spec.add(ChildrenKey::PropertyChildren, sdf::Value::token_vec(properties));
-        }
-        if !variant_sets.is_empty() {
-            spec.add(ChildrenKey::VariantSetChildren, sdf::Value::token_vec(variant_sets));
-        }
-        data.insert(prim_path, spec);
-
+    /// Adds `len` path bytes to the layer's total, refusing to go past [`MAX_PATH_BYTES`].
+    fn count_path_bytes(&mut self, len: usize) -> Result<()> {
+        self.path_bytes = self.path_bytes.saturating_add(len);
+        ensure!(
+            self.path_bytes <= MAX_PATH_BYTES,
+            "the paths of the prims and properties total more than {MAX_PATH_BYTES} bytes (prims nested deep \
+             under long names); at most {MAX_PATH_BYTES} bytes of paths are read"
+        );
         Ok(())
     }
 
-    /// Parse the body of a prim or variant (`{ ... }`).
-    ///
-    /// Returns the child prim names and property names found in the body.
-    /// `owner_spec` is the in-progress prim/variant spec that owns this body;
-    /// `reorder` statements write `primOrder`/`propertyOrder` directly into it.
-    fn read_prim_body(
-        &mut self,
-        path: &sdf::Path,
-        owner_spec: &mut sdf::SpecData,
-        data: &mut HashMap<sdf::Path, sdf::SpecData>,
-    ) -> Result<(Vec<String>, Vec<String>, Vec<String>)> {
-        let mut children = Vec::new();
-        let mut properties = Vec::new();
-        let mut suffixed_properties = Vec::<String>::new();
-        let mut variant_sets = Vec::new();
+    /// Runs `parse` one value nesting level deeper, refusing to go past [`MAX_VALUE_NESTING`].
+    fn nested<T>(&mut self, parse: impl FnOnce(&mut Self) -> Result<T>) -> Result<T> {
+        ensure!(
+            self.value_depth < MAX_VALUE_NESTING,
+            "values (dictionaries, arrays) nested more than {MAX_VALUE_NESTING} deep"
+        );
+        self.value_depth += 1;
+        let parsed = parse(self);
+        self.value_depth -= 1;
+        parsed
+    }
 
-        self.parse_block('{', '}', |this| {
-            match this
-                .peek_next()
-                .context("Unexpected end of prim body")?
-                .as_ref()
-                .map_err(|e| anyhow!("{e:?}"))?
-            {
-                Token::Def | Token::Over | Token::Class => {
-                    this.read_prim(path, &mut children, data)?;
-                }
-                Token::VariantSet => {
-                    let name = this.read_variant_set(path, data)?;
-                    variant_sets.push(name);
-                }
-                Token::Rel => {
-                    this.fetch_next()?;
-                    this.read_relationship(path, false, &mut properties, data, None)?;
-                }
-                Token::Reorder => {
-                    this.read_reorder(owner_spec)?;
-                }
-                _ => {
-                    this.read_attribute(path, &mut properties, &mut suffixed_properties, data)?;
-                }
-            }
-            Ok(())
-        })?;
-
-        // Append properties that were only declared via suffixed forms
-        // (e.g. `.connect`, `.timeSamples`) and never had a bare declaration.
-        for name in suffixed_properties {
-            push_unique(&mut properties, &name);
-        }
-
-        Ok((children, properties, variant_sets))
+    /// Consumes the separators (`,`, `;`) between the entries of a block.
+    fn skip_separators(&mut self) {
+        while self.try_consume(Token::Punctuation(',')) || self.try_consume(Token::Punctuation(';')) {}
     }
 
     /// Parse `reorder nameChildren = [...]`, `reorder properties = [...]`, or
@@ -455,63 +637,6 @@ impl<'a> Parser<'a> {
         owner_spec.add(field_key, sdf::Value::token_vec(names));
 
         Ok(())
-    }
-
-    /// Parse a `variantSet "name" = { "variant1" (...) { ... } ... }` block.
-    ///
-    /// Each variant inside the set is represented as a child prim under a variant set
-    /// spec in the scene hierarchy: `/{prim}{vset=name}{variant}`.
-    fn read_variant_set(
-        &mut self,
-        prim_path: &sdf::Path,
-        data: &mut HashMap<sdf::Path, sdf::SpecData>,
-    ) -> Result<String> {
-        self.fetch_next()?; // consume `variantSet`
-
-        let name = self.fetch_str().context("Expected variant set name")?.to_string();
-        self.ensure_pun('=')?;
-
-        // Create the variant set spec.
-        let vset_path = prim_path.append_variant_selection(&name, "");
-        let mut vset_spec = sdf::SpecData::new(sdf::SpecType::VariantSet);
-        let mut variant_children = Vec::new();
-
-        // Parse each variant: "VariantName" (...) { ... }
-        self.parse_block('{', '}', |this| {
-            let variant_name = this.fetch_str().context("Expected variant name")?.to_string();
-
-            variant_children.push(variant_name.clone());
-
-            let variant_path = prim_path.append_variant_selection(&name, &variant_name);
-            let mut variant_spec = sdf::SpecData::new(sdf::SpecType::Variant);
-
-            // Optional metadata block.
-            if this.is_next(Token::Punctuation('(')) {
-                this.parse_block('(', ')', |this| {
-                    this.read_prim_metadata_entry(&mut variant_spec)
-                        .context("Unable to parse variant metadata entry")
-                })?;
-            }
-
-            // Variant body.
-            let (children, properties, variant_sets) = this.read_prim_body(&variant_path, &mut variant_spec, data)?;
-            if !children.is_empty() {
-                variant_spec.add(ChildrenKey::PrimChildren, sdf::Value::token_vec(children));
-            }
-            if !properties.is_empty() {
-                variant_spec.add(ChildrenKey::PropertyChildren, sdf::Value::token_vec(properties));
-            }
-            if !variant_sets.is_empty() {
-                variant_spec.add(ChildrenKey::VariantSetChildren, sdf::Value::token_vec(variant_sets));
-            }
-            data.insert(variant_path, variant_spec);
-            Ok(())
-        })?;
-
-        vset_spec.add(ChildrenKey::VariantChildren, sdf::Value::token_vec(variant_children));
-        data.insert(vset_path, vset_spec);
-
-        Ok(name)
     }
 
     /// Merge a spec's fields into an existing spec at the given path, or insert it.
@@ -756,9 +881,11 @@ impl<'a> Parser<'a> {
         // into the most specific Vec variant that fits all elements.
         if self.is_next(Token::Punctuation('[')) {
             let mut values = Vec::new();
-            self.parse_block('[', ']', |this| {
-                values.push(this.parse_property_metadata_value()?);
-                Ok(())
+            self.nested(|this| {
+                this.parse_block('[', ']', |this| {
+                    values.push(this.parse_property_metadata_value()?);
+                    Ok(())
+                })
             })?;
 
             // Infer the array type from the first element.
@@ -813,6 +940,10 @@ impl<'a> Parser<'a> {
 
     /// Parse a dictionary value from `{` to `}`.
     fn parse_dictionary(&mut self) -> Result<sdf::Value> {
+        self.nested(Self::parse_dictionary_entries)
+    }
+
+    fn parse_dictionary_entries(&mut self) -> Result<sdf::Value> {
         let mut dict = HashMap::new();
 
         self.parse_block('{', '}', |this| {

@@ -34,6 +34,13 @@ use std::ops::Deref;
 use std::path::{Component, Path, PathBuf};
 use std::time::SystemTime;
 
+mod regular;
+
+pub(crate) use regular::read_entry;
+pub use regular::{
+    max_asset_bytes, open_regular_file, refuse_special_file, set_max_asset_bytes, RegularFile, DEFAULT_MAX_ASSET_BYTES,
+};
+
 /// A resolved asset path representing the physical location of an asset.
 ///
 /// This is a newtype around a [`PathBuf`] that distinguishes resolved paths
@@ -408,16 +415,14 @@ impl Resolver for DefaultResolver {
             })?;
 
             let mut archive = open_package_archive(Path::new(&package))?;
-            let mut entry = archive.by_name(&inner).map_err(io::Error::other)?;
-
-            let mut buffer = Vec::new();
-            entry.read_to_end(&mut buffer)?;
+            let entry = archive.by_name(&inner).map_err(io::Error::other)?;
+            let declared = entry.size();
+            let buffer = regular::read_entry(entry, declared, resolved_path)?;
 
             return Ok(Box::new(io::Cursor::new(buffer)));
         }
 
-        let file = fs::File::open(&**resolved_path)?;
-        Ok(Box::new(file))
+        Ok(Box::new(open_regular_file(resolved_path)?))
     }
 }
 
@@ -467,7 +472,7 @@ fn normalize_search_path(path: PathBuf) -> PathBuf {
 /// Shared by [`DefaultResolver::open_asset`], which then extracts an entry, and
 /// [`package_contains`], which only checks an entry's presence.
 fn open_package_archive(package: &Path) -> io::Result<zip::ZipArchive<fs::File>> {
-    let file = fs::File::open(package)?;
+    let file = open_regular_file(package)?.into_file();
     zip::ZipArchive::new(file).map_err(io::Error::other)
 }
 

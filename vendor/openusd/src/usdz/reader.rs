@@ -26,7 +26,9 @@ impl Archive<File> {
     /// Opens a USDZ archive from a file path.
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let file = File::open(path).with_context(|| format!("Failed to open USDZ archive: {}", path.display()))?;
+        let file = ar::open_regular_file(path)
+            .with_context(|| format!("Failed to open USDZ archive: {}", path.display()))?
+            .into_file();
         let archive =
             ZipArchive::new(file).with_context(|| format!("Failed to read ZIP archive: {}", path.display()))?;
         Ok(Self { archive })
@@ -74,13 +76,13 @@ impl<R: Read + Seek> Archive<R> {
     ///
     /// NOTE: Nested USDZ files are not yet supported.
     pub fn read(&mut self, file_path: &str) -> Result<Box<dyn sdf::AbstractData>> {
-        let mut file = self
+        let file = self
             .archive
             .by_name(file_path)
             .with_context(|| format!("File '{}' not found in archive", file_path))?;
 
-        let mut buffer = Vec::new();
-        file.read_to_end(&mut buffer)
+        let declared = file.size();
+        let buffer = ar::read_entry(file, declared, Path::new(file_path))
             .with_context(|| format!("Failed to read file '{}' from archive", file_path))?;
 
         if file_path.ends_with(".usdz") {

@@ -31,10 +31,16 @@ use super::prim_graph::ArcType;
 use super::prim_index::{
     AncestorArc, CompositionContext, Demand, PrimIndex, PropertyTargetKind, TargetMemo, TargetMemoKey,
 };
-use super::prim_indexer::ExprVarDeps;
+use super::prim_indexer::{ExprVarDeps, MAX_ARC_DEPTH};
 use super::prim_resolve::InvalidTargetKind;
 use super::relocates::{apply_child_relocates, chain_through_relocates, effective_relocates};
 use super::{Error, LayerId, MapFunction, StackIdentity, VariantFallbackMap};
+
+/// The most prim-index builds nested in one another (pre-caching a class
+/// builds its index, which pre-caches the classes it inherits, …): a deeper
+/// one is deferred, so the thread's stack (2 MiB on a test thread) cannot
+/// overflow on a long chain of classes (hairlab patch).
+const MAX_NESTED_BUILDS: usize = 64;
 
 /// What [`IndexCache::edit_target_node_info`] reports for an arc node: the target
 /// layer's identifier, the node's spec-to-scene mapping, and the value identity
@@ -1891,17 +1897,35 @@ impl IndexCache {
     }
 
     /// Pre-caches inherit/specialize targets declared in the prim's layer
-    /// data. Reads inherit paths from each layer, resolves them to composed
-    /// namespace using ancestor arcs, and ensures those targets are cached.
+    /// data, and theirs in turn, depth first. Each target's own targets are
+    /// walked once (an explicit stack, not recursion), so a cycle of classes
+    /// (`A` inherits `B` inherits `A`) or a long chain of them ends.
     fn precache_inherit_targets(&mut self, graph: &LayerGraph, path: &Path) {
+        let mut walked = HashSet::from([path.clone()]);
+        let mut stack = vec![self.inherit_targets(graph, path).into_iter()];
+        while let Some(targets) = stack.last_mut() {
+            let Some(target) = targets.next() else {
+                stack.pop();
+                continue;
+            };
+            self.precache_path(graph, &target);
+            // Targets further than an arc chain can reach are not composed.
+            if stack.len() < MAX_ARC_DEPTH && self.is_indexed(&target) && walked.insert(target.clone()) {
+                let next = self.inherit_targets(graph, &target);
+                stack.push(next.into_iter());
+            }
+        }
+    }
+
+    /// The inherit/specialize targets declared for `path` in its parent's
+    /// composition nodes, resolved to composed namespace using ancestor arcs.
+    fn inherit_targets(&self, graph: &LayerGraph, path: &Path) -> Vec<Path> {
         let Some(parent) = path.parent() else {
-            return;
+            return Vec::new();
         };
         let Some(parent_index) = self.store.index_at(&parent) else {
-            return;
+            return Vec::new();
         };
-
-        let ancestor_arcs = self.collect_ancestor_arcs(&parent);
 
         // Scan each parent composition node for inherit/specialize targets: the
         // parent's own path in that node's namespace, and the prim's path there
@@ -1921,6 +1945,8 @@ impl IndexCache {
             }
         }
 
+        // The ancestor arcs cost a walk up the path: gathered only for a prim that declares a target.
+        let mut ancestor_arcs = None;
         let mut targets_to_cache = Vec::new();
         for (scan_path, scan_layer) in &nodes_to_scan {
             for field in [FieldKey::InheritPaths, FieldKey::Specializes] {
@@ -1937,7 +1963,8 @@ impl IndexCache {
                     // composed parent would mis-resolve `../` targets by a level.
                     let raw = scan_path.make_absolute(target);
                     // Try composed-namespace versions via ancestor arcs.
-                    for a in &ancestor_arcs {
+                    let ancestor_arcs = ancestor_arcs.get_or_insert_with(|| self.collect_ancestor_arcs(&parent));
+                    for a in ancestor_arcs.iter() {
                         if let Some(composed) = a.map.map_source_to_target(&raw) {
                             if composed != raw && !targets_to_cache.contains(&composed) {
                                 targets_to_cache.push(composed);
@@ -1951,13 +1978,7 @@ impl IndexCache {
             }
         }
 
-        for target in targets_to_cache {
-            self.precache_path(graph, &target);
-            // Recursively precache the target's own inherit targets.
-            if self.is_indexed(&target) {
-                self.precache_inherit_targets(graph, &target);
-            }
-        }
+        targets_to_cache
     }
 
     // ------------------------------------------------------------------
@@ -1982,13 +2003,18 @@ impl IndexCache {
         // so every strict ancestor is checked, not just the parent. Defer without
         // caching an under-seeded result; a later query composes it correctly once
         // the ancestor is cached, and the cycle-closing arc finds no cached target.
-        if path.strict_ancestors().any(|a| self.in_progress.contains(&a)) {
+        // (Checked against the few in-progress paths rather than by walking the path's ancestors, which would cost
+        // the square of the depth per prim.)
+        if self.in_progress.iter().any(|a| a != path && path.has_prefix(a)) {
             return Ok(());
         }
         // A re-entrant call for a path already mid-build is a class-hierarchy
         // cycle reached through inherit/specialize pre-caching. Bail out: the
         // outer build finishes, and the cycle-closing arc finds no cached target.
-        if !self.in_progress.insert(path.clone()) {
+        // Builds nested through pre-caching a chain of classes are deferred the
+        // same way past `MAX_NESTED_BUILDS`, so a long chain cannot overflow
+        // the thread's stack (hairlab patch).
+        if self.in_progress.len() >= MAX_NESTED_BUILDS || !self.in_progress.insert(path.clone()) {
             return Ok(());
         }
         let result = self.build_index(graph, path);

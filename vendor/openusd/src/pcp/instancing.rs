@@ -214,6 +214,10 @@ impl PrototypeRegistry {
     /// Passing the queried prim starts the walk inclusively; passing its parent
     /// excludes the prim itself.
     fn enclosing_root(&self, start: Option<&Path>) -> Option<Path> {
+        // No prototype (no instancing): no walk up a deep path per query.
+        if self.by_root.is_empty() {
+            return None;
+        }
         self.by_root.nearest_ancestor(start?).map(|(root, _)| root.clone())
     }
 
@@ -555,6 +559,12 @@ impl IndexCache {
             }
             if self.is_instance(graph, &current)? {
                 return Ok(Some(current));
+            }
+            // An ancestor memoized as composing in place has no enclosing
+            // instance itself, so none is above it: the walk ends there (a
+            // top-down traversal then pays O(1) ancestors per prim, not O(d)).
+            if self.redirected_prims.get(&current) == Some(&current) {
+                break;
             }
             ancestor = current.parent();
         }

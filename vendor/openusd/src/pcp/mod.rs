@@ -427,7 +427,7 @@ pub enum Error {
     /// closing the cycle is dropped so the rest of the prim still composes;
     /// `.0.hops` is the chain of arcs from the composing prim to the cycle-closing
     /// (CANNOT) arc, for the diagnostic.
-    #[error("composition arc cycle at {}", .0.composing)]
+    #[error("composition arc cycle at {} in @{}@: {}; the closing arc is dropped", .0.composing, .0.root_layer, .0.hops_text())]
     ArcCycle(CycleChain),
 
     /// A layer referenced by a composition arc was not found among loaded layers
@@ -441,6 +441,23 @@ pub enum Error {
         /// Identifier of the layer that authored the arc.
         introduced_by: String,
         /// The prim path where the arc was authored.
+        site_path: Path,
+    },
+
+    /// An arc lying more than [`MAX_ARC_DEPTH`](prim_indexer::MAX_ARC_DEPTH)
+    /// arcs deep under the prim being composed (a long chain of references,
+    /// payloads, inherits or specializes) is dropped, so composition stays
+    /// bounded (hairlab patch).
+    #[error(
+        "{arc:?} arc to {target} dropped while composing {site_path}: more than {} arcs deep",
+        prim_indexer::MAX_ARC_DEPTH
+    )]
+    ArcTooDeep {
+        /// The composition arc type.
+        arc: ArcType,
+        /// What the arc points at (`<path>` or `@asset@<path>`).
+        target: String,
+        /// The prim being composed.
         site_path: Path,
     },
 
@@ -839,6 +856,19 @@ pub struct CycleChain {
     /// Each arc in the cycle chain, in order; the final entry is the dropped,
     /// cycle-closing arc.
     pub hops: Vec<CycleHop>,
+}
+
+impl CycleChain {
+    /// The chain as one line, e.g. `Inherit </B> in @a.usda@ → Inherit </A> in @a.usda@` (hairlab patch: the
+    /// error names the files and prim paths of the cycle).
+    pub fn hops_text(&self) -> String {
+        let hops: Vec<String> = self
+            .hops
+            .iter()
+            .map(|h| format!("{:?} <{}> in @{}@", h.arc, h.path, h.layer))
+            .collect();
+        hops.join(" → ")
+    }
 }
 
 /// One arc in a composition cycle chain ([`CycleChain::hops`]): the arc type and

@@ -110,6 +110,14 @@ use super::{CycleChain, CycleHop, Error, ExpressionContext, LayerGraph, LayerId}
 /// composing to an empty prim index. Matches C++ `MAX_COMPOSITION_DEPTH`.
 const MAX_DEPTH: usize = 100;
 
+/// The most arcs (references, payloads, inherits, specializes, variants) chained under
+/// the prim being composed: a deeper arc is dropped with
+/// [`Error::ArcTooDeep`], so a long chain (a class inheriting a class
+/// inheriting …, a reference to a file referencing a file …) composes in
+/// bounded time and memory, each prim's index holding at most this many
+/// arcs deep (hairlab patch).
+pub const MAX_ARC_DEPTH: usize = 32;
+
 pub(crate) type BuildResult<T> = std::result::Result<T, BuildError>;
 
 /// The expression-variable names a prim build's `${VAR}` evaluations read,
@@ -2004,6 +2012,9 @@ impl<'a, 'f> Indexer<'a, 'f> {
     /// keeps the node's deeper path below it, and composes the result as a
     /// sub-index with ancestral opinions before grafting it.
     fn add_variant_arc(&mut self, node: NodeId, vt: &VariantTask, vsel: &str, is_ancestral: bool) -> BuildResult<()> {
+        if self.arc_too_deep(node, ArcType::Variant, || format!("{{{}={vsel}}}", vt.vset_name)) {
+            return Ok(());
+        }
         if is_ancestral {
             return self.add_ancestral_variant_arc(node, vt, vsel);
         }
@@ -2146,6 +2157,9 @@ impl<'a, 'f> Indexer<'a, 'f> {
         implied: bool,
     ) -> BuildResult<Option<NodeId>> {
         let parent_path = self.node(parent).path.clone();
+        if self.arc_too_deep(parent, arc, || format!("<{}>", parent_path)) {
+            return Ok(None);
+        }
         // Map the parent site back across the arc to find the site to inherit.
         // An empty result means there is no appropriate site (the parent is
         // outside the arc's co-domain); that is not an error, just no node.
@@ -2620,6 +2634,36 @@ impl<'a, 'f> Indexer<'a, 'f> {
         Ok(())
     }
 
+    /// Whether an arc added under `parent` would lie more than
+    /// [`MAX_ARC_DEPTH`] arcs deep (counting the nested sub-builds above this
+    /// one); if so the arc is recorded as [`Error::ArcTooDeep`], `target`
+    /// naming what it points at, and the caller drops it.
+    fn arc_too_deep(&mut self, parent: NodeId, arc: ArcType, target: impl FnOnce() -> String) -> bool {
+        // The chain is walked through each node's origin (its parent for a
+        // direct arc, the node it was copied from for an implied class or a
+        // specializes propagated to the root, which would otherwise flatten a
+        // chain of specializes), at most one step past the limit.
+        let mut depth = self.frame_depth;
+        let mut node = Some(parent);
+        while let Some(id) = node {
+            depth += 1;
+            if depth > MAX_ARC_DEPTH {
+                break;
+            }
+            let n = self.node(id);
+            node = n.origin().or(n.parent());
+        }
+        if depth <= MAX_ARC_DEPTH {
+            return false;
+        }
+        self.errors.push(Error::ArcTooDeep {
+            arc,
+            target: target(),
+            site_path: self.site.path.clone(),
+        });
+        true
+    }
+
     /// Resolves a reference or payload to its target layer stack, adds the target
     /// node under `parent`, and enqueues that node's own reference/payload tasks
     /// (C++ `_AddArc` for an arc without ancestral opinions).
@@ -2637,6 +2681,9 @@ impl<'a, 'f> Indexer<'a, 'f> {
     ) -> BuildResult<()> {
         let is_internal = asset_path.is_empty();
         let parent_path = self.node(parent).path.clone();
+        if self.arc_too_deep(parent, arc, || format!("@{asset_path}@<{prim_path}>")) {
+            return Ok(());
+        }
         // A reference/payload prim path must be a plain prim path — one carrying
         // a variant selection is invalid (C++ `_EvalRefOrPayloadArcs`'s
         // `PcpErrorInvalidPrimPath` validation). The text parser rejects it at

@@ -105,6 +105,20 @@ impl Default for LayerRegistry {
     }
 }
 
+/// A layer whose sublayers [`LayerRegistry::open_sublayers`] is opening.
+struct SublayerFrame {
+    identifier: String,
+    resolved: ar::ResolvedPath,
+    /// Its `subLayers` entries not yet opened.
+    sub_paths: std::vec::IntoIter<String>,
+    /// Failed sublayer identifiers already reported for *this* layer, so a
+    /// layer that authors the same missing/unreadable sublayer twice reports it
+    /// once. Kept per referrer (not shared with the pass-wide `visited`) so a
+    /// failure suppressed here never hides the same sublayer's diagnostic at
+    /// another, active referrer.
+    failed: HashSet<String>,
+}
+
 impl LayerRegistry {
     /// A registry resolving asset paths through `resolver`.
     pub fn new(resolver: Box<dyn ar::Resolver>) -> Self {
@@ -367,6 +381,11 @@ impl LayerRegistry {
     /// [`matches_content`](sdf::FileFormat::matches_content) (the crate magic),
     /// falling back to text. C++ `SdfFileFormat::FindByExtension` + `CanRead`.
     fn read(&self, resolved: &ar::ResolvedPath) -> Result<sdf::LayerData> {
+        // A device, named pipe or folder is named as such whatever its name
+        // (hairlab patch; the resolver's open checks again).
+        if !ar::is_package_relative_path(&resolved.to_string_lossy()) {
+            ar::refuse_special_file(resolved)?;
+        }
         let ext = resolved.extension();
         let format = if ext.eq_ignore_ascii_case("usd") {
             // TODO(perf): the chosen format re-opens the asset in `read`; only
@@ -395,7 +414,7 @@ impl LayerRegistry {
         Ok(prefix)
     }
 
-    /// Emits an already-read layer and recursively opens its sublayers.
+    /// Emits an already-read layer and opens its sublayers, theirs in turn, depth first.
     ///
     /// `identifier`, `resolved`, and `data` are this layer's canonical
     /// identifier, resolved location, and parsed contents — read by the caller
@@ -421,29 +440,16 @@ impl LayerRegistry {
         visited: &mut HashSet<String>,
         layers: &mut Vec<sdf::Layer>,
     ) -> Result<()> {
-        let sub_paths = Self::sublayer_paths(data.as_ref());
-
-        // Emit this layer ahead of its sublayers so the collected stack is
-        // strongest-first: a layer overrides the layers it sublayers, and earlier
-        // entries in a `subLayers` list override later ones (spec 10.3.1.1). In a
-        // reload pass an already-interned layer is re-walked (to reach a `${VAR}`
-        // sublayer the new context now resolves) but not re-emitted.
-        if !already_present(&identifier) {
-            layers.push(sdf::Layer::new_resolved(identifier.clone(), &resolved, data));
-        }
-
-        // Failed sublayer identifiers already reported for *this* layer, so a layer
-        // that authors the same missing/unreadable sublayer twice reports it once.
-        // Kept per referrer (not shared with the pass-wide `visited`) so a failure
-        // suppressed here never hides the same sublayer's diagnostic at another,
-        // active referrer.
-        let mut failed: HashSet<String> = HashSet::new();
-
-        // Sublayers (and references) reached from inside a `.usdz` resolve
-        // in-package: a package root is anchored to its first layer, so this
-        // layer's `resolved` is already package-relative and its sublayer paths
-        // anchor against it the same way any other layer's do.
-        for sub_path in sub_paths {
+        // The subtree is walked depth first with an explicit stack of the layers
+        // whose sublayers are being opened (not by recursion), so a long chain of
+        // sublayers cannot overflow the thread's stack.
+        let mut stack = vec![Self::enter_layer(identifier, resolved, data, already_present, layers)];
+        while let Some(frame) = stack.last_mut() {
+            let Some(sub_path) = frame.sub_paths.next() else {
+                stack.pop();
+                continue;
+            };
+            let (identifier, resolved, failed) = (&frame.identifier, &frame.resolved, &mut frame.failed);
             // Evaluate an expression-valued sublayer path. An unevaluable
             // expression drops only this sublayer — like an unresolved or
             // unreadable one — rather than failing the whole stack open. It has no
@@ -471,11 +477,11 @@ impl LayerRegistry {
                 sub_path
             };
 
-            let sub_id = self.create_identifier(&sub_asset, Some(&resolved));
+            let sub_id = self.create_identifier(&sub_asset, Some(resolved));
             // A sublayer already opened this pass is skipped. One already in the
             // graph is skipped too — except in a reload pass, where it is re-walked
             // to reach the `${VAR}` sublayers the new context now resolves below it
-            // (it is not re-emitted; see the push above). A failure this layer
+            // (it is not re-emitted; see `enter_layer`). A failure this layer
             // already reported is skipped too. An empty/degenerate identifier falls
             // through to the resolve below as `UnresolvedAsset`.
             if visited.contains(&sub_id) || failed.contains(&sub_id) || (already_present(&sub_id) && !reload) {
@@ -511,23 +517,43 @@ impl LayerRegistry {
                 }
             };
             // A readable layer is interned and its subtree walked once; claim it in
-            // `visited` before recursing so a diamond or cycle does not re-emit it.
+            // `visited` before descending so a diamond or cycle does not re-emit it.
             visited.insert(sub_id.clone());
-
-            self.open_sublayers(
+            stack.push(Self::enter_layer(
                 sub_id,
                 sub_resolved,
                 sub_data,
-                stack_vars,
-                reload,
-                on_error,
                 already_present,
-                visited,
                 layers,
-            )?;
+            ));
         }
-
         Ok(())
+    }
+
+    /// Emits an already-read layer ahead of its sublayers, so the collected
+    /// stack is strongest-first: a layer overrides the layers it sublayers, and
+    /// earlier entries in a `subLayers` list override later ones (spec
+    /// 10.3.1.1). In a reload pass an already-interned layer is re-walked (to
+    /// reach a `${VAR}` sublayer the new context now resolves) but not
+    /// re-emitted. Returns the layer's frame for the walk in
+    /// [`open_sublayers`](Self::open_sublayers).
+    fn enter_layer(
+        identifier: String,
+        resolved: ar::ResolvedPath,
+        data: sdf::LayerData,
+        already_present: &dyn Fn(&str) -> bool,
+        layers: &mut Vec<sdf::Layer>,
+    ) -> SublayerFrame {
+        let sub_paths = Self::sublayer_paths(data.as_ref()).into_iter();
+        if !already_present(&identifier) {
+            layers.push(sdf::Layer::new_resolved(identifier.clone(), &resolved, data));
+        }
+        SublayerFrame {
+            identifier,
+            resolved,
+            sub_paths,
+            failed: HashSet::new(),
+        }
     }
 
     /// A layer's `subLayers` asset paths (empty when it declares none).

@@ -200,21 +200,32 @@ impl<V> PathTable<V> {
         removed
     }
 
-    /// Removes `root` and its descendants during a single depth-first walk,
-    /// collecting the value-bearing `(path, value)` pairs into `out`.
+    /// Removes `root` and its descendants during a single depth-first walk
+    /// (an explicit stack, so a deep namespace cannot overflow the thread's),
+    /// collecting the value-bearing `(path, value)` pairs into `out`,
+    /// descendants before their ancestors.
     fn remove_subtree_into(&mut self, root: &Path, out: &mut Vec<(Path, V)>) {
-        // Take the node out first; owning it lets the recursion borrow its
-        // child set while the table is mutated, and hands back the owned key
-        // so a value-bearing node returns its path without a clone.
-        let Some((path, node)) = self.nodes.remove_entry(root) else {
-            return;
-        };
-        for child in &node.children {
-            self.remove_subtree_into(child, out);
+        // Each entry is a removed node and its children still to visit; taking
+        // the node out hands back the owned key, so a value-bearing node
+        // returns its path without a clone.
+        let mut stack = Vec::new();
+        if let Some((path, node)) = self.nodes.remove_entry(root) {
+            stack.push((path, node.value, node.children.into_iter()));
         }
-        if let Some(value) = node.value {
-            self.len -= 1;
-            out.push((path, value));
+        while let Some((_, _, children)) = stack.last_mut() {
+            match children.next() {
+                Some(child) => {
+                    if let Some((path, node)) = self.nodes.remove_entry(&child) {
+                        stack.push((path, node.value, node.children.into_iter()));
+                    }
+                }
+                None => {
+                    if let Some((path, Some(value), _)) = stack.pop() {
+                        self.len -= 1;
+                        out.push((path, value));
+                    }
+                }
+            }
         }
     }
 
@@ -262,14 +273,17 @@ impl<V> PathTable<V> {
     /// Path references are sourced from the map's own keys so they carry the
     /// table's lifetime rather than the caller's `root` borrow.
     fn collect_subtree<'a>(&'a self, root: &Path, out: &mut Vec<(&'a Path, &'a V)>) {
-        let Some((path, node)) = self.nodes.get_key_value(root) else {
-            return;
-        };
-        if let Some(value) = &node.value {
-            out.push((path, value));
-        }
-        for child in &node.children {
-            self.collect_subtree(child, out);
+        // An explicit stack (children pushed last-first, so popped in order),
+        // so a deep namespace cannot overflow the thread's.
+        let mut stack = vec![root];
+        while let Some(at) = stack.pop() {
+            let Some((path, node)) = self.nodes.get_key_value(at) else {
+                continue;
+            };
+            if let Some(value) = &node.value {
+                out.push((path, value));
+            }
+            stack.extend(node.children.iter().rev());
         }
     }
 }

@@ -327,6 +327,17 @@ impl Prim {
         self.all_ancestors(|stage, path| Ok(stage.field::<bool>(path, sdf::FieldKey::Active)?.unwrap_or(true)))
     }
 
+    /// The prim's own composed `active` opinion (`true` when unauthored),
+    /// without its ancestors': for a walk down the namespace that only enters
+    /// active prims, where [`is_active`](Self::is_active)'s walk up every
+    /// ancestor would cost the square of the depth (hairlab patch).
+    pub fn is_active_here(&self) -> anyhow::Result<bool> {
+        Ok(self
+            .stage
+            .field::<bool>(&self.path, sdf::FieldKey::Active)?
+            .unwrap_or(true))
+    }
+
     /// Composed `instanceable` flag (spec 11.3.1). Mirrors C++
     /// `UsdPrim::IsInstanceable`; an unauthored flag resolves to `false`.
     pub fn is_instanceable(&self) -> anyhow::Result<bool> {

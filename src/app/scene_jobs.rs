@@ -116,12 +116,20 @@ impl HairlabApp {
         };
         match result {
             Ok(()) => {
-                self.info(format!(
+                let counts = format!(
                     "scene: {} strands, {} segments, {} triangles",
                     scene.strands.strand_count(),
                     scene.strands.segment_count(),
                     scene.triangle_count()
-                ));
+                );
+                // A layer the file brings in that is missing or unreadable is said, not just logged.
+                match scene.warnings.first() {
+                    None => self.info(counts),
+                    Some(first) => self.error(format!(
+                        "{counts}; {} warning(s), the first: {first}",
+                        scene.warnings.len()
+                    )),
+                }
                 self.scene = Some(scene);
                 self.built_scene = Some(scene_settings);
                 self.timeline.set_motion(motion, motion_settings);

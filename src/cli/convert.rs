@@ -12,10 +12,15 @@ pub struct ConvertArgs {
     pub input: PathBuf,
     /// Output: `.hair`, `.tfx`, `.data` or `.usda`.
     pub output: PathBuf,
+    /// Fail (exit 1, nothing written) when reading the input gave a warning (a USD layer missing or unreadable, an
+    /// arc dropped), for scripts.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 pub(super) fn convert(a: &ConvertArgs) -> Result<()> {
     use crate::scene::load::{STRAND_EXTENSIONS, load_scene, save_strands};
+    crate::scene::load::set_strict(a.strict);
     let ext = a
         .output
         .extension()

@@ -9,9 +9,18 @@ use std::path::{Path, PathBuf};
 pub struct InfoArgs {
     /// A `.hair`, `.gltf`, `.glb`, TressFX `.tfx`, USC-HairSalon `.data` or USD (`.usda`, `.usdc`, `.usdz`) file.
     pub file: PathBuf,
+    /// Fail (exit 1) when reading the file gave a warning (a USD layer missing or unreadable, an arc dropped), for
+    /// scripts.
+    #[arg(long)]
+    pub strict: bool,
 }
 
-pub(super) fn info(path: &Path) -> Result<()> {
+pub(super) fn run(a: &InfoArgs) -> Result<()> {
+    crate::scene::load::set_strict(a.strict);
+    info(&a.file)
+}
+
+fn info(path: &Path) -> Result<()> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     // A .hair file is read once (its warnings print once), for its arrays and its strands.
     let hair_file = match ext.as_deref() {
@@ -81,6 +90,10 @@ pub(super) fn info(path: &Path) -> Result<()> {
             for n in &f.notes {
                 println!("converted: {n}");
             }
+            for w in &f.warnings {
+                println!("warning:   {w}");
+            }
+            crate::scene::load::refuse_if_strict(path, &f.warnings)?;
             let tris: usize = f.meshes.iter().map(|m| m.indices.len() / 3).sum();
             println!("meshes:    {} ({tris} triangles)", f.meshes.len());
             crate::scene::Scene::new(f.strands, f.meshes)

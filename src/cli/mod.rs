@@ -138,7 +138,7 @@ pub enum Command {
 pub fn run(cmd: Command) -> Result<()> {
     match cmd {
         Command::Render(a) => render::render(&a),
-        Command::Info(a) => info::info(&a.file),
+        Command::Info(a) => info::run(&a),
         Command::Gen(a) => generate::gen_hair(&a),
         Command::Convert(a) => convert::convert(&a),
         Command::Export(a) => export::export(&a),

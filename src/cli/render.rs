@@ -59,6 +59,10 @@ pub struct RenderArgs {
     /// a `.exr` of the linear float image).
     #[arg(long)]
     pub out: PathBuf,
+    /// Fail (exit 1, nothing written) when reading the scene file gave a warning (a USD layer missing or
+    /// unreadable, an arc dropped), for scripts.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Parses `A..B` (B exclusive, A < B).
@@ -76,6 +80,7 @@ pub fn parse_frame_range(text: &str) -> Result<std::ops::Range<u32>> {
 }
 
 pub(super) fn render(a: &RenderArgs) -> Result<()> {
+    crate::scene::load::set_strict(a.strict);
     let mut settings = Settings::load_preset(&a.scene.preset, &a.scene.set)?;
     if settings.render.mode == RenderMode::Path {
         return path_render(a, settings);

@@ -8,6 +8,7 @@
 //! [`super::hair`], [`super::gltf_load`], [`super::tfx`], [`super::usc_data`], `super::usd`.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::bail;
 
@@ -50,7 +51,10 @@ pub fn load_scene_with(path: &Path, progress: &mut dyn crate::progress::Progress
         #[cfg(feature = "usd")]
         Some("usda" | "usdc" | "usdz") => {
             let s = super::usd::read_usd_file(path)?;
-            Ok(Scene::new(s.strands, s.meshes))
+            check_warnings(path, &s.warnings)?;
+            let mut scene = Scene::new(s.strands, s.meshes);
+            scene.warnings = s.warnings;
+            Ok(scene)
         }
         _ => bail!(
             "{}: unsupported file type (supported: .{})",
@@ -58,6 +62,38 @@ pub fn load_scene_with(path: &Path, progress: &mut dyn crate::progress::Progress
             SCENE_EXTENSIONS.join(", .")
         ),
     }
+}
+
+/// Whether a warning reading a scene (a USD layer missing or unreadable, an arc dropped) fails the load: the
+/// `--strict` flag of `info`, `convert` and `render`, for scripts. Process-wide: the command sets it once.
+static STRICT: AtomicBool = AtomicBool::new(false);
+
+/// Makes every later scene load fail on a warning ([`check_warnings`]).
+pub fn set_strict(strict: bool) {
+    STRICT.store(strict, Ordering::Relaxed);
+}
+
+/// Under [`set_strict`], fails when `path` gave warnings, naming them.
+pub fn refuse_if_strict(path: &Path, warnings: &[String]) -> anyhow::Result<()> {
+    if STRICT.load(Ordering::Relaxed) && !warnings.is_empty() {
+        bail!(
+            "{}: {} warning(s) and --strict: {}",
+            path.display(),
+            warnings.len(),
+            warnings.join("; ")
+        );
+    }
+    Ok(())
+}
+
+/// Logs each of `path`'s warnings (a line on stderr from a command, in the log from the window); under
+/// [`set_strict`], fails with them instead.
+pub fn check_warnings(path: &Path, warnings: &[String]) -> anyhow::Result<()> {
+    refuse_if_strict(path, warnings)?;
+    for w in warnings {
+        log::warn!("{}: {w}", path.display());
+    }
+    Ok(())
 }
 
 /// Every extension [`save_strands`] writes (lower case).

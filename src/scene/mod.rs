@@ -180,6 +180,9 @@ impl Mesh {
 pub struct Scene {
     pub strands: Strands,
     pub meshes: Vec<Mesh>,
+    /// What reading the file said without failing, one line each: a USD layer missing or unreadable, an arc
+    /// dropped (see [`load::load_scene_with`]). Empty for a generated scene.
+    pub warnings: Vec<String>,
     strand_bounds: Aabb,
     bounds: Aabb,
 }
@@ -193,6 +196,7 @@ impl Scene {
         Scene {
             strands,
             meshes,
+            warnings: Vec::new(),
             strand_bounds,
             bounds,
         }

@@ -66,5 +66,6 @@ mod transparency_gpu;
 mod transparency_occupancy;
 mod truth_decomposition;
 #[cfg(feature = "usd")]
+mod usd_composition;
 mod usd_format;
 mod visibility_models;

@@ -46,7 +46,19 @@
 //! (`a}`); hairlab walks the stage itself and refuses such names before the crate resolves them. No other crash was
 //! found in 2 × 1,000,000 mutated `.usda` stages, nor in 1,000,000 each of mutated `.usdc` and `.usdz` files; no
 //! `catch_unwind` hides anything.
+//!
+//! **Composition** ([`stage`]). Every layer a stage brings in (sublayers, references, payloads) is read the way the
+//! root is: a regular file (a named pipe, a device or a folder is refused by its metadata before it is opened, so
+//! nothing blocks) of at most [`crate::io::MAX_INPUT_BYTES`] (the crate's `ar::set_max_asset_bytes`). A layer that
+//! is missing or unreadable, and an arc dropped — the closing arc of a cycle through any arc, an arc more than 32
+//! arcs deep — does not fail the read: it is one line of [`UsdScene::warnings`], which `info`, `convert`, `render`
+//! and the window's status line say, and `--strict` turns into an error. The crate's text parser refuses prims
+//! nested more than 2,048 deep and values nested more than 64 deep; nesting, sublayer chains and class chains are
+//! walked without recursion, and the reader composes each prim's world transform once (a 2,000-deep stage reads in
+//! time linear in its path bytes).
 
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3, DVec4};
@@ -59,9 +71,11 @@ use super::{Mesh, Strands};
 
 mod curves;
 mod mesh;
+mod stage;
 
 use curves::{Interp, Primvar, read_curves};
 use mesh::read_mesh;
+use stage::{open, warnings};
 
 /// Segments each cubic span is evaluated at.
 pub const CUBIC_SEGMENTS_PER_SPAN: usize = 4;
@@ -95,6 +109,9 @@ pub struct UsdScene {
     /// One line per thing converted or dropped, e.g. "cubic bspline → polylines at 4 segments per span (/A, 3
     /// curves)".
     pub notes: Vec<String>,
+    /// One line per thing composition could not do, e.g. "unresolved sublayer @./hair.usda@ introduced by
+    /// @/show/groom.usda@": a layer missing or unreadable (the stage opens without it), an arc dropped for a cycle.
+    pub warnings: Vec<String>,
 }
 
 /// The frames of a stage's time-sampled curves.
@@ -106,6 +123,8 @@ pub struct UsdFrames {
     pub time_codes: Vec<f64>,
     /// Time codes per second: frame `i` plays at `time_codes[i] / time_codes_per_second` seconds.
     pub time_codes_per_second: f64,
+    /// The stage's composition warnings ([`UsdScene::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// Any prim as an [`Xformable`], to compose its `xformOp`s (the crate implements the trait on typed views only).
@@ -128,6 +147,8 @@ struct Reader<'a> {
     to_world: DMat4,
     up_axis: char,
     meters_per_unit: f64,
+    /// The world transforms composed so far (before the axis and unit conversion), by prim and time code bits.
+    worlds: RefCell<HashMap<(sdf::Path, Option<u64>), DMat4>>,
 }
 
 /// The value of a [`sdf::Value`] as a token or string.
@@ -294,46 +315,64 @@ impl Reader<'_> {
     }
 
     /// The prim's world transform (its `xformOp`s and its ancestors') at `when`, then the axis and unit conversion.
+    /// Each prim's world transform is kept ([`Reader::worlds`]), so a deep stage composes each ancestor once, not
+    /// once per prim below it.
     fn world(&self, prim: &Prim, when: When) -> Result<DMat4, UsdError> {
-        let time = match when {
-            When::Default => TimeCode::new(0.0),
-            When::At(t) => TimeCode::new(t),
+        let (time, key) = match when {
+            When::Default => (TimeCode::new(0.0), None),
+            When::At(t) => (TimeCode::new(t), Some(t.to_bits())),
         };
-        let mut m = DMat4::IDENTITY;
+        let mut worlds = self.worlds.borrow_mut();
+        // Up from the prim to an ancestor already composed, a `!resetXformStack!` or a root prim: each prim's local
+        // transform.
+        let mut chain = Vec::new();
         let mut path = prim.path().clone();
-        loop {
-            let p = self.stage.prim(path.clone());
-            let x = AnyXformable(p.clone());
-            // The crate builds a property path from each op name and, for a name that is not an identifier
-            // (`xformOp:a}b`), overflows the stack resolving it (found by the fuzz run): checked first.
-            if let Some(order) = x
-                .xform_op_order()
-                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?
-                && let Some(bad) = order.iter().find(|op| {
-                    let op = op.strip_prefix("!invert!").unwrap_or(op);
-                    op != "!resetXformStack!" && !is_property_name(op)
-                })
-            {
-                return Err(self.err(&p, "xformOpOrder", format!("{bad:?} is not an xformOp name")));
+        let mut m = loop {
+            if let Some(&w) = worlds.get(&(path.clone(), key)) {
+                break w;
             }
-            let local = x
-                .local_to_parent_transform(time)
-                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?;
-            // The crate's matrices are row-major for row vectors (p' = p·M): read as columns, they are glam's.
-            let local = DMat4::from_cols_array(&local.0);
-            if !local.is_finite() {
-                return Err(self.err(&p, "xformOpOrder", "the transform is not finite"));
-            }
-            m = local * m;
-            let resets = x
-                .resets_xform_stack()
-                .map_err(|e| self.err(&p, "xformOpOrder", format!("{e:#}")))?;
-            match path.parent() {
+            let (local, resets) = self.local_transform(&self.stage.prim(path.clone()), time)?;
+            let parent = path.parent();
+            chain.push((path, local));
+            match parent {
                 Some(parent) if !resets && parent != sdf::Path::abs_root() => path = parent,
-                _ => break,
+                _ => break DMat4::IDENTITY,
             }
+        };
+        for (path, local) in chain.into_iter().rev() {
+            m *= local;
+            worlds.insert((path, key), m);
         }
         Ok(self.to_world * m)
+    }
+
+    /// A prim's own transform (its `xformOp`s at `time`) and whether it resets the transform stack.
+    fn local_transform(&self, p: &Prim, time: TimeCode) -> Result<(DMat4, bool), UsdError> {
+        let x = AnyXformable(p.clone());
+        // The crate builds a property path from each op name and, for a name that is not an identifier
+        // (`xformOp:a}b`), overflows the stack resolving it (found by the fuzz run): checked first.
+        if let Some(order) = x
+            .xform_op_order()
+            .map_err(|e| self.err(p, "xformOpOrder", format!("{e:#}")))?
+            && let Some(bad) = order.iter().find(|op| {
+                let op = op.strip_prefix("!invert!").unwrap_or(op);
+                op != "!resetXformStack!" && !is_property_name(op)
+            })
+        {
+            return Err(self.err(p, "xformOpOrder", format!("{bad:?} is not an xformOp name")));
+        }
+        let local = x
+            .local_to_parent_transform(time)
+            .map_err(|e| self.err(p, "xformOpOrder", format!("{e:#}")))?;
+        // The crate's matrices are row-major for row vectors (p' = p·M): read as columns, they are glam's.
+        let local = DMat4::from_cols_array(&local.0);
+        if !local.is_finite() {
+            return Err(self.err(p, "xformOpOrder", "the transform is not finite"));
+        }
+        let resets = x
+            .resets_xform_stack()
+            .map_err(|e| self.err(p, "xformOpOrder", format!("{e:#}")))?;
+        Ok((local, resets))
     }
 
     /// Points (`point3f[]` and kin) of a prim at `when`; missing points are an error.
@@ -395,70 +434,6 @@ impl Reader<'_> {
     }
 }
 
-/// Opens the stage and reads its stage-wide metadata.
-fn open(path: &Path) -> Result<Reader<'_>, UsdError> {
-    let stage_err = |cause: String| UsdError::Stage {
-        file: path.to_owned(),
-        cause,
-    };
-    let meta = std::fs::metadata(path).map_err(|e| stage_err(e.to_string()))?;
-    if !meta.is_file() {
-        return Err(stage_err("not a regular file".into()));
-    }
-    if meta.len() > crate::io::MAX_INPUT_BYTES {
-        return Err(stage_err(format!(
-            "{} bytes, more than the {} bytes hairlab reads",
-            meta.len(),
-            crate::io::MAX_INPUT_BYTES
-        )));
-    }
-    let name = path
-        .to_str()
-        .ok_or_else(|| stage_err("the path is not UTF-8 (the USD crate opens UTF-8 paths only)".into()))?;
-    let stage = Stage::open(name).map_err(|e| stage_err(format!("{e:#}")))?;
-    let meta = |key: &str| {
-        stage
-            .stage_metadata(key)
-            .map_err(|e| stage_err(format!("{key}: {e:#}")))
-    };
-    let up_axis = match meta("upAxis")? {
-        None => 'Y',
-        Some(v) => match token(&v) {
-            Some("Y") => 'Y',
-            Some("Z") => 'Z',
-            _ => return Err(stage_err(format!("upAxis: {v:?}; a stage is Y-up or Z-up"))),
-        },
-    };
-    let meters_per_unit = match meta("metersPerUnit")? {
-        None => 0.01,
-        Some(v) => match v.clone().try_as_double() {
-            Some(m) if m.is_finite() && m > 0.0 => m,
-            _ => {
-                return Err(stage_err(format!(
-                    "metersPerUnit: {v:?}; it must be finite and above 0"
-                )));
-            }
-        },
-    };
-    let tcps = stage.time_codes_per_second();
-    if !(tcps.is_finite() && tcps > 0.0) {
-        return Err(stage_err(format!(
-            "timeCodesPerSecond is {tcps}; it must be finite and above 0"
-        )));
-    }
-    let axis = match up_axis {
-        'Z' => DMat4::from_cols(DVec4::X, DVec4::NEG_Z, DVec4::Y, DVec4::W),
-        _ => DMat4::IDENTITY,
-    };
-    Ok(Reader {
-        file: path,
-        stage,
-        to_world: DMat4::from_scale(DVec3::splat(meters_per_unit)) * axis,
-        up_axis,
-        meters_per_unit,
-    })
-}
-
 /// The geometry prims of a stage, in depth-first order.
 struct GeomPrims {
     curves: Vec<Prim>,
@@ -503,16 +478,13 @@ fn prims(r: &Reader) -> Result<GeomPrims, UsdError> {
                 .map_err(|e| crate_err("(children)", e))?;
             children.push(r.stage.prim(path));
         }
-        // Reversed onto the stack, so the first child is visited first.
+        // Reversed onto the stack, so the first child is visited first. The walk only enters active `def` prims,
+        // so each child's own opinions decide (the crate's `is_active`, `is_defined`, `is_abstract` walk every
+        // ancestor again: the square of the depth per prim). Every payload is loaded, so active is loaded.
         for child in children.into_iter().rev() {
-            let status = |f: fn(&Prim) -> anyhow::Result<bool>| {
-                f(&child).map_err(|e| r.err(&child, "(status)", format!("{e:#}")))
-            };
-            if status(Prim::is_active)?
-                && status(Prim::is_loaded)?
-                && status(Prim::is_defined)?
-                && !status(Prim::is_abstract)?
-            {
+            let status_err = |e: anyhow::Error| r.err(&child, "(status)", format!("{e:#}"));
+            let def = child.specifier().map_err(status_err)? == Some(sdf::Specifier::Def);
+            if def && child.is_active_here().map_err(status_err)? {
                 stack.push(child);
             }
         }
@@ -602,6 +574,7 @@ pub fn read_usd_file(path: &Path) -> Result<UsdScene, UsdError> {
         time_codes_per_second: r.stage.time_codes_per_second(),
         time_codes,
         notes,
+        warnings: warnings(&r),
     })
 }
 
@@ -659,5 +632,6 @@ pub fn read_usd_frames(path: &Path) -> Result<UsdFrames, UsdError> {
         frames,
         time_codes: codes,
         time_codes_per_second: r.stage.time_codes_per_second(),
+        warnings: warnings(&r),
     })
 }

@@ -1,0 +1,338 @@
+//! Hostile text-USD composition (issue 43): every stage ends in a scene or one error naming the file, never a hang,
+//! an abort or a panic. Cycles through each arc drop the closing arc with a warning naming the file and the prims;
+//! nesting and arc chains are read on a thread with a 2 MiB stack (a recursion per level would overflow it); a
+//! sublayer, reference or payload that is missing, a named pipe, a device, a folder or over the 1 GiB cap is one
+//! warning naming the arc and the path, and `--strict` turns warnings into a failure.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use hairlab::scene::usd::{UsdScene, read_usd_file};
+
+/// A linear curve of 3 points (0,0,0)–(0,2,0) named `hair`, with `meta` as its metadata (may be empty).
+fn curve(meta: &str) -> String {
+    format!(
+        "def BasisCurves \"hair\" ({meta})\n{{\n    uniform token type = \"linear\"\n    int[] curveVertexCounts = \
+         [3]\n    point3f[] points = [(0,0,0), (0,1,0), (0,2,0)]\n}}\n"
+    )
+}
+
+/// Writes `#usda 1.0` and `text` to `dir/name`.
+fn stage(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, format!("#usda 1.0\n{text}")).unwrap();
+    path
+}
+
+/// Reads `path` on a thread with a 2 MiB stack (a test thread's size), so a recursion per nesting level or per
+/// arc would overflow it; the error as its message.
+fn read_small_stack(path: &Path) -> Result<UsdScene, String> {
+    let path = path.to_owned();
+    std::thread::Builder::new()
+        .stack_size(2 << 20)
+        .spawn(move || read_usd_file(&path).map_err(|e| e.to_string()))
+        .unwrap()
+        .join()
+        .unwrap()
+}
+
+/// The stage loads its one 3-point curve and gave a warning containing each of `words`.
+fn loads_warning(path: &Path, words: &[&str]) -> UsdScene {
+    let s = read_small_stack(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(s.strands.counts, vec![3], "{}", path.display());
+    assert!(
+        s.warnings.iter().any(|w| words.iter().all(|x| w.contains(x))),
+        "{}: no warning with {words:?} in {:?}",
+        path.display(),
+        s.warnings
+    );
+    s
+}
+
+fn hairlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn class_cycles_drop_the_closing_arc_naming_file_and_prims() {
+    let dir = tempfile::tempdir().unwrap();
+    for arc in ["inherits", "specializes"] {
+        let name = format!("{arc}-cycle.usda");
+        let text = format!(
+            "class \"A\" ({arc} = </B>) {{}}\nclass \"B\" ({arc} = </A>) {{}}\n{}",
+            curve(&format!("{arc} = </A>"))
+        );
+        let p = stage(dir.path(), &name, &text);
+        loads_warning(&p, &["composition arc cycle", &name, "</A>", "</B>"]);
+    }
+}
+
+#[test]
+fn reference_and_payload_cycles_drop_the_closing_arc() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let self_ref = stage(
+        d,
+        "self-ref.usda",
+        &curve("references = @./self-ref.usda@</hair>"),
+    );
+    loads_warning(&self_ref, &["composition arc cycle", "self-ref.usda", "</hair>"]);
+    let self_payload = stage(
+        d,
+        "self-payload.usda",
+        &curve("payload = @./self-payload.usda@</hair>"),
+    );
+    loads_warning(&self_payload, &["composition arc cycle", "self-payload.usda"]);
+    let internal = stage(
+        d,
+        "internal.usda",
+        &format!(
+            "def Xform \"R\" (references = </R>) {{}}\n{}",
+            curve("references = </R>")
+        ),
+    );
+    loads_warning(&internal, &["composition arc cycle", "internal.usda", "</R>"]);
+    stage(
+        d,
+        "b.usda",
+        "def Xform \"hair\" (references = @./a.usda@</hair>) {}\n",
+    );
+    let a = stage(d, "a.usda", &curve("references = @./b.usda@</hair>"));
+    loads_warning(&a, &["composition arc cycle", "a.usda", "b.usda"]);
+}
+
+#[test]
+fn sublayer_cycles_are_said_and_the_stage_opens() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let own = stage(
+        d,
+        "own.usda",
+        &format!("(\n    subLayers = [@./own.usda@]\n)\n{}", curve("")),
+    );
+    loads_warning(&own, &["sublayer cycle", "own.usda"]);
+    stage(d, "y.usda", "(\n    subLayers = [@./x.usda@]\n)\n");
+    let x = stage(
+        d,
+        "x.usda",
+        &format!("(\n    subLayers = [@./y.usda@]\n)\n{}", curve("")),
+    );
+    loads_warning(&x, &["sublayer cycle", "x.usda", "y.usda"]);
+}
+
+/// `depth` nested `def Xform "x<i>"` around the curve.
+fn nested(depth: usize) -> String {
+    let open: String = (0..depth).map(|i| format!("def Xform \"x{i}\" {{\n")).collect();
+    format!("{open}{}{}", curve(""), "}\n".repeat(depth))
+}
+
+#[test]
+fn a_2000_deep_stage_reads_on_a_small_stack() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = stage(dir.path(), "nested-2000.usda", &nested(2000));
+    let s = read_small_stack(&p).unwrap();
+    assert_eq!(s.strands.counts, vec![3]);
+    // No transform anywhere: the last point is the authored (0, 2, 0) in centimetres, 0.02 m up (f32 rounding).
+    let last = s.strands.points[2];
+    assert!(
+        last.x == 0.0 && (last.y - 0.02).abs() < 1e-8 && last.z == 0.0,
+        "{last}"
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn deeper_nesting_is_one_error_stating_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = stage(dir.path(), "nested-20000.usda", &nested(20_000));
+    let e = read_small_stack(&p).unwrap_err();
+    assert!(
+        e.contains("nested-20000.usda") && e.contains("more than 2048 deep"),
+        "{e}"
+    );
+    // Nested variants count as nesting too, and dictionaries and metadata arrays have their own bound.
+    let deep_dict = format!(
+        "def Xform \"x\" (customData = {}{{}}{})\n{{}}\n",
+        "{ dictionary a = ".repeat(100),
+        " }".repeat(100)
+    );
+    let p = stage(dir.path(), "dict.usda", &deep_dict);
+    let e = read_small_stack(&p).unwrap_err();
+    assert!(e.contains("dict.usda") && e.contains("more than 64 deep"), "{e}");
+}
+
+#[test]
+fn long_arc_chains_are_cut_at_the_stated_depth() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let n = 1000;
+    for arc in ["inherits", "specializes"] {
+        let classes: String = (0..n)
+            .map(|i| format!("class \"C{i}\" ({arc} = </C{}>) {{}}\n", i + 1))
+            .collect();
+        let text = format!(
+            "{classes}class \"C{n}\" {{}}\n{}",
+            curve(&format!("{arc} = </C0>"))
+        );
+        let p = stage(d, &format!("{arc}-chain.usda"), &text);
+        loads_warning(&p, &["more than 32 arcs deep"]);
+    }
+    let refs: String = (0..n)
+        .map(|i| format!("def Xform \"R{i}\" (references = </R{}>) {{}}\n", i + 1))
+        .collect();
+    let p = stage(
+        d,
+        "reference-chain.usda",
+        &format!("{refs}def Xform \"R{n}\" {{}}\n{}", curve("references = </R0>")),
+    );
+    loads_warning(&p, &["Reference", "more than 32 arcs deep"]);
+    // A chain of 200 files, each payload-ing the next.
+    for i in 1..200 {
+        stage(
+            d,
+            &format!("p{i}.usda"),
+            &format!("def Xform \"hair\" (payload = @./p{}.usda@</hair>) {{}}\n", i + 1),
+        );
+    }
+    stage(d, "p200.usda", "def Xform \"hair\" {}\n");
+    let p = stage(d, "p0.usda", &curve("payload = @./p1.usda@</hair>"));
+    loads_warning(&p, &["Payload", "more than 32 arcs deep"]);
+}
+
+#[test]
+fn a_chain_of_1000_sublayers_reads_on_a_small_stack() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for i in 1..1000 {
+        stage(
+            d,
+            &format!("s{i}.usda"),
+            &format!("(\n    subLayers = [@./s{}.usda@]\n)\n", i + 1),
+        );
+    }
+    // Only the last layer, 1,000 layers down, gives the curve its width (0.5 cm).
+    stage(
+        d,
+        "s1000.usda",
+        "over \"hair\" { float[] widths = [0.5] (interpolation = \"constant\") }\n",
+    );
+    let p = stage(
+        d,
+        "s0.usda",
+        &format!("(\n    subLayers = [@./s1.usda@]\n)\n{}", curve("")),
+    );
+    let s = read_small_stack(&p).unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let width = s.strands.thickness.expect("the width from the last sublayer")[0];
+    assert!((width - 0.005).abs() < 1e-9, "{width}");
+}
+
+#[test]
+fn a_missing_layer_through_each_arc_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let sub = stage(
+        d,
+        "sub.usda",
+        &format!("(\n    subLayers = [@./gone.usda@]\n)\n{}", curve("")),
+    );
+    loads_warning(&sub, &["unresolved sublayer", "gone.usda", "sub.usda"]);
+    let r = stage(d, "ref.usda", &curve("references = @./gone.usda@</X>"));
+    loads_warning(&r, &["unresolved Reference", "gone.usda", "/hair"]);
+    let p = stage(d, "pay.usda", &curve("payload = @./gone.usda@</X>"));
+    loads_warning(&p, &["unresolved Payload", "gone.usda", "/hair"]);
+}
+
+#[test]
+fn special_files_and_huge_layers_are_refused_by_name_without_blocking() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fifo = d.join("fifo.usda");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    // Nothing ever writes to the pipe: opening it would block forever.
+    for (arc, meta, said) in [
+        ("sublayer", "", "sublayer"),
+        ("reference", "references = @./fifo.usda@</X>", "Reference"),
+        ("payload", "payload = @./fifo.usda@</X>", "Payload"),
+    ] {
+        let text = if arc == "sublayer" {
+            format!("(\n    subLayers = [@./fifo.usda@]\n)\n{}", curve(""))
+        } else {
+            curve(meta)
+        };
+        let p = stage(d, &format!("{arc}-fifo.usda"), &text);
+        loads_warning(
+            &p,
+            &[said, "fifo.usda", "a named pipe (FIFO), not a regular file"],
+        );
+    }
+    let p = stage(
+        d,
+        "zero.usda",
+        &format!("(\n    subLayers = [@/dev/zero@]\n)\n{}", curve("")),
+    );
+    loads_warning(&p, &["sublayer", "/dev/zero", "a device, not a regular file"]);
+    std::fs::create_dir(d.join("folder.usda")).unwrap();
+    let p = stage(
+        d,
+        "sub-folder.usda",
+        &format!("(\n    subLayers = [@./folder.usda@]\n)\n{}", curve("")),
+    );
+    loads_warning(&p, &["sublayer", "folder.usda", "a folder, not a regular file"]);
+    // 5 GiB of nothing (a sparse file): refused by its size, before a byte is read.
+    let huge = std::fs::File::create(d.join("huge.usda")).unwrap();
+    huge.set_len(5 << 30).unwrap();
+    let p = stage(
+        d,
+        "huge-sub.usda",
+        &format!("(\n    subLayers = [@./huge.usda@]\n)\n{}", curve("")),
+    );
+    loads_warning(
+        &p,
+        &[
+            "sublayer",
+            "huge.usda",
+            "5368709120 bytes, more than the 1073741824",
+        ],
+    );
+    let p = stage(d, "huge-ref.usda", &curve("references = @./huge.usda@</X>"));
+    loads_warning(&p, &["Reference", "huge.usda", "more than the 1073741824"]);
+}
+
+#[test]
+fn info_names_a_missing_layer_and_strict_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let p = stage(
+        d,
+        "groom.usda",
+        &format!("(\n    subLayers = [@./gone.usda@]\n)\n{}", curve("")),
+    );
+    let p = p.to_str().unwrap();
+    let o = hairlab(&["info", p]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("warning:") && l.contains("sublayer @./gone.usda@")),
+        "{out}"
+    );
+    let o = hairlab(&["info", "--strict", p]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("--strict") && err.contains("gone.usda"), "{err}");
+    // convert says it on stderr and writes; with --strict it fails and writes nothing.
+    let out = d.join("out.hair");
+    let out = out.to_str().unwrap();
+    let o = hairlab(&["convert", p, out]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("gone.usda"));
+    std::fs::remove_file(out).unwrap();
+    let o = hairlab(&["convert", "--strict", p, out]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!Path::new(out).exists());
+}

@@ -2,7 +2,7 @@
 //! an abort or a panic. Cycles through each arc drop the closing arc with a warning naming the file and the prims;
 //! nesting and arc chains are read on a thread with a 2 MiB stack (a recursion per level would overflow it); a
 //! sublayer, reference or payload that is missing, a named pipe, a device, a folder or over the 1 GiB cap is one
-//! warning naming the arc and the path, and `--strict` turns warnings into a failure.
+//! warning naming the arc and the path; `info`, `convert` and `render` say it, and `--strict` fails instead.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -153,7 +153,7 @@ fn deeper_nesting_is_one_error_stating_the_limit() {
         e.contains("nested-20000.usda") && e.contains("more than 2048 deep"),
         "{e}"
     );
-    // Nested variants count as nesting too, and dictionaries and metadata arrays have their own bound.
+    // Dictionaries and metadata arrays have their own bound.
     let deep_dict = format!(
         "def Xform \"x\" (customData = {}{{}}{})\n{{}}\n",
         "{ dictionary a = ".repeat(100),
@@ -200,6 +200,31 @@ fn long_arc_chains_are_cut_at_the_stated_depth() {
     stage(d, "p200.usda", "def Xform \"hair\" {}\n");
     let p = stage(d, "p0.usda", &curve("payload = @./p1.usda@</hair>"));
     loads_warning(&p, &["Payload", "more than 32 arcs deep"]);
+}
+
+#[test]
+fn nested_variant_selections_are_cut_at_the_stated_depth() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 100;
+    let open: String = (0..n)
+        .map(|i| {
+            format!(
+                "def Xform \"v{i}\" (variants = {{string s = \"a\"}}) {{ variantSet \"s\" = {{ \"a\" {{\n"
+            )
+        })
+        .collect();
+    let text = format!("{open}{}{}", curve(""), "} } }\n".repeat(n));
+    let p = stage(dir.path(), "variants.usda", &text);
+    let s = read_small_stack(&p).unwrap();
+    // The curve lies under 100 variant selections: past the 32nd the selection is dropped, and the curve with it.
+    assert!(s.strands.counts.is_empty());
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("Variant") && w.contains("more than 32 arcs deep")),
+        "{:?}",
+        s.warnings
+    );
 }
 
 #[test]
@@ -304,7 +329,7 @@ fn special_files_and_huge_layers_are_refused_by_name_without_blocking() {
 }
 
 #[test]
-fn info_names_a_missing_layer_and_strict_fails() {
+fn info_convert_and_render_name_a_missing_layer_and_strict_fails() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let p = stage(
@@ -335,4 +360,32 @@ fn info_names_a_missing_layer_and_strict_fails() {
     let o = hairlab(&["convert", "--strict", p, out]);
     assert_eq!(o.status.code(), Some(1));
     assert!(!Path::new(out).exists());
+    // render (the CPU path tracer, 1 sample of 32×24) the same.
+    let png = d.join("out.png");
+    let png = png.to_str().unwrap();
+    let scene = format!("scene.file={p}");
+    let render = |strict: bool| {
+        let mut args = vec![
+            "render",
+            "--set",
+            &scene,
+            "--set",
+            "render.mode=path",
+            "--set",
+            "render.spp=1",
+        ];
+        args.extend(["--width", "32", "--height", "24", "--out", png]);
+        if strict {
+            args.push("--strict");
+        }
+        hairlab(&args)
+    };
+    let o = render(false);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("gone.usda"));
+    std::fs::remove_file(png).unwrap();
+    let o = render(true);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--strict"));
+    assert!(!Path::new(png).exists());
 }

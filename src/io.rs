@@ -191,6 +191,13 @@ pub fn read_rows<T: serde::de::DeserializeOwned>(
     Ok(out)
 }
 
+/// `image` encoded as PNG.
+pub fn encode_png(image: &image::RgbaImage) -> Result<Vec<u8>> {
+    let mut png = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+    Ok(png)
+}
+
 /// Linear `c` clamped to `[0, 1]` and sRGB-encoded (IEC 61966-2-1) to 8 bits.
 pub fn srgb8(c: f32) -> u8 {
     let c = c.clamp(0.0, 1.0);

@@ -1,5 +1,6 @@
 //! The speed chart judged by the path-traced truth (`speed_vs_truth.svg`): each configuration's GPU time against
-//! its total error over the hair under one shading model (`crate::measure::decompose`).
+//! its total error over the hair under one shading model (`crate::measure::decompose`), and the files a truth
+//! measurement writes.
 
 use super::BenchResult;
 use super::chart::{self, Chart};
@@ -45,6 +46,35 @@ pub fn write_truth_chart(
         dir,
         chart_files(crate::measure::truth::TRUTH_CHART, &chart)?.to_vec(),
     )
+}
+
+/// What `measure shadows --truth path-traced --out` and a report write of a truth, in one place: writes `decomposition.csv`, the truth's image and the speed chart against the truth under `chart_shading`
+/// into `dir`, each atomically; returns their paths.
+pub fn write_truth(
+    dir: &Path,
+    truth: &crate::measure::truth::Truth,
+    decomposition: &[crate::measure::decompose::Decomposition],
+    result: &BenchResult,
+    chart_shading: crate::shading::ShadingModel,
+) -> Result<Vec<PathBuf>> {
+    let csv = dir.join(crate::measure::truth::DECOMPOSITION_CSV);
+    crate::io::write_atomic(
+        &csv,
+        crate::io::csv_text(crate::measure::truth::DECOMPOSITION_CSV, decomposition)?.as_bytes(),
+    )?;
+    let mut written = vec![csv];
+    for (name, stage) in truth.chain_images() {
+        let image = dir.join(name);
+        crate::io::write_atomic(&image, &crate::io::encode_png(&stage.image)?)?;
+        written.push(image);
+    }
+    written.extend(write_truth_chart(
+        dir,
+        result,
+        decomposition,
+        chart_shading.word(),
+    )?);
+    Ok(written)
 }
 
 #[cfg(test)]

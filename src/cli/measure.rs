@@ -229,7 +229,7 @@ impl LegacyMeasureArgs {
 }
 
 /// Prints the paths of files written.
-pub(super) fn print_written(files: &[PathBuf]) {
+fn print_written(files: &[PathBuf]) {
     for f in files {
         println!("wrote {}", f.display());
     }
@@ -598,7 +598,16 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
         print_written(&crate::bench::write_results(dir, &result)?);
     }
     if !cancelled && (!a.shading.is_empty() || a.truth == TruthKind::PathTraced) {
-        super::measure_shading::shading_table(a, &settings, &configs, &result)?;
+        let path_traced = a.truth == TruthKind::PathTraced;
+        let written = super::measure_shading::shading_table(
+            &a.shading,
+            path_traced,
+            a.out.as_deref(),
+            &settings,
+            &configs,
+            &result,
+        )?;
+        print_written(&written);
     }
     if cancelled {
         return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());

@@ -1,38 +1,43 @@
 //! `measure shadows --shading` and `--truth path-traced`: each configuration's image error under each shading
 //! model, and with the path-traced truth its error by physical effect (`crate::measure::truth`).
 
-use super::measure::{ShadowsArgs, TruthKind, print_written};
 use crate::settings::Settings;
+use crate::shading::ShadingModel;
 use anyhow::Result;
+use std::path::{Path, PathBuf};
 
 /// `--shading` and `--truth path-traced`: every configuration's image error under each shading model, printed
 /// as a table (and shading.csv with `--out`); with the path-traced truth, the decomposition table too (and
-/// decomposition.csv, the truth's image and the speed chart against the truth).
+/// decomposition.csv, the truth's images and the speed chart against the truth) into `out`; returns the files
+/// written. `models` empty: all of them.
 pub(super) fn shading_table(
-    a: &ShadowsArgs,
+    models: &[ShadingModel],
+    path_traced: bool,
+    out: Option<&Path>,
     settings: &Settings,
     configs: &[crate::measure::MethodConfig],
     result: &crate::bench::BenchResult,
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
     use crate::gpu::{AdapterPreference, Gpu};
-    let models = if a.shading.is_empty() {
-        crate::shading::ShadingModel::ALL.to_vec()
+    let models = if models.is_empty() {
+        ShadingModel::ALL.to_vec()
     } else {
-        a.shading.clone()
+        models.to_vec()
     };
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
-    let (truth, table) = match a.truth {
-        TruthKind::DepthPeeled => {
+    let (truth, table) = match path_traced {
+        false => {
             let table =
                 crate::measure::shading::shading_errors_on(&gpu, settings, configs, &models, None, |m| {
                     eprintln!("shading {m}…")
                 })?;
             (None, table)
         }
-        TruthKind::PathTraced => {
+        true => {
             // Ctrl-C answers the bar's next step with a stop.
             let mut bar = super::progress::TerminalProgress::new();
-            let measured = crate::measure::truth::measure(&gpu, settings, configs, &models, &mut bar)?;
+            let measured =
+                crate::measure::shading::against_truth(&gpu, settings, configs, &models, &mut bar)?;
             drop(bar);
             let Some((t, table)) = measured else {
                 return Err(crate::cli::interrupt::Interrupted { done: configs.len() }.into());
@@ -71,13 +76,14 @@ pub(super) fn shading_table(
     if let Some(t) = &truth {
         print_decomposition(t, &table.decomposition, width);
     }
-    if let Some(dir) = &a.out {
+    let mut written = Vec::new();
+    if let Some(dir) = out {
         let path = dir.join("shading.csv");
         crate::io::write_atomic(&path, crate::measure::shading::csv(&models, rows)?.as_bytes())?;
-        let mut written = vec![path];
+        written.push(path);
         if let Some(t) = &truth {
             let shading = crate::measure::truth::chart_shading(settings, &models);
-            written.extend(crate::measure::truth::write(
+            written.extend(crate::bench::truth_chart::write_truth(
                 dir,
                 t,
                 &table.decomposition,
@@ -85,9 +91,8 @@ pub(super) fn shading_table(
                 shading,
             )?);
         }
-        print_written(&written);
     }
-    Ok(())
+    Ok(written)
 }
 
 /// The decomposition by effect as a table: per configuration and shading model, each step's RMSE (noise

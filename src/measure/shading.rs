@@ -122,6 +122,31 @@ pub fn shading_errors_on(
     Ok(ShadingTable { rows, decomposition })
 }
 
+/// The truth of `settings` for `models` and every configuration's error under each model, decomposed by
+/// effect: what `measure shadows --truth path-traced` and a report's truth section both run. `None` when
+/// `progress` asked to stop.
+pub fn against_truth(
+    gpu: &Gpu,
+    settings: &Settings,
+    configs: &[MethodConfig],
+    models: &[ShadingModel],
+    progress: &mut dyn crate::progress::Progress,
+) -> Result<Option<(Truth, ShadingTable)>> {
+    let Some(truth) = super::truth::path_traced(
+        gpu,
+        settings,
+        models,
+        &mut crate::progress::Part::of(&mut *progress, 0.0, 0.9),
+    )?
+    else {
+        return Ok(None);
+    };
+    let table = shading_errors_on(gpu, settings, configs, models, Some(&truth), |m| {
+        progress.step(&format!("decomposing under {m}"), 0.95);
+    })?;
+    Ok(Some((truth, table)))
+}
+
 /// CSV `method,<model> img RMSE,<model> FLIP,...`: one row per configuration.
 pub fn csv(models: &[ShadingModel], rows: &[ShadingRow]) -> Result<String> {
     let mut header = vec!["method".to_string()];

@@ -6,14 +6,13 @@
 //! of two renders (seeds `render.seed` and `render.seed + 1`, `render.spp / 2` samples each) so that their
 //! difference measures its noise. The regions (hair, receivers) come from the first hits of 4 × 4 rays a pixel.
 
-use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::Result;
 use glam::{Vec2, Vec3};
 
 use super::IMAGE_SIZE;
-use super::decompose::{Decomposition, Masks, SharedSteps, Stage, step};
+use super::decompose::{Masks, SharedSteps, Stage, step};
 use crate::gpu::Gpu;
 use crate::pathtrace::effects::{Effects, Events, FirstHit, HairShadows, VisibilityMap};
 use crate::pathtrace::setup::{PathScene, raster_shading};
@@ -219,35 +218,6 @@ fn traced_pair(
     ))
 }
 
-/// Writes `decomposition.csv`, the truth's image and the speed chart against the truth under `chart_shading`
-/// into `dir`, each atomically; returns their paths.
-pub fn write(
-    dir: &Path,
-    truth: &Truth,
-    decomposition: &[Decomposition],
-    result: &crate::bench::BenchResult,
-    chart_shading: ShadingModel,
-) -> Result<Vec<PathBuf>> {
-    let csv = dir.join(DECOMPOSITION_CSV);
-    crate::io::write_atomic(
-        &csv,
-        crate::io::csv_text(DECOMPOSITION_CSV, decomposition)?.as_bytes(),
-    )?;
-    let mut written = vec![csv];
-    for (name, stage) in truth.chain_images() {
-        let image = dir.join(name);
-        crate::io::write_atomic(&image, &crate::animation::encode_png(&stage.image)?)?;
-        written.push(image);
-    }
-    written.extend(crate::bench::truth_chart::write_truth_chart(
-        dir,
-        result,
-        decomposition,
-        chart_shading.word(),
-    )?);
-    Ok(written)
-}
-
 /// The shading model the truth chart is drawn under: the settings' when measured, else the first measured.
 pub fn chart_shading(settings: &Settings, models: &[ShadingModel]) -> ShadingModel {
     models
@@ -255,23 +225,4 @@ pub fn chart_shading(settings: &Settings, models: &[ShadingModel]) -> ShadingMod
         .copied()
         .find(|m| *m == settings.render.shading)
         .unwrap_or(models[0])
-}
-
-/// The truth of `settings` for `models` and every configuration's error under each model, decomposed by
-/// effect: what `measure shadows --truth path-traced` and a report's truth section both run. `None` when
-/// `progress` asked to stop.
-pub fn measure(
-    gpu: &Gpu,
-    settings: &Settings,
-    configs: &[super::MethodConfig],
-    models: &[ShadingModel],
-    progress: &mut dyn Progress,
-) -> Result<Option<(Truth, super::shading::ShadingTable)>> {
-    let Some(truth) = path_traced(gpu, settings, models, &mut Part::of(&mut *progress, 0.0, 0.9))? else {
-        return Ok(None);
-    };
-    let table = super::shading::shading_errors_on(gpu, settings, configs, models, Some(&truth), |m| {
-        progress.step(&format!("decomposing under {m}"), 0.95);
-    })?;
-    Ok(Some((truth, table)))
 }

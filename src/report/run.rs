@@ -261,11 +261,13 @@ fn truth(
 ) -> Result<()> {
     let models = crate::shading::ShadingModel::ALL;
     let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
-    let Some((t, table)) = crate::measure::truth::measure(gpu, settings, &configs, &models, progress)? else {
+    let Some((t, table)) =
+        crate::measure::shading::against_truth(gpu, settings, &configs, &models, progress)?
+    else {
         return Ok(());
     };
     let shading = crate::measure::truth::chart_shading(settings, &models);
-    crate::measure::truth::write(dir, &t, &table.decomposition, result, shading)?;
+    crate::bench::truth_chart::write_truth(dir, &t, &table.decomposition, result, shading)?;
     Ok(())
 }
 

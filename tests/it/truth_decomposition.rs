@@ -29,7 +29,7 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
     let gpu = Gpu::for_tests().expect("GPU tests opted out");
     let settings = small("stray-strand", &["render.spp=4"]);
     let configs = [MethodConfig::new("occupancy", ParamValues::new())];
-    let (truth, table) = hairlab::measure::truth::measure(
+    let (truth, table) = hairlab::measure::shading::against_truth(
         &gpu,
         &settings,
         &configs,

@@ -5,7 +5,8 @@
 //! warning naming the arc and the path; `info`, `convert` and `render` say it, and `--strict` fails instead.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 use hairlab::scene::usd::{UsdScene, read_usd_file};
 
@@ -54,6 +55,26 @@ fn hairlab(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
+}
+
+/// `hairlab info path`, killed if it runs past 5 s (a hang or a runaway allocation fails the test, not the run).
+fn info_within_5_s(path: &Path) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hairlab"))
+        .arg("info")
+        .arg(path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(5) {
+            child.kill().unwrap();
+            panic!("hairlab info {} ran past 5 s", path.display());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
 }
 
 #[test]
@@ -388,4 +409,111 @@ fn info_convert_and_render_name_a_missing_layer_and_strict_fails() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--strict"));
     assert!(!Path::new(png).exists());
+}
+
+/// Findings 1 and 3 of the composed `.usda` fuzz target: a `}` (or `{`) in an arc's prim path that is no variant
+/// selection `{set=sel}` made `/A}` its own parent, so composition spun forever (1) or grew memory until it aborted
+/// (3). In the root layer it is one parse error naming the file and the path; in a sublayer one warning naming the
+/// sublayer, and the root's curve opens.
+#[test]
+fn a_stray_brace_in_an_arc_path_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let target = "def BasisCurves \"A\"\n{\n    uniform token type = \"linear\"\n    int[] curveVertexCounts = [2]\n    \
+                  point3f[] points = [(0, 0, 0), (0, 1, 0)]\n}\n";
+    let arcs = [
+        ("references", "</A}>", "reference"),
+        ("references", "</A}x>", "reference"),
+        ("references", "</A.b}>", "reference"),
+        ("references", "</A{>", "reference"),
+        ("payload", "</A}>", "payload"),
+        ("inherits", "</A}>", "inherit"),
+        ("specializes", "</A}>", "specializes"),
+        ("inherits", "</A{v=}}>", "inherit"),
+    ];
+    for (i, (arc, path, said)) in arcs.iter().enumerate() {
+        let name = format!("brace{i}.usda");
+        let p = stage(
+            d,
+            &name,
+            &format!("{target}\ndef \"B\" (\n    {arc} = {path}\n)\n{{\n}}\n"),
+        );
+        let o = info_within_5_s(&p);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{name}: {err}");
+        let inner = &path[1..path.len() - 1];
+        assert!(
+            err.contains(&name) && err.contains(inner) && err.to_lowercase().contains(said),
+            "{name}: {err}"
+        );
+    }
+    // Finding 3's stage: a class specializing </_Roo}>, inherited by the curve.
+    let finding3 = format!(
+        "class \"_Base\" (\n    specializes = </_Roo}}>\n)\n{{\n}}\n\n{}",
+        curve("inherits = </_Base>")
+    );
+    let p = stage(d, "finding3.usda", &finding3);
+    let o = info_within_5_s(&p);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("finding3.usda") && err.contains("</_Roo}>"), "{err}");
+    // The same class in a sublayer: a warning naming it, and the root's own curve opens.
+    let p = stage(
+        d,
+        "over-finding3.usda",
+        &format!("(\n    subLayers = [@./finding3.usda@]\n)\n{}", curve("")),
+    );
+    let o = info_within_5_s(&p);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        out.lines().any(|l| l.starts_with("warning:")
+            && l.contains("sublayer @./finding3.usda@")
+            && l.contains("</_Roo}>")),
+        "{out}"
+    );
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("strands:") && l.ends_with(" 1")),
+        "{out}"
+    );
+}
+
+/// The root of findings 1 and 3: a stray brace is refused by `Path::new`, and a path built unchecked with one
+/// still has a strictly shorter parent, so every ancestor walk ends.
+#[test]
+fn stray_braces_are_refused_and_no_path_is_its_own_parent() {
+    use openusd::sdf::Path as UsdPath;
+    for bad in [
+        "/A}",
+        "/A}x",
+        "/A.b}",
+        "/A{",
+        "/A{v}",
+        "/A{=s}",
+        "/A{v=s",
+        "/A{v=}}",
+        "/A{v={w=x}}",
+        "/A{v=s/B}",
+    ] {
+        assert!(UsdPath::new(bad).is_err(), "{bad:?} accepted");
+    }
+    for good in ["/A{v=s}", "/A{v=}", "/A{v=s}B{w=t}C.attr", "/A.rel[/T{v=x}B]"] {
+        assert!(UsdPath::new(good).is_ok(), "{good:?} refused");
+    }
+    let cases: [(&str, &[&str]); 6] = [
+        ("/A}", &["/"]),
+        ("/A/B}", &["/A", "/"]),
+        ("/A}x}", &["/"]),
+        ("A}", &[]),
+        ("}", &[]),
+        ("/A{x=y}}", &["/A", "/"]),
+    ];
+    for (path, expected) in cases {
+        let walk: Vec<String> = UsdPath::from(path)
+            .strict_ancestors()
+            .map(|p| p.to_string())
+            .collect();
+        assert_eq!(walk, expected, "ancestors of {path:?}");
+    }
 }

@@ -49,8 +49,38 @@ impl FromStr for Path {
     type Err = anyhow::Error;
 
     fn from_str(s: &str) -> result::Result<Path, Self::Err> {
+        check_variant_braces(s)?;
         Ok(Path { path: s.to_string() })
     }
+}
+
+/// Refuses a `{` or `}` that is not part of a well-formed variant selection
+/// `{set=sel}` (or the bare variant-set form `{set=}`): a set name without
+/// `{`, `}`, `=`, `/` or `.`, then `=`, then a selection without `{`, `}` or `/`.
+/// A stray `}` (`/A}`) would otherwise read as the end of a selection to
+/// [`Path::parent`] and friends.
+fn check_variant_braces(path: &str) -> Result<()> {
+    let mut rest = path;
+    while let Some(at) = rest.find(['{', '}']) {
+        ensure!(
+            rest.as_bytes()[at] == b'{',
+            "Invalid path <{path}>: a '}}' that closes no variant selection {{set=sel}}"
+        );
+        let inner = &rest[at + 1..];
+        let selection = inner
+            .find(['{', '}'])
+            .filter(|&close| inner.as_bytes()[close] == b'}')
+            .and_then(|close| Some((close, inner[..close].split_once('=')?)));
+        let Some((close, (set, sel))) = selection else {
+            bail!("Invalid path <{path}>: a '{{' that opens no variant selection {{set=sel}}");
+        };
+        ensure!(
+            !set.is_empty() && !set.contains(['=', '/', '.']) && !sel.contains('/'),
+            "Invalid path <{path}>: a malformed variant selection {{{set}={sel}}}"
+        );
+        rest = &inner[close + 1..];
+    }
+    Ok(())
 }
 
 impl Path {
@@ -378,7 +408,24 @@ impl Path {
     /// "/"           -> None
     /// ""            -> None
     /// ```
+    ///
+    /// Whatever the string (one built unchecked, with a stray `}`), the parent
+    /// is strictly shorter, so every ancestor walk ends.
     pub fn parent(&self) -> Option<Path> {
+        let parent = self.parent_by_syntax()?;
+        if parent.path.len() < self.path.len() {
+            return Some(parent);
+        }
+        // A malformed path (`/A}`) the syntax rules map onto itself: cut at the
+        // last `/` instead.
+        match self.path.rfind('/') {
+            Some(0) => Some(Path::abs_root()),
+            Some(i) => Some(Path::from_str_unchecked(&self.path[..i])),
+            None => None,
+        }
+    }
+
+    fn parent_by_syntax(&self) -> Option<Path> {
         if self.path.is_empty() || self.path == "/" {
             return None;
         }

@@ -1090,7 +1090,9 @@ impl<'a> Parser<'a> {
                 spec.add_list_op(FieldKey::Payload, sdf::Value::PayloadListOp(list_op));
             }
             n if n == FieldKey::InheritPaths.as_str() => {
-                let paths = self.one_or_list(Self::parse_path_reference)?;
+                let paths = self
+                    .one_or_list(Self::parse_path_reference)
+                    .context("Invalid inherit path")?;
                 // Validated here, not in `parse_path_reference`, which is shared
                 // with relationship-target and connection paths where a variant
                 // selection is allowed.
@@ -1145,7 +1147,9 @@ impl<'a> Parser<'a> {
                 spec.add_list_op(FieldKey::VariantSetNames, sdf::Value::TokenListOp(list_op));
             }
             n if n == FieldKey::Specializes.as_str() => {
-                let paths = self.one_or_list(Self::parse_path_reference)?;
+                let paths = self
+                    .one_or_list(Self::parse_path_reference)
+                    .context("Invalid specializes path")?;
                 for p in &paths {
                     reject_variant_selection_in_path(p, "Specializes")?;
                 }
@@ -1466,12 +1470,12 @@ impl<'a> Parser<'a> {
             Token::AssetRef(asset_path) => {
                 reference.asset_path = asset_path.to_string();
                 if let Some(Ok(Token::PathRef(path))) = self.peek_next() {
-                    reference.prim_path = sdf::Path::new(path)?;
+                    reference.prim_path = sdf::Path::new(path).context("Invalid reference path")?;
                     self.fetch_next()?;
                 }
             }
             Token::PathRef(path) => {
-                reference.prim_path = sdf::Path::new(path)?;
+                reference.prim_path = sdf::Path::new(path).context("Invalid reference path")?;
             }
             token => {
                 bail!("Expected asset reference (@...@) or path reference (<...>), got {token:?}");
@@ -1532,12 +1536,12 @@ impl<'a> Parser<'a> {
             Token::AssetRef(asset_path) => {
                 payload.asset_path = asset_path.to_string();
                 if let Some(Ok(Token::PathRef(path))) = self.peek_next() {
-                    payload.prim_path = sdf::Path::new(path)?;
+                    payload.prim_path = sdf::Path::new(path).context("Invalid payload path")?;
                     self.fetch_next()?;
                 }
             }
             Token::PathRef(path) => {
-                payload.prim_path = sdf::Path::new(path)?;
+                payload.prim_path = sdf::Path::new(path).context("Invalid payload path")?;
             }
             token => {
                 bail!("Expected asset reference (@...@) or path reference (<...>), got {token:?}");
@@ -2014,9 +2018,11 @@ fn push_unique(vec: &mut Vec<String>, name: &str) {
 /// not variant selections, so a `{set=sel}` element anywhere in the path is a
 /// parse error (C++ `Sdf_TextFileFormatParser` raises the same error, e.g.
 /// "Inherit paths cannot contain variant selections"). `arc` names the field.
+/// A stray `}` (which a relocate target, read unchecked, may carry) is refused
+/// the same way.
 fn reject_variant_selection_in_path(path: &sdf::Path, arc: &str) -> Result<()> {
     ensure!(
-        !path.contains_prim_variant_selection(),
+        !path.contains_prim_variant_selection() && !path.as_str().contains('}'),
         "{arc} paths cannot contain variant selections: <{path}>"
     );
     Ok(())

@@ -517,3 +517,37 @@ fn stray_braces_are_refused_and_no_path_is_its_own_parent() {
         assert_eq!(walk, expected, "ancestors of {path:?}");
     }
 }
+
+/// Finding 2 of the composed `.usda` fuzz target: a class-arc chain whose target comes back one namespace level
+/// deeper each turn (`/Groom/Specialized` → `/Groom/Inherited/Missing` → `/_Hair/Missing` →
+/// `/Groom/Specialized/Missing` …) ran 32 arcs deep before the depth limit cut it (0.9–1.7 s for 20 lines). A
+/// target nested in a site still under composition is a cycle (C++ `_CheckForCycle`): the closing arc is dropped with
+/// the cycle warning, never the depth one, and both curves open.
+#[test]
+fn a_class_chain_that_deepens_its_path_is_a_cycle() {
+    let dir = tempfile::tempdir().unwrap();
+    let body = "{\n        uniform token type = \"linear\"\n        int[] curveVertexCounts = [2]\n        point3f[] \
+                points = [(0, 0, 0), (0, 1, 0)]\n    }\n";
+    let text = format!(
+        "class \"_Hair\" (\n    inherits = </Groom/Specialized>\n)\n{{\n}}\n\ndef Xform \"Groom\"\n{{\n    def \
+         BasisCurves \"Inherited\" (\n        inherits = </_Hair>\n    )\n    {body}\n    def BasisCurves \
+         \"Specialized\" (\n        specializes = </Groom/Inherited/Missing>\n    )\n    {body}}}\n"
+    );
+    let p = stage(dir.path(), "deepening.usda", &text);
+    let s = read_small_stack(&p).unwrap();
+    assert_eq!(s.strands.counts, vec![2, 2]);
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("composition arc cycle at /Groom/Specialized")
+                && w.contains("deepening.usda")
+                && w.contains("Inherit </Groom/Specialized>")),
+        "{:?}",
+        s.warnings
+    );
+    assert!(
+        !s.warnings.iter().any(|w| w.contains("arcs deep")),
+        "{:?}",
+        s.warnings
+    );
+}

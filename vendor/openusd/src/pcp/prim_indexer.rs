@@ -3121,8 +3121,12 @@ impl<'a, 'f> Indexer<'a, 'f> {
         // build root inherits from an ancestor still under composition — the
         // cross-frame mutual-inherit cycle (e.g. `Child1` inherits `Child2`, which
         // inherits `Child1`, each composed as the other's sub-build).
+        // A target nested with a frame's build root (a prefix of it, or under it)
+        // is a cycle too: a chain that comes back one namespace level deeper each
+        // turn (`/S` → `/I/M` → `/H/M` → `/S/M` …) would otherwise grow until
+        // the depth limit (C++ `_CheckForCycle` walks every frame's nodes alike).
         for (f, search) in self.frame_sites(path) {
-            if search == f.root_path && f.graph.node_using_site(layer_stack, &search).is_some() {
+            if search.is_nested_with(&f.root_path) && f.graph.node_using_site(layer_stack, &f.root_path).is_some() {
                 return true;
             }
         }

@@ -114,10 +114,11 @@ mod tests {
     #[test]
     fn the_reproducing_command_survives_a_shell() {
         let out = Path::new("/tmp/my reports/$(echo injected)/it's \"here\" `x`/hairlab-report");
+        let technique = crate::render::transparency::registry::reference().name();
         let plan = Plan {
             preset: String::new(),
             configs: vec!["dom:slices=8".to_string(), "a b;c".to_string()],
-            techniques: vec!["wboit".to_string()],
+            techniques: vec![technique.to_string()],
             motion: true,
             frames: 12,
             truth: false,
@@ -144,7 +145,7 @@ mod tests {
             "--config",
             "a b;c",
             "--technique",
-            "wboit",
+            technique,
             "--motion",
             "--frames",
             "12",

@@ -162,7 +162,7 @@ pub fn report(preset: &str, m: &FibreConstants) -> String {
         "T(n) forward",
         "± s.e.",
         "unscattered",
-        "beyond 32 events",
+        format!("beyond {} events", crate::measure::fibre_slab::slab::TRUTH_DEPTH),
         "R(n) back",
         "R after > 1 event"
     );

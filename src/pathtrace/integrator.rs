@@ -28,7 +28,7 @@ pub struct Settings {
     pub height: usize,
     pub samples: u32,
     pub seed: u64,
-    /// Bounces at most (32 or more for hair's long chains of scattering).
+    /// Bounces at most (`setup::MAX_DEPTH` for the truth: hair's chains of scattering are long).
     pub max_depth: u32,
     /// The fibres' material.
     pub fibre: FibreParams,

@@ -17,8 +17,10 @@ use crate::scene::{Camera, LightKind, Scene};
 use crate::settings::Settings;
 use crate::shading::marschner;
 
-/// Bounces at most: hair's long chains of scattering (light hair is mostly multiple scattering).
-pub const MAX_DEPTH: u32 = 32;
+/// Bounces at most, a guard only: Russian roulette ends the paths. Light hair is mostly multiple scattering and
+/// its chains are long: at 32 bounces `blond`'s truth lost 9.8 % of its light over the hair (14.6 % in red; 64
+/// spp, two seeds 1 % apart), `default`'s 0.2 %, at the same render time.
+pub const MAX_DEPTH: u32 = 1024;
 
 /// The fibres' material for a linear hair colour: Chiang et al. 2016's colour inversion at the real-time
 /// Marschner model's roughness, cuticle tilt and index of refraction.

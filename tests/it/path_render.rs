@@ -92,7 +92,7 @@ fn exports_a_mitsuba_scene_of_the_preset() {
         "<integer name=\"width\" value=\"64\"/>",
         "<integer name=\"height\" value=\"48\"/>",
         "<integer name=\"sample_count\" value=\"8\"/>",
-        "<integer name=\"max_depth\" value=\"33\"/>",
+        "<integer name=\"max_depth\" value=\"1025\"/>",
         "<rfilter type=\"box\"/>",
         "<string name=\"filename\" value=\"hair.txt\"/>",
         "<string name=\"filename\" value=\"mesh0.obj\"/>",

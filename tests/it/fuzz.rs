@@ -82,6 +82,25 @@ fn env(key: &str, default: u64) -> u64 {
         .unwrap_or(default)
 }
 
+/// Judges one case's outcome: a scene it loaded must be whole (the strand counts sum to the points, every point
+/// finite), an error must name `file` (the case's file); `true` when it loaded.
+fn loaded_whole(case: u64, outcome: anyhow::Result<hairlab::scene::Scene>, file: &str) -> bool {
+    match outcome {
+        Ok(scene) => {
+            let s = &scene.strands;
+            let total: u64 = s.counts.iter().map(|&c| u64::from(c)).sum();
+            assert_eq!(total, s.points.len() as u64, "case {case}");
+            assert!(s.points.iter().all(|p| p.is_finite()), "case {case}");
+            true
+        }
+        Err(e) => {
+            let msg = format!("{e:#}");
+            assert!(msg.contains(file), "{msg}");
+            false
+        }
+    }
+}
+
 /// Cases per format and the generator of the run.
 fn run() -> (u64, SplitMix64) {
     (
@@ -178,19 +197,11 @@ fn fuzz_strand_format_with(
         let seed = &seeds[case as usize % seeds.len()];
         let path = dir.path().join(format!("case{case}.{ext}"));
         std::fs::write(&path, mutator(&mut rng, seed)).unwrap();
-        match slowest.time(case, || load_scene(&path)) {
-            Ok(scene) => {
-                let s = &scene.strands;
-                let total: u64 = s.counts.iter().map(|&c| u64::from(c)).sum();
-                assert_eq!(total, s.points.len() as u64, "case {case}");
-                assert!(s.points.iter().all(|p| p.is_finite()), "case {case}");
-                loaded += 1;
-            }
-            Err(e) => {
-                let msg = format!("{e:#}");
-                assert!(msg.contains(&format!("case{case}.{ext}")), "{msg}");
-                refused += 1;
-            }
+        let outcome = slowest.time(case, || load_scene(&path));
+        if loaded_whole(case, outcome, &format!("case{case}.{ext}")) {
+            loaded += 1;
+        } else {
+            refused += 1;
         }
         std::fs::remove_file(&path).unwrap();
     }

@@ -6,6 +6,7 @@
 //! failed run leaves nothing at the target.
 
 use crate::gpu::{self, AdapterPreference, Gpu};
+use crate::io::encode_png;
 use crate::methods::registry;
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
@@ -19,8 +20,6 @@ pub fn frame_file_name(k: u32, end: u32) -> String {
     let digits = (end.saturating_sub(1).max(1).ilog10() as usize + 1).max(4);
     format!("frame_{k:0digits$}.png")
 }
-
-pub use crate::io::encode_png;
 
 /// A sink of frames: frame number and image, in order.
 pub type FrameSink<'a> = dyn FnMut(u32, image::RgbaImage) -> Result<()> + 'a;
@@ -143,12 +142,8 @@ impl AnimationOut {
                 produce(&mut |k: u32, image: image::RgbaImage| {
                     let name = frame_file_name(k, *end);
                     let png = encode_png(&image)?;
-                    let written = (|| {
-                        let mut f = std::fs::File::create(tmp.path().join(&name))?;
-                        f.write_all(&png)?;
-                        f.sync_all()
-                    })();
-                    written.with_context(|| format!("{}: cannot write", dir.join(&name).display()))?;
+                    crate::io::write_atomic_io(&tmp.path().join(&name), &png)
+                        .with_context(|| format!("{}: cannot write", dir.join(&name).display()))?;
                     names.push(name);
                     Ok(())
                 })?;

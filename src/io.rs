@@ -1,6 +1,7 @@
 //! Input files are read bounded ([`read_regular_file`]: regular files only, at most a stated size). Output files
 //! are written whole or not at all: to a [`tempfile`] temporary file beside the target, then persisted (renamed)
-//! over it. A failed write removes the temporary file.
+//! over it. A failed write removes the temporary file. Every PNG is encoded by [`encode_png`] and written by
+//! [`write_png`]; CSV text comes from [`csv_text`] (serde rows) or [`csv_table`] (columns known at run time).
 
 use anyhow::{Context, Result};
 use std::io::Write;
@@ -191,11 +192,50 @@ pub fn read_rows<T: serde::de::DeserializeOwned>(
     Ok(out)
 }
 
-/// `image` encoded as PNG.
-pub fn encode_png(image: &image::RgbaImage) -> Result<Vec<u8>> {
+/// An image [`encode_png`] takes: an `image` buffer of any 8- or 16-bit pixel, or a `DynamicImage`.
+pub trait PngSource {
+    /// The pixels as bytes, the width, the height and their colour type.
+    fn png_parts(&self) -> (&[u8], u32, u32, image::ExtendedColorType);
+}
+
+impl<P> PngSource for image::ImageBuffer<P, Vec<P::Subpixel>>
+where
+    P: image::PixelWithColorType,
+    [P::Subpixel]: image::EncodableLayout,
+{
+    fn png_parts(&self) -> (&[u8], u32, u32, image::ExtendedColorType) {
+        use image::EncodableLayout;
+        (
+            self.as_raw().as_bytes(),
+            self.width(),
+            self.height(),
+            P::COLOR_TYPE,
+        )
+    }
+}
+
+impl PngSource for image::DynamicImage {
+    fn png_parts(&self) -> (&[u8], u32, u32, image::ExtendedColorType) {
+        (self.as_bytes(), self.width(), self.height(), self.color().into())
+    }
+}
+
+/// `image` encoded as PNG: the one PNG encoder (files go through [`write_png`]).
+pub fn encode_png(image: &impl PngSource) -> Result<Vec<u8>> {
+    use image::ImageEncoder;
+    let (bytes, width, height, color) = image.png_parts();
     let mut png = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(bytes, width, height, color)
+        .context("cannot encode the image as PNG")?;
     Ok(png)
+}
+
+/// `image` as a PNG file at `path`, whole or not at all ([`encode_png`], then [`write_atomic`]); the error names
+/// `path`.
+pub fn write_png(path: &Path, image: &impl PngSource) -> Result<()> {
+    let png = encode_png(image).with_context(|| format!("{}: cannot write", path.display()))?;
+    write_atomic(path, &png)
 }
 
 /// Linear `c` clamped to `[0, 1]` and sRGB-encoded (IEC 61966-2-1) to 8 bits.
@@ -211,7 +251,7 @@ pub fn srgb8(c: f32) -> u8 {
 
 #[cfg(test)]
 mod tests {
-    use super::{check_output, read_regular_file, write_atomic};
+    use super::{check_output, encode_png, read_regular_file, write_atomic, write_png};
 
     fn names(dir: &std::path::Path) -> Vec<String> {
         let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -267,6 +307,32 @@ mod tests {
             "{e}"
         );
         assert_eq!(names(dir.path()), ["taken"]);
+    }
+
+    #[test]
+    fn a_png_is_written_whole_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let rgba = image::RgbaImage::from_fn(3, 2, |x, y| image::Rgba([x as u8 * 80, y as u8 * 200, 7, 255]));
+        let path = dir.path().join("a.png");
+        write_png(&path, &rgba).unwrap();
+        assert_eq!(image::open(&path).unwrap().to_rgba8(), rgba);
+        assert_eq!(names(dir.path()), ["a.png"]);
+        // A `DynamicImage` of RGB pixels keeps its three channels.
+        let rgb = image::DynamicImage::ImageRgb8(image::RgbImage::from_pixel(2, 2, image::Rgb([1, 2, 3])));
+        let back = image::load_from_memory(&encode_png(&rgb).unwrap()).unwrap();
+        assert_eq!(back.color(), image::ColorType::Rgb8);
+        assert_eq!(back.to_rgb8().get_pixel(1, 1).0, [1, 2, 3]);
+        // Pixels PNG cannot hold (32-bit float) are refused before anything is written; so is a missing folder.
+        let bad = image::DynamicImage::ImageRgb32F(image::Rgb32FImage::new(1, 1));
+        let e = format!("{:#}", write_png(&dir.path().join("f.png"), &bad).unwrap_err());
+        assert!(e.contains("f.png: cannot write"), "{e}");
+        let missing = dir.path().join("no-such-folder").join("b.png");
+        let e = format!("{:#}", write_png(&missing, &rgba).unwrap_err());
+        assert!(
+            e.starts_with(&format!("{}: cannot write", missing.display())),
+            "{e}"
+        );
+        assert_eq!(names(dir.path()), ["a.png"]);
     }
 
     #[test]

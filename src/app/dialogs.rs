@@ -107,9 +107,7 @@ impl HairlabApp {
             _ => r.read_output().map_err(anyhow::Error::from),
         };
         let result = shown.and_then(|img| {
-            let mut png = Vec::new();
-            img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
-            crate::io::write_atomic(&path, &png)?;
+            crate::io::write_png(&path, &img)?;
             Ok((img.width(), img.height()))
         });
         match result {

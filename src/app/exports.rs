@@ -12,7 +12,7 @@ use super::inspector::PlotKind;
 use super::{DialogPurpose, HairlabApp};
 use crate::bench;
 use crate::bench::report::{chart_files, write_files};
-use crate::io::csv_text;
+use crate::io::{csv_text, encode_png};
 use std::path::{Path, PathBuf};
 
 /// What a window exports into a folder.
@@ -217,12 +217,6 @@ fn copy_chart(ctx: &egui::Context, chart: &bench::chart::Chart) -> anyhow::Resul
     Ok(())
 }
 
-fn png(image: image::DynamicImage) -> anyhow::Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
-    Ok(bytes)
-}
-
 /// The compared frames as files: `<k>_<technique>.png` for each slot's image (`k` from 1); for every slot after
 /// the first, `difference_<k>_<technique>.png` (the largest channel error against the first × `gain`, as the
 /// window shows it) and `flip_<k>_<technique>.png` (FLIP's heat map); and `metrics.csv`, one row per slot after
@@ -233,16 +227,16 @@ pub fn compare_files(frames: &CompareFrames, gain: f32) -> anyhow::Result<Vec<(S
     let mut rows = Vec::new();
     for (i, img) in frames.images.iter().enumerate() {
         let k = i + 1;
-        files.push((format!("{k}_{}.png", img.name), png(img.image.clone().into())?));
+        files.push((format!("{k}_{}.png", img.name), encode_png(&img.image)?));
         if i == 0 {
             continue;
         }
         files.push((
             format!("difference_{k}_{}.png", img.name),
-            png(difference_image(&img.image, reference, gain).into())?,
+            encode_png(&difference_image(&img.image, reference, gain))?,
         ));
         let flip = crate::transparency::FlipMap::new(&img.image, reference).heat_map();
-        files.push((format!("flip_{k}_{}.png", img.name), png(flip.into())?));
+        files.push((format!("flip_{k}_{}.png", img.name), encode_png(&flip)?));
         let m = &img.metrics;
         rows.push(MetricsRow {
             slot: k,

@@ -65,7 +65,7 @@ pub fn write_truth(
     let mut written = vec![csv];
     for (name, stage) in truth.chain_images() {
         let image = dir.join(name);
-        crate::io::write_atomic(&image, &crate::io::encode_png(&stage.image)?)?;
+        crate::io::write_png(&image, &stage.image)?;
         written.push(image);
     }
     written.extend(write_truth_chart(

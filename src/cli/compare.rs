@@ -131,10 +131,7 @@ pub(super) fn compare_images(a: &CompareArgs) -> Result<()> {
         println!("{name:<22} {value:.6}");
     }
     if let Some(out) = &a.flip_map {
-        let heat = FlipMap::new(&image, &reference).heat_map();
-        let mut png = Vec::new();
-        heat.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
-        crate::io::write_atomic(out, &png)?;
+        crate::io::write_png(out, &FlipMap::new(&image, &reference).heat_map())?;
         println!("wrote {}", out.display());
     }
     Ok(())

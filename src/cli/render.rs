@@ -2,8 +2,9 @@
 //! `render.mode = path`, the CPU path-traced reference of its still scene instead.
 
 use super::interrupt::InterruptedAt;
-use crate::animation::{AnimationOut, encode_png};
+use crate::animation::AnimationOut;
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
+use crate::io::encode_png;
 use crate::pathtrace::setup::PathScene;
 use crate::render::render_settings::RenderMode;
 use crate::settings::Settings;
@@ -107,7 +108,7 @@ pub(super) fn render(a: &RenderArgs) -> Result<()> {
     a.scene.size(&mut settings)?;
     let (Some(range), Some(out)) = (range, out) else {
         let image = render_frame_image(&mut settings, a.frame.unwrap_or(0))?;
-        crate::io::write_atomic(&a.out, &encode_png(&image)?)?;
+        crate::io::write_png(&a.out, &image)?;
         println!("wrote {} ({}×{})", a.out.display(), image.width(), image.height());
         return Ok(());
     };

@@ -7,6 +7,7 @@
 use super::data::{IMAGES, Shadows, Transparency, WORST_TEXELS, vz_file};
 use super::page::{escape, section};
 use crate::gpu::Gpu;
+use crate::io::write_png;
 use crate::measure::MethodConfig;
 use crate::measure::transparency::TechniqueConfig;
 use crate::progress::{Progress, share};
@@ -54,14 +55,6 @@ pub(super) fn render(gpu: &Gpu, mut s: Settings) -> Result<RgbaImage> {
     out.context("no frame rendered")
 }
 
-fn save(image: &image::DynamicImage, path: &Path) -> Result<()> {
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    image
-        .write_to(&mut bytes, image::ImageFormat::Png)
-        .with_context(|| format!("{}: cannot encode", path.display()))?;
-    crate::io::write_atomic(path, bytes.get_ref())
-}
-
 /// Renders `reference` and each of `variants` (label, settings; a table's rows in order) into `dir`
 /// (`reference.png`, and per row `k.png`, `k_difference.png`, `k_flip.png`); stops after the image in progress
 /// when `progress` asks. Whether every image was rendered.
@@ -77,7 +70,7 @@ pub fn render_set(
         return Ok(false);
     }
     let reference = render(gpu, reference)?;
-    save(&reference.clone().into(), &dir.join("reference.png"))?;
+    write_png(&dir.join("reference.png"), &reference)?;
     let total = variants.len() + 1;
     for (k, (label, s)) in variants.into_iter().enumerate() {
         if !progress.step(&format!("rendering {label}"), share(k + 1, total)) {
@@ -86,9 +79,9 @@ pub fn render_set(
         let image = render(gpu, s)?;
         let difference = difference_image(&image, &reference, DIFFERENCE_GAIN);
         let flip = FlipMap::new(&image, &reference).heat_map();
-        save(&difference.into(), &dir.join(format!("{k}_difference.png")))?;
-        save(&flip.into(), &dir.join(format!("{k}_flip.png")))?;
-        save(&image.into(), &dir.join(format!("{k}.png")))?;
+        write_png(&dir.join(format!("{k}_difference.png")), &difference)?;
+        write_png(&dir.join(format!("{k}_flip.png")), &flip)?;
+        write_png(&dir.join(format!("{k}.png")), &image)?;
     }
     Ok(true)
 }

@@ -989,7 +989,7 @@ fn the_window_exports_the_motion_as_the_cli_does() {
             (96, 72)
         );
         assert!(
-            bytes == hairlab::animation::encode_png(expected).unwrap(),
+            bytes == hairlab::io::encode_png(expected).unwrap(),
             "{name} differs from the CLI's frame"
         );
     }

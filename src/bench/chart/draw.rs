@@ -29,10 +29,7 @@ pub fn png(chart: &Chart, width: u32, height: u32) -> Result<Vec<u8>> {
     }
     let img = image::RgbImage::from_raw(width, height, rgb)
         .ok_or_else(|| anyhow!("cannot encode the chart as PNG: wrong buffer size"))?;
-    let mut out = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut out), image::ImageFormat::Png)
-        .map_err(|e| anyhow!("cannot encode the chart as PNG: {e}"))?;
-    Ok(out)
+    crate::io::encode_png(&img)
 }
 
 /// Renders `chart` as a `width`×`height` SVG document.

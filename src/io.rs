@@ -113,18 +113,18 @@ pub fn write_atomic_io(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 }
 
 /// A table whose columns are known only at run time (one per model, per plotted curve) as CSV text: `header`,
-/// then `rows`, each field quoted where it needs it, through the same `csv` writer as [`csv_text`].
-pub fn csv_table(
+/// then `rows`, each a sequence of fields (a `Vec`, a tuple; numbers as [`csv_text`] writes them), each field
+/// quoted where it needs it, through the same `csv` writer as [`csv_text`].
+pub fn csv_table<R: serde::Serialize>(
     name: &str,
     header: &[String],
-    rows: impl IntoIterator<Item = Vec<String>>,
+    rows: impl IntoIterator<Item = R>,
 ) -> Result<String> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(header)
         .with_context(|| format!("cannot encode {name}"))?;
     for r in rows {
-        w.write_record(&r)
-            .with_context(|| format!("cannot encode {name}"))?;
+        w.serialize(r).with_context(|| format!("cannot encode {name}"))?;
     }
     let bytes = w
         .into_inner()

@@ -156,10 +156,10 @@ impl HairlabApp {
         let Some(report) = self.pixel_inspector.report() else {
             return;
         };
-        let files = chart_files("pixel_transmittance", &report.chart()).map(|charts| {
-            let mut files = vec![("pixel.csv".to_string(), report.csv().into_bytes())];
-            files.extend(charts);
-            files
+        let files = report.csv().and_then(|csv| {
+            let mut files = vec![("pixel.csv".to_string(), csv.into_bytes())];
+            files.extend(chart_files("pixel_transmittance", &report.chart())?);
+            Ok(files)
         });
         match files.and_then(|files| write_files(dir, files)) {
             Ok(files) => self.info(format!("pixel: wrote {} files to {}", files.len(), dir.display())),

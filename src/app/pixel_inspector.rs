@@ -197,28 +197,34 @@ impl PixelReport {
     /// The fragment table as CSV, front to back: `rank,depth,segment,alpha,r,g,b,transmittance,weight` (linear
     /// colour, the transmittance `Π(1 − a)` in front of the fragment, the weight `a·T`), then
     /// `order_slab_map,order_occupancy_only` where the occupancy order is estimated.
-    pub fn csv(&self) -> String {
-        let mut out = String::from("rank,depth,segment,alpha,r,g,b,transmittance,weight");
+    pub fn csv(&self) -> anyhow::Result<String> {
+        let mut header = [
+            "rank",
+            "depth",
+            "segment",
+            "alpha",
+            "r",
+            "g",
+            "b",
+            "transmittance",
+            "weight",
+        ]
+        .map(String::from)
+        .to_vec();
         if self.orders.is_some() {
-            out.push_str(",order_slab_map,order_occupancy_only");
+            header.extend(["order_slab_map", "order_occupancy_only"].map(String::from));
         }
-        out.push('\n');
-        for (k, f) in self.fragments.iter().enumerate() {
+        let rows = self.fragments.iter().enumerate().map(|(k, f)| {
             let t = self.transmittance[k];
             let [r, g, b] = f.color;
-            out.push_str(&format!(
-                "{k},{},{},{},{r},{g},{b},{t},{}",
-                f.depth,
-                f.segment,
-                f.alpha,
-                f.alpha * t
-            ));
+            let mut row = vec![k.to_string(), f.depth.to_string(), f.segment.to_string()];
+            row.extend([f.alpha, r, g, b, t, f.alpha * t].map(|v| v.to_string()));
             if let Some(o) = &self.orders {
-                out.push_str(&format!(",{},{}", o.slab_map[k], o.occupancy_only[k]));
+                row.extend([o.slab_map[k].to_string(), o.occupancy_only[k].to_string()]);
             }
-            out.push('\n');
-        }
-        out
+            row
+        });
+        crate::io::csv_table("pixel.csv", &header, rows)
     }
 }
 
@@ -303,7 +309,12 @@ impl PixelInspector {
                 .on_hover_text("the fragment table as CSV text")
                 .clicked()
             {
-                ui.ctx().copy_text(r.csv());
+                match r.csv() {
+                    Ok(text) => ui.ctx().copy_text(text),
+                    Err(e) => {
+                        ui.colored_label(ui.visuals().error_fg_color, format!("{e:#}"));
+                    }
+                }
             }
         });
         fragment_table(ui, r);

@@ -161,17 +161,15 @@ pub fn motion_chart(m: &MotionMeasurement, preset: &str, metric: TemporalMetric)
     }
 }
 
-/// Writes the two CSV files and the chart into `dir` (created), each file whole; returns their paths.
+/// Writes the motion's CSV files ([`MotionMeasurement::csv_files`]) and the chart into `dir` (created), each file
+/// whole; returns their paths.
 pub fn write_motion_bench(
     dir: &Path,
     m: &MotionMeasurement,
     preset: &str,
     metric: TemporalMetric,
 ) -> Result<Vec<PathBuf>> {
-    let mut files = vec![
-        ("motion_summary.csv".to_string(), m.summary_csv()?.into_bytes()),
-        ("motion_frames.csv".to_string(), m.frames_csv()?.into_bytes()),
-    ];
+    let mut files = m.csv_files()?;
     files.extend(chart_files(
         &format!("motion_speed_vs_{}", metric.column()),
         &motion_chart(m, preset, metric),

@@ -117,12 +117,9 @@ pub(super) fn curve(a: &CurveArgs) -> Result<()> {
     use crate::visibility::TexelModel;
     let reference = crate::visibility::Reference.curve(&frags, &zs);
     let model = method.model(&values, alpha).curve(&frags, &zs);
-    let mut out = csv::Writer::from_writer(Vec::new());
-    out.write_record(["depth", registry::reference().name(), method.name()])?;
-    for ((z, r), v) in zs.iter().zip(&reference).zip(&model) {
-        out.serialize((z, r, v))?;
-    }
-    let bytes = out.into_inner().context("fragment curve CSV")?;
-    std::io::Write::write_all(&mut std::io::stdout().lock(), &bytes).context("stdout")?;
+    let header = ["depth", registry::reference().name(), method.name()].map(String::from);
+    let rows = zs.iter().zip(&reference).zip(&model).map(|((z, r), v)| (z, r, v));
+    let text = crate::io::csv_table("the fragment curve", &header, rows)?;
+    std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes()).context("stdout")?;
     Ok(())
 }

@@ -57,12 +57,5 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
 /// Writes `motion_summary.csv`, `motion_frames.csv` and, with a followed point, `motion_point.csv` of `m` into
 /// `out`, each whole.
 fn write(out: &Path, m: &MotionMeasurement) -> Result<Vec<PathBuf>> {
-    let mut files = vec![
-        ("motion_summary.csv".to_string(), m.summary_csv()?.into_bytes()),
-        ("motion_frames.csv".to_string(), m.frames_csv()?.into_bytes()),
-    ];
-    if let Some(csv) = m.point_csv()? {
-        files.push(("motion_point.csv".to_string(), csv.into_bytes()));
-    }
-    crate::bench::report::write_files(out, files)
+    crate::bench::report::write_files(out, m.csv_files()?)
 }

@@ -561,6 +561,20 @@ impl MotionMeasurement {
         crate::io::csv_text("motion_point.csv", rows).map(Some)
     }
 
+    /// The files of a motion measurement, as `(name, bytes)` for `bench::report::write_files`: `motion_summary.csv`,
+    /// `motion_frames.csv` and, with a followed point, `motion_point.csv` (what `measure motion`, `bench motion`
+    /// and a report write).
+    pub fn csv_files(&self) -> Result<Vec<(String, Vec<u8>)>> {
+        let mut files = vec![
+            ("motion_summary.csv".to_string(), self.summary_csv()?.into_bytes()),
+            ("motion_frames.csv".to_string(), self.frames_csv()?.into_bytes()),
+        ];
+        if let Some(csv) = self.point_csv()? {
+            files.push(("motion_point.csv".to_string(), csv.into_bytes()));
+        }
+        Ok(files)
+    }
+
     /// The summary table: one line per configuration.
     pub fn table(&self, preset: &str) -> String {
         let m = self;

@@ -54,7 +54,7 @@ impl TexelCurves {
         let rows = zs.iter().enumerate().map(|(i, z)| {
             std::iter::once(z.to_string())
                 .chain(columns.iter().map(|c| c[i].to_string()))
-                .collect()
+                .collect::<Vec<_>>()
         });
         crate::io::csv_table("the texel curves", &header, rows)
     }

@@ -8,6 +8,7 @@
 pub trait Progress {
     /// `label`: what runs now; `fraction` (0..=1): the share of the whole done. `false` asks the loop to stop
     /// (at its next natural step: a loop never stops in the middle of a unit it writes whole).
+    #[must_use = "`false` asks the loop to stop at its next natural step"]
     fn step(&mut self, label: &str, fraction: f32) -> bool;
 
     /// This progress seen from a phase that covers `start..end` of the whole.

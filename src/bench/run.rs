@@ -109,7 +109,8 @@ pub fn measure_configs_each(
         }
     }
     let done = format!("measured {} of {total} configurations", rows.len());
-    progress.borrow_mut().step(&done, share(rows.len(), total));
+    // The last step: every configuration is in, or the run stopped already; nothing is left to stop.
+    let _ = progress.borrow_mut().step(&done, share(rows.len(), total));
     Ok(stats.map(|stats| BenchResult {
         preset: preset.to_string(),
         stats,

@@ -7,7 +7,6 @@ use anyhow::Result;
 use clap::Args;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 
 use crate::measure::fibre_slab::{self, FibreConstants, Options};
 use crate::settings::Settings;
@@ -65,7 +64,6 @@ pub fn run(a: &MeasureFibresArgs) -> Result<()> {
     let mut bar = super::progress::TerminalProgress::new();
     let m = fibre_slab::measure(settings.render.hair_color, &options, &mut bar)?;
     drop(bar);
-    let interrupted = crate::cli::interrupt::flag().load(Ordering::SeqCst) || !m.complete;
     print!("{}", report(&a.preset, &m));
     let wrote = match &a.out {
         Some(dir) => {
@@ -81,7 +79,7 @@ pub fn run(a: &MeasureFibresArgs) -> Result<()> {
         }
         None => None,
     };
-    if interrupted {
+    if !m.complete {
         return Err(crate::cli::interrupt::InterruptedAt {
             done: m.slabs.len() as u64,
             unit: "slabs".to_string(),

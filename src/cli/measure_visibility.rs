@@ -5,7 +5,6 @@
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::settings::Settings;
@@ -37,7 +36,6 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
     let mut bar = super::progress::TerminalProgress::new();
     let m = crate::measure::fibre_visibility::compare_map(&gpu, &settings, a.rays as usize, &mut bar)?;
     drop(bar);
-    let interrupted = crate::cli::interrupt::flag().load(Ordering::SeqCst);
     let fragments: usize = m.texels.iter().map(|t| t.fragments).sum();
     println!(
         "preset {}: {}² map, {} occupied texels, {fragments} fragments, {} rays per texel (hair_alpha {}, strand width {})",
@@ -68,7 +66,7 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
         }
         None => None,
     };
-    if interrupted {
+    if !m.complete {
         return Err(crate::cli::interrupt::InterruptedAt {
             done: m.texels.len() as u64,
             unit: "texels".to_string(),

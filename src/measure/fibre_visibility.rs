@@ -43,6 +43,8 @@ pub struct MapComparison {
     /// The `α` whose `(1 − α)^k` best fits the ray-traced `V` after `k` fragments, and the mean `|ΔV|` it leaves.
     pub best_alpha: f64,
     pub mean_abs_dv_at_best: f64,
+    /// Every occupied texel was measured (false: the progress stopped the run first).
+    pub complete: bool,
 }
 
 /// `(1 − α)^k` fitted to `(k, v)` samples by least squares: sums per `k`, then a search over `α` in steps of
@@ -143,6 +145,7 @@ pub fn compare_map(
         .iter()
         .map(|&(k, v)| (v - (1.0 - alpha as f32).powi(k as i32)).abs())
         .collect();
+    let complete = texels.len() == occupied.len();
     Ok(MapComparison {
         side,
         rays_per_texel: rays * rays,
@@ -152,6 +155,7 @@ pub fn compare_map(
         max_abs_dv: errors.last().map_or(0.0, |&d| f64::from(d)),
         best_alpha: alpha,
         mean_abs_dv_at_best: mean(&at_best),
+        complete,
     })
 }
 

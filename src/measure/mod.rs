@@ -171,7 +171,7 @@ pub fn measure_on_each(
         height: 8,
     };
     // The reference runs whatever the answer: the stats need it (a stop ends before the first configuration).
-    progress.step(registry::reference().name(), 0.0);
+    let mut go = progress.step(registry::reference().name(), 0.0);
     let empty = ParamValues::new();
     let lists = r.reference_lists(&s.camera, &s.light, &s.render)?;
     let occupied: Vec<usize> = (0..lists.len()).filter(|&t| !lists[t].is_empty()).collect();
@@ -220,7 +220,8 @@ pub fn measure_on_each(
     let reference_change = mean_change(&reference_frames);
     let mut out = Vec::new();
     for (i, c) in configs.iter().enumerate() {
-        if !progress.step(&c.label(), share(i, configs.len())) {
+        go = go && progress.step(&c.label(), share(i, configs.len()));
+        if !go {
             break;
         }
         let method = registry::find(&c.name).map_err(anyhow::Error::msg)?;

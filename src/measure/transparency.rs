@@ -107,7 +107,7 @@ pub fn measure_each_on(
         height,
     };
     // The reference runs whatever the answer: the stats need it (a stop ends before the first configuration).
-    progress.step(registry::reference().name(), 0.0);
+    let mut go = progress.step(registry::reference().name(), 0.0);
     let empty = ParamValues::new();
     let lists = r.eye_lists(&frame(registry::reference(), &empty))?;
     r.render(&frame(registry::reference(), &empty))?;
@@ -131,7 +131,8 @@ pub fn measure_each_on(
     };
     let mut out = Vec::with_capacity(configs.len());
     for (i, c) in configs.iter().enumerate() {
-        if !progress.step(&c.label(), share(i, configs.len())) {
+        go = go && progress.step(&c.label(), share(i, configs.len()));
+        if !go {
             break;
         }
         let input = frame(c.plugin()?, &c.params);

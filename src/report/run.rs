@@ -74,6 +74,7 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     // A still preset's study in motion plays the stray-strand sweep (one strand's root sliding across the hair's
     // light-facing front, the motion of Sintorn & Assarsson's Fig. 4 failure), as `stray-sweep` declares it.
     let swept;
+    let mut go = true;
     let settings = if plan.motion && settings.motion.source == crate::motion::MotionSource::None {
         let mut s = settings.clone();
         s.motion = Settings::load_preset(STILL_MOTION, &[])?.motion;
@@ -81,7 +82,7 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
             "preset {} has no [motion]: --motion plays {STILL_MOTION}'s (one strand's root sweeping across the hair)",
             plan.preset
         );
-        progress.step(&note, 0.0);
+        go = progress.step(&note, 0.0);
         swept = s;
         &swept
     } else {
@@ -116,13 +117,17 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
         ..Meta::default()
     };
     let root = draft.path();
-    progress.step("rendering the scene's thumbnail…", thumbnail.0);
+    if !(go && progress.step("rendering the scene's thumbnail…", thumbnail.0)) {
+        return Ok(Done {
+            dirs: Vec::new(),
+            meta,
+            finished: false,
+        });
+    }
     let image = super::images::render(&gpu, settings.clone())?;
     let h = (image.height() * THUMBNAIL_WIDTH / image.width().max(1)).max(1);
     let small = image::imageops::thumbnail(&image, THUMBNAIL_WIDTH.min(image.width()), h);
-    small
-        .save(root.join(THUMBNAIL))
-        .with_context(|| format!("{}: cannot write", root.join(THUMBNAIL).display()))?;
+    crate::io::write_png(&root.join(THUMBNAIL), &small)?;
     meta.thumbnail = Some(THUMBNAIL.to_string());
     let mut dirs = Vec::new();
     let frames = plan.frames.max(1);
@@ -271,14 +276,8 @@ fn truth(
     Ok(())
 }
 
-/// `motion_summary.csv` and `motion_frames.csv` of `m`, as `hairlab measure motion` writes them.
+/// The motion's CSV files of `m`, as `hairlab measure motion` writes them.
 fn write_motion(dir: &std::path::Path, m: &MotionMeasurement) -> Result<()> {
-    crate::bench::report::write_files(
-        dir,
-        vec![
-            ("motion_summary.csv".to_string(), m.summary_csv()?.into_bytes()),
-            ("motion_frames.csv".to_string(), m.frames_csv()?.into_bytes()),
-        ],
-    )?;
+    crate::bench::report::write_files(dir, m.csv_files()?)?;
     Ok(())
 }

@@ -82,6 +82,46 @@ fn a_motion_measurement_stopped_in_a_configuration_keeps_the_ones_finished() {
     assert_eq!(m.rows[0].frames.len(), 3);
 }
 
+/// A stop asked at the reference's step (the first; every later step would go on) measures no configuration:
+/// the answer is read, not dropped, and the scene's figures, which need the reference, are still there.
+#[test]
+fn a_stop_at_the_reference_step_measures_no_configuration() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let configs = [MethodConfig::parse("osm:slices=4").unwrap()];
+    let mut asked = 0;
+    let mut progress = |_: &str, _: f32| {
+        asked += 1;
+        asked > 1
+    };
+    let (stats, rows) =
+        hairlab::measure::measure_on(&gpu, &small("default"), &configs, 1, &mut progress).unwrap();
+    assert!(rows.is_empty(), "{} rows", rows.len());
+    assert!(stats.occupied_texels > 0);
+}
+
+/// `compare_map` stopped after its third texel keeps those three and says it is not complete; run to the end it
+/// measures every occupied texel and says so.
+#[test]
+fn a_stopped_fibre_visibility_map_keeps_its_texels_and_says_it_is_incomplete() {
+    use hairlab::measure::fibre_visibility::compare_map;
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let s = small("default");
+    let whole = compare_map(&gpu, &s, 1, &mut hairlab::progress::Quiet).unwrap();
+    assert!(
+        whole.complete && whole.texels.len() > 3,
+        "{} texels",
+        whole.texels.len()
+    );
+    let mut steps = 0;
+    let mut progress = |_: &str, _: f32| {
+        steps += 1;
+        steps < 3
+    };
+    let cut = compare_map(&gpu, &s, 1, &mut progress).unwrap();
+    assert!(!cut.complete);
+    assert_eq!(cut.texels, whole.texels[..3]);
+}
+
 /// A stop asked after the second of four frames fails the run with `Stopped` once that frame was handed over:
 /// two frames reached the sink, none after.
 #[test]

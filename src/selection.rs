@@ -110,16 +110,19 @@ impl<F: Family> Selection<F> {
         if self.params.is_empty() {
             return self.name.clone();
         }
+        format!("{}:{}", self.name, self.param_words().join(","))
+    }
+
+    /// Each parameter as `key=value`, as a person types it after `name:` (choices as words, `spacing=linear`).
+    pub fn param_words(&self) -> Vec<String> {
         let plugin = F::find(&self.name).ok();
-        let kv: Vec<String> = self
-            .params
+        self.params
             .iter()
             .map(|(k, v)| match plugin.and_then(|p| F::spec(p, k).ok()) {
                 Some(s) => format!("{k}={}", s.format(*v)),
                 None => format!("{k}={v}"),
             })
-            .collect();
-        format!("{}:{}", self.name, kv.join(","))
+            .collect()
     }
 
     /// The registered plug-in.

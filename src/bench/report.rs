@@ -50,14 +50,6 @@ struct CsvTail<'a> {
     device: &'a str,
 }
 
-/// `key=value;key=value`.
-fn params_text(p: &ParamValues) -> String {
-    p.iter()
-        .map(|(k, v)| format!("{k}={v}"))
-        .collect::<Vec<_>>()
-        .join(";")
-}
-
 /// `results.csv`: a header, then one row per configuration.
 pub fn to_csv(result: &BenchResult) -> Result<String> {
     let front = result.front();
@@ -66,7 +58,8 @@ pub fn to_csv(result: &BenchResult) -> Result<String> {
         result.rows.iter().enumerate().map(|(i, r)| {
             let head = CsvHead {
                 method: &r.config.name,
-                params: params_text(&r.config.params),
+                // As the label spells them (choices as words), `;`-separated.
+                params: r.config.param_words().join(";"),
                 label: r.config.label(),
                 note: &r.note,
                 gpu_ms_median: r.total_ms.median,
@@ -442,6 +435,20 @@ pub(crate) mod tests {
         );
         assert!(lines[2].contains(",0.75,inf,false,"), "{}", lines[2]);
         assert_eq!(lines.len(), 3);
+    }
+
+    /// The params column spells a choice as the label and `--config` do (`spacing=uniform`, not its number).
+    #[test]
+    fn results_csv_params_read_as_the_label_spells_them() {
+        let mut r = result();
+        r.rows.truncate(1);
+        r.rows[0].config = MethodConfig::parse("dom:layers=3,spacing=uniform").unwrap();
+        let text = to_csv(&r).unwrap();
+        let line = text.lines().nth(1).unwrap();
+        assert!(
+            line.starts_with("dom,layers=3;spacing=uniform,\"dom:layers=3,spacing=uniform\","),
+            "{line}"
+        );
     }
 
     #[test]

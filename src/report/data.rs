@@ -1,7 +1,7 @@
 //! What a report reads: the folders `hairlab bench shadows`, `bench transparency` and `measure motion` write,
 //! each table checked against the columns its writer gives (an unknown column, a missing one, a short row or a
-//! value that is not a number is one error naming the file). The cells are kept as the CSV text, so the page
-//! shows exactly what the CSV holds.
+//! value that is not a number is one error naming the file). The cells are kept as the CSV text; the page
+//! rounds what it shows of a number and keeps that text in the cell's title (`page::shown`).
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};

@@ -175,7 +175,7 @@ pub fn fig2(t: &Transparency, images_dir: &str) -> String {
             continue;
         }
         let label = tab.text(k, "configuration").unwrap_or("?");
-        let cell = |name: &str| tab.text(k, name).unwrap_or("");
+        let cell = |name: &str| super::page::shown(name, tab.text(k, name).unwrap_or(""));
         let captions = [
             (
                 format!("The hair composited by {label}"),
@@ -255,18 +255,18 @@ pub fn configurations(s: &Shadows, images_dir: &str) -> Option<String> {
             continue;
         }
         let label = t.text(k, "label").unwrap_or("?");
-        let cell = |name: &str| t.text(k, name).unwrap_or("");
+        let cell = |name: &str| super::page::shown(name, t.text(k, name).unwrap_or(""));
         let _ = write!(
             content,
             "<article class=\"config\">\n<h3>{l}</h3>\n<p>map error {me}, FLIP {fl}, image RMSE {rm}; memory {mb} \
              bytes; {gp} geometry passes; GPU {ms} ms</p>\n<div class=\"grid\">\n",
             l = escape(label),
-            me = escape(cell("map_error")),
-            fl = escape(cell("flip")),
-            rm = escape(cell("image_rmse")),
-            mb = escape(cell("memory_bytes")),
-            gp = escape(cell("geometry_passes")),
-            ms = escape(cell("gpu_ms_median")),
+            me = escape(&cell("map_error")),
+            fl = escape(&cell("flip")),
+            rm = escape(&cell("image_rmse")),
+            mb = escape(&cell("memory_bytes")),
+            gp = escape(&cell("geometry_passes")),
+            ms = escape(&cell("gpu_ms_median")),
         );
         for (src, alt, caption) in [
             (

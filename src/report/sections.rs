@@ -17,6 +17,7 @@ pub const MOTION_DIR: &str = "data/motion";
 /// The per-frame map-error chart the motion section draws.
 pub const MOTION_CHART: &str = "motion_map_error_per_frame.svg";
 
+/// The value at `path` of `json` as a reader is shown it (a number [`super::page::shown`]).
 fn json_text(json: &Option<Value>, path: &[&str]) -> Option<String> {
     let mut v = json.as_ref()?;
     for key in path {
@@ -25,6 +26,10 @@ fn json_text(json: &Option<Value>, path: &[&str]) -> Option<String> {
     match v {
         Value::String(s) => Some(s.clone()),
         Value::Null => None,
+        Value::Number(n) => Some(super::page::shown(
+            path.last().copied().unwrap_or(""),
+            &n.to_string(),
+        )),
         other => Some(other.to_string()),
     }
 }

@@ -1,8 +1,8 @@
 //! `hairlab report` (issue 36): the page of a small study parsed with an HTML5 parser (`scraper`). Every `img`,
 //! `source`, `a` and `link` reference is a file in the report's folder and no file of it names an `http` or
 //! `https` address (the SVG namespace identifier `xmlns="http://www.w3.org/2000/svg"` aside, which SVG needs and
-//! nothing fetches); each table's cells are its CSV's text; each section is on the page exactly when its data
-//! is; `--from` the folders of a finished study gives the same tables; bad input is one error naming the file,
+//! nothing fetches); each table's cells are its CSV's text (a rounded cell's in its title); each section is on
+//! the page exactly when its data is; `--from` the folders of a finished study gives the same tables; bad input is one error naming the file,
 //! with no page written.
 
 use crate::common::cli::{assert_fails, hairlab, stderr};
@@ -63,8 +63,25 @@ fn sections(html: &Html) -> Vec<String> {
         .collect()
 }
 
-/// The table `id`'s header and body cells as text.
+/// The table `id`'s header and body cells as text, a rounded cell's whole text (its title) in its place.
 fn table(html: &Html, id: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    cells(html, id, |c| {
+        c.value()
+            .attr("title")
+            .map_or_else(|| c.text().collect(), str::to_string)
+    })
+}
+
+/// The table `id`'s header and body cells as the page shows them.
+fn shown_table(html: &Html, id: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    cells(html, id, |c| c.text().collect())
+}
+
+fn cells(
+    html: &Html,
+    id: &str,
+    text: impl Fn(&scraper::ElementRef) -> String,
+) -> (Vec<String>, Vec<Vec<String>>) {
     let header = select(html, &format!("table#{id} thead th"))
         .iter()
         .map(|c| c.text().collect())
@@ -73,7 +90,7 @@ fn table(html: &Html, id: &str) -> (Vec<String>, Vec<Vec<String>>) {
         .iter()
         .map(|r| {
             r.select(&Selector::parse("td").unwrap())
-                .map(|c| c.text().collect())
+                .map(|c| text(&c))
                 .collect()
         })
         .collect();
@@ -325,6 +342,51 @@ fn sections_appear_only_where_their_data_is() {
         .collect();
     names.sort();
     assert_eq!(names, ["b", "motion", "r", "r2"]);
+}
+
+/// A configuration whose label holds markup and figures with every digit (typed here, no GPU): the page shows
+/// the label as text (no element made of it) and the figures to 4 significant digits, a time to 3, each rounded
+/// cell's whole number in its title; the CSV keeps every digit.
+#[test]
+fn a_label_with_markup_is_text_and_long_figures_are_rounded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("motion");
+    std::fs::create_dir_all(&dir).unwrap();
+    let header = SUMMARY.lines().next().unwrap();
+    let label = "a<b>\"c\"";
+    let summary = format!(
+        "{header}\n\"a<b>\"\"c\"\"\",0.05675050708926869,0.07,0.01,0.37,0.027,0.79,0.005,3.501971,0.0125569467718559\n"
+    );
+    std::fs::write(dir.join("motion_summary.csv"), &summary).unwrap();
+    let frames_header = FRAMES.lines().next().unwrap();
+    let frames = format!("{frames_header}\n\"a<b>\"\"c\"\"\",0,0.05,0.07,100,,,,,,3.6,0.0125\n");
+    std::fs::write(dir.join("motion_frames.csv"), frames).unwrap();
+    let out = tmp.path().join("r");
+    let o = hairlab(&[
+        "report",
+        "--from",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let raw = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(!raw.contains("<b>"), "the label's markup reached the page");
+    let html = page(&out);
+    assert!(select(&html, "b").is_empty());
+    let (_, shown) = shown_table(&html, "motion");
+    assert_eq!(
+        shown[0],
+        [
+            label, "0.05675", "0.07", "0.01", "0.37", "0.027", "0.79", "0.005", "3.5", "0.01256"
+        ]
+    );
+    let (_, whole) = table(&html, "motion");
+    assert_eq!(whole[0][1], "0.05675050708926869");
+    assert_eq!(whole[0][8], "3.501971");
+    assert_eq!(whole[0][9], "0.0125569467718559");
+    let csv = std::fs::read_to_string(out.join("data/motion/motion_summary.csv")).unwrap();
+    assert_eq!(csv, summary);
 }
 
 /// Nothing but the temporary folder's parent's own files: no report, no leftover draft.

@@ -5,7 +5,7 @@
 
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::caster::compute::ComputeRaster;
+use crate::render::caster::compute::{ComputeRaster, StrandPoints};
 use crate::render::caster::{LightCaster, LightStage, LightStrands, Raster};
 use crate::render::frame_bindings::FrameBindings;
 use crate::render::method::{LightMethod, MethodContext, MethodGpu};
@@ -127,7 +127,12 @@ impl LightSide {
             let compute = self.compute.get_or_insert_with(|| {
                 ComputeRaster::new(gpu, &bindings.frame_layout, &self.stage.ribbon_layout)
             });
-            compute.prepare(gpu, &bindings.frame_group, scene, raster, timer)?;
+            let strands = StrandPoints {
+                vertices: &scene.hair_vertices,
+                indices: &scene.hair_indices,
+                segments: scene.segment_count() as u64,
+            };
+            compute.prepare(gpu, &bindings.frame_group, strands, raster, timer)?;
         }
         Ok(())
     }

@@ -3,7 +3,7 @@
 //! writes. A method's GPU file keeps only what is its own (its shader, uniforms and pass structure).
 
 use crate::gpu::{Gpu, GpuError};
-use crate::render::caster::LightStage;
+use crate::render::caster::stage::LightStage;
 
 /// hairlab's budget for one method's light maps, in bytes: a limit of this workbench (it keeps a method from
 /// taking the whole GPU by accident), not of the GPU.

@@ -20,13 +20,12 @@
 //! per-segment passes' bit for bit; what binning costs and buys is measured by `bench scaling`
 //! (`docs/design.md`). It lines strands only.
 
-use super::{CasterStage, LightCaster};
+use super::stage::{CasterStage, LightCaster};
 use crate::gpu::timing::{GpuTimer, Phase};
 use crate::gpu::{Gpu, GpuError, readback};
 use crate::render::caster::raster_model::RasterFragment;
 use crate::render::geometry::RIBBON_GROUP;
 use crate::render::maps::storage_entry;
-use crate::render::scene_gpu::SceneGpu;
 
 pub const COMPUTE: CasterStage = CasterStage {
     wgsl: "casters/compute.wgsl",
@@ -42,6 +41,15 @@ pub const RASTER_TILES: std::ops::RangeInclusive<u32> = 4..=256;
 /// Most workgroups along one dimension of a dispatch.
 const MAX_GROUPS: u32 = 65_535;
 const FRAGMENT_BYTES: u64 = std::mem::size_of::<RasterFragment>() as u64;
+
+/// The strands [`ComputeRaster::prepare`] rasterises: the scene's strand points (`HairVertex`), the index pair
+/// of each segment, and the number of segments.
+#[derive(Clone, Copy)]
+pub struct StrandPoints<'a> {
+    pub vertices: &'a wgpu::Buffer,
+    pub indices: &'a wgpu::Buffer,
+    pub segments: u64,
+}
 
 /// The rasteriser's pipelines and buffers, and the stream of the last [`ComputeRaster::prepare`].
 pub struct ComputeRaster {
@@ -128,26 +136,26 @@ impl ComputeRaster {
         }
     }
 
-    /// Rasterises `scene`'s strands under the frame uniforms bound in `frame` (written before the call) onto a
+    /// Rasterises the `strands` under the frame uniforms bound in `frame` (written before the call) onto a
     /// `side`-texel map, per segment (`tile` 0) or binned to `tile`-texel tiles: count, prefix sums, readback of
     /// the totals, stream (and tile lists) sized, fill (or bin and tile raster); submitted before it returns.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
         frame: &wgpu::BindGroup,
-        scene: &SceneGpu,
+        strands: StrandPoints<'_>,
         (side, tile): (u32, u32),
         timer: &mut Option<GpuTimer>,
     ) -> Result<(), GpuError> {
         let device = &gpu.device;
-        let segments = scene.segment_count() as u64;
+        let segments = strands.segments;
         self.total = 0;
         if segments == 0 {
             return Ok(());
         }
         let limit = device.limits().max_storage_buffer_binding_size;
         let counts_bytes = (segments + 1) * 4;
-        if counts_bytes > limit || scene.hair_vertices.size() > limit {
+        if counts_bytes > limit || strands.vertices.size() > limit {
             return Err(too_large("segment counts and strand points", counts_bytes, limit));
         }
         if self.counts.size() != counts_bytes {
@@ -162,7 +170,7 @@ impl ComputeRaster {
             device,
             "hairlab.raster.points",
             &self.points_layout,
-            &[&scene.hair_vertices, &scene.hair_indices],
+            &[strands.vertices, strands.indices],
         );
         let workgroups = (segments as u32).div_ceil(WORKGROUP);
         let size = grid(workgroups);

@@ -1,7 +1,7 @@
 //! The strands as lines from the light: one LineList index pair per segment, the points read from the strand
 //! vertex buffer (`shaders/casters/lines.wgsl`). What the seed papers draw.
 
-use super::{CasterStage, LightCaster};
+use super::stage::{CasterStage, LightCaster};
 use crate::render::geometry::HairVertex;
 
 pub const LINES: CasterStage = CasterStage {

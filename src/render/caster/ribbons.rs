@@ -5,7 +5,7 @@
 //! that grows with distance, opacity times coverage): a strand no longer covers a texel or misses it as it
 //! moves by a fraction of a texel, which is what flickers under motion.
 
-use super::{CasterStage, LightCaster};
+use super::stage::{CasterStage, LightCaster};
 use crate::render::geometry::{RIBBON_GROUP, RIBBON_VERTICES_PER_SEGMENT};
 
 pub const RIBBONS: CasterStage = CasterStage {

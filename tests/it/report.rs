@@ -275,11 +275,26 @@ const FRAMES: &str = "config,frame,map_error,shading_error,tracked_points,flicke
                       occupancy,1,0.017,0.034,100,0.0016,0.05,0.0047,0.29,0.0016,9.4,0.0072\n";
 
 fn motion_folder(root: &Path, summary: &str) -> std::path::PathBuf {
+    motion_folder_of(root, summary, FRAMES)
+}
+
+fn motion_folder_of(root: &Path, summary: &str, frames: &str) -> std::path::PathBuf {
     let dir = root.join("motion");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("motion_summary.csv"), summary).unwrap();
-    std::fs::write(dir.join("motion_frames.csv"), FRAMES).unwrap();
+    std::fs::write(dir.join("motion_frames.csv"), frames).unwrap();
     dir
+}
+
+/// `hairlab report --from DIR --out OUT`.
+fn report_from(dir: &Path, out: &Path) -> std::process::Output {
+    hairlab(&[
+        "report",
+        "--from",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
 }
 
 /// A motion folder alone (typed here, no GPU): the machine, the motion and the claim it holds the figures of
@@ -289,13 +304,7 @@ fn sections_appear_only_where_their_data_is() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = motion_folder(tmp.path(), SUMMARY);
     let out = tmp.path().join("r");
-    let o = hairlab(&[
-        "report",
-        "--from",
-        dir.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = report_from(&dir, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_self_contained(&out);
     let html = page(&out);
@@ -317,23 +326,11 @@ fn sections_appear_only_where_their_data_is() {
     let only_dom: String = SUMMARY.lines().take(2).map(|l| format!("{l}\n")).collect();
     let dir = motion_folder(&tmp.path().join("b"), &only_dom);
     let out = tmp.path().join("r2");
-    let o = hairlab(&[
-        "report",
-        "--from",
-        dir.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = report_from(&dir, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(sections(&page(&out)), ["machine", "motion"]);
     // An earlier report is replaced whole, leaving nothing beside it.
-    let o = hairlab(&[
-        "report",
-        "--from",
-        dir.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = report_from(&dir, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(sections(&page(&out)), ["machine", "motion"]);
     let mut names: Vec<String> = std::fs::read_dir(tmp.path())
@@ -350,25 +347,16 @@ fn sections_appear_only_where_their_data_is() {
 #[test]
 fn a_label_with_markup_is_text_and_long_figures_are_rounded() {
     let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("motion");
-    std::fs::create_dir_all(&dir).unwrap();
     let header = SUMMARY.lines().next().unwrap();
     let label = "a<b>\"c\"";
     let summary = format!(
         "{header}\n\"a<b>\"\"c\"\"\",0.05675050708926869,0.07,0.01,0.37,0.027,0.79,0.005,3.501971,0.0125569467718559\n"
     );
-    std::fs::write(dir.join("motion_summary.csv"), &summary).unwrap();
     let frames_header = FRAMES.lines().next().unwrap();
     let frames = format!("{frames_header}\n\"a<b>\"\"c\"\"\",0,0.05,0.07,100,,,,,,3.6,0.0125\n");
-    std::fs::write(dir.join("motion_frames.csv"), frames).unwrap();
+    let dir = motion_folder_of(tmp.path(), &summary, &frames);
     let out = tmp.path().join("r");
-    let o = hairlab(&[
-        "report",
-        "--from",
-        dir.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = report_from(&dir, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let raw = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(!raw.contains("<b>"), "the label's markup reached the page");
@@ -404,15 +392,7 @@ fn bad_input_is_one_error_naming_the_file_and_writes_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     let root = tmp.path();
     let out = root.join("r");
-    let run = |from: &Path| {
-        hairlab(&[
-            "report",
-            "--from",
-            from.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-    };
+    let run = |from: &Path| report_from(from, &out);
 
     let empty = root.join("empty");
     std::fs::create_dir(&empty).unwrap();

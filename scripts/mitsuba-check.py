@@ -2,7 +2,7 @@
 """Renders one hairlab scene path-traced by hairlab and by Mitsuba 3 and says whether the images agree within
 their noise.
 
-    pip install mitsuba numpy
+    pip install mitsuba==3.9.1 numpy    # the version this script was checked with (it pins drjit 1.5.0)
     python3 scripts/mitsuba-check.py [--hairlab target/release/hairlab] [--preset default] [--set K=V]...
         [--width 320 --height 240 --spp 256] [--out DIR]
 
@@ -10,8 +10,9 @@ It runs `hairlab export --format mitsuba`, renders the scene twice with each ren
 EXR, same size and samples per pixel, Mitsuba's `scalar_rgb` variant: its LLVM variants need a matching LLVM)
 and prints, per renderer, the time and the mean radiance, then:
 
-Mitsuba 3.9.1's `linearcurve` leaves the shading frame's tangent arbitrary (it sets no dp_du, so the frame falls
-back to `coordinate_system(n)`; fixed after 3.9.1), and its `hair` BSDF reads the fibre axis from that frame.
+Checked with Mitsuba 3.9.1 only, whose `linearcurve` leaves the shading frame's tangent arbitrary (it sets no
+dp_du, so the frame falls back to `coordinate_system(n)`; fixed after 3.9.1), and its `hair` BSDF reads the fibre
+axis from that frame.
 The images compared here wrap the exported `hair` BSDF in `fibreframe`, a Python BSDF that hands the inner
 `hair` the frame whose tangent is the hit segment's axis (from `hair.txt` and the hit's primitive index) and
 changes nothing else. The time compared is Mitsuba's on the exported scene as written, without the wrapper

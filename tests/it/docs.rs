@@ -1,11 +1,13 @@
 //! The documentation is complete on its own: every registered shadow method and eye transparency technique has a
 //! citation entry in `docs/citations.md` (an `<a id="name"></a>` anchor keyed by its registry name, followed by
-//! the entry's text), and the README neither points outside the repository (`../shared`) nor at a `docs/` file
-//! that does not exist; `docs/citations.bib` holds one well-formed BibTeX entry per registered name, matching its
-//! citation entry.
+//! the entry's text) and a row with its parameters in `docs/guide.md`, which also names every command and preset;
+//! `docs/citations.bib` holds one well-formed BibTeX entry per registered name, matching its citation entry. The
+//! README is a front door (at most 150 lines, its test command the one `.ci/run` runs), and no page points outside
+//! the repository (`../shared`) or at a file or heading that does not exist.
 
 use hairlab::methods::registry as methods;
 use hairlab::render::transparency::registry as techniques;
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 fn root() -> PathBuf {
@@ -88,7 +90,12 @@ fn readme_stays_inside_the_repository() {
         let end = target.find([')', '#']).expect("an unclosed docs/ link");
         linked.push(target[..end].to_string());
     }
-    for file in ["docs/design.md", "docs/citations.md"] {
+    for file in [
+        "docs/guide.md",
+        "docs/design.md",
+        "docs/citations.md",
+        "docs/contributing.md",
+    ] {
         assert!(linked.iter().any(|l| l == file), "README.md does not link {file}");
     }
     for l in &linked {
@@ -97,6 +104,201 @@ fn readme_stays_inside_the_repository() {
             "README.md links {l}, which does not exist"
         );
     }
+}
+
+#[test]
+fn readme_is_a_front_door() {
+    let readme = read(&root().join("README.md"));
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 150,
+        "README.md has {lines} lines; the front door keeps to 150 (the rest goes to docs/)"
+    );
+    // CI proves the README: its first test command (up to a closing backtick or the line's end) is what `.ci/run`
+    // runs.
+    let command = readme
+        .lines()
+        .find_map(|l| {
+            l.find("cargo test")
+                .map(|i| l[i..].split('`').next().unwrap_or_default())
+        })
+        .expect("README.md gives no `cargo test` command");
+    let ci = read(&root().join(".ci/run"));
+    assert!(
+        ci.lines().any(|l| l.trim() == command.trim()),
+        "README.md's test command '{command}' is not a line of .ci/run"
+    );
+}
+
+/// The markdown pages a user reads: the README, every page in `docs/` and the scripts' README.
+fn pages() -> Vec<PathBuf> {
+    let mut pages = vec![root().join("README.md"), root().join("scripts/README.md")];
+    let docs = std::fs::read_dir(root().join("docs")).expect("docs/");
+    let mut in_docs: Vec<PathBuf> = docs
+        .map(|e| e.expect("a docs/ entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    in_docs.sort();
+    pages.extend(in_docs);
+    pages
+}
+
+/// The lines of `text` outside fenced code blocks, with their line numbers (1-based).
+fn prose(text: &str) -> Vec<(usize, &str)> {
+    let mut fenced = false;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+        } else if !fenced {
+            out.push((i + 1, line));
+        }
+    }
+    out
+}
+
+/// GitHub's anchor for a heading: lower case, spaces to `-`, every character but letters, digits, `-` and `_`
+/// dropped.
+fn slug(heading: &str) -> String {
+    heading
+        .trim()
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+            _ => None,
+        })
+        .flat_map(char::to_lowercase)
+        .collect()
+}
+
+/// Every anchor a page defines: its headings' slugs (a repeated heading's `-1`, `-2`, … too) and its
+/// `<a id="…"></a>` anchors.
+fn anchors(text: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for (_, line) in prose(text) {
+        if let Some(heading) = line.strip_prefix('#') {
+            let base = slug(heading.trim_start_matches('#'));
+            let mut name = base.clone();
+            let mut n = 0;
+            while !out.insert(name.clone()) {
+                n += 1;
+                name = format!("{base}-{n}");
+            }
+        }
+        for (i, _) in line.match_indices("<a id=\"") {
+            let id = &line[i + 7..];
+            out.insert(id[..id.find('"').unwrap_or(id.len())].to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn slugs_follow_github() {
+    assert_eq!(
+        slug(" The truth: a path-traced reference"),
+        "the-truth-a-path-traced-reference"
+    );
+    assert_eq!(
+        slug(" Temporal metrics (`src/measure/temporal.rs`, `src/measure/motion.rs`)"),
+        "temporal-metrics-srcmeasuretemporalrs-srcmeasuremotionrs"
+    );
+    let a = anchors("# A\n```\n# not a heading\n```\n## A\n<a id=\"osm\"></a>\n");
+    let got: Vec<&str> = a.iter().map(String::as_str).collect();
+    assert_eq!(got, ["a", "a-1", "osm"]);
+}
+
+#[test]
+fn every_relative_link_in_the_docs_resolves() {
+    let mut broken = Vec::new();
+    for page in pages() {
+        let text = read(&page);
+        let name = page.strip_prefix(root()).unwrap().display().to_string();
+        for (n, line) in prose(&text) {
+            if line.contains("../shared") {
+                broken.push(format!("{name}:{n}: points outside the repository (../shared)"));
+            }
+            for (i, _) in line.match_indices("](") {
+                let rest = &line[i + 2..];
+                let target = &rest[..rest.find([')', ' ']).unwrap_or(rest.len())];
+                if target.contains("://") || target.starts_with("mailto:") {
+                    continue;
+                }
+                let (file, anchor) = target.split_once('#').unwrap_or((target, ""));
+                let path = if file.is_empty() {
+                    page.clone()
+                } else {
+                    page.parent().unwrap().join(file)
+                };
+                if !path.exists() {
+                    broken.push(format!("{name}:{n}: {target}: no such file"));
+                } else if !anchor.is_empty() && !anchors(&read(&path)).contains(anchor) {
+                    broken.push(format!("{name}:{n}: {target}: no such heading or anchor"));
+                }
+            }
+        }
+    }
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
+}
+
+/// `docs/guide.md`'s table row of a registered name: the line that starts `| `name` |`.
+fn guide_row<'a>(guide: &'a str, name: &str) -> Option<&'a str> {
+    let start = format!("| `{name}` |");
+    guide.lines().find(|l| l.starts_with(&start))
+}
+
+#[test]
+fn the_guide_lists_every_method_and_technique_with_its_parameters() {
+    let guide = read(&root().join("docs/guide.md"));
+    let plugins = methods::all()
+        .iter()
+        .map(|m| (m.name(), m.info().params))
+        .chain(techniques::all().iter().map(|t| (t.name(), t.info().params)));
+    let mut missing = Vec::new();
+    for (name, params) in plugins {
+        let Some(row) = guide_row(&guide, name) else {
+            missing.push(format!("no row for '{name}'"));
+            continue;
+        };
+        for p in params {
+            if !row.contains(&format!("`{}`", p.key)) {
+                missing.push(format!("'{name}': parameter '{}' not in its row", p.key));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "docs/guide.md:\n{}", missing.join("\n"));
+}
+
+#[test]
+fn the_guide_names_every_command_and_preset() {
+    use clap::CommandFactory;
+    let guide = read(&root().join("docs/guide.md"));
+    let mut missing = Vec::new();
+    let cli = hairlab::cli::Cli::command();
+    for c in cli.get_subcommands().filter(|c| c.get_name() != "help") {
+        let subs: Vec<_> = c.get_subcommands().filter(|s| s.get_name() != "help").collect();
+        let mut names = vec![format!("hairlab {}", c.get_name())];
+        if !subs.is_empty() {
+            names = subs
+                .iter()
+                .map(|s| format!("hairlab {} {}", c.get_name(), s.get_name()))
+                .collect();
+        }
+        missing.extend(names.into_iter().filter(|n| !guide.contains(n.as_str())));
+    }
+    for entry in std::fs::read_dir(root().join("presets")).expect("presets/") {
+        let path = entry.expect("a presets/ entry").path();
+        let stem = path.file_stem().unwrap().to_string_lossy();
+        if !guide.contains(&format!("`{stem}`")) && !guide.contains(&format!("presets/{stem}.toml")) {
+            missing.push(format!("preset {stem}"));
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "docs/guide.md does not name:\n{}",
+        missing.join("\n")
+    );
 }
 
 /// One BibTeX entry: its type, its key and its fields (lower-case name, value without its outer braces).

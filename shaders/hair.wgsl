@@ -81,9 +81,9 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     let t = normalize(in.tangent);
     let to_eye = normalize(frame.eye_position - world);
     let l = light_dir(world);
-    // The method's V and the hair count it stands for (at the global hair alpha; with 3x3 PCF, of the filtered V).
+    // The method's V and the hair count it stands for (`hair_count`; with 3x3 PCF, of the filtered V).
     let v = hair_visibility(world);
-    let count = count_from_visibility(v, frame.hair_alpha);
+    let count = hair_count(v);
     let mesh = mesh_visibility(world, 1);
     var lit = strand_lit(t, l, to_eye, in.color, v, count) * light_radiance(world) * mesh;
     if frame.env_count > 1u {

@@ -1,7 +1,9 @@
 // Eye pass for opaque meshes: Lambert shading, shadowed by other meshes (shadow map) and by hair (the selected
-// shadow method's visibility).
+// shadow method's visibility; under the fibres model, the light its fibres scatter forward).
 #include "common/frame.wgsl"
 #include "common/scene_bindings.wgsl"
+#include "common/marschner.wgsl"
+#include "common/fibre_transport.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
 
@@ -36,7 +38,13 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         n = -n;
     }
     let l = light_dir(in.world);
-    let v = mesh_visibility(in.world, 3) * hair_visibility(in.world);
+    // Through the hair: V, or under the fibres model what the hair's fibres scatter forward (light across them).
+    let hair_v = hair_visibility(in.world);
+    var through = vec3<f32>(hair_v);
+    if frame.hair_model == HAIR_MODEL_FIBRES {
+        through = fibre_arriving(hair_v, 0.0, marschner_absorption(frame.hair_color), fibre_count(hair_v));
+    }
+    let v = mesh_visibility(in.world, 3) * through;
     let lit = in.color * light_radiance(in.world) * max(dot(n, l), 0.0) * v;
     return vec4<f32>(lit + in.color * frame.mesh_ambient, 1.0);
 }

@@ -4,6 +4,8 @@
 #include "common/marschner.wgsl"
 // count_from_visibility: the hair count the eye pass feeds it.
 #include "common/visibility.wgsl"
+// The fibres model's a_f, a_b and densities.
+#include "common/fibre_transport.wgsl"
 
 const DUAL_SCATTERING_DENSITY_FORWARD: f32 = 0.7;
 const DUAL_SCATTERING_DENSITY_BACK: f32 = 0.7;
@@ -47,6 +49,7 @@ fn dual_scattering_mean(e0: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>, v: vec3<f32
 // Radiance towards `to_eye` per unit light radiance from `to_light`, shadow included: `visibility` is the
 // direct fraction, `count` the strands in front towards the light.
 fn dual_scattering(
+    hair_model: u32,
     tangent: vec3<f32>,
     to_light: vec3<f32>,
     to_eye: vec3<f32>,
@@ -76,8 +79,17 @@ fn dual_scattering(
     let ttb = r[3] * exp(-sigma_a * r[5]);
     let trtf = r[6] * exp(-sigma_a * r[8]);
     let trtb = r[7] * exp(-sigma_a * r[9]);
-    let af = rf + ttf + trtf;
-    let ab = rb + ttb + trtb;
+    var af = rf + ttf + trtf;
+    var ab = rb + ttb + trtb;
+    var density_forward = DUAL_SCATTERING_DENSITY_FORWARD;
+    var density_back = DUAL_SCATTERING_DENSITY_BACK;
+    if hair_model == HAIR_MODEL_FIBRES {
+        let a = fibre_attenuation(sin_i, sigma_a);
+        af = a.forward;
+        ab = a.backward;
+        density_forward = FIBRE_DENSITY_FORWARD;
+        density_back = FIBRE_DENSITY_BACK;
+    }
     let var_w = MARSCHNER_WIDTH * MARSCHNER_WIDTH;
     let shift_f = dual_scattering_mean(rf, ttf, trtf, MARSCHNER_CENTRE);
     let shift_b = dual_scattering_mean(rb, ttb, trtb, MARSCHNER_CENTRE);
@@ -93,7 +105,7 @@ fn dual_scattering(
     let a3 = ab2 * ab * af2 / q3;
     let shift = shift_b * (vec3<f32>(1.0) - 2.0 * ab2 / (q * q)) + shift_f * (2.0 * q * q + 4.0 * af2 * ab2) / q3;
     let ab3 = ab2 * ab;
-    let spread_b = (vec3<f32>(1.0) + DUAL_SCATTERING_DENSITY_BACK * af2)
+    let spread_b = (vec3<f32>(1.0) + density_back * af2)
         * (ab * sqrt(2.0 * var_f + var_b) + ab3 * sqrt(2.0 * var_f + 3.0 * var_b))
         / max(ab + ab3 * (2.0 * sqrt(var_f) + 3.0 * sqrt(var_b)), vec3<f32>(1e-12));
     let back_energy = a1 + a3;
@@ -103,7 +115,7 @@ fn dual_scattering(
     let v = clamp(visibility, 0.0, 1.0);
     let inv_2pi = 0.5 / MARSCHNER_PI;
     let spread = n * var_f;
-    let transmitted = DUAL_SCATTERING_DENSITY_FORWARD * pow(af, vec3<f32>(n));
+    let transmitted = density_forward * pow(af, vec3<f32>(n));
     var scatter = vec3<f32>(0.0);
     let lobe_energy = array<vec3<f32>, 3>(rf + rb, ttf + ttb, trtf + trtb);
     for (var p = 0u; p < 3u; p++) {
@@ -112,8 +124,8 @@ fn dual_scattering(
     }
     let back_direct = back_energy * dual_scattering_gaussian3(sqrt(back_variance), x - shift) * inv_2pi;
     let back_scatter = back_energy * dual_scattering_gaussian3(sqrt(back_variance + spread), x - shift) * inv_2pi;
-    let direct = v * (single + DUAL_SCATTERING_DENSITY_BACK * back_direct);
-    let global = max(transmitted - v, vec3<f32>(0.0)) * DUAL_SCATTERING_DENSITY_FORWARD
-        * (scatter + DUAL_SCATTERING_DENSITY_BACK * back_scatter);
+    let direct = v * (single + density_back * back_direct);
+    let global = max(transmitted - v, vec3<f32>(0.0)) * density_forward
+        * (scatter + density_back * back_scatter);
     return direct + global;
 }

@@ -1,4 +1,7 @@
 // Per-frame uniforms shared by every pass. Mirrors `render::uniforms::FrameUniforms` (a test checks the layout).
+#include "common/hair_model.wgsl"
+// transmittance() for light_alpha().
+#include "common/visibility.wgsl"
 struct FrameUniforms {
     world_to_clip: mat4x4<f32>,
     // Hair light frame: fitted tightly to the strand bounds.
@@ -61,10 +64,11 @@ struct FrameUniforms {
     // point's base texel.
     light_supersample: u32,
     // The ambient terms every hair and mesh fragment adds, times its colour (`render.ambient` x 0.08 and 0.12;
-    // the path tracer has none). Then padding to the alignment of env_to_light.
+    // the path tracer has none).
     hair_ambient: f32,
     mesh_ambient: f32,
-    pad2: u32,
+    // `render.hair_model` (HAIR_MODEL_*, `shading::HairModel::uniform`).
+    hair_model: u32,
     env_to_light: array<vec4<f32>, 64>,
     env_radiance: array<vec4<f32>, 64>,
 }
@@ -88,6 +92,16 @@ fn strand_alpha(point_alpha: f32, thickness: f32, footprint: f32) -> f32 {
     let width = thickness * frame.strand_width;
     let coverage = clamp(frame.hair_alpha * width / max(footprint, 1e-30), 0.0, 1.0);
     return coverage * clamp(point_alpha, 0.0, 1.0);
+}
+
+// The opacity a light-space fragment stores from its strand_alpha(): the same, or under the fibres model the
+// opacity of optical depth alpha, 1 - exp(-alpha), so that -ln V of any method sums the coverages: the mean
+// count of fibres a light ray crosses (`shading::fibre_transport`).
+fn light_alpha(alpha: f32) -> f32 {
+    if frame.hair_model == HAIR_MODEL_FIBRES {
+        return 1.0 - transmittance(alpha);
+    }
+    return alpha;
 }
 
 // Unit vector from `world` towards the light.

@@ -4,6 +4,7 @@
 #include "common/kajiya_kay.wgsl"
 #include "common/marschner.wgsl"
 #include "common/dual_scattering.wgsl"
+#include "common/fibre_transport.wgsl"
 
 const SHADING_KAJIYA_KAY: u32 = 0u;
 const SHADING_MARSCHNER: u32 = 1u;
@@ -16,13 +17,14 @@ fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, co
         return marschner(tangent, to_light, to_eye, colour);
     }
     if frame.shading_model == SHADING_DUAL_SCATTERING {
-        return dual_scattering(tangent, to_light, to_eye, colour, 1.0, 0.0);
+        return dual_scattering(HAIR_MODEL_ABSORBER, tangent, to_light, to_eye, colour, 1.0, 0.0);
     }
     return kajiya_kay(tangent, to_light, to_eye, colour);
 }
 
-// The same with the hair's shadow: `visibility` is the method's V and `count` its hair count, the strands in
-// front towards the light (dual scattering reads both; the other models are multiplied by V).
+// The same with the hair's shadow (`shading::strand_lit`): `visibility` is the method's V and `count` its hair
+// count, the strands in front towards the light (dual scattering reads both; the other models are multiplied by
+// what arrives: V for absorbers, max(V, T_f) for fibres, lit there by the irradiance pi x the light).
 fn strand_lit(
     tangent: vec3<f32>,
     to_light: vec3<f32>,
@@ -32,7 +34,25 @@ fn strand_lit(
     count: f32,
 ) -> vec3<f32> {
     if frame.shading_model == SHADING_DUAL_SCATTERING {
-        return dual_scattering(tangent, to_light, to_eye, colour, visibility, count);
+        let f = dual_scattering(frame.hair_model, tangent, to_light, to_eye, colour, visibility, count);
+        if frame.hair_model == HAIR_MODEL_FIBRES {
+            return f * FIBRE_IRRADIANCE;
+        }
+        return f;
     }
-    return strand_shading(tangent, to_light, to_eye, colour) * visibility;
+    let s = strand_shading(tangent, to_light, to_eye, colour);
+    if frame.hair_model == HAIR_MODEL_FIBRES {
+        let sin_i = clamp(dot(tangent, to_light), -1.0, 1.0);
+        return s * fibre_arriving(visibility, sin_i, marschner_absorption(colour), count) * FIBRE_IRRADIANCE;
+    }
+    return s * visibility;
+}
+
+// The hair count the eye pass reads from the method's V (`shading::HairModel::count`): -ln V / b(hair_alpha)
+// for absorbers, -ln V for fibres.
+fn hair_count(v: f32) -> f32 {
+    if frame.hair_model == HAIR_MODEL_FIBRES {
+        return fibre_count(v);
+    }
+    return count_from_visibility(v, frame.hair_alpha);
 }

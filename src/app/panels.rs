@@ -325,14 +325,16 @@ impl HairlabApp {
                         .add(egui::Label::new("hair alpha").sense(egui::Sense::click()))
                         .on_hover_text("right-click: constant or coverage alpha");
                     label.context_menu(|ui| alpha_modes(ui, &mut r.alpha));
-                    ui.add(egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0))
+                    let absorbers = r.hair_model == crate::shading::HairModel::Absorber;
+                    ui.add_enabled(absorbers, egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0))
                         .labelled_by(label.id)
                         .on_hover_text(
                             "every fragment's alpha (constant mode) or the strands' material opacity \
                              (coverage mode)",
-                        );
+                        )
+                        .on_disabled_hover_text("the fibres model takes each strand's alpha from its coverage");
                     ui.end_row();
-                    if r.alpha == AlphaMode::Coverage {
+                    if r.alpha_mode() == AlphaMode::Coverage {
                         let label = ui.label("alpha mode");
                         egui::ComboBox::from_id_salt("alpha_mode")
                             .selected_text("coverage")
@@ -367,6 +369,19 @@ impl HairlabApp {
                         .response
                         .labelled_by(label.id)
                         .on_hover_text("the strand shading model (render.shading)");
+                    ui.end_row();
+                    let label = ui.label("hair model");
+                    egui::ComboBox::from_id_salt("hair_model")
+                        .selected_text(r.hair_model.label())
+                        .show_ui(ui, |ui| {
+                            for model in crate::shading::HairModel::ALL {
+                                ui.selectable_value(&mut r.hair_model, model, model.label())
+                                    .on_hover_text(model.description());
+                            }
+                        })
+                        .response
+                        .labelled_by(label.id)
+                        .on_hover_text("how light crosses the strands (render.hair_model; docs/truth.md)");
                     ui.end_row();
                     ui.label("hair colour");
                     ui.color_edit_button_rgb(&mut r.hair_color);

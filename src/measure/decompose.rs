@@ -24,6 +24,7 @@ use crate::pathtrace::masks::FirstHits;
 use crate::transparency::metrics::srgb_to_linear;
 
 /// The steps of the chain and the total, as `decomposition.csv`'s `effect` column names them.
+pub const MESH_BOUNCE: &str = "mesh-bounce";
 pub const MULTIPLE_SCATTERING: &str = "multiple-scattering";
 pub const SHADOWING: &str = "shadowing";
 pub const SHADING: &str = "shading";
@@ -188,9 +189,10 @@ impl Decomposition {
     }
 }
 
-/// The steps that do not depend on the method: the chain's first four images.
+/// The steps that do not depend on the method: between the chain's first five images.
 #[derive(Clone, Debug)]
 pub struct SharedSteps {
+    pub mesh_bounce: StepError,
     pub multiple_scattering: StepError,
     pub shadowing: StepError,
     pub shading: StepError,
@@ -206,6 +208,7 @@ pub fn rows(
     total: &StepError,
 ) -> Vec<Decomposition> {
     [
+        (MESH_BOUNCE, &shared.mesh_bounce),
         (MULTIPLE_SCATTERING, &shared.multiple_scattering),
         (SHADOWING, &shared.shadowing),
         (SHADING, &shared.shading),

@@ -1,7 +1,8 @@
 //! The path-traced truth of `measure shadows --truth path-traced` (and a report's truth section), measured and
 //! written in this one place: the scene's fibres under Chiang et al. 2016's BSDF (`crate::pathtrace`) with every
 //! scattering event, and the chain of path-traced images that turn the real-time model's effects on one at a
-//! time (`decompose.rs`, `docs/truth.md`): one scattering event; the fibres' shadow read from the depth-peeled
+//! time (`decompose.rs`, `docs/truth.md`): no light bounced off meshes; one scattering event; the fibres' shadow
+//! read from the depth-peeled
 //! reference's light map; the raster's shading at the first hit, one image per shading model. Each is the mean
 //! of two renders (seeds `render.seed` and `render.seed + 1`, `render.spp / 2` samples each) so that their
 //! difference measures its noise. The regions (hair, receivers) come from the first hits of 4 × 4 rays a pixel.
@@ -39,6 +40,8 @@ const MASK_RAYS: usize = 4;
 pub struct Truth {
     /// The truth (every effect).
     pub truth: Stage,
+    /// Every scattering event among the fibres, no light bounced off a mesh after the first hit.
+    pub fibre_events: Stage,
     /// One scattering event, the fibres' shadow traced.
     pub one_event: Stage,
     /// One event, the fibres' shadow from the depth-peeled reference's light map.
@@ -55,10 +58,11 @@ pub struct Truth {
 
 impl Truth {
     /// The chain's path-traced images with the file names they are written as: [`TRUTH_PNG`], then
-    /// `truth_one_event.png`, `truth_map_shadows.png` and `truth_raster_<model>.png`.
+    /// `truth_fibre_events.png`, `truth_one_event.png`, `truth_map_shadows.png` and `truth_raster_<model>.png`.
     pub fn chain_images(&self) -> Vec<(String, &Stage)> {
         let mut out = vec![
             (TRUTH_PNG.to_owned(), &self.truth),
+            ("truth_fibre_events.png".to_owned(), &self.fibre_events),
             ("truth_one_event.png".to_owned(), &self.one_event),
             ("truth_map_shadows.png".to_owned(), &self.map_shadows),
         ];
@@ -74,7 +78,8 @@ impl Truth {
     pub fn shared_steps(&self, model: ShadingModel, reference: &Stage) -> Option<SharedSteps> {
         let (_, raster) = self.raster_shading.iter().find(|(m, _)| *m == model)?;
         Some(SharedSteps {
-            multiple_scattering: step(&self.truth, &self.one_event, &self.masks),
+            mesh_bounce: step(&self.truth, &self.fibre_events, &self.masks),
+            multiple_scattering: step(&self.fibre_events, &self.one_event, &self.masks),
             shadowing: step(&self.one_event, &self.map_shadows, &self.masks),
             shading: step(&self.map_shadows, raster, &self.masks),
             eye_coverage: step(raster, reference, &self.masks),
@@ -138,6 +143,10 @@ pub fn path_traced(
     };
     let mut chain = vec![
         Effects::TRUTH,
+        Effects {
+            events: Events::Fibres,
+            ..Effects::TRUTH
+        },
         one(HairShadows::Traced, FirstHit::Physical),
         one(HairShadows::Map(map.clone()), FirstHit::Physical),
     ];
@@ -163,6 +172,7 @@ pub fn path_traced(
     let mut next = || stages.next().expect("one stage per effect set");
     Ok(Some(Truth {
         truth: next(),
+        fibre_events: next(),
         one_event: next(),
         map_shadows: next(),
         raster_shading: models.iter().map(|&m| (m, next())).collect(),

@@ -37,7 +37,7 @@ impl FibreParams {
     }
 
     /// The fibre absorbing `sigma_a` (per unit of diameter), with the real-time model's index of refraction.
-    fn with_absorption(sigma_a: Vec3, beta_m: f32, beta_n: f32, alpha: f32) -> Self {
+    pub fn with_absorption(sigma_a: Vec3, beta_m: f32, beta_n: f32, alpha: f32) -> Self {
         Self {
             sigma_a,
             beta_m,

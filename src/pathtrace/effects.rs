@@ -2,7 +2,9 @@
 //! of `measure shadows --truth path-traced` (`measure::truth`, `docs/truth.md`). The truth is [`Effects::TRUTH`]:
 //! every scattering event, shadow rays through the fibres, Chiang et al. 2016's BSDF at every hit. Each switch
 //! moves one step towards the real-time model:
-//! - [`Events::One`]: the light of one scattering event only (the camera ray's first hit lit directly);
+//! - [`Events::Fibres`]: the light meshes bounce after the first hit left out (a path ends at a mesh it reaches
+//!   after scattering), so what remains is the fibres' own scattering; [`Events::One`]: the light of one
+//!   scattering event only (the camera ray's first hit lit directly);
 //! - [`HairShadows`]: the fibres' shadow traced, left out, or read from a visibility map (the depth-peeled
 //!   reference's `(1 − α)` products looked up as the eye pass does), meshes' shadows always traced;
 //! - [`FirstHit::Raster`]: at the first hit, the raster's shading model, lighting and ambient term in place of
@@ -14,10 +16,11 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::fibre::Hit;
-use crate::shading::ShadingModel;
+use crate::shading::{HairModel, ShadingModel};
 
-/// The scattering events a path keeps: `All` up to the integrator's depth (the truth), or `One`, the first hit's
-/// direct light only (single scattering, as the real-time model); `render.path.events`.
+/// The scattering events a path keeps: `All` up to the integrator's depth (the truth), `Fibres` (no light
+/// bounced off a mesh after the first hit), or `One`, the first hit's direct light only (single scattering, as
+/// the real-time model); `render.path.events`.
 pub use crate::render::render_settings::PathEvents as Events;
 
 /// A visibility towards the light at a world point, in [0, 1].
@@ -88,12 +91,17 @@ pub use crate::render::render_settings::{HAIR_AMBIENT, MESH_AMBIENT};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RasterShading {
     pub model: ShadingModel,
+    /// `render.hair_model`: how light crosses the strands in front.
+    pub hair: HairModel,
     /// The hair's linear colour (`render.hair_color`).
     pub colour: Vec3,
-    /// `render.hair_alpha`: dual scattering's hair count from the visibility.
+    /// The strands' opacity (`RenderSettings::opacity`): the hair count from the visibility.
     pub hair_alpha: f32,
-    /// `render.ambient`: the scale of the ambient terms.
+    /// `RenderSettings::ambient_scale`: the scale of the ambient terms.
     pub ambient: f32,
+    /// Under the fibres model, the luminance of the light the meshes bounce onto the hair
+    /// (`shading::mesh_bounce`, `frame.hair_ambient`), 0 otherwise: the hair adds its colour times it.
+    pub bounce: f32,
     pub light: RasterLight,
 }
 
@@ -105,19 +113,18 @@ impl RasterShading {
         let light = self.light.radiance_at(hit.point);
         match hit.surface {
             super::fibre::Surface::Fibre => {
-                let t = hit.tangent;
-                let lit = match self.model {
-                    ShadingModel::DualScattering => crate::shading::dual_scattering::dual_scattering(
-                        t,
-                        to_light,
-                        to_eye,
-                        self.colour,
-                        visibility,
-                        crate::visibility::count_from_visibility(visibility, self.hair_alpha),
-                    ),
-                    m => m.shade(t, to_light, to_eye, self.colour) * visibility,
-                };
-                lit * light + self.colour * (HAIR_AMBIENT * self.ambient)
+                let count = self.hair.count(visibility, self.hair_alpha);
+                let lit = crate::shading::strand_lit(
+                    self.model,
+                    self.hair,
+                    hit.tangent,
+                    to_light,
+                    to_eye,
+                    self.colour,
+                    visibility,
+                    count,
+                );
+                lit * light + self.colour * (HAIR_AMBIENT * self.ambient + self.bounce)
             }
             super::fibre::Surface::Mesh { albedo } => {
                 let n = if hit.normal.dot(to_eye) < 0.0 {
@@ -125,8 +132,27 @@ impl RasterShading {
                 } else {
                     hit.normal
                 };
-                albedo * light * n.dot(to_light).max(0.0) * visibility
+                albedo * light * n.dot(to_light).max(0.0) * self.through_hair(visibility)
                     + albedo * (MESH_AMBIENT * self.ambient)
+            }
+        }
+    }
+}
+
+impl RasterShading {
+    /// What reaches a mesh through hair of visibility `v` (`shaders/mesh.wgsl`): `V`, or under the fibres model
+    /// what the hair's fibres scatter forward, at right angles to them.
+    fn through_hair(&self, v: f32) -> Vec3 {
+        match self.hair {
+            HairModel::Absorber => Vec3::splat(v),
+            HairModel::Fibres => {
+                let sigma = crate::shading::marschner::absorption(self.colour);
+                crate::shading::fibre_transport::arriving(
+                    v,
+                    0.0,
+                    sigma,
+                    crate::shading::fibre_transport::count(v),
+                )
             }
         }
     }
@@ -319,9 +345,11 @@ mod tests {
         let bvh = Bvh::new(vec![fibre(0.0, 0.0)]);
         let raster = RasterShading {
             model: ShadingModel::KajiyaKay,
+            hair: HairModel::Absorber,
             colour: COLOUR,
             hair_alpha: 0.35,
             ambient: 1.0,
+            bounce: 0.0,
             light: RasterLight {
                 radiance: Vec3::ONE,
                 to_light: Vec3::Z,

@@ -153,6 +153,9 @@ fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut Spli
                 || bvh.any_mesh_hit(&shadow, reach),
             )
         };
+        if depth > 0 && s.effects.events == Events::Fibres && matches!(hit.surface, Surface::Mesh { .. }) {
+            break;
+        }
         if let (0, FirstHit::Raster(raster)) = (depth, &s.effects.first_hit) {
             let (to_light, distance) = raster.light.toward(hit.point);
             return raster.radiance(&hit, -ray.dir, to_light, visible(to_light, distance));

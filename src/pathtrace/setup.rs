@@ -15,7 +15,7 @@ use super::{fibre, triangle};
 use crate::render::render_settings::{PathFirstHit, PathHairShadows};
 use crate::scene::{Camera, LightKind, Scene};
 use crate::settings::Settings;
-use crate::shading::marschner;
+use crate::shading::{HairModel, marschner, mesh_bounce};
 
 /// Bounces at most, a guard only: Russian roulette ends the paths. Light hair is mostly multiple scattering and
 /// its chains are long: at 32 bounces `blond`'s truth lost 9.8 % of its light over the hair (14.6 % in red; 64
@@ -90,17 +90,53 @@ pub fn raster_shading(settings: &Settings, scene: &Scene) -> RasterShading {
         Light::Spot(s) => Some((s.position, s.axis, (l.cone_deg * 0.5).to_radians().cos())),
         Light::Directional(_) => None,
     };
+    let light = RasterLight {
+        radiance: Vec3::from(l.color) * l.intensity,
+        to_light: l.to_light(),
+        spot,
+    };
+    let bounce = match settings.render.hair_model {
+        HairModel::Absorber => 0.0,
+        HairModel::Fibres => {
+            let points = mesh_bounce::spread(&scene.strands.points);
+            mesh_bounce::luminance(mesh_bounce::radiance(&bounce_triangles(scene), &points, |p| {
+                let (to_light, distance) = light.toward(p);
+                mesh_bounce::Arrival {
+                    to_light,
+                    distance,
+                    radiance: light.radiance_at(p),
+                }
+            }))
+        }
+    };
     RasterShading {
         model: settings.render.shading,
         colour: Vec3::from(settings.render.hair_color),
-        hair_alpha: settings.render.hair_alpha,
-        ambient: settings.render.ambient,
-        light: RasterLight {
-            radiance: Vec3::from(l.color) * l.intensity,
-            to_light: l.to_light(),
-            spot,
-        },
+        hair: settings.render.hair_model,
+        hair_alpha: settings.render.opacity(),
+        ambient: settings.render.ambient_scale(),
+        bounce,
+        light,
     }
+}
+
+/// `scene`'s mesh triangles with their meshes' colours, as `render::scene_gpu` gives them to the bounce probe.
+fn bounce_triangles(scene: &Scene) -> Vec<mesh_bounce::Triangle> {
+    scene
+        .meshes
+        .iter()
+        .flat_map(|m| {
+            m.indices
+                .chunks_exact(3)
+                .filter(|c| c.iter().all(|&i| (i as usize) < m.positions.len()))
+                .map(|c| mesh_bounce::Triangle {
+                    a: m.positions[c[0] as usize],
+                    b: m.positions[c[1] as usize],
+                    c: m.positions[c[2] as usize],
+                    albedo: m.color,
+                })
+        })
+        .collect()
 }
 
 /// The camera of `settings`, framed on `scene` where the preset leaves the distance at 0.

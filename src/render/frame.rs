@@ -127,7 +127,7 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         light_color: f.light.color.map(|c| c * intensity),
         light_min_width: f.render.light_min_width,
         hair_color: f.render.hair_color,
-        hair_alpha: f.render.hair_alpha,
+        hair_alpha: f.render.opacity(),
         light_near: hair.near,
         light_far: hair.far,
         light_map_resolution: resolution,
@@ -136,7 +136,7 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         viewport_size: [width as f32, height as f32],
         shadow_map_resolution: f.shadow_map_resolution,
         shadow_bias: 1e-4,
-        alpha_mode: u32::from(f.render.alpha == AlphaMode::Coverage),
+        alpha_mode: u32::from(f.render.alpha_mode() == AlphaMode::Coverage),
         strand_width: f.render.strand_width,
         eye_footprint: footprint_per_w(&view_to_clip(scene, f.camera, width, height), width, height),
         light_footprint: footprint_per_w(&hair.view_to_clip, resolution, resolution),
@@ -145,11 +145,35 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         guard_shell_height: 0.0,
         env_count: 0,
         light_supersample: f.render.light_supersample.max(1),
-        hair_ambient: f.render.ambient * crate::render::render_settings::HAIR_AMBIENT,
-        mesh_ambient: f.render.ambient * crate::render::render_settings::MESH_AMBIENT,
-        pad2: 0,
+        hair_ambient: f.render.ambient_scale() * crate::render::render_settings::HAIR_AMBIENT,
+        mesh_ambient: f.render.ambient_scale() * crate::render::render_settings::MESH_AMBIENT,
+        hair_model: f.render.hair_model.uniform(),
         env_to_light: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
         env_radiance: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
+    }
+}
+
+/// The light at world point `p` under `u`, as `light_dir` and `light_radiance` of `shaders/common/frame.wgsl`
+/// give it (the spot's cone edge a smoothstep over the outer 15 % of the cosine).
+pub fn light_arrival(u: &FrameUniforms, p: glam::Vec3) -> crate::shading::mesh_bounce::Arrival {
+    use glam::Vec3;
+    let colour = Vec3::from(u.light_color);
+    if u.light_is_spot == 0 {
+        return crate::shading::mesh_bounce::Arrival {
+            to_light: Vec3::from(u.to_light),
+            distance: f32::INFINITY,
+            radiance: colour,
+        };
+    }
+    let towards = Vec3::from(u.light_position) - p;
+    let to_light = towards.normalize_or_zero();
+    let edge = u.spot_cos_half_angle;
+    let hi = edge + (1.0 - edge) * 0.15;
+    let x = ((to_light.dot(Vec3::from(u.to_light)) - edge) / (hi - edge)).clamp(0.0, 1.0);
+    crate::shading::mesh_bounce::Arrival {
+        to_light,
+        distance: towards.length(),
+        radiance: colour * (x * x * (3.0 - 2.0 * x)),
     }
 }
 

@@ -230,6 +230,9 @@ impl Renderer {
                 shadow_map_resolution: self.light.shadow_map.texture.width(),
             },
         );
+        if render.hair_model == crate::shading::HairModel::Fibres {
+            u.hair_ambient = crate::shading::mesh_bounce::luminance(self.scene.mesh_bounce(&u));
+        }
         if let Some(f) = self.fur.as_ref().filter(|f| f.settings.mode.strands()) {
             u.guard_sigma = f.settings.guard_sigma();
             u.guard_shell_height = f.settings.height;

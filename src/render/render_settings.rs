@@ -2,7 +2,7 @@
 //! is found ([`AlphaMode`]) and how it is shaded ([`ShadingModel`]).
 
 pub use crate::render::caster::{LightStrands, Raster};
-pub use crate::shading::ShadingModel;
+pub use crate::shading::{HairModel, ShadingModel};
 use serde::{Deserialize, Serialize};
 
 /// How a frame is rendered: output size, light-map resolution, hair material, filtering of the lookups.
@@ -25,8 +25,13 @@ pub struct RenderSettings {
     /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
     /// mode, at the same `hair_alpha`.
     pub strand_width: f32,
-    /// How a lit strand point is shaded ([`ShadingModel`]: `kajiya-kay` or `marschner`).
+    /// How a lit strand point is shaded ([`ShadingModel`]: `kajiya-kay`, `marschner` or `dual-scattering`).
     pub shading: ShadingModel,
+    /// How light crosses the strands ([`HairModel`]: `absorber`, today's look, or `fibres`, which takes the
+    /// opacity from geometry at material opacity 1, drops the ambient terms and carries light through fibres
+    /// as the path tracer's fibre scatters it; under `fibres`, `alpha`, `hair_alpha` and `ambient` are not
+    /// read: [`RenderSettings::alpha_mode`], [`RenderSettings::opacity`], [`RenderSettings::ambient_scale`]).
+    pub hair_model: HairModel,
     /// Colour of strands without their own colour (linear RGB).
     pub hair_color: [f32; 3],
     pub background: [f32; 3],
@@ -74,7 +79,8 @@ pub struct RenderSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PathEffects {
-    /// `all` scattering events, or `one`: the first hit's direct light only (single scattering).
+    /// `all` scattering events; `fibres`: all but the light a mesh bounces after the first hit (no light from
+    /// the floor onto the hair); `one`: the first hit's direct light only (single scattering).
     pub events: PathEvents,
     /// `traced`: the fibres block shadow rays; `off`: they do not (meshes always do).
     pub hair_shadows: PathHairShadows,
@@ -94,6 +100,8 @@ pub const MESH_AMBIENT: f32 = 0.12;
 pub enum PathEvents {
     #[default]
     All,
+    /// Every event among the fibres; light bounced off a mesh after the first hit is dropped.
+    Fibres,
     One,
 }
 
@@ -133,6 +141,31 @@ pub enum RenderMode {
 pub const LIGHT_SUPERSAMPLES: [u32; 3] = [1, 2, 4];
 
 impl RenderSettings {
+    /// How fragments' alphas are found: `alpha`, or coverage under the fibres model.
+    pub fn alpha_mode(&self) -> AlphaMode {
+        match self.hair_model {
+            HairModel::Absorber => self.alpha,
+            HairModel::Fibres => AlphaMode::Coverage,
+        }
+    }
+
+    /// The strands' material opacity: `hair_alpha`, or 1 under the fibres model (a fibre is opaque; its
+    /// coverage makes the alpha).
+    pub fn opacity(&self) -> f32 {
+        match self.hair_model {
+            HairModel::Absorber => self.hair_alpha,
+            HairModel::Fibres => 1.0,
+        }
+    }
+
+    /// The scale of the raster's ambient terms: `ambient`, or 0 under the fibres model.
+    pub fn ambient_scale(&self) -> f32 {
+        match self.hair_model {
+            HairModel::Absorber => self.ambient,
+            HairModel::Fibres => 0.0,
+        }
+    }
+
     /// Texels a side of every light map as built: `map_resolution × light_supersample`.
     pub fn light_map_side(&self) -> u32 {
         self.map_resolution.saturating_mul(self.light_supersample.max(1))
@@ -149,6 +182,7 @@ impl Default for RenderSettings {
             alpha: AlphaMode::Constant,
             strand_width: DEFAULT_STRAND_WIDTH,
             shading: ShadingModel::KajiyaKay,
+            hair_model: HairModel::Absorber,
             hair_color: [0.30, 0.18, 0.09],
             background: [0.12, 0.13, 0.15],
             pcf: false,

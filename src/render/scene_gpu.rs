@@ -19,6 +19,7 @@ use super::geometry::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
+use crate::shading::mesh_bounce;
 use glam::{Affine3A, Vec3};
 use wgpu::util::DeviceExt;
 
@@ -74,6 +75,10 @@ pub struct SceneGpu {
     /// fits to and [`LightFit::Stable`] takes the bounding sphere of.
     fit_bound: Aabb,
     generation: u64,
+    /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its last answer with
+    /// the light and generation it was found for.
+    bounce_triangles: Vec<BounceTriangle>,
+    bounce_cache: std::sync::Mutex<Option<(BounceKey, Vec3)>>,
 }
 
 impl SceneGpu {
@@ -156,6 +161,7 @@ impl SceneGpu {
                 ],
             })),
         };
+        let bounce = bounce_triangles(&mv, &mi);
         let mesh_bounds = scene
             .meshes
             .iter()
@@ -197,6 +203,8 @@ impl SceneGpu {
             },
             fit_bound: strands,
             generation: next_generation(),
+            bounce_triangles: bounce,
+            bounce_cache: std::sync::Mutex::new(None),
         })
     }
 
@@ -250,6 +258,9 @@ impl SceneGpu {
                 .write_buffer(&self.mesh_vertices, 0, bytemuck::cast_slice(&mv));
         }
         self.mesh_bounds = mv.iter().fold(Aabb::EMPTY, |b, v| b.grow(Vec3::from(v.position)));
+        for t in &mut self.bounce_triangles {
+            t.pose(&mv);
+        }
         self.bounds.all = self.bounds.strands.union(self.mesh_bounds);
         self.generation = next_generation();
         Ok(())
@@ -335,5 +346,81 @@ fn too_large(&(what, bytes, limit): &(&'static str, u64, u64)) -> GpuError {
         what: format!("the {what} bound as storage for ribbons"),
         bytes,
         limit,
+    }
+}
+
+/// What the bounce probe's answer depends on besides the meshes' generation: the light's uniform fields.
+type BounceKey = (u64, [u32; 11]);
+
+/// A mesh triangle for the bounce probe, with the vertices it was built from (so posing can move it).
+#[derive(Clone, Copy, Debug)]
+struct BounceTriangle {
+    corners: [u32; 3],
+    triangle: mesh_bounce::Triangle,
+}
+
+impl BounceTriangle {
+    fn pose(&mut self, vertices: &[MeshVertex]) {
+        let p = |k: usize| Vec3::from(vertices[self.corners[k] as usize].position);
+        (self.triangle.a, self.triangle.b, self.triangle.c) = (p(0), p(1), p(2));
+    }
+}
+
+/// The triangles of the meshes `vertices`/`indices` (one index triple a triangle) for the bounce probe.
+fn bounce_triangles(vertices: &[MeshVertex], indices: &[u32]) -> Vec<BounceTriangle> {
+    indices
+        .chunks_exact(3)
+        .filter(|c| c.iter().all(|&i| (i as usize) < vertices.len()))
+        .map(|c| {
+            let mut t = BounceTriangle {
+                corners: [c[0], c[1], c[2]],
+                triangle: mesh_bounce::Triangle {
+                    a: Vec3::ZERO,
+                    b: Vec3::ZERO,
+                    c: Vec3::ZERO,
+                    albedo: Vec3::from(vertices[c[0] as usize].color),
+                },
+            };
+            t.pose(vertices);
+            t
+        })
+        .collect()
+}
+
+impl SceneGpu {
+    /// The radiance the lit meshes send to the hair (`shading::mesh_bounce`) under the light of `u`, as the eye
+    /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`); kept until the light
+    /// or the meshes' pose changes.
+    pub fn mesh_bounce(&self, u: &crate::render::uniforms::FrameUniforms) -> Vec3 {
+        let key: BounceKey = (
+            self.generation,
+            [
+                u.to_light[0].to_bits(),
+                u.to_light[1].to_bits(),
+                u.to_light[2].to_bits(),
+                u.light_position[0].to_bits(),
+                u.light_position[1].to_bits(),
+                u.light_position[2].to_bits(),
+                u.light_color[0].to_bits(),
+                u.light_color[1].to_bits(),
+                u.light_color[2].to_bits(),
+                u.spot_cos_half_angle.to_bits(),
+                u.light_is_spot,
+            ],
+        );
+        let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((k, v)) = *cache
+            && k == key
+        {
+            return v;
+        }
+        let triangles: Vec<mesh_bounce::Triangle> =
+            self.bounce_triangles.iter().map(|t| t.triangle).collect();
+        let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
+        let v = mesh_bounce::radiance(&triangles, &mesh_bounce::spread(&points), |p| {
+            crate::render::frame::light_arrival(u, p)
+        });
+        *cache = Some((key, v));
+        v
     }
 }

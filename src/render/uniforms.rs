@@ -68,8 +68,9 @@ pub struct FrameUniforms {
     /// [`crate::render::render_settings::MESH_AMBIENT`]): what every hair and mesh fragment adds, times its colour.
     pub hair_ambient: f32,
     pub mesh_ambient: f32,
-    /// Padding to the 16-byte alignment of `env_to_light`.
-    pub pad2: u32,
+    /// [`crate::shading::HairModel::uniform`] (`render.hair_model`): 1 stores `1 − e^(−α)` in the light passes
+    /// and carries light through fibres (`shaders/common/fibre_transport.wgsl`).
+    pub hair_model: u32,
     /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
@@ -133,7 +134,7 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
         ("light_supersample", offset_of!(FrameUniforms, light_supersample)),
         ("hair_ambient", offset_of!(FrameUniforms, hair_ambient)),
         ("mesh_ambient", offset_of!(FrameUniforms, mesh_ambient)),
-        ("pad2", offset_of!(FrameUniforms, pad2)),
+        ("hair_model", offset_of!(FrameUniforms, hair_model)),
         ("env_to_light", offset_of!(FrameUniforms, env_to_light)),
         ("env_radiance", offset_of!(FrameUniforms, env_radiance)),
     ]

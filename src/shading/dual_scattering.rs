@@ -35,6 +35,7 @@
 //! (what `energy_stays_bounded` checks), so that normalising `π` has no counterpart and is not applied.
 
 use super::marschner::{self, CENTRE, WIDTH};
+use super::{HairModel, fibre_transport};
 use glam::Vec3;
 
 /// Forward and backward density factors `d_f`, `d_b` (Zinke et al. 2008 §4.2: 0.7 for human hair).
@@ -144,10 +145,16 @@ pub struct Averages {
     pub back: BackScattering,
 }
 
-/// [`Averages`] at inclination `sin_i` for absorption `sigma_a`.
-pub fn averages(sin_i: f32, sigma_a: Vec3) -> Averages {
+/// [`Averages`] at inclination `sin_i` for absorption `sigma_a` under `hair`'s model: the Marschner lobes'
+/// energies give every shift and variance; `ā_f`, `ā_b` are their sums for absorbers, the path tracer's fibre's
+/// ([`fibre_transport::attenuation`]) for fibres.
+pub fn averages(hair: HairModel, sin_i: f32, sigma_a: Vec3) -> Averages {
     let [f, b] = hemispheres(sin_i, sigma_a);
-    let (af, ab) = (f.total(), b.total());
+    let (af, ab) = match hair {
+        HairModel::Absorber => (f.total(), b.total()),
+        HairModel::Fibres => fibre_transport::attenuation(sin_i, sigma_a),
+    };
+    let (_, density_back) = densities(hair);
     let sq = |w: [f32; 3]| [w[0] * w[0], w[1] * w[1], w[2] * w[2]];
     let (shift_f, shift_b) = (f.mean(CENTRE), b.mean(CENTRE));
     let (var_f, var_b) = (f.mean(sq(WIDTH)), b.mean(sq(WIDTH)));
@@ -159,7 +166,7 @@ pub fn averages(sin_i: f32, sigma_a: Vec3) -> Averages {
     let a3 = ab2 * ab * af2 / q3;
     let shift = shift_b * (Vec3::ONE - 2.0 * ab2 / (q * q)) + shift_f * (2.0 * q * q + 4.0 * af2 * ab2) / q3;
     let ab3 = ab2 * ab;
-    let spread = (Vec3::ONE + DENSITY_BACK * af2)
+    let spread = (Vec3::ONE + density_back * af2)
         * (ab * sqrt3(2.0 * var_f + var_b) + ab3 * sqrt3(2.0 * var_f + 3.0 * var_b))
         / (ab + ab3 * (2.0 * sqrt3(var_f) + 3.0 * sqrt3(var_b))).max(Vec3::splat(1e-12));
     Averages {
@@ -180,6 +187,7 @@ pub fn averages(sin_i: f32, sigma_a: Vec3) -> Averages {
 /// `count` (strands in front towards the light): radiance towards the eye per unit light radiance, shadow
 /// included (unlike [`super::ShadingModel::shade`] of the single-scattering models, which `V` multiplies).
 pub fn dual_scattering(
+    hair: HairModel,
     tangent: Vec3,
     to_light: Vec3,
     to_eye: Vec3,
@@ -191,7 +199,8 @@ pub fn dual_scattering(
     let single = marschner::lobes(tangent, to_light, to_eye, sigma_a).sum();
     let sin_i = tangent.dot(to_light).clamp(-1.0, 1.0);
     let x = Vec3::splat(sin_i + tangent.dot(to_eye).clamp(-1.0, 1.0));
-    let a = averages(sin_i, sigma_a);
+    let a = averages(hair, sin_i, sigma_a);
+    let (density_forward, density_back) = densities(hair);
     let n = count.max(0.0);
     let v = visibility.clamp(0.0, 1.0);
     let inv_2pi = 0.5 / std::f32::consts::PI;
@@ -199,16 +208,24 @@ pub fn dual_scattering(
         |extra: Vec3| a.back.energy * gaussian3(sqrt3(a.back.variance + extra), x - a.back.shift) * inv_2pi;
     let spread = n * a.forward_variance;
     let transmitted =
-        DENSITY_FORWARD * Vec3::new(a.forward.x.powf(n), a.forward.y.powf(n), a.forward.z.powf(n));
+        density_forward * Vec3::new(a.forward.x.powf(n), a.forward.y.powf(n), a.forward.z.powf(n));
     let mut scatter = Vec3::ZERO;
     for p in 0..3 {
         let w = Vec3::splat(WIDTH[p] * WIDTH[p]);
         scatter += a.lobe_energy[p] * gaussian3(sqrt3(w + spread), x - CENTRE[p]) * inv_2pi;
     }
-    let direct = v * (single + DENSITY_BACK * back(Vec3::ZERO));
+    let direct = v * (single + density_back * back(Vec3::ZERO));
     let global =
-        (transmitted - v).max(Vec3::ZERO) * DENSITY_FORWARD * (scatter + DENSITY_BACK * back(spread));
+        (transmitted - v).max(Vec3::ZERO) * density_forward * (scatter + density_back * back(spread));
     direct + global
+}
+
+/// `d_f`, `d_b` under `hair`'s model: Zinke's chosen 0.7 for absorbers, the path tracer's fibre's for fibres.
+pub fn densities(hair: HairModel) -> (f32, f32) {
+    match hair {
+        HairModel::Absorber => (DENSITY_FORWARD, DENSITY_BACK),
+        HairModel::Fibres => (fibre_transport::DENSITY_FORWARD, fibre_transport::DENSITY_BACK),
+    }
 }
 
 /// The quadrature behind [`TABLE`]: the row at `sin_i` from `ns × nphi` midpoint samples in `sin θ_o` × `φ_o`
@@ -331,17 +348,17 @@ mod tests {
         let colour = Vec3::new(0.30, 0.18, 0.09);
         for (l, e) in [(dir(0.3, 0.0), dir(-0.2, 2.5)), (dir(-0.5, 0.0), dir(0.1, 0.4))] {
             let sigma = marschner::absorption(colour);
-            let a = averages(l.z, sigma);
+            let a = averages(HairModel::Absorber, l.z, sigma);
             let x = Vec3::splat(l.z + e.z);
             let back = a.back.energy * gaussian3(sqrt3(a.back.variance), x - a.back.shift) / (2.0 * PI);
             let local = marschner::marschner(Vec3::Z, l, e, colour) + DENSITY_BACK * back;
-            let at_zero = dual_scattering(Vec3::Z, l, e, colour, 1.0, 0.0);
+            let at_zero = dual_scattering(HairModel::Absorber, Vec3::Z, l, e, colour, 1.0, 0.0);
             assert!(
                 (at_zero - local).abs().max_element() <= 1e-6 * local.max_element(),
                 "{at_zero} {local}"
             );
             let v = 0.65f32.powf(1e-3);
-            let near = dual_scattering(Vec3::Z, l, e, colour, v, 1e-3);
+            let near = dual_scattering(HairModel::Absorber, Vec3::Z, l, e, colour, v, 1e-3);
             assert!(
                 (near - v * local).abs().max_element() <= 1e-6 * local.max_element(),
                 "{near}"
@@ -365,7 +382,8 @@ mod tests {
                 let sin_o = ((i as f32 + 0.5) / ns as f32) * 2.0 - 1.0;
                 for j in 0..nphi {
                     let wo = dir(sin_o.asin(), (j as f32 + 0.5) / nphi as f32 * 2.0 * PI);
-                    total += f64::from(dual_scattering(Vec3::Z, wi, wo, colour, v, n).x) * dw;
+                    total +=
+                        f64::from(dual_scattering(HairModel::Absorber, Vec3::Z, wi, wo, colour, v, n).x) * dw;
                 }
             }
             total
@@ -373,7 +391,7 @@ mod tests {
         let (mut worst, mut worst_ratio) = ((0.0f64, 0, 0.0f32), 0.0f64);
         for deg in (-60..=60).step_by(20) {
             let wi = dir((deg as f32).to_radians(), 0.0);
-            let a = averages(wi.z, Vec3::ZERO);
+            let a = averages(HairModel::Absorber, wi.z, Vec3::ZERO);
             assert!(a.back.energy.x < 1.0, "A_b = {}", a.back.energy);
             for n in [0.0f32, 1.0, 4.0, 16.0, 64.0] {
                 let v = 0.65f32.powf(n);

@@ -4,8 +4,10 @@
 //! `frame.shading_model` through `shaders/common/strand_shading.wgsl`.
 
 pub mod dual_scattering;
+pub mod fibre_transport;
 pub mod kajiya_kay;
 pub mod marschner;
+pub mod mesh_bounce;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -87,9 +89,122 @@ impl ShadingModel {
         match self {
             ShadingModel::KajiyaKay => kajiya_kay::kajiya_kay(tangent, to_light, to_eye, colour),
             ShadingModel::Marschner => marschner::marschner(tangent, to_light, to_eye, colour),
-            ShadingModel::DualScattering => {
-                dual_scattering::dual_scattering(tangent, to_light, to_eye, colour, 1.0, 0.0)
+            ShadingModel::DualScattering => dual_scattering::dual_scattering(
+                HairModel::Absorber,
+                tangent,
+                to_light,
+                to_eye,
+                colour,
+                1.0,
+                0.0,
+            ),
+        }
+    }
+}
+
+/// The registered hair models (`render.hair_model = "absorber" | "fibres"`): how light crosses the strands in
+/// front of a point and how a strand's opacity is found. Beside [`ShadingModel`] (what one lit point sends to
+/// the eye), each combination measurable against the path tracer (docs/truth.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HairModel {
+    /// Strands are absorbers of opacity `render.hair_alpha` (or their coverage under `render.alpha =
+    /// coverage`), light through them `(1 − α)ⁿ`, plus the raster's ambient terms: TressFX's model and the
+    /// workbench's look.
+    #[default]
+    Absorber,
+    /// Strands are fibres: opacity from geometry (each fragment's coverage of its pixel or light texel at
+    /// material opacity 1), the light map's `−ln V` a hair count, light through `n` fibres their forward
+    /// scattering `d_f ā_f(θ)ⁿ` ([`fibre_transport`]), dual scattering's constants those of the path tracer's
+    /// fibre, and no ambient term (the path tracer has no environment).
+    Fibres,
+}
+
+impl HairModel {
+    /// Every model, in the order of their uniform values.
+    pub const ALL: [HairModel; 2] = [HairModel::Absorber, HairModel::Fibres];
+
+    /// The word presets and `--set render.hair_model=…` use.
+    pub fn word(self) -> &'static str {
+        match self {
+            HairModel::Absorber => "absorber",
+            HairModel::Fibres => "fibres",
+        }
+    }
+
+    /// The name people read (panels, reports).
+    pub fn label(self) -> &'static str {
+        match self {
+            HairModel::Absorber => "Absorbers",
+            HairModel::Fibres => "Fibres",
+        }
+    }
+
+    /// One line for a tooltip.
+    pub fn description(self) -> &'static str {
+        match self {
+            HairModel::Absorber => "strands absorb a constant alpha, plus an ambient term (TressFX's model)",
+            HairModel::Fibres => {
+                "coverage from geometry, hair counts, forward-scattering transmittance and dual scattering's \
+                 constants measured on the path tracer's fibre (Zinke et al. 2008), no ambient"
             }
+        }
+    }
+
+    /// `frame.hair_model` for this model; `shaders/common/frame.wgsl` names the same value
+    /// `HAIR_MODEL_<WORD>` (a test compares them).
+    pub fn uniform(self) -> u32 {
+        self as u32
+    }
+
+    /// The name of the WGSL constant holding [`HairModel::uniform`].
+    pub fn wgsl_const(self) -> String {
+        format!("HAIR_MODEL_{}", self.word().to_uppercase())
+    }
+
+    /// The hair count the eye pass reads from the method's visibility `v`: `−ln V / b(hair_alpha)` for
+    /// absorbers of opacity `hair_alpha` (`visibility::count_from_visibility`), `−ln V` for fibres
+    /// ([`fibre_transport::count`]).
+    pub fn count(self, v: f32, hair_alpha: f32) -> f32 {
+        match self {
+            HairModel::Absorber => crate::visibility::count_from_visibility(v, hair_alpha),
+            HairModel::Fibres => fibre_transport::count(v),
+        }
+    }
+}
+
+/// The CPU model of `strand_lit` (`shaders/common/strand_shading.wgsl`): the radiance a hair point sends towards
+/// `to_eye` per unit of the light's `colour × intensity`, with the method's visibility `v` and hair count `count`
+/// towards the light. Dual scattering carries its shadow itself; the single-scattering models are multiplied
+/// by what arrives: `V` for absorbers, `max(V, T_f)` for fibres ([`fibre_transport::arriving`]). Under the
+/// fibres model the models' `f · |cos θ_i|` is lit by the irradiance `π × colour × intensity`, as a mesh's Lambert
+/// (`colour × light × N·L`) and the path tracer take the light; the absorber model keeps the workbench's
+/// look, one unit of light per unit of radiance ([`fibre_transport::IRRADIANCE`]).
+#[allow(clippy::too_many_arguments)]
+pub fn strand_lit(
+    shading: ShadingModel,
+    hair: HairModel,
+    tangent: Vec3,
+    to_light: Vec3,
+    to_eye: Vec3,
+    colour: Vec3,
+    v: f32,
+    count: f32,
+) -> Vec3 {
+    if shading == ShadingModel::DualScattering {
+        let f = dual_scattering::dual_scattering(hair, tangent, to_light, to_eye, colour, v, count);
+        return match hair {
+            HairModel::Absorber => f,
+            HairModel::Fibres => f * fibre_transport::IRRADIANCE,
+        };
+    }
+    let s = shading.shade(tangent, to_light, to_eye, colour);
+    match hair {
+        HairModel::Absorber => s * v,
+        HairModel::Fibres => {
+            let sin_i = tangent.dot(to_light).clamp(-1.0, 1.0);
+            s * fibre_transport::arriving(v, sin_i, marschner::absorption(colour), count)
+                * fibre_transport::IRRADIANCE
         }
     }
 }
@@ -117,6 +232,84 @@ mod tests {
         }
     }
 
+    /// Each hair model's uniform value is the one `hair_model.wgsl` names, read from the parsed module.
+    #[test]
+    fn wgsl_hair_model_constants_match_the_uniform_values() {
+        let src = crate::shaders::compose("common/hair_model.wgsl", None).unwrap();
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        for model in HairModel::ALL {
+            let name = model.wgsl_const();
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name.as_str()))
+                .unwrap_or_else(|| panic!("{name} missing from hair_model.wgsl"));
+            match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => assert_eq!(v, model.uniform(), "{name}"),
+                ref e => panic!("{name}: not a u32 literal: {e:?}"),
+            }
+        }
+    }
+
+    /// Under absorbers the single-scattering models are `shade × V`; under fibres `π ×` (the irradiance of a unit
+    /// light) `shade × d_f ā_f^n` beyond the first strand (brighter than `V = e^-n` there), and `π × shade` with
+    /// nothing in front.
+    #[test]
+    fn strand_lit_carries_each_hair_models_transport() {
+        let (t, l, e) = (Vec3::Y, Vec3::Z, Vec3::new(0.0, 0.3, 0.95).normalize());
+        let colour = Vec3::new(0.30, 0.18, 0.09);
+        let shade = ShadingModel::Marschner.shade(t, l, e, colour);
+        let v = 0.5f32;
+        let absorber = strand_lit(
+            ShadingModel::Marschner,
+            HairModel::Absorber,
+            t,
+            l,
+            e,
+            colour,
+            v,
+            1.6,
+        );
+        assert!(
+            (absorber - shade * v).abs().max_element() <= 1e-7,
+            "{absorber} {shade}"
+        );
+        let n = 3.0f32;
+        let fibres = strand_lit(
+            ShadingModel::Marschner,
+            HairModel::Fibres,
+            t,
+            l,
+            e,
+            colour,
+            (-n).exp(),
+            n,
+        );
+        let (af, _) = fibre_transport::attenuation(0.0, marschner::absorption(colour));
+        let want = shade
+            * fibre_transport::IRRADIANCE
+            * fibre_transport::DENSITY_FORWARD
+            * Vec3::new(af.x.powi(3), af.y.powi(3), af.z.powi(3));
+        assert!(
+            (fibres - want).abs().max_element() <= 1e-5 * want.max_element(),
+            "{fibres} {want}"
+        );
+        assert!(fibres.min_element() > (shade * (-n).exp()).max_element());
+        let front = strand_lit(
+            ShadingModel::Marschner,
+            HairModel::Fibres,
+            t,
+            l,
+            e,
+            colour,
+            1.0,
+            0.0,
+        );
+        let lit = shade * fibre_transport::IRRADIANCE;
+        assert!((front - lit).abs().max_element() <= 1e-6, "{front} {lit}");
+        assert!((HairModel::Fibres.count((-n).exp(), 0.35) - n).abs() <= 1e-6);
+    }
+
     /// The word round-trips through serde and names the variant.
     #[test]
     fn words_round_trip_through_serde() {
@@ -128,6 +321,15 @@ mod tests {
             let text = toml::to_string(&Holder { shading: model }).unwrap();
             assert_eq!(text.trim(), format!("shading = \"{}\"", model.word()));
             assert_eq!(toml::from_str::<Holder>(&text).unwrap().shading, model);
+        }
+        #[derive(Serialize, Deserialize)]
+        struct HairHolder {
+            hair_model: HairModel,
+        }
+        for model in HairModel::ALL {
+            let text = toml::to_string(&HairHolder { hair_model: model }).unwrap();
+            assert_eq!(text.trim(), format!("hair_model = \"{}\"", model.word()));
+            assert_eq!(toml::from_str::<HairHolder>(&text).unwrap().hair_model, model);
         }
     }
 }

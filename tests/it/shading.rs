@@ -10,7 +10,7 @@ use hairlab::render::Renderer;
 use hairlab::render::transparency::registry as techniques;
 use hairlab::rng::SplitMix64;
 use hairlab::settings::Settings;
-use hairlab::shading::{ShadingModel, dual_scattering, marschner};
+use hairlab::shading::{HairModel, ShadingModel, dual_scattering, fibre_transport, marschner};
 use hairlab::visibility::count_from_visibility;
 
 /// GPU = CPU tolerance on each lobe value `s`: `|s_gpu − s_cpu| ≤ ABS_TOL + REL_TOL · |s_cpu|`. The lobes
@@ -156,7 +156,7 @@ struct Probe {
     to_light: vec4<f32>,
     to_eye: vec4<f32>,
     colour: vec4<f32>,
-    // visibility, count, alpha.
+    // visibility, count, alpha, hair model.
     lit: vec4<f32>,
 }
 
@@ -170,13 +170,14 @@ fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = probes[i];
-    let f = dual_scattering(p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, p.colour.rgb, p.lit.x, p.lit.y);
+    let f = dual_scattering(u32(p.lit.w), p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, p.colour.rgb, p.lit.x, p.lit.y);
     out[i] = vec4<f32>(f, count_from_visibility(p.lit.x, p.lit.z));
 }
 "#;
 
 /// GPU = CPU: dual scattering on the Marschner probe directions and colours, each at a hair count and the
-/// visibility of that many strands of alpha 0.35 (`n` = 0, 0.5, 1, 3, 10, 40, cycling), with the same tolerance
+/// visibility of that many strands of alpha 0.35 (`n` = 0, 0.5, 1, 3, 10, 40, cycling), under both hair models
+/// (the fibres model's table and densities; the count checked under absorbers), with the same tolerance
 /// form as the lobes (`|Δ| ≤ 2e-6 + 1e-5 |F|`: the table lookup and `pow(ā_f, n)` add a few ulps to the
 /// lobes' own); and the count read back from that visibility within `1e-5 + 1e-5 n`. Measured on lavapipe
 /// (printed by the test): max |ΔF| = 5.96e-7, max relative 3.66e-6 over 4270 probes; max |Δn| = 3.81e-6.
@@ -185,21 +186,18 @@ fn wgsl_dual_scattering_equals_the_cpu_model() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let alpha = 0.35f32;
     let counts = [0.0f32, 0.5, 1.0, 3.0, 10.0, 40.0];
-    let rows: Vec<([Vec3; 4], [f32; 3])> = probe_rows()
-        .into_iter()
-        .enumerate()
-        .map(|(k, row)| {
-            let n = counts[k % counts.len()];
-            (row, [(1.0 - alpha).powf(n), n, alpha])
+    let rows: Vec<([Vec3; 4], [f32; 4])> = HairModel::ALL
+        .iter()
+        .flat_map(|model| {
+            probe_rows().into_iter().enumerate().map(move |(k, row)| {
+                let n = counts[k % counts.len()];
+                (row, [(1.0 - alpha).powf(n), n, alpha, model.uniform() as f32])
+            })
         })
         .collect();
     let packed: Vec<[f32; 4]> = rows
         .iter()
-        .flat_map(|(dirs, lit)| {
-            dirs.iter()
-                .map(|v| v.extend(0.0).to_array())
-                .chain([[lit[0], lit[1], lit[2], 0.0]])
-        })
+        .flat_map(|(dirs, lit)| dirs.iter().map(|v| v.extend(0.0).to_array()).chain([*lit]))
         .collect();
     let bytes = common::run_probe(
         &gpu,
@@ -212,7 +210,8 @@ fn wgsl_dual_scattering_equals_the_cpu_model() {
     let (mut worst_abs, mut worst_rel, mut worst_count, mut peak) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
     for ((dirs, lit), o) in rows.iter().zip(&out) {
         let [t, l, v, c] = *dirs;
-        let f = dual_scattering::dual_scattering(t, l, v, c, lit[0], lit[1]);
+        let model = HairModel::ALL[lit[3] as usize];
+        let f = dual_scattering::dual_scattering(model, t, l, v, c, lit[0], lit[1]);
         for k in 0..3 {
             let (g, e) = (o[k], f[k]);
             assert!(
@@ -428,4 +427,87 @@ fn dual_scattering_lightens_the_marschner_image() {
     let (lm, lds) = (mean(&hair_luminance(&m)), mean(&hair_luminance(&ds)));
     println!("mean hair luminance: marschner {lm:.4}, dual scattering {lds:.4}");
     assert!(lds > lm * 1.01, "dual scattering {lds} vs marschner {lm}");
+}
+
+/// Per probe `(sin θ, σ_a r g b)` and `(n, V, ·, ·)`: `fibre_attenuation`, `fibre_transmittance` and
+/// `fibre_arriving` of `shaders/common/fibre_transport.wgsl`.
+const FIBRE_PROBE: &str = r#"
+struct Probe {
+    angle: vec4<f32>,
+    lit: vec4<f32>,
+}
+
+@group(0) @binding(0) var<storage, read> probes: array<Probe>;
+@group(0) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&probes) {
+        return;
+    }
+    let p = probes[i];
+    let a = fibre_attenuation(p.angle.x, p.angle.yzw);
+    out[4u * i] = vec4<f32>(a.forward, fibre_count(p.lit.y));
+    out[4u * i + 1u] = vec4<f32>(a.backward, 0.0);
+    out[4u * i + 2u] = vec4<f32>(fibre_transmittance(p.angle.x, p.angle.yzw, p.lit.x), 0.0);
+    out[4u * i + 3u] = vec4<f32>(fibre_arriving(p.lit.y, p.angle.x, p.angle.yzw, p.lit.x), 0.0);
+}
+"#;
+
+/// GPU = CPU: the fibres model's table lookup, transmittance and arriving light on 4096 random inclinations
+/// (the nodes' ends included), absorptions `√σ_a` in [0, 1.3] (past the table's last node) and counts in
+/// [0, 40], each at `V = e^-n`, within `|Δ| ≤ 2e-6 + 1e-5 |x|` (the lobes' tolerance: bilinear weights and `pow`
+/// in f32); the count read back from `V` within `1e-5 + 1e-5 n`.
+#[test]
+fn wgsl_fibre_transport_equals_the_cpu_model() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut rng = SplitMix64::new(23);
+    let mut rows: Vec<[f32; 8]> = (0..4096)
+        .map(|_| {
+            let s = rng.range(-1.1, 1.1);
+            let sigma: [f32; 3] = std::array::from_fn(|_| rng.range(0.0, 1.3).powi(2));
+            let n = rng.range(0.0, 40.0);
+            [s, sigma[0], sigma[1], sigma[2], n, (-n).exp(), 0.0, 0.0]
+        })
+        .collect();
+    rows.extend([-1.0f32, 0.0, 1.0].map(|s| [s, 0.0, 0.09, 1.44, 0.0, 1.0, 0.0, 0.0]));
+    let bytes = common::run_probe(
+        &gpu,
+        (
+            "common/fibre_transport.wgsl",
+            FIBRE_PROBE,
+            "fibre_transport.probe",
+        ),
+        bytemuck::cast_slice(&rows),
+        rows.len(),
+        64,
+    );
+    let out: Vec<[f32; 16]> = bytemuck::pod_collect_to_vec(&bytes);
+    let (mut worst, mut worst_count) = (0.0f32, 0.0f32);
+    for (r, o) in rows.iter().zip(&out) {
+        let sigma = Vec3::new(r[1], r[2], r[3]);
+        let (af, ab) = fibre_transport::attenuation(r[0], sigma);
+        let t = fibre_transport::transmittance(r[0], sigma, r[4]);
+        let arriving = fibre_transport::arriving(r[5], r[0], sigma, r[4]);
+        for (k, (cpu, at)) in [(af, 0), (ab, 4), (t, 8), (arriving, 12)].into_iter().enumerate() {
+            for c in 0..3 {
+                let (g, e) = (o[at + c], cpu[c]);
+                let d = (g - e).abs();
+                assert!(
+                    d <= ABS_TOL + REL_TOL * e.abs(),
+                    "{r:?} quantity {k} channel {c}: GPU {g}, CPU {e}"
+                );
+                worst = worst.max(d);
+            }
+        }
+        let n = fibre_transport::count(r[5]);
+        let d = (o[3] - n).abs();
+        assert!(d <= 1e-5 + 1e-5 * n, "{r:?}: GPU count {}, CPU {n}", o[3]);
+        worst_count = worst_count.max(d);
+    }
+    println!(
+        "fibre transport GPU = CPU: {} probes, max |Δ| = {worst:.2e}; count max |Δ| = {worst_count:.2e}",
+        rows.len()
+    );
 }

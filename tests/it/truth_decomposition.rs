@@ -4,7 +4,9 @@
 use crate::common::cli::{assert_fails, hairlab, stderr};
 use hairlab::gpu::Gpu;
 use hairlab::measure::MethodConfig;
-use hairlab::measure::decompose::{EYE_COVERAGE, METHOD, MULTIPLE_SCATTERING, SHADING, SHADOWING, TOTAL};
+use hairlab::measure::decompose::{
+    EYE_COVERAGE, MESH_BOUNCE, METHOD, MULTIPLE_SCATTERING, SHADING, SHADOWING, TOTAL,
+};
 use hairlab::methods::ParamValues;
 use hairlab::settings::Settings;
 use hairlab::shading::ShadingModel;
@@ -22,8 +24,8 @@ fn small(preset: &str, more: &[&str]) -> Settings {
 
 /// The chain on the stray strand and its clump: one row per effect in the chain's order, the total last; the
 /// hair's luminance ratios multiply along the chain to the total's (the chain telescopes); one scattering
-/// event carries less light than all of them; the scene has no mesh, so no receiver pixel and no receiver
-/// ratio.
+/// event carries less light than all of them; the scene has no mesh, so no receiver pixel, no receiver ratio
+/// and no light bounced off a mesh (the fibres' events alone are the truth, sample for sample).
 #[test]
 fn the_chain_telescopes_and_one_event_carries_less_light() {
     let gpu = Gpu::for_tests().expect("GPU tests opted out");
@@ -42,6 +44,7 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
     assert_eq!(
         effects,
         [
+            MESH_BOUNCE,
             MULTIPLE_SCATTERING,
             SHADOWING,
             SHADING,
@@ -53,10 +56,12 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
     let hair = truth.masks.hair.iter().filter(|&&m| m).count();
     assert!(hair > 1000, "{hair} hair pixels");
     assert!(!truth.masks.receivers.contains(&true));
-    let steps: f64 = table.decomposition[..5].iter().map(|d| d.hair_ratio).product();
-    let total = table.decomposition[5].hair_ratio;
+    let steps: f64 = table.decomposition[..6].iter().map(|d| d.hair_ratio).product();
+    let total = table.decomposition[6].hair_ratio;
     assert!((steps / total - 1.0).abs() < 1e-9, "{steps} vs {total}");
-    let ms = &table.decomposition[0];
+    let bounce = &table.decomposition[0];
+    assert!(bounce.hair_ratio == 1.0 && bounce.hair_rmse == 0.0, "{bounce:?}");
+    let ms = &table.decomposition[1];
     assert!(ms.hair_ratio > 0.0 && ms.hair_ratio < 0.9, "{ms:?}");
     assert!(
         table

@@ -303,6 +303,33 @@ fn the_guide_names_every_command_and_preset() {
     );
 }
 
+#[test]
+fn the_code_map_has_a_row_per_top_level_module() {
+    let map = read(&root().join("docs/contributing.md"));
+    let src = root().join("src");
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(&src).expect("src/") {
+        let path = entry.expect("a src/ entry").path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        // A folder beside a file of its name (`settings/` for `settings.rs`) holds that module's children.
+        let cell = if path.is_dir() && !src.join(format!("{name}.rs")).exists() {
+            format!("| `{name}/` |")
+        } else if name.ends_with(".rs") && name != "lib.rs" && name != "main.rs" {
+            format!("| `{name}` |")
+        } else {
+            continue;
+        };
+        if !map.lines().any(|l| l.contains(&cell)) {
+            missing.push(cell);
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "docs/contributing.md's code map has no row for:\n{}",
+        missing.join("\n")
+    );
+}
+
 /// One BibTeX entry: its type, its key and its fields (lower-case name, value without its outer braces).
 struct BibEntry {
     kind: String,

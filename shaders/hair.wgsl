@@ -9,6 +9,7 @@
 #include "common/strand_shading.wgsl"
 #include "common/guard_darkening.wgsl"
 #include "common/env_lights.wgsl"
+#include "common/mesh_bounce.wgsl"
 #include "common/visibility.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
@@ -92,7 +93,7 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     }
     let dark = guard_darkening(in.base_height, frame.guard_shell_height, frame.guard_sigma);
     var out: ShadedHair;
-    out.color = (lit + in.color * frame.hair_ambient) * dark;
+    out.color = (lit + hair_ambient_light(in.color, world)) * dark;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

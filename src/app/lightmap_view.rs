@@ -254,7 +254,7 @@ impl LightMapView {
         let method = &deps.settings.method;
         let stored = match registry::find(&method.name) {
             Ok(m) if self.quantity == MapQuantity::Stored && inspected(m) => Some((
-                m.model(&method.params, deps.settings.render.hair_alpha),
+                m.model(&method.params, deps.settings.render.light_opacity()),
                 self.stored,
             )),
             _ => None,

@@ -153,7 +153,10 @@ pub fn path_traced(
     chain.extend(models.iter().map(|&model| {
         one(
             HairShadows::Map(map.clone()),
-            FirstHit::Raster(crate::pathtrace::effects::RasterShading { model, ..raster }),
+            FirstHit::Raster(crate::pathtrace::effects::RasterShading {
+                model,
+                ..raster.clone()
+            }),
         )
     }));
     let spp = path.settings.samples.max(2);

@@ -14,7 +14,8 @@
 //! the slice, and `V = exp(-o * b)` with `b = -ln(1 - alpha)` from the global hair alpha (`frame.hair_alpha`,
 //! the CPU model's `OccupancyParams::alpha` = [`MethodContext::hair_alpha`]); each fragment's own alpha is
 //! ignored, as in the paper.
-//! In `render.alpha = "coverage"` mode it still takes `render.hair_alpha` (there the material opacity) as that alpha.
+//! In `render.alpha = "coverage"` mode it still takes `render.hair_alpha` (there the material opacity) as that alpha;
+//! under `render.hair_model = fibres`, `light_alpha` of opacity 1, `1 − e^(−1)` (one fibre crossed per fragment).
 //!
 //! The half-texel jitter of §3.3 is not a parameter here: it offsets the continuous texture coordinate before
 //! the texel is chosen, which happens in the shared `hair_visibility` (`common/method_lookup.wgsl`) before

@@ -88,7 +88,7 @@ impl RasterLight {
 pub use crate::render::render_settings::{HAIR_AMBIENT, MESH_AMBIENT};
 
 /// The real-time model's shading at the first hit.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RasterShading {
     pub model: ShadingModel,
     /// `render.hair_model`: how light crosses the strands in front.
@@ -99,9 +99,9 @@ pub struct RasterShading {
     pub hair_alpha: f32,
     /// `RenderSettings::ambient_scale`: the scale of the ambient terms.
     pub ambient: f32,
-    /// Under the fibres model, the luminance of the light the meshes bounce onto the hair
-    /// (`shading::mesh_bounce`, `frame.hair_ambient`), 0 otherwise: the hair adds its colour times it.
-    pub bounce: f32,
+    /// Under the fibres model, the probe of the light the meshes bounce onto the hair
+    /// (`shading::mesh_bounce::Grid`, `frame.bounce_*`): the hair adds `hair_response` times its value there.
+    pub bounce: Option<Arc<crate::shading::mesh_bounce::Grid>>,
     pub light: RasterLight,
 }
 
@@ -124,7 +124,10 @@ impl RasterShading {
                     visibility,
                     count,
                 );
-                lit * light + self.colour * (HAIR_AMBIENT * self.ambient + self.bounce)
+                let bounce = self.bounce.as_ref().map_or(Vec3::ZERO, |g| {
+                    crate::shading::mesh_bounce::hair_response(self.colour) * g.at(hit.point)
+                });
+                lit * light + self.colour * (HAIR_AMBIENT * self.ambient) + bounce
             }
             super::fibre::Surface::Mesh { albedo } => {
                 let n = if hit.normal.dot(to_eye) < 0.0 {
@@ -159,7 +162,7 @@ impl RasterShading {
 }
 
 /// The BSDF at the camera ray's first hit.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum FirstHit {
     /// Chiang et al.'s fibre BSDF on fibres, Lambert on meshes, lit by the path tracer's light (the truth).
     Physical,
@@ -349,7 +352,7 @@ mod tests {
             colour: COLOUR,
             hair_alpha: 0.35,
             ambient: 1.0,
-            bounce: 0.0,
+            bounce: None,
             light: RasterLight {
                 radiance: Vec3::ONE,
                 to_light: Vec3::Z,
@@ -357,7 +360,7 @@ mod tests {
             },
         };
         let centre = |hair_shadows| {
-            let s = settings(one(hair_shadows, FirstHit::Raster(raster)));
+            let s = settings(one(hair_shadows, FirstHit::Raster(raster.clone())));
             render(&bvh, &camera(), &LIGHT, &s)[8 * 24 + 12]
         };
         let lit = COLOUR * 0.75 + Vec3::splat(0.35);

@@ -95,20 +95,20 @@ pub fn raster_shading(settings: &Settings, scene: &Scene) -> RasterShading {
         to_light: l.to_light(),
         spot,
     };
-    let bounce = match settings.render.hair_model {
-        HairModel::Absorber => 0.0,
-        HairModel::Fibres => {
-            let points = mesh_bounce::spread(&scene.strands.points);
-            mesh_bounce::luminance(mesh_bounce::radiance(&bounce_triangles(scene), &points, |p| {
+    let bounce = (settings.render.hair_model == HairModel::Fibres).then(|| {
+        std::sync::Arc::new(mesh_bounce::Grid::measure(
+            &bounce_triangles(scene),
+            &scene.strands.points,
+            |p| {
                 let (to_light, distance) = light.toward(p);
                 mesh_bounce::Arrival {
                     to_light,
                     distance,
                     radiance: light.radiance_at(p),
                 }
-            }))
-        }
-    };
+            },
+        ))
+    });
     RasterShading {
         model: settings.render.shading,
         colour: Vec3::from(settings.render.hair_color),

@@ -150,6 +150,9 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         hair_model: f.render.hair_model.uniform(),
         env_to_light: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
         env_radiance: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
+        bounce_min: [0.0; 4],
+        bounce_max: [0.0; 4],
+        bounce_grid: [[0.0; 4]; crate::render::uniforms::BOUNCE_VECTORS],
     }
 }
 

@@ -195,7 +195,7 @@ impl LightSide {
             light: &self.stage,
             light_maps: &self.maps,
             values: f.method_params,
-            hair_alpha: f.render.hair_alpha,
+            hair_alpha: f.render.light_opacity(),
         };
         let name = f.method.name();
         let created = self.method.as_ref().is_none_or(|(n, _)| *n != name);

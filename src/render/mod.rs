@@ -231,7 +231,10 @@ impl Renderer {
             },
         );
         if render.hair_model == crate::shading::HairModel::Fibres {
-            u.hair_ambient = crate::shading::mesh_bounce::luminance(self.scene.mesh_bounce(&u));
+            let grid = self.scene.mesh_bounce(&u);
+            u.bounce_min = grid.min.extend(0.0).to_array();
+            u.bounce_max = grid.max.extend(0.0).to_array();
+            u.bounce_grid = grid.packed();
         }
         if let Some(f) = self.fur.as_ref().filter(|f| f.settings.mode.strands()) {
             u.guard_sigma = f.settings.guard_sigma();
@@ -313,7 +316,7 @@ impl Renderer {
             ts(&mut self.timer, Phase::Meshes, "eye: meshes"),
         );
         let model = crate::transparency::ModelContext {
-            hair_alpha: f.render.hair_alpha,
+            hair_alpha: f.render.opacity(),
             depth_range: self.eye_depth_range(f.camera),
         };
         if capture {

@@ -158,6 +158,16 @@ impl RenderSettings {
         }
     }
 
+    /// The alpha of one strand over a light texel where the light passes and the methods need one global alpha
+    /// (occupancy's `V = e^(−o b(α))`): `hair_alpha`, or under the fibres model `1 − e^(−1)`, a fibre that covers
+    /// its texel (`light_alpha` of opacity 1: one fibre crossed).
+    pub fn light_opacity(&self) -> f32 {
+        match self.hair_model {
+            HairModel::Absorber => self.hair_alpha,
+            HairModel::Fibres => 1.0 - crate::visibility::transmittance(1.0),
+        }
+    }
+
     /// The scale of the raster's ambient terms: `ambient`, or 0 under the fibres model.
     pub fn ambient_scale(&self) -> f32 {
         match self.hair_model {

@@ -78,7 +78,7 @@ pub struct SceneGpu {
     /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its last answer with
     /// the light and generation it was found for.
     bounce_triangles: Vec<BounceTriangle>,
-    bounce_cache: std::sync::Mutex<Option<(BounceKey, Vec3)>>,
+    bounce_cache: std::sync::Mutex<Option<(BounceKey, mesh_bounce::Grid)>>,
 }
 
 impl SceneGpu {
@@ -388,10 +388,10 @@ fn bounce_triangles(vertices: &[MeshVertex], indices: &[u32]) -> Vec<BounceTrian
 }
 
 impl SceneGpu {
-    /// The radiance the lit meshes send to the hair (`shading::mesh_bounce`) under the light of `u`, as the eye
+    /// The probe of the light the lit meshes send to the hair (`shading::mesh_bounce`) under the light of `u`, as the eye
     /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`); kept until the light
     /// or the meshes' pose changes.
-    pub fn mesh_bounce(&self, u: &crate::render::uniforms::FrameUniforms) -> Vec3 {
+    pub fn mesh_bounce(&self, u: &crate::render::uniforms::FrameUniforms) -> mesh_bounce::Grid {
         let key: BounceKey = (
             self.generation,
             [
@@ -417,9 +417,8 @@ impl SceneGpu {
         let triangles: Vec<mesh_bounce::Triangle> =
             self.bounce_triangles.iter().map(|t| t.triangle).collect();
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
-        let v = mesh_bounce::radiance(&triangles, &mesh_bounce::spread(&points), |p| {
-            crate::render::frame::light_arrival(u, p)
-        });
+        let v =
+            mesh_bounce::Grid::measure(&triangles, &points, |p| crate::render::frame::light_arrival(u, p));
         *cache = Some((key, v));
         v
     }

@@ -74,7 +74,16 @@ pub struct FrameUniforms {
     /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
+    /// Under the fibres model, the probe of the light the meshes bounce onto the hair
+    /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz, w unused) and its luminances four to a
+    /// vector; zeros under the absorber model.
+    pub bounce_min: [f32; 4],
+    pub bounce_max: [f32; 4],
+    pub bounce_grid: [[f32; 4]; BOUNCE_VECTORS],
 }
+
+/// Vectors of [`FrameUniforms::bounce_grid`].
+pub const BOUNCE_VECTORS: usize = crate::shading::mesh_bounce::NODES.pow(3) / 4;
 
 /// Field names and byte offsets, in declaration order, for the layout test.
 pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
@@ -137,5 +146,8 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
         ("hair_model", offset_of!(FrameUniforms, hair_model)),
         ("env_to_light", offset_of!(FrameUniforms, env_to_light)),
         ("env_radiance", offset_of!(FrameUniforms, env_radiance)),
+        ("bounce_min", offset_of!(FrameUniforms, bounce_min)),
+        ("bounce_max", offset_of!(FrameUniforms, bounce_max)),
+        ("bounce_grid", offset_of!(FrameUniforms, bounce_grid)),
     ]
 };

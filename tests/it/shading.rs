@@ -511,3 +511,85 @@ fn wgsl_fibre_transport_equals_the_cpu_model() {
         rows.len()
     );
 }
+
+/// Per probe `(world xyz, ·)` and `(colour rgb, ·)`: `hair_ambient_light` of `shaders/common/mesh_bounce.wgsl`.
+const BOUNCE_PROBE: &str = r#"
+struct BounceRow {
+    world: vec4<f32>,
+    colour: vec4<f32>,
+}
+
+@group(1) @binding(0) var<storage, read> rows: array<BounceRow>;
+@group(1) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&rows) {
+        return;
+    }
+    out[i] = vec4<f32>(hair_ambient_light(rows[i].colour.rgb, rows[i].world.xyz), 0.0);
+}
+"#;
+
+/// GPU = CPU: the ambient light of a hair fragment under both hair models: the absorber's `colour × 0.08`, and
+/// the fibres model's `hair_response(colour) × Grid::at(p)` on a grid of random values, at 2048 random points
+/// inside, on and beyond the lattice, within `|Δ| ≤ 2e-6 + 1e-5 |x|`.
+#[test]
+fn wgsl_mesh_bounce_equals_the_cpu_model() {
+    use hairlab::shading::mesh_bounce::{Grid, NODES, hair_response};
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut rng = SplitMix64::new(31);
+    let mut grid = Grid {
+        min: Vec3::new(-0.2, 0.1, -0.3),
+        max: Vec3::new(0.25, 0.6, 0.2),
+        values: [0.0; NODES * NODES * NODES],
+    };
+    for v in &mut grid.values {
+        *v = rng.range(0.0, 0.4);
+    }
+    let rows: Vec<[f32; 8]> = (0..2048)
+        .map(|_| {
+            let p: [f32; 3] = std::array::from_fn(|_| rng.range(-0.5, 0.8));
+            let c: [f32; 3] = std::array::from_fn(|_| rng.range(0.0, 1.0));
+            [p[0], p[1], p[2], 0.0, c[0], c[1], c[2], 0.0]
+        })
+        .collect();
+    let mut frame: hairlab::render::uniforms::FrameUniforms = bytemuck::Zeroable::zeroed();
+    frame.hair_ambient = 0.08;
+    frame.bounce_min = grid.min.extend(0.0).to_array();
+    frame.bounce_max = grid.max.extend(0.0).to_array();
+    frame.bounce_grid = grid.packed();
+    let mut worst = 0.0f32;
+    for model in HairModel::ALL {
+        frame.hair_model = model.uniform();
+        let bytes = common::run_probe_with_frame(
+            &gpu,
+            ("common/mesh_bounce.wgsl", BOUNCE_PROBE, "mesh_bounce.probe"),
+            &frame,
+            bytemuck::cast_slice(&rows),
+            rows.len(),
+            16,
+        );
+        let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        for (r, o) in rows.iter().zip(&out) {
+            let (p, c) = (Vec3::new(r[0], r[1], r[2]), Vec3::new(r[4], r[5], r[6]));
+            let cpu = match model {
+                HairModel::Absorber => c * 0.08,
+                HairModel::Fibres => hair_response(c) * grid.at(p),
+            };
+            for k in 0..3 {
+                let d = (o[k] - cpu[k]).abs();
+                worst = worst.max(d);
+                assert!(
+                    d <= ABS_TOL + REL_TOL * cpu[k].abs(),
+                    "{model:?} {p} {c}: GPU {o:?}, CPU {cpu}"
+                );
+            }
+        }
+    }
+    println!(
+        "mesh bounce GPU = CPU: {} rows × 2 models, max |Δ| = {worst:.2e}",
+        rows.len()
+    );
+}

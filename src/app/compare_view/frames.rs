@@ -213,7 +213,7 @@ pub(super) fn render_compare_steps(
         background,
         hair,
         model: ModelContext {
-            hair_alpha: settings.render.hair_alpha,
+            hair_alpha: settings.render.opacity(),
             depth_range: r.eye_depth_range(&settings.camera),
         },
         settings: settings.clone(),

@@ -138,7 +138,12 @@ fn exports_a_mitsuba_scene_of_the_preset() {
 }
 
 /// A spot light exports as Mitsuba's `spot`: cutoff at half of `light.cone_deg`, full beam within the angle where
-/// the raster's edge ramp `smoothstep(edge, edge + 0.15 (1 − edge), cos θ)` reaches 1; and it path-traces.
+/// the raster's edge ramp `smoothstep(edge, edge + 0.15 (1 − edge), cos θ)` reaches 1; and it path-traces as
+/// the directional light it stands for. Its intensity gives the directional light's irradiance at the scene's
+/// centre, so placed 50 scene radii away (1/d² within ±4 % over the hair) its image's mean over the hair is the
+/// directional one's within 3 % (measured 0.998; two seeds of the directional image differ by 0.7 %), lit on
+/// as many pixels within 5 %; at the preset's distance its 50° cone holds the whole hair: it lights at least
+/// 90 % of the pixels the directional light does (measured 290 of 299).
 #[test]
 fn a_spot_light_exports_as_mitsubas_spot_and_path_traces() {
     let dir = tempfile::tempdir().unwrap();
@@ -165,14 +170,43 @@ fn a_spot_light_exports_as_mitsubas_spot_and_path_traces() {
         value("beam_width")
     );
     assert!(xml.contains("<emitter type=\"spot\">") && !xml.contains("directional"));
-    let shot = dir.path().join("spot.png");
-    let mut args = TINY.to_vec();
-    args.extend(["24", "--set", "render.spp=1", "--out", shot.to_str().unwrap()]);
-    args.extend(spot);
-    let o = hairlab(&args);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let image = image::open(&shot).unwrap().to_rgb8();
-    assert!(image.pixels().filter(|p| p.0.iter().any(|&c| c > 0)).count() >= 20);
+    let render = |name: &str, light: &[&str]| -> image::Rgb32FImage {
+        let shot = dir.path().join(name);
+        let mut args = TINY.to_vec();
+        args.extend(["24", "--set", "render.spp=4", "--out", shot.to_str().unwrap()]);
+        args.extend(light);
+        let o = hairlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        image::open(&shot).unwrap().to_rgb32f()
+    };
+    let directional = render("directional.exr", &[]);
+    let far = render(
+        "far.exr",
+        &[spot.as_slice(), &["--set", "light.distance=50"]].concat(),
+    );
+    let near = render("near.exr", &spot);
+    let lit = |p: &image::Rgb<f32>| p.0.iter().any(|&c| c > 0.0);
+    let count = |image: &image::Rgb32FImage| image.pixels().filter(|p| lit(p)).count() as f64;
+    let (mut sums, mut hair) = ((0.0f64, 0.0f64), 0);
+    for (d, f) in directional.pixels().zip(far.pixels()) {
+        if lit(d) || lit(f) {
+            hair += 1;
+            sums.0 += d.0.iter().map(|&c| f64::from(c)).sum::<f64>();
+            sums.1 += f.0.iter().map(|&c| f64::from(c)).sum::<f64>();
+        }
+    }
+    let (n_dir, n_far, n_near) = (count(&directional), count(&far), count(&near));
+    let report = format!(
+        "{hair} hair pixels, mean {:.4} directional, {:.4} far spot; lit {n_dir} directional, {n_far} far, \
+         {n_near} near",
+        sums.0 / (3.0 * hair as f64),
+        sums.1 / (3.0 * hair as f64)
+    );
+    eprintln!("{report}");
+    assert!(n_dir >= 100.0, "{report}");
+    assert!((sums.1 / sums.0 - 1.0).abs() < 0.03, "{report}");
+    assert!((n_far / n_dir - 1.0).abs() < 0.05, "{report}");
+    assert!(n_near >= 0.9 * n_dir, "{report}");
 }
 
 #[test]
@@ -226,7 +260,10 @@ fn a_bad_spp_width_or_strand_width_fails_naming_the_key_and_writes_nothing() {
 /// The ray-traced texels line up with the reference's: on a small head whose fibres are most of a texel wide,
 /// a fibre crosses the footprint of nearly every texel the reference has fragments in (a flipped or shifted
 /// footprint would miss most), and the fibres leave visible what the fragments do, to within the opacity model
-/// (measured: 1227 of 1227 texels crossed, mean |ΔV| 0.097, best-fitting α 0.685 for `hair_alpha` 0.35).
+/// (measured: 1227 of 1227 texels crossed, mean |ΔV| 0.097, best-fitting α 0.685 for `hair_alpha` 0.35). The
+/// bands are the measurement's own spread widened 2.5×: over generator seeds 1–6 and 6², 8², 12² rays a texel,
+/// α 0.683–0.695 (the rays move it ≤ 0.001) and mean |ΔV| 0.092–0.099; so α within 0.685 ± 0.03 and mean |ΔV|
+/// < 0.11 (a fit off by a tenth, or the α of `hair_alpha` 0.35 itself, fails).
 #[test]
 fn the_ray_traced_map_lines_up_with_the_reference() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -254,8 +291,10 @@ fn the_ray_traced_map_lines_up_with_the_reference() {
         m.texels.len()
     );
     assert!(
-        m.mean_abs_dv < 0.2 && m.best_alpha > 0.05 && m.best_alpha < 0.95,
-        "{m:?}"
+        m.mean_abs_dv < 0.11 && (m.best_alpha - 0.685).abs() < 0.03,
+        "mean |dV| {:.4}, best alpha {:.4}",
+        m.mean_abs_dv,
+        m.best_alpha
     );
 }
 

@@ -1,6 +1,7 @@
 //! The window's path-traced view (`render.mode = path`), driven headless by egui_kittest: it converges to
 //! `render.spp` on a worker, its image equals the library's path-traced image of the same scene, camera and size
-//! pixel for pixel, raising `render.spp` goes on from the samples taken, a change starts it again, the window
+//! pixel for pixel and `hairlab render` of the window's settings (an independent route: the CLI's passes, its
+//! linear EXR encoded here) within one sRGB level, raising `render.spp` goes on from the samples taken, a change starts it again, the window
 //! answers while a pass is held, and a screenshot saves the image shown.
 
 use crate::common;
@@ -16,6 +17,8 @@ fn path_window(spp: u32) -> Harness<'static, HairlabApp> {
     let mut settings = common::small_settings(320, 240);
     settings.render.mode = RenderMode::Path;
     settings.render.spp = spp;
+    // Over black, the view shows the radiance alone, as `hairlab render` writes it.
+    settings.render.background = [0.0; 3];
     let mut harness = Harness::builder()
         .with_size([900.0, 800.0])
         .with_max_steps(16)
@@ -38,6 +41,53 @@ fn converge(harness: &mut Harness<'static, HairlabApp>) {
 fn expected(harness: &Harness<'static, HairlabApp>, size: (u32, u32)) -> image::RgbaImage {
     let app = harness.state();
     render_image(app.settings(), app.scene().expect("a scene"), size).unwrap()
+}
+
+/// `hairlab render` of the window's settings (written out as a preset) at `size`, as an 8-bit sRGB image of its
+/// linear EXR: within one level of the view's image (this sRGB's rounding against the library's; measured 0), so
+/// a view that scales, drops or mixes up its samples fails where its comparison with `render_image` (the same
+/// code path) would not.
+fn cli_image(harness: &Harness<'static, HairlabApp>, size: (u32, u32)) -> image::RgbaImage {
+    let dir = tempfile::tempdir().unwrap();
+    let (preset, out) = (dir.path().join("window.toml"), dir.path().join("cli.exr"));
+    std::fs::write(&preset, harness.state().settings().to_toml()).unwrap();
+    let (w, h) = (size.0.to_string(), size.1.to_string());
+    let o = common::cli::hairlab(&[
+        "render",
+        "--preset",
+        preset.to_str().unwrap(),
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::cli::stderr(&o));
+    let linear = image::open(&out).unwrap().to_rgb32f();
+    let srgb = |c: f32| {
+        let c = c.clamp(0.0, 1.0);
+        let v = if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (v * 255.0).round() as u8
+    };
+    image::RgbaImage::from_fn(size.0, size.1, |x, y| {
+        let [r, g, b] = linear.get_pixel(x, y).0.map(srgb);
+        image::Rgba([r, g, b, 255])
+    })
+}
+
+/// The largest difference of any channel of any pixel between two images of one size.
+fn max_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> u8 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    a.pixels()
+        .zip(b.pixels())
+        .flat_map(|(p, q)| (0..4).map(move |k| p.0[k].abs_diff(q.0[k])))
+        .max()
+        .unwrap_or(0)
 }
 
 #[test]
@@ -64,6 +114,12 @@ fn the_path_traced_view_converges_to_the_librarys_image_and_goes_on_when_spp_ris
     assert!(
         shown.image == expected(&harness, size),
         "the view's 2-spp image differs from the library's"
+    );
+    let worst = max_difference(&shown.image, &cli_image(&harness, size));
+    eprintln!("the view against `hairlab render`: at most {worst} levels apart");
+    assert!(
+        worst <= 1,
+        "the view's 2-spp image differs from `hairlab render`'s by {worst} levels"
     );
     let hair = shown
         .image

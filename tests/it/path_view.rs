@@ -1,8 +1,8 @@
 //! The window's path-traced view (`render.mode = path`), driven headless by egui_kittest: it converges to
-//! `render.spp` on a worker, its image equals the library's path-traced image of the same scene, camera and size
-//! pixel for pixel and `hairlab render` of the window's settings (an independent route: the CLI's passes, its
-//! linear EXR encoded here) within one sRGB level, raising `render.spp` goes on from the samples taken, a change starts it again, the window
-//! answers while a pass is held, and a screenshot saves the image shown.
+//! `render.spp` on a worker, its image equals pixel for pixel the library's path-traced image of the same scene,
+//! camera and size and `hairlab render` of the window's settings (an independent route: the CLI's passes, its
+//! linear EXR), raising `render.spp` goes on from the samples taken, a change starts it again, the window answers
+//! while a pass is held, and a screenshot saves the image shown.
 
 use crate::common;
 
@@ -43,10 +43,9 @@ fn expected(harness: &Harness<'static, HairlabApp>, size: (u32, u32)) -> image::
     render_image(app.settings(), app.scene().expect("a scene"), size).unwrap()
 }
 
-/// `hairlab render` of the window's settings (written out as a preset) at `size`, as an 8-bit sRGB image of its
-/// linear EXR: within one level of the view's image (this sRGB's rounding against the library's; measured 0), so
-/// a view that scales, drops or mixes up its samples fails where its comparison with `render_image` (the same
-/// code path) would not.
+/// `hairlab render` of the window's settings (written out as a preset) at `size`, its linear EXR encoded to 8-bit
+/// sRGB: pixel for pixel the view's image (measured 0 levels apart), so a view that scales, drops or mixes up its
+/// samples fails where its comparison with `render_image` (the same code path) would not.
 fn cli_image(harness: &Harness<'static, HairlabApp>, size: (u32, u32)) -> image::RgbaImage {
     let dir = tempfile::tempdir().unwrap();
     let (preset, out) = (dir.path().join("window.toml"), dir.path().join("cli.exr"));
@@ -65,17 +64,8 @@ fn cli_image(harness: &Harness<'static, HairlabApp>, size: (u32, u32)) -> image:
     ]);
     assert!(o.status.success(), "{}", common::cli::stderr(&o));
     let linear = image::open(&out).unwrap().to_rgb32f();
-    let srgb = |c: f32| {
-        let c = c.clamp(0.0, 1.0);
-        let v = if c <= 0.003_130_8 {
-            12.92 * c
-        } else {
-            1.055 * c.powf(1.0 / 2.4) - 0.055
-        };
-        (v * 255.0).round() as u8
-    };
     image::RgbaImage::from_fn(size.0, size.1, |x, y| {
-        let [r, g, b] = linear.get_pixel(x, y).0.map(srgb);
+        let [r, g, b] = linear.get_pixel(x, y).0.map(hairlab::io::srgb8);
         image::Rgba([r, g, b, 255])
     })
 }
@@ -117,10 +107,7 @@ fn the_path_traced_view_converges_to_the_librarys_image_and_goes_on_when_spp_ris
     );
     let worst = max_difference(&shown.image, &cli_image(&harness, size));
     eprintln!("the view against `hairlab render`: at most {worst} levels apart");
-    assert!(
-        worst <= 1,
-        "the view's 2-spp image differs from `hairlab render`'s by {worst} levels"
-    );
+    assert_eq!(worst, 0, "the view's 2-spp image differs from `hairlab render`'s");
     let hair = shown
         .image
         .pixels()

@@ -156,30 +156,6 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
     }
 }
 
-/// The light at world point `p` under `u`, as `light_dir` and `light_radiance` of `shaders/common/frame.wgsl`
-/// give it (the spot's cone edge a smoothstep over the outer 15 % of the cosine).
-pub fn light_arrival(u: &FrameUniforms, p: glam::Vec3) -> crate::shading::mesh_bounce::Arrival {
-    use glam::Vec3;
-    let colour = Vec3::from(u.light_color);
-    if u.light_is_spot == 0 {
-        return crate::shading::mesh_bounce::Arrival {
-            to_light: Vec3::from(u.to_light),
-            distance: f32::INFINITY,
-            radiance: colour,
-        };
-    }
-    let towards = Vec3::from(u.light_position) - p;
-    let to_light = towards.normalize_or_zero();
-    let edge = u.spot_cos_half_angle;
-    let hi = edge + (1.0 - edge) * 0.15;
-    let x = ((to_light.dot(Vec3::from(u.to_light)) - edge) / (hi - edge)).clamp(0.0, 1.0);
-    crate::shading::mesh_bounce::Arrival {
-        to_light,
-        distance: towards.length(),
-        radiance: colour * (x * x * (3.0 - 2.0 * x)),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::footprint_per_w;

@@ -417,8 +417,7 @@ impl SceneGpu {
         let triangles: Vec<mesh_bounce::Triangle> =
             self.bounce_triangles.iter().map(|t| t.triangle).collect();
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
-        let v =
-            mesh_bounce::Grid::measure(&triangles, &points, |p| crate::render::frame::light_arrival(u, p));
+        let v = mesh_bounce::Grid::measure(&triangles, &points, |p| u.light_arrival(p));
         *cache = Some((key, v));
         v
     }

@@ -151,3 +151,29 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
         ("bounce_grid", offset_of!(FrameUniforms, bounce_grid)),
     ]
 };
+
+impl FrameUniforms {
+    /// The light at world point `p` under these uniforms, as `light_dir` and `light_radiance` of
+    /// `shaders/common/frame.wgsl` give it (the spot's cone edge a smoothstep over the outer 15 % of the cosine).
+    pub fn light_arrival(&self, p: glam::Vec3) -> crate::shading::mesh_bounce::Arrival {
+        use glam::Vec3;
+        let colour = Vec3::from(self.light_color);
+        if self.light_is_spot == 0 {
+            return crate::shading::mesh_bounce::Arrival {
+                to_light: Vec3::from(self.to_light),
+                distance: f32::INFINITY,
+                radiance: colour,
+            };
+        }
+        let towards = Vec3::from(self.light_position) - p;
+        let to_light = towards.normalize_or_zero();
+        let edge = self.spot_cos_half_angle;
+        let hi = edge + (1.0 - edge) * 0.15;
+        let x = ((to_light.dot(Vec3::from(self.to_light)) - edge) / (hi - edge)).clamp(0.0, 1.0);
+        crate::shading::mesh_bounce::Arrival {
+            to_light,
+            distance: towards.length(),
+            radiance: colour * (x * x * (3.0 - 2.0 * x)),
+        }
+    }
+}

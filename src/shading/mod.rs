@@ -213,42 +213,49 @@ pub fn strand_lit(
 mod tests {
     use super::*;
 
-    /// Each model's uniform value is the one `strand_shading.wgsl` tests for, read from the parsed module.
-    #[test]
-    fn wgsl_constants_match_the_uniform_values() {
-        let src = crate::shaders::compose("common/strand_shading.wgsl", None).unwrap();
+    /// The `u32` constants `names` of the composed `file`, read from the parsed module (a panic naming the one
+    /// missing or not a `u32` literal).
+    fn wgsl_u32_constants(file: &str, names: &[String]) -> Vec<u32> {
+        let src = crate::shaders::compose(file, None).unwrap();
         let module = naga::front::wgsl::parse_str(&src).unwrap();
-        for model in ShadingModel::ALL {
-            let name = model.wgsl_const();
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name.as_str()))
-                .unwrap_or_else(|| panic!("{name} missing from strand_shading.wgsl"));
-            match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::U32(v)) => assert_eq!(v, model.uniform(), "{name}"),
-                ref e => panic!("{name}: not a u32 literal: {e:?}"),
-            }
-        }
+        names
+            .iter()
+            .map(|name| {
+                let (_, c) = module
+                    .constants
+                    .iter()
+                    .find(|(_, c)| c.name.as_deref() == Some(name.as_str()))
+                    .unwrap_or_else(|| panic!("{name} missing from {file}"));
+                match module.global_expressions[c.init] {
+                    naga::Expression::Literal(naga::Literal::U32(v)) => v,
+                    ref e => panic!("{name}: not a u32 literal: {e:?}"),
+                }
+            })
+            .collect()
     }
 
-    /// Each hair model's uniform value is the one `hair_model.wgsl` names, read from the parsed module.
+    /// Each model's uniform value is the one `strand_shading.wgsl` tests for.
+    #[test]
+    fn wgsl_constants_match_the_uniform_values() {
+        let names: Vec<String> = ShadingModel::ALL.iter().map(|m| m.wgsl_const()).collect();
+        let values: Vec<u32> = ShadingModel::ALL.iter().map(|m| m.uniform()).collect();
+        assert_eq!(
+            wgsl_u32_constants("common/strand_shading.wgsl", &names),
+            values,
+            "{names:?}"
+        );
+    }
+
+    /// Each hair model's uniform value is the one `hair_model.wgsl` names.
     #[test]
     fn wgsl_hair_model_constants_match_the_uniform_values() {
-        let src = crate::shaders::compose("common/hair_model.wgsl", None).unwrap();
-        let module = naga::front::wgsl::parse_str(&src).unwrap();
-        for model in HairModel::ALL {
-            let name = model.wgsl_const();
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name.as_str()))
-                .unwrap_or_else(|| panic!("{name} missing from hair_model.wgsl"));
-            match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::U32(v)) => assert_eq!(v, model.uniform(), "{name}"),
-                ref e => panic!("{name}: not a u32 literal: {e:?}"),
-            }
-        }
+        let names: Vec<String> = HairModel::ALL.iter().map(|m| m.wgsl_const()).collect();
+        let values: Vec<u32> = HairModel::ALL.iter().map(|m| m.uniform()).collect();
+        assert_eq!(
+            wgsl_u32_constants("common/hair_model.wgsl", &names),
+            values,
+            "{names:?}"
+        );
     }
 
     /// Under absorbers the single-scattering models are `shade × V`; under fibres `π ×` (the irradiance of a unit

@@ -249,9 +249,22 @@ pub fn srgb8(c: f32) -> u8 {
     (v * 255.0).round() as u8
 }
 
+/// A premultiplied linear capture over black as an 8-bit sRGB image: each pixel's colour `H` clamped to `[0, 1]`
+/// and sRGB-encoded (IEC 61966-2-1, [`srgb8`]), row-major `(H, 1 − T)` of a `width`-wide capture.
+pub fn over_black(capture: &[[f32; 4]], width: u32, height: u32) -> image::RgbaImage {
+    let encode = srgb8;
+    image::RgbaImage::from_fn(width, height, |x, y| {
+        let p = capture
+            .get(y as usize * width as usize + x as usize)
+            .copied()
+            .unwrap_or_default();
+        image::Rgba([encode(p[0]), encode(p[1]), encode(p[2]), 255])
+    })
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{check_output, encode_png, read_regular_file, write_atomic, write_png};
+    use super::{check_output, encode_png, over_black, read_regular_file, write_atomic, write_png};
 
     fn names(dir: &std::path::Path) -> Vec<String> {
         let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -377,5 +390,20 @@ mod tests {
             );
         }
         assert!(read_regular_file(&dir.path().join("missing")).is_err());
+    }
+
+    #[test]
+    fn over_black_encodes_premultiplied_linear_colour_as_srgb() {
+        // sRGB of linear 0.5 is 1.055 · 0.5^(1/2.4) − 0.055 = 0.735357 → 187.52 → 188; 0.002 is on the linear
+        // segment: 12.92 · 0.002 · 255 = 6.59 → 7; out-of-range values clamp. Alpha (1 − T) is not drawn.
+        let capture = [
+            [0.5, 0.002, 0.0, 0.3],
+            [1.0, 2.0, -1.0, 1.0],
+            [0.0, 0.0, 0.0, 0.0],
+        ];
+        let img = over_black(&capture, 3, 1);
+        assert_eq!(img.get_pixel(0, 0).0, [188, 7, 0, 255]);
+        assert_eq!(img.get_pixel(1, 0).0, [255, 255, 0, 255]);
+        assert_eq!(img.get_pixel(2, 0).0, [0, 0, 0, 255]);
     }
 }

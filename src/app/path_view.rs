@@ -105,13 +105,13 @@ struct Kept {
 
 /// A path-traced scene ready for more samples: the BVH, each pixel's coverage and the samples so far.
 #[derive(Clone)]
-struct Progress {
+struct TracedView {
     path: Arc<PathScene>,
     coverage: Arc<Vec<f32>>,
     acc: Accumulation,
 }
 
-impl Progress {
+impl TracedView {
     fn image(&self, background: [f32; 3]) -> image::RgbaImage {
         let s = &self.path.settings;
         over_background(
@@ -125,7 +125,7 @@ impl Progress {
 }
 
 /// `scene` under `settings` at `size`, ready for samples (no samples yet).
-fn prepare(settings: &Settings, scene: &Scene, size: (u32, u32)) -> anyhow::Result<Progress> {
+fn prepare(settings: &Settings, scene: &Scene, size: (u32, u32)) -> anyhow::Result<TracedView> {
     let mut s = settings.clone();
     (s.render.width, s.render.height) = size;
     let path = PathScene::new(&s, scene)?;
@@ -137,7 +137,7 @@ fn prepare(settings: &Settings, scene: &Scene, size: (u32, u32)) -> anyhow::Resu
         COVERAGE_RAYS,
     );
     let acc = path.accumulation();
-    Ok(Progress {
+    Ok(TracedView {
         path: Arc::new(path),
         coverage: Arc::new(coverage),
         acc,
@@ -208,11 +208,11 @@ pub struct PathView {
     key: Option<Key>,
     /// The samples per pixel the running (or last) job goes to.
     target: u32,
-    job: Option<Job<Result<Progress, String>>>,
+    job: Option<Job<Result<TracedView, String>>>,
     /// A finished job's scene and samples, to go on from when `render.spp` rises.
-    done: Option<Progress>,
+    done: Option<TracedView>,
     /// The running job's samples after its latest pass (it writes, the window takes them when the key changes).
-    partial: Arc<Mutex<Option<Progress>>>,
+    partial: Arc<Mutex<Option<TracedView>>>,
     /// The samples of keys the view left (a motion's other frames), oldest first, at most [`KEPT_FRAMES`]; only
     /// the sums and the pixels' coverage are kept, the scene is built again on return.
     kept: Vec<(Key, Kept)>,
@@ -344,7 +344,7 @@ impl PathView {
     }
 
     /// Takes the job's outcome from `poll`: its samples (to go on from later) or its error.
-    fn take(&mut self, poll: Poll<Result<Progress, String>>) {
+    fn take(&mut self, poll: Poll<Result<TracedView, String>>) {
         match poll {
             Poll::Running => return,
             Poll::Done(Ok(p)) => self.done = Some(p),

@@ -167,7 +167,7 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
         crate::pathtrace::setup::encode_exr(&image, w, h)?
     } else {
         let rgba: Vec<[f32; 4]> = image.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
-        encode_png(&crate::measure::fur::over_black(&rgba, w, h))?
+        encode_png(&crate::io::over_black(&rgba, w, h))?
     };
     crate::io::write_atomic(&a.out, &bytes)?;
     if let Some(note) = crate::pathtrace::accumulation::dropped_note(acc.dropped()) {

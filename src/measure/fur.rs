@@ -132,7 +132,7 @@ pub struct FurMeasurement {
     /// RMSE of (H, 1 − T) against the reference over fur pixels (either image covered), and its maximum.
     pub rmse: f64,
     pub max_error: f32,
-    /// FLIP of the fur over black ([`over_black`]) against the reference's: over all pixels, and over the fur
+    /// FLIP of the fur over black ([`crate::io::over_black`]) against the reference's: over all pixels, and over the fur
     /// pixels (either image covered) as the hair pixels.
     pub flip: crate::transparency::FlipMetrics,
     /// Table 1 with each GPU row the median over the timed frames.
@@ -154,19 +154,6 @@ pub struct FurSceneStats {
     pub reference: Table1,
     /// The adapter, in words.
     pub device: String,
-}
-
-/// The fur over black as an 8-bit sRGB image: each pixel's premultiplied linear `H` clamped to `[0, 1]` and
-/// sRGB-encoded (IEC 61966-2-1), row-major `(H, 1 − T)` of a `width`-wide capture.
-pub fn over_black(capture: &[[f32; 4]], width: u32, height: u32) -> image::RgbaImage {
-    let encode = crate::io::srgb8;
-    image::RgbaImage::from_fn(width, height, |x, y| {
-        let p = capture
-            .get(y as usize * width as usize + x as usize)
-            .copied()
-            .unwrap_or_default();
-        image::Rgba([encode(p[0]), encode(p[1]), encode(p[2]), 255])
-    })
 }
 
 /// Per-pixel (H, 1 − T) error of `image` against `reference` over the pixels either covers.
@@ -274,7 +261,7 @@ pub fn measure_each(
         Ok((table, r.render_capture(&input)?))
     };
     let (reference_table, reference_image) = run(&mut r)?;
-    let reference_over_black = over_black(&reference_image, s.render.width, s.render.height);
+    let reference_over_black = crate::io::over_black(&reference_image, s.render.width, s.render.height);
     let (_, _, fur_pixels) = image_error(&reference_image, &reference_image);
     let scene_stats = FurSceneStats {
         triangles: fur.shell.mesh.faces.len(),
@@ -311,7 +298,7 @@ pub fn measure_each(
             alpha(&image) || alpha(&reference_image)
         };
         let flip = crate::transparency::FlipMap::new(
-            &over_black(&image, s.render.width, s.render.height),
+            &crate::io::over_black(&image, s.render.width, s.render.height),
             &reference_over_black,
         )
         .metrics(covered);
@@ -328,24 +315,4 @@ pub fn measure_each(
         after(&scene_stats, &out)?;
     }
     Ok((scene_stats, out))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::over_black;
-
-    #[test]
-    fn over_black_encodes_premultiplied_linear_colour_as_srgb() {
-        // sRGB of linear 0.5 is 1.055 · 0.5^(1/2.4) − 0.055 = 0.735357 → 187.52 → 188; 0.002 is on the linear
-        // segment: 12.92 · 0.002 · 255 = 6.59 → 7; out-of-range values clamp. Alpha (1 − T) is not drawn.
-        let capture = [
-            [0.5, 0.002, 0.0, 0.3],
-            [1.0, 2.0, -1.0, 1.0],
-            [0.0, 0.0, 0.0, 0.0],
-        ];
-        let img = over_black(&capture, 3, 1);
-        assert_eq!(img.get_pixel(0, 0).0, [188, 7, 0, 255]);
-        assert_eq!(img.get_pixel(1, 0).0, [255, 255, 0, 255]);
-        assert_eq!(img.get_pixel(2, 0).0, [0, 0, 0, 255]);
-    }
 }

@@ -198,7 +198,7 @@ fn traced_pair(
 ) -> Option<Stage> {
     let mut renders = Vec::with_capacity(2);
     for k in 0..2u64 {
-        let s = integrator::Settings {
+        let s = integrator::TraceSettings {
             samples: spp / 2,
             seed: path.settings.seed.wrapping_add(k),
             effects: effects.clone(),
@@ -216,7 +216,7 @@ fn traced_pair(
     let (w, h) = (path.settings.width as u32, path.settings.height as u32);
     let srgb = |v: &[Vec3]| {
         let rgba: Vec<[f32; 4]> = v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect();
-        super::fur::over_black(&rgba, w, h)
+        crate::io::over_black(&rgba, w, h)
     };
     let mean: Vec<Vec3> = renders[0]
         .iter()

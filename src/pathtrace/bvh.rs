@@ -354,7 +354,7 @@ impl Bvh {
             Some(s) => s.crossing(ray, 0.0, t_max),
             None => self.triangles[i as usize - n].intersect(ray, 0.0, t_max),
         };
-        hit.map(|h| Hit { segment: i, ..h })
+        hit.map(|h| Hit { primitive: i, ..h })
     }
 
     /// Calls `visit` with each primitive of each leaf whose box the ray meets within `(0, t_max)`, nearest box
@@ -466,8 +466,8 @@ impl Bvh {
             Some(t_max)
         });
         // A segment bounded in pieces may sit in several leaves.
-        hits.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.segment.cmp(&b.segment)));
-        hits.dedup_by_key(|h| h.segment);
+        hits.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.primitive.cmp(&b.primitive)));
+        hits.dedup_by_key(|h| h.primitive);
         hits
     }
 }

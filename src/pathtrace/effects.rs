@@ -239,14 +239,14 @@ mod tests {
     use super::*;
     use crate::pathtrace::bvh::Bvh;
     use crate::pathtrace::fibre::Segment;
-    use crate::pathtrace::integrator::{Settings, render};
+    use crate::pathtrace::integrator::{TraceSettings, render};
     use crate::pathtrace::light::{DirectionalLight, Light};
     use crate::scene::Camera;
 
     const COLOUR: Vec3 = Vec3::new(0.8, 0.6, 0.4);
 
-    fn settings(effects: Effects) -> Settings {
-        Settings {
+    fn settings(effects: Effects) -> TraceSettings {
+        TraceSettings {
             width: 24,
             height: 16,
             samples: 4,
@@ -300,7 +300,7 @@ mod tests {
         assert_eq!(all, first);
         assert!(all.iter().any(|p| p.max_element() > 0.0));
         let pair = Bvh::new(vec![fibre(0.0, 0.0), fibre(0.0, -0.5)]);
-        let sum = |s: &Settings| {
+        let sum = |s: &TraceSettings| {
             render(&pair, &camera(), &LIGHT, s)
                 .iter()
                 .map(|p| p.element_sum())

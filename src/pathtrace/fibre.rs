@@ -69,7 +69,7 @@ pub struct Hit {
     /// the normal's part across the tangent, along `normalize(tangent × dir)`.
     pub h: f32,
     /// Index of the primitive (the segment, or the triangle after the segments) in the hierarchy it came from.
-    pub segment: u32,
+    pub primitive: u32,
     /// The fibre's radius at the hit (0 on a triangle): what [`Hit::offset`] takes a fraction of.
     pub radius: f32,
     /// What was hit.
@@ -252,7 +252,7 @@ impl Segment {
             tangent,
             normal,
             h: n_perp.dot(across).clamp(-1.0, 1.0),
-            segment: 0,
+            primitive: 0,
             radius: r as f32,
             surface: Surface::Fibre,
         })

@@ -22,8 +22,10 @@ use super::light::Light;
 use crate::rng::SplitMix64;
 use crate::scene::Camera;
 
+/// What one path-traced image takes: its size, samples per pixel, seed, bounce limit, fibre and effects
+/// (`setup::PathScene` derives them from the preset's `crate::settings::Settings`).
 #[derive(Clone, Debug)]
-pub struct Settings {
+pub struct TraceSettings {
     pub width: usize,
     pub height: usize,
     pub samples: u32,
@@ -77,7 +79,13 @@ fn cosine_around(n: Vec3, u: [f32; 2]) -> Vec3 {
 
 /// What a hit does with light: the BSDF times the cosine towards the light, and a sampled continuation (its
 /// world direction and `f·|cos|/pdf`).
-fn scatter(hit: &Hit, dir: Vec3, s: &Settings, to_light: Vec3, u: [f32; 4]) -> (Vec3, Option<(Vec3, Vec3)>) {
+fn scatter(
+    hit: &Hit,
+    dir: Vec3,
+    s: &TraceSettings,
+    to_light: Vec3,
+    u: [f32; 4],
+) -> (Vec3, Option<(Vec3, Vec3)>) {
     match hit.surface {
         Surface::Fibre => {
             let shading = Shading::new(hit, dir, &s.fibre);
@@ -134,7 +142,7 @@ impl Rays {
 }
 
 /// Radiance along `ray`.
-fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
+fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
     for depth in 0..s.max_depth {
         let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
@@ -148,7 +156,10 @@ fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut Spli
             let reach = distance * (1.0 - 1e-4);
             transmittance(
                 &s.effects.hair_shadows,
-                map_point(&hit, bvh.segments().get(hit.segment as usize).map(|g| (g.a, g.b))),
+                map_point(
+                    &hit,
+                    bvh.segments().get(hit.primitive as usize).map(|g| (g.a, g.b)),
+                ),
                 || bvh.any_hit(&shadow, reach),
                 || bvh.any_mesh_hit(&shadow, reach),
             )
@@ -186,7 +197,7 @@ fn radiance(bvh: &Bvh, light: &Light, s: &Settings, mut ray: Ray, rng: &mut Spli
 }
 
 /// The image, row after row, `width × height` linear RGB.
-pub fn render(bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings) -> Vec<Vec3> {
+pub fn render(bvh: &Bvh, camera: &Camera, light: &Light, s: &TraceSettings) -> Vec<Vec3> {
     render_in_passes(bvh, camera, light, s, s.samples, &mut crate::progress::Quiet).mean()
 }
 
@@ -198,7 +209,7 @@ pub fn render_in_passes(
     bvh: &Bvh,
     camera: &Camera,
     light: &Light,
-    s: &Settings,
+    s: &TraceSettings,
     pass: u32,
     progress: &mut dyn crate::progress::Progress,
 ) -> Accumulation {
@@ -226,7 +237,7 @@ pub struct Accumulation {
 
 impl Accumulation {
     /// No samples yet, sized for `s`' image.
-    pub fn new(s: &Settings) -> Accumulation {
+    pub fn new(s: &TraceSettings) -> Accumulation {
         Accumulation {
             sums: Sums::new(s.width, s.height),
             done: 0,
@@ -244,7 +255,7 @@ impl Accumulation {
     }
 
     /// Adds the next `n` samples of every pixel.
-    pub fn add(&mut self, bvh: &Bvh, camera: &Camera, light: &Light, s: &Settings, n: u32) {
+    pub fn add(&mut self, bvh: &Bvh, camera: &Camera, light: &Light, s: &TraceSettings, n: u32) {
         let rays = Rays::new(camera, s.width, s.height);
         self.sums.add(self.done..self.done + n, |pixel, sample| {
             let (x, y) = (pixel % s.width, pixel / s.width);
@@ -268,8 +279,8 @@ mod tests {
     use crate::pathtrace::light::DirectionalLight;
     use crate::pathtrace::triangle::Triangle;
 
-    fn settings(seed: u64) -> Settings {
-        Settings {
+    fn settings(seed: u64) -> TraceSettings {
+        TraceSettings {
             width: 32,
             height: 24,
             samples: 4,

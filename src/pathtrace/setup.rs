@@ -179,7 +179,7 @@ pub struct PathScene {
     pub bvh: Bvh,
     pub camera: Camera,
     pub light: Light,
-    pub settings: integrator::Settings,
+    pub settings: integrator::TraceSettings,
 }
 
 impl PathScene {
@@ -196,7 +196,7 @@ impl PathScene {
             bvh,
             camera: camera(settings, scene),
             light,
-            settings: integrator::Settings {
+            settings: integrator::TraceSettings {
                 width: r.width as usize,
                 height: r.height as usize,
                 samples: r.spp,

@@ -70,7 +70,7 @@ impl Triangle {
             tangent: self.e1.normalize(),
             normal,
             h: 0.0,
-            segment: 0,
+            primitive: 0,
             radius: 0.0,
             surface: Surface::Mesh { albedo: self.albedo },
         })

@@ -45,7 +45,7 @@ fn a_ray_leaving_a_thin_fibre_far_out_starts_just_off_it_and_misses_it() {
             continue;
         };
         hits += 1;
-        let own = &segments[hit.segment as usize];
+        let own = &segments[hit.primitive as usize];
         let offset = hit.offset();
         assert!(offset > 0.0 && offset < 0.1 * r, "offset {offset} for radius {r}");
         (least, most) = (least.min(offset), most.max(offset));

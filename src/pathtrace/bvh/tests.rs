@@ -32,7 +32,7 @@ fn brute_force(bvh: &Bvh, ray: &Ray, t_max: f32) -> Vec<Hit> {
                 None => bvh.triangles[i - n].intersect(ray, 0.0, t_max),
             };
             hit.map(|h| Hit {
-                segment: i as u32,
+                primitive: i as u32,
                 ..h
             })
         })
@@ -61,7 +61,7 @@ fn queries_equal_brute_force() {
         let all = brute_force(&bvh, &ray, t_max);
         let brute = all.iter().copied().reduce(|a, b| if b.t < a.t { b } else { a });
         let got = bvh.closest_hit(&ray, t_max);
-        assert_eq!(got.map(|h| (h.segment, h.t)), brute.map(|h| (h.segment, h.t)));
+        assert_eq!(got.map(|h| (h.primitive, h.t)), brute.map(|h| (h.primitive, h.t)));
         assert_eq!(bvh.any_hit(&ray, t_max), brute.is_some());
         let mut sorted = all.clone();
         sorted.sort_by(|a, b| a.t.total_cmp(&b.t));
@@ -250,7 +250,7 @@ fn queries_equal_brute_force_for_rays_in_box_planes() {
             assert_eq!(got.map(|h| h.t), brute, "{ray:?} within {t_max}");
             if let Some(h) = got {
                 assert!(
-                    all.iter().any(|b| (b.segment, b.t) == (h.segment, h.t)),
+                    all.iter().any(|b| (b.primitive, b.t) == (h.primitive, h.t)),
                     "{ray:?}"
                 );
             }
@@ -259,7 +259,7 @@ fn queries_equal_brute_force_for_rays_in_box_planes() {
                 brute.is_some(),
                 "{ray:?} within {t_max}"
             );
-            let meshes = all.iter().any(|h| h.segment as usize >= bvh.segments.len());
+            let meshes = all.iter().any(|h| h.primitive as usize >= bvh.segments.len());
             assert_eq!(bvh.any_mesh_hit(&ray, t_max), meshes, "{ray:?} within {t_max}");
             let mut sorted: Vec<f32> = all.iter().map(|h| h.t).collect();
             sorted.sort_by(f32::total_cmp);

@@ -36,16 +36,10 @@ const STEEP_FRACTION: f64 = 1e-4;
 
 /// The probe: per point `(x, y, z, seed bits)` the noise's bits, `pcg(seed)` and `hash3(bits of the point, seed)`.
 const PROBE: &str = r#"
-@group(0) @binding(0) var<storage, read> points: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> out: array<vec4<u32>>;
+alias Row = vec4<f32>;
+alias Out = vec4<u32>;
 
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&points) {
-        return;
-    }
-    let p = points[i];
+fn probe(i: u32, p: Row) {
     let seed = bitcast<u32>(p.w);
     out[i] = vec4<u32>(
         bitcast<u32>(fur_simplex3(p.xyz, seed)),

@@ -30,16 +30,10 @@ const HEIGHT: u32 = 120;
 const DARK_TOL: f32 = 1e-5;
 
 const PROBE: &str = r#"
-@group(0) @binding(0) var<storage, read> rows: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
+alias Row = vec4<f32>;
+alias Out = vec4<f32>;
 
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&rows) {
-        return;
-    }
-    let r = rows[i];
+fn probe(i: u32, r: Row) {
     out[i] = vec4<f32>(guard_darkening(r.x, r.y, r.z), 0.0, 0.0, 0.0);
 }
 "#;
@@ -89,22 +83,14 @@ const ENV_ABS: f32 = 3e-5;
 const ENV_REL: f32 = 1e-4;
 
 const ENV_PROBE: &str = r#"
-struct EnvRow {
+struct Row {
     tangent: vec4<f32>,
     to_eye: vec4<f32>,
     colour: vec4<f32>,
 }
+alias Out = vec4<f32>;
 
-@group(1) @binding(0) var<storage, read> rows: array<EnvRow>;
-@group(1) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
-
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&rows) {
-        return;
-    }
-    let r = rows[i];
+fn probe(i: u32, r: Row) {
     out[i] = vec4<f32>(env_shading(r.tangent.xyz, r.to_eye.xyz, r.colour.rgb), 0.0);
 }
 "#;

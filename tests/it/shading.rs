@@ -24,23 +24,15 @@ const REL_TOL: f32 = 1e-5;
 /// Per probe: the lobes of [`marschner::lobes`] with the absorption of the colour, the summed shading and the
 /// absorption itself.
 const PROBE: &str = r#"
-struct Probe {
+struct Row {
     tangent: vec4<f32>,
     to_light: vec4<f32>,
     to_eye: vec4<f32>,
     colour: vec4<f32>,
 }
+alias Out = vec4<f32>;
 
-@group(0) @binding(0) var<storage, read> probes: array<Probe>;
-@group(0) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
-
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&probes) {
-        return;
-    }
-    let p = probes[i];
+fn probe(i: u32, p: Row) {
     let sigma_a = marschner_absorption(p.colour.rgb);
     let s = marschner_lobes(p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, sigma_a);
     out[4u * i] = vec4<f32>(s.r, s.tt);
@@ -147,11 +139,10 @@ fn wgsl_marschner_equals_the_cpu_model() {
     assert!(peak > 1.0, "no probe reached the TT peak: {peak}");
 }
 
-/// A capture's premultiplied hair colour `H` as luminance (Rec. 709 weights), per hair pixel (coverage > 0).
 /// Per probe: [`dual_scattering::dual_scattering`] at a visibility and a hair count, and
 /// [`count_from_visibility`] of that visibility at the probe's alpha.
 const DUAL_PROBE: &str = r#"
-struct Probe {
+struct Row {
     tangent: vec4<f32>,
     to_light: vec4<f32>,
     to_eye: vec4<f32>,
@@ -159,17 +150,9 @@ struct Probe {
     // visibility, count, alpha, hair model.
     lit: vec4<f32>,
 }
+alias Out = vec4<f32>;
 
-@group(0) @binding(0) var<storage, read> probes: array<Probe>;
-@group(0) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
-
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&probes) {
-        return;
-    }
-    let p = probes[i];
+fn probe(i: u32, p: Row) {
     let f = dual_scattering(u32(p.lit.w), p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, p.colour.rgb, p.lit.x, p.lit.y);
     out[i] = vec4<f32>(f, count_from_visibility(p.lit.x, p.lit.z));
 }
@@ -243,6 +226,7 @@ fn wgsl_dual_scattering_equals_the_cpu_model() {
     assert!(peak > 1.0, "no probe reached the TT peak: {peak}");
 }
 
+/// A capture's premultiplied hair colour `H` as luminance (Rec. 709 weights), per hair pixel (coverage > 0).
 fn hair_luminance(capture: &[[f32; 4]]) -> Vec<f32> {
     capture
         .iter()
@@ -432,21 +416,13 @@ fn dual_scattering_lightens_the_marschner_image() {
 /// Per probe `(sin θ, σ_a r g b)` and `(n, V, ·, ·)`: `fibre_attenuation`, `fibre_transmittance` and
 /// `fibre_arriving` of `shaders/common/fibre_transport.wgsl`.
 const FIBRE_PROBE: &str = r#"
-struct Probe {
+struct Row {
     angle: vec4<f32>,
     lit: vec4<f32>,
 }
+alias Out = vec4<f32>;
 
-@group(0) @binding(0) var<storage, read> probes: array<Probe>;
-@group(0) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
-
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&probes) {
-        return;
-    }
-    let p = probes[i];
+fn probe(i: u32, p: Row) {
     let a = fibre_attenuation(p.angle.x, p.angle.yzw);
     out[4u * i] = vec4<f32>(a.forward, fibre_count(p.lit.y));
     out[4u * i + 1u] = vec4<f32>(a.backward, 0.0);
@@ -514,21 +490,14 @@ fn wgsl_fibre_transport_equals_the_cpu_model() {
 
 /// Per probe `(world xyz, ·)` and `(colour rgb, ·)`: `hair_ambient_light` of `shaders/common/mesh_bounce.wgsl`.
 const BOUNCE_PROBE: &str = r#"
-struct BounceRow {
+struct Row {
     world: vec4<f32>,
     colour: vec4<f32>,
 }
+alias Out = vec4<f32>;
 
-@group(1) @binding(0) var<storage, read> rows: array<BounceRow>;
-@group(1) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
-
-@compute @workgroup_size(64)
-fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&rows) {
-        return;
-    }
-    out[i] = vec4<f32>(hair_ambient_light(rows[i].colour.rgb, rows[i].world.xyz), 0.0);
+fn probe(i: u32, p: Row) {
+    out[i] = vec4<f32>(hair_ambient_light(p.colour.rgb, p.world.xyz), 0.0);
 }
 "#;
 

@@ -300,9 +300,10 @@ pub fn render_method_light(
     (r, result)
 }
 
-/// Runs the compute entry `cs_probe` of `probe` (WGSL with bindings 0: the input, 1: the output, 64 items per
-/// workgroup), appended to the shared shader file `shared`, over `items` items of `input`, and reads back
-/// `out_bytes` bytes per item: how a test evaluates a shared WGSL function against its CPU model.
+/// Runs `probe` (WGSL declaring the input item type `Row`, the output element type `Out` and `fn probe(i: u32,
+/// row: Row)`, which writes `out`), appended to the shared shader file `shared` with the bindings `rows` (0) and
+/// `out` (1) and the entry point ([`probe_entry`]), over `items` items of `input`, and reads back `out_bytes`
+/// bytes per item: how a test evaluates a shared WGSL function against its CPU model.
 pub fn run_probe(gpu: &Gpu, spec: (&str, &str, &str), input: &[u8], items: usize, out_bytes: u64) -> Vec<u8> {
     probe_pass(gpu, spec, None, input, items, out_bytes)
 }
@@ -327,6 +328,24 @@ pub fn run_probe_with_frame(
     )
 }
 
+/// The bindings and compute entry every probe shares, at bind group `group`: 64 items a workgroup, `probe` called
+/// on each item of `rows`.
+fn probe_entry(group: u32) -> String {
+    format!(
+        "
+@group({group}) @binding(0) var<storage, read> rows: array<Row>;
+@group({group}) @binding(1) var<storage, read_write> out: array<Out>;
+
+@compute @workgroup_size(64)
+fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {{
+    if id.x < arrayLength(&rows) {{
+        probe(id.x, rows[id.x]);
+    }}
+}}
+"
+    )
+}
+
 fn probe_pass(
     gpu: &Gpu,
     (shared, probe, label): (&str, &str, &str),
@@ -337,7 +356,8 @@ fn probe_pass(
 ) -> Vec<u8> {
     use wgpu::util::DeviceExt;
     let device = &gpu.device;
-    let src = hairlab::shaders::compose(shared, None).unwrap() + probe;
+    let src =
+        hairlab::shaders::compose(shared, None).unwrap() + probe + &probe_entry(u32::from(frame.is_some()));
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(src.into()),

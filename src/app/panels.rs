@@ -324,8 +324,10 @@ impl HairlabApp {
                     let label = ui
                         .add(egui::Label::new("hair alpha").sense(egui::Sense::click()))
                         .on_hover_text("right-click: constant or coverage alpha");
-                    label.context_menu(|ui| alpha_modes(ui, &mut r.alpha));
                     let absorbers = r.hair_model == crate::shading::HairModel::Absorber;
+                    if absorbers {
+                        label.context_menu(|ui| alpha_modes(ui, &mut r.alpha));
+                    }
                     ui.add_enabled(absorbers, egui::Slider::new(&mut r.hair_alpha, 0.01..=1.0))
                         .labelled_by(label.id)
                         .on_hover_text(
@@ -336,11 +338,14 @@ impl HairlabApp {
                     ui.end_row();
                     if r.alpha_mode() == AlphaMode::Coverage {
                         let label = ui.label("alpha mode");
-                        egui::ComboBox::from_id_salt("alpha_mode")
-                            .selected_text("coverage")
-                            .show_ui(ui, |ui| alpha_modes(ui, &mut r.alpha))
-                            .response
-                            .labelled_by(label.id);
+                        ui.add_enabled_ui(absorbers, |ui| {
+                            egui::ComboBox::from_id_salt("alpha_mode")
+                                .selected_text("coverage")
+                                .show_ui(ui, |ui| alpha_modes(ui, &mut r.alpha))
+                                .response
+                                .labelled_by(label.id)
+                                .on_disabled_hover_text("the fibres model always takes coverage alpha");
+                        });
                         ui.end_row();
                         row(
                             ui,

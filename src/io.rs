@@ -262,6 +262,16 @@ pub fn over_black(capture: &[[f32; 4]], width: u32, height: u32) -> image::RgbaI
     })
 }
 
+/// `image` (`width × height` linear RGB, row after row) as an OpenEXR file of 32-bit floats.
+pub fn encode_exr(image: &[glam::Vec3], width: u32, height: u32) -> Result<Vec<u8>> {
+    let data: Vec<f32> = image.iter().flat_map(|v| v.to_array()).collect();
+    let buffer = image::Rgb32FImage::from_raw(width, height, data)
+        .ok_or_else(|| anyhow::anyhow!("{width}×{height} does not match {} pixels", image.len()))?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::DynamicImage::ImageRgb32F(buffer).write_to(&mut out, image::ImageFormat::OpenExr)?;
+    Ok(out.into_inner())
+}
+
 #[cfg(test)]
 mod tests {
     use super::{check_output, encode_png, over_black, read_regular_file, write_atomic, write_png};

@@ -12,6 +12,7 @@ pub mod live_shaders;
 pub mod measure;
 pub mod methods;
 pub mod motion;
+pub mod path_scene;
 pub mod pathtrace;
 pub mod progress;
 pub mod render;
@@ -463,6 +464,10 @@ mod tests {
         ("fur on meshes", &["fur"]),
         ("the renderer and its light casters", &["render"]),
         (
+            "the path tracer's core: fibres, BVH, BSDF, integrator",
+            &["pathtrace"],
+        ),
+        (
             "what runs on the renderer: the shadow methods, the hair simulation",
             &["methods", "motion"],
         ),
@@ -471,8 +476,8 @@ mod tests {
             &["settings", "selection", "live_shaders"],
         ),
         (
-            "the path tracer (its Mitsuba export reads the settings)",
-            &["pathtrace"],
+            "the path tracer's scene from the settings, its Mitsuba export",
+            &["path_scene"],
         ),
         ("measurements", &["measure"]),
         (

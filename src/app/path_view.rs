@@ -19,9 +19,9 @@
 use std::sync::{Arc, Mutex};
 
 use super::jobs::{Job, JobGate, Poll};
+use crate::path_scene::PathScene;
 use crate::pathtrace::composite::{coverage, over_background};
 use crate::pathtrace::integrator::Accumulation;
-use crate::pathtrace::setup::PathScene;
 use crate::scene::Scene;
 use crate::settings::Settings;
 

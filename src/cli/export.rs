@@ -1,5 +1,5 @@
 //! `hairlab export --format mitsuba`: a preset's still scene written for another renderer to check hairlab
-//! against (`pathtrace/mitsuba.rs` says what maps to what).
+//! against (`path_scene/mitsuba.rs` says what maps to what).
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
@@ -27,7 +27,7 @@ pub(super) fn export(a: &ExportArgs) -> Result<()> {
     let settings = a.scene.settings()?;
     let scene = settings.scene.build()?;
     let files = match a.format {
-        ExportFormat::Mitsuba => crate::pathtrace::mitsuba::export(&settings, &scene, &a.out)?,
+        ExportFormat::Mitsuba => crate::path_scene::mitsuba::export(&settings, &scene, &a.out)?,
     };
     for f in &files {
         println!("wrote {}", f.display());

@@ -104,7 +104,7 @@ pub fn report(preset: &str, m: &FibreConstants) -> String {
     let n = m.quadrature;
     let _ = writeln!(
         s,
-        "preset {preset}: hair colour {:?}, σ_a {:?} per radius; Chiang BSDF (render.hair_color → pathtrace::setup::fibre_params)",
+        "preset {preset}: hair colour {:?}, σ_a {:?} per radius; Chiang BSDF (render.hair_color → pathtrace::bsdf::fibre_params)",
         m.hair_color, m.sigma_a
     );
     let _ = writeln!(

@@ -5,7 +5,7 @@ use super::interrupt::InterruptedAt;
 use crate::animation::AnimationOut;
 pub use crate::animation::{animated_gif, render_frame_image, render_frames, render_image};
 use crate::io::encode_png;
-use crate::pathtrace::setup::PathScene;
+use crate::path_scene::PathScene;
 use crate::render::render_settings::RenderMode;
 use crate::settings::Settings;
 use anyhow::{Context, Result};
@@ -164,7 +164,7 @@ fn path_render(a: &RenderArgs, mut settings: Settings) -> Result<()> {
     let (image, done) = (acc.mean(), acc.samples());
     let (w, h) = (settings.render.width, settings.render.height);
     let bytes = if exr {
-        crate::pathtrace::setup::encode_exr(&image, w, h)?
+        crate::io::encode_exr(&image, w, h)?
     } else {
         let rgba: Vec<[f32; 4]> = image.iter().map(|v| [v.x, v.y, v.z, 1.0]).collect();
         encode_png(&crate::io::over_black(&rgba, w, h))?

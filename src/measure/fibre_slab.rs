@@ -181,7 +181,7 @@ pub struct Transport {
     /// Light particles.
     pub samples: u64,
     /// `T(n)` and its standard error; the unscattered part of it; the part after more than
-    /// `pathtrace::setup::MAX_DEPTH` events.
+    /// `pathtrace::integrator::MAX_DEPTH` events.
     pub forward: [f64; 3],
     pub forward_error: [f64; 3],
     pub forward_direct: [f64; 3],
@@ -252,7 +252,7 @@ fn arr(v: DVec3) -> [f64; 3] {
     v.to_array()
 }
 
-/// Measures the fibre of `hair_color` (through `pathtrace::setup::fibre_params`): the table, then each slab at
+/// Measures the fibre of `hair_color` (through `pathtrace::bsdf::fibre_params`): the table, then each slab at
 /// each inclination, then the fits. `progress` is told each inclination and slab; when it answers `false` the
 /// slabs measured so far are kept and fitted (`complete` false).
 pub fn measure(hair_color: [f32; 3], o: &Options, progress: &mut dyn Progress) -> Result<FibreConstants> {
@@ -271,7 +271,7 @@ pub fn measure(hair_color: [f32; 3], o: &Options, progress: &mut dyn Progress) -
         }
         .check()?;
     }
-    let fibre = crate::pathtrace::setup::fibre_params(hair_color);
+    let fibre = crate::pathtrace::bsdf::fibre_params(hair_color);
     let nodes = table_nodes();
     let mut complete = true;
     let mut table = Vec::new();

@@ -8,9 +8,10 @@ use anyhow::Result;
 use serde::Serialize;
 
 use crate::gpu::Gpu;
+use crate::path_scene;
 use crate::pathtrace::bvh::Bvh;
+use crate::pathtrace::fibre;
 use crate::pathtrace::visibility::{light_map_texel, texel_visibility};
-use crate::pathtrace::{fibre, setup};
 use crate::render::Renderer;
 use crate::scene::LightKind;
 use crate::settings::Settings;
@@ -91,7 +92,7 @@ pub fn compare_map(
         );
     }
     let scene = settings.scene.build()?;
-    let camera = setup::camera(settings, &scene);
+    let camera = path_scene::camera(settings, &scene);
     let mut r = Renderer::new(gpu, &scene, settings.render.map_resolution)?;
     let lists = r.reference_lists(&camera, &settings.light, &settings.render)?;
     let frame = r.hair_light_frame(&settings.light);

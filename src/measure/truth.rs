@@ -15,8 +15,8 @@ use glam::{Vec2, Vec3};
 use super::IMAGE_SIZE;
 use super::decompose::{Masks, SharedSteps, Stage, step};
 use crate::gpu::Gpu;
+use crate::path_scene::{PathScene, raster_shading};
 use crate::pathtrace::effects::{Effects, Events, FirstHit, HairShadows, VisibilityMap};
-use crate::pathtrace::setup::{PathScene, raster_shading};
 use crate::pathtrace::{integrator, masks};
 use crate::progress::{Part, Progress};
 use crate::render::Renderer;
@@ -90,7 +90,7 @@ impl Truth {
 /// The depth-peeled reference's visibility at a world point, read as the eye pass reads it (`Lookup`: the
 /// base texel, supersampling and 3×3 PCF of `render`; half-texel jitter is not modelled).
 fn reference_map(gpu: &Gpu, settings: &Settings, scene: &crate::scene::Scene) -> Result<VisibilityMap> {
-    let camera = crate::pathtrace::setup::camera(settings, scene);
+    let camera = crate::path_scene::camera(settings, scene);
     let mut r = Renderer::new(gpu, scene, settings.render.map_resolution)?;
     let lists = r.reference_lists(&camera, &settings.light, &settings.render)?;
     let frame = r.hair_light_frame(&settings.light);

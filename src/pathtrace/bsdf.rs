@@ -7,6 +7,17 @@ use crate::shading::marschner;
 use glam::Vec3;
 use std::f32::consts::PI;
 
+/// The fibres' material for a linear hair colour: Chiang et al. 2016's colour inversion at the real-time
+/// Marschner model's roughness, cuticle tilt and index of refraction.
+pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
+    FibreParams::from_colour(
+        Vec3::from(hair_color),
+        marschner::BETA_R,
+        marschner::BETA_N,
+        marschner::ALPHA_R,
+    )
+}
+
 const P_MAX: usize = 3;
 
 /// pbrt's eumelanin and pheomelanin absorption per unit concentration.

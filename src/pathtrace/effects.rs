@@ -252,7 +252,7 @@ mod tests {
             samples: 4,
             seed: 7,
             max_depth: 32,
-            fibre: crate::pathtrace::setup::fibre_params(COLOUR.to_array()),
+            fibre: crate::pathtrace::bsdf::fibre_params(COLOUR.to_array()),
             effects,
         }
     }

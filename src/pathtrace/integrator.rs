@@ -22,15 +22,20 @@ use super::light::Light;
 use crate::rng::SplitMix64;
 use crate::scene::Camera;
 
+/// Bounces at most, a guard only: Russian roulette ends the paths. Light hair is mostly multiple scattering and
+/// its chains are long: at 32 bounces `blond`'s truth lost 9.8 % of its light over the hair (14.6 % in red; 64
+/// spp, two seeds 1 % apart), `default`'s 0.2 %, at the same render time.
+pub const MAX_DEPTH: u32 = 1024;
+
 /// What one path-traced image takes: its size, samples per pixel, seed, bounce limit, fibre and effects
-/// (`setup::PathScene` derives them from the preset's `crate::settings::Settings`).
+/// (`crate::path_scene::PathScene` derives them from the preset's settings).
 #[derive(Clone, Debug)]
 pub struct TraceSettings {
     pub width: usize,
     pub height: usize,
     pub samples: u32,
     pub seed: u64,
-    /// Bounces at most (`setup::MAX_DEPTH` for the truth: hair's chains of scattering are long).
+    /// Bounces at most ([`MAX_DEPTH`] for the truth: hair's chains of scattering are long).
     pub max_depth: u32,
     /// The fibres' material.
     pub fibre: FibreParams,

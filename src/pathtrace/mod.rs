@@ -1,5 +1,6 @@
-//! The path-traced reference: round fibres and mesh triangles in a BVH, Chiang et al. 2016's fibre BSDF, a CPU
-//! path tracer, ray-traced texel visibility and the scene exported to Mitsuba 3.
+//! The path-traced reference's core: round fibres and mesh triangles in a BVH, Chiang et al. 2016's fibre BSDF,
+//! a CPU path tracer and ray-traced texel visibility. It knows no settings: `crate::path_scene` builds its scene
+//! from a preset's settings and exports it to Mitsuba 3.
 
 pub mod accumulation;
 pub mod bsdf;
@@ -10,7 +11,5 @@ pub mod fibre;
 pub mod integrator;
 pub mod light;
 pub mod masks;
-pub mod mitsuba;
-pub mod setup;
 pub mod triangle;
 pub mod visibility;

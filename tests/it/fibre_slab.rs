@@ -7,7 +7,7 @@ use hairlab::measure::fibre_slab::slab::{Slab, SlabSpec};
 use hairlab::measure::fibre_slab::{
     Fixed, attenuation, back_energy, fit_exponential, fit_scale, sampled_albedo,
 };
-use hairlab::pathtrace::setup::fibre_params;
+use hairlab::pathtrace::bsdf::fibre_params;
 
 const DARK: [f32; 3] = [0.30, 0.18, 0.09];
 const BLOND: [f32; 3] = [0.80, 0.62, 0.38];

@@ -32,8 +32,8 @@ const RADIUS: f32 = 0.5;
 const HALF_LENGTH: f32 = 256.0;
 /// Scattering events a particle may have (Russian roulette ends nearly all far sooner).
 const MAX_EVENTS: u32 = 100_000;
-/// The path tracer's bounce limit (`pathtrace::setup::MAX_DEPTH`): light that needs more events is tallied apart.
-pub const TRUTH_DEPTH: u32 = crate::pathtrace::setup::MAX_DEPTH;
+/// The path tracer's bounce limit (`pathtrace::integrator::MAX_DEPTH`): light that needs more events is tallied apart.
+pub const TRUTH_DEPTH: u32 = crate::pathtrace::integrator::MAX_DEPTH;
 
 /// What a slab is made of.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,37 +1,24 @@
 //! A preset's still scene as the path tracer sees it, one place for `render`, the window, `measure` and
 //! `export --format mitsuba`: the fibres (per-point widths from the file's thickness times
-//! `render.strand_width`), the meshes as Lambertian triangles, the framed camera, the light and the
-//! fibre BSDF's parameters from the hair colour through the real-time Marschner model's constants.
+//! `render.strand_width`), the meshes as Lambertian triangles, the framed camera, the light and the fibres'
+//! BSDF from the hair colour ([`fibre_params`]); the same scene for Mitsuba 3 ([`mitsuba`]). The path tracer
+//! itself (`crate::pathtrace`) knows no settings.
 
 use anyhow::Result;
 use glam::Vec3;
 
-use super::bsdf::FibreParams;
-use super::bvh::Bvh;
-use super::effects::{Effects, FirstHit, HairShadows, RasterLight, RasterShading};
-use super::integrator;
-use super::light::{DirectionalLight, Light, SpotLight};
-use super::{fibre, triangle};
+pub mod mitsuba;
+
+use crate::pathtrace::bsdf::fibre_params;
+use crate::pathtrace::bvh::Bvh;
+use crate::pathtrace::effects::{self, Effects, FirstHit, HairShadows, RasterLight, RasterShading};
+use crate::pathtrace::integrator::{self, MAX_DEPTH};
+use crate::pathtrace::light::{DirectionalLight, Light, SpotLight};
+use crate::pathtrace::{fibre, triangle};
 use crate::render::render_settings::{PathFirstHit, PathHairShadows};
 use crate::scene::{Camera, LightKind, Scene};
 use crate::settings::Settings;
-use crate::shading::{HairModel, marschner, mesh_bounce};
-
-/// Bounces at most, a guard only: Russian roulette ends the paths. Light hair is mostly multiple scattering and
-/// its chains are long: at 32 bounces `blond`'s truth lost 9.8 % of its light over the hair (14.6 % in red; 64
-/// spp, two seeds 1 % apart), `default`'s 0.2 %, at the same render time.
-pub const MAX_DEPTH: u32 = 1024;
-
-/// The fibres' material for a linear hair colour: Chiang et al. 2016's colour inversion at the real-time
-/// Marschner model's roughness, cuticle tilt and index of refraction.
-pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
-    FibreParams::from_colour(
-        Vec3::from(hair_color),
-        marschner::BETA_R,
-        marschner::BETA_N,
-        marschner::ALPHA_R,
-    )
-}
+use crate::shading::{HairModel, mesh_bounce};
 
 /// The light of `settings` over `scene`. Both kinds give a white Lambertian surface facing the light at the
 /// scene's centre what the raster shows it (`colour × light × N·L`: the light's colour × intensity): the
@@ -53,7 +40,7 @@ pub fn light(settings: &Settings, scene: &Scene) -> Light {
             let position = centre + l.to_light() * bounds.radius().max(1e-3) * l.distance.max(1.01);
             let cutoff = (l.cone_deg * 0.5).to_radians();
             let edge = cutoff.cos();
-            let beam = (edge + super::effects::SPOT_RAMP * (1.0 - edge)).acos();
+            let beam = (edge + effects::SPOT_RAMP * (1.0 - edge)).acos();
             Light::Spot(SpotLight {
                 position,
                 axis: (centre - position).normalize(),
@@ -81,7 +68,7 @@ pub fn effects(settings: &Settings, scene: &Scene) -> Effects {
     }
 }
 
-/// The raster's shading of `settings` at a first hit ([`super::effects::FirstHit::Raster`]): its shading model,
+/// The raster's shading of `settings` at a first hit ([`FirstHit::Raster`]): its shading model,
 /// hair colour and alpha, and its light (colour × intensity; a spot with its smooth edge and no falloff, placed
 /// as [`light`] places the path tracer's).
 pub fn raster_shading(settings: &Settings, scene: &Scene) -> RasterShading {
@@ -233,14 +220,4 @@ impl PathScene {
     pub fn accumulation(&self) -> integrator::Accumulation {
         integrator::Accumulation::new(&self.settings)
     }
-}
-
-/// `image` (`width × height` linear RGB, row after row) as an OpenEXR file of 32-bit floats.
-pub fn encode_exr(image: &[Vec3], width: u32, height: u32) -> Result<Vec<u8>> {
-    let data: Vec<f32> = image.iter().flat_map(|v| v.to_array()).collect();
-    let buffer = image::Rgb32FImage::from_raw(width, height, data)
-        .ok_or_else(|| anyhow::anyhow!("{width}×{height} does not match {} pixels", image.len()))?;
-    let mut out = std::io::Cursor::new(Vec::new());
-    image::DynamicImage::ImageRgb32F(buffer).write_to(&mut out, image::ImageFormat::OpenExr)?;
-    Ok(out.into_inner())
 }

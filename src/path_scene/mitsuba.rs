@@ -2,10 +2,10 @@
 //! camera, film, light, integrator and fibre BSDF, `hair.txt` (Mitsuba's `linearcurve` file: `x y z radius` per
 //! point, a blank line between strands, so round linear curves as `fibre.rs` traces them) and one OBJ per mesh.
 //!
-//! The mapping, one to one with `setup.rs`: the camera's eye, target and +Y up as a `perspective` sensor's
+//! The mapping, one to one with `path_scene/mod.rs`: the camera's eye, target and +Y up as a `perspective` sensor's
 //! `lookat` with `fov_axis = y`; a `box` pixel filter (hairlab jitters uniformly in each pixel); the light's
 //! direction and π × colour × intensity as a `directional` emitter's `irradiance`, or a spot light as a `spot`
-//! emitter of the same position, axis, intensity, beam width and cutoff (`setup::light`, `light.rs`); the fibre as Mitsuba's `hair`
+//! emitter of the same position, axis, intensity, beam width and cutoff (`path_scene::light`, `pathtrace/light.rs`); the fibre as Mitsuba's `hair`
 //! BSDF (Chiang et al. 2016) with hairlab's absorption `sigma_a` (per unit radius, as both implementations read it),
 //! roughness, cuticle tilt in degrees and index of refraction; meshes as a `twosided` `diffuse` with the mesh colour
 //! and `face_normals` (hairlab flat-shades triangles); the `path` integrator with `max_depth` = bounces + 1
@@ -16,8 +16,9 @@ use anyhow::Result;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use super::light::Light;
-use super::setup::{self, MAX_DEPTH};
+use crate::pathtrace::bsdf::fibre_params;
+use crate::pathtrace::integrator::MAX_DEPTH;
+use crate::pathtrace::light::Light;
 use crate::scene::{Mesh, Scene, Strands};
 use crate::settings::Settings;
 
@@ -56,9 +57,9 @@ fn rgb(v: glam::Vec3) -> String {
 
 /// The scene XML for `scene` under `settings` (`render.width`, `render.height`, `render.spp`).
 fn scene_xml(settings: &Settings, scene: &Scene, meshes: &[String]) -> Result<String> {
-    let light = setup::light(settings, scene);
-    let camera = setup::camera(settings, scene);
-    let fibre = setup::fibre_params(settings.render.hair_color);
+    let light = super::light(settings, scene);
+    let camera = super::camera(settings, scene);
+    let fibre = fibre_params(settings.render.hair_color);
     let r = &settings.render;
     let (eye, target) = (camera.eye(), glam::Vec3::from(camera.target));
     let near = (0.01 * (eye - target).length()).max(1e-5);
@@ -137,7 +138,7 @@ pub fn export(settings: &Settings, scene: &Scene, dir: &Path) -> Result<Vec<Path
     if scene.strands.segment_count() == 0 {
         anyhow::bail!("the scene has no strand with two or more points: Mitsuba's linearcurve needs one");
     }
-    super::setup::check_width(settings, scene)?;
+    super::check_width(settings, scene)?;
     let names: Vec<String> = (0..scene.meshes.len()).map(|k| format!("mesh{k}.obj")).collect();
     let xml = scene_xml(settings, scene, &names)?;
     std::fs::create_dir_all(dir)

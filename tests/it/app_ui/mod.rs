@@ -1,10 +1,10 @@
 //! The real workbench app driven headless by egui_kittest on the software adapter, a file per concern: the
 //! window and its side panel (`window`), the compare view and the pixel inspector (`compare`), a motion played,
-//! followed and exported (`motion`), long jobs and their Cancel (`jobs`). The harnesses they share are here.
+//! followed and exported (`timeline`), long jobs and their Cancel (`jobs`). The harnesses they share are here.
 
 mod compare;
 mod jobs;
-mod motion;
+mod timeline;
 mod window;
 
 use crate::common;

@@ -22,7 +22,7 @@ use super::jobs::{Job, JobGate, Poll};
 use crate::path_scene::PathScene;
 use crate::pathtrace::composite::{coverage, over_background};
 use crate::pathtrace::integrator::Accumulation;
-use crate::scene::Scene;
+use crate::scene::{Aabb, Scene};
 use crate::settings::Settings;
 
 /// The path-traced image's longer side at most, in pixels.
@@ -124,11 +124,17 @@ impl TracedView {
     }
 }
 
-/// `scene` under `settings` at `size`, ready for samples (no samples yet).
-fn prepare(settings: &Settings, scene: &Scene, size: (u32, u32)) -> anyhow::Result<TracedView> {
+/// `scene` under `settings` at `size`, ready for samples (no samples yet), its light placed around `around`
+/// (the renderer's [`crate::render::Renderer::light_around`]).
+fn prepare(
+    settings: &Settings,
+    scene: &Scene,
+    around: &Aabb,
+    size: (u32, u32),
+) -> anyhow::Result<TracedView> {
     let mut s = settings.clone();
     (s.render.width, s.render.height) = size;
-    let path = PathScene::new(&s, scene)?;
+    let path = PathScene::placed(&s, scene, around)?;
     let coverage = coverage(
         &path.bvh,
         &path.camera,
@@ -149,9 +155,10 @@ fn prepare(settings: &Settings, scene: &Scene, size: (u32, u32)) -> anyhow::Resu
 pub fn render_image(
     settings: &Settings,
     scene: &Scene,
+    around: &Aabb,
     size: (u32, u32),
 ) -> anyhow::Result<image::RgbaImage> {
-    Ok(render_image_steps(settings, scene, size, &mut crate::progress::Quiet)?.unwrap_or_default())
+    Ok(render_image_steps(settings, scene, around, size, &mut crate::progress::Quiet)?.unwrap_or_default())
 }
 
 /// [`render_image`] one sample per pixel at a time, telling `progress` after each; `Ok(None)` once that answers
@@ -159,10 +166,11 @@ pub fn render_image(
 pub fn render_image_steps(
     settings: &Settings,
     scene: &Scene,
+    around: &Aabb,
     size: (u32, u32),
     progress: &mut dyn crate::progress::Progress,
 ) -> anyhow::Result<Option<image::RgbaImage>> {
-    let mut p = prepare(settings, scene, size)?;
+    let mut p = prepare(settings, scene, around, size)?;
     let (spp, path) = (settings.render.spp, p.path.clone());
     while p.acc.samples() < spp {
         path.add_samples(&mut p.acc, 1);
@@ -173,26 +181,6 @@ pub fn render_image_steps(
         }
     }
     Ok(Some(p.image(settings.render.background)))
-}
-
-/// `scene` with `pose` (the meshes riding on the motion's root frame and their transform at the timeline's
-/// frame, as the renderer poses them) applied to the meshes it names.
-pub fn posed(scene: &Scene, pose: Option<(Vec<usize>, glam::Affine3A)>) -> Scene {
-    let mut scene = scene.clone();
-    if let Some((meshes, pose)) = pose {
-        for m in meshes {
-            let Some(mesh) = scene.meshes.get_mut(m) else {
-                continue;
-            };
-            mesh.positions
-                .iter_mut()
-                .for_each(|p| *p = pose.transform_point3(*p));
-            mesh.normals
-                .iter_mut()
-                .for_each(|n| *n = pose.transform_vector3(*n).normalize_or_zero());
-        }
-    }
-    scene
 }
 
 /// The newest image a pass published.
@@ -232,7 +220,7 @@ impl PathView {
         settings: &Settings,
         frame: u32,
         viewport: (u32, u32),
-        scene: impl FnOnce() -> Option<Scene>,
+        scene: impl FnOnce() -> Option<Result<(Scene, Aabb), String>>,
         ctx: &egui::Context,
         gate: Option<JobGate>,
     ) {
@@ -279,7 +267,11 @@ impl PathView {
         let start = match resume {
             Some(p) => Ok(p),
             None => match scene() {
-                Some(scene) => Err((settings.clone(), scene)),
+                Some(Ok(scene)) => Err((settings.clone(), scene)),
+                Some(Err(e)) => {
+                    self.error = Some(e);
+                    return;
+                }
                 None => return,
             },
         };
@@ -289,9 +281,9 @@ impl PathView {
         self.job = Some(Job::spawn("path-traced view", ctx, gate, move |ctl| {
             let mut p = match start {
                 Ok(p) => p,
-                Err((settings, scene)) => {
+                Err((settings, (scene, around))) => {
                     ctl.step("building the BVH and the coverage", 0.0).then_some(())?;
-                    let mut p = match prepare(&settings, &scene, key.size) {
+                    let mut p = match prepare(&settings, &scene, &around, key.size) {
                         Ok(p) => p,
                         Err(e) => return Some(Err(format!("{e:#}"))),
                     };
@@ -485,8 +477,15 @@ mod tests {
         let ctx = egui::Context::default();
         let mut view = PathView::default();
         let show = |view: &mut PathView, frame: u32, scene: &Scene| {
-            let scene = scene.clone();
-            view.sync(&settings, frame, (24, 18), move || Some(scene), &ctx, None);
+            let (scene, around) = (scene.clone(), scene.bounds());
+            view.sync(
+                &settings,
+                frame,
+                (24, 18),
+                move || Some(Ok((scene, around))),
+                &ctx,
+                None,
+            );
             view.wait(std::time::Duration::from_secs(120));
             view.latest().expect("an image")
         };

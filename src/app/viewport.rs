@@ -6,7 +6,6 @@
 
 use super::HairlabApp;
 use super::inspector::SceneTexel;
-use super::path_view;
 use crate::methods::registry;
 use crate::render::FrameInput;
 use crate::render::render_settings::RenderMode;
@@ -159,11 +158,25 @@ impl HairlabApp {
         let path_mode = self.settings.render.mode == RenderMode::Path;
         if path_mode {
             let (scene, timeline) = (&self.scene, &self.timeline);
+            let around = self
+                .renderer
+                .as_ref()
+                .map(|r| r.light_around(self.settings.light.fit));
             self.path_view.sync(
                 &self.settings,
                 timeline.frame(),
                 (width, height),
-                || scene.as_ref().map(|s| path_view::posed(s, timeline.mesh_pose())),
+                || {
+                    let scene = scene.as_ref()?;
+                    let posed = match timeline.mesh_pose() {
+                        Some((meshes, pose)) => scene.posed(&meshes, pose),
+                        None => Ok(scene.clone()),
+                    };
+                    Some(posed.map(|s| {
+                        let around = around.unwrap_or_else(|| s.bounds());
+                        (s, around)
+                    }))
+                },
                 ui.ctx(),
                 self.job_gate.clone(),
             );

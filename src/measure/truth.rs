@@ -135,7 +135,7 @@ pub fn path_traced(
     let (w, h) = (path.settings.width, path.settings.height);
     let masks = Masks::from_first_hits(&masks::first_hits(&path.bvh, &path.camera, w, h, MASK_RAYS));
     let map = reference_map(gpu, &s, &scene)?;
-    let raster = raster_shading(&s, &scene);
+    let raster = raster_shading(&s, &scene, &scene.bounds());
     let one = |hair_shadows, first_hit| Effects {
         events: Events::One,
         hair_shadows,

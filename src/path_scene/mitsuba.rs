@@ -57,7 +57,7 @@ fn rgb(v: glam::Vec3) -> String {
 
 /// The scene XML for `scene` under `settings` (`render.width`, `render.height`, `render.spp`).
 fn scene_xml(settings: &Settings, scene: &Scene, meshes: &[String]) -> Result<String> {
-    let light = super::light(settings, scene);
+    let light = super::light(settings, &scene.bounds());
     let camera = super::camera(settings, scene);
     let fibre = fibre_params(settings.render.hair_color);
     let r = &settings.render;

@@ -16,17 +16,17 @@ use crate::pathtrace::integrator::{self, MAX_DEPTH};
 use crate::pathtrace::light::{DirectionalLight, Light, SpotLight};
 use crate::pathtrace::{fibre, triangle};
 use crate::render::render_settings::{PathFirstHit, PathHairShadows};
-use crate::scene::{Camera, LightKind, Scene};
+use crate::scene::{Aabb, Camera, LightKind, Scene};
 use crate::settings::Settings;
 use crate::shading::{HairModel, mesh_bounce};
 
 /// The light of `settings` over `scene`. Both kinds give a white Lambertian surface facing the light at the
 /// scene's centre what the raster shows it (`colour × light × N·L`: the light's colour × intensity): the
-/// directional light irradiance π × colour × intensity; the spot, placed as the raster places it (`light.distance`
-/// scene radii from the scene's centre towards the light), a radiant intensity that gives that irradiance at the
-/// centre, full within the half-angle where the raster's cone edge ramp reaches 1 and none beyond half of
+/// directional light irradiance π × colour × intensity; the spot, placed as the raster places it
+/// ([`crate::scene::Light::spot_position`] around `around`, the box the renderer's light fit places it around), a
+/// radiant intensity that gives that irradiance at `around`'s centre, full within the half-angle where the raster's cone edge ramp reaches 1 and none beyond half of
 /// `light.cone_deg`, linear in angle between (Mitsuba's `spot`).
-pub fn light(settings: &Settings, scene: &Scene) -> Light {
+pub fn light(settings: &Settings, around: &Aabb) -> Light {
     let l = &settings.light;
     let irradiance = Vec3::from(l.color) * l.intensity * std::f32::consts::PI;
     match l.kind {
@@ -35,9 +35,12 @@ pub fn light(settings: &Settings, scene: &Scene) -> Light {
             irradiance,
         }),
         LightKind::Spot => {
-            let bounds = scene.bounds();
-            let centre = bounds.center();
-            let position = centre + l.to_light() * bounds.radius().max(1e-3) * l.distance.max(1.01);
+            let centre = if around.is_empty() {
+                Vec3::ZERO
+            } else {
+                around.center()
+            };
+            let position = l.spot_position(around);
             let cutoff = (l.cone_deg * 0.5).to_radians();
             let edge = cutoff.cos();
             let beam = (edge + effects::SPOT_RAMP * (1.0 - edge)).acos();
@@ -53,7 +56,7 @@ pub fn light(settings: &Settings, scene: &Scene) -> Light {
 }
 
 /// The effects `render.path` asks for ([`Effects::TRUTH`] by default).
-pub fn effects(settings: &Settings, scene: &Scene) -> Effects {
+pub fn effects(settings: &Settings, scene: &Scene, around: &Aabb) -> Effects {
     let p = &settings.render.path;
     Effects {
         events: p.events,
@@ -63,7 +66,7 @@ pub fn effects(settings: &Settings, scene: &Scene) -> Effects {
         },
         first_hit: match p.first_hit {
             PathFirstHit::Fibre => FirstHit::Physical,
-            PathFirstHit::Raster => FirstHit::Raster(raster_shading(settings, scene)),
+            PathFirstHit::Raster => FirstHit::Raster(raster_shading(settings, scene, around)),
         },
     }
 }
@@ -71,9 +74,9 @@ pub fn effects(settings: &Settings, scene: &Scene) -> Effects {
 /// The raster's shading of `settings` at a first hit ([`FirstHit::Raster`]): its shading model,
 /// hair colour and alpha, and its light (colour × intensity; a spot with its smooth edge and no falloff, placed
 /// as [`light`] places the path tracer's).
-pub fn raster_shading(settings: &Settings, scene: &Scene) -> RasterShading {
+pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> RasterShading {
     let l = &settings.light;
-    let spot = match light(settings, scene) {
+    let spot = match light(settings, around) {
         Light::Spot(s) => Some((s.position, s.axis, (l.cone_deg * 0.5).to_radians().cos())),
         Light::Directional(_) => None,
     };
@@ -170,11 +173,18 @@ pub struct PathScene {
 }
 
 impl PathScene {
-    /// `scene` under `settings` at `render.width × render.height` and `render.spp` samples per pixel.
+    /// The still `scene` under `settings` at `render.width × render.height` and `render.spp` samples per pixel,
+    /// its light placed around the whole scene, as the renderer places a still scene's under every light fit.
     pub fn new(settings: &Settings, scene: &Scene) -> Result<PathScene> {
+        PathScene::placed(settings, scene, &scene.bounds())
+    }
+
+    /// [`PathScene::new`] with the light placed around `around`: a posed frame's, the box the renderer's light
+    /// fit places the light around (`Renderer::light_around`), so both draw one light.
+    pub fn placed(settings: &Settings, scene: &Scene, around: &Aabb) -> Result<PathScene> {
         check_width(settings, scene)?;
         let r = &settings.render;
-        let light = light(settings, scene);
+        let light = light(settings, around);
         let bvh = Bvh::with_triangles(
             fibre::segments(&scene.strands, r.strand_width),
             triangle::triangles(&scene.meshes),
@@ -190,7 +200,7 @@ impl PathScene {
                 seed: r.seed,
                 max_depth: MAX_DEPTH,
                 fibre: fibre_params(r.hair_color),
-                effects: effects(settings, scene),
+                effects: effects(settings, scene, around),
             },
         })
     }

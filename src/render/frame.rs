@@ -63,16 +63,16 @@ pub fn hair_light_frame(scene: &SceneGpu, light: &Light, resolution: u32) -> Lig
     let (hair, around) = scene.light_fit(light.fit);
     match light.fit {
         LightFit::Stable => LightFrame::stable(light, &hair, &around, resolution),
-        LightFit::PerFrame | LightFit::Bound => {
-            LightFrame::fit(light, around.center(), around.radius(), &hair)
-        }
+        LightFit::PerFrame | LightFit::Bound => LightFrame::fit(light, &around, &hair),
     }
 }
 
-/// The light frame of the meshes' shadow map: fitted to the whole scene.
+/// The light frame of the meshes' shadow map: fitted to the whole scene, a spot placed where the hair maps'
+/// frame places it (around [`SceneGpu::light_fit`]'s box), so the meshes' shadows and the hair's light come
+/// from one point under every fit.
 pub fn shadow_light_frame(scene: &SceneGpu, light: &Light) -> LightFrame {
-    let all = &scene.bounds().all;
-    LightFrame::fit(light, all.center(), all.radius(), all)
+    let (_, around) = scene.light_fit(light.fit);
+    LightFrame::fit(light, &around, &scene.bounds().all)
 }
 
 /// The camera's projection for an image of `width`×`height`, its depth range fitted to the scene.

@@ -293,6 +293,11 @@ impl Renderer {
         frame::hair_light_frame(&self.scene, light, self.map_resolution())
     }
 
+    /// The light frame of the meshes' shadow map ([`frame::shadow_light_frame`]).
+    pub fn shadow_light_frame(&self, light: &Light) -> LightFrame {
+        frame::shadow_light_frame(&self.scene, light)
+    }
+
     /// Camera matrices for an image of `width`×`height`.
     pub fn world_to_clip(&self, camera: &Camera, width: u32, height: u32) -> Mat4 {
         frame::world_to_clip(&self.scene, camera, width, height)

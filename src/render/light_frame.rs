@@ -33,21 +33,24 @@ impl LightFrame {
         (-v.z - self.near) / (self.far - self.near)
     }
 
-    /// Fits the frame of `light` (placed around `scene_center` at `scene_radius` scale) to `fit`.
-    pub fn fit(light: &Light, scene_center: Vec3, scene_radius: f32, fit: &Aabb) -> LightFrame {
+    /// Fits the frame of `light` (a spot placed around `around`, [`Light::spot_position`]) to `fit`.
+    pub fn fit(light: &Light, around: &Aabb, fit: &Aabb) -> LightFrame {
         let to_light = light.to_light();
-        let fit = if fit.is_empty() {
-            Aabb {
-                min: scene_center,
-                max: scene_center,
-            }
-        } else {
-            *fit
+        let fit = match (fit.is_empty(), around.is_empty()) {
+            (false, _) => *fit,
+            (true, false) => Aabb {
+                min: around.center(),
+                max: around.center(),
+            },
+            (true, true) => Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ZERO,
+            },
         };
-        let radius = scene_radius.max(fit.radius()).max(1e-3);
+        let radius = around.radius().max(fit.radius()).max(1e-3);
         let position = match light.kind {
             LightKind::Directional => fit.center() + to_light * (fit.radius() + radius),
-            LightKind::Spot => scene_center + to_light * radius * light.distance.max(1.01),
+            LightKind::Spot => light.spot_position(around),
         };
         let up = if to_light.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
         let world_to_view = Mat4::look_at_rh(position, position - to_light, up);
@@ -98,8 +101,8 @@ impl LightFrame {
     /// the depth range are the sphere's whatever the pose inside it or the light direction. A directional
     /// light's square window is centred on the sphere's centre snapped to whole texels of a
     /// `resolution`-texel map in a light space whose origin is the world's, so two spheres of one radius share
-    /// one texel grid; a spot light is placed around `around` as [`LightFrame::fit`] places it, its frustum
-    /// the cone holding the sphere.
+    /// one texel grid; a spot light is placed around `around` ([`Light::spot_position`]), its frustum the cone
+    /// holding the sphere.
     pub fn stable(light: &Light, hair: &Aabb, around: &Aabb, resolution: u32) -> LightFrame {
         let to_light = light.to_light();
         let (center, r) = match (hair.is_empty(), around.is_empty()) {
@@ -134,7 +137,7 @@ impl LightFrame {
             }
             LightKind::Spot => {
                 let radius = around.radius().max(r);
-                let position = around.center() + to_light * radius * light.distance.max(1.01);
+                let position = light.spot_position(around);
                 let world_to_view = Mat4::look_at_rh(position, position - to_light, up);
                 let v = world_to_view.transform_point3(center);
                 let m = r * (1.0 + 1e-3);
@@ -170,7 +173,7 @@ mod tests {
             elevation_deg: 40.0,
             ..Light::default()
         };
-        let f = LightFrame::fit(&light, b.center(), b.radius(), &b);
+        let f = LightFrame::fit(&light, &b, &b);
         let clip = f.world_to_clip();
         let mut touches = [false; 4];
         for c in b.corners() {

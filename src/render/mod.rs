@@ -150,6 +150,13 @@ impl Renderer {
         self.scene.light_fit(fit).0
     }
 
+    /// The box a spot light is placed around under `fit` ([`SceneGpu::light_fit`],
+    /// [`crate::scene::Light::spot_position`]): what the path tracer of a posed frame takes so that both draw
+    /// one light (`path_scene::PathScene::placed`).
+    pub fn light_around(&self, fit: crate::scene::LightFit) -> crate::scene::Aabb {
+        self.scene.light_fit(fit).1
+    }
+
     /// Makes the light maps `side` texels a side: `render.map_resolution × render.light_supersample`
     /// ([`RenderSettings::light_map_side`]); a side the GPU cannot hold is one error naming both keys.
     fn ensure_map_size(&mut self, side: u32, supersample: u32) -> Result<(), GpuError> {

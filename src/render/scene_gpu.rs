@@ -240,14 +240,10 @@ impl SceneGpu {
     /// linear part, a rotation), every other mesh at rest. Always computed from the rest vertices, so a pose
     /// gives the same bits whatever was drawn before; the bounds follow and the generation changes.
     pub fn pose_meshes(&mut self, gpu: &Gpu, moving: &[usize], transform: Affine3A) -> Result<(), GpuError> {
+        crate::scene::check_moving(moving, self.mesh_ranges.len()).map_err(GpuError::Setting)?;
         let mut mv = self.mesh_rest.clone();
         for &m in moving {
-            let &(first, n) = self.mesh_ranges.get(m).ok_or_else(|| {
-                GpuError::Setting(format!(
-                    "mesh {m} cannot move with the root frame: the scene has {} meshes",
-                    self.mesh_ranges.len()
-                ))
-            })?;
+            let (first, n) = self.mesh_ranges[m];
             for v in &mut mv[first..first + n] {
                 v.position = transform.transform_point3(Vec3::from(v.position)).into();
                 v.normal = transform.transform_vector3(Vec3::from(v.normal)).into();

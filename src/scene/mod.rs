@@ -218,6 +218,25 @@ impl Scene {
             self.strand_bounds
         }
     }
+    /// This scene with the meshes `moving` mapped by `transform` (normals by its linear part), what the renderer
+    /// draws after `SceneGpu::pose_meshes` with the same arguments; a mesh the scene lacks is an error.
+    pub fn posed(&self, moving: &[usize], transform: glam::Affine3A) -> Result<Scene, String> {
+        check_moving(moving, self.meshes.len())?;
+        let mut scene = self.clone();
+        for &m in moving {
+            let mesh = &mut scene.meshes[m];
+            mesh.positions
+                .iter_mut()
+                .for_each(|p| *p = transform.transform_point3(*p));
+            mesh.normals
+                .iter_mut()
+                .for_each(|n| *n = transform.transform_vector3(*n).normalize_or_zero());
+        }
+        scene.bounds = scene.meshes.iter().fold(scene.strand_bounds, |b, m| {
+            b.union(Aabb::from_points(&m.positions))
+        });
+        Ok(scene)
+    }
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len() / 3).sum()
     }
@@ -237,6 +256,17 @@ impl Scene {
             std::mem::take(&mut self.meshes),
         );
         Ok(())
+    }
+}
+
+/// Checks that every mesh of `moving` is one of the scene's `count` meshes: the one check of both posers (the
+/// renderer's `SceneGpu::pose_meshes` and [`Scene::posed`]).
+pub fn check_moving(moving: &[usize], count: usize) -> Result<(), String> {
+    match moving.iter().find(|&&m| m >= count) {
+        Some(m) => Err(format!(
+            "mesh {m} cannot move with the root frame: the scene has {count} meshes"
+        )),
+        None => Ok(()),
     }
 }
 
@@ -316,6 +346,18 @@ impl Light {
     pub fn to_light(&self) -> Vec3 {
         let (az, el) = (self.azimuth_deg.to_radians(), self.elevation_deg.to_radians());
         Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+    }
+
+    /// Where a spot light stands: `distance` radii of `around` (at least 1.01) from its centre towards the
+    /// light. The one placement: the renderer's light frames and the path tracer's light read it, with the box
+    /// the light fit places the light around (`SceneGpu::light_fit`; a still scene's whole bounds).
+    pub fn spot_position(&self, around: &Aabb) -> Vec3 {
+        let (centre, radius) = if around.is_empty() {
+            (Vec3::ZERO, 1e-3)
+        } else {
+            (around.center(), around.radius().max(1e-3))
+        };
+        centre + self.to_light() * radius * self.distance.max(1.01)
     }
 }
 

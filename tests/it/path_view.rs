@@ -40,7 +40,8 @@ fn converge(harness: &mut Harness<'static, HairlabApp>) {
 /// The library's image of what the window shows, at the window's image size.
 fn expected(harness: &Harness<'static, HairlabApp>, size: (u32, u32)) -> image::RgbaImage {
     let app = harness.state();
-    render_image(app.settings(), app.scene().expect("a scene"), size).unwrap()
+    let scene = app.scene().expect("a scene");
+    render_image(app.settings(), scene, &scene.bounds(), size).unwrap()
 }
 
 /// `hairlab render` of the window's settings (written out as a preset) at `size`, its linear EXR encoded to 8-bit
@@ -209,9 +210,11 @@ fn the_compare_views_path_traced_slot_is_the_path_traced_image() {
     let slot = &frames.images[3];
     assert_eq!((slot.name, slot.label), PATH_TRACED);
     assert!(slot.cpu_seconds.is_some() && slot.passes.is_empty());
+    let scene = app.scene().unwrap();
     let want = render_image(
         app.settings(),
-        app.scene().unwrap(),
+        scene,
+        &scene.bounds(),
         (frames.width, frames.height),
     )
     .unwrap();

@@ -7,9 +7,11 @@ use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;
+use hairlab::path_scene::PathScene;
+use hairlab::pathtrace::light::Light as PathLight;
 use hairlab::render::Renderer;
 use hairlab::scene::hair::{HairFile, write_hair_file};
-use hairlab::scene::{Aabb, LightFit, Scene, load::load_scene};
+use hairlab::scene::{Aabb, LightFit, LightKind, Scene, load::load_scene};
 use hairlab::settings::Settings;
 
 /// The default head (strands and its mesh) with the camera framed on it.
@@ -138,6 +140,67 @@ fn light_fit_bound_keeps_one_frame_while_per_frame_follows_the_hair() {
         let d = a.depth(*p);
         assert!((0.0..=1.0).contains(&d), "depth {d} outside the bound's frame");
     }
+}
+
+/// One spot light and one pose: on a posed frame of a moving groom (the head turned and moved, the motion's
+/// bound set), under every light fit, the hair maps' frame, the meshes' shadow map and the path tracer of the
+/// posed scene place the spot at one point, and the renderer's posed meshes are the CPU's `Scene::posed`. Under
+/// `bound` and `stable` the box the light is placed around is not the posed frame's bounds (the path tracer
+/// placed it around those before, elsewhere by 0.03–0.3 scene units here).
+#[test]
+fn the_renderer_and_the_path_tracer_place_one_spot_light_under_every_fit() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (mut s, scene) = head();
+    s.light.kind = LightKind::Spot;
+    assert!(!scene.meshes.is_empty(), "the default head has a mesh");
+    let centre = Aabb::from_points(&scene.meshes[0].positions).center();
+    let turn = glam::Affine3A::from_translation(centre + Vec3::new(0.05, 0.02, 0.0))
+        * glam::Affine3A::from_rotation_y(0.6)
+        * glam::Affine3A::from_translation(-centre);
+    let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
+    r.pose_meshes(&[0], turn).unwrap();
+    let bounds = scene.strand_bounds();
+    r.set_fit_bound(Some(Aabb::from_points(&[bounds.min - 0.05, bounds.max + 0.05])));
+    let posed = scene.posed(&[0], turn).unwrap();
+    let drawn = r.read_mesh_positions().unwrap();
+    let cpu: Vec<Vec3> = posed.meshes.iter().flat_map(|m| m.positions.clone()).collect();
+    assert_eq!(drawn.len(), cpu.len());
+    let worst = drawn
+        .iter()
+        .zip(&cpu)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(worst < 1e-6, "GPU and CPU poses differ by {worst}");
+
+    for fit in [LightFit::PerFrame, LightFit::Bound, LightFit::Stable] {
+        s.light.fit = fit;
+        let around = r.light_around(fit);
+        let hair = r.hair_light_frame(&s.light).position;
+        let shadow = r.shadow_light_frame(&s.light).position;
+        let path = PathScene::placed(&s, &posed, &around).unwrap();
+        let PathLight::Spot(spot) = path.light else {
+            panic!("a spot light traces as a spot")
+        };
+        assert_eq!(hair, s.light.spot_position(&around), "{fit:?}");
+        assert!(
+            hair.distance(shadow) < 1e-6 && hair.distance(spot.position) < 1e-6,
+            "{fit:?}: hair maps' spot {hair}, shadow map's {shadow}, path tracer's {}",
+            spot.position
+        );
+        let apart = s.light.spot_position(&posed.bounds()).distance(hair);
+        match fit {
+            LightFit::PerFrame => assert!(apart < 1e-6, "per-frame: around the posed bounds"),
+            _ => assert!(
+                apart > 0.01,
+                "{fit:?}: the posed bounds place it only {apart} away"
+            ),
+        }
+    }
+    assert_eq!(
+        scene.posed(&[7], turn).unwrap_err(),
+        r.pose_meshes(&[7], turn).unwrap_err().to_string(),
+        "one check of the meshes a pose names"
+    );
 }
 
 #[test]

@@ -143,7 +143,8 @@ pub(super) fn render_compare_steps(
                 let label = format!("slot {} · {} · {spp}", k + 1, PATH_TRACED.1);
                 progress.step(&label, (k as f32 + f) / STEPS)
             };
-            let image = path_view::render_image_steps(settings, scene, (width, height), &mut pass)
+            let around = r.light_around(settings.light.fit);
+            let image = path_view::render_image_steps(settings, scene, &around, (width, height), &mut pass)
                 .map_err(|e| format!("compare view: {}: {e:#}", PATH_TRACED.0))?;
             let Some(image) = image else { return Ok(None) };
             rendered.push(Rendered {
@@ -271,7 +272,13 @@ pub(super) fn render_job(
         Ok(r) => r,
         Err(e) => return Some(Err(e)),
     };
-    let scene = path_view::posed(&source.scene, source.mesh_pose.clone());
+    let scene = match &source.mesh_pose {
+        Some((meshes, pose)) => match source.scene.posed(meshes, *pose) {
+            Ok(s) => s,
+            Err(e) => return Some(Err(format!("compare view: meshes: {e}"))),
+        },
+        None => source.scene.clone(),
+    };
     render_compare_steps(&mut r, &scene, settings, slots, width, height, &mut ctl.clone()).transpose()
 }
 

@@ -41,6 +41,7 @@ use super::follow::Follow;
 pub use super::params::{SimParams, WIND_CLASSES};
 pub use super::pose::{Collider, Ellipsoid, Pose};
 use super::strand_step::{STRANDS_PER_TASK, Shared, Substep, strand_pose};
+use rayon::prelude::*;
 
 /// The root frame a simulation moves the roots with: the pivot of its rigid motion, what the hair collides
 /// with (in its rest space), and which of the scene's meshes ride on it.
@@ -324,31 +325,15 @@ impl Simulation {
             (x, prev, corr) = (rx, rp, rc);
             blocks.push((strands[0]..last + 1, first, bx, bp, bc));
         }
-        let queue = std::sync::Mutex::new(blocks.into_iter());
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        std::thread::scope(|scope| {
-            for _ in 0..threads {
-                let (ctx, queue) = (&ctx, &queue);
-                scope.spawn(move || {
-                    let mut q = Vec::new();
-                    while let Some((strands, base, x, prev, corr)) =
-                        queue.lock().map_or(None, |mut b| b.next())
-                    {
-                        for s in strands {
-                            let (first, n) = ctx.sim.ranges[s];
-                            let at = first - base..first - base + n;
-                            ctx.strand(
-                                s,
-                                &mut q,
-                                &mut x[at.clone()],
-                                &mut prev[at.clone()],
-                                &mut corr[at],
-                            );
-                        }
-                    }
-                });
-            }
-        });
+        blocks
+            .into_par_iter()
+            .for_each_init(Vec::new, |q, (strands, base, x, prev, corr)| {
+                for s in strands {
+                    let (first, n) = ctx.sim.ranges[s];
+                    let at = first - base..first - base + n;
+                    ctx.strand(s, q, &mut x[at.clone()], &mut prev[at.clone()], &mut corr[at]);
+                }
+            });
     }
 
     /// The invariants of the current state (see [`FrameStats`]).

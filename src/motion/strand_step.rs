@@ -29,7 +29,7 @@ pub(super) struct Shared<'a> {
     pub(super) follow: Option<&'a Follow>,
 }
 
-/// Strands a thread takes from the substep's queue at a time.
+/// Strands one rayon task of a substep steps.
 pub(super) const STRANDS_PER_TASK: usize = 64;
 
 /// One substep's values, shared by its strands.

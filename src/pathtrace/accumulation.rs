@@ -3,15 +3,14 @@
 //! NaN or infinite is left out of its pixel's sum and count and counted apart, so one bad path cannot spoil a
 //! pixel for the rest of a progressive render. The mean divides each pixel's sum by its own count of samples
 //! kept: a dropped sample is a failed evaluation, not a measured 0, so the mean stays the estimator's over the
-//! paths that evaluated (counting it as 0 would darken the pixel by the share dropped). Threads take rows a few
-//! at a time from one queue, so the rows that cross the groom do not all fall to one; each pixel's samples are
-//! summed in sample order, so the sums do not depend on the thread count.
-
-use std::sync::atomic::{AtomicU64, Ordering};
+//! paths that evaluated (counting it as 0 would darken the pixel by the share dropped). Rows go to rayon's
+//! pool a few at a time, so the rows that cross the groom do not all fall to one thread; each pixel's samples
+//! are summed in sample order, so the sums do not depend on the thread count.
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
-/// Rows of pixels a thread takes from the queue at a time.
+/// Rows of pixels one task sums.
 const ROWS_PER_TASK: usize = 2;
 
 /// Per pixel (row after row), the sum of the finite samples and their count; and the samples left out.
@@ -35,40 +34,31 @@ impl Sums {
     }
 
     /// Adds `radiance(pixel, sample)` of every pixel (`y · width + x`) for each sample in `samples`, in order,
-    /// on every core; a non-finite one is counted in [`Sums::dropped`] instead.
+    /// on rayon's pool, [`ROWS_PER_TASK`] rows a task; a non-finite one is counted in [`Sums::dropped`] instead.
     pub fn add(&mut self, samples: std::ops::Range<u32>, radiance: impl Fn(usize, u32) -> Vec3 + Sync) {
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let band = ROWS_PER_TASK * self.width.max(1);
-        let queue = std::sync::Mutex::new(
-            self.sums
-                .chunks_mut(band)
-                .zip(self.kept.chunks_mut(band))
-                .enumerate(),
-        );
-        let dropped = AtomicU64::new(0);
-        std::thread::scope(|scope| {
-            for _ in 0..threads {
-                let (samples, queue, radiance, dropped) = (samples.clone(), &queue, &radiance, &dropped);
-                scope.spawn(move || {
-                    let mut left_out = 0;
-                    while let Some((b, (sums, kept))) = queue.lock().map_or(None, |mut q| q.next()) {
-                        for (k, (sum, n)) in sums.iter_mut().zip(kept.iter_mut()).enumerate() {
-                            for sample in samples.clone() {
-                                let v = radiance(b * band + k, sample);
-                                if v.is_finite() {
-                                    *sum += v.as_dvec3();
-                                    *n += 1;
-                                } else {
-                                    left_out += 1;
-                                }
-                            }
+        let dropped: u64 = self
+            .sums
+            .par_chunks_mut(band)
+            .zip(self.kept.par_chunks_mut(band))
+            .enumerate()
+            .map(|(b, (sums, kept))| {
+                let mut left_out = 0;
+                for (k, (sum, n)) in sums.iter_mut().zip(kept.iter_mut()).enumerate() {
+                    for sample in samples.clone() {
+                        let v = radiance(b * band + k, sample);
+                        if v.is_finite() {
+                            *sum += v.as_dvec3();
+                            *n += 1;
+                        } else {
+                            left_out += 1;
                         }
                     }
-                    dropped.fetch_add(left_out, Ordering::Relaxed);
-                });
-            }
-        });
-        self.dropped += dropped.into_inner();
+                }
+                left_out
+            })
+            .sum();
+        self.dropped += dropped;
     }
 
     /// The mean of each pixel's samples kept (black where none were).

@@ -6,36 +6,28 @@
 //! view's path-traced slot sit on the same background as the raster images beside them.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::bvh::Bvh;
 use super::integrator::camera_ray;
 use crate::scene::Camera;
 
 /// The share of each pixel of a `width × height` image that the scene covers, from `n × n` stratified camera rays
-/// through the pixel, row after row. Rows are shared among the threads.
+/// through the pixel, row after row, the rows on rayon's pool.
 pub fn coverage(bvh: &Bvh, camera: &Camera, width: usize, height: usize, n: usize) -> Vec<f32> {
     let n = n.max(1);
     let mut out = vec![0.0f32; width * height];
-    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
-    let queue = std::sync::Mutex::new(out.chunks_mut(width.max(1)).enumerate());
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            let queue = &queue;
-            scope.spawn(move || {
-                while let Some((y, row)) = queue.lock().map_or(None, |mut q| q.next()) {
-                    for (x, px) in row.iter_mut().enumerate() {
-                        let mut hits = 0usize;
-                        for j in 0..n {
-                            for i in 0..n {
-                                let (sx, sy) = ((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-                                let ray = camera_ray(camera, width, height, x as f32 + sx, y as f32 + sy);
-                                hits += usize::from(bvh.any_hit(&ray, f32::INFINITY));
-                            }
-                        }
-                        *px = hits as f32 / (n * n) as f32;
-                    }
+    out.par_chunks_mut(width.max(1)).enumerate().for_each(|(y, row)| {
+        for (x, px) in row.iter_mut().enumerate() {
+            let mut hits = 0usize;
+            for j in 0..n {
+                for i in 0..n {
+                    let (sx, sy) = ((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    let ray = camera_ray(camera, width, height, x as f32 + sx, y as f32 + sy);
+                    hits += usize::from(bvh.any_hit(&ray, f32::INFINITY));
                 }
-            });
+            }
+            *px = hits as f32 / (n * n) as f32;
         }
     });
     out

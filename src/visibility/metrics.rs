@@ -16,6 +16,7 @@
 //! and the share of occupied texels whose mean error exceeds 0.05 and 0.1 ([`SHARE_THRESHOLDS`]).
 
 use super::{Fragment, Reference, TexelModel, depth_range, valid};
+use rayon::prelude::*;
 
 /// Default number of grid points `M` per texel.
 pub const DEFAULT_GRID_POINTS: usize = 64;
@@ -127,50 +128,21 @@ pub fn texel_error(
 }
 
 /// The texel mean errors of `method` over the texels of `map` holding fragments, in map order, computed on
-/// every core (the map in blocks of texels taken from one queue; the result does not depend on the threads).
+/// rayon's pool in blocks of texels (the result does not depend on the threads).
 pub fn texel_errors<T: AsRef<[Fragment]> + Sync>(
     method: &dyn TexelModel,
     map: &[T],
     grid_points: usize,
 ) -> Vec<TexelError> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    texel_errors_on(method, map, grid_points, threads)
-}
-
-/// [`texel_errors`] on `threads` threads.
-pub fn texel_errors_on<T: AsRef<[Fragment]> + Sync>(
-    method: &dyn TexelModel,
-    map: &[T],
-    grid_points: usize,
-    threads: usize,
-) -> Vec<TexelError> {
     const BLOCK: usize = 256;
-    let blocks: Vec<&[T]> = map.chunks(BLOCK).collect();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut done: Vec<(usize, Vec<TexelError>)> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads.max(1))
-            .map(|_| {
-                s.spawn(|| {
-                    let mut out = Vec::new();
-                    loop {
-                        let b = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(block) = blocks.get(b) else { break };
-                        let errors = block
-                            .iter()
-                            .filter_map(|t| texel_error(method, t.as_ref(), grid_points));
-                        out.push((b, errors.collect::<Vec<_>>()));
-                    }
-                    out
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    });
-    done.sort_unstable_by_key(|(b, _)| *b);
-    done.into_iter().flat_map(|(_, e)| e).collect()
+    map.par_chunks(BLOCK)
+        .flat_map_iter(|block| {
+            block
+                .iter()
+                .filter_map(|t| texel_error(method, t.as_ref(), grid_points))
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 /// Map error of `method` over a map given as one fragment list per texel (`None` when no texel holds
@@ -308,10 +280,17 @@ mod tests {
             })
             .collect();
         let dom = DomParams::default();
-        let one = texel_errors_on(&dom, &map, 8, 1);
+        let on = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| texel_errors(&dom, &map, 8))
+        };
+        let one = on(1);
         assert_eq!(one.len(), map.iter().filter(|t| !t.is_empty()).count());
         for threads in [2, 3, 8] {
-            assert_eq!(texel_errors_on(&dom, &map, 8, threads), one, "{threads} threads");
+            assert_eq!(on(threads), one, "{threads} threads");
         }
     }
 }

@@ -113,7 +113,7 @@ pub fn compare_map(
                 0.5 * (list[k].depth + next) * span
             })
             .collect();
-        let traced = texel_visibility(&bvh, &texel, rays, i as u64, &depths);
+        let traced = texel_visibility(&bvh, &texel, rays, &depths);
         let mut v_ref = 1.0f32;
         let (mut sum, mut max) = (0.0f32, 0.0f32);
         for (k, (f, &v_ray)) in list.iter().zip(&traced).enumerate() {

@@ -31,7 +31,7 @@ fn curves(strands: &Strands, width: f32) -> String {
         }
         for i in first..first + count {
             let p = strands.points[i];
-            let r = 0.5 * width * strands.thickness.as_ref().map_or(1.0, |t| t[i]);
+            let r = crate::pathtrace::fibre::radius(strands, width, i);
             let _ = writeln!(out, "{} {} {} {}", p.x, p.y, p.z, r);
         }
         out.push('\n');

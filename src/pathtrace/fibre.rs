@@ -104,11 +104,16 @@ pub enum Surface {
     Mesh { albedo: Vec3 },
 }
 
+/// The radius of `strands`' point `i` under `render.strand_width = width`: half its width, `width` times its
+/// thickness (1 without a thickness array), as the rasteriser reads it; the Mitsuba export writes it too.
+pub fn radius(strands: &Strands, width: f32, i: usize) -> f32 {
+    0.5 * width * strands.thickness.as_ref().map_or(1.0, |t| t[i])
+}
+
 /// The segments of `strands`, strand after strand (segment `i` of the result is the `i`-th of
-/// [`Strands::segment_count`]). A point's width is `width` times its thickness (1 without a thickness array), as
-/// the rasteriser reads `render.strand_width`; the radius is half the width.
+/// [`Strands::segment_count`]), each point's radius [`radius`].
 pub fn segments(strands: &Strands, width: f32) -> Vec<Segment> {
-    let radius = |i: usize| 0.5 * width * strands.thickness.as_ref().map_or(1.0, |t| t[i]);
+    let radius = |i: usize| radius(strands, width, i);
     let mut out = Vec::with_capacity(strands.segment_count());
     for (first, count) in strands.ranges() {
         let last = (first + count).saturating_sub(1);

@@ -13,19 +13,22 @@ use crate::rng::SplitMix64;
 
 /// A light-space texel: the parallelogram `corner + s·edge_u + t·edge_v` (`s, t` in [0, 1)) on a plane facing
 /// the light, and the unit direction the light travels (away from the light). Depth is distance from that plane.
+/// `seed` seeds its rays' jitter: a map texel's row-major index ([`light_map_texel`]), so every caller (the
+/// measurement, the inspector) traces the same rays through it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Texel {
     pub corner: Vec3,
     pub edge_u: Vec3,
     pub edge_v: Vec3,
     pub dir: Vec3,
+    pub seed: u64,
 }
 
 impl Texel {
-    /// The `n × n` jittered rays through the footprint, stratum `(i, j)` jittered by stream `i·n + j` of `seed`.
-    pub fn rays(&self, n: usize, seed: u64) -> impl Iterator<Item = Ray> + '_ {
+    /// The `n × n` jittered rays through the footprint, stratum `(i, j)` jittered by stream `i·n + j` of its seed.
+    pub fn rays(&self, n: usize) -> impl Iterator<Item = Ray> + '_ {
         (0..n * n).map(move |k| {
-            let mut rng = SplitMix64::stream(seed, k as u64);
+            let mut rng = SplitMix64::stream(self.seed, k as u64);
             let s = ((k / n) as f32 + rng.unit()) / n as f32;
             let t = ((k % n) as f32 + rng.unit()) / n as f32;
             Ray::new(self.corner + s * self.edge_u + t * self.edge_v, self.dir)
@@ -52,18 +55,19 @@ pub fn light_map_texel(frame: &LightFrame, side: u32, x: u32, y: u32) -> Texel {
         edge_u: at(x + 1, y) - corner,
         edge_v: at(x, y + 1) - corner,
         dir: -frame.to_light,
+        seed: u64::from(y) * u64::from(side) + u64::from(x),
     }
 }
 
 /// Every fibre crossing along each of the texel's `n × n` rays up to `max_depth`, in order of depth per ray.
-pub fn crossings(bvh: &Bvh, texel: &Texel, n: usize, seed: u64, max_depth: f32) -> Vec<Vec<Hit>> {
-    texel.rays(n, seed).map(|r| bvh.all_hits(&r, max_depth)).collect()
+pub fn crossings(bvh: &Bvh, texel: &Texel, n: usize, max_depth: f32) -> Vec<Vec<Hit>> {
+    texel.rays(n).map(|r| bvh.all_hits(&r, max_depth)).collect()
 }
 
 /// `V(z)` at each of `depths`: the fraction of the texel's `n × n` rays that cross no fibre before depth `z`.
-pub fn texel_visibility(bvh: &Bvh, texel: &Texel, n: usize, seed: u64, depths: &[f32]) -> Vec<f32> {
+pub fn texel_visibility(bvh: &Bvh, texel: &Texel, n: usize, depths: &[f32]) -> Vec<f32> {
     let deepest = depths.iter().copied().fold(0.0, f32::max);
-    let first: Vec<f32> = crossings(bvh, texel, n, seed, deepest)
+    let first: Vec<f32> = crossings(bvh, texel, n, deepest)
         .iter()
         .map(|h| h.first().map_or(f32::INFINITY, |h| h.t))
         .collect();
@@ -100,9 +104,10 @@ mod tests {
             edge_u: Vec3::new(0.0, span, 0.0),
             edge_v: Vec3::new(0.1, 0.0, 0.0),
             dir: Vec3::Z,
+            seed: 1,
         };
         let n = 200;
-        let v = texel_visibility(&bvh, &texel, n, 1, &[0.5, len + 2.0]);
+        let v = texel_visibility(&bvh, &texel, n, &[0.5, len + 2.0]);
         let p = (-density * w * len).exp();
         let nl = density * len;
         let var = 2.0 * p * p * (((nl * w).exp() - 1.0) / nl - w) / span + p * (1.0 - p) / (n * n) as f32;
@@ -133,8 +138,9 @@ mod tests {
             edge_u: Vec3::Y,
             edge_v: Vec3::X,
             dir: Vec3::Z,
+            seed: 5,
         };
-        let v = texel_visibility(&bvh, &texel, n, 5, &[1.0, 3.0, 5.0, 7.0]);
+        let v = texel_visibility(&bvh, &texel, n, &[1.0, 3.0, 5.0, 7.0]);
         let mut expected = 1.0;
         let mut want = vec![1.0];
         for &(_, rows, _) in &strands {
@@ -142,7 +148,7 @@ mod tests {
             want.push(expected);
         }
         assert_eq!(v, want);
-        let hits = crossings(&bvh, &texel, n, 5, 10.0);
+        let hits = crossings(&bvh, &texel, n, 10.0);
         assert_eq!(hits.iter().map(Vec::len).sum::<usize>(), 9 * n);
     }
 }

@@ -472,12 +472,12 @@ fn the_inspected_texel_shows_its_ray_traced_visibility() {
     let span = frame.far - frame.near;
     assert_eq!(traced.rays.footprint, footprint);
     assert_eq!(
-        (traced.rays.span, traced.rays.seed),
+        (traced.rays.span, traced.rays.footprint.seed),
         (span, u64::from(y * side + x))
     );
     let bvh = Bvh::new(fibre::segments(&scene.strands, settings.render.strand_width));
     let at: Vec<f32> = t.depths.iter().map(|z| z * span).collect();
-    let want = texel_visibility(&bvh, &footprint, TRACED_RAYS, traced.rays.seed, &at);
+    let want = texel_visibility(&bvh, &footprint, TRACED_RAYS, &at);
     assert_eq!(traced.values, want);
     // The densest texel's fibres block some of its rays, not before its first fragment.
     assert_eq!(traced.values[0], 1.0);

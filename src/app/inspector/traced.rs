@@ -84,11 +84,10 @@ impl Geometry {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TracedRays {
     pub texel: [u32; 2],
-    /// The footprint traced ([`light_map_texel`] of the hair maps' frame).
+    /// The footprint traced ([`light_map_texel`] of the hair maps' frame), with the seed of its rays' jitter.
     pub footprint: Texel,
-    /// Rays a side, and the seed of their jitter (the texel's row-major index, as `compare_map` seeds it).
+    /// Rays a side.
     pub rays: usize,
-    pub seed: u64,
     /// `far − near` of the light frame: normalised depth `z` lies `z · span` from the near plane.
     pub span: f32,
     /// Each ray's first fibre crossing, as distance from the near plane; ∞ where it crosses none.
@@ -110,7 +109,7 @@ impl TracedRays {
     }
 }
 
-/// The rays of `texels` (inside the map) through `bvh`, as `compare_map` seeds them, telling `progress` before
+/// The rays of `texels` (inside the map) through `bvh`, as `measure fibres` traces them, telling `progress` before
 /// each texel; `None` once it answers `false`.
 fn trace(
     bvh: &Bvh,
@@ -128,8 +127,7 @@ fn trace(
             return None;
         }
         let footprint = light_map_texel(frame, geometry.side, x, y);
-        let seed = u64::from(y) * u64::from(geometry.side) + u64::from(x);
-        let first = crossings(bvh, &footprint, TRACED_RAYS, seed, max_depth)
+        let first = crossings(bvh, &footprint, TRACED_RAYS, max_depth)
             .iter()
             .map(|h| h.first().map_or(f32::INFINITY, |h| h.t))
             .collect();
@@ -137,7 +135,6 @@ fn trace(
             texel: [x, y],
             footprint,
             rays: TRACED_RAYS,
-            seed,
             span,
             first,
         });
@@ -488,12 +485,12 @@ mod tests {
         let rays = trace(&bvh, &geometry, &[[0, 0]], &mut crate::progress::Quiet).unwrap();
         let r = &rays[0];
         assert_eq!(
-            (r.rays, r.seed, r.first.len()),
+            (r.rays, r.footprint.seed, r.first.len()),
             (TRACED_RAYS, 0, TRACED_RAYS * TRACED_RAYS)
         );
         let zs: Vec<f32> = (0..=100).map(|i| i as f32 / 100.0).collect();
         let at: Vec<f32> = zs.iter().map(|z| z * r.span).collect();
-        let want = texel_visibility(&bvh, &r.footprint, TRACED_RAYS, r.seed, &at);
+        let want = texel_visibility(&bvh, &r.footprint, TRACED_RAYS, &at);
         assert_eq!(r.curve(&zs), want);
         assert_eq!(want[0], 1.0);
         assert!((want[100] - 0.79).abs() < 0.03, "{}", want[100]);

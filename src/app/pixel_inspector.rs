@@ -4,12 +4,14 @@
 //! reference's as swatches with |Δ|, the GPU images' colours at the pixel, and the transmittance `Π(1 − a)` along
 //! the view ray plotted against depth. Where `occupancy-order` is registered, its estimated order `o` (slab map
 //! and occupancy only, `transparency::occupancy_order::estimated_orders`) stands beside the true rank, with
-//! `(1 − ᾱ)^o` on the plot and o against rank in a second plot.
+//! `(1 − ᾱ)^o` on the plot and o against rank in a second plot. Once the compare window has decomposed the
+//! error against the path-traced truth, a note gives the chain's images at the pixel (`compare_view::truth`).
 //!
 //! The background is the opaque image's pixel decoded from sRGB8, so composites differ from the GPU's, which
 //! blends over the float colour, by that rounding (under 1/255 per channel).
 
 use super::compare_view::CompareFrames;
+use super::compare_view::truth::Decomposed;
 use super::inspector::series;
 use crate::bench::chart::{Axis, Chart, Mark, Point, Scale, Series};
 use crate::render::transparency::registry;
@@ -257,7 +259,14 @@ impl PixelInspector {
         }
     }
 
-    pub fn ui(&mut self, ui: &mut egui::Ui, frames: Option<&CompareFrames>, generation: u64) {
+    /// The window's contents; `truth`: the compare window's last decomposition, whose chain the note reads.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        frames: Option<&CompareFrames>,
+        generation: u64,
+        truth: Option<&Decomposed>,
+    ) {
         self.refresh(frames, generation);
         let Some(frames) = frames else {
             ui.label("open the compare view and render it, then click hair in one of its images");
@@ -281,6 +290,9 @@ impl PixelInspector {
             return;
         }
         composites_ui(ui, r);
+        if let Some(t) = truth {
+            truth_note(ui, t, r.pixel, (frames.width, frames.height));
+        }
         ui.separator();
         let height = 200.0;
         ui.horizontal_top(|ui| {
@@ -340,6 +352,20 @@ fn linear(c: [f32; 3]) -> Color32 {
 }
 
 /// Every technique's composite against the reference's, and the GPU images' pixel.
+/// The path-traced chain at the pixel: each stage's linear colour, from the truth to the raster's shading.
+fn truth_note(ui: &mut egui::Ui, t: &Decomposed, pixel: [u32; 2], size: (u32, u32)) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("path-traced chain here:").on_hover_text(
+            "the compare window's decomposition against the truth, read at this pixel (docs/truth.md): each \
+             image turns one effect of the real-time model on",
+        );
+        for (label, c) in t.at(pixel, size) {
+            swatch(ui, linear(c), 14.0);
+            ui.label(format!("{label} ({})", rgb_text(c)));
+        }
+    });
+}
+
 fn composites_ui(ui: &mut egui::Ui, r: &PixelReport) {
     egui::Grid::new("pixel_composites").striped(true).show(ui, |ui| {
         ui.strong("CPU model");

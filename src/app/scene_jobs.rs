@@ -162,6 +162,7 @@ impl HairlabApp {
         all.extend(self.inspector.job_status());
         all.extend(self.motion_bound.status());
         all.extend(self.compare.job_status());
+        all.extend(self.compare.truth.job_status());
         all.extend(self.time_view.job_status());
         all.extend(self.animation_export.job_status());
         all.extend(self.bench_status());

@@ -36,16 +36,18 @@ impl HairlabApp {
                 Some(compare_view::CompareAction::Export) => {
                     self.request_export(exports::Export::Compare, ctx)
                 }
+                Some(compare_view::CompareAction::Decompose) => self.decompose_truth(ctx),
                 None => {}
             }
         }
         if self.pixel_inspector.open {
             let mut open = self.pixel_inspector.open;
             let (frames, generation) = (self.compare.frames(), self.compare.generation());
+            let truth = self.compare.truth.result();
             egui::Window::new("Pixel inspector")
                 .open(&mut open)
                 .default_size([560.0, 520.0])
-                .show(ctx, |ui| self.pixel_inspector.ui(ui, frames, generation));
+                .show(ctx, |ui| self.pixel_inspector.ui(ui, frames, generation, truth));
             self.pixel_inspector.open = open;
             if self.pixel_inspector.take_export() {
                 self.request_export(exports::Export::Pixel, ctx);
@@ -74,12 +76,28 @@ impl HairlabApp {
         self.poll_compare(PATIENCE);
     }
 
-    /// Applies the compare render's outcome when it is done (waiting up to `patience`).
+    /// Starts decomposing the selected method's error against the path-traced truth (a job on a clone of the
+    /// window's GPU) and gives it [`PATIENCE`] to finish.
+    pub(super) fn decompose_truth(&mut self, ctx: &egui::Context) {
+        let Some(gpu) = window_gpu(self.render_state.as_ref()) else {
+            return self.error("truth: no GPU");
+        };
+        self.compare
+            .truth
+            .start(gpu, &self.settings, ctx, self.job_gate.clone());
+        self.poll_compare(PATIENCE);
+    }
+
+    /// Applies the compare render's and the decomposition's outcomes when they are done (waiting up to
+    /// `patience` for each).
     pub(super) fn poll_compare(&mut self, patience: Duration) {
-        match self.compare.poll(patience, &self.egui_ctx) {
-            Some(Ok(m)) => self.info(m),
-            Some(Err(e)) => self.error(e),
-            None => {}
+        let render = self.compare.poll(patience, &self.egui_ctx);
+        let truth = self.compare.truth.poll(patience);
+        for polled in [render, truth].into_iter().flatten() {
+            match polled {
+                Ok(m) => self.info(m),
+                Err(e) => self.error(e),
+            }
         }
     }
 

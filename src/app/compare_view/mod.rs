@@ -19,6 +19,7 @@ use crate::transparency::ImageMetrics;
 use image::RgbaImage;
 
 mod frames;
+pub mod truth;
 
 use frames::render_job;
 pub use frames::{
@@ -105,6 +106,8 @@ pub enum CompareAction {
     Pick([u32; 2]),
     /// Write the images, the difference and FLIP maps and the metrics to a folder.
     Export,
+    /// Decompose the selected method's error against the path-traced truth ([`truth`]).
+    Decompose,
 }
 
 /// The settings, slots and size a render was made for.
@@ -133,6 +136,8 @@ pub struct CompareView {
     rects: [Option<egui::Rect>; 4],
     /// The render under way.
     job: Option<Job<Result<CompareFrames, String>>>,
+    /// The decomposition against the path-traced truth.
+    pub truth: truth::TruthPanel,
 }
 
 impl Default for CompareView {
@@ -153,6 +158,7 @@ impl Default for CompareView {
             diff: None,
             rects: [None; 4],
             job: None,
+            truth: truth::TruthPanel::default(),
         }
     }
 }
@@ -317,6 +323,14 @@ impl CompareView {
         if let Some(p) = self.difference_ui(ui) {
             action = Some(CompareAction::Pick(p));
         }
+        ui.separator();
+        egui::CollapsingHeader::new("Against the path-traced truth")
+            .id_salt("compare_truth")
+            .show(ui, |ui| {
+                if self.truth.ui(ui, settings) {
+                    action = Some(CompareAction::Decompose);
+                }
+            });
         action
     }
 

@@ -1,9 +1,10 @@
 //! The compare view (four labelled images and their metrics) and the pixel inspector (the list of a clicked hair
 //! pixel).
 
-use super::{open_compare, tall_harness};
+use super::{click_pixel, open_compare, tall_harness};
 use egui_kittest::kittest::{NodeT, Queryable};
 use hairlab::gpu::Gpu;
+use hairlab::measure::MethodConfig;
 use hairlab::render::transparency::registry as techniques;
 
 #[test]
@@ -128,28 +129,11 @@ fn pixel_inspector_shows_the_list_of_a_clicked_hair_pixel() {
         .max_by_key(|(_, l)| l.len())
         .unwrap();
     let expected = list.clone();
-    let (w, h) = (frames.width, frames.height);
+    let w = frames.width;
     let pixel = [index as u32 % w, index as u32 / w];
-    let rect = app.compare().image_rect(0).expect("reference image drawn");
-    let pos = rect.min
-        + egui::vec2(
-            (pixel[0] as f32 + 0.5) * rect.width() / w as f32,
-            (pixel[1] as f32 + 0.5) * rect.height() / h as f32,
-        );
     let gpu_reference = frames.images[0].image.get_pixel(pixel[0], pixel[1]).0;
-    harness.hover_at(pos);
-    harness.step();
-    harness.drag_at(pos);
-    harness.step();
-    harness.drop_at(pos);
-    harness.run();
+    click_pixel(&mut harness, pixel);
     let app = harness.state();
-    assert!(app.pixel_inspector().open, "a click opens the pixel inspector");
-    assert_eq!(
-        app.pixel_inspector().pixel,
-        Some(pixel),
-        "clicked {pos:?} in {rect:?}"
-    );
     let report = app.pixel_inspector().report().expect("a report of the pixel");
     assert_eq!(report.fragments, expected);
     assert!(
@@ -223,4 +207,90 @@ fn pixel_inspector_shows_the_list_of_a_clicked_hair_pixel() {
         })
         .expect("the table copied");
     assert_eq!(copied, text);
+}
+
+/// The compare window's decomposition against the path-traced truth (issue 42): its button runs the chain as a
+/// job, the table holds the rows `measure::shading::against_truth` gives for the selected method under
+/// `render.shading` (the one place the CLI and the report call; the same numbers, as the path tracer is seeded),
+/// each effect on screen, and the pixel inspector notes each chain image's colour at a clicked hair pixel.
+#[test]
+fn the_compare_window_decomposes_against_the_truth_and_the_inspector_notes_the_chain() {
+    let gpu = Gpu::for_tests().expect("GPU tests opted out");
+    let mut settings = crate::common::small_settings(320, 240);
+    settings.render.spp = 2;
+    let expected = hairlab::measure::shading::against_truth(
+        &gpu,
+        &settings,
+        &[MethodConfig::new(
+            &settings.method.name,
+            settings.method.params.clone(),
+        )],
+        &[settings.render.shading],
+        &mut hairlab::progress::Quiet,
+    )
+    .unwrap()
+    .expect("not stopped")
+    .1
+    .decomposition;
+    let mut harness = egui_kittest::Harness::builder()
+        .with_size([1400.0, 1500.0])
+        .with_max_steps(8)
+        .wgpu_setup(hairlab::app::wgpu_setup(
+            hairlab::gpu::AdapterPreference::Software,
+        ))
+        .build_eframe(move |cc| hairlab::app::HairlabApp::new(cc, Some(settings)));
+    harness.run();
+    open_compare(&mut harness);
+    harness.get_by_label("Against the path-traced truth").click();
+    harness.run();
+    harness.get_by_label("Decompose against the truth").click();
+    harness.run();
+    harness.state_mut().finish_jobs();
+    harness.run();
+    let app = harness.state();
+    assert_eq!(app.compare().truth.error(), None);
+    let got = &app.compare().truth.result().expect("a decomposition").rows;
+    assert_eq!(got, &expected);
+    for row in &expected {
+        assert!(
+            harness.query_all_by_label(row.effect).next().is_some(),
+            "no row {}",
+            row.effect
+        );
+    }
+    let total = expected.last().unwrap();
+    assert!(
+        harness
+            .query_by_label(&format!("{:.3}", total.hair_rmse))
+            .is_some(),
+        "the total's hair RMSE {:.3} is not on screen",
+        total.hair_rmse
+    );
+    // The inspector's note: every chain image at the deepest hair pixel.
+    let frames = harness.state().compare().frames().unwrap();
+    let (w, h) = (frames.width, frames.height);
+    let index = (0..frames.lists.len())
+        .max_by_key(|&i| frames.lists[i].len())
+        .unwrap();
+    let pixel = [index as u32 % w, index as u32 / w];
+    click_pixel(&mut harness, pixel);
+    harness.get_by_label("path-traced chain here:");
+    let chain = harness
+        .state()
+        .compare()
+        .truth
+        .result()
+        .unwrap()
+        .at(pixel, (w, h));
+    assert_eq!(
+        chain.len(),
+        5,
+        "truth, fibre events, one event, map shadows, raster"
+    );
+    for (label, _) in &chain {
+        assert!(
+            harness.query_by_label_contains(&format!("{label} (")).is_some(),
+            "no note for {label}"
+        );
+    }
 }

@@ -40,6 +40,32 @@ fn open_transparency_section(harness: &mut Harness<'_, HairlabApp>) {
     harness.run();
 }
 
+/// Clicks `pixel` of the compare view's reference image; the pixel inspector opens on it.
+fn click_pixel(harness: &mut Harness<'_, HairlabApp>, pixel: [u32; 2]) {
+    let app = harness.state();
+    let frames = app.compare().frames().expect("compare frames rendered");
+    let (w, h) = (frames.width, frames.height);
+    let rect = app.compare().image_rect(0).expect("reference image drawn");
+    let pos = rect.min
+        + egui::vec2(
+            (pixel[0] as f32 + 0.5) * rect.width() / w as f32,
+            (pixel[1] as f32 + 0.5) * rect.height() / h as f32,
+        );
+    harness.hover_at(pos);
+    harness.step();
+    harness.drag_at(pos);
+    harness.step();
+    harness.drop_at(pos);
+    harness.run();
+    let app = harness.state();
+    assert!(app.pixel_inspector().open, "a click opens the pixel inspector");
+    assert_eq!(
+        app.pixel_inspector().pixel,
+        Some(pixel),
+        "clicked {pos:?} in {rect:?}"
+    );
+}
+
 /// Opens the compare window and lets it render.
 fn open_compare(harness: &mut Harness<'_, HairlabApp>) {
     open_transparency_section(harness);

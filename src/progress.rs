@@ -2,7 +2,8 @@
 //! a report, a motion measurement, the path tracer, a scene build) takes a `&mut dyn Progress`, tells it what it
 //! does and how far it got at its natural steps, and stops early once [`Progress::step`] answers `false`. The
 //! window's jobs (`app::jobs::JobCtl`), the terminal's bar with Ctrl-C (`cli::progress`), a closure and
-//! [`Quiet`] (never stops) implement it; [`Part`] maps a phase onto a sub-range of the whole.
+//! [`Quiet`] (never stops) implement it; [`Part`] maps a phase onto a sub-range of the whole. A loop that keeps
+//! what it made when stopped returns an [`Outcome`]: complete, or stopped with what was kept.
 
 /// Told how far a long loop got; answers whether to go on.
 pub trait Progress {
@@ -60,8 +61,81 @@ impl Progress for Part<'_> {
     }
 }
 
-/// The error of a run that stops only by failing (a streamed output that must not be left half-written) when its
-/// [`Progress`] asked it to stop.
+/// The end of a long loop that keeps its partial work: every unit done, or stopped (its [`Progress`] said so)
+/// with the units finished before the stop. The one way a library loop says it was stopped; it dereferences to
+/// what it holds either way.
+#[must_use = "a stopped run kept only part of its work: say so, or pass the outcome on"]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome<T> {
+    Complete(T),
+    Stopped(T),
+}
+
+impl<T> Outcome<T> {
+    /// `value`, stopped or complete.
+    pub fn new(value: T, stopped: bool) -> Self {
+        if stopped {
+            Outcome::Stopped(value)
+        } else {
+            Outcome::Complete(value)
+        }
+    }
+
+    pub fn is_stopped(&self) -> bool {
+        matches!(self, Outcome::Stopped(_))
+    }
+
+    /// What the run made (all of it, or what it kept when stopped).
+    pub fn kept(self) -> T {
+        match self {
+            Outcome::Complete(t) | Outcome::Stopped(t) => t,
+        }
+    }
+
+    pub fn as_ref(&self) -> Outcome<&T> {
+        Outcome::new(&**self, self.is_stopped())
+    }
+
+    /// The same end, holding `f` of the value.
+    pub fn map<U>(self, f: impl FnOnce(T) -> U) -> Outcome<U> {
+        let stopped = self.is_stopped();
+        Outcome::new(f(self.kept()), stopped)
+    }
+
+    /// [`Outcome::map`] through a step that may fail.
+    pub fn try_map<U, E>(self, f: impl FnOnce(T) -> Result<U, E>) -> Result<Outcome<U>, E> {
+        let stopped = self.is_stopped();
+        Ok(Outcome::new(f(self.kept())?, stopped))
+    }
+
+    /// Stopped if this was, or if a later phase of the same run was (`stopped`).
+    pub fn or_stopped(self, stopped: bool) -> Self {
+        let stopped = stopped || self.is_stopped();
+        Outcome::new(self.kept(), stopped)
+    }
+}
+
+impl<T> std::ops::Deref for Outcome<T> {
+    type Target = T;
+
+    fn deref(&self) -> &T {
+        match self {
+            Outcome::Complete(t) | Outcome::Stopped(t) => t,
+        }
+    }
+}
+
+impl<T> std::ops::DerefMut for Outcome<T> {
+    fn deref_mut(&mut self) -> &mut T {
+        match self {
+            Outcome::Complete(t) | Outcome::Stopped(t) => t,
+        }
+    }
+}
+
+/// The error of a run that cannot keep partial work (a streamed output that must not be left half-written, e.g.
+/// an animation renamed into place once every frame is in) when its [`Progress`] asked it to stop: such a run
+/// is all or nothing, so it fails instead of returning an [`Outcome`].
 #[derive(Debug, thiserror::Error)]
 #[error("stopped")]
 pub struct Stopped;
@@ -95,6 +169,22 @@ mod tests {
             seen,
             [("a", 0.5), ("b", 0.625), ("c", 0.75), ("d", 0.75)].map(|(l, f)| (l.to_string(), f))
         );
+    }
+
+    #[test]
+    fn an_outcome_keeps_its_value_and_whether_it_was_stopped() {
+        let done = Outcome::new(vec![1, 2, 3], false);
+        assert_eq!(done, Outcome::Complete(vec![1, 2, 3]));
+        assert!(!done.is_stopped());
+        assert_eq!(done.len(), 3, "reads through to the value");
+        let cut = Outcome::new(vec![1], true);
+        assert_eq!(cut.as_ref(), Outcome::Stopped(&vec![1]));
+        assert_eq!(cut.clone().map(|v| v.len()), Outcome::Stopped(1));
+        assert_eq!(cut.clone().try_map(|v| Err::<usize, _>(v[0])), Err(1));
+        assert_eq!(cut.kept(), [1]);
+        assert_eq!(done.clone().or_stopped(false), Outcome::Complete(vec![1, 2, 3]));
+        assert_eq!(done.or_stopped(true), Outcome::Stopped(vec![1, 2, 3]));
+        assert_eq!(Outcome::Stopped(2).or_stopped(false), Outcome::Stopped(2));
     }
 
     #[test]

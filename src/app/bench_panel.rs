@@ -1,5 +1,6 @@
 //! The Bench window: the sweep of `hairlab bench` on the current settings, a job ([`super::jobs`]) with its
-//! own headless GPU device (Stop keeps the configurations measured, the job bar's Cancel drops them), charted as GPU time (log scale) against the chosen accuracy metric
+//! own headless GPU device (the job bar's Stop keeps the configurations measured, Cancel drops them), charted as
+//! GPU time (log scale) against the chosen accuracy metric
 //! (map error, a texel-error percentile, the share of bad texels, ...) in egui_plot —
 //! the same chart model (`bench::chart`) as the PNG and SVG: one colour per method, the Pareto front connected,
 //! the configuration named on hover. Clicking a point (or a configuration in the table) makes it the app's
@@ -8,21 +9,14 @@
 use super::HairlabApp;
 use super::jobs::{self, JobStatus, Poll};
 use crate::bench::chart::{Chart, Mark};
-use crate::bench::{self, BenchResult, BenchRow};
+use crate::bench::{self, BenchOutcome, BenchResult, BenchRow};
+use crate::progress::Outcome;
 use egui_plot::{GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, Points};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Configurations per `measure` call: a stop takes effect after at most this many.
 const CHUNK: usize = 4;
 /// How near (points) a click must land to pick a configuration.
 const PICK_RADIUS: f32 = 12.0;
-
-/// A running sweep: the job, and the flag its Stop button sets.
-struct Job {
-    job: jobs::Job<Result<Option<BenchResult>, String>>,
-    stop: Arc<AtomicBool>,
-}
 
 /// State of the Bench window.
 pub struct BenchPanel {
@@ -30,8 +24,9 @@ pub struct BenchPanel {
     /// Methods to sweep, and whether each is on.
     methods: Vec<(&'static str, bool)>,
     pub(super) frames: u32,
-    job: Option<Job>,
-    result: Option<BenchResult>,
+    job: Option<jobs::Job<Result<BenchOutcome, String>>>,
+    /// The last bench run to its end or stopped, with what it kept.
+    result: Option<Outcome<BenchResult>>,
     /// Where each row's point was drawn in the last frame (screen points).
     on_screen: Vec<Option<egui::Pos2>>,
     /// **Export report…** under way, and its folder (`report_export.rs`).
@@ -71,8 +66,9 @@ fn row_text(result: &BenchResult, r: &BenchRow) -> String {
 }
 
 impl HairlabApp {
-    /// The last finished (or cancelled) bench in the window.
-    pub fn bench_result(&self) -> Option<&BenchResult> {
+    /// The last bench in the window, complete or stopped with what it kept (a cancelled one leaves the one
+    /// before).
+    pub fn bench_result(&self) -> Option<&Outcome<BenchResult>> {
         self.bench.result.as_ref()
     }
 
@@ -83,7 +79,7 @@ impl HairlabApp {
 
     /// The sweep under way, for the progress bar of every job (`jobs.rs`).
     pub(super) fn bench_status(&self) -> Option<JobStatus> {
-        self.bench.job.as_ref().map(|j| j.job.status())
+        self.bench.job.as_ref().map(jobs::Job::status)
     }
 
     /// Where the point of result row `row` was drawn in the last frame, in screen points.
@@ -106,22 +102,19 @@ impl HairlabApp {
         }
         let settings = self.settings.clone();
         let frames = self.bench.frames;
-        let stop = Arc::new(AtomicBool::new(false));
-        let stopping = stop.clone();
         let job = jobs::Job::spawn("bench", ctx, self.job_gate.clone(), move |ctl| {
-            let mut progress = |label: &str, f: f32| ctl.step(label, f) && !stopping.load(Ordering::Relaxed);
             let result = bench::run(
                 &settings,
                 "current settings",
                 &methods,
                 frames,
                 CHUNK,
-                &mut progress,
+                &mut ctl.clone(),
             );
-            // A stop keeps what was measured; a cancel (the job bar) drops it.
-            (!ctl.cancelled()).then(|| result.map_err(|e| format!("{e:#}")))
-        });
-        self.bench.job = Some(Job { job, stop });
+            Some(result.map_err(|e| format!("{e:#}")))
+        })
+        .stoppable();
+        self.bench.job = Some(job);
         self.info("bench started");
     }
 
@@ -130,7 +123,7 @@ impl HairlabApp {
         let Some(job) = self.bench.job.as_ref() else {
             return;
         };
-        let done = match job.job.poll() {
+        let done = match job.poll() {
             Poll::Running => return,
             Poll::Done(r) => r,
             Poll::Gone => {
@@ -140,14 +133,14 @@ impl HairlabApp {
             }
         };
         self.bench.job = None;
-        match done {
-            Ok(Some(r)) => {
-                let what = if r.cancelled { "stopped after" } else { "done:" };
+        match done.map(|o| (o.is_stopped(), o.kept())) {
+            Ok((stopped, Some(r))) => {
+                let what = if stopped { "stopped: kept" } else { "done:" };
                 self.info(format!("bench {what} {} configurations measured", r.rows.len()));
                 self.bench.on_screen.clear();
-                self.bench.result = Some(r);
+                self.bench.result = Some(Outcome::new(r, stopped));
             }
-            Ok(None) => self.info("bench stopped before any configuration finished"),
+            Ok((_, None)) => self.info("bench stopped before any configuration finished"),
             Err(e) => self.error(format!("bench: {e}")),
         }
     }
@@ -200,21 +193,12 @@ impl HairlabApp {
             });
         });
         ui.horizontal(|ui| {
-            if !running {
-                if ui.button("Run bench").clicked() {
-                    self.start_bench(ctx);
-                }
-            } else if ui
-                .button("Stop")
-                .on_hover_text("stop after the configurations under way and keep those measured")
-                .clicked()
-                && let Some(job) = &self.bench.job
-            {
-                job.stop.store(true, Ordering::Relaxed);
-                self.info("bench: stopping after the configurations under way");
+            if !running && ui.button("Run bench").clicked() {
+                self.start_bench(ctx);
             }
+            // Stop and Cancel are the job bar's.
             if let Some(job) = &self.bench.job {
-                let s = job.job.status();
+                let s = job.status();
                 ui.add(egui::ProgressBar::new(s.fraction).text(format!(
                     "{} · {:.0} s",
                     s.stage,
@@ -251,10 +235,8 @@ impl HairlabApp {
                 }
             }
             Some((job, _)) => {
+                // Stop (keeps the page of what finished) and Cancel (writes none) are the job bar's.
                 let status = job.status();
-                if ui.button("Cancel report").clicked() {
-                    status.cancel();
-                }
                 ui.add(egui::ProgressBar::new(status.fraction).text(format!("report: {}", status.stage)));
             }
         });

@@ -1,9 +1,13 @@
 //! Long jobs off the UI thread. A [`Job`] runs its work on a worker thread; the work reports its stage and
-//! how far it got through a [`JobCtl`] (the library loops' [`crate::progress::Progress`]) at its natural steps (a batch of strands, a method's map error, ...),
-//! and stops early once cancelled. The UI thread polls the job each frame and applies a finished result in
-//! one go, so while it runs the window keeps drawing the previous state, and a cancelled job leaves that state
-//! exactly as it was. Dropping a job cancels it, which is how a second job of the same kind replaces the
-//! first. [`jobs_bar`] draws every running job: its name, stage, a progress bar with the time left and Cancel.
+//! how far it got through a [`JobCtl`] (the library loops' [`crate::progress::Progress`]) at its natural steps
+//! (a batch of strands, a method's map error, ...), and stops early once cancelled or stopped. The UI thread
+//! polls the job each frame and applies a finished result in one go, so while it runs the window keeps drawing
+//! the previous state. One rule for every job: **Cancel** drops the job and its result, leaving that state
+//! exactly as it was; **Stop**, offered by a job that keeps partial work ([`Job::stoppable`]: the bench, the
+//! report export, the motion measurement), asks the work to end at its next natural step and keeps what it made
+//! (the library's [`crate::progress::Outcome::Stopped`]). Dropping a job cancels it, which is how a second job
+//! of the same kind replaces the first. [`jobs_bar`] draws every running job: its name, stage, a progress bar
+//! with the time left, Stop where offered, and Cancel.
 //!
 //! Also here: [`Settle`], the one place that decides when the input has settled enough for the exact
 //! reference and the whole-map statistics to run again.
@@ -32,11 +36,11 @@ impl JobGate {
         cv.notify_all();
     }
 
-    /// Waits until the gate opens or `cancel` is set.
-    fn pass(&self, cancel: &AtomicBool) {
+    /// Waits until the gate opens or `ended()` (the job was cancelled or stopped).
+    fn pass(&self, ended: impl Fn() -> bool) {
         let (open, cv) = &*self.0;
         let mut is_open = open.lock().unwrap_or_else(|e| e.into_inner());
-        while !*is_open && !cancel.load(Ordering::Relaxed) {
+        while !*is_open && !ended() {
             is_open = cv
                 .wait_timeout(is_open, Duration::from_millis(10))
                 .unwrap_or_else(|e| e.into_inner())
@@ -55,18 +59,22 @@ struct Stage {
 /// The worker's side of a job: reports progress and tells whether to go on.
 #[derive(Clone)]
 pub struct JobCtl {
+    /// Cancel: the result is dropped.
     cancel: Arc<AtomicBool>,
+    /// Stop: the work ends at its next step and its result (what it made so far) is kept.
+    stop: Arc<AtomicBool>,
     stage: Arc<Mutex<Stage>>,
     gate: Option<JobGate>,
     ctx: egui::Context,
 }
 
 impl JobCtl {
-    /// Reports `label` at `fraction` (0..=1) of the whole job; `false` once the job is cancelled (the work
-    /// should then stop and return `None`). Waits here while a test's [`JobGate`] is closed.
+    /// Reports `label` at `fraction` (0..=1) of the whole job; `false` once the job is cancelled or stopped
+    /// (the work should then end: cancelled, its result is dropped whatever it returns; stopped, it returns what
+    /// it made). Waits here while a test's [`JobGate`] is closed.
     pub fn step(&self, label: &str, fraction: f32) -> bool {
         if let Some(g) = &self.gate {
-            g.pass(&self.cancel);
+            g.pass(|| self.cancelled() || self.stopped());
         }
         {
             let mut s = self.stage.lock().unwrap_or_else(|e| e.into_inner());
@@ -76,11 +84,16 @@ impl JobCtl {
             s.fraction = fraction.clamp(0.0, 1.0);
         }
         self.ctx.request_repaint();
-        !self.cancelled()
+        !(self.cancelled() || self.stopped())
     }
 
     pub fn cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
+    }
+
+    /// Whether Stop was asked for.
+    pub fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
     }
 }
 
@@ -100,6 +113,8 @@ pub struct JobStatus {
     pub fraction: f32,
     pub elapsed: Duration,
     cancel: Arc<AtomicBool>,
+    /// The job's Stop flag, when it keeps partial work ([`Job::stoppable`]).
+    stop: Option<Arc<AtomicBool>>,
 }
 
 impl JobStatus {
@@ -112,9 +127,21 @@ impl JobStatus {
         })
     }
 
-    /// Asks the job to stop; its owner drops it (and its result) at its next poll.
+    /// Asks the job to end; its owner drops it (and its result) at its next poll.
     pub fn cancel(&self) {
         self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether the job offers Stop (it keeps partial work).
+    pub fn stoppable(&self) -> bool {
+        self.stop.is_some()
+    }
+
+    /// Asks the job to end at its next step and keep what it made (nothing for a job that does not offer Stop).
+    pub fn stop(&self) {
+        if let Some(stop) = &self.stop {
+            stop.store(true, Ordering::Relaxed);
+        }
     }
 }
 
@@ -131,11 +158,14 @@ pub struct Job<T> {
     name: &'static str,
     started: Instant,
     ctl: JobCtl,
+    /// Offers Stop.
+    stoppable: bool,
     rx: mpsc::Receiver<Option<T>>,
 }
 
 impl<T: Send + 'static> Job<T> {
-    /// Starts `work` on a worker thread; it returns `None` when it stopped because it was cancelled.
+    /// Starts `work` on a worker thread; it may return `None` when it ended because it was cancelled (a
+    /// cancelled job's result is dropped either way).
     pub fn spawn(
         name: &'static str,
         ctx: &egui::Context,
@@ -144,6 +174,7 @@ impl<T: Send + 'static> Job<T> {
     ) -> Job<T> {
         let ctl = JobCtl {
             cancel: Arc::new(AtomicBool::new(false)),
+            stop: Arc::new(AtomicBool::new(false)),
             stage: Arc::new(Mutex::new(Stage {
                 label: "starting".to_string(),
                 fraction: 0.0,
@@ -162,12 +193,20 @@ impl<T: Send + 'static> Job<T> {
             name,
             started: Instant::now(),
             ctl,
+            stoppable: false,
             rx,
         }
     }
 }
 
 impl<T> Job<T> {
+    /// This job offering Stop: its work keeps what it made when [`JobCtl::step`] answers `false` for a stop
+    /// (and returns it, e.g. as an [`crate::progress::Outcome`]).
+    pub fn stoppable(mut self) -> Self {
+        self.stoppable = true;
+        self
+    }
+
     /// The result, once the job finished and was not cancelled.
     pub fn poll(&self) -> Poll<T> {
         self.take(
@@ -211,6 +250,7 @@ impl<T> Job<T> {
             fraction: s.fraction,
             elapsed: self.started.elapsed(),
             cancel: self.ctl.cancel.clone(),
+            stop: self.stoppable.then(|| self.ctl.stop.clone()),
         }
     }
 }
@@ -221,8 +261,8 @@ impl<T> Drop for Job<T> {
     }
 }
 
-/// One row per running job: its name and stage, a progress bar with the time left, and Cancel. `hide_times`
-/// replaces the times (UI snapshots).
+/// One row per running job: its name and stage, a progress bar with the time left, Stop (a job that keeps
+/// partial work) and Cancel. `hide_times` replaces the times (UI snapshots).
 pub fn jobs_bar(ui: &mut egui::Ui, jobs: &[JobStatus], hide_times: bool) {
     for job in jobs {
         ui.horizontal(|ui| {
@@ -232,9 +272,17 @@ pub fn jobs_bar(ui: &mut egui::Ui, jobs: &[JobStatus], hide_times: bool) {
                 Some(eta) => format!(" · {:.0} s left", eta.as_secs_f64().ceil()),
                 None => " · estimating the time left".to_string(),
             };
+            if job.stoppable()
+                && ui
+                    .button("Stop")
+                    .on_hover_text("end this job at its next step and keep what it made so far")
+                    .clicked()
+            {
+                job.stop();
+            }
             let cancel = ui
                 .button("Cancel")
-                .on_hover_text("stop this job and keep everything as it was before it started");
+                .on_hover_text("end this job and keep everything as it was before it started");
             if cancel.clicked() {
                 job.cancel();
             }
@@ -316,6 +364,29 @@ mod tests {
         assert!(job.cancelled());
     }
 
+    /// Stop ends the work at its next step and hands over what it made; the job bar offers Stop only for such
+    /// a job.
+    #[test]
+    fn a_stopped_job_keeps_what_it_made() {
+        let ctx = egui::Context::default();
+        let gate = JobGate::default();
+        let job = Job::spawn("test", &ctx, Some(gate), |ctl| {
+            let mut made = vec![1];
+            while ctl.step("held", 0.0) {
+                made.push(made.len() + 1);
+            }
+            Some(made)
+        })
+        .stoppable();
+        assert!(job.status().stoppable());
+        job.status().stop();
+        // The stop frees the job from the closed gate; its first step answers `false`.
+        assert!(matches!(job.wait(Duration::from_secs(60)), Poll::Done(made) if made == [1]));
+        assert!(!job.cancelled());
+        let plain = Job::spawn("test", &ctx, None, |_| Some(0));
+        assert!(!plain.status().stoppable());
+    }
+
     #[test]
     fn eta_extrapolates_the_elapsed_time() {
         let status = |fraction| JobStatus {
@@ -324,6 +395,7 @@ mod tests {
             fraction,
             elapsed: Duration::from_secs(3),
             cancel: Arc::default(),
+            stop: None,
         };
         assert_eq!(status(0.25).eta(), Some(Duration::from_secs(9)));
         assert_eq!(status(0.0).eta(), None);

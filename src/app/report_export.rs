@@ -1,21 +1,23 @@
 //! The Bench window's **Export report…**: `hairlab report` of the current scene and selection (the window's
 //! settings, its shadow method and transparency technique, the motion when the scene has one, the Bench
-//! window's timed frames) as a job ([`super::jobs`]) with its progress and Cancel, written into
-//! `hairlab-report/` of the chosen folder with the window's settings beside the page (`settings.toml`) and the
-//! command that reproduces it from them. Cancel keeps the page of what finished, as Ctrl-C does.
+//! window's timed frames) as a job ([`super::jobs`]) with its progress, written into `hairlab-report/` of the
+//! chosen folder with the window's settings beside the page (`settings.toml`) and the command that reproduces it
+//! from them. The job bar's Stop writes the page of what finished, as Ctrl-C does; Cancel writes none (an
+//! earlier report there stays).
 
 use super::HairlabApp;
 use super::jobs::{Job, Poll};
 use crate::measure::MethodConfig;
 use crate::measure::transparency::TechniqueConfig;
+use crate::progress::Outcome;
 use crate::report::run::Plan;
 use std::path::{Path, PathBuf};
 
 /// The folder the report is written to inside the chosen one.
 pub const REPORT_DIR: &str = "hairlab-report";
 
-/// What the export job gives back: the page, and the configurations finished when it was cancelled.
-pub type ReportDone = Result<(PathBuf, Option<usize>), String>;
+/// What the export job gives back: the page and the configurations on it (stopped: those finished).
+pub type ReportDone = Result<Outcome<(PathBuf, usize)>, String>;
 
 /// The report's folder for the chosen folder `dir`.
 fn out_shown(dir: &Path) -> PathBuf {
@@ -72,9 +74,20 @@ impl HairlabApp {
         let toml = settings.to_toml().into_bytes();
         let job = Job::spawn("report", &self.egui_ctx, self.job_gate.clone(), move |ctl| {
             let extra = [("settings.toml", toml)];
-            let done = crate::report::fresh(&out, &plan, &settings, command, &extra, &mut ctl.clone());
-            Some(done.map_err(|e| format!("{e:#}")))
-        });
+            let study = crate::report::study_fresh(&out, &plan, &settings, &extra, &mut ctl.clone());
+            // Cancelled, the draft is dropped unwritten; stopped, the page holds what finished.
+            if ctl.cancelled() {
+                return None;
+            }
+            let page = study.and_then(|study| {
+                study.try_map(|study| {
+                    let configurations = study.configurations();
+                    Ok((study.finish(command)?, configurations))
+                })
+            });
+            Some(page.map_err(|e| format!("{e:#}")))
+        })
+        .stoppable();
         self.info(format!("report: writing {}", out_shown(dir).display()));
         self.bench.report = Some((job, out_shown(dir)));
     }
@@ -86,17 +99,20 @@ impl HairlabApp {
         };
         let done = match job.poll() {
             Poll::Running => return,
-            // Cancelled: the study stops after the configuration in progress and writes the page of those
-            // finished (or nothing, before the first).
-            Poll::Gone if job.cancelled() => Ok((out.join("index.html"), Some(0))),
+            Poll::Gone if job.cancelled() => Ok(None),
             Poll::Gone => Err("the report stopped without a page".to_string()),
-            Poll::Done(done) => done,
+            Poll::Done(done) => done.map(Some),
         };
+        let out = out.clone();
         self.bench.report = None;
         match done {
-            Ok((page, None)) => self.info(format!("report: wrote {}", page.display())),
-            Ok((page, Some(_))) => self.info(format!(
-                "report: cancelled; {} gets the configurations finished",
+            Ok(None) => self.info(format!(
+                "report cancelled: nothing written ({} as it was)",
+                out.display()
+            )),
+            Ok(Some(Outcome::Complete((page, _)))) => self.info(format!("report: wrote {}", page.display())),
+            Ok(Some(Outcome::Stopped((page, n)))) => self.info(format!(
+                "report stopped: kept {n} configurations in {}",
                 page.display()
             )),
             Err(e) => self.error(format!("report: {e}")),

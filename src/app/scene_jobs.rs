@@ -154,8 +154,8 @@ impl HairlabApp {
         gate
     }
 
-    /// Every job under way (scene, analysis, the inspector's, compare, time view, animation export, bench), as
-    /// the progress bar shows them.
+    /// Every job under way (scene, analysis, the inspector's, compare, time view, animation export, bench,
+    /// report export), as the progress bar shows them.
     pub fn jobs(&self) -> Vec<JobStatus> {
         let mut all: Vec<JobStatus> = self.scene_job.iter().map(|j| j.job.status()).collect();
         all.extend(self.analysis_job.iter().map(|j| j.job.status()));
@@ -166,6 +166,7 @@ impl HairlabApp {
         all.extend(self.time_view.job_status());
         all.extend(self.animation_export.job_status());
         all.extend(self.bench_status());
+        all.extend(self.bench.report.iter().map(|(job, _)| job.status()));
         all
     }
 

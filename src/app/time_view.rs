@@ -18,6 +18,7 @@ use crate::measure::MethodConfig;
 use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion, usual_configs};
 use crate::measure::temporal::{FollowedPoint, followed_pops};
 use crate::methods::registry;
+use crate::progress::Outcome;
 use crate::scene::Strands;
 use crate::settings::Settings;
 use egui::Color32;
@@ -47,9 +48,10 @@ pub struct TimeView {
     frames: u32,
     /// Every method's usual configurations, or only the selected method as set.
     every_method: bool,
-    /// The measurement under way: its figures or the error; `None` when cancelled.
-    job: Option<Job<Result<MotionMeasurement, String>>>,
-    result: Option<MotionMeasurement>,
+    /// The measurement under way (Stop keeps the configurations measured, Cancel drops them): its figures or
+    /// the error.
+    job: Option<Job<Result<Outcome<MotionMeasurement>, String>>>,
+    result: Option<Outcome<MotionMeasurement>>,
     error: Option<String>,
     /// Configurations (labels) the legend's boxes hide.
     hidden: BTreeSet<String>,
@@ -84,8 +86,8 @@ impl TimeView {
         self.point
     }
 
-    /// The last finished measurement.
-    pub fn result(&self) -> Option<&MotionMeasurement> {
+    /// The last measurement, run to its end or stopped (with the configurations it kept).
+    pub fn result(&self) -> Option<&Outcome<MotionMeasurement>> {
         self.result.as_ref()
     }
 
@@ -117,14 +119,17 @@ impl TimeView {
         self.cancel();
         self.error = None;
         let (settings, configs, frames) = (settings.clone(), self.configs(settings), self.frames);
-        self.job = Some(Job::spawn("time view", ctx, gate, move |ctl| {
-            let options = MotionOptions {
-                follow: Some(point),
-                after_each: None,
-            };
-            let m = measure_motion(&gpu, &settings, &configs, frames, options, &mut ctl.clone());
-            (!ctl.cancelled()).then(|| m.map_err(|e| format!("{e:#}")))
-        }));
+        self.job = Some(
+            Job::spawn("time view", ctx, gate, move |ctl| {
+                let options = MotionOptions {
+                    follow: Some(point),
+                    after_each: None,
+                };
+                let m = measure_motion(&gpu, &settings, &configs, frames, options, &mut ctl.clone());
+                Some(m.map_err(|e| format!("{e:#}")))
+            })
+            .stoppable(),
+        );
     }
 
     /// Stops the measurement under way; the previous figures stay.
@@ -132,7 +137,8 @@ impl TimeView {
         self.job = None;
     }
 
-    /// Takes the measurement once it is done: its figures replace the previous ones; a cancelled run leaves them.
+    /// Takes the measurement once it is done: its figures (all, or those kept by Stop) replace the previous ones;
+    /// a cancelled run leaves them.
     pub fn poll(&mut self) {
         let Some(job) = &self.job else { return };
         match job.poll() {
@@ -180,7 +186,7 @@ impl TimeView {
             let run = ui
                 .add_enabled(!self.is_running(), egui::Button::new("Run"))
                 .on_disabled_hover_text(
-                    "measuring: the job bar under the viewport shows how far, with Cancel",
+                    "measuring: the job bar under the viewport shows how far, with Stop and Cancel",
                 );
             if run.clicked() {
                 action = Some(TimeViewAction::Run);
@@ -200,6 +206,9 @@ impl TimeView {
         let Some(m) = &self.result else {
             return action;
         };
+        if m.is_stopped() {
+            ui.label(format!("stopped: kept {} configurations", m.rows.len()));
+        }
         let (seek, layout) = charts(ui, m, frame, &mut self.hidden);
         self.layout = Some(layout);
         action.or(seek.map(TimeViewAction::Seek))

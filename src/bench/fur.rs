@@ -8,6 +8,7 @@ use crate::io::csv_text;
 use crate::measure::fur::{
     FurConfig, FurMeasurement, FurSceneStats, REFERENCE_LABEL, measure_each, usual_configs,
 };
+use crate::progress::Outcome;
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -117,10 +118,12 @@ impl FurBench {
             &mut crate::progress::Quiet,
             |_| Ok(()),
         )
+        .map(Outcome::kept)
     }
 
     /// `configs` measured, `progress` told each as it starts, `after` called with the bench so far after each
-    /// (to write it): its error ends the run with it; a stop `progress` asks for (Ctrl-C) ends it with the rows so far.
+    /// (to write it): its error ends the run with it; a stop `progress` asks for (Ctrl-C) ends it:
+    /// [`Outcome::Stopped`] with the rows so far.
     pub fn run_each(
         settings: &Settings,
         preset: &str,
@@ -128,7 +131,7 @@ impl FurBench {
         frames: u32,
         progress: &mut dyn crate::progress::Progress,
         mut after: impl FnMut(&FurBench) -> Result<()>,
-    ) -> Result<FurBench> {
+    ) -> Result<Outcome<FurBench>> {
         let bench = |stats: &FurSceneStats, rows: &[FurMeasurement]| FurBench {
             preset: preset.to_string(),
             frames,
@@ -138,7 +141,8 @@ impl FurBench {
         let (stats, rows) = measure_each(settings, configs, frames, progress, |stats, rows| {
             after(&bench(stats, rows))
         })?;
-        Ok(bench(&stats, &rows))
+        // `measure_each` ends early only when stopped.
+        Ok(Outcome::new(bench(&stats, &rows), rows.len() < configs.len()))
     }
 
     /// The reference's row first, then each blending's.

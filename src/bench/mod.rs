@@ -37,7 +37,8 @@ pub use result::{
     ScalingRefusal, ScalingResult, accuracy_metrics, error_metrics, frame_totals, metric_axis, parse_metric,
 };
 pub use run::{
-    ScalingPlan, measure_configs, measure_configs_each, run, run_each, run_scaling, scaling_densities,
+    BenchOutcome, Finished, ScalingPlan, measure_configs, measure_configs_each, run, run_each, run_scaling,
+    scaling_densities,
 };
 pub use stats::{Spread, fit_line, growth_exponent, pareto_front};
 pub use sweep::{

@@ -9,6 +9,7 @@ use super::report::{chart_files, write_files};
 use super::stats::pareto_front;
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionRow, measure_motion_on, usual_configs};
+use crate::progress::Outcome;
 use crate::settings::Settings;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
@@ -178,8 +179,8 @@ pub fn write_motion_bench(
 }
 
 /// `hairlab bench motion`: measures, prints the table and the front, writes the files; `progress` hears what is
-/// measured.
-pub fn run(a: &MotionBenchArgs, progress: &mut dyn crate::progress::Progress) -> Result<()> {
+/// measured. Stopped, the files hold the configurations kept: the outcome holds how many.
+pub fn run(a: &MotionBenchArgs, progress: &mut dyn crate::progress::Progress) -> Result<Outcome<usize>> {
     let (settings, configs) = a.run.resolve()?;
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     let m = measure_motion_on(&gpu, &settings, &configs, a.run.frames, progress)?;
@@ -197,7 +198,7 @@ pub fn run(a: &MotionBenchArgs, progress: &mut dyn crate::progress::Progress) ->
     for path in write_motion_bench(&a.out, &m, &a.run.preset, a.metric)? {
         println!("wrote {}", path.display());
     }
-    Ok(())
+    Ok(m.map(|m| m.rows.len()))
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use super::chart::{self, CHART_SIZE, Chart};
 use super::{BenchResult, ScalingResult, Spread};
 use crate::io::csv_text;
 use crate::methods::ParamValues;
+use crate::progress::Outcome;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use serde::ser::SerializeStruct;
@@ -89,6 +90,8 @@ struct JsonResults<'a> {
     preset: &'a str,
     device: &'a str,
     frames: u32,
+    /// Whether the run was stopped before every configuration was measured (the name kept for readers of
+    /// earlier files; filled from the run's [`Outcome`]).
     cancelled: bool,
     /// What the GPU times cover.
     gpu_ms: &'static str,
@@ -131,15 +134,15 @@ struct JsonPass<'a> {
     ms: Spread,
 }
 
-/// `results.json`: the scene, then `rows` with the same configurations as the CSV.
-pub fn to_json(result: &BenchResult) -> Result<String> {
+/// `results.json`: the scene, whether the run was stopped, then `rows` with the same configurations as the CSV.
+pub fn to_json(result: &Outcome<BenchResult>) -> Result<String> {
     let front = result.front();
     let s = &result.stats;
     let doc = JsonResults {
         preset: &result.preset,
         device: &s.device,
         frames: result.frames,
-        cancelled: result.cancelled,
+        cancelled: result.is_stopped(),
         gpu_ms: "the method's own light passes per frame (the shared light-depth pass left out)",
         scene: JsonScene {
             strands: s.strands,
@@ -310,8 +313,8 @@ pub(crate) fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<V
 }
 
 /// Writes `results.csv` and `results.json` into `dir` (created), each atomically: what a run writes after each
-/// configuration, so that an interrupted run leaves every finished one.
-pub fn write_tables(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
+/// configuration, so that a stopped run leaves every finished one.
+pub fn write_tables(dir: &Path, result: &Outcome<BenchResult>) -> Result<Vec<PathBuf>> {
     write_files(
         dir,
         vec![
@@ -323,7 +326,7 @@ pub fn write_tables(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
 
 /// Writes `results.csv`, `results.json`, `speed_vs_accuracy.png` and `speed_vs_accuracy.svg` into `dir`
 /// (created), each atomically; returns their paths.
-pub fn write_results(dir: &Path, result: &BenchResult) -> Result<Vec<PathBuf>> {
+pub fn write_results(dir: &Path, result: &Outcome<BenchResult>) -> Result<Vec<PathBuf>> {
     let mut files = vec![
         ("results.csv".to_string(), to_csv(result)?.into_bytes()),
         ("results.json".to_string(), to_json(result)?.into_bytes()),
@@ -410,7 +413,6 @@ pub(crate) mod tests {
                 row("method-a", &[("layers", 3.0), ("spacing", 1.0)], 0.25, 0.5),
                 row("method-b", &[("layers", 4.0), ("split_ratio", 0.3)], 0.5, 0.75),
             ],
-            cancelled: false,
             metric: crate::bench::DEFAULT_ACCURACY_METRIC,
         }
     }
@@ -453,8 +455,10 @@ pub(crate) mod tests {
 
     #[test]
     fn results_json_rows_match_with_null_for_infinity() {
-        let json: serde_json::Value = serde_json::from_str(&to_json(&result()).unwrap()).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&to_json(&Outcome::Complete(result())).unwrap()).unwrap();
         assert_eq!(json["preset"], "tiny");
+        assert_eq!(json["cancelled"], false);
         assert_eq!(json["scene"]["segments"], 240);
         let rows = json["rows"].as_array().unwrap();
         assert_eq!(rows.len(), 2);
@@ -468,6 +472,9 @@ pub(crate) mod tests {
         assert!(rows[0]["image_psnr"].is_null());
         assert_eq!(rows[0]["pareto"], true);
         assert_eq!(rows[1]["pareto"], false);
+        let stopped: serde_json::Value =
+            serde_json::from_str(&to_json(&Outcome::Stopped(result())).unwrap()).unwrap();
+        assert_eq!(stopped["cancelled"], true);
     }
 
     fn scaling_point(label: &str, raster: Raster, density: f32, segments: usize, ms: f64) -> ScalingPoint {
@@ -521,7 +528,6 @@ pub(crate) mod tests {
                 fit(Raster::Hardware, 2f64.powi(-20)),
                 fit(Raster::Compute, 2f64.powi(-19)),
             ],
-            cancelled: false,
         }
     }
 

@@ -232,7 +232,8 @@ impl BenchRow {
     }
 }
 
-/// A finished (or cancelled) bench.
+/// A bench's configurations measured (all of them, or those kept when stopped: the run returns an
+/// [`crate::progress::Outcome`] that says which).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchResult {
     /// The preset's name or path, for titles.
@@ -240,8 +241,6 @@ pub struct BenchResult {
     pub stats: SceneStats,
     pub frames: u32,
     pub rows: Vec<BenchRow>,
-    /// Stopped before every configuration was measured.
-    pub cancelled: bool,
     /// The [`ACCURACY_METRICS`] name the chart, the tables and the Pareto front use.
     pub metric: &'static str,
 }
@@ -365,7 +364,7 @@ pub struct ScalingResult {
     pub preset: String,
     pub device: String,
     pub map_resolution: u32,
-    /// The strand density factors measured, smallest first (those finished when the run was cancelled).
+    /// The strand density factors measured, smallest first (those finished when the run was stopped).
     pub densities: Vec<f32>,
     /// The rasterisers each density was measured under.
     pub rasters: Vec<Raster>,
@@ -376,8 +375,6 @@ pub struct ScalingResult {
     /// Configurations refused at some densities (left out of the points and the fits there).
     pub refused: Vec<ScalingRefusal>,
     pub fits: Vec<ScalingFit>,
-    /// Stopped (Ctrl-C) before the last density.
-    pub cancelled: bool,
 }
 
 impl ScalingResult {

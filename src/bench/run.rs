@@ -7,15 +7,23 @@ use super::{
     growth_exponent, sweep_configs, tune_analysed,
 };
 use crate::measure::{self, MethodConfig};
-use crate::progress::{Part, Progress, share};
+use crate::progress::{Outcome, Part, Progress, share};
 use crate::render::caster::Raster;
 use crate::settings::Settings;
 use anyhow::{Result, bail};
 use std::cell::{Cell, RefCell};
 
+/// What a bench run made: its result, [`Outcome::Stopped`] with the configurations measured before a stop
+/// (`None` when it stopped before the first).
+pub type BenchOutcome = Outcome<Option<BenchResult>>;
+
+/// The bench so far, handed to a run's `finished` after each configuration (to write it): stopped (what a stop
+/// now would keep) until the last configuration is in.
+pub type Finished<'a> = &'a mut dyn FnMut(&Outcome<BenchResult>) -> Result<()>;
+
 /// Measures `configs` on `settings`' scene, `chunk` configurations per `measure` call (each call renders the
-/// reference again; a stop `progress` asks for takes effect after the configuration in progress). `None` when
-/// stopped before any row.
+/// reference again; a stop `progress` asks for takes effect after the configuration in progress). No
+/// configuration is an error.
 pub fn measure_configs(
     settings: &Settings,
     preset: &str,
@@ -23,7 +31,7 @@ pub fn measure_configs(
     frames: u32,
     chunk: usize,
     progress: &mut dyn Progress,
-) -> Result<Option<BenchResult>> {
+) -> Result<BenchOutcome> {
     measure_configs_each(
         settings,
         preset,
@@ -43,9 +51,12 @@ pub fn measure_configs_each(
     frames: u32,
     chunk: usize,
     progress: &mut dyn Progress,
-    finished: &mut dyn FnMut(&BenchResult) -> Result<()>,
-) -> Result<Option<BenchResult>> {
+    finished: Finished<'_>,
+) -> Result<BenchOutcome> {
     let total = configs.len();
+    if total == 0 {
+        bail!("the bench has no configuration to measure");
+    }
     let mut stats = None;
     let mut rows = Vec::with_capacity(total);
     let progress = RefCell::new(progress);
@@ -58,7 +69,7 @@ pub fn measure_configs_each(
         let first = rows.len();
         let mut next = 0;
         let stopped = Cell::new(false);
-        let (s, measured) = measure::measure_each(
+        let measured = measure::measure_each(
             settings,
             &methods,
             frames,
@@ -86,10 +97,9 @@ pub fn measure_configs_each(
                                 .map(|(m, c)| BenchRow::from_measurement(m, &c.note, &s.device)),
                         )
                         .collect(),
-                    cancelled: true,
                     metric: DEFAULT_ACCURACY_METRIC,
                 };
-                finished(&partial)?;
+                finished(&Outcome::new(partial, first + so_far.len() < total))?;
                 // Told after each configuration, so a stop asked while it ran ends the run before the next.
                 let label = so_far.last().map_or(String::new(), |m| m.config.label());
                 let done = share(first + so_far.len(), total);
@@ -97,6 +107,8 @@ pub fn measure_configs_each(
                 Ok(())
             },
         )?;
+        stopped.set(stopped.get() || measured.is_stopped());
+        let (s, measured) = measured.kept();
         rows.extend(
             measured
                 .iter()
@@ -111,21 +123,22 @@ pub fn measure_configs_each(
     let done = format!("measured {} of {total} configurations", rows.len());
     // The last step: every configuration is in, or the run stopped already; nothing is left to stop.
     let _ = progress.borrow_mut().step(&done, share(rows.len(), total));
-    Ok(stats.map(|stats| BenchResult {
+    let stopped = rows.len() < total;
+    let result = stats.map(|stats| BenchResult {
         preset: preset.to_string(),
         stats,
         frames,
-        cancelled: rows.len() < total,
         rows,
         metric: DEFAULT_ACCURACY_METRIC,
-    }))
+    });
+    Ok(Outcome::new(result, stopped))
 }
 
 /// The share of a bench's progress bar that tuning the analysed sweep points stands for.
 const TUNE_SHARE: f32 = 0.1;
 
 /// The whole bench of `methods` on `settings`: the analysed sweep points tuned first (e.g. Bounding Opacity
-/// Maps' automatic split ratios), then every configuration. `None` when stopped before any row.
+/// Maps' automatic split ratios), then every configuration.
 pub fn run(
     settings: &Settings,
     preset: &str,
@@ -133,11 +146,11 @@ pub fn run(
     frames: u32,
     chunk: usize,
     progress: &mut dyn Progress,
-) -> Result<Option<BenchResult>> {
-    let Some(tuned) = tune_analysed(settings, methods, &mut Part::of(&mut *progress, 0.0, TUNE_SHARE))?
-    else {
-        return Ok(None);
-    };
+) -> Result<BenchOutcome> {
+    let tuned = tune_analysed(settings, methods, &mut Part::of(&mut *progress, 0.0, TUNE_SHARE))?;
+    if tuned.is_stopped() {
+        return Ok(Outcome::Stopped(None));
+    }
     let configs = sweep_configs(methods, &tuned);
     let mut measuring = Part::of(progress, TUNE_SHARE, 1.0);
     measure_configs(settings, preset, &configs, frames, chunk, &mut measuring)
@@ -150,12 +163,12 @@ pub fn run_each(
     methods: &[&str],
     frames: u32,
     progress: &mut dyn Progress,
-    finished: &mut dyn FnMut(&BenchResult) -> Result<()>,
-) -> Result<Option<BenchResult>> {
-    let Some(tuned) = tune_analysed(settings, methods, &mut Part::of(&mut *progress, 0.0, TUNE_SHARE))?
-    else {
-        return Ok(None);
-    };
+    finished: Finished<'_>,
+) -> Result<BenchOutcome> {
+    let tuned = tune_analysed(settings, methods, &mut Part::of(&mut *progress, 0.0, TUNE_SHARE))?;
+    if tuned.is_stopped() {
+        return Ok(Outcome::Stopped(None));
+    }
     let configs = sweep_configs(methods, &tuned);
     let mut measuring = Part::of(progress, TUNE_SHARE, 1.0);
     measure_configs_each(
@@ -193,8 +206,8 @@ pub fn scaling_densities(base_segments: usize, max_segments: usize, points: usiz
 
 /// Times `configs` at each density of `plan` under each of its rasterisers and fits each (configuration,
 /// rasteriser)'s GPU ms against segments. After each density, `written` gets the result so far (its fits over
-/// the densities done); a stop `progress` asks for (Ctrl-C) ends the run after the density in progress, and the
-/// result returned is then marked `cancelled` and holds the densities done.
+/// the densities done); a stop `progress` asks for (Ctrl-C) ends the run after the density in progress:
+/// [`Outcome::Stopped`] with the densities done.
 pub fn run_scaling(
     settings: &Settings,
     preset: &str,
@@ -202,7 +215,7 @@ pub fn run_scaling(
     plan: &ScalingPlan,
     progress: &mut dyn Progress,
     written: &mut dyn FnMut(&ScalingResult) -> Result<()>,
-) -> Result<ScalingResult> {
+) -> Result<Outcome<ScalingResult>> {
     if let Some(f) = &settings.scene.file {
         bail!(
             "--scaling varies the generator's strand density, and this preset loads {}",
@@ -243,15 +256,13 @@ pub fn run_scaling(
         points: Vec::new(),
         refused: Vec::new(),
         fits: Vec::new(),
-        cancelled: false,
     };
     let total = densities.len() * plan.rasters.len() * configs.len();
     let mut stopped = false;
     for (i, &factor) in densities.iter().enumerate() {
         let label = format!("density x{factor:.3}");
         if stopped || !progress.step(&label, share(i * plan.rasters.len() * configs.len(), total)) {
-            r.cancelled = true;
-            break;
+            return Ok(Outcome::Stopped(r));
         }
         for (j, &raster) in plan.rasters.iter().enumerate() {
             let mut s = settings.clone();
@@ -326,7 +337,7 @@ pub fn run_scaling(
         r.fits = scaling_fits(configs, &plan.rasters, &r.points);
         written(&r)?;
     }
-    Ok(r)
+    Ok(Outcome::Complete(r))
 }
 
 /// The scaling points of the passes every method shares (light depth, the meshes' shadow map and, under the

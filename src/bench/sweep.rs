@@ -6,7 +6,7 @@
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::measure::MethodConfig;
 use crate::methods::{ParamValues, Role, ShadowMethod, registry};
-use crate::progress::Progress;
+use crate::progress::{Outcome, Progress};
 use crate::render::Renderer;
 use crate::render::passes::abuffer::RefFragment;
 use crate::settings::Settings;
@@ -126,12 +126,12 @@ fn reference_lists(settings: &Settings) -> Result<Vec<Vec<RefFragment>>> {
 }
 
 /// Runs each method's analysis on the analysed points of its sweep, on the reference's fragment lists of
-/// `settings`' scene (read once). `None` when `progress` asked to stop.
+/// `settings`' scene (read once); [`Outcome::Stopped`] with the points tuned when `progress` asked to stop.
 pub fn tune_analysed(
     settings: &Settings,
     methods: &[&str],
     progress: &mut dyn Progress,
-) -> Result<Option<Vec<Tuned>>> {
+) -> Result<Outcome<Vec<Tuned>>> {
     let mut points = Vec::new();
     for name in methods {
         let m = registry::find(name).map_err(anyhow::Error::msg)?;
@@ -145,10 +145,10 @@ pub fn tune_analysed(
         }
     }
     if points.is_empty() {
-        return Ok(Some(Vec::new()));
+        return Ok(Outcome::Complete(Vec::new()));
     }
     if !progress.step("reference fragment lists", 0.0) {
-        return Ok(None);
+        return Ok(Outcome::Stopped(Vec::new()));
     }
     let lists = reference_lists(settings)?;
     let total = points.len();
@@ -161,7 +161,7 @@ pub fn tune_analysed(
             crate::methods::format_values(m, &point)
         );
         if !progress.step(&label, crate::progress::share(i, total)) {
-            return Ok(None);
+            return Ok(Outcome::Stopped(out));
         }
         let mut values = point.clone();
         values.extend((a.run)(&lists, &point).apply);
@@ -172,7 +172,7 @@ pub fn tune_analysed(
             note: a.note,
         });
     }
-    Ok(Some(out))
+    Ok(Outcome::Complete(out))
 }
 
 /// `method` with `values`, the parameter its analysis tunes chosen by that analysis on `settings`' scene (for

@@ -9,9 +9,8 @@ use super::chart::{Axis, Chart, Front, Mark, Point, Scale, Series};
 use super::report::{chart_files, write_files};
 use super::stats::pareto_front;
 use crate::io::csv_text;
-use crate::measure::transparency::{
-    EyeStats, TechniqueConfig, TechniqueMeasurement, measure_each_on, measure_on,
-};
+use crate::measure::transparency::{EyeStats, TechniqueConfig, TechniqueMeasurement, measure_each_on};
+use crate::progress::Outcome;
 use crate::render::transparency::{EyeTransparency, registry};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
@@ -43,27 +42,24 @@ pub fn sweep_configs() -> Vec<TechniqueConfig> {
 }
 
 impl TransparencyBench {
+    /// The whole sweep on a device opened by the adapter policy: [`TransparencyBench::run_each`].
     pub fn run(
         settings: &Settings,
         preset: &str,
         frames: u32,
         progress: &mut dyn crate::progress::Progress,
-    ) -> Result<Self> {
+    ) -> Result<Outcome<Self>> {
         let gpu = crate::gpu::Gpu::headless(crate::gpu::AdapterPreference::from_env_or(
             crate::gpu::AdapterPreference::Hardware,
         ))?;
-        let (stats, rows) = measure_on(&gpu, settings, &sweep_configs(), frames, progress)?;
-        Ok(TransparencyBench {
-            preset: preset.to_string(),
-            device: crate::gpu::describe(&gpu.info),
-            frames,
-            stats,
-            rows,
+        Self::run_each(&gpu, settings, preset, &sweep_configs(), frames, progress, |_| {
+            Ok(())
         })
     }
 
     /// `configs` measured on `gpu`, `progress` told each as it starts, `after` called with the bench so far after
-    /// each (to write it); its error ends the run with it; a stop `progress` asks for (Ctrl-C) ends it with the rows so far.
+    /// each (to write it); its error ends the run with it; a stop `progress` asks for (Ctrl-C) ends it:
+    /// [`Outcome::Stopped`] with the rows so far.
     pub fn run_each(
         gpu: &crate::gpu::Gpu,
         settings: &Settings,
@@ -72,7 +68,7 @@ impl TransparencyBench {
         frames: u32,
         progress: &mut dyn crate::progress::Progress,
         mut after: impl FnMut(&TransparencyBench) -> Result<()>,
-    ) -> Result<Self> {
+    ) -> Result<Outcome<Self>> {
         let bench = |stats: &EyeStats, rows: &[TechniqueMeasurement]| TransparencyBench {
             preset: preset.to_string(),
             device: crate::gpu::describe(&gpu.info),
@@ -83,7 +79,8 @@ impl TransparencyBench {
         let (stats, rows) = measure_each_on(gpu, settings, configs, frames, progress, |stats, rows| {
             after(&bench(stats, rows))
         })?;
-        Ok(bench(&stats, &rows))
+        // `measure_each_on` ends early only when stopped.
+        Ok(Outcome::new(bench(&stats, &rows), rows.len() < configs.len()))
     }
 
     /// Indices of the Pareto front (GPU ms against hair RMSE), fastest first.

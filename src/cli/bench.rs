@@ -5,6 +5,7 @@ use crate::bench::{
     ScalingPlan, ScalingResult, parse_methods, parse_metric, prepare_out_dir, run_each, run_scaling,
     scaling_configs, write_results, write_scaling, write_scaling_tables, write_tables,
 };
+use crate::progress::Outcome;
 use crate::render::caster::Raster;
 use crate::settings::Settings;
 use anyhow::{Context, Result, bail};
@@ -212,7 +213,9 @@ impl BenchMode {
 pub fn run_cli(args: &BenchArgs) -> Result<()> {
     let a = match &args.mode {
         Some(BenchMode::Motion(m)) => {
-            return crate::bench::motion::run(m, &mut super::progress::TerminalProgress::uninterruptible());
+            let kept =
+                crate::bench::motion::run(m, &mut super::progress::TerminalProgress::uninterruptible())?;
+            return super::interrupt::finish(&kept, *kept);
         }
         Some(mode) => mode.flags().context("a bench mode without flags")?,
         None => {
@@ -256,10 +259,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         for f in b.write(&out)? {
             println!("wrote {}", f.display());
         }
-        if b.rows.len() < configs.len() {
-            return Err(super::interrupt::Interrupted { done: b.rows.len() }.into());
-        }
-        return Ok(());
+        return super::interrupt::finish(&b, b.rows.len());
     }
     if a.transparency {
         // Ctrl-C stops after the configuration in progress; transparency.csv and transparency.json are rewritten
@@ -282,10 +282,7 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         for f in b.write(&out)? {
             println!("wrote {}", f.display());
         }
-        if b.rows.len() < configs.len() {
-            return Err(super::interrupt::Interrupted { done: b.rows.len() }.into());
-        }
-        return Ok(());
+        return super::interrupt::finish(&b, b.rows.len());
     }
     if a.scaling {
         // Ctrl-C stops after the density in progress; scaling.csv and scaling_points.csv are rewritten whole
@@ -305,38 +302,28 @@ pub fn run_cli(args: &BenchArgs) -> Result<()> {
         for f in write_scaling(&out, &r)? {
             println!("wrote {}", f.display());
         }
-        if r.cancelled {
-            return Err(super::interrupt::Interrupted {
-                done: r.densities.len() * plan.rasters.len() * configs.len(),
-            }
-            .into());
-        }
-        return Ok(());
+        return super::interrupt::finish(&r, r.densities.len() * plan.rasters.len() * configs.len());
     }
     // Ctrl-C stops after the configuration in progress; results.csv and results.json are rewritten whole after
     // each one.
-    let mut write = |partial: &BenchResult| {
+    let mut write = |partial: &Outcome<BenchResult>| {
         let mut partial = partial.clone();
         partial.metric = metric;
         write_tables(&out, &partial).map(|_| ())
     };
-    let result = run_each(&settings, &a.preset, &methods, a.frames, &mut bar, &mut write)?;
+    let outcome = run_each(&settings, &a.preset, &methods, a.frames, &mut bar, &mut write)?;
     drop(bar);
-    let Some(mut result) = result else {
+    let stopped = outcome.is_stopped();
+    let Some(mut result) = outcome.kept() else {
         return Err(super::interrupt::Interrupted { done: 0 }.into());
     };
     result.metric = metric;
     print_table(&result);
+    let result = Outcome::new(result, stopped);
     for f in write_results(&out, &result)? {
         println!("wrote {}", f.display());
     }
-    if result.cancelled {
-        return Err(super::interrupt::Interrupted {
-            done: result.rows.len(),
-        }
-        .into());
-    }
-    Ok(())
+    super::interrupt::finish(&result, result.rows.len())
 }
 
 fn print_table(result: &BenchResult) {

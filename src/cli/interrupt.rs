@@ -3,6 +3,7 @@
 //! written whole. The run then fails with [`Interrupted`], or [`InterruptedAt`] for a run stopped partway
 //! through one long step (exit code 130 either way, as a shell reports a process stopped by SIGINT).
 
+use crate::progress::Outcome;
 use std::sync::Once;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -28,6 +29,15 @@ pub struct InterruptedAt {
 
 fn holds(wrote: Option<&std::path::Path>, done: u64) -> String {
     wrote.map_or(String::new(), |p| format!("; {} holds those {done}", p.display()))
+}
+
+/// The command's end of a run's [`Outcome`] (the one place a stopped run becomes exit code 130): complete, `Ok`;
+/// stopped, [`Interrupted`] after the `done` configurations it kept.
+pub fn finish<T>(outcome: &Outcome<T>, done: usize) -> anyhow::Result<()> {
+    if outcome.is_stopped() {
+        return Err(Interrupted { done }.into());
+    }
+    Ok(())
 }
 
 /// Whether `e` is a run stopped by Ctrl-C ([`Interrupted`] or [`InterruptedAt`]), whose exit code is [`EXIT_CODE`].

@@ -1,6 +1,7 @@
 //! `hairlab measure`: methods, techniques or fur blendings against their exact references.
 
 use crate::methods::registry;
+use crate::progress::Outcome;
 use crate::settings::Settings;
 use anyhow::Result;
 use clap::Args;
@@ -372,10 +373,7 @@ pub(super) fn measure_transparency(a: &TransparencyArgs) -> Result<()> {
     if let Some(dir) = &a.out {
         print_written(&bench.write(dir)?);
     }
-    if rows.len() < configs.len() {
-        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
-    }
-    Ok(())
+    crate::cli::interrupt::finish(&bench, rows.len())
 }
 
 pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
@@ -473,10 +471,7 @@ pub(super) fn measure_fur(a: &FurArgs) -> Result<()> {
     if let Some(dir) = &a.out {
         print_written(&bench.write(dir)?);
     }
-    if rows.len() < configs.len() {
-        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
-    }
-    Ok(())
+    crate::cli::interrupt::finish(&bench, rows.len())
 }
 
 pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
@@ -527,14 +522,16 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
     // Ctrl-C stops after the configuration in progress; with --out, results.csv and results.json are rewritten
     // whole after each one.
     let mut bar = super::progress::TerminalProgress::new();
-    let (stats, rows) =
+    let measured =
         crate::measure::measure_each(&settings, &configs, a.scene.frames, &mut bar, |stats, so_far| {
             if let Some(dir) = &a.out {
-                crate::bench::write_tables(dir, &bench_result(a, stats, so_far, true))?;
+                let partial = Outcome::new(bench_result(a, stats, so_far), so_far.len() < configs.len());
+                crate::bench::write_tables(dir, &partial)?;
             }
             Ok(())
         })?;
     drop(bar);
+    let (stats, rows) = &*measured;
     println!(
         "preset {} (shading {}): {} strands, {} segments; map {}²: {} fragments in {} texels, depth complexity \
          max {} mean {:.1}",
@@ -565,7 +562,7 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
         "{header} {:>9} {:>10} {:>9} {:>5}  passes",
         "GPU ms", "memory MiB", "build MiB", "geom"
     );
-    for m in &rows {
+    for m in rows {
         let passes: Vec<String> = m.pass_ms.iter().map(|(n, ms)| format!("{n} {ms:.2}")).collect();
         let mut line = format!("{:<width$}", m.config.label());
         for k in metrics {
@@ -592,12 +589,13 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
          build: what the method builds its maps from each frame; img RMSE: against the reference image under \
          the same shading model"
     );
-    let cancelled = rows.len() < configs.len();
-    let result = bench_result(a, &stats, &rows, cancelled);
+    let result = measured
+        .as_ref()
+        .map(|(stats, rows)| bench_result(a, stats, rows));
     if let Some(dir) = &a.out {
         print_written(&crate::bench::write_results(dir, &result)?);
     }
-    if !cancelled && (!a.shading.is_empty() || a.truth == TruthKind::PathTraced) {
+    if !result.is_stopped() && (!a.shading.is_empty() || a.truth == TruthKind::PathTraced) {
         let path_traced = a.truth == TruthKind::PathTraced;
         let written = super::measure_shading::shading_table(
             &a.shading,
@@ -609,10 +607,7 @@ pub(super) fn measure_shadows(a: &ShadowsArgs) -> Result<()> {
         )?;
         print_written(&written);
     }
-    if cancelled {
-        return Err(crate::cli::interrupt::Interrupted { done: rows.len() }.into());
-    }
-    Ok(())
+    crate::cli::interrupt::finish(&result, rows.len())
 }
 
 /// `measure`'s rows as a bench result, for `bench`'s writers.
@@ -620,7 +615,6 @@ fn bench_result(
     a: &ShadowsArgs,
     stats: &crate::measure::SceneStats,
     rows: &[crate::measure::Measurement],
-    cancelled: bool,
 ) -> crate::bench::BenchResult {
     crate::bench::BenchResult {
         preset: a.scene.preset.clone(),
@@ -630,7 +624,6 @@ fn bench_result(
             .iter()
             .map(|m| crate::bench::BenchRow::from_measurement(m, "", &stats.device))
             .collect(),
-        cancelled,
         metric: crate::bench::DEFAULT_ACCURACY_METRIC,
     }
 }

@@ -48,10 +48,7 @@ pub fn run(a: &MeasureMotionArgs) -> Result<()> {
     for path in files {
         println!("wrote {}", path.display());
     }
-    if m.rows.len() < configs.len() {
-        return Err(crate::cli::interrupt::Interrupted { done: m.rows.len() }.into());
-    }
-    Ok(())
+    crate::cli::interrupt::finish(&m, m.rows.len())
 }
 
 /// Writes `motion_summary.csv`, `motion_frames.csv` and, with a followed point, `motion_point.csv` of `m` into

@@ -99,14 +99,11 @@ pub fn report(a: &ReportArgs) -> Result<()> {
         };
         // Ctrl-C answers the bar's next step with a stop.
         let mut bar = super::progress::TerminalProgress::new();
-        let (page, interrupted) =
-            crate::report::fresh(&a.out, &plan, &settings, command_line(), &[], &mut bar)?;
+        let written = crate::report::fresh(&a.out, &plan, &settings, command_line(), &[], &mut bar)?;
         drop(bar);
+        let (page, configurations) = &*written;
         println!("wrote {}", page.display());
-        if let Some(done) = interrupted {
-            return Err(super::interrupt::Interrupted { done }.into());
-        }
-        return Ok(());
+        return super::interrupt::finish(&written, *configurations);
     }
     let draft = Draft::new(&a.out)?;
     let study = Study::read(&a.from)?;

@@ -17,7 +17,7 @@ pub mod truth;
 use crate::gpu::timing::Phase;
 use crate::gpu::{AdapterPreference, Gpu};
 use crate::methods::{self, ParamValues, registry};
-use crate::progress::{Progress, share};
+use crate::progress::{Outcome, Progress, share};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use crate::visibility::{self, ErrorDistribution, Fragment, TexelModel, metrics};
@@ -111,20 +111,20 @@ pub fn measure(
     configs: &[MethodConfig],
     frames: u32,
     progress: &mut dyn Progress,
-) -> Result<(SceneStats, Vec<Measurement>)> {
+) -> Result<Outcome<(SceneStats, Vec<Measurement>)>> {
     measure_each(settings, configs, frames, progress, |_, _| Ok(()))
 }
 
 /// [`measure`], handing the measurements so far to `finished` after each configuration (to write them; its error
-/// ends the run with it). A stop `progress` asks for ends the run before the next configuration, with the
-/// configurations finished so far.
+/// ends the run with it). A stop `progress` asks for ends the run before the next configuration:
+/// [`Outcome::Stopped`] with the configurations finished so far.
 pub fn measure_each(
     settings: &Settings,
     configs: &[MethodConfig],
     frames: u32,
     progress: &mut dyn Progress,
     finished: impl FnMut(&SceneStats, &[Measurement]) -> Result<()>,
-) -> Result<(SceneStats, Vec<Measurement>)> {
+) -> Result<Outcome<(SceneStats, Vec<Measurement>)>> {
     let gpu = Gpu::headless(AdapterPreference::from_env_or(AdapterPreference::Hardware))?;
     measure_on_each(&gpu, settings, configs, frames, progress, finished)
 }
@@ -136,7 +136,7 @@ pub fn measure_on(
     configs: &[MethodConfig],
     frames: u32,
     progress: &mut dyn Progress,
-) -> Result<(SceneStats, Vec<Measurement>)> {
+) -> Result<Outcome<(SceneStats, Vec<Measurement>)>> {
     measure_on_each(gpu, settings, configs, frames, progress, |_, _| Ok(()))
 }
 
@@ -148,7 +148,7 @@ pub fn measure_on_each(
     frames: u32,
     progress: &mut dyn Progress,
     mut finished: impl FnMut(&SceneStats, &[Measurement]) -> Result<()>,
-) -> Result<(SceneStats, Vec<Measurement>)> {
+) -> Result<Outcome<(SceneStats, Vec<Measurement>)>> {
     let mut s = settings.clone();
     let scene = s.scene.build()?;
     if s.camera.distance <= 0.0 {
@@ -266,7 +266,7 @@ pub fn measure_on_each(
         });
         finished(&stats, &out)?;
     }
-    Ok((stats, out))
+    Ok(Outcome::new((stats, out), !go))
 }
 
 /// GPU milliseconds of each of the method's own light passes (the shared light-depth and mesh shadow passes

@@ -10,7 +10,7 @@ use super::{IMAGE_SIZE, MethodConfig, PointSamples, TexelSamples, evaluate_all, 
 use crate::gpu::Gpu;
 use crate::gpu::timing::{Phase, phase_ms};
 use crate::methods::{self, ParamValues, registry};
-use crate::progress::{Progress, share};
+use crate::progress::{Outcome, Progress, share};
 use crate::render::{FrameInput, Renderer};
 use crate::settings::Settings;
 use anyhow::{Result, bail};
@@ -200,12 +200,13 @@ pub fn measure_motion_on(
     configs: &[MotionConfig],
     frames: u32,
     progress: &mut dyn Progress,
-) -> Result<MotionMeasurement> {
+) -> Result<Outcome<MotionMeasurement>> {
     measure_motion(gpu, settings, configs, frames, MotionOptions::default(), progress)
 }
 
 /// [`measure_motion_on`] with `options`; `progress` is told what is measured and the share of the work done.
-/// A stop it asks for returns the configurations finished (none when it came before the first finished).
+/// A stop it asks for returns [`Outcome::Stopped`] with the configurations finished (none when it came before
+/// the first finished).
 pub fn measure_motion(
     gpu: &Gpu,
     settings: &Settings,
@@ -213,7 +214,7 @@ pub fn measure_motion(
     frames: u32,
     options: MotionOptions<'_>,
     progress: &mut dyn Progress,
-) -> Result<MotionMeasurement> {
+) -> Result<Outcome<MotionMeasurement>> {
     let steps = frames as usize * (configs.len() + 2);
     let mut done = 0usize;
     let mut step = |what: &str| -> bool {
@@ -241,7 +242,7 @@ pub fn measure_motion(
     let mut cpu_ms = Vec::with_capacity(frames as usize);
     for k in 0..frames {
         if !step(&format!("motion frame {k}")) {
-            return Ok(nothing_measured(gpu, &scene, frames));
+            return Ok(Outcome::Stopped(nothing_measured(gpu, &scene, frames)));
         }
         let start = std::time::Instant::now();
         points.push(motion.frame(k)?.to_vec());
@@ -288,7 +289,7 @@ pub fn measure_motion(
     let mut reference_images = Vec::with_capacity(points.len());
     for (k, p) in points.iter().enumerate() {
         if !step(&format!("{} frame {k}", registry::reference().name())) {
-            return Ok(nothing_measured(gpu, &scene, frames));
+            return Ok(Outcome::Stopped(nothing_measured(gpu, &scene, frames)));
         }
         scene.set_strand_points(p)?;
         r.update_points(p)?;
@@ -361,7 +362,7 @@ pub fn measure_motion(
         let mut followed = Vec::new();
         for (k, (p, reference)) in points.iter().zip(&references).enumerate() {
             if !step(&format!("{label} frame {k}")) {
-                return Ok(measurement(rows));
+                return Ok(Outcome::Stopped(measurement(rows)));
             }
             r.update_points(p)?;
             if let Some((m, pose)) = &mesh_poses[k] {
@@ -441,7 +442,7 @@ pub fn measure_motion(
             after(&so_far)?;
         }
     }
-    Ok(measurement(rows))
+    Ok(Outcome::Complete(measurement(rows)))
 }
 
 /// The measurement of a run stopped before any configuration finished.

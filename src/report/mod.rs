@@ -21,6 +21,7 @@ pub mod page;
 pub mod run;
 pub mod sections;
 
+use crate::progress::Outcome;
 use anyhow::{Context, Result, bail};
 use data::Study;
 use std::path::{Path, PathBuf};
@@ -191,9 +192,57 @@ impl Draft {
     }
 }
 
-/// A fresh study of `settings` (`plan`) written as a report into `out`, with `extra` files (name, bytes) beside
-/// the page: the page's path, and the configurations finished when `progress` stopped the study (`None`: it ran
-/// to the end). Nothing is written when it fails, or when it was stopped before any configuration finished.
+/// A fresh study run into a report's draft, its page not yet written: dropped, it leaves nothing behind (an
+/// earlier report at the output stays).
+pub struct FreshStudy {
+    draft: Draft,
+    study: Study,
+    meta: Meta,
+}
+
+impl FreshStudy {
+    /// The configurations the study holds.
+    pub fn configurations(&self) -> usize {
+        self.study.configurations()
+    }
+
+    /// Writes the page (with `command`, the command line that made it) and moves the report into place: the
+    /// page's path.
+    pub fn finish(self, command: String) -> Result<PathBuf> {
+        let meta = Meta { command, ..self.meta };
+        self.draft.finish(&self.study, &meta)
+    }
+}
+
+/// A fresh study of `settings` (`plan`) run into a draft of the report at `out`, with `extra` files (name, bytes)
+/// beside the page: [`Outcome::Stopped`] with what finished when `progress` stopped it. It fails (nothing
+/// written) when it was stopped before any configuration finished.
+pub fn study_fresh(
+    out: &Path,
+    plan: &run::Plan,
+    settings: &crate::settings::Settings,
+    extra: &[(&str, Vec<u8>)],
+    progress: &mut dyn crate::progress::Progress,
+) -> Result<Outcome<FreshStudy>> {
+    let draft = Draft::new(out)?;
+    for (name, bytes) in extra {
+        crate::io::write_atomic(&draft.path().join(name), bytes)?;
+    }
+    let done = run::run(&draft, plan, settings, progress)?;
+    if done.dirs.is_empty() {
+        bail!("stopped before any configuration finished; no report written");
+    }
+    done.try_map(|done| {
+        Ok(FreshStudy {
+            study: Study::read(&done.dirs)?,
+            meta: done.meta,
+            draft,
+        })
+    })
+}
+
+/// [`study_fresh`] written with `command` on its page: the page's path and the configurations it holds (stopped,
+/// those finished).
 pub fn fresh(
     out: &Path,
     plan: &run::Plan,
@@ -201,19 +250,11 @@ pub fn fresh(
     command: String,
     extra: &[(&str, Vec<u8>)],
     progress: &mut dyn crate::progress::Progress,
-) -> Result<(PathBuf, Option<usize>)> {
-    let draft = Draft::new(out)?;
-    for (name, bytes) in extra {
-        crate::io::write_atomic(&draft.path().join(name), bytes)?;
-    }
-    let done = run::run(&draft, plan, settings, progress)?;
-    if done.dirs.is_empty() {
-        bail!("interrupted before any configuration finished; no report written");
-    }
-    let study = Study::read(&done.dirs)?;
-    let interrupted = (!done.finished).then(|| study.configurations());
-    let meta = Meta { command, ..done.meta };
-    Ok((draft.finish(&study, &meta)?, interrupted))
+) -> Result<Outcome<(PathBuf, usize)>> {
+    study_fresh(out, plan, settings, extra, progress)?.try_map(|study| {
+        let configurations = study.configurations();
+        Ok((study.finish(command)?, configurations))
+    })
 }
 
 /// Copies `names` present in `from` into `to` (created), unless `from` is `to` or there are none.

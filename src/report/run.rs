@@ -1,8 +1,8 @@
 //! A fresh study for a report: the scene's thumbnail, the shadow methods' bench, the transparency bench and,
 //! when asked, the motion measurement, each written into the draft's `data/` folder by the writers `hairlab
 //! bench` and `hairlab measure motion` use, after every configuration. A stop the [`Progress`] asks for (Ctrl-C,
-//! Cancel) takes effect after the configuration in progress; what finished is then read back like any `--from`
-//! folder.
+//! the window's Stop) takes effect after the configuration in progress: the run's [`Outcome`] is stopped, and what
+//! finished is read back like any `--from` folder.
 
 use super::sections::{MOTION_DIR, SHADOWS_DIR, TRANSPARENCY_DIR};
 use super::{AdapterFacts, Draft, Meta};
@@ -11,7 +11,7 @@ use crate::gpu::{AdapterPreference, Gpu};
 use crate::measure::MethodConfig;
 use crate::measure::motion::{MotionConfig, MotionMeasurement, MotionOptions, measure_motion};
 use crate::measure::transparency::TechniqueConfig;
-use crate::progress::{Part, Progress};
+use crate::progress::{Outcome, Part, Progress};
 use crate::settings::Settings;
 use anyhow::{Context, Result};
 use std::cell::Cell;
@@ -38,11 +38,10 @@ pub struct Plan {
     pub truth: bool,
 }
 
-/// The folders a fresh study wrote, its meta data, and whether it ran to the end (false: cancelled).
+/// The folders a fresh study wrote and its meta data.
 pub struct Done {
     pub dirs: Vec<PathBuf>,
     pub meta: Meta,
-    pub finished: bool,
 }
 
 /// The preset whose `[motion]` a still preset's `--motion` study plays.
@@ -68,8 +67,13 @@ fn phases(plan: &Plan) -> [(f32, f32); 5] {
 }
 
 /// Runs `plan` on `settings` into `draft`; `progress` hears what is measured and may stop the study after the
-/// configuration in progress.
-pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn Progress) -> Result<Done> {
+/// configuration in progress ([`Outcome::Stopped`] with the folders of what finished).
+pub fn run(
+    draft: &Draft,
+    plan: &Plan,
+    settings: &Settings,
+    progress: &mut dyn Progress,
+) -> Result<Outcome<Done>> {
     let [thumbnail, shadows, truth_phase, transparency, motion] = phases(plan);
     // A still preset's study in motion plays the stray-strand sweep (one strand's root sliding across the hair's
     // light-facing front, the motion of Sintorn & Assarsson's Fig. 4 failure), as `stray-sweep` declares it.
@@ -118,11 +122,10 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     };
     let root = draft.path();
     if !(go && progress.step("rendering the scene's thumbnail…", thumbnail.0)) {
-        return Ok(Done {
+        return Ok(Outcome::Stopped(Done {
             dirs: Vec::new(),
             meta,
-            finished: false,
-        });
+        }));
     }
     let image = super::images::render(&gpu, settings.clone())?;
     let h = (image.height() * THUMBNAIL_WIDTH / image.width().max(1)).max(1);
@@ -138,7 +141,7 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     let bench_end = shadows.0 + 0.7 * (shadows.1 - shadows.0);
     let mut bench_progress = Part::of(&mut *progress, shadows.0, bench_end);
     let mut written =
-        |partial: &crate::bench::BenchResult| crate::bench::write_tables(&dir, partial).map(|_| ());
+        |partial: &Outcome<crate::bench::BenchResult>| crate::bench::write_tables(&dir, partial).map(|_| ());
     let result = if plan.configs.is_empty() {
         let methods = crate::bench::parse_methods(&[])?;
         crate::bench::run_each(
@@ -167,8 +170,10 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
             &mut written,
         )?
     };
-    if let Some(result) = &result {
-        crate::bench::write_results(&dir, result)?;
+    let bench_stopped = result.is_stopped();
+    if let Some(result) = result.kept() {
+        let result = Outcome::new(result, bench_stopped);
+        crate::bench::write_results(&dir, &result)?;
         let configs: Vec<MethodConfig> = result.rows.iter().map(|r| r.config.clone()).collect();
         let mut images = Part::of(&mut *progress, bench_end, shadows.1);
         if super::images::render_configs(&gpu, settings, &configs, &dir, &mut images)?
@@ -180,17 +185,13 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
             super::curves::write(&gpu, settings, &configs, &dir)?;
             if plan.truth {
                 let mut phase = Part::of(&mut *progress, truth_phase.0, truth_phase.1);
-                truth(&gpu, settings, result, &dir, &mut phase)?;
+                truth(&gpu, settings, &result, &dir, &mut phase)?;
             }
         }
         dirs.push(dir);
     }
-    if !progress.step("measuring the transparency techniques…", transparency.0) {
-        return Ok(Done {
-            dirs,
-            meta,
-            finished: false,
-        });
+    if bench_stopped || !progress.step("measuring the transparency techniques…", transparency.0) {
+        return Ok(Outcome::Stopped(Done { dirs, meta }));
     }
 
     // Eye transparency.
@@ -221,11 +222,7 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
     }
     let stopped = stopped.get() || !progress.step("measured the transparency techniques", transparency.1);
     if stopped || !plan.motion {
-        return Ok(Done {
-            dirs,
-            meta,
-            finished: !stopped,
-        });
+        return Ok(Outcome::new(Done { dirs, meta }, stopped));
     }
 
     // Motion.
@@ -245,14 +242,14 @@ pub fn run(draft: &Draft, plan: &Plan, settings: &Settings, progress: &mut dyn P
         options,
         &mut Part::of(&mut *progress, motion.0, measure_end),
     )?;
-    let mut finished = m.rows.len() == motion_configs.len();
+    let mut stopped = m.is_stopped();
     if !m.rows.is_empty() {
         let configs: Vec<MethodConfig> = m.rows.iter().map(|r| r.config.config.clone()).collect();
         let mut animating = Part::of(&mut *progress, measure_end, motion.1);
-        finished &= super::animations::write(&gpu, settings, &configs, frames.max(2), &dir, &mut animating)?;
+        stopped |= !super::animations::write(&gpu, settings, &configs, frames.max(2), &dir, &mut animating)?;
         dirs.push(dir);
     }
-    Ok(Done { dirs, meta, finished })
+    Ok(Outcome::new(Done { dirs, meta }, stopped))
 }
 
 /// The path-traced truth of `settings` and the decomposition of each of `configs`' error against it under each

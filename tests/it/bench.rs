@@ -685,16 +685,7 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
     )
     .unwrap();
     let mut harness = crate::common::snapshot_harness(settings, [1200.0, 900.0]);
-    harness.get_by_label("Bench").click();
-    harness.run();
-    // Sweep only OSM: uncheck the others.
-    for m in hairlab::bench::sweep_methods()
-        .into_iter()
-        .filter(|m| *m != "osm")
-    {
-        harness.get_by_label(m).click();
-    }
-    harness.run();
+    crate::common::bench_window_on_osm(&mut harness);
     harness.get_by_label("Run bench").click();
     harness.step();
     assert!(harness.state().bench_running());
@@ -706,7 +697,7 @@ fn bench_window_runs_and_a_clicked_point_becomes_the_method() {
     }
     harness.run();
     let result = harness.state().bench_result().expect("a result").clone();
-    assert!(!result.cancelled);
+    assert!(!result.is_stopped());
     let labels: Vec<String> = result.rows.iter().map(|r| r.config.label()).collect();
     let osm = hairlab::methods::registry::find("osm").unwrap();
     assert_eq!(labels.len(), osm.sweep().len(), "{labels:?}");

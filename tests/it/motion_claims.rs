@@ -36,7 +36,7 @@ fn measure(
     let configs: Vec<MotionConfig> = configs.iter().map(|c| MotionConfig::parse(c).unwrap()).collect();
     let m = measure_motion_on(gpu, &settings, &configs, frames, &mut hairlab::progress::Quiet).unwrap();
     eprint!("{}", m.table(&format!("{preset} {overrides:?}")));
-    m
+    m.kept()
 }
 
 fn row<'a>(m: &'a MotionMeasurement, label: &str) -> &'a MotionRow {

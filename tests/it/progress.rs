@@ -1,7 +1,7 @@
 //! Where the library loops stop when their `Progress` answers `false` (`hairlab::progress`): a bench ends after
-//! the configuration in progress and keeps it, a motion measurement keeps the configurations finished, a
-//! streamed animation fails with `Stopped` after the frames handed over, and the reported fractions rise from 0
-//! to 1.
+//! the configuration in progress and keeps it, a motion measurement keeps the configurations finished (both
+//! `Outcome::Stopped`), a streamed animation fails with `Stopped` after the frames handed over, and the reported
+//! fractions rise from 0 to 1.
 
 use hairlab::bench::{self, BenchConfig};
 use hairlab::gpu::Gpu;
@@ -24,7 +24,7 @@ fn small(preset: &str) -> Settings {
 }
 
 /// A stop asked while the first of three configurations runs (the first step after its start answers `false`)
-/// ends the bench after it: its row is kept, the result says it was cut short, and the fractions told rose.
+/// ends the bench after it: its row is kept, the outcome says it was stopped, and the fractions told rose.
 #[test]
 fn a_bench_stopped_during_a_configuration_keeps_that_one_and_measures_no_more() {
     if Gpu::for_tests().is_none() {
@@ -45,12 +45,12 @@ fn a_bench_stopped_during_a_configuration_keeps_that_one_and_measures_no_more() 
         started |= label == first;
         go_on
     };
-    let r = bench::measure_configs(&small("default"), "small", &configs, 1, usize::MAX, &mut progress)
-        .unwrap()
-        .expect("a row before the stop");
+    let outcome =
+        bench::measure_configs(&small("default"), "small", &configs, 1, usize::MAX, &mut progress).unwrap();
+    assert!(outcome.is_stopped());
+    let r = outcome.kept().expect("a row before the stop");
     let labels: Vec<String> = r.rows.iter().map(|row| row.config.label()).collect();
     assert_eq!(labels, [first]);
-    assert!(r.cancelled);
     assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "{fractions:?}");
     assert!(fractions.iter().all(|f| (0.0..=1.0).contains(f)), "{fractions:?}");
     // The step after the first configuration says one of three is done.
@@ -77,6 +77,7 @@ fn a_motion_measurement_stopped_in_a_configuration_keeps_the_ones_finished() {
         &mut progress,
     )
     .unwrap();
+    assert!(m.is_stopped());
     assert_eq!(m.rows.len(), 1);
     assert_eq!(m.rows[0].config.label(), configs[0].label());
     assert_eq!(m.rows[0].frames.len(), 3);
@@ -93,8 +94,9 @@ fn a_stop_at_the_reference_step_measures_no_configuration() {
         asked += 1;
         asked > 1
     };
-    let (stats, rows) =
-        hairlab::measure::measure_on(&gpu, &small("default"), &configs, 1, &mut progress).unwrap();
+    let measured = hairlab::measure::measure_on(&gpu, &small("default"), &configs, 1, &mut progress).unwrap();
+    assert!(measured.is_stopped());
+    let (stats, rows) = measured.kept();
     assert!(rows.is_empty(), "{} rows", rows.len());
     assert!(stats.occupied_texels > 0);
 }
@@ -147,7 +149,7 @@ fn stopped_animation_frames_fail_after_the_frames_handed_over() {
 }
 
 /// The Bench window's sweep is a job in the job bar. Held at its first step by a test gate: the bar's Cancel drops
-/// it at once (no result, "bench cancelled"); a second run stopped with the window's Stop ends at its next step,
+/// it at once (no result, "bench cancelled"); a second run stopped with the bar's Stop ends at its next step,
 /// before any configuration, saying so, and leaves no result either.
 #[test]
 fn the_bench_window_runs_a_job_that_cancel_drops_and_stop_ends() {

@@ -11,7 +11,9 @@ fn run(gpu: &Gpu, preset: &str, overrides: &[&str], configs: &[&str]) -> Vec<Mea
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let settings = crate::common::measured_preset(preset, &overrides);
     let configs: Vec<MethodConfig> = configs.iter().map(|c| MethodConfig::parse(c).unwrap()).collect();
-    let (_, rows) = measure_on(gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet).unwrap();
+    let (_, rows) = measure_on(gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet)
+        .unwrap()
+        .kept();
     for m in &rows {
         eprintln!(
             "{preset} {overrides:?} {}: map error {:.5}, worst texel {:.4}, shading error {:.5}, light-turn flicker {:.5}",

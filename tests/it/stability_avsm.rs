@@ -20,7 +20,9 @@ fn run(gpu: &Gpu, preset: &str, overrides: &[&str]) -> Vec<Measurement> {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let settings = crate::common::measured_preset(preset, &overrides);
     let configs: Vec<MethodConfig> = CONFIGS.iter().map(|c| MethodConfig::parse(c).unwrap()).collect();
-    let (_, rows) = measure_on(gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet).unwrap();
+    let (_, rows) = measure_on(gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet)
+        .unwrap()
+        .kept();
     for m in &rows {
         eprintln!(
             "{preset} {overrides:?} {}: map error {:.5}, worst texel {:.4}, shading error {:.5}",

@@ -155,7 +155,9 @@ fn straight_grazing_rings_fourier_opacity_maps_less_with_more_terms() {
         .collect();
     labels.push("osm:slices=16".into());
     let configs: Vec<MethodConfig> = labels.iter().map(|c| MethodConfig::parse(c).unwrap()).collect();
-    let (_, rows) = measure_on(&gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet).unwrap();
+    let (_, rows) = measure_on(&gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet)
+        .unwrap()
+        .kept();
     for m in &rows {
         eprintln!(
             "straight-grazing {}: map error {:.5}, worst texel {:.4}, shading error {:.5}",

@@ -19,7 +19,9 @@ fn run(gpu: &Gpu, preset: &str) -> Vec<Measurement> {
         .iter()
         .map(|c| MethodConfig::parse(c).unwrap())
         .collect();
-    let (_, rows) = measure_on(gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet).unwrap();
+    let (_, rows) = measure_on(gpu, &settings, &configs, 1, &mut hairlab::progress::Quiet)
+        .unwrap()
+        .kept();
     for m in &rows {
         eprintln!(
             "{preset} {}: map error {:.5}, worst texel {:.4}, shading error {:.5}",

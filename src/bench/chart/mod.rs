@@ -12,6 +12,7 @@
 
 use super::{BenchResult, ScalingResult, metric_axis};
 use crate::measure::SceneStats;
+use crate::progress::Outcome;
 use crate::render::caster::Raster;
 
 mod draw;
@@ -288,14 +289,15 @@ fn scene_notes(preset: &str, s: &SceneStats, extra: &str) -> Vec<String> {
     ]
 }
 
-/// The speed-against-accuracy chart of a result: one colour per method, the Pareto front connected.
-pub fn speed_accuracy_chart(result: &BenchResult) -> Chart {
-    speed_chart_by(
-        result,
-        &|r| result.accuracy(r),
-        metric_axis(result.metric),
-        "Speed vs accuracy",
-    )
+/// The speed-against-accuracy chart of a result: one colour per method, the Pareto front connected; the title
+/// says "(stopped)" when the run was.
+pub fn speed_accuracy_chart(result: &Outcome<BenchResult>) -> Chart {
+    let title = if result.is_stopped() {
+        "Speed vs accuracy (stopped)"
+    } else {
+        "Speed vs accuracy"
+    };
+    speed_chart_by(result, &|r| result.accuracy(r), metric_axis(result.metric), title)
 }
 
 /// The speed chart of a result against another accuracy than its metric: `error(row)` on the y axis (NaN keeps
@@ -332,9 +334,8 @@ pub fn speed_chart_by(
         name: "Pareto front".to_string(),
         points: super::pareto_front(&xy).into_iter().map(point).collect(),
     };
-    let partial = if result.cancelled { " (cancelled)" } else { "" };
     Chart {
-        title: format!("{title}{partial}"),
+        title: title.to_string(),
         notes: scene_notes(&result.preset, &result.stats, ""),
         x: Axis {
             label: format!(

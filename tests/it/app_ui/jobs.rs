@@ -1,5 +1,6 @@
 //! Long jobs off the UI thread: a scene build and a Compare render held at a test gate while the window keeps
-//! answering, their Cancel, and what they give when let through.
+//! answering, their Cancel, and what they give when let through; the one stop rule of the jobs that keep partial
+//! work (the bench, the report export): Stop keeps, Cancel drops.
 
 use super::{open_compare, small_window, tall_harness};
 use egui_kittest::Harness;
@@ -166,6 +167,149 @@ fn a_compare_render_is_a_job_that_cancel_leaves_and_that_renders_what_render_com
     }
     assert!(frames.lists == sync.lists, "the exact lists");
     assert!(frames.background == sync.background, "the opaque image");
+}
+
+/// Steps the window until `done` (a job's end or a file it writes), at most five minutes.
+fn step_until(
+    harness: &mut Harness<'_, HairlabApp>,
+    what: &str,
+    done: impl Fn(&Harness<'_, HairlabApp>) -> bool,
+) {
+    let start = std::time::Instant::now();
+    while !done(harness) {
+        assert!(
+            start.elapsed().as_secs() < 300,
+            "{what} after 5 minutes: {:?}",
+            harness.state().message()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        harness.step();
+    }
+}
+
+/// The status line's last message, which must not be an error.
+fn message(harness: &Harness<'_, HairlabApp>) -> String {
+    let (m, error) = harness.state().message().expect("a message");
+    assert!(!error, "{m}");
+    m.to_string()
+}
+
+/// One stop rule for the jobs that keep partial work, both in the job bar. The bench (OSM's sweep of 7): Stop
+/// once the first configuration is measured ends it after the configuration in progress and keeps those
+/// measured, saying "stopped"; Cancel drops a run and leaves that result. The report export: Cancel writes no
+/// page (an earlier report in the folder stays as it was, no draft is left); Stop once the shadow methods' table
+/// is written gives the page of what finished, without the techniques never started.
+#[test]
+fn the_bench_and_the_report_export_keep_their_work_on_stop_and_drop_it_on_cancel() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut harness =
+        crate::common::snapshot_harness(crate::common::small_settings(320, 240), [1200.0, 900.0]);
+    crate::common::bench_window_on_osm(&mut harness);
+    let sweep = hairlab::methods::registry::find("osm").unwrap().sweep().len();
+
+    // Bench: the bar's fraction passes the bench's tuning share (0.1) once a configuration is measured. Stop
+    // then keeps the rows measured.
+    let one_measured =
+        |h: &Harness<'_, HairlabApp>| h.state().jobs().first().is_some_and(|j| j.fraction > 0.15);
+    harness.get_by_label("Run bench").click();
+    harness.step();
+    let jobs = harness.state().jobs();
+    assert!(jobs.len() == 1 && jobs[0].name == "bench" && jobs[0].stoppable());
+    step_until(&mut harness, "no configuration measured", one_measured);
+    harness.get_by_label("Stop").click();
+    step_until(&mut harness, "the stopped bench runs on", |h| {
+        !h.state().bench_running()
+    });
+    let kept = harness.state().bench_result().expect("the rows measured").clone();
+    assert!(kept.is_stopped());
+    assert!(
+        (1..sweep).contains(&kept.rows.len()),
+        "{} of {sweep}",
+        kept.rows.len()
+    );
+    let said = message(&harness);
+    assert!(said.starts_with("bench stopped: kept"), "{said}");
+    // Cancel at the same point drops the run: the stopped run's rows stay.
+    harness.get_by_label("Run bench").click();
+    harness.step();
+    step_until(&mut harness, "no configuration measured", one_measured);
+    harness.get_by_label("Cancel").click();
+    harness.step();
+    harness.step();
+    assert!(!harness.state().bench_running());
+    assert!(
+        harness.state().bench_result() == Some(&kept),
+        "the result before stays"
+    );
+    says_cancelled(&harness);
+
+    // Report: Cancel once the shadow methods' table is in the draft writes nothing; the earlier report stays.
+    let export = tempfile::tempdir().unwrap();
+    let out = export.path().join("hairlab-report");
+    std::fs::create_dir(&out).unwrap();
+    let earlier = "<p>an earlier report</p>";
+    std::fs::write(out.join("index.html"), earlier).unwrap();
+    harness
+        .state_mut()
+        .set_export_dir(Some(export.path().to_path_buf()));
+    let entries = || -> Vec<String> {
+        std::fs::read_dir(export.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect()
+    };
+    let table_written = |_: &Harness<'_, HairlabApp>| {
+        std::fs::read_dir(export.path())
+            .unwrap()
+            .any(|e| e.unwrap().path().join("data/shadows/results.csv").is_file())
+    };
+    harness.get_by_label("Export report…").click();
+    harness.step();
+    let jobs = harness.state().jobs();
+    let names: Vec<&str> = jobs.iter().map(|j| j.name).collect();
+    assert!(names == ["report"] && jobs[0].stoppable(), "{names:?}");
+    step_until(&mut harness, "no table", table_written);
+    harness.get_by_label("Cancel").click();
+    harness.step();
+    harness.step();
+    assert!(harness.state().jobs().is_empty());
+    says_cancelled(&harness);
+    step_until(&mut harness, "the cancelled report's draft left", |_| {
+        entries() == ["hairlab-report"]
+    });
+    assert_eq!(std::fs::read_to_string(out.join("index.html")).unwrap(), earlier);
+
+    // Stop at the same point writes the page of what finished.
+    harness.get_by_label("Export report…").click();
+    harness.step();
+    step_until(&mut harness, "no table", table_written);
+    harness.get_by_label("Stop").click();
+    step_until(&mut harness, "the stopped report runs on", |h| {
+        h.state().jobs().is_empty()
+    });
+    let said = message(&harness);
+    assert!(
+        said.starts_with("report stopped: kept 1 configurations"),
+        "{said}"
+    );
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        page != earlier && page.contains("results"),
+        "the new page replaces the earlier one"
+    );
+    let rows = std::fs::read_to_string(out.join("data/shadows/results.csv")).unwrap();
+    assert_eq!(
+        rows.lines().count(),
+        2,
+        "a header and the window's method: {rows}"
+    );
+    assert!(
+        !out.join("data/transparency").exists(),
+        "the techniques never started"
+    );
+    assert_eq!(entries(), ["hairlab-report"], "a draft left behind");
 }
 
 /// A job held at its gate: it is the one job in the bar, shown as "starting 0%", and the window answers meanwhile

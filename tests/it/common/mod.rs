@@ -46,6 +46,20 @@ pub fn snapshot_harness(
     harness
 }
 
+/// Opens the Bench window with only OSM's sweep checked (the other methods unchecked).
+pub fn bench_window_on_osm(harness: &mut egui_kittest::Harness<'_, hairlab::app::HairlabApp>) {
+    use egui_kittest::kittest::Queryable;
+    harness.get_by_label("Bench").click();
+    harness.run();
+    for m in hairlab::bench::sweep_methods()
+        .into_iter()
+        .filter(|m| *m != "osm")
+    {
+        harness.get_by_label(m).click();
+    }
+    harness.run();
+}
+
 /// The default preset shrunk to a test-sized scene and image, under [`MEASURED_FIT`].
 pub fn small_settings(width: u32, height: u32) -> Settings {
     measured_preset(

@@ -138,7 +138,7 @@ impl TimeView {
     }
 
     /// Takes the measurement once it is done: its figures (all, or those kept by Stop) replace the previous ones;
-    /// a cancelled run leaves them.
+    /// a cancelled run, or one stopped before any configuration finished, leaves them.
     pub fn poll(&mut self) {
         let Some(job) = &self.job else { return };
         match job.poll() {
@@ -146,6 +146,10 @@ impl TimeView {
             Poll::Done(result) => {
                 self.job = None;
                 match result {
+                    Ok(m) if m.is_stopped() && m.rows.is_empty() => {
+                        self.error =
+                            Some("stopped before any configuration finished; the figures before stay".into())
+                    }
                     Ok(m) => self.result = Some(m),
                     Err(e) => self.error = Some(e),
                 }

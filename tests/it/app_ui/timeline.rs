@@ -121,7 +121,8 @@ fn small_wind(frames: u32) -> hairlab::settings::Settings {
 
 /// The texel inspector's time view: a hair point clicked in the viewport and followed with "Time view" over the
 /// motion's frames on a worker thread while the window keeps drawing and answering; its figures are those
-/// `measure motion --point` computes for the same point; Cancel stops a run and keeps the figures shown.
+/// `measure motion --point` computes for the same point; Cancel drops a run and keeps the figures shown, and so
+/// does a Stop before any configuration finished.
 #[test]
 fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
     use hairlab::measure::motion::{MotionConfig, MotionOptions, measure_motion};
@@ -235,6 +236,37 @@ fn the_time_view_follows_a_clicked_hair_point_over_the_motion() {
         harness.state().time_view().result().unwrap().followed,
         shown.followed
     );
+    // Its Stop, held at the first step, ends the run there: nothing measured, the figures shown stay, and the
+    // view says so.
+    let gate = harness.state_mut().hold_jobs();
+    harness.get_by_label("Run").click();
+    harness.step();
+    harness.step();
+    assert!(
+        harness
+            .state()
+            .jobs()
+            .iter()
+            .any(|j| j.name == "time view" && j.stoppable())
+    );
+    harness.get_by_label("Stop").click();
+    let start = std::time::Instant::now();
+    while harness.state().time_view().is_running() {
+        assert!(start.elapsed().as_secs() < 60, "the stopped run did not end");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    harness.step();
+    assert_eq!(
+        harness.state().time_view().result().unwrap().followed,
+        shown.followed
+    );
+    assert!(
+        harness
+            .query_by_label_contains("stopped before any configuration finished")
+            .is_some()
+    );
+    gate.open();
 }
 
 /// The window on a small wind motion with the timeline's Export… window open.

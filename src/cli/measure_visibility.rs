@@ -34,7 +34,9 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
     // Ctrl-C answers the bar's next step with a stop: the texels done are reported and written, then the run
     // fails saying so.
     let mut bar = super::progress::TerminalProgress::new();
-    let m = crate::measure::fibre_visibility::compare_map(&gpu, &settings, a.rays as usize, &mut bar)?;
+    let outcome = crate::measure::fibre_visibility::compare_map(&gpu, &settings, a.rays as usize, &mut bar)?;
+    let stopped = outcome.is_stopped();
+    let m = outcome.kept();
     drop(bar);
     let fragments: usize = m.texels.iter().map(|t| t.fragments).sum();
     println!(
@@ -66,7 +68,7 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
         }
         None => None,
     };
-    if !m.complete {
+    if stopped {
         return Err(crate::cli::interrupt::InterruptedAt {
             done: m.texels.len() as u64,
             unit: "texels".to_string(),

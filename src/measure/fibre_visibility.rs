@@ -12,6 +12,7 @@ use crate::path_scene;
 use crate::pathtrace::bvh::Bvh;
 use crate::pathtrace::fibre;
 use crate::pathtrace::visibility::{light_map_texel, texel_visibility};
+use crate::progress::Outcome;
 use crate::render::Renderer;
 use crate::scene::LightKind;
 use crate::settings::Settings;
@@ -44,8 +45,6 @@ pub struct MapComparison {
     /// The `α` whose `(1 − α)^k` best fits the ray-traced `V` after `k` fragments, and the mean `|ΔV|` it leaves.
     pub best_alpha: f64,
     pub mean_abs_dv_at_best: f64,
-    /// Every occupied texel was measured (false: the progress stopped the run first).
-    pub complete: bool,
 }
 
 /// `(1 − α)^k` fitted to `(k, v)` samples by least squares: sums per `k`, then a search over `α` in steps of
@@ -79,13 +78,13 @@ pub fn best_alpha(samples: &[(usize, f32)]) -> f64 {
 
 /// Compares the reference with the ray-traced fibres in every occupied texel of the hair map of `settings`
 /// (`render.map_resolution × render.light_supersample` a side), `rays × rays` rays per texel, telling `progress`
-/// after each texel; it stops early, with the texels done, when that answers `false`.
+/// after each texel; it stops early when that answers `false`, [`Outcome::Stopped`] with the texels done.
 pub fn compare_map(
     gpu: &Gpu,
     settings: &Settings,
     rays: usize,
     progress: &mut dyn crate::progress::Progress,
-) -> Result<MapComparison> {
+) -> Result<Outcome<MapComparison>> {
     if settings.light.kind != LightKind::Directional {
         anyhow::bail!(
             "light.kind: measure visibility traces a directional light's map (light.kind = directional)"
@@ -146,8 +145,8 @@ pub fn compare_map(
         .iter()
         .map(|&(k, v)| (v - (1.0 - alpha as f32).powi(k as i32)).abs())
         .collect();
-    let complete = texels.len() == occupied.len();
-    Ok(MapComparison {
+    let stopped = texels.len() < occupied.len();
+    let comparison = MapComparison {
         side,
         rays_per_texel: rays * rays,
         texels,
@@ -156,8 +155,8 @@ pub fn compare_map(
         max_abs_dv: errors.last().map_or(0.0, |&d| f64::from(d)),
         best_alpha: alpha,
         mean_abs_dv_at_best: mean(&at_best),
-        complete,
-    })
+    };
+    Ok(Outcome::new(comparison, stopped))
 }
 
 #[cfg(test)]

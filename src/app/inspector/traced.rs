@@ -343,9 +343,11 @@ impl Fit {
             }
             Some(
                 comparison
-                    .map(|comparison| AlphaFit {
+                    // Only Cancel ends this job early, and a cancelled job's result is dropped: what comes
+                    // back is complete.
+                    .map(|outcome| AlphaFit {
                         key: FitKey::of(&settings),
-                        comparison,
+                        comparison: outcome.kept(),
                         scene_alpha: settings.render.hair_alpha,
                         alpha_mode: settings.render.alpha,
                     })

@@ -46,9 +46,18 @@ fn dual_scattering_mean(e0: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>, v: vec3<f32
     return (e0 * v.x + e1 * v.y + e2 * v.z) / max(total, vec3<f32>(1e-12));
 }
 
-// Radiance towards `to_eye` per unit light radiance from `to_light`, shadow included: `visibility` is the
-// direct fraction, `count` the strands in front towards the light.
-fn dual_scattering(
+// The parts `dual_scattering` and `dual_scattering_forward` combine (`dual_scattering::Terms`).
+struct DualScatteringTerms {
+    single: vec3<f32>,
+    direct: f32,
+    global: vec3<f32>,
+    scatter: vec3<f32>,
+    back_direct: vec3<f32>,
+    back_scatter: vec3<f32>,
+    density_back: f32,
+}
+
+fn dual_scattering_terms(
     hair_model: u32,
     tangent: vec3<f32>,
     to_light: vec3<f32>,
@@ -56,7 +65,7 @@ fn dual_scattering(
     colour: vec3<f32>,
     visibility: f32,
     count: f32,
-) -> vec3<f32> {
+) -> DualScatteringTerms {
     let sigma_a = marschner_absorption(colour);
     let s = marschner_lobes(tangent, to_light, to_eye, sigma_a);
     let single = vec3<f32>(s.r) + s.tt + s.trt;
@@ -124,8 +133,43 @@ fn dual_scattering(
     }
     let back_direct = back_energy * dual_scattering_gaussian3(sqrt(back_variance), x - shift) * inv_2pi;
     let back_scatter = back_energy * dual_scattering_gaussian3(sqrt(back_variance + spread), x - shift) * inv_2pi;
-    let direct = v * (single + density_back * back_direct);
-    let global = max(transmitted - v, vec3<f32>(0.0)) * density_forward
-        * (scatter + density_back * back_scatter);
-    return direct + global;
+    return DualScatteringTerms(
+        single,
+        v,
+        max(transmitted - v, vec3<f32>(0.0)) * density_forward,
+        scatter,
+        back_direct,
+        back_scatter,
+        density_back,
+    );
+}
+
+// Radiance towards `to_eye` per unit light radiance from `to_light`, shadow included: `visibility` is the
+// direct fraction, `count` the strands in front towards the light.
+fn dual_scattering(
+    hair_model: u32,
+    tangent: vec3<f32>,
+    to_light: vec3<f32>,
+    to_eye: vec3<f32>,
+    colour: vec3<f32>,
+    visibility: f32,
+    count: f32,
+) -> vec3<f32> {
+    let t = dual_scattering_terms(hair_model, tangent, to_light, to_eye, colour, visibility, count);
+    return t.direct * (t.single + t.density_back * t.back_direct)
+        + t.global * (t.scatter + t.density_back * t.back_scatter);
+}
+
+// The global forward scattering alone, max(T_f - V, 0) d_f S_scatter (`dual_scattering::forward_scattered`).
+fn dual_scattering_forward(
+    hair_model: u32,
+    tangent: vec3<f32>,
+    to_light: vec3<f32>,
+    to_eye: vec3<f32>,
+    colour: vec3<f32>,
+    visibility: f32,
+    count: f32,
+) -> vec3<f32> {
+    let t = dual_scattering_terms(hair_model, tangent, to_light, to_eye, colour, visibility, count);
+    return t.global * t.scatter;
 }

@@ -24,7 +24,8 @@ fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, co
 
 // The same with the hair's shadow (`shading::strand_lit`): `visibility` is the method's V and `count` its hair
 // count, the strands in front towards the light (dual scattering reads both; the other models are multiplied by
-// what arrives: V for absorbers, max(V, T_f) for fibres, lit there by the irradiance pi x the light).
+// what arrives: V for absorbers; under fibres Marschner shades V and adds the global forward scattering, Kajiya-Kay
+// takes max(V, T_f); lit there by the irradiance pi x the light).
 fn strand_lit(
     tangent: vec3<f32>,
     to_light: vec3<f32>,
@@ -41,6 +42,11 @@ fn strand_lit(
         return f;
     }
     let s = strand_shading(tangent, to_light, to_eye, colour);
+    if frame.hair_model == HAIR_MODEL_FIBRES && frame.shading_model == SHADING_MARSCHNER {
+        let v = clamp(visibility, 0.0, 1.0);
+        let scattered = dual_scattering_forward(HAIR_MODEL_FIBRES, tangent, to_light, to_eye, colour, v, count);
+        return (s * v + scattered) * FIBRE_IRRADIANCE;
+    }
     if frame.hair_model == HAIR_MODEL_FIBRES {
         let sin_i = clamp(dot(tangent, to_light), -1.0, 1.0);
         return s * fibre_arriving(visibility, sin_i, marschner_absorption(colour), count) * FIBRE_IRRADIANCE;

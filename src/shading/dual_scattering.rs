@@ -195,6 +195,51 @@ pub fn dual_scattering(
     visibility: f32,
     count: f32,
 ) -> Vec3 {
+    let t = terms(hair, tangent, to_light, to_eye, colour, visibility, count);
+    t.direct * (t.single + t.density_back * t.back_direct)
+        + t.global * (t.scatter + t.density_back * t.back_scatter)
+}
+
+/// Zinke et al.'s global multiple scattering alone, `max(T_f − V, 0) d_f S_scatter`: the light forward-scattered
+/// through the `count` strands in front, which no longer arrives along the light but spread by `σ̄_f²` and from
+/// every azimuth, without the local back-scattering [`dual_scattering`] adds. Under the fibres model the
+/// single-scattering Marschner model adds it to its direct light ([`super::strand_lit`]) rather than shading
+/// forward-scattered light with its sharp lobes again.
+pub fn forward_scattered(
+    hair: HairModel,
+    tangent: Vec3,
+    to_light: Vec3,
+    to_eye: Vec3,
+    colour: Vec3,
+    visibility: f32,
+    count: f32,
+) -> Vec3 {
+    let t = terms(hair, tangent, to_light, to_eye, colour, visibility, count);
+    t.global * t.scatter
+}
+
+/// The parts [`dual_scattering`] and [`forward_scattered`] combine.
+struct Terms {
+    /// The single scattering `S`, the direct fraction `V` and the global weight `max(T_f − V, 0) d_f`.
+    single: Vec3,
+    direct: f32,
+    global: Vec3,
+    /// `S_scatter`, `S_back(0)`, `S_back(σ̄_f²)` and `d_b`.
+    scatter: Vec3,
+    back_direct: Vec3,
+    back_scatter: Vec3,
+    density_back: f32,
+}
+
+fn terms(
+    hair: HairModel,
+    tangent: Vec3,
+    to_light: Vec3,
+    to_eye: Vec3,
+    colour: Vec3,
+    visibility: f32,
+    count: f32,
+) -> Terms {
     let sigma_a = marschner::absorption(colour);
     let single = marschner::lobes(tangent, to_light, to_eye, sigma_a).sum();
     let sin_i = tangent.dot(to_light).clamp(-1.0, 1.0);
@@ -214,10 +259,15 @@ pub fn dual_scattering(
         let w = Vec3::splat(WIDTH[p] * WIDTH[p]);
         scatter += a.lobe_energy[p] * gaussian3(sqrt3(w + spread), x - CENTRE[p]) * inv_2pi;
     }
-    let direct = v * (single + density_back * back(Vec3::ZERO));
-    let global =
-        (transmitted - v).max(Vec3::ZERO) * density_forward * (scatter + density_back * back(spread));
-    direct + global
+    Terms {
+        single,
+        direct: v,
+        global: (transmitted - v).max(Vec3::ZERO) * density_forward,
+        scatter,
+        back_direct: back(Vec3::ZERO),
+        back_scatter: back(spread),
+        density_back,
+    }
 }
 
 /// `d_f`, `d_b` under `hair`'s model: Zinke's chosen 0.7 for absorbers, the path tracer's fibre's for fibres.

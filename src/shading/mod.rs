@@ -176,7 +176,11 @@ impl HairModel {
 /// The CPU model of `strand_lit` (`shaders/common/strand_shading.wgsl`): the radiance a hair point sends towards
 /// `to_eye` per unit of the light's `colour × intensity`, with the method's visibility `v` and hair count `count`
 /// towards the light. Dual scattering carries its shadow itself; the single-scattering models are multiplied
-/// by what arrives: `V` for absorbers, `max(V, T_f)` for fibres ([`fibre_transport::arriving`]). Under the
+/// by what arrives: `V` for absorbers; under fibres Marschner shades the direct `V` and adds the light
+/// forward-scattered through the strands in front, spread (Zinke et al.'s global term,
+/// [`dual_scattering::forward_scattered`]: the sharp TT lobe must not shade light that no longer arrives along
+/// the light, which made back-lit hair 4× too bright), and Kajiya-Kay, which has no lobes to spread, takes
+/// `max(V, T_f)` ([`fibre_transport::arriving`]). Under the
 /// fibres model the models' `f · |cos θ_i|` is lit by the irradiance `π × colour × intensity`, as a mesh's Lambert
 /// (`colour × light × N·L`) and the path tracer take the light; the absorber model keeps the workbench's
 /// look, one unit of light per unit of radiance ([`fibre_transport::IRRADIANCE`]).
@@ -199,9 +203,14 @@ pub fn strand_lit(
         };
     }
     let s = shading.shade(tangent, to_light, to_eye, colour);
-    match hair {
-        HairModel::Absorber => s * v,
-        HairModel::Fibres => {
+    match (hair, shading) {
+        (HairModel::Absorber, _) => s * v,
+        (HairModel::Fibres, ShadingModel::Marschner) => {
+            let scattered =
+                dual_scattering::forward_scattered(hair, tangent, to_light, to_eye, colour, v, count);
+            (s * v.clamp(0.0, 1.0) + scattered) * fibre_transport::IRRADIANCE
+        }
+        (HairModel::Fibres, _) => {
             let sin_i = tangent.dot(to_light).clamp(-1.0, 1.0);
             s * fibre_transport::arriving(v, sin_i, marschner::absorption(colour), count)
                 * fibre_transport::IRRADIANCE
@@ -258,14 +267,18 @@ mod tests {
         );
     }
 
-    /// Under absorbers the single-scattering models are `shade × V`; under fibres `π ×` (the irradiance of a unit
-    /// light) `shade × d_f ā_f^n` beyond the first strand (brighter than `V = e^-n` there), and `π × shade` with
+    /// Under absorbers the single-scattering models are `shade × V`. Under fibres, `π ×` (the irradiance of a
+    /// unit light): Kajiya-Kay `shade × d_f ā_f^n` beyond the first strand (brighter than `V = e^-n` there);
+    /// Marschner the direct `V × shade` plus the forward-scattered light, more than the direct alone, less than
+    /// dual scattering (which adds the back-scattering to the same two), and back-lit at the TT peak far less
+    /// than `shade × T_f` would give (the sharp lobe no longer shades spread light); both `π × shade` with
     /// nothing in front.
     #[test]
     fn strand_lit_carries_each_hair_models_transport() {
         let (t, l, e) = (Vec3::Y, Vec3::Z, Vec3::new(0.0, 0.3, 0.95).normalize());
         let colour = Vec3::new(0.30, 0.18, 0.09);
         let shade = ShadingModel::Marschner.shade(t, l, e, colour);
+        let kk = ShadingModel::KajiyaKay.shade(t, l, e, colour);
         let v = 0.5f32;
         let absorber = strand_lit(
             ShadingModel::Marschner,
@@ -282,38 +295,42 @@ mod tests {
             "{absorber} {shade}"
         );
         let n = 3.0f32;
-        let fibres = strand_lit(
-            ShadingModel::Marschner,
-            HairModel::Fibres,
-            t,
-            l,
-            e,
-            colour,
-            (-n).exp(),
-            n,
-        );
+        let lit = |shading, t: Vec3, l: Vec3, e: Vec3, v: f32, n: f32| {
+            strand_lit(shading, HairModel::Fibres, t, l, e, colour, v, n)
+        };
         let (af, _) = fibre_transport::attenuation(0.0, marschner::absorption(colour));
-        let want = shade
-            * fibre_transport::IRRADIANCE
-            * fibre_transport::DENSITY_FORWARD
-            * Vec3::new(af.x.powi(3), af.y.powi(3), af.z.powi(3));
+        let t_f = fibre_transport::DENSITY_FORWARD * Vec3::new(af.x.powi(3), af.y.powi(3), af.z.powi(3));
+        let want = kk * fibre_transport::IRRADIANCE * t_f;
+        let fibres = lit(ShadingModel::KajiyaKay, t, l, e, (-n).exp(), n);
         assert!(
             (fibres - want).abs().max_element() <= 1e-5 * want.max_element(),
             "{fibres} {want}"
         );
-        assert!(fibres.min_element() > (shade * (-n).exp()).max_element());
-        let front = strand_lit(
-            ShadingModel::Marschner,
-            HairModel::Fibres,
-            t,
-            l,
-            e,
-            colour,
-            1.0,
-            0.0,
+        assert!(fibres.min_element() > (kk * (-n).exp()).max_element());
+        let pi = fibre_transport::IRRADIANCE;
+        let m = lit(ShadingModel::Marschner, t, l, e, (-n).exp(), n);
+        let ds = dual_scattering::dual_scattering(HairModel::Fibres, t, l, e, colour, (-n).exp(), n) * pi;
+        let direct = shade * (-n).exp() * pi;
+        assert!(
+            (m - direct).min_element() > 1e-4 * m.max_element() && (ds - m).min_element() > 0.0,
+            "direct {direct}, Marschner {m}, dual scattering {ds}"
         );
-        let lit = shade * fibre_transport::IRRADIANCE;
-        assert!((front - lit).abs().max_element() <= 1e-6, "{front} {lit}");
+        // Back-lit, the eye on the far side of a strand from the light: the TT lobe's peak.
+        let (l_back, e_back) = (
+            Vec3::new(0.0, 0.05, 1.0).normalize(),
+            Vec3::new(0.0, -0.05, -1.0).normalize(),
+        );
+        let sharp = ShadingModel::Marschner.shade(t, l_back, e_back, colour) * t_f * pi;
+        let spread = lit(ShadingModel::Marschner, t, l_back, e_back, (-n).exp(), n);
+        assert!(
+            spread.max_element() < 0.5 * sharp.max_element(),
+            "back-lit: spread {spread} against the sharp lobe's {sharp}"
+        );
+        for shading in [ShadingModel::KajiyaKay, ShadingModel::Marschner] {
+            let front = lit(shading, t, l, e, 1.0, 0.0);
+            let want = shading.shade(t, l, e, colour) * pi;
+            assert!((front - want).abs().max_element() <= 1e-6, "{front} {want}");
+        }
         assert!((HairModel::Fibres.count((-n).exp(), 0.35) - n).abs() <= 1e-6);
     }
 

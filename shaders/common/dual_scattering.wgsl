@@ -160,16 +160,7 @@ fn dual_scattering(
         + t.global * (t.scatter + t.density_back * t.back_scatter);
 }
 
-// The global forward scattering alone, max(T_f - V, 0) d_f S_scatter (`dual_scattering::forward_scattered`).
-fn dual_scattering_forward(
-    hair_model: u32,
-    tangent: vec3<f32>,
-    to_light: vec3<f32>,
-    to_eye: vec3<f32>,
-    colour: vec3<f32>,
-    visibility: f32,
-    count: f32,
-) -> vec3<f32> {
-    let t = dual_scattering_terms(hair_model, tangent, to_light, to_eye, colour, visibility, count);
+// The global forward scattering alone, max(T_f - V, 0) d_f S_scatter (`dual_scattering::Terms::forward_scattered`).
+fn dual_scattering_forward(t: DualScatteringTerms) -> vec3<f32> {
     return t.global * t.scatter;
 }

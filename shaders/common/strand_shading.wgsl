@@ -44,7 +44,8 @@ fn strand_lit(
     let s = strand_shading(tangent, to_light, to_eye, colour);
     if frame.hair_model == HAIR_MODEL_FIBRES && frame.shading_model == SHADING_MARSCHNER {
         let v = clamp(visibility, 0.0, 1.0);
-        let scattered = dual_scattering_forward(HAIR_MODEL_FIBRES, tangent, to_light, to_eye, colour, v, count);
+        let t = dual_scattering_terms(HAIR_MODEL_FIBRES, tangent, to_light, to_eye, colour, v, count);
+        let scattered = dual_scattering_forward(t);
         return (s * v + scattered) * FIBRE_IRRADIANCE;
     }
     if frame.hair_model == HAIR_MODEL_FIBRES {

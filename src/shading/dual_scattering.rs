@@ -200,26 +200,8 @@ pub fn dual_scattering(
         + t.global * (t.scatter + t.density_back * t.back_scatter)
 }
 
-/// Zinke et al.'s global multiple scattering alone, `max(T_f − V, 0) d_f S_scatter`: the light forward-scattered
-/// through the `count` strands in front, which no longer arrives along the light but spread by `σ̄_f²` and from
-/// every azimuth, without the local back-scattering [`dual_scattering`] adds. Under the fibres model the
-/// single-scattering Marschner model adds it to its direct light ([`super::strand_lit`]) rather than shading
-/// forward-scattered light with its sharp lobes again.
-pub fn forward_scattered(
-    hair: HairModel,
-    tangent: Vec3,
-    to_light: Vec3,
-    to_eye: Vec3,
-    colour: Vec3,
-    visibility: f32,
-    count: f32,
-) -> Vec3 {
-    let t = terms(hair, tangent, to_light, to_eye, colour, visibility, count);
-    t.global * t.scatter
-}
-
-/// The parts [`dual_scattering`] and [`forward_scattered`] combine.
-struct Terms {
+/// The parts of [`dual_scattering`] at one shading point ([`terms`]).
+pub struct Terms {
     /// The single scattering `S`, the direct fraction `V` and the global weight `max(T_f − V, 0) d_f`.
     single: Vec3,
     direct: f32,
@@ -231,7 +213,19 @@ struct Terms {
     density_back: f32,
 }
 
-fn terms(
+impl Terms {
+    /// Zinke et al.'s global multiple scattering alone, `max(T_f − V, 0) d_f S_scatter`: the light
+    /// forward-scattered through the strands in front, which no longer arrives along the light but spread by
+    /// `σ̄_f²` and from every azimuth, without the local back-scattering [`dual_scattering`] adds. Under the
+    /// fibres model the single-scattering Marschner model adds it to its direct light ([`super::strand_lit`])
+    /// rather than shading forward-scattered light with its sharp lobes again.
+    pub fn forward_scattered(&self) -> Vec3 {
+        self.global * self.scatter
+    }
+}
+
+/// [`dual_scattering`]'s parts, its arguments as it takes them.
+pub fn terms(
     hair: HairModel,
     tangent: Vec3,
     to_light: Vec3,

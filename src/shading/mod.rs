@@ -178,7 +178,7 @@ impl HairModel {
 /// towards the light. Dual scattering carries its shadow itself; the single-scattering models are multiplied
 /// by what arrives: `V` for absorbers; under fibres Marschner shades the direct `V` and adds the light
 /// forward-scattered through the strands in front, spread (Zinke et al.'s global term,
-/// [`dual_scattering::forward_scattered`]: the sharp TT lobe must not shade light that no longer arrives along
+/// [`dual_scattering::Terms::forward_scattered`]: the sharp TT lobe must not shade light that no longer arrives along
 /// the light, which made back-lit hair 4× too bright), and Kajiya-Kay, which has no lobes to spread, takes
 /// `max(V, T_f)` ([`fibre_transport::arriving`]). Under the
 /// fibres model the models' `f · |cos θ_i|` is lit by the irradiance `π × colour × intensity`, as a mesh's Lambert
@@ -207,7 +207,7 @@ pub fn strand_lit(
         (HairModel::Absorber, _) => s * v,
         (HairModel::Fibres, ShadingModel::Marschner) => {
             let scattered =
-                dual_scattering::forward_scattered(hair, tangent, to_light, to_eye, colour, v, count);
+                dual_scattering::terms(hair, tangent, to_light, to_eye, colour, v, count).forward_scattered();
             (s * v.clamp(0.0, 1.0) + scattered) * fibre_transport::IRRADIANCE
         }
         (HairModel::Fibres, _) => {

@@ -141,7 +141,7 @@ fn wgsl_marschner_equals_the_cpu_model() {
 
 /// Per probe: [`dual_scattering::dual_scattering`] at a visibility and a hair count, and
 /// [`count_from_visibility`] of that visibility at the probe's alpha; then the global forward scattering alone
-/// ([`dual_scattering::forward_scattered`]).
+/// ([`dual_scattering::Terms::forward_scattered`]).
 const DUAL_PROBE: &str = r#"
 struct Row {
     tangent: vec4<f32>,
@@ -156,8 +156,8 @@ alias Out = vec4<f32>;
 fn probe(i: u32, p: Row) {
     let f = dual_scattering(u32(p.lit.w), p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, p.colour.rgb, p.lit.x, p.lit.y);
     out[2u * i] = vec4<f32>(f, count_from_visibility(p.lit.x, p.lit.z));
-    let g = dual_scattering_forward(u32(p.lit.w), p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, p.colour.rgb, p.lit.x, p.lit.y);
-    out[2u * i + 1u] = vec4<f32>(g, 0.0);
+    let t = dual_scattering_terms(u32(p.lit.w), p.tangent.xyz, p.to_light.xyz, p.to_eye.xyz, p.colour.rgb, p.lit.x, p.lit.y);
+    out[2u * i + 1u] = vec4<f32>(dual_scattering_forward(t), 0.0);
 }
 "#;
 
@@ -199,7 +199,7 @@ fn wgsl_dual_scattering_equals_the_cpu_model() {
         let [t, l, v, c] = *dirs;
         let model = HairModel::ALL[lit[3] as usize];
         let f = dual_scattering::dual_scattering(model, t, l, v, c, lit[0], lit[1]);
-        let g = dual_scattering::forward_scattered(model, t, l, v, c, lit[0], lit[1]);
+        let g = dual_scattering::terms(model, t, l, v, c, lit[0], lit[1]).forward_scattered();
         let pairs = (0..3)
             .map(|k| (o[k], f[k]))
             .chain((0..3).map(|k| (o[4 + k], g[k])));

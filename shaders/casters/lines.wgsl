@@ -13,7 +13,7 @@ fn light_vertex(v: LightVertexIn) -> LightFragment {
     var out: LightFragment;
     out.clip = frame.world_to_light_clip * vec4<f32>(v.position, 1.0);
     out.depth = light_depth(v.position);
-    out.alpha = light_alpha(strand_alpha(v.alpha, v.thickness, frame.light_footprint * out.clip.w));
+    out.alpha = strand_alpha(v.alpha, v.thickness, frame.light_footprint * out.clip.w);
     out.segment = v.index;
     return out;
 }

@@ -32,7 +32,7 @@ fn light_vertex(v: LightVertexIn) -> LightFragment {
     var out: LightFragment;
     out.clip = frame.world_to_light_clip * vec4<f32>(world, 1.0);
     out.depth = light_depth(world);
-    out.alpha = light_alpha(clamp(p.alpha * frame.hair_alpha, 0.0, 1.0) * min(width / max(drawn, 1e-30), 1.0));
+    out.alpha = clamp(p.alpha * frame.hair_alpha, 0.0, 1.0) * min(width / max(drawn, 1e-30), 1.0);
     out.segment = ribbon_segments[2u * (v.index / 6u)];
     return out;
 }

@@ -1,6 +1,6 @@
 // Per-frame uniforms shared by every pass. Mirrors `render::uniforms::FrameUniforms` (a test checks the layout).
 #include "common/hair_model.wgsl"
-// transmittance() for light_alpha().
+// transmittance() for light_opacity().
 #include "common/visibility.wgsl"
 struct FrameUniforms {
     world_to_clip: mat4x4<f32>,
@@ -99,14 +99,14 @@ fn strand_alpha(point_alpha: f32, thickness: f32, footprint: f32) -> f32 {
     return coverage * clamp(point_alpha, 0.0, 1.0);
 }
 
-// The opacity a light-space fragment stores from its strand_alpha(): the same, or under the fibres model the
-// opacity of optical depth alpha, 1 - exp(-alpha), so that -ln V of any method sums the coverages: the mean
-// count of fibres a light ray crosses (`shading::fibre_transport`).
-fn light_alpha(alpha: f32) -> f32 {
+// The one alpha of a strand over a light texel where a method takes one global alpha (occupancy): the material
+// opacity, or under the fibres model 1 - exp(-1), the Boolean model's one fibre crossed
+// (`RenderSettings::light_opacity`).
+fn light_opacity() -> f32 {
     if frame.hair_model == HAIR_MODEL_FIBRES {
-        return 1.0 - transmittance(alpha);
+        return 1.0 - transmittance(1.0);
     }
-    return alpha;
+    return frame.hair_alpha;
 }
 
 // Unit vector from `world` towards the light.

@@ -42,8 +42,8 @@ fn raster_setup(s: u32) -> RasterSegment {
     }
     r.d0 = light_depth(p0.position);
     r.d1 = light_depth(p1.position);
-    r.a0 = light_alpha(strand_alpha(p0.alpha, p0.thickness, frame.light_footprint * c0.w));
-    r.a1 = light_alpha(strand_alpha(p1.alpha, p1.thickness, frame.light_footprint * c1.w));
+    r.a0 = strand_alpha(p0.alpha, p0.thickness, frame.light_footprint * c0.w);
+    r.a1 = strand_alpha(p1.alpha, p1.thickness, frame.light_footprint * c1.w);
     let res = f32(frame.light_map_resolution);
     let a = texel_space(c0, res);
     let b = texel_space(c1, res);

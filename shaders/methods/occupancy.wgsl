@@ -20,5 +20,5 @@ fn occupancy_order(texel: vec2<i32>, z: f32) -> f32 {
 }
 
 fn visibility_at(texel: vec2<i32>, z: f32) -> f32 {
-    return transmittance(occupancy_order(texel, z) * optical_depth(light_alpha(frame.hair_alpha)));
+    return transmittance(occupancy_order(texel, z) * optical_depth(light_opacity()));
 }

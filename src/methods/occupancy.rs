@@ -15,7 +15,8 @@
 //! the CPU model's `OccupancyParams::alpha` = [`MethodContext::hair_alpha`]); each fragment's own alpha is
 //! ignored, as in the paper.
 //! In `render.alpha = "coverage"` mode it still takes `render.hair_alpha` (there the material opacity) as that alpha;
-//! under `render.hair_model = fibres`, `light_alpha` of opacity 1, `1 − e^(−1)` (one fibre crossed per fragment).
+//! under `render.hair_model = fibres`, `1 − e^(−1)`, the Boolean model's one fibre crossed per fragment
+//! (`RenderSettings::light_opacity`).
 //!
 //! The half-texel jitter of §3.3 is not a parameter here: it offsets the continuous texture coordinate before
 //! the texel is chosen, which happens in the shared `hair_visibility` (`common/method_lookup.wgsl`) before

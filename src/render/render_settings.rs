@@ -158,9 +158,9 @@ impl RenderSettings {
         }
     }
 
-    /// The alpha of one strand over a light texel where the light passes and the methods need one global alpha
-    /// (occupancy's `V = e^(−o b(α))`): `hair_alpha`, or under the fibres model `1 − e^(−1)`, a fibre that covers
-    /// its texel (`light_alpha` of opacity 1: one fibre crossed).
+    /// The one alpha of a strand over a light texel where a method takes a global alpha (occupancy's
+    /// `V = e^(−o b(α))`; each fragment's own coverage is ignored there): `hair_alpha`, or under the fibres model
+    /// `1 − e^(−1)`, the Boolean model's one fibre crossed (`light_opacity` in `shaders/common/frame.wgsl`).
     pub fn light_opacity(&self) -> f32 {
         match self.hair_model {
             HairModel::Absorber => self.hair_alpha,

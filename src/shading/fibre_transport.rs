@@ -5,11 +5,13 @@
 //! the path tracer traces rather than chosen ones. The CPU model (the specification) of
 //! `shaders/common/fibre_transport.wgsl`.
 //!
-//! - The count: the light passes store `1 − e^(−c)` per fragment, `c` the strand's coverage of the light texel
-//!   (`light_alpha` in `shaders/common/frame.wgsl`), so any method's `V` reads back `−ln V = Σ c` ([`count`]):
-//!   the mean number of fibres a ray through the texel crosses (what Unreal's deep opacity maps store as a
-//!   coverage-weighted hair count), and `V = e^(−n)` the chance it crosses none (fibres placed at random in the
-//!   texel).
+//! - The count: the light passes store each fragment's coverage `c` of its light texel as its alpha, so any
+//!   method's `V = Π (1 − c)` is the chance a light ray through the texel crosses no fibre (fibres placed
+//!   independently), and `−ln V = Σ −ln(1 − c)` ([`count`]) the hair count: `Σ c`, the mean number of fibres
+//!   crossed (what Unreal's deep opacity maps store), for fibres thin against the texel, more where one fibre
+//!   covers most of it. (Storing `1 − e^(−c)` instead made `−ln V = Σ c` exact but let a fibre that covers its
+//!   texel pass `e^(−1)` of the light: back-lit hair, where strands are as wide as the texels, took 2.0× the
+//!   traced fibres' light at one event; docs/truth.md.)
 //! - [`TABLE`]: `ā_f`, `ā_b` (Zinke's Eq. 6–7) of Chiang et al. 2016's BSDF (`pathtrace::bsdf`) with the
 //!   real-time model's roughness, cuticle tilt and index, the energy it scatters into the half of the sphere
 //!   past the fibre and towards the light, averaged over the offset `h`, on a grid of inclinations
@@ -122,7 +124,7 @@ pub fn attenuation(sin_i: f32, sigma_a: Vec3) -> (Vec3, Vec3) {
 }
 
 /// The hair count a light-map visibility `v` stands for under the fibres model: `−ln V` (`V` floored at the
-/// smallest normal f32), the mean number of fibres crossed.
+/// smallest normal f32), the number of fibres crossed (the mean, for fibres thin against the texel).
 pub fn count(v: f32) -> f32 {
     (-v.max(f32::MIN_POSITIVE).ln()).max(0.0)
 }

@@ -93,20 +93,15 @@ impl Frame<'_> {
         (-view.z - self.0.light_near) / (self.0.light_far - self.0.light_near)
     }
 
-    /// `light_alpha(strand_alpha(…))` of `shaders/common/frame.wgsl`.
+    /// `strand_alpha(…)` of `shaders/common/frame.wgsl`: what a light fragment stores.
     fn alpha(&self, point_alpha: f32, thickness: f32, footprint: f32) -> f32 {
         let u = self.0;
-        let a = if u.alpha_mode == 0 {
+        if u.alpha_mode == 0 {
             (point_alpha * u.hair_alpha).clamp(0.0, 1.0)
         } else {
             let width = thickness * u.strand_width;
             let coverage = (u.hair_alpha * width / footprint.max(1e-30)).clamp(0.0, 1.0);
             coverage * point_alpha.clamp(0.0, 1.0)
-        };
-        if u.hair_model == crate::shading::HairModel::Fibres.uniform() {
-            1.0 - crate::visibility::transmittance(a)
-        } else {
-            a
         }
     }
 }

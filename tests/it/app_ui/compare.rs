@@ -1,7 +1,7 @@
 //! The compare view (four labelled images and their metrics) and the pixel inspector (the list of a clicked hair
 //! pixel).
 
-use super::{click_pixel, open_compare, tall_harness};
+use super::{click_pixel, open_compare, tall_harness, tall_harness_on};
 use egui_kittest::kittest::{NodeT, Queryable};
 use hairlab::gpu::Gpu;
 use hairlab::measure::MethodConfig;
@@ -232,13 +232,7 @@ fn the_compare_window_decomposes_against_the_truth_and_the_inspector_notes_the_c
     .expect("not stopped")
     .1
     .decomposition;
-    let mut harness = egui_kittest::Harness::builder()
-        .with_size([1400.0, 1500.0])
-        .with_max_steps(8)
-        .wgpu_setup(hairlab::app::wgpu_setup(
-            hairlab::gpu::AdapterPreference::Software,
-        ))
-        .build_eframe(move |cc| hairlab::app::HairlabApp::new(cc, Some(settings)));
+    let mut harness = tall_harness_on(settings);
     harness.run();
     open_compare(&mut harness);
     harness.get_by_label("Against the path-traced truth").click();

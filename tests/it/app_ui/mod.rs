@@ -26,7 +26,11 @@ fn small_window() -> Harness<'static, HairlabApp> {
 
 /// The workbench at a height where the side panel's Transparency section and the compare window fit.
 fn tall_harness() -> Harness<'static, HairlabApp> {
-    let settings = common::small_settings(320, 240);
+    tall_harness_on(common::small_settings(320, 240))
+}
+
+/// [`tall_harness`] on `settings`.
+fn tall_harness_on(settings: hairlab::settings::Settings) -> Harness<'static, HairlabApp> {
     Harness::builder()
         .with_size([1400.0, 1500.0])
         .with_max_steps(8)

@@ -72,10 +72,10 @@ struct FrameUniforms {
     env_to_light: array<vec4<f32>, 64>,
     env_radiance: array<vec4<f32>, 64>,
     // Under the fibres model, the probe of the light the meshes bounce onto the hair (common/mesh_bounce.wgsl):
-    // its lattice's corners and its 4 x 4 x 4 luminances four to a vector; zeros otherwise.
+    // its lattice's corners and its 4 x 4 x 4 radiances, one node a vector (rgb); zeros otherwise.
     bounce_min: vec4<f32>,
     bounce_max: vec4<f32>,
-    bounce_grid: array<vec4<f32>, 16>,
+    bounce_grid: array<vec4<f32>, 64>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

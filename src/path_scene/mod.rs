@@ -18,6 +18,7 @@ use crate::pathtrace::{fibre, triangle};
 use crate::render::render_settings::{PathFirstHit, PathHairShadows};
 use crate::scene::{Aabb, Camera, LightKind, Scene};
 use crate::settings::Settings;
+use crate::shading::hair_density::HairDensity;
 use crate::shading::{HairModel, mesh_bounce};
 
 /// The light of `settings` over `scene`. Both kinds give a white Lambertian surface facing the light at the
@@ -86,9 +87,18 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
         spot,
     };
     let bounce = (settings.render.hair_model == HairModel::Fibres).then(|| {
+        let strands = &scene.strands;
+        let density = HairDensity::from_strands(&strands.points, strands.ranges(), |k| {
+            strands.thickness.as_ref().map_or(1.0, |t| t[k]) * settings.render.strand_width
+        });
+        let hair = mesh_bounce::Hair {
+            density: &density,
+            sigma_a: crate::shading::marschner::absorption(Vec3::from(settings.render.hair_color)),
+        };
         std::sync::Arc::new(mesh_bounce::Grid::measure(
             &bounce_triangles(scene),
-            &scene.strands.points,
+            &hair,
+            &strands.points,
             |p| {
                 let (to_light, distance) = light.toward(p);
                 mesh_bounce::Arrival {

@@ -19,6 +19,7 @@ use super::geometry::{
 };
 use crate::gpu::{Gpu, GpuError};
 use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
+use crate::shading::hair_density::HairDensity;
 use crate::shading::mesh_bounce;
 use glam::{Affine3A, Vec3};
 use wgpu::util::DeviceExt;
@@ -345,8 +346,9 @@ fn too_large(&(what, bytes, limit): &(&'static str, u64, u64)) -> GpuError {
     }
 }
 
-/// What the bounce probe's answer depends on besides the meshes' generation: the light's uniform fields.
-type BounceKey = (u64, [u32; 11]);
+/// What the bounce probe's answer depends on besides the geometry's generation: the light's uniform fields, the
+/// hair's colour and its strands' width.
+type BounceKey = (u64, [u32; 15]);
 
 /// A mesh triangle for the bounce probe, with the vertices it was built from (so posing can move it).
 #[derive(Clone, Copy, Debug)]
@@ -385,8 +387,9 @@ fn bounce_triangles(vertices: &[MeshVertex], indices: &[u32]) -> Vec<BounceTrian
 
 impl SceneGpu {
     /// The probe of the light the lit meshes send to the hair (`shading::mesh_bounce`) under the light of `u`, as the eye
-    /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`); kept until the light
-    /// or the meshes' pose changes.
+    /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`), through the hair of
+    /// `u.hair_color` with the strands' widths (`HairDensity`); kept until the light, the hair or the meshes'
+    /// pose changes.
     pub fn mesh_bounce(&self, u: &crate::render::uniforms::FrameUniforms) -> mesh_bounce::Grid {
         let key: BounceKey = (
             self.generation,
@@ -402,6 +405,10 @@ impl SceneGpu {
                 u.light_color[2].to_bits(),
                 u.spot_cos_half_angle.to_bits(),
                 u.light_is_spot,
+                u.hair_color[0].to_bits(),
+                u.hair_color[1].to_bits(),
+                u.hair_color[2].to_bits(),
+                u.strand_width.to_bits(),
             ],
         );
         let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
@@ -413,7 +420,14 @@ impl SceneGpu {
         let triangles: Vec<mesh_bounce::Triangle> =
             self.bounce_triangles.iter().map(|t| t.triangle).collect();
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
-        let v = mesh_bounce::Grid::measure(&triangles, &points, |p| u.light_arrival(p));
+        let density = HairDensity::from_strands(&points, self.ranges.iter().copied(), |k| {
+            self.vertices[k].thickness * u.strand_width
+        });
+        let hair = mesh_bounce::Hair {
+            density: &density,
+            sigma_a: crate::shading::marschner::absorption(Vec3::from(u.hair_color)),
+        };
+        let v = mesh_bounce::Grid::measure(&triangles, &hair, &points, |p| u.light_arrival(p));
         *cache = Some((key, v));
         v
     }

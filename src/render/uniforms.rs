@@ -75,15 +75,15 @@ pub struct FrameUniforms {
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     /// Under the fibres model, the probe of the light the meshes bounce onto the hair
-    /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz, w unused) and its luminances four to a
-    /// vector; zeros under the absorber model.
+    /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz, w unused) and its radiances, one node
+    /// a vector (rgb, w unused); zeros under the absorber model.
     pub bounce_min: [f32; 4],
     pub bounce_max: [f32; 4],
     pub bounce_grid: [[f32; 4]; BOUNCE_VECTORS],
 }
 
 /// Vectors of [`FrameUniforms::bounce_grid`].
-pub const BOUNCE_VECTORS: usize = crate::shading::mesh_bounce::NODES.pow(3) / 4;
+pub const BOUNCE_VECTORS: usize = crate::shading::mesh_bounce::NODES.pow(3);
 
 /// Field names and byte offsets, in declaration order, for the layout test.
 pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {

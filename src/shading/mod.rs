@@ -5,6 +5,7 @@
 
 pub mod dual_scattering;
 pub mod fibre_transport;
+pub mod hair_density;
 pub mod kajiya_kay;
 pub mod marschner;
 pub mod mesh_bounce;

@@ -509,7 +509,7 @@ fn probe(i: u32, p: Row) {
 "#;
 
 /// GPU = CPU: the ambient light of a hair fragment under both hair models: the absorber's `colour × 0.08`, and
-/// the fibres model's `hair_response(colour) × Grid::at(p)` on a grid of random values, at 2048 random points
+/// the fibres model's `hair_response(colour) × Grid::at(p)` on a grid of random colours, at 2048 random points
 /// inside, on and beyond the lattice, within `|Δ| ≤ 2e-6 + 1e-5 |x|`.
 #[test]
 fn wgsl_mesh_bounce_equals_the_cpu_model() {
@@ -519,10 +519,10 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
     let mut grid = Grid {
         min: Vec3::new(-0.2, 0.1, -0.3),
         max: Vec3::new(0.25, 0.6, 0.2),
-        values: [0.0; NODES * NODES * NODES],
+        values: [Vec3::ZERO; NODES * NODES * NODES],
     };
     for v in &mut grid.values {
-        *v = rng.range(0.0, 0.4);
+        *v = Vec3::new(rng.range(0.0, 0.4), rng.range(0.0, 0.4), rng.range(0.0, 0.4));
     }
     let rows: Vec<[f32; 8]> = (0..2048)
         .map(|_| {

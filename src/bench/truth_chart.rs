@@ -91,6 +91,7 @@ mod tests {
                 rmse,
                 ratio: 1.0,
                 noise: 0.0,
+                structure: rmse,
             };
             StepError {
                 hair: region,

@@ -68,8 +68,8 @@ pub struct FibreBsdf {
     sigma_a: Vec3,
     /// Longitudinal variance per lobe.
     v: [f32; P_MAX + 1],
-    /// Logistic scale.
-    s: f32,
+    /// The azimuthal logistic.
+    n: Trimmed,
     /// sin and cos of 2^k α for k = 0, 1, 2.
     sin_2k_alpha: [f32; 3],
     cos_2k_alpha: [f32; 3],
@@ -91,7 +91,7 @@ fn safe_sqrt(x: f32) -> f32 {
 /// pbrt's fixed 10-term series loses ~2% of the energy near x = 12).
 fn i0(x: f64) -> f64 {
     if x >= 3.75 {
-        return (x - 0.5 * x.ln() + i0_scaled(x).ln()).exp();
+        return x.exp() * i0_scaled(x) / x.sqrt();
     }
     let t = (x / 3.75) * (x / 3.75);
     1.0 + t
@@ -109,22 +109,19 @@ fn i0_scaled(x: f64) -> f64 {
                         + u * (-0.02057706 + u * (0.02635537 + u * (-0.01647633 + u * 0.00392377)))))))
 }
 
-/// log I0.
-fn log_i0(x: f64) -> f64 {
-    if x >= 3.75 {
-        x - 0.5 * x.ln() + i0_scaled(x).ln()
-    } else {
-        i0(x).ln()
-    }
-}
-
-/// d'Eon et al. 2011's longitudinal scattering, in the stable log form for small variance.
+/// d'Eon et al. 2011's longitudinal scattering, for small variance in the stable form `e^(a − b − 1/v) ·
+/// (√a e^-a I0(a)) / (v √a)` (pbrt's `exp(log I0(a) − b − 1/v + ln(1/v))`, its exponentials and
+/// logarithms gathered into one exponent).
 fn mp(cos_i: f32, cos_o: f32, sin_i: f32, sin_o: f32, v: f32) -> f32 {
     let v = v as f64;
     let a = cos_i as f64 * cos_o as f64 / v;
     let b = sin_i as f64 * sin_o as f64 / v;
     let m = if v <= 0.1 {
-        (log_i0(a) - b - 1.0 / v + std::f64::consts::LN_2 + (1.0 / (2.0 * v)).ln()).exp()
+        if a >= 3.75 {
+            (a - b - 1.0 / v).exp() * i0_scaled(a) / (v * a.sqrt())
+        } else {
+            (-b - 1.0 / v).exp() * i0(a) / v
+        }
     } else {
         (-b).exp() * i0(a) / ((1.0 / v).sinh() * 2.0 * v)
     };
@@ -179,15 +176,33 @@ fn logistic_cdf(x: f32, s: f32) -> f32 {
     1.0 / (1.0 + (-x / s).exp())
 }
 
-/// The logistic renormalised on [-π, π].
-fn trimmed_logistic(x: f32, s: f32) -> f32 {
-    logistic(x, s) / (logistic_cdf(PI, s) - logistic_cdf(-PI, s))
+/// The logistic of scale `s` trimmed to [-π, π]: its CDF at -π and its mass there, worked out once per scale.
+#[derive(Clone, Copy, Debug)]
+struct Trimmed {
+    s: f32,
+    below: f32,
+    mass: f32,
 }
 
-fn sample_trimmed_logistic(u: f32, s: f32) -> f32 {
-    let k = logistic_cdf(PI, s) - logistic_cdf(-PI, s);
-    let x = -s * (1.0 / (u * k + logistic_cdf(-PI, s)) - 1.0).ln();
-    x.clamp(-PI, PI)
+impl Trimmed {
+    fn new(s: f32) -> Trimmed {
+        let below = logistic_cdf(-PI, s);
+        Trimmed {
+            s,
+            below,
+            mass: logistic_cdf(PI, s) - below,
+        }
+    }
+
+    /// The logistic renormalised on [-π, π].
+    fn density(&self, x: f32) -> f32 {
+        logistic(x, self.s) / self.mass
+    }
+
+    fn sample(&self, u: f32) -> f32 {
+        let x = -self.s * (1.0 / (u * self.mass + self.below) - 1.0).ln();
+        x.clamp(-PI, PI)
+    }
 }
 
 /// Wraps an angle into [-π, π].
@@ -201,8 +216,8 @@ fn wrap(mut x: f32) -> f32 {
     x
 }
 
-fn np(phi: f32, p: usize, s: f32, gamma_o: f32, gamma_t: f32) -> f32 {
-    trimmed_logistic(wrap(phi - phi_p(p, gamma_o, gamma_t)), s)
+fn np(phi: f32, p: usize, n: &Trimmed, gamma_o: f32, gamma_t: f32) -> f32 {
+    n.density(wrap(phi - phi_p(p, gamma_o, gamma_t)))
 }
 
 /// sin θ, cos θ and φ of a local direction.
@@ -230,7 +245,7 @@ impl FibreBsdf {
             eta: params.eta,
             sigma_a: params.sigma_a,
             v: [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0],
-            s,
+            n: Trimmed::new(s),
             sin_2k_alpha,
             cos_2k_alpha,
         }
@@ -267,43 +282,48 @@ impl FibreBsdf {
         }
     }
 
-    /// Lobe-selection probabilities: the A_p averaged over channels, normalised.
-    fn ap_pdf(&self, cos_o: f32) -> [f32; P_MAX + 1] {
-        let sin_o = safe_sqrt(1.0 - cos_o * cos_o);
-        let (_, t) = self.refracted(sin_o, cos_o);
-        let a = ap(cos_o, self.eta, self.h, t).map(|a| (a.x + a.y + a.z) / 3.0);
-        let sum: f32 = a.iter().sum();
-        a.map(|x| if sum > 0.0 { x / sum } else { 0.25 })
+    /// What the lobes need of `wo`, worked out once for any number of evaluations and samples.
+    pub fn outgoing(&self, wo: Vec3) -> Outgoing {
+        let (sin_o, cos_o, phi_o) = angles(wo);
+        let (gamma_t, t) = self.refracted(sin_o, cos_o);
+        let a = ap(cos_o, self.eta, self.h, t);
+        // Lobe-selection probabilities: the A_p averaged over channels, normalised.
+        let mean = a.map(|a| (a.x + a.y + a.z) / 3.0);
+        let sum: f32 = mean.iter().sum();
+        Outgoing {
+            sin_o,
+            cos_o,
+            phi_o,
+            gamma_t,
+            a,
+            apdf: mean.map(|x| if sum > 0.0 { x / sum } else { 0.25 }),
+        }
     }
 
     /// f(wo, wi), without the cosine (pbrt's convention: f |wi.z| integrates to the scattered energy).
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let (sin_o, cos_o, phi_o) = angles(wo);
-        let (sin_i, cos_i, phi_i) = angles(wi);
-        let (gamma_t, t) = self.refracted(sin_o, cos_o);
-        let a = ap(cos_o, self.eta, self.h, t);
-        let phi = phi_i - phi_o;
-        let mut sum = Vec3::ZERO;
-        for (p, a_p) in a.iter().enumerate().take(P_MAX) {
-            let (so, co) = self.tilted(p, sin_o, cos_o);
-            sum += mp(cos_i, co, sin_i, so, self.v[p]) * *a_p * np(phi, p, self.s, self.gamma_o, gamma_t);
-        }
-        sum += mp(cos_i, cos_o, sin_i, sin_o, self.v[P_MAX]) * a[P_MAX] / (2.0 * PI);
-        let cos_wi = wi.z.abs();
-        if cos_wi > 0.0 { sum / cos_wi } else { sum }
+        self.eval_pdf(&self.outgoing(wo), wi).0
+    }
+
+    /// [`Self::eval`] for the `wo` of `o`.
+    pub fn eval_at(&self, o: &Outgoing, wi: Vec3) -> Vec3 {
+        self.eval_pdf(o, wi).0
     }
 
     /// Samples wi from 4 uniform numbers: lobe, two for M_p, one for N_p.
     pub fn sample(&self, wo: Vec3, u: [f32; 4]) -> Option<FibreSample> {
-        let (sin_o, cos_o, phi_o) = angles(wo);
-        let apdf = self.ap_pdf(cos_o);
+        self.sample_at(&self.outgoing(wo), u)
+    }
+
+    /// [`Self::sample`] for the `wo` of `o`.
+    pub fn sample_at(&self, o: &Outgoing, u: [f32; 4]) -> Option<FibreSample> {
         let mut p = 0;
         let mut u0 = u[0];
-        while p < P_MAX && u0 >= apdf[p] {
-            u0 -= apdf[p];
+        while p < P_MAX && u0 >= o.apdf[p] {
+            u0 -= o.apdf[p];
             p += 1;
         }
-        let (so, co) = self.tilted(p, sin_o, cos_o);
+        let (so, co) = self.tilted(p, o.sin_o, o.cos_o);
         let u1 = u[1].max(1e-5);
         let v = self.v[p];
         let cos_theta = 1.0 + v * (u1 + (1.0 - u1) * (-2.0 / v).exp()).ln();
@@ -311,62 +331,54 @@ impl FibreBsdf {
         let cos_phi = (2.0 * PI * u[2]).cos();
         let sin_i = (-cos_theta * so + sin_theta * cos_phi * co).clamp(-1.0, 1.0);
         let cos_i = safe_sqrt(1.0 - sin_i * sin_i);
-        let (gamma_t, t) = self.refracted(sin_o, cos_o);
         let dphi = if p < P_MAX {
-            phi_p(p, self.gamma_o, gamma_t) + sample_trimmed_logistic(u[3], self.s)
+            phi_p(p, self.gamma_o, o.gamma_t) + self.n.sample(u[3])
         } else {
             2.0 * PI * u[3]
         };
-        let phi_i = phi_o + dphi;
+        let phi_i = o.phi_o + dphi;
         let wi = Vec3::new(sin_i, cos_i * phi_i.cos(), cos_i * phi_i.sin());
-        let (f, pdf) = self.eval_pdf((sin_o, cos_o, phi_o), gamma_t, t, &apdf, wi);
+        let (f, pdf) = self.eval_pdf(o, wi);
         (pdf > 0.0 && pdf.is_finite()).then_some(FibreSample { wi, f, pdf })
     }
 
-    /// [`Self::eval`] and [`Self::pdf`] at once, from what [`Self::sample`] has already worked out for `wo`: its
-    /// angles, γ_t, the one-pass transmittance and the lobe probabilities. The lobes' M_p and N_p are shared.
-    fn eval_pdf(
-        &self,
-        (sin_o, cos_o, phi_o): (f32, f32, f32),
-        gamma_t: f32,
-        t: Vec3,
-        apdf: &[f32; P_MAX + 1],
-        wi: Vec3,
-    ) -> (Vec3, f32) {
+    /// [`Self::eval`] and [`Self::pdf`] at once: the lobes' M_p and N_p are shared.
+    fn eval_pdf(&self, o: &Outgoing, wi: Vec3) -> (Vec3, f32) {
         let (sin_i, cos_i, phi_i) = angles(wi);
-        let a = ap(cos_o, self.eta, self.h, t);
-        let phi = phi_i - phi_o;
+        let phi = phi_i - o.phi_o;
         let (mut f, mut pdf) = (Vec3::ZERO, 0.0);
         for p in 0..P_MAX {
-            let (so, co) = self.tilted(p, sin_o, cos_o);
+            let (so, co) = self.tilted(p, o.sin_o, o.cos_o);
             let (m, n) = (
                 mp(cos_i, co, sin_i, so, self.v[p]),
-                np(phi, p, self.s, self.gamma_o, gamma_t),
+                np(phi, p, &self.n, self.gamma_o, o.gamma_t),
             );
-            f += m * a[p] * n;
-            pdf += m * apdf[p] * n;
+            f += m * o.a[p] * n;
+            pdf += m * o.apdf[p] * n;
         }
-        let m = mp(cos_i, cos_o, sin_i, sin_o, self.v[P_MAX]);
-        f += m * a[P_MAX] / (2.0 * PI);
+        let m = mp(cos_i, o.cos_o, sin_i, o.sin_o, self.v[P_MAX]);
+        f += m * o.a[P_MAX] / (2.0 * PI);
         let cos_wi = wi.z.abs();
         let f = if cos_wi > 0.0 { f / cos_wi } else { f };
-        (f, pdf + m * apdf[P_MAX] / (2.0 * PI))
+        (f, pdf + m * o.apdf[P_MAX] / (2.0 * PI))
     }
 
     /// Solid-angle density of [`Self::sample`].
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (sin_o, cos_o, phi_o) = angles(wo);
-        let (sin_i, cos_i, phi_i) = angles(wi);
-        let (gamma_t, _) = self.refracted(sin_o, cos_o);
-        let apdf = self.ap_pdf(cos_o);
-        let phi = phi_i - phi_o;
-        let mut pdf = 0.0;
-        for (p, a_p) in apdf.iter().enumerate().take(P_MAX) {
-            let (so, co) = self.tilted(p, sin_o, cos_o);
-            pdf += mp(cos_i, co, sin_i, so, self.v[p]) * a_p * np(phi, p, self.s, self.gamma_o, gamma_t);
-        }
-        pdf + mp(cos_i, cos_o, sin_i, sin_o, self.v[P_MAX]) * apdf[P_MAX] / (2.0 * PI)
+        self.eval_pdf(&self.outgoing(wo), wi).1
     }
+}
+
+/// [`FibreBsdf::outgoing`]: the angles of `wo` (sin θ_o, cos θ_o, φ_o), γ_t, the attenuations A_p and the lobe
+/// probabilities.
+#[derive(Clone, Copy, Debug)]
+pub struct Outgoing {
+    sin_o: f32,
+    cos_o: f32,
+    phi_o: f32,
+    gamma_t: f32,
+    a: [Vec3; P_MAX + 1],
+    apdf: [f32; P_MAX + 1],
 }
 
 #[cfg(test)]

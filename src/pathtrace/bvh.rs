@@ -1,15 +1,18 @@
 //! A bounding volume hierarchy over fibre segments and mesh triangles: a top-down binary build binned by the
 //! surface area heuristic (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies": 16 bins on
 //! each axis over the centroids, a node visit costed as one primitive test), collapsed into four-wide nodes whose
-//! four child boxes a ray tests at once (Wald et al. 2008), and stack traversal nearest child first. A slanted
-//! segment enters the build as a few boxes along its length (its one box is mostly empty), and each leaf keeps
-//! its segments' axes side by side so the cheap line-distance test before the exact solve reads no other memory.
+//! four child boxes a ray tests at once (Wald et al. 2008), and stack traversal nearest child first (the box
+//! test ordered by the direction's signs where no component is 0). A slanted segment enters the build as a few
+//! boxes along its length (its one box is mostly empty), and each leaf keeps its primitives with their segments'
+//! axes side by side so the cheap line-distance test before the exact solve reads no other memory. A query
+//! remembers the last few primitives it tested (a segment's pieces sit in several leaves) and skips the
+//! primitive its ray leaves.
 //! Written in-tree rather than taken from a crate: the primitives are our own round fibres (`fibre.rs`) and we
 //! need every hit along a ray besides the first.
 
-use glam::{Vec3, Vec4};
+use glam::{UVec4, Vec3, Vec4};
 
-use super::fibre::{Hit, Ray, Segment, misses_line};
+use super::fibre::{Hit, Ray, Segment, misses_axis};
 use super::triangle::Triangle;
 use crate::scene::Aabb;
 
@@ -18,26 +21,36 @@ const BINS: usize = 16;
 const MAX_LEAF: usize = 8;
 /// The cost of visiting a node relative to testing a primitive, for the surface area heuristic.
 const TRAVERSAL_COST: f32 = 1.0;
-/// A segment enters the hierarchy as at most this many boxes along its length.
-const MAX_PIECES: usize = 4;
+/// A segment enters the hierarchy as at most this many boxes along its length (4 made 3.2 boxes a segment of
+/// `default`'s groom and its render about 5 % slower than 2, at 2.0).
+const MAX_PIECES: usize = 2;
 /// Traversal keeps its stack of nodes to visit on the stack up to this many entries.
 const STACK: usize = 64;
+/// The `from` of a ray that leaves no primitive.
+pub const NO_PRIMITIVE: u32 = u32::MAX;
+/// Traversal remembers this many primitives last tested, not to test a segment's pieces' leaves again.
+const RECENT: usize = 4;
 
 #[derive(Clone, Copy, Debug)]
 struct Node {
     min: Vec3,
     max: Vec3,
-    /// First child (the second is `first + 1`) of an inner node, first entry of `order` of a leaf.
+    /// First child (the second is `first + 1`) of an inner node, first entry of `order` (the build's list) of a
+    /// leaf.
     first: u32,
     /// Segments in a leaf; 0 for an inner node.
     count: u32,
 }
 
+/// A leaf's entry: the primitive and, for a segment, its line as the leaf's first test reads it (an end, the axis
+/// to the other end, the widest radius; all 0 for a triangle). One entry is half a cache line.
 #[derive(Clone, Copy, Debug, Default)]
-struct Line {
+#[repr(C, align(32))]
+struct Entry {
     a: Vec3,
     r: f32,
-    b: Vec3,
+    axis: Vec3,
+    primitive: u32,
 }
 
 /// A node of the four-wide hierarchy the queries walk: its children's boxes side by side, one lane each (Wald et
@@ -47,7 +60,7 @@ struct Line {
 struct Node4 {
     min: [Vec4; 3],
     max: [Vec4; 3],
-    /// Per lane: the child node, or the first entry of `order` of a leaf.
+    /// Per lane: the child node, or the first of a leaf's `entries`.
     first: [u32; 4],
     /// Per lane: the primitives of a leaf; 0 for a child node, [`UNUSED`] for a lane not in use.
     count: [u32; 4],
@@ -117,11 +130,9 @@ pub struct Bvh {
     segments: Vec<Segment>,
     triangles: Vec<Triangle>,
     nodes: Vec<Node4>,
-    /// The leaves' primitives, leaf after leaf.
-    order: Vec<u32>,
-    /// Per entry of `order`, the segment's axis and widest radius (all 0 for a triangle) side by side with the
-    /// leaf's others, for a cheap first test that needs no other memory.
-    lines: Vec<Line>,
+    /// The leaves' primitives, leaf after leaf, each with its line side by side with the leaf's others, for a
+    /// cheap first test that needs no other memory.
+    entries: Vec<Entry>,
     /// The longest path from the root to a leaf, in edges.
     depth: usize,
 }
@@ -147,6 +158,23 @@ fn slab4(node: &Node4, o: [Vec4; 3], inv: [Vec4; 3]) -> (Vec4, Vec4) {
         let in_plane = t1.is_nan_mask() | t2.is_nan_mask();
         near = near.max(Vec4::select(in_plane, Vec4::NEG_INFINITY, t1.min(t2)));
         far = far.min(Vec4::select(in_plane, Vec4::INFINITY, t1.max(t2)));
+    }
+    (near, far * (1.0 + 2.0 * 3.0 * f32::EPSILON))
+}
+
+/// [`slab4`] for a ray with no direction component 0 (`inv` finite, so no `0 × ∞`): per axis the plane met first
+/// is known from the direction's sign (`back[axis]`: the ray runs towards −axis, meeting `max` first), which
+/// spares the ordering of the two distances.
+fn slab4_finite(node: &Node4, o: [Vec4; 3], inv: [Vec4; 3], back: [bool; 3]) -> (Vec4, Vec4) {
+    let (mut near, mut far) = (Vec4::ZERO, Vec4::INFINITY);
+    for axis in 0..3 {
+        let (first, last) = if back[axis] {
+            (node.max[axis], node.min[axis])
+        } else {
+            (node.min[axis], node.max[axis])
+        };
+        near = near.max((first - o[axis]) * inv[axis]);
+        far = far.min((last - o[axis]) * inv[axis]);
     }
     (near, far * (1.0 + 2.0 * 3.0 * f32::EPSILON))
 }
@@ -318,22 +346,23 @@ impl Bvh {
         } else {
             collapse(&nodes)
         };
-        let lines = order
+        let entries = order
             .iter()
             .map(|&i| {
-                segments.get(i as usize).map_or(Line::default(), |s| Line {
+                let line = segments.get(i as usize).map_or(Entry::default(), |s| Entry {
                     a: s.a,
                     r: s.ra.max(s.rb),
-                    b: s.b,
-                })
+                    axis: s.b - s.a,
+                    primitive: i,
+                });
+                Entry { primitive: i, ..line }
             })
             .collect();
         Bvh {
             segments,
             triangles,
             nodes,
-            order,
-            lines,
+            entries,
             depth,
         }
     }
@@ -346,7 +375,14 @@ impl Bvh {
         self.triangles.len()
     }
 
-    /// Primitive `i`'s crossing with `t` in `(0, t_max)`, `segment` set to `i`, for a ray that [`misses_line`]
+    /// Whether primitive `i` is convex, so that a ray leaving its surface does not meet it again: a triangle, or
+    /// a segment of one radius (a capsule); a tapered segment's cone meets its narrower end's sphere in a
+    /// concave kink, where a ray leaving the surface may enter it again.
+    fn convex(&self, i: u32) -> bool {
+        self.segments.get(i as usize).is_none_or(|s| s.ra == s.rb)
+    }
+
+    /// Primitive `i`'s crossing with `t` in `(0, t_max)`, `segment` set to `i`, for a ray that [`misses_axis`]
     /// has not ruled out.
     fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
         let n = self.segments.len();
@@ -358,18 +394,39 @@ impl Bvh {
     }
 
     /// Calls `visit` with each primitive of each leaf whose box the ray meets within `(0, t_max)`, nearest box
-    /// first, but for segments whose line the ray's passes too far from ([`misses_line`]); `visit` returns the new `t_max` (a shorter one prunes), or `None` to stop.
-    fn traverse(&self, ray: &Ray, mut t_max: f32, mut visit: impl FnMut(u32, f32) -> Option<f32>) {
+    /// first, but for primitive `from` and for segments the ray passes too far from ([`misses_axis`]); `visit`
+    /// returns the new `t_max` (a shorter one prunes), or `None` to stop.
+    fn traverse(&self, ray: &Ray, t_max: f32, from: u32, visit: impl FnMut(u32, f32) -> Option<f32>) {
         if self.nodes.is_empty() {
             return;
         }
+        let from = if self.convex(from) { from } else { NO_PRIMITIVE };
         let inv = ray.dir.recip();
+        if inv.is_finite() {
+            let back = ray.dir.cmplt(Vec3::ZERO).into();
+            self.walk(ray, t_max, from, visit, |node, o, inv| {
+                slab4_finite(node, o, inv, back)
+            });
+        } else {
+            self.walk(ray, t_max, from, visit, slab4);
+        }
+    }
+
+    /// [`Self::traverse`] with the box test `slab`.
+    fn walk(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        from: u32,
+        mut visit: impl FnMut(u32, f32) -> Option<f32>,
+        slab: impl Fn(&Node4, [Vec4; 3], [Vec4; 3]) -> (Vec4, Vec4),
+    ) {
         let (o, inv) = (
             ray.origin.to_array().map(Vec4::splat),
-            inv.to_array().map(Vec4::splat),
+            ray.dir.recip().to_array().map(Vec4::splat),
         );
-        // Nodes and leaves to visit, (first, count, entry distance); at most three per level besides the one
-        // being visited.
+        // Nodes and leaves still to visit, (first, count, entry distance); at most three per level besides the
+        // one being visited.
         let mut fixed = [(0u32, 0u32, 0.0f32); STACK];
         let mut grown;
         let stack: &mut [(u32, u32, f32)] = if 3 * self.depth + 4 <= STACK {
@@ -378,17 +435,23 @@ impl Bvh {
             grown = vec![(0u32, 0u32, 0.0f32); 3 * self.depth + 4];
             &mut grown
         };
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let (first, count, entry) = stack[top];
-            if entry > t_max {
-                continue;
-            }
+        let mut top = 0;
+        // The primitives last tested, a ring.
+        let (mut recent, mut seen) = ([u32::MAX; RECENT], 0);
+        // The node or leaf being visited, (first, count).
+        let (mut first, mut count) = (0u32, 0u32);
+        loop {
             if count > 0 {
-                let range = first as usize..(first + count) as usize;
-                for (&i, l) in self.order[range.clone()].iter().zip(&self.lines[range]) {
-                    if misses_line(l.a, l.b, l.r, ray) {
+                for e in &self.entries[first as usize..(first + count) as usize] {
+                    // A segment in pieces may sit in several leaves: one met lately is not tested again (its
+                    // crossing, if any, is already in, within a `t_max` no shorter than now).
+                    let i = e.primitive;
+                    if i == from || recent.contains(&i) {
+                        continue;
+                    }
+                    recent[seen % RECENT] = i;
+                    seen += 1;
+                    if misses_axis(e.a, e.axis, e.r, ray) {
                         continue;
                     }
                     t_max = match visit(i, t_max) {
@@ -396,36 +459,63 @@ impl Bvh {
                         None => return,
                     };
                 }
-                continue;
-            }
-            let node = &self.nodes[first as usize];
-            let (near, far) = slab4(node, o, inv);
-            let far = far.min(Vec4::splat(t_max));
-            // The lanes met, farthest first, so the nearest is popped first.
-            let mut met = [(0.0f32, 0usize); 4];
-            let mut n = 0;
-            for lane in 0..4 {
-                if near[lane] <= far[lane] && node.count[lane] != UNUSED {
-                    let mut j = n;
-                    while j > 0 && met[j - 1].0 < near[lane] {
-                        met[j] = met[j - 1];
-                        j -= 1;
+            } else {
+                let node = &self.nodes[first as usize];
+                let (near, far) = slab(node, o, inv);
+                let used = UVec4::from_array(node.count)
+                    .cmpne(UVec4::splat(UNUSED))
+                    .bitmask();
+                let mut met = near.cmple(far.min(Vec4::splat(t_max))).bitmask() & used;
+                if met != 0 {
+                    // The lanes met onto the stack farthest first, then the nearest visited next.
+                    let near = near.to_array();
+                    let mut lanes = [(0.0f32, 0usize); 4];
+                    let mut n = 0;
+                    while met != 0 {
+                        let lane = met.trailing_zeros() as usize;
+                        met &= met - 1;
+                        let mut j = n;
+                        while j > 0 && lanes[j - 1].0 < near[lane] {
+                            lanes[j] = lanes[j - 1];
+                            j -= 1;
+                        }
+                        lanes[j] = (near[lane], lane);
+                        n += 1;
                     }
-                    met[j] = (near[lane], lane);
-                    n += 1;
+                    for &(t, lane) in &lanes[..n - 1] {
+                        stack[top] = (node.first[lane], node.count[lane], t);
+                        top += 1;
+                    }
+                    let lane = lanes[n - 1].1;
+                    (first, count) = (node.first[lane], node.count[lane]);
+                    continue;
                 }
             }
-            for &(t, lane) in &met[..n] {
-                stack[top] = (node.first[lane], node.count[lane], t);
-                top += 1;
+            // The next entry on the stack the ray can still reach.
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                let (f, c, entry) = stack[top];
+                if entry <= t_max {
+                    (first, count) = (f, c);
+                    break;
+                }
             }
         }
     }
 
     /// The nearest fibre crossing within `(0, t_max)`.
     pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.closest_hit_from(ray, t_max, NO_PRIMITIVE)
+    }
+
+    /// [`Self::closest_hit`] for a ray leaving primitive `from`'s surface, which is not tested where the ray
+    /// cannot meet it again ([`Self::convex`]).
+    pub fn closest_hit_from(&self, ray: &Ray, t_max: f32, from: u32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.traverse(ray, t_max, |i, t_max| {
+        self.traverse(ray, t_max, from, |i, t_max| {
             if let Some(h) = self.intersect(i, ray, t_max) {
                 best = Some(h);
                 return Some(h.t);
@@ -437,19 +527,25 @@ impl Bvh {
 
     /// Whether any fibre crosses the ray within `(0, t_max)` (a shadow ray).
     pub fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
+        self.any_hit_from(ray, t_max, NO_PRIMITIVE)
+    }
+
+    /// [`Self::any_hit`] for a ray leaving primitive `from` (as [`Self::closest_hit_from`]).
+    pub fn any_hit_from(&self, ray: &Ray, t_max: f32, from: u32) -> bool {
         let mut hit = false;
-        self.traverse(ray, t_max, |i, t_max| {
+        self.traverse(ray, t_max, from, |i, t_max| {
             hit = self.intersect(i, ray, t_max).is_some();
             (!hit).then_some(t_max)
         });
         hit
     }
 
-    /// Whether a mesh triangle crosses the ray within `(0, t_max)` (a shadow ray the fibres do not block).
-    pub fn any_mesh_hit(&self, ray: &Ray, t_max: f32) -> bool {
+    /// Whether a mesh triangle crosses the ray within `(0, t_max)` (a shadow ray the fibres do not block), for a
+    /// ray leaving primitive `from` (as [`Self::closest_hit_from`]; [`NO_PRIMITIVE`] for none).
+    pub fn any_mesh_hit_from(&self, ray: &Ray, t_max: f32, from: u32) -> bool {
         let n = self.segments.len() as u32;
         let mut hit = false;
-        self.traverse(ray, t_max, |i, t_max| {
+        self.traverse(ray, t_max, from, |i, t_max| {
             hit = i >= n && self.intersect(i, ray, t_max).is_some();
             (!hit).then_some(t_max)
         });
@@ -459,7 +555,7 @@ impl Bvh {
     /// Every primitive the ray crosses within `(0, t_max)`, each with its nearest crossing, in order of `t`.
     pub fn all_hits(&self, ray: &Ray, t_max: f32) -> Vec<Hit> {
         let mut hits = Vec::new();
-        self.traverse(ray, t_max, |i, t_max| {
+        self.traverse(ray, t_max, NO_PRIMITIVE, |i, t_max| {
             if let Some(h) = self.intersect(i, ray, t_max) {
                 hits.push(h);
             }

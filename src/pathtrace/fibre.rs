@@ -132,11 +132,16 @@ pub fn segments(strands: &Strands, width: f32) -> Vec<Segment> {
 /// `a`–`b` of radius at most `r` (a lower bound on the distance to the segment, so this never drops a crossing;
 /// the margin covers f32 rounding). Never for `a = b`.
 pub fn misses_line(a: Vec3, b: Vec3, r: f32, ray: &Ray) -> bool {
-    let (axis, w) = (b - a, ray.origin - a);
+    misses_axis(a, b - a, r, ray)
+}
+
+/// [`misses_line`] for the line through `a` along `axis` (`b − a`), compared squared (no square root).
+pub fn misses_axis(a: Vec3, axis: Vec3, r: f32, ray: &Ray) -> bool {
+    let w = ray.origin - a;
     let normal = ray.dir.cross(axis);
     let margin = 1e-5 * (1.0 + w.abs().max_element() + axis.abs().max_element());
-    normal.length_squared() > 1e-12 * axis.length_squared()
-        && w.dot(normal).abs() > (r + margin) * normal.length()
+    let (n2, distance, reach) = (normal.length_squared(), w.dot(normal), r + margin);
+    n2 > 1e-12 * axis.length_squared() && distance * distance > reach * reach * n2
 }
 
 /// The roots of `a t² + 2 hb t + c` (stable form; a linear equation when `a` is 0), non-finite ones dropped.
@@ -193,24 +198,23 @@ impl Segment {
         let u = if len > 0.0 { axis / len } else { DVec3::X };
         // A point inside a neighbouring segment's solid is inside the strand (a relative margin keeps the seams
         // where two surfaces meet).
-        let neighbours = [(self.prev, self.a, self.ra), (self.next, self.b, self.rb)]
-            .map(|(n, c, r)| n.map(|(p, rp)| (p.as_dvec3(), c.as_dvec3(), rp as f64, r as f64)));
         let inside_neighbour = |p: DVec3| {
-            neighbours
-                .iter()
-                .flatten()
-                .any(|&(q, c, rq, rc)| field(q, c, rq, rc, p) < -1e-4 * rq.min(rc))
+            [(self.prev, self.a, self.ra), (self.next, self.b, self.rb)]
+                .into_iter()
+                .any(|(n, c, r)| {
+                    n.is_some_and(|(q, rq)| {
+                        let (rq, rc) = (rq as f64, r as f64);
+                        field(q.as_dvec3(), c.as_dvec3(), rq, rc, p) < -1e-4 * rq.min(rc)
+                    })
+                })
         };
-        // (t, normal, radius) of the nearest crossing so far.
-        let mut best: Option<(f64, DVec3, f64)> = None;
+        // (t, normal, radius) of the crossings into a surface within the range, in the order found.
+        let mut found = [(f64::INFINITY, DVec3::ZERO, 0.0); 6];
+        let mut count = 0;
         let mut consider = |t: f64, n: DVec3, r: f64| {
-            if t > lo
-                && t < hi
-                && n.dot(d) < 0.0
-                && best.is_none_or(|(bt, _, _)| t < bt)
-                && !inside_neighbour(o + t * d)
-            {
-                best = Some((t, n, r));
+            if t > lo && t < hi && n.dot(d) < 0.0 {
+                found[count] = (t, n, r);
+                count += 1;
             }
         };
         // Position along the axis of the point at `t`.
@@ -244,7 +248,22 @@ impl Segment {
                 }
             }
         }
-        let (t_near, n, r) = best?;
+        // The nearest (the first found of equals) outside the neighbours; each is tested only when it is nearest.
+        let (t_near, n, r) = loop {
+            let mut k = 0;
+            for j in 1..count {
+                if found[j].0 < found[k].0 {
+                    k = j;
+                }
+            }
+            if count == 0 || found[k].0 == f64::INFINITY {
+                return None;
+            }
+            if !inside_neighbour(o + found[k].0 * d) {
+                break found[k];
+            }
+            found[k].0 = f64::INFINITY;
+        };
         let t = (t0 + t_near) as f32;
         let (tangent, normal) = (u.as_vec3(), n.as_vec3().normalize());
         let across = tangent.cross(ray.dir).normalize_or_zero();

@@ -1,5 +1,5 @@
 //! A CPU path tracer over the fibres (the reference the real-time methods are compared with): camera rays,
-//! next-event estimation to the light (`light.rs`) through an `any_hit` shadow ray, BSDF sampling, Russian
+//! next-event estimation to the light (`light.rs`) through an any-hit shadow ray, BSDF sampling, Russian
 //! roulette after depth 3 (pbrt's throughput-based survival), at most `max_depth` bounces, linear float RGB.
 //! Each sample's random stream is `SplitMix64::stream(seed, pixel << 32 ^ sample)`, so an image depends only on
 //! its seed, whatever the thread count; the samples are summed per pixel in `f64`, a NaN or infinite one left
@@ -15,7 +15,7 @@ use glam::Vec3;
 
 use super::accumulation::Sums;
 use super::bsdf::{FibreBsdf, FibreParams};
-use super::bvh::Bvh;
+use super::bvh::{Bvh, NO_PRIMITIVE};
 use super::effects::{Effects, Events, FirstHit, map_point, transmittance};
 use super::fibre::{Hit, Ray, Surface};
 use super::light::Light;
@@ -96,10 +96,11 @@ fn scatter(
             let shading = Shading::new(hit, dir, &s.fibre);
             let wo = shading.local(-dir);
             let l = shading.local(to_light);
-            let direct = shading.bsdf.eval(wo, l) * l.z.abs();
+            let out = shading.bsdf.outgoing(wo);
+            let direct = shading.bsdf.eval_at(&out, l) * l.z.abs();
             let next = shading
                 .bsdf
-                .sample(wo, u)
+                .sample_at(&out, u)
                 .map(|x| (shading.world(x.wi).normalize(), x.f * x.wi.z.abs() / x.pdf));
             (direct, next)
         }
@@ -149,10 +150,13 @@ impl Rays {
 /// Radiance along `ray`.
 fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
+    // The primitive the ray leaves, which it cannot meet again.
+    let mut from = NO_PRIMITIVE;
     for depth in 0..s.max_depth {
-        let Some(hit) = bvh.closest_hit(&ray, f32::INFINITY) else {
+        let Some(hit) = bvh.closest_hit_from(&ray, f32::INFINITY, from) else {
             break;
         };
+        from = hit.primitive;
         let eps = hit.offset();
         let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
         // The shadow ray's share of the light under the image's hair shadows.
@@ -165,8 +169,8 @@ fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut
                     &hit,
                     bvh.segments().get(hit.primitive as usize).map(|g| (g.a, g.b)),
                 ),
-                || bvh.any_hit(&shadow, reach),
-                || bvh.any_mesh_hit(&shadow, reach),
+                || bvh.any_hit_from(&shadow, reach, hit.primitive),
+                || bvh.any_mesh_hit_from(&shadow, reach, hit.primitive),
             )
         };
         if depth > 0 && s.effects.events == Events::Fibres && matches!(hit.surface, Surface::Mesh { .. }) {

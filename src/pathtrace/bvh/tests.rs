@@ -152,7 +152,7 @@ fn a_ray_lying_in_a_face_meets_the_box() {
     }
 }
 
-/// `closest_hit`, `any_hit`, `any_mesh_hit` and `all_hits` through the hierarchy equal a loop over every
+/// `closest_hit`, `any_hit`, `any_mesh_hit_from` and `all_hits` through the hierarchy equal a loop over every
 /// primitive for rays the slab test finds hard: rays lying in a plane of a node's box (one direction component ±0
 /// and the origin's coordinate on the box's face), rays along a box's edge, and rays straight down a floor and
 /// into a wall of axis-aligned triangles along their shared edges, among random and axis-aligned fibres.
@@ -260,7 +260,11 @@ fn queries_equal_brute_force_for_rays_in_box_planes() {
                 "{ray:?} within {t_max}"
             );
             let meshes = all.iter().any(|h| h.primitive as usize >= bvh.segments.len());
-            assert_eq!(bvh.any_mesh_hit(&ray, t_max), meshes, "{ray:?} within {t_max}");
+            assert_eq!(
+                bvh.any_mesh_hit_from(&ray, t_max, NO_PRIMITIVE),
+                meshes,
+                "{ray:?} within {t_max}"
+            );
             let mut sorted: Vec<f32> = all.iter().map(|h| h.t).collect();
             sorted.sort_by(f32::total_cmp);
             let listed: Vec<f32> = bvh.all_hits(&ray, t_max).iter().map(|h| h.t).collect();
@@ -274,4 +278,62 @@ fn queries_equal_brute_force_for_rays_in_box_planes() {
         hits[0], hits[1], hits[2]
     );
     assert!(hits.iter().all(|&h| h > 400), "hits {hits:?}");
+}
+
+/// A ray leaving a hit as the integrator starts it (off the surface by [`Hit::offset`] on its side, either
+/// way) meets what it meets with its own primitive tested too: `closest_hit_from`, `any_hit_from` and
+/// `any_mesh_hit_from`, which skip it where it is convex, equal the queries that test every primitive, among
+/// random segments (half of them of one radius, half tapered) and triangles.
+#[test]
+fn a_ray_leaving_a_primitive_meets_what_the_full_queries_meet() {
+    let mut rng = SplitMix64::new(19);
+    let triangles = (0..300)
+        .map(|_| {
+            let mut v = || Vec3::new(rng.normal(), rng.normal(), rng.normal());
+            Triangle {
+                p0: v() * 0.5,
+                e1: v() * 0.1,
+                e2: v() * 0.1,
+                albedo: Vec3::ONE,
+            }
+        })
+        .collect();
+    let mut segments = random_scene(&mut rng, 3000);
+    for s in segments.iter_mut().step_by(2) {
+        s.rb = s.ra;
+    }
+    let bvh = Bvh::with_triangles(segments, triangles);
+    let (mut leaving, mut met, mut meshes, mut skipped) = (0, 0, 0, 0);
+    for _ in 0..3000 {
+        let Some(hit) = bvh.closest_hit(&random_ray(&mut rng), f32::INFINITY) else {
+            continue;
+        };
+        for _ in 0..4 {
+            let w = Vec3::new(rng.normal(), rng.normal(), rng.normal()).normalize();
+            let origin = hit.point + hit.offset() * hit.normal.dot(w).signum() * hit.normal;
+            let ray = Ray::new(origin, w);
+            let t_max = rng.range(0.05, 6.0);
+            let full = bvh.closest_hit(&ray, t_max);
+            let skipping = bvh.closest_hit_from(&ray, t_max, hit.primitive);
+            assert_eq!(
+                skipping.map(|h| (h.primitive, h.t)),
+                full.map(|h| (h.primitive, h.t)),
+                "{ray:?} leaving {hit:?}"
+            );
+            assert_eq!(bvh.any_hit_from(&ray, t_max, hit.primitive), full.is_some());
+            let mesh = bvh.any_mesh_hit_from(&ray, t_max, NO_PRIMITIVE);
+            assert_eq!(bvh.any_mesh_hit_from(&ray, t_max, hit.primitive), mesh);
+            leaving += 1;
+            met += full.is_some() as usize;
+            meshes += mesh as usize;
+            skipped += bvh.convex(hit.primitive) as usize;
+        }
+    }
+    eprintln!(
+        "{leaving} rays leaving a hit ({skipped} a convex one), {met} meeting a primitive, {meshes} a triangle"
+    );
+    assert!(
+        leaving > 2000 && skipped > 1000 && met > 300 && meshes > 50,
+        "{leaving} {skipped} {met} {meshes}"
+    );
 }

@@ -16,6 +16,21 @@ fn random_scene(rng: &mut SplitMix64, n: usize) -> Vec<Segment> {
         .collect()
 }
 
+/// `n` small triangles about the origin.
+fn random_triangles(rng: &mut SplitMix64, n: usize) -> Vec<Triangle> {
+    (0..n)
+        .map(|_| {
+            let mut v = || Vec3::new(rng.normal(), rng.normal(), rng.normal());
+            Triangle {
+                p0: v() * 0.5,
+                e1: v() * 0.1,
+                e2: v() * 0.1,
+                albedo: Vec3::ONE,
+            }
+        })
+        .collect()
+}
+
 fn random_ray(rng: &mut SplitMix64) -> Ray {
     let o = Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 2.0;
     let target = Vec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.4;
@@ -42,17 +57,7 @@ fn brute_force(bvh: &Bvh, ray: &Ray, t_max: f32) -> Vec<Hit> {
 #[test]
 fn queries_equal_brute_force() {
     let mut rng = SplitMix64::new(7);
-    let triangles = (0..300)
-        .map(|_| {
-            let mut v = || Vec3::new(rng.normal(), rng.normal(), rng.normal());
-            Triangle {
-                p0: v() * 0.5,
-                e1: v() * 0.1,
-                e2: v() * 0.1,
-                albedo: Vec3::ONE,
-            }
-        })
-        .collect();
+    let triangles = random_triangles(&mut rng, 300);
     let bvh = Bvh::with_triangles(random_scene(&mut rng, 3000), triangles);
     let mut hits = 0;
     for _ in 0..3000 {
@@ -287,17 +292,7 @@ fn queries_equal_brute_force_for_rays_in_box_planes() {
 #[test]
 fn a_ray_leaving_a_primitive_meets_what_the_full_queries_meet() {
     let mut rng = SplitMix64::new(19);
-    let triangles = (0..300)
-        .map(|_| {
-            let mut v = || Vec3::new(rng.normal(), rng.normal(), rng.normal());
-            Triangle {
-                p0: v() * 0.5,
-                e1: v() * 0.1,
-                e2: v() * 0.1,
-                albedo: Vec3::ONE,
-            }
-        })
-        .collect();
+    let triangles = random_triangles(&mut rng, 300);
     let mut segments = random_scene(&mut rng, 3000);
     for s in segments.iter_mut().step_by(2) {
         s.rb = s.ra;

@@ -127,17 +127,14 @@ fn mean_square_matched(a: &RgbaImage, b: &RgbaImage, mask: &[bool]) -> f64 {
     mean_square(a, &scaled, mask)
 }
 
-/// Mean linear Rec. 709 luminance over the masked pixels; NaN for an empty mask.
+/// Mean linear Rec. 709 luminance over the masked pixels (the luminance of the channels' means); NaN for an
+/// empty mask.
 fn mean_luminance(image: &RgbaImage, mask: &[bool]) -> f64 {
-    let (mut sum, mut n) = (0.0f64, 0usize);
-    for (p, &m) in image.pixels().zip(mask) {
-        if m {
-            n += 1;
-            let [r, g, b] = [0, 1, 2].map(|c| srgb_to_linear(p[c]));
-            sum += 0.2126 * r + 0.7152 * g + 0.0722 * b;
-        }
+    if !mask.iter().any(|&m| m) {
+        return f64::NAN;
     }
-    if n == 0 { f64::NAN } else { sum / n as f64 }
+    let [r, g, b] = mean_linear(image, mask);
+    0.2126 * r + 0.7152 * g + 0.0722 * b
 }
 
 /// One step's figures over one region.

@@ -71,11 +71,12 @@ struct FrameUniforms {
     hair_model: u32,
     env_to_light: array<vec4<f32>, 64>,
     env_radiance: array<vec4<f32>, 64>,
-    // Under the fibres model, the probe of the light the meshes bounce onto the hair (common/mesh_bounce.wgsl):
-    // its lattice's corners and its 4 x 4 x 4 radiances, one node a vector (rgb); zeros otherwise.
+    // Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
+    // (common/mesh_bounce.wgsl): its lattice's corners and its 8 x 8 x 8 radiances, one node a vector (rgb);
+    // zeros otherwise.
     bounce_min: vec4<f32>,
     bounce_max: vec4<f32>,
-    bounce_grid: array<vec4<f32>, 64>,
+    bounce_grid: array<vec4<f32>, 512>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

@@ -74,7 +74,7 @@ pub struct FrameUniforms {
     /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
-    /// Under the fibres model, the probe of the light the meshes bounce onto the hair
+    /// Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
     /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz, w unused) and its radiances, one node
     /// a vector (rgb, w unused); zeros under the absorber model.
     pub bounce_min: [f32; 4],

@@ -1,32 +1,36 @@
-//! The light the scene's meshes bounce onto the hair, under the fibres model (`render.hair_model = fibres`;
-//! docs/truth.md, "The fibres model"). The path-traced truth lights the hair with the floor's and the head's
-//! bounce as well as the light (on `default`, the side the camera sees takes most of its light from the floor);
-//! the absorber model stands in for it with a constant ambient term. Here it is a light probe, as engines place
-//! one for their hair: the mean radiance that reaches the hair from the lit meshes, over [`DIRECTIONS`]
-//! directions from each of up to [`POINTS`] points spread over the strands. A ray that meets a mesh triangle
-//! (either side) brings that point's Lambert radiance under the light, `albedo × light × max(n·l, 0)` (the
-//! irradiance `π × light` times `albedo / π`, as `shaders/mesh.wgsl` and the path tracer light a mesh), the
-//! light blocked by the meshes (a shadow ray) and by the hair in front of the mesh towards the light, which
-//! passes `max(e^(−n), T_f)` of it through `n` fibres as the eye pass lights a mesh under the hair
-//! ([`fibre_transport::arriving`] at right angles; the count from a voxel density of the strands,
-//! [`HairDensity`]): a scalp under a dark lock sends next to nothing, one under a blond lock the light its
-//! fibres pass on. A ray that meets no mesh brings nothing (the scene has no environment light). The hair
-//! sends what arrives on times one fibre's albedo `ā_f + ā_b` at right angles ([`hair_response`]): light
-//! arriving alike from every side leaves a fibre as it left the one fibre, forward and back. Left out: the
-//! hair between the mesh and the strand point (on the lattice the probe's nodes average the inside of a lock
-//! with its surface, which the eye sees: docs/truth.md), and the light the hair scatters onto the meshes.
+//! The light that reaches the hair other than from the light itself, under the fibres model
+//! (`render.hair_model = fibres`; docs/truth.md, "The fibres model"): what the scene's meshes bounce and what
+//! the fibres scatter to each other. The path-traced truth lights the hair with the floor's and the head's
+//! bounce and with light scattered from fibre to fibre many times; the absorber model stands in for both with a
+//! constant ambient term. Here it is a light probe, as engines place one for their hair: the mean radiance
+//! arriving over [`DIRECTIONS`] directions at each of up to [`POINTS`] points spread over the strands. Along
+//! each direction the point sees the hair in front (a voxel density of the strands, [`HairDensity`]: `e^(−N)`
+//! of the rays cross none of its `N` fibres) and, behind it, the mesh triangle the ray meets (either side):
+//! its Lambert radiance under the light, `albedo × light × max(n·l, 0)` (the irradiance `π × light` times
+//! `albedo / π`, as `shaders/mesh.wgsl` and the path tracer light a mesh), blocked by the meshes (a shadow
+//! ray) and passed through the `n` fibres in front of it towards the light as `max(e^(−n), T_f)`
+//! ([`fibre_transport::arriving`] at right angles), plus the hair's light on it: its albedo times the hair's
+//! radiance there times the part of its hemisphere the hair covers (`1 − e^(−N)` along its normal; a scalp
+//! under a lock is lit by the lock). A ray that meets no mesh brings nothing past the hair (the scene has no
+//! environment light). What the hair itself sends is [`hair_scatter`]'s fixed point. The means land on an
+//! [`NODES`]³ lattice over the strands, which the eye pass reads trilinearly; a hair fragment sends what
+//! arrives on times one fibre's albedo `ā_f + ā_b` at right angles ([`hair_response`]): light arriving alike
+//! from every side leaves a fibre as it left the one fibre, forward and back. Left out: the direction the light
+//! arrives from (the probe is a mean over the sphere) and a lock's inside against its surface within one
+//! lattice cell.
 
 use glam::Vec3;
 
 use super::fibre_transport;
 use super::hair_density::HairDensity;
+use super::hair_scatter::{self, View};
 
 /// Strand points the probe averages over, at most.
-pub const POINTS: usize = 256;
+pub const POINTS: usize = 512;
 /// Directions per point (a Fibonacci sphere).
 pub const DIRECTIONS: usize = 32;
 /// Nodes a side of the probe's [`Grid`] over the strands' bounds.
-pub const NODES: usize = 4;
+pub const NODES: usize = 8;
 
 /// A mesh triangle and its albedo.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,39 +101,80 @@ pub struct Hair<'a> {
     pub sigma_a: Vec3,
 }
 
-/// The mean radiance the lit `triangles` send to `p` through `hair` (linear RGB, per unit of the light's
-/// colour × intensity as `light` gives it) over [`DIRECTIONS`] directions.
-fn at_point(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
-    let mut sum = Vec3::ZERO;
-    {
-        for k in 0..DIRECTIONS {
-            let dir = fibonacci(k, DIRECTIONS);
-            let Some((t, d)) = nearest(triangles, p, dir) else {
-                continue;
-            };
-            let at = p + dir * d;
-            let mut n = (t.b - t.a).cross(t.c - t.a).normalize_or_zero();
-            if n.dot(dir) > 0.0 {
-                n = -n;
-            }
-            let l = light(at);
-            let cos = n.dot(l.to_light);
-            if cos <= 0.0 {
-                continue;
-            }
-            let from = at + n * 1e-4;
-            if triangles
-                .iter()
-                .any(|s| hit(s, from, l.to_light, l.distance).is_some())
-            {
-                continue;
-            }
-            let towards_light = hair.density.crossed(at, l.to_light, l.distance);
-            let lit = fibre_transport::arriving((-towards_light).exp(), 0.0, hair.sigma_a, towards_light);
-            sum += t.albedo * l.radiance * cos * lit;
-        }
+/// The unit normal of `t` on the side a ray along `dir` meets.
+fn facing(t: &Triangle, dir: Vec3) -> Vec3 {
+    let n = (t.b - t.a).cross(t.c - t.a).normalize_or_zero();
+    if n.dot(dir) > 0.0 { -n } else { n }
+}
+
+/// The Lambert radiance of triangle `t` at `at`, seen along `dir`, under `light`: shadowed by the meshes and
+/// passing `max(e^(−n), T_f)` through the `n` fibres in front of it towards the light.
+fn mesh_radiance(
+    triangles: &[Triangle],
+    hair: &Hair,
+    t: &Triangle,
+    at: Vec3,
+    dir: Vec3,
+    light: &impl Fn(Vec3) -> Arrival,
+) -> Vec3 {
+    let n = facing(t, dir);
+    let l = light(at);
+    let cos = n.dot(l.to_light);
+    if cos <= 0.0 {
+        return Vec3::ZERO;
     }
-    sum / DIRECTIONS as f32
+    let from = at + n * 1e-4;
+    if triangles
+        .iter()
+        .any(|s| hit(s, from, l.to_light, l.distance).is_some())
+    {
+        return Vec3::ZERO;
+    }
+    let towards_light = hair.density.crossed(at, l.to_light, l.distance);
+    let lit = fibre_transport::arriving((-towards_light).exp(), 0.0, hair.sigma_a, towards_light);
+    t.albedo * l.radiance * cos * lit
+}
+
+/// What `p` sees along each of [`DIRECTIONS`] directions: the lit mesh the direction meets and the hair in
+/// front of it (per unit of the light's colour × intensity as `light` gives it).
+fn views(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec<View> {
+    (0..DIRECTIONS)
+        .map(|k| {
+            let dir = fibonacci(k, DIRECTIONS);
+            let (mut mesh, mut mesh_gain, mut mesh_at, mut reach) =
+                (Vec3::ZERO, Vec3::ZERO, p, f32::INFINITY);
+            if let Some((t, d)) = nearest(triangles, p, dir) {
+                mesh_at = p + dir * d;
+                mesh = mesh_radiance(triangles, hair, t, mesh_at, dir, light);
+                let n = facing(t, dir);
+                let over = hair.density.crossed(mesh_at + n * 1e-4, n, f32::INFINITY);
+                mesh_gain = t.albedo * (1.0 - (-over).exp());
+                reach = d;
+            }
+            let c = hair.density.march(p, dir, reach);
+            View {
+                mesh,
+                clear: (-c.count).exp(),
+                hair_at: p + dir * c.depth,
+                mesh_gain,
+                mesh_at,
+            }
+        })
+        .collect()
+}
+
+/// The light that reaches a fibre at `p`, per unit of its colour × intensity: `max(e^(−n), T_f)` through the
+/// `n` fibres in front of it towards the light, as the eye pass lights it; nothing where a mesh is in the way.
+fn reaching(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
+    let l = light(p);
+    if triangles
+        .iter()
+        .any(|s| hit(s, p, l.to_light, l.distance).is_some())
+    {
+        return Vec3::ZERO;
+    }
+    let n = hair.density.crossed(p, l.to_light, l.distance);
+    l.radiance * fibre_transport::arriving((-n).exp(), 0.0, hair.sigma_a, n)
 }
 
 /// The probe over the hair: [`NODES`]³ radiances (linear RGB) on a lattice spanning the strands' bounds
@@ -157,29 +202,77 @@ impl Grid {
             .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
                 (lo.min(p), hi.max(p))
             });
+        let samples = spread(points);
+        if samples.is_empty() {
+            return Grid {
+                min: Vec3::ZERO,
+                max: Vec3::ONE,
+                values: [Vec3::ZERO; NODES * NODES * NODES],
+            };
+        }
+        let seen: Vec<Vec<View>> = samples
+            .iter()
+            .map(|&p| views(triangles, hair, p, &light))
+            .collect();
+        let (forward, backward) = fibre_transport::attenuation(0.0, hair.sigma_a);
+        let direct: Vec<Vec3> = samples
+            .iter()
+            .map(|&p| backward * reaching(triangles, hair, p, &light) / 4.0)
+            .collect();
+        let arriving = hair_scatter::incident(&direct, &seen, forward + backward, |values| {
+            let grid = Grid::from_points(min, max, &samples, values);
+            move |p| grid.at(p)
+        });
+        Grid::from_points(min, max, &samples, &arriving)
+    }
+
+    /// The lattice over `min`..`max` whose nodes hold the mean of the `values` of the `points` nearest to them;
+    /// a node no point is nearest to (inside the head, beyond a lock's edge) takes the mean of its filled
+    /// neighbours along the axes, filled outwards from the points (zero where there are none), so that no
+    /// value reaches a node from far away.
+    fn from_points(min: Vec3, max: Vec3, points: &[Vec3], values: &[Vec3]) -> Grid {
         let mut grid = Grid {
             min,
             max,
             values: [Vec3::ZERO; NODES * NODES * NODES],
         };
-        let samples = spread(points);
-        if samples.is_empty() || triangles.is_empty() {
-            return Grid {
-                min: Vec3::ZERO,
-                max: Vec3::ONE,
-                ..grid
-            };
-        }
         let mut sums = [(Vec3::ZERO, 0u32); NODES * NODES * NODES];
-        for &p in &samples {
-            let v = at_point(triangles, hair, p, &light);
+        for (&p, &v) in points.iter().zip(values) {
             let node = grid.nearest_node(p);
             sums[node].0 += v;
             sums[node].1 += 1;
         }
-        let mean = sums.iter().map(|s| s.0).sum::<Vec3>() / samples.len() as f32;
+        let mut filled: Vec<bool> = sums.iter().map(|s| s.1 > 0).collect();
         for (v, (sum, n)) in grid.values.iter_mut().zip(sums) {
-            *v = if n > 0 { sum / n as f32 } else { mean };
+            if n > 0 {
+                *v = sum / n as f32;
+            }
+        }
+        while filled.iter().any(|f| !f) && filled.iter().any(|f| *f) {
+            let before = filled.clone();
+            for n in 0..NODES * NODES * NODES {
+                if before[n] {
+                    continue;
+                }
+                let (x, y, z) = (n % NODES, n / NODES % NODES, n / (NODES * NODES));
+                let (mut sum, mut count) = (Vec3::ZERO, 0);
+                for (axis, at) in [x, y, z].into_iter().enumerate() {
+                    let stride = NODES.pow(axis as u32);
+                    for m in [(at > 0).then(|| n - stride), (at + 1 < NODES).then(|| n + stride)]
+                        .into_iter()
+                        .flatten()
+                    {
+                        if before[m] {
+                            sum += grid.values[m];
+                            count += 1;
+                        }
+                    }
+                }
+                if count > 0 {
+                    grid.values[n] = sum / count as f32;
+                    filled[n] = true;
+                }
+            }
         }
         grid
     }
@@ -222,13 +315,19 @@ impl Grid {
 /// What a hair point of colour `colour` sends to the eye per unit of the probe's radiance: the fibre's albedo
 /// `ā_f + ā_b` at right angles to the light (`fibre_transport::attenuation`).
 pub fn hair_response(colour: Vec3) -> Vec3 {
-    let (f, b) = super::fibre_transport::attenuation(0.0, super::marschner::absorption(colour));
+    let (f, b) = fibre_transport::attenuation(0.0, super::marschner::absorption(colour));
     f + b
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The meshes' light alone at `p`, through the hair in front of them.
+    fn meshes_alone(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
+        let seen = views(triangles, hair, p, light);
+        seen.iter().map(|v| v.mesh * v.clear).sum::<Vec3>() / DIRECTIONS as f32
+    }
 
     fn sun(_: Vec3) -> Arrival {
         Arrival {
@@ -267,14 +366,14 @@ mod tests {
             density: &empty,
             sigma_a: Vec3::ZERO,
         };
-        let white = at_point(&floor(1.0, 0.0), &hair, point, &sun);
+        let white = meshes_alone(&floor(1.0, 0.0), &hair, point, &sun);
         assert!((white - Vec3::splat(0.5)).abs().max_element() < 1e-6, "{white}");
-        let grey = at_point(&floor(0.4, 0.0), &hair, point, &sun);
+        let grey = meshes_alone(&floor(0.4, 0.0), &hair, point, &sun);
         assert!((grey - Vec3::splat(0.2)).abs().max_element() < 1e-6, "{grey}");
         let mut roofed = floor(1.0, 0.0).to_vec();
         roofed.extend(floor(1.0, 2.0));
-        assert_eq!(at_point(&roofed, &hair, point, &sun), Vec3::ZERO);
-        assert_eq!(at_point(&[], &hair, point, &sun), Vec3::ZERO);
+        assert_eq!(meshes_alone(&roofed, &hair, point, &sun), Vec3::ZERO);
+        assert_eq!(meshes_alone(&[], &hair, point, &sun), Vec3::ZERO);
     }
 
     /// The grid spans the points; points above a lit floor read 0.5 (half their sphere at radiance 1) at and
@@ -326,13 +425,17 @@ mod tests {
         for (n, v) in ramp.values.iter_mut().enumerate() {
             *v = Vec3::new((n % NODES) as f32, 1.0, 2.0 * (n % NODES) as f32);
         }
+        let last = (NODES - 1) as f32;
         let mid = ramp.at(Vec3::new(0.5, 0.0, 2.0));
         assert!(
-            (mid - Vec3::new(1.5, 1.0, 3.0)).abs().max_element() < 1e-6,
+            (mid - Vec3::new(0.5 * last, 1.0, last)).abs().max_element() < 1e-6,
             "{mid}"
         );
         assert_eq!(ramp.at(Vec3::new(-3.0, 0.0, 2.0)), Vec3::new(0.0, 1.0, 0.0));
-        assert_eq!(ramp.at(Vec3::new(7.0, 0.0, 2.0)), Vec3::new(3.0, 1.0, 6.0));
+        assert_eq!(
+            ramp.at(Vec3::new(7.0, 0.0, 2.0)),
+            Vec3::new(last, 1.0, 2.0 * last)
+        );
         assert_eq!(ramp.packed()[1], [1.0, 1.0, 2.0, 0.0]);
     }
 
@@ -379,16 +482,86 @@ mod tests {
             };
             let lit = fibre_transport::arriving((-n).exp(), 0.0, sigma_a, n);
             for z in [0.1, 0.2] {
-                let got = at_point(&floor, &hair, Vec3::new(0.0, 0.0, z), &sun);
+                let got = meshes_alone(&floor, &hair, Vec3::new(0.0, 0.0, z), &sun);
                 assert!(
                     (got - 0.5 * lit).abs().max_element() <= 0.03 * lit.max_element(),
                     "{got} vs {lit}"
                 );
             }
-            let got = at_point(&floor, &hair, Vec3::new(0.0, 0.0, 0.2), &sun);
+            let got = meshes_alone(&floor, &hair, Vec3::new(0.0, 0.0, 0.2), &sun);
             assert!(got.cmplt(last).all(), "{got} not below {last}");
             last = got;
         }
+    }
+
+    /// A layer of fibres lit from straight above with no mesh anywhere lights itself: its probe is the light
+    /// its fibres scatter to each other, positive inside the layer, more for blond fibres than dark ones, and
+    /// redder than one fibre's albedo for brown ones (light scattered many times takes the colour many times);
+    /// with a roof between the light and the layer (its underside away from the light) there is none.
+    #[test]
+    fn a_layer_of_hair_lights_itself() {
+        let mut points = Vec::new();
+        for i in 0..201 {
+            for j in 0..21 {
+                let (y, z) = (-1.0 + i as f32 * 0.01, 0.5 + j as f32 * 0.01);
+                points.extend([Vec3::new(-1.0, y, z), Vec3::new(1.0, y, z)]);
+            }
+        }
+        let density = HairDensity::from_strands(&points, (0..201 * 21).map(|n| (2 * n, 2)), |_| 0.004);
+        let probe = |colour: Vec3, triangles: &[Triangle]| {
+            let hair = Hair {
+                density: &density,
+                sigma_a: super::super::marschner::absorption(colour),
+            };
+            Grid::measure(triangles, &hair, &points, sun).at(Vec3::new(0.0, 0.0, 0.6))
+        };
+        let (blond, brown) = (Vec3::new(0.8, 0.62, 0.38), Vec3::new(0.3, 0.19, 0.11));
+        let (light, dark) = (probe(blond, &[]), probe(brown, &[]));
+        assert!(dark.cmpgt(Vec3::ZERO).all(), "{dark}");
+        assert!(light.cmpgt(dark).all(), "{light} vs {dark}");
+        let one = hair_response(brown);
+        assert!(dark.x / dark.z > one.x / one.z, "{dark} vs one fibre's {one}");
+        let roof = [
+            Triangle {
+                a: Vec3::new(-5.0, -5.0, 2.0),
+                b: Vec3::new(5.0, -5.0, 2.0),
+                c: Vec3::new(-5.0, 5.0, 2.0),
+                albedo: Vec3::ONE,
+            },
+            Triangle {
+                a: Vec3::new(5.0, -5.0, 2.0),
+                b: Vec3::new(5.0, 5.0, 2.0),
+                c: Vec3::new(-5.0, 5.0, 2.0),
+                albedo: Vec3::ONE,
+            },
+        ];
+        assert_eq!(probe(blond, &roof), Vec3::ZERO);
+    }
+
+    /// A node no point is nearest to takes its value from the filled nodes next to it, not from far away: with
+    /// points of value 1 on the lattice's `x = 0` face and 3 on its far face, the nodes between read 1 up to
+    /// the middle and 3 beyond it (the mean of all points would read 2 everywhere between); with no points the
+    /// lattice is zero.
+    #[test]
+    fn empty_nodes_take_their_neighbours_values() {
+        let side = |x: f32| {
+            (0..NODES * NODES).map(move |n| {
+                let (j, k) = ((n % NODES) as f32, (n / NODES) as f32);
+                Vec3::new(x, j, k) / (NODES - 1) as f32
+            })
+        };
+        let points: Vec<Vec3> = side(0.0).chain(side((NODES - 1) as f32)).collect();
+        let values: Vec<Vec3> = (0..points.len())
+            .map(|n| Vec3::splat(if n < NODES * NODES { 1.0 } else { 3.0 }))
+            .collect();
+        let grid = Grid::from_points(Vec3::ZERO, Vec3::ONE, &points, &values);
+        for x in 0..NODES {
+            let want = if x < NODES / 2 { 1.0 } else { 3.0 };
+            let at = Vec3::new(x as f32, 2.0, 5.0) / (NODES - 1) as f32;
+            assert_eq!(grid.at(at), Vec3::splat(want), "node {x}");
+        }
+        let none = Grid::from_points(Vec3::ZERO, Vec3::ONE, &[], &[]);
+        assert_eq!(none.values, [Vec3::ZERO; NODES * NODES * NODES]);
     }
 
     /// `spread` keeps at most [`POINTS`], from the whole list.

@@ -164,14 +164,13 @@ pub struct Crossing {
 mod tests {
     use super::*;
 
-    /// A square bundle of parallel fibres along x, `k` a side spaced `s` apart, of width `w`: rays across it at
-    /// right angles to the fibres cross `(π/4) k w / s` on average over their offsets (a ray crosses a row with
-    /// chance `w / s`, and `π/4` is the mean over directions), within 4 % over rays spread across the bundle's
-    /// inside (a cell holds a whole number of rows, so one column alone may be off by a row); stopped halfway,
-    /// half of it; a ray that misses the box, or stops before it, or starts nowhere (NaN), crosses none.
-    #[test]
-    fn a_bundle_of_parallel_fibres_gives_its_count() {
-        let (k, s, w) = (40usize, 0.01f32, 0.002f32);
+    /// Rows a side of [`bundle`], their spacing and the fibres' width.
+    const BUNDLE: (usize, f32, f32) = (40, 0.01, 0.002);
+
+    /// The density of a square bundle of [`BUNDLE`]'s parallel fibres along x, from x = 0 to 0.4, its rows
+    /// from y, z = 0.
+    fn bundle() -> HairDensity {
+        let (k, s, w) = BUNDLE;
         let mut points = Vec::new();
         for i in 0..k {
             for j in 0..k {
@@ -179,8 +178,18 @@ mod tests {
                 points.extend([Vec3::new(0.0, y, z), Vec3::new(0.4, y, z)]);
             }
         }
-        let ranges = (0..k * k).map(|n| (2 * n, 2));
-        let grid = HairDensity::from_strands(&points, ranges, |_| w);
+        HairDensity::from_strands(&points, (0..k * k).map(|n| (2 * n, 2)), |_| w)
+    }
+
+    /// A square bundle of parallel fibres along x, `k` a side spaced `s` apart, of width `w`: rays across it at
+    /// right angles to the fibres cross `(π/4) k w / s` on average over their offsets (a ray crosses a row with
+    /// chance `w / s`, and `π/4` is the mean over directions), within 4 % over rays spread across the bundle's
+    /// inside (a cell holds a whole number of rows, so one column alone may be off by a row); stopped halfway,
+    /// half of it; a ray that misses the box, or stops before it, or starts nowhere (NaN), crosses none.
+    #[test]
+    fn a_bundle_of_parallel_fibres_gives_its_count() {
+        let (k, s, w) = BUNDLE;
+        let grid = bundle();
         let expected = std::f32::consts::FRAC_PI_4 * k as f32 * w / s;
         let rays = 100;
         let mean = |max: f32| {
@@ -206,21 +215,14 @@ mod tests {
     }
 
     /// Where a ray first meets the bundle of the test above, on average: rows `s` apart own a slab from half a
-    /// row before the first, `k s` thick, of density `ρ = (π/4) w / s` per unit length (a count of
+    /// row before the first, `k s` thick, of density `ρ = (π/4) w / s²` per unit length (a count of
     /// `(π/4) k w / s`), so a ray from outside meets it at `1/ρ (1 − (1 + ρ k s) e^(−ρ k s)) / (1 − e^(−ρ k s))`
     /// past its face: within half a cell, as far as the voxels smear the face, averaged over rays; a ray
     /// that crosses no fibre has depth 0.
     #[test]
     fn a_ray_meets_the_bundle_where_its_fibres_begin() {
-        let (k, s, w) = (40usize, 0.01f32, 0.002f32);
-        let mut points = Vec::new();
-        for i in 0..k {
-            for j in 0..k {
-                let (y, z) = (i as f32 * s, j as f32 * s);
-                points.extend([Vec3::new(0.0, y, z), Vec3::new(0.4, y, z)]);
-            }
-        }
-        let grid = HairDensity::from_strands(&points, (0..k * k).map(|n| (2 * n, 2)), |_| w);
+        let (k, s, w) = BUNDLE;
+        let grid = bundle();
         let rho = std::f32::consts::FRAC_PI_4 * w / (s * s);
         let thick = rho * k as f32 * s;
         let face = 1.0 - 0.5 * s;

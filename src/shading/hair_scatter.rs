@@ -10,7 +10,7 @@
 //! cylinder sends on as a mean radiance over its orientations and the directions, `T = max(e^(−n), T_f)`
 //! through the `n` fibres in front). Its forward scattering of that light is not a source here: it goes on
 //! along the light as `T_f`, dual scattering's global term, which the eye pass already shades (taken as a source
-//! too it lit `back-lit`'s hair 1.5× more than the truth). The two make a fixed point, `L = D + ā Ī(L)`, found
+//! too it lit `back-lit`'s hair 1.4–1.7× the truth). The two make a fixed point, `L = D + ā Ī(L)`, found
 //! by iteration ([`incident`]); the probe is `Ī`, what a hair fragment then scatters as it scattered one
 //! fibre's light.
 

@@ -107,8 +107,8 @@ fn facing(t: &Triangle, dir: Vec3) -> Vec3 {
     if n.dot(dir) > 0.0 { -n } else { n }
 }
 
-/// The Lambert radiance of triangle `t` at `at`, seen along `dir`, under `light`: shadowed by the meshes and
-/// passing `max(e^(−n), T_f)` through the `n` fibres in front of it towards the light.
+/// The Lambert radiance of triangle `t` at `at`, seen along `dir`, under `light`: the light [`reaching`] it
+/// (shadowed by the meshes, through the fibres in front of it towards the light) times `albedo × cos`.
 fn mesh_radiance(
     triangles: &[Triangle],
     hair: &Hair,
@@ -118,21 +118,11 @@ fn mesh_radiance(
     light: &impl Fn(Vec3) -> Arrival,
 ) -> Vec3 {
     let n = facing(t, dir);
-    let l = light(at);
-    let cos = n.dot(l.to_light);
+    let cos = n.dot(light(at).to_light);
     if cos <= 0.0 {
         return Vec3::ZERO;
     }
-    let from = at + n * 1e-4;
-    if triangles
-        .iter()
-        .any(|s| hit(s, from, l.to_light, l.distance).is_some())
-    {
-        return Vec3::ZERO;
-    }
-    let towards_light = hair.density.crossed(at, l.to_light, l.distance);
-    let lit = fibre_transport::arriving((-towards_light).exp(), 0.0, hair.sigma_a, towards_light);
-    t.albedo * l.radiance * cos * lit
+    t.albedo * cos * reaching(triangles, hair, at + n * 1e-4, light)
 }
 
 /// What `p` sees along each of [`DIRECTIONS`] directions: the lit mesh the direction meets and the hair in
@@ -163,8 +153,9 @@ fn views(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> 
         .collect()
 }
 
-/// The light that reaches a fibre at `p`, per unit of its colour × intensity: `max(e^(−n), T_f)` through the
-/// `n` fibres in front of it towards the light, as the eye pass lights it; nothing where a mesh is in the way.
+/// The light that reaches `p` (a fibre, or a mesh point just off its surface), per unit of the light's colour ×
+/// intensity: `max(e^(−n), T_f)` through the `n` fibres in front of it towards the light, as the eye pass
+/// lights a fibre or a mesh under the hair; nothing where a mesh is in the way.
 fn reaching(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
     let l = light(p);
     if triangles
@@ -178,7 +169,8 @@ fn reaching(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) 
 }
 
 /// The probe over the hair: [`NODES`]³ radiances (linear RGB) on a lattice spanning the strands' bounds
-/// `min`..`max`, each the mean of the points nearest to it (the mean of all where none is), read trilinearly
+/// `min`..`max`, each the mean of the points nearest to it (filled from its neighbours where none is,
+/// [`Grid::from_points`]), read trilinearly
 /// ([`Grid::at`]; the eye pass's `bounce_at` in `shaders/common/mesh_bounce.wgsl`, which `frame.bounce_*`
 /// carries).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,15 +8,23 @@ use glam::Vec3;
 use std::f32::consts::PI;
 
 /// The fibres' material for a linear hair colour: Chiang et al. 2016's colour inversion at the real-time
-/// Marschner model's roughness, cuticle tilt and index of refraction.
+/// Marschner model's lobe widths ([`BETA_M`]), azimuthal roughness, cuticle tilt and index of refraction.
 pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
-    FibreParams::from_colour(
-        Vec3::from(hair_color),
-        marschner::BETA_R,
-        marschner::BETA_N,
-        marschner::ALPHA_R,
-    )
+    fibre_absorbing(marschner::absorption(Vec3::from(hair_color)))
 }
+
+/// [`fibre_params`] for an absorption `σ_a` (per unit radius) rather than a colour.
+pub fn fibre_absorbing(sigma_a: Vec3) -> FibreParams {
+    FibreParams::with_absorption(sigma_a, BETA_M, marschner::BETA_N, marschner::ALPHA_R)
+}
+
+/// The longitudinal roughness `β_m` whose R lobe is as wide as the real-time Marschner model's: Chiang et al.'s
+/// variance `v = (0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰)²` equal to the square of Karis's standard deviation
+/// `2 sin β_R` in `sin θ_o` ([`marschner::WIDTH`]`[0]`, 15° for Marschner et al.'s β_R = 7.5°, a width in the
+/// half angle θ_h). `β_m = β_R` read Marschner's half-angle width as Chiang's roughness: the traced fibre's
+/// lobes were 2.4× narrower than the raster's (6.2° against 15°). TT and TRT follow in both models (`v/4`, `4v`
+/// against `β_R/2`, `2β_R`). A test solves for it.
+pub const BETA_M: f32 = 0.274_995_65;
 
 const P_MAX: usize = 3;
 
@@ -401,6 +409,17 @@ mod tests {
             alpha,
             eta: marschner::ETA,
         }
+    }
+
+    /// [`BETA_M`] gives the R lobe Karis's width: `√v = 0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰` equals
+    /// `2 sin 7.5°` (the real-time model's standard deviation in `sin θ_o`, computed here from Marschner et
+    /// al.'s β_R, not read from `marschner::WIDTH`) within 1e-6, in f64.
+    #[test]
+    fn beta_m_matches_the_real_time_lobe_width() {
+        let b = f64::from(BETA_M);
+        let root_v = 0.726 * b + 0.812 * b * b + 3.7 * b.powi(20);
+        let karis = 2.0 * 7.5f64.to_radians().sin();
+        assert!((root_v - karis).abs() <= 1e-6, "{root_v} against {karis}");
     }
 
     /// `sample` returns eval and pdf at its direction (relative 1e-4), and f |cos| / pdf = 1 per sample when

@@ -296,12 +296,7 @@ mod tests {
             seed,
             max_depth: 32,
             effects: Effects::TRUTH,
-            fibre: FibreParams::from_colour(
-                Vec3::splat(0.8),
-                crate::shading::marschner::BETA_R,
-                crate::shading::marschner::BETA_N,
-                crate::shading::marschner::ALPHA_R,
-            ),
+            fibre: crate::pathtrace::bsdf::fibre_params([0.8; 3]),
         }
     }
 

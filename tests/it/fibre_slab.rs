@@ -66,14 +66,14 @@ fn white_fibre_transmits_more_than_dark() {
     assert!((tw + white.back()).min_element() >= 0.9, "{tw} {}", white.back());
 }
 
-/// The blond slab's forward light falls with depth (n = 1, 3, 6; 500 particles each), each step by more than
+/// The blond slab's forward light falls with depth (n = 1, 3, 6; 1500 particles each), each step by more than
 /// 3 standard errors in every channel, and the unscattered part falls to below 1 % by n = 6.
 #[test]
 fn forward_transmittance_falls_with_depth() {
     let fibre = fibre_params(BLOND);
     let t: Vec<_> = [1.0, 3.0, 6.0]
         .iter()
-        .map(|&n| slab(n).trace(&fibre, 0.25, 500, 7))
+        .map(|&n| slab(n).trace(&fibre, 0.25, 1500, 7))
         .collect();
     for w in t.windows(2) {
         let margin = 3.0 * (w[0].forward_error() + w[1].forward_error());
@@ -225,11 +225,8 @@ fn a_stop_keeps_the_slabs_measured() {
 /// `blond`) and inclinations off the nodes.
 #[test]
 fn fibre_transport_table_is_the_quadrature() {
-    use hairlab::pathtrace::bsdf::FibreParams;
+    use hairlab::pathtrace::bsdf::fibre_absorbing as fibre;
     use hairlab::shading::{fibre_transport, marschner};
-    let fibre = |sigma: Vec3| {
-        FibreParams::with_absorption(sigma, marschner::BETA_R, marschner::BETA_N, marschner::ALPHA_R)
-    };
     let mut worst = 0.0f32;
     for k in [3usize, 8, 13] {
         for first in (0..fibre_transport::ABSORPTION_NODES).step_by(3) {

@@ -119,6 +119,17 @@ fn exports_a_mitsuba_scene_of_the_preset() {
             "sigma_a {got:?}, Chiang et al.'s inversion {sigma:?}"
         );
     }
+    // The fibre's lobes as wide as the raster's: β_m solves 0.726 β + 0.812 β² + 3.7 β²⁰ = 2 sin 7.5°.
+    let line = xml
+        .lines()
+        .find(|l| l.contains("name=\"longitudinal_roughness\""))
+        .unwrap();
+    let beta_m: f64 = line.split('"').nth(3).unwrap().parse().unwrap();
+    let width = 0.726 * beta_m + 0.812 * beta_m.powi(2) + 3.7 * beta_m.powi(20);
+    assert!(
+        (width - 2.0 * 7.5f64.to_radians().sin()).abs() < 1e-6,
+        "longitudinal_roughness {beta_m}: lobe width {width}"
+    );
     let hair = std::fs::read_to_string(out.join("hair.txt")).unwrap();
     let strands: Vec<&str> = hair.split("\n\n").filter(|s| !s.trim().is_empty()).collect();
     assert!(strands.len() > 100, "{} strands", strands.len());

@@ -462,11 +462,11 @@ mod tests {
         ),
         ("the GPU device", &["gpu"]),
         ("fur on meshes", &["fur"]),
-        ("the renderer and its light casters", &["render"]),
         (
             "the path tracer's core: fibres, BVH, BSDF, integrator",
             &["pathtrace"],
         ),
+        ("the renderer and its light casters", &["render"]),
         (
             "what runs on the renderer: the shadow methods, the hair simulation",
             &["methods", "motion"],

@@ -11,11 +11,12 @@ pub mod mitsuba;
 
 use crate::pathtrace::bsdf::fibre_params;
 use crate::pathtrace::bvh::Bvh;
-use crate::pathtrace::effects::{self, Effects, FirstHit, HairShadows, RasterLight, RasterShading};
+use crate::pathtrace::effects::{self, Effects, Events, FirstHit, HairShadows, RasterLight, RasterShading};
 use crate::pathtrace::integrator::{self, MAX_DEPTH};
 use crate::pathtrace::light::{DirectionalLight, Light, SpotLight};
+use crate::pathtrace::mesh_rays::MeshBvh;
 use crate::pathtrace::{fibre, triangle};
-use crate::render::render_settings::{PathFirstHit, PathHairShadows};
+use crate::render::render_settings::{PathEvents, PathFirstHit, PathHairShadows};
 use crate::scene::{Aabb, Camera, LightKind, Scene};
 use crate::settings::Settings;
 use crate::shading::hair_density::HairDensity;
@@ -60,7 +61,11 @@ pub fn light(settings: &Settings, around: &Aabb) -> Light {
 pub fn effects(settings: &Settings, scene: &Scene, around: &Aabb) -> Effects {
     let p = &settings.render.path;
     Effects {
-        events: p.events,
+        events: match p.events {
+            PathEvents::All => Events::All,
+            PathEvents::Fibres => Events::Fibres,
+            PathEvents::One => Events::One,
+        },
         hair_shadows: match p.hair_shadows {
             PathHairShadows::Traced => HairShadows::Traced,
             PathHairShadows::Off => HairShadows::Off,
@@ -96,7 +101,7 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
             sigma_a: crate::shading::marschner::absorption(Vec3::from(settings.render.hair_color)),
         };
         std::sync::Arc::new(mesh_bounce::Grid::measure(
-            &bounce_triangles(scene),
+            &MeshBvh::new(triangle::triangles(&scene.meshes)),
             &hair,
             &strands.points,
             |p| {
@@ -118,25 +123,6 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
         bounce,
         light,
     }
-}
-
-/// `scene`'s mesh triangles with their meshes' colours, as `render::scene_gpu` gives them to the bounce probe.
-fn bounce_triangles(scene: &Scene) -> Vec<mesh_bounce::Triangle> {
-    scene
-        .meshes
-        .iter()
-        .flat_map(|m| {
-            m.indices
-                .chunks_exact(3)
-                .filter(|c| c.iter().all(|&i| (i as usize) < m.positions.len()))
-                .map(|c| mesh_bounce::Triangle {
-                    a: m.positions[c[0] as usize],
-                    b: m.positions[c[1] as usize],
-                    c: m.positions[c[2] as usize],
-                    albedo: m.color,
-                })
-        })
-        .collect()
 }
 
 /// The camera of `settings`, framed on `scene` where the preset leaves the distance at 0.

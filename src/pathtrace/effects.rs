@@ -16,12 +16,17 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::fibre::Hit;
-use crate::shading::{HairModel, ShadingModel};
+use crate::shading::{HAIR_AMBIENT, HairModel, MESH_AMBIENT, ShadingModel};
 
 /// The scattering events a path keeps: `All` up to the integrator's depth (the truth), `Fibres` (no light
 /// bounced off a mesh after the first hit), or `One`, the first hit's direct light only (single scattering, as
-/// the real-time model); `render.path.events`.
-pub use crate::render::render_settings::PathEvents as Events;
+/// the real-time model); `render.path.events`, mapped by `path_scene::effects`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Events {
+    All,
+    Fibres,
+    One,
+}
 
 /// A visibility towards the light at a world point, in [0, 1].
 pub type VisibilityMap = Arc<dyn Fn(Vec3) -> f32 + Send + Sync>;
@@ -84,8 +89,6 @@ impl RasterLight {
         self.radiance * (x * x * (3.0 - 2.0 * x))
     }
 }
-
-pub use crate::render::render_settings::{HAIR_AMBIENT, MESH_AMBIENT};
 
 /// The real-time model's shading at the first hit.
 #[derive(Clone, Debug, PartialEq)]

@@ -11,5 +11,6 @@ pub mod fibre;
 pub mod integrator;
 pub mod light;
 pub mod masks;
+pub mod mesh_rays;
 pub mod triangle;
 pub mod visibility;

@@ -8,8 +8,8 @@ use glam::Vec3;
 
 use super::bvh::Bvh;
 use super::fibre::{Hit, Ray};
-use crate::render::light_frame::LightFrame;
 use crate::rng::SplitMix64;
+use crate::scene::light_frame::LightFrame;
 
 /// A light-space texel: the parallelogram `corner + s·edge_u + t·edge_v` (`s, t` in [0, 1)) on a plane facing
 /// the light, and the unit direction the light travels (away from the light). Depth is distance from that plane.

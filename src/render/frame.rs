@@ -3,12 +3,12 @@
 //! [`SceneGpu::light_fit`]), the eye depth range, pixel and texel footprints, and [`FrameUniforms`] — pure
 //! functions of the scene on the GPU and the frame's settings.
 
-use super::light_frame::LightFrame;
 use super::method::{LightMethod, ParamValues};
 use super::render_settings::{AlphaMode, RenderSettings};
 use super::scene_gpu::SceneGpu;
 use super::transparency::EyeTransparency;
 use super::uniforms::FrameUniforms;
+use crate::scene::light_frame::LightFrame;
 use crate::scene::{Camera, Light, LightFit, LightKind};
 use glam::{Mat4, Vec3};
 
@@ -145,8 +145,8 @@ pub fn uniforms(scene: &SceneGpu, f: &UniformInputs) -> FrameUniforms {
         guard_shell_height: 0.0,
         env_count: 0,
         light_supersample: f.render.light_supersample.max(1),
-        hair_ambient: f.render.ambient_scale() * crate::render::render_settings::HAIR_AMBIENT,
-        mesh_ambient: f.render.ambient_scale() * crate::render::render_settings::MESH_AMBIENT,
+        hair_ambient: f.render.ambient_scale() * crate::shading::HAIR_AMBIENT,
+        mesh_ambient: f.render.ambient_scale() * crate::shading::MESH_AMBIENT,
         hair_model: f.render.hair_model.uniform(),
         env_to_light: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
         env_radiance: [[0.0; 4]; crate::fur::environment::MAX_ENV_LIGHTS],

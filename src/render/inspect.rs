@@ -5,7 +5,6 @@
 
 use super::caster::Raster;
 use super::caster::raster_model::RasterFragment;
-use super::light_frame::LightFrame;
 use super::method::{LightMethod, MethodGpu, ParamValues};
 use super::passes::abuffer::RefFragment;
 use super::passes::depth_peel::DepthPeel;
@@ -17,6 +16,7 @@ use super::{Creations, FrameInput, MemoryReport, RenderSettings, Renderer, frame
 use crate::gpu::Gpu;
 use crate::gpu::timing::PassTime;
 use crate::gpu::{GpuError, readback};
+use crate::scene::light_frame::LightFrame;
 use crate::scene::{Camera, Light};
 use glam::{Mat4, Vec3};
 

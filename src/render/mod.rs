@@ -15,7 +15,6 @@ pub mod fur;
 pub mod geometry;
 pub mod inspect;
 pub mod light;
-pub mod light_frame;
 pub mod maps;
 pub mod memory;
 pub mod method;

@@ -89,11 +89,6 @@ pub struct PathEffects {
     pub first_hit: PathFirstHit,
 }
 
-/// The raster's ambient terms at `render.ambient = 1`: what `shaders/hair.wgsl` and `shaders/mesh.wgsl` add to
-/// every lit colour, times the colour (`frame.hair_ambient`, `frame.mesh_ambient`).
-pub const HAIR_AMBIENT: f32 = 0.08;
-pub const MESH_AMBIENT: f32 = 0.12;
-
 /// `render.path.events`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]

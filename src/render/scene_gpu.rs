@@ -18,6 +18,8 @@ use super::geometry::{
     HairVertex, MeshVertex, RIBBON_VERTICES_PER_SEGMENT, hair_indices, hair_vertices, write_tangents,
 };
 use crate::gpu::{Gpu, GpuError};
+use crate::pathtrace::mesh_rays::MeshBvh;
+use crate::pathtrace::triangle::Triangle;
 use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
 use crate::shading::hair_density::HairDensity;
 use crate::shading::mesh_bounce;
@@ -293,7 +295,7 @@ impl SceneGpu {
     /// Under `fit`, the box the hair maps' light frame is fitted to and the box the light is placed around
     /// (the one place the policy is applied; [`crate::render::Renderer::hair_light_frame`] reads it). Under
     /// [`LightFit::Stable`] the frame is fitted to the first box's bounding sphere
-    /// ([`crate::render::light_frame::LightFrame::stable`]) and a spot light is placed around the second, which
+    /// ([`crate::scene::light_frame::LightFrame::stable`]) and a spot light is placed around the second, which
     /// holds the meshes at rest, so that no pose moves it.
     pub fn light_fit(&self, fit: LightFit) -> (Aabb, Aabb) {
         match fit {
@@ -354,13 +356,14 @@ type BounceKey = (u64, [u32; 15]);
 #[derive(Clone, Copy, Debug)]
 struct BounceTriangle {
     corners: [u32; 3],
-    triangle: mesh_bounce::Triangle,
+    triangle: Triangle,
 }
 
 impl BounceTriangle {
     fn pose(&mut self, vertices: &[MeshVertex]) {
         let p = |k: usize| Vec3::from(vertices[self.corners[k] as usize].position);
-        (self.triangle.a, self.triangle.b, self.triangle.c) = (p(0), p(1), p(2));
+        let a = p(0);
+        (self.triangle.p0, self.triangle.e1, self.triangle.e2) = (a, p(1) - a, p(2) - a);
     }
 }
 
@@ -372,10 +375,10 @@ fn bounce_triangles(vertices: &[MeshVertex], indices: &[u32]) -> Vec<BounceTrian
         .map(|c| {
             let mut t = BounceTriangle {
                 corners: [c[0], c[1], c[2]],
-                triangle: mesh_bounce::Triangle {
-                    a: Vec3::ZERO,
-                    b: Vec3::ZERO,
-                    c: Vec3::ZERO,
+                triangle: Triangle {
+                    p0: Vec3::ZERO,
+                    e1: Vec3::ZERO,
+                    e2: Vec3::ZERO,
                     albedo: Vec3::from(vertices[c[0] as usize].color),
                 },
             };
@@ -417,8 +420,7 @@ impl SceneGpu {
         {
             return v;
         }
-        let triangles: Vec<mesh_bounce::Triangle> =
-            self.bounce_triangles.iter().map(|t| t.triangle).collect();
+        let meshes = MeshBvh::new(self.bounce_triangles.iter().map(|t| t.triangle).collect());
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
         let density = HairDensity::from_strands(&points, self.ranges.iter().copied(), |k| {
             self.vertices[k].thickness * u.strand_width
@@ -427,7 +429,7 @@ impl SceneGpu {
             density: &density,
             sigma_a: crate::shading::marschner::absorption(Vec3::from(u.hair_color)),
         };
-        let v = mesh_bounce::Grid::measure(&triangles, &hair, &points, |p| u.light_arrival(p));
+        let v = mesh_bounce::Grid::measure(&meshes, &hair, &points, |p| u.light_arrival(p));
         *cache = Some((key, v));
         v
     }

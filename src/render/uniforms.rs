@@ -64,8 +64,8 @@ pub struct FrameUniforms {
     /// `render.map_resolution` a side and the eye lookup averages the `s × s` sub-texels of the point's base
     /// texel ([`crate::visibility::lookup`]); 0 reads as 1.
     pub light_supersample: u32,
-    /// The raster's ambient terms (`render.ambient` × [`crate::render::render_settings::HAIR_AMBIENT`] and
-    /// [`crate::render::render_settings::MESH_AMBIENT`]): what every hair and mesh fragment adds, times its colour.
+    /// The raster's ambient terms (`render.ambient` × [`crate::shading::HAIR_AMBIENT`] and
+    /// [`crate::shading::MESH_AMBIENT`]): what every hair and mesh fragment adds, times its colour.
     pub hair_ambient: f32,
     pub mesh_ambient: f32,
     /// [`crate::shading::HairModel::uniform`] (`render.hair_model`): 1 stores `1 − e^(−α)` in the light passes

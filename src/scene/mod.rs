@@ -8,6 +8,7 @@ pub mod generate;
 pub mod gltf_check;
 pub mod gltf_load;
 pub mod hair;
+pub mod light_frame;
 pub mod load;
 pub mod pick;
 pub mod progress;

@@ -179,7 +179,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::light_frame::LightFrame;
+    use crate::scene::light_frame::LightFrame;
 
     /// A camera looking down -z with an orthographic projection: world (x, y) in [-1, 1]² fills the image, depth
     /// runs from z = -0.5 (NDC 0) to z = -4.5 (NDC 1).

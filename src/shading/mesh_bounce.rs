@@ -32,13 +32,23 @@ pub const DIRECTIONS: usize = 32;
 /// Nodes a side of the probe's [`Grid`] over the strands' bounds.
 pub const NODES: usize = 8;
 
-/// A mesh triangle and its albedo.
+/// Where a ray from a probe point meets the meshes: the distance, the triangle's unit normal on the side the ray
+/// meets and its albedo.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Triangle {
-    pub a: Vec3,
-    pub b: Vec3,
-    pub c: Vec3,
+pub struct MeshHit {
+    pub distance: f32,
+    pub normal: Vec3,
     pub albedo: Vec3,
+}
+
+/// The scene's meshes as the probe's rays meet them (a hierarchy over their triangles,
+/// `pathtrace::mesh_rays::MeshBvh`, so that the probe's 16 384 rays and their shadow rays cost the log of the
+/// triangles, not their number), both sides of a triangle alike.
+pub trait MeshRays {
+    /// The nearest triangle along the unit `dir` from `origin`, farther than 1e-5.
+    fn nearest(&self, origin: Vec3, dir: Vec3) -> Option<MeshHit>;
+    /// Whether a triangle lies along the unit `dir` from `origin` between 1e-5 and `max`.
+    fn blocked(&self, origin: Vec3, dir: Vec3, max: f32) -> bool;
 }
 
 /// The light at a world point: the unit direction towards it, its distance (infinite for a directional
@@ -58,37 +68,6 @@ fn fibonacci(k: usize, n: usize) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
-/// Distance along `dir` from `origin` to `t`, if the ray meets it in `(1e-5, max)` (Möller & Trumbore 1997).
-fn hit(t: &Triangle, origin: Vec3, dir: Vec3, max: f32) -> Option<f32> {
-    let (e1, e2) = (t.b - t.a, t.c - t.a);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = origin - t.a;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = dir.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let d = e2.dot(q) * inv;
-    (d > 1e-5 && d < max).then_some(d)
-}
-
-/// The nearest triangle along the ray and its distance.
-fn nearest(triangles: &[Triangle], origin: Vec3, dir: Vec3) -> Option<(&Triangle, f32)> {
-    triangles
-        .iter()
-        .filter_map(|t| hit(t, origin, dir, f32::INFINITY).map(|d| (t, d)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-}
-
 /// Up to [`POINTS`] of `points`, evenly spaced through the list.
 pub fn spread(points: &[Vec3]) -> Vec<Vec3> {
     let n = points.len().min(POINTS);
@@ -101,45 +80,37 @@ pub struct Hair<'a> {
     pub sigma_a: Vec3,
 }
 
-/// The unit normal of `t` on the side a ray along `dir` meets.
-fn facing(t: &Triangle, dir: Vec3) -> Vec3 {
-    let n = (t.b - t.a).cross(t.c - t.a).normalize_or_zero();
-    if n.dot(dir) > 0.0 { -n } else { n }
-}
-
-/// The Lambert radiance of triangle `t` at `at`, seen along `dir`, under `light`: the light [`reaching`] it
-/// (shadowed by the meshes, through the fibres in front of it towards the light) times `albedo × cos`.
+/// The Lambert radiance of the mesh `hit` at `at`, under `light`: the light [`reaching`] it (shadowed by the
+/// meshes, through the fibres in front of it towards the light) times `albedo × cos`.
 fn mesh_radiance(
-    triangles: &[Triangle],
+    meshes: &impl MeshRays,
     hair: &Hair,
-    t: &Triangle,
+    hit: &MeshHit,
     at: Vec3,
-    dir: Vec3,
     light: &impl Fn(Vec3) -> Arrival,
 ) -> Vec3 {
-    let n = facing(t, dir);
-    let cos = n.dot(light(at).to_light);
+    let cos = hit.normal.dot(light(at).to_light);
     if cos <= 0.0 {
         return Vec3::ZERO;
     }
-    t.albedo * cos * reaching(triangles, hair, at + n * 1e-4, light)
+    hit.albedo * cos * reaching(meshes, hair, at + hit.normal * 1e-4, light)
 }
 
 /// What `p` sees along each of [`DIRECTIONS`] directions: the lit mesh the direction meets and the hair in
 /// front of it (per unit of the light's colour × intensity as `light` gives it).
-fn views(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec<View> {
+fn views(meshes: &impl MeshRays, hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec<View> {
     (0..DIRECTIONS)
         .map(|k| {
             let dir = fibonacci(k, DIRECTIONS);
             let (mut mesh, mut mesh_gain, mut mesh_at, mut reach) =
                 (Vec3::ZERO, Vec3::ZERO, p, f32::INFINITY);
-            if let Some((t, d)) = nearest(triangles, p, dir) {
-                mesh_at = p + dir * d;
-                mesh = mesh_radiance(triangles, hair, t, mesh_at, dir, light);
-                let n = facing(t, dir);
+            if let Some(hit) = meshes.nearest(p, dir) {
+                mesh_at = p + dir * hit.distance;
+                mesh = mesh_radiance(meshes, hair, &hit, mesh_at, light);
+                let n = hit.normal;
                 let over = hair.density.crossed(mesh_at + n * 1e-4, n, f32::INFINITY);
-                mesh_gain = t.albedo * (1.0 - (-over).exp());
-                reach = d;
+                mesh_gain = hit.albedo * (1.0 - (-over).exp());
+                reach = hit.distance;
             }
             let c = hair.density.march(p, dir, reach);
             View {
@@ -156,12 +127,9 @@ fn views(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> 
 /// The light that reaches `p` (a fibre, or a mesh point just off its surface), per unit of the light's colour ×
 /// intensity: `max(e^(−n), T_f)` through the `n` fibres in front of it towards the light, as the eye pass
 /// lights a fibre or a mesh under the hair; nothing where a mesh is in the way.
-fn reaching(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
+fn reaching(meshes: &impl MeshRays, hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
     let l = light(p);
-    if triangles
-        .iter()
-        .any(|s| hit(s, p, l.to_light, l.distance).is_some())
-    {
+    if meshes.blocked(p, l.to_light, l.distance) {
         return Vec3::ZERO;
     }
     let n = hair.density.crossed(p, l.to_light, l.distance);
@@ -182,9 +150,9 @@ pub struct Grid {
 }
 
 impl Grid {
-    /// The probe of `triangles` through `hair` at up to [`POINTS`] of `points` (see [`spread`]) under `light`.
+    /// The probe of `meshes` through `hair` at up to [`POINTS`] of `points` (see [`spread`]) under `light`.
     pub fn measure(
-        triangles: &[Triangle],
+        meshes: &impl MeshRays,
         hair: &Hair,
         points: &[Vec3],
         light: impl Fn(Vec3) -> Arrival,
@@ -202,14 +170,11 @@ impl Grid {
                 values: [Vec3::ZERO; NODES * NODES * NODES],
             };
         }
-        let seen: Vec<Vec<View>> = samples
-            .iter()
-            .map(|&p| views(triangles, hair, p, &light))
-            .collect();
+        let seen: Vec<Vec<View>> = samples.iter().map(|&p| views(meshes, hair, p, &light)).collect();
         let (forward, backward) = fibre_transport::attenuation(0.0, hair.sigma_a);
         let direct: Vec<Vec3> = samples
             .iter()
-            .map(|&p| backward * reaching(triangles, hair, p, &light) / 4.0)
+            .map(|&p| backward * reaching(meshes, hair, p, &light) / 4.0)
             .collect();
         let arriving = hair_scatter::incident(&direct, &seen, forward + backward, |values| {
             let grid = Grid::from_points(min, max, &samples, values);
@@ -314,11 +279,29 @@ pub fn hair_response(colour: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pathtrace::mesh_rays::MeshBvh;
+    use crate::pathtrace::triangle::Triangle;
 
     /// The meshes' light alone at `p`, through the hair in front of them.
-    fn meshes_alone(triangles: &[Triangle], hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
-        let seen = views(triangles, hair, p, light);
+    fn meshes_alone(meshes: &MeshBvh, hair: &Hair, p: Vec3, light: &impl Fn(Vec3) -> Arrival) -> Vec3 {
+        let seen = views(meshes, hair, p, light);
         seen.iter().map(|v| v.mesh * v.clear).sum::<Vec3>() / DIRECTIONS as f32
+    }
+
+    /// The square `[−half, half]²` at height `z`, of one albedo, as two triangles.
+    fn square(half: f32, z: f32, albedo: f32) -> Vec<Triangle> {
+        let corner = |x: f32, y: f32| Vec3::new(x * half, y * half, z);
+        [
+            [corner(-1.0, -1.0), corner(1.0, -1.0), corner(-1.0, 1.0)],
+            [corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],
+        ]
+        .map(|[a, b, c]| Triangle {
+            p0: a,
+            e1: b - a,
+            e2: c - a,
+            albedo: Vec3::splat(albedo),
+        })
+        .to_vec()
     }
 
     fn sun(_: Vec3) -> Arrival {
@@ -335,37 +318,27 @@ mod tests {
     /// lit from above with its underside away from the light, sends nothing either.
     #[test]
     fn a_lit_floor_fills_half_the_sphere() {
-        let floor = |albedo: f32, z: f32| {
-            let s = 1e4;
-            [
-                Triangle {
-                    a: Vec3::new(-s, -s, z),
-                    b: Vec3::new(s, -s, z),
-                    c: Vec3::new(-s, s, z),
-                    albedo: Vec3::splat(albedo),
-                },
-                Triangle {
-                    a: Vec3::new(s, -s, z),
-                    b: Vec3::new(s, s, z),
-                    c: Vec3::new(-s, s, z),
-                    albedo: Vec3::splat(albedo),
-                },
-            ]
-        };
+        let floor = |albedo: f32, z: f32| square(1e4, z, albedo);
         let point = Vec3::new(0.0, 0.0, 1.0);
         let empty = HairDensity::empty();
         let hair = Hair {
             density: &empty,
             sigma_a: Vec3::ZERO,
         };
-        let white = meshes_alone(&floor(1.0, 0.0), &hair, point, &sun);
+        let white = meshes_alone(&MeshBvh::new(floor(1.0, 0.0)), &hair, point, &sun);
         assert!((white - Vec3::splat(0.5)).abs().max_element() < 1e-6, "{white}");
-        let grey = meshes_alone(&floor(0.4, 0.0), &hair, point, &sun);
+        let grey = meshes_alone(&MeshBvh::new(floor(0.4, 0.0)), &hair, point, &sun);
         assert!((grey - Vec3::splat(0.2)).abs().max_element() < 1e-6, "{grey}");
-        let mut roofed = floor(1.0, 0.0).to_vec();
+        let mut roofed = floor(1.0, 0.0);
         roofed.extend(floor(1.0, 2.0));
-        assert_eq!(meshes_alone(&roofed, &hair, point, &sun), Vec3::ZERO);
-        assert_eq!(meshes_alone(&[], &hair, point, &sun), Vec3::ZERO);
+        assert_eq!(
+            meshes_alone(&MeshBvh::new(roofed), &hair, point, &sun),
+            Vec3::ZERO
+        );
+        assert_eq!(
+            meshes_alone(&MeshBvh::new(Vec::new()), &hair, point, &sun),
+            Vec3::ZERO
+        );
     }
 
     /// The grid spans the points; points above a lit floor read 0.5 (half their sphere at radiance 1) at and
@@ -373,23 +346,6 @@ mod tests {
     /// its edges held beyond the bounds, and packed four to a vector.
     #[test]
     fn the_grid_keeps_where_the_light_comes_from() {
-        let floor = |z: f32| {
-            let s = 1e4;
-            [
-                Triangle {
-                    a: Vec3::new(-s, -s, z),
-                    b: Vec3::new(s, -s, z),
-                    c: Vec3::new(-s, s, z),
-                    albedo: Vec3::ONE,
-                },
-                Triangle {
-                    a: Vec3::new(s, -s, z),
-                    b: Vec3::new(s, s, z),
-                    c: Vec3::new(-s, s, z),
-                    albedo: Vec3::ONE,
-                },
-            ]
-        };
         let points: Vec<Vec3> = (0..8)
             .map(|k| Vec3::new((k % 2) as f32, 0.0, 1.0 + (k / 2) as f32))
             .collect();
@@ -398,7 +354,7 @@ mod tests {
             density: &empty,
             sigma_a: Vec3::ZERO,
         };
-        let grid = Grid::measure(&floor(0.0), &hair, &points, sun);
+        let grid = Grid::measure(&MeshBvh::new(square(1e4, 0.0, 1.0)), &hair, &points, sun);
         assert_eq!(
             (grid.min, grid.max),
             (Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 4.0))
@@ -411,7 +367,7 @@ mod tests {
                 grid.at(*p)
             );
         }
-        let none = Grid::measure(&[], &hair, &points, sun);
+        let none = Grid::measure(&MeshBvh::new(Vec::new()), &hair, &points, sun);
         assert_eq!(none.at(Vec3::ZERO), Vec3::ZERO);
         let mut ramp = grid;
         for (n, v) in ramp.values.iter_mut().enumerate() {
@@ -436,21 +392,7 @@ mod tests {
     /// sphere of radiance 1 the bare floor gives), per channel, within 3 %; a darker fibre passes less.
     #[test]
     fn hair_between_the_floor_and_the_light_dims_the_floor_by_its_transport() {
-        let s = 1e4;
-        let floor = [
-            Triangle {
-                a: Vec3::new(-s, -s, 0.0),
-                b: Vec3::new(s, -s, 0.0),
-                c: Vec3::new(-s, s, 0.0),
-                albedo: Vec3::ONE,
-            },
-            Triangle {
-                a: Vec3::new(s, -s, 0.0),
-                b: Vec3::new(s, s, 0.0),
-                c: Vec3::new(-s, s, 0.0),
-                albedo: Vec3::ONE,
-            },
-        ];
+        let floor = MeshBvh::new(square(1e4, 0.0, 1.0));
         // A wide layer of fibres along x between z = 0.5 and 0.7, 20 wide: a 2001 × 21 grid of fibres 0.01
         // apart, each 0.004 wide: a vertical ray crosses (π/4) × 21 × 0.4 = 6.6 fibres on average. Every
         // direction of the lower half sphere from the points below meets the floor under it.
@@ -500,34 +442,20 @@ mod tests {
             }
         }
         let density = HairDensity::from_strands(&points, (0..201 * 21).map(|n| (2 * n, 2)), |_| 0.004);
-        let probe = |colour: Vec3, triangles: &[Triangle]| {
+        let probe = |colour: Vec3, meshes: Vec<Triangle>| {
             let hair = Hair {
                 density: &density,
                 sigma_a: super::super::marschner::absorption(colour),
             };
-            Grid::measure(triangles, &hair, &points, sun).at(Vec3::new(0.0, 0.0, 0.6))
+            Grid::measure(&MeshBvh::new(meshes), &hair, &points, sun).at(Vec3::new(0.0, 0.0, 0.6))
         };
         let (blond, brown) = (Vec3::new(0.8, 0.62, 0.38), Vec3::new(0.3, 0.19, 0.11));
-        let (light, dark) = (probe(blond, &[]), probe(brown, &[]));
+        let (light, dark) = (probe(blond, Vec::new()), probe(brown, Vec::new()));
         assert!(dark.cmpgt(Vec3::ZERO).all(), "{dark}");
         assert!(light.cmpgt(dark).all(), "{light} vs {dark}");
         let one = hair_response(brown);
         assert!(dark.x / dark.z > one.x / one.z, "{dark} vs one fibre's {one}");
-        let roof = [
-            Triangle {
-                a: Vec3::new(-5.0, -5.0, 2.0),
-                b: Vec3::new(5.0, -5.0, 2.0),
-                c: Vec3::new(-5.0, 5.0, 2.0),
-                albedo: Vec3::ONE,
-            },
-            Triangle {
-                a: Vec3::new(5.0, -5.0, 2.0),
-                b: Vec3::new(5.0, 5.0, 2.0),
-                c: Vec3::new(-5.0, 5.0, 2.0),
-                albedo: Vec3::ONE,
-            },
-        ];
-        assert_eq!(probe(blond, &roof), Vec3::ZERO);
+        assert_eq!(probe(blond, square(5.0, 2.0, 1.0)), Vec3::ZERO);
     }
 
     /// A node no point is nearest to takes its value from the filled nodes next to it, not from far away: with

@@ -104,6 +104,12 @@ impl ShadingModel {
     }
 }
 
+/// The raster's ambient terms at `render.ambient = 1` (the absorber model's look, [`HairModel::Absorber`]): what
+/// `shaders/hair.wgsl` and `shaders/mesh.wgsl` add to every lit colour, times the colour (`frame.hair_ambient`,
+/// `frame.mesh_ambient`); the path tracer's raster first hit adds the same.
+pub const HAIR_AMBIENT: f32 = 0.08;
+pub const MESH_AMBIENT: f32 = 0.12;
+
 /// The registered hair models (`render.hair_model = "absorber" | "fibres"`): how light crosses the strands in
 /// front of a point and how a strand's opacity is found. Beside [`ShadingModel`] (what one lit point sends to
 /// the eye), each combination measurable against the path tracer (docs/truth.md).

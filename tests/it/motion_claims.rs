@@ -16,11 +16,11 @@ use hairlab::methods::occupancy::Occupancy;
 use hairlab::methods::osm::Osm;
 use hairlab::motion::{Ellipsoid, Motion};
 use hairlab::render::Renderer;
-use hairlab::render::light_frame::LightFrame;
 use hairlab::render::passes::abuffer::RefFragment;
 use hairlab::report::claims::mc1;
 use hairlab::scene::LightFit;
 use hairlab::scene::generate::HEAD_RADII;
+use hairlab::scene::light_frame::LightFrame;
 use hairlab::settings::Settings;
 use std::collections::HashSet;
 

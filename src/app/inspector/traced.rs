@@ -19,7 +19,7 @@ use crate::pathtrace::fibre;
 use crate::pathtrace::visibility::{Texel, crossings, light_map_texel};
 use crate::progress::{Progress, share};
 use crate::render::AlphaMode;
-use crate::render::light_frame::LightFrame;
+use crate::scene::light_frame::LightFrame;
 use crate::scene::{LightKind, Strands};
 use crate::settings::{SceneSettings, Settings};
 use egui::Color32;

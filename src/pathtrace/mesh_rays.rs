@@ -1,6 +1,7 @@
 //! The scene's meshes for the fibres model's light probe (`shading::mesh_bounce`): the path tracer's hierarchy
 //! ([`Bvh`]) over the mesh triangles alone, so that the probe's rays and shadow rays cost the log of the
-//! triangles rather than their number (a scalp of 86 400 triangles took the probe 12 s tested one by one).
+//! triangles rather than their number (hair on a scalp of 86 400 triangles: a 320×240 `render` 8.6 s with every
+//! triangle tested, 1.1 s through the hierarchy).
 
 use glam::Vec3;
 

@@ -193,7 +193,11 @@ pub fn report(preset: &str, m: &FibreConstants) -> String {
     }
     let _ = writeln!(
         s,
-        "chosen today: d_f = {}, d_b = {} (shading::dual_scattering; Zinke et al. 2008 and Unity HDRP use 0.7)",
+        "in use: render.hair_model = fibres  d_f = {}, d_b = {} (shading::fibre_transport, from these fits)\n        \
+         render.hair_model = absorber  d_f = {}, d_b = {} (shading::dual_scattering; Zinke et al. 2008 and Unity HDRP \
+         use 0.7)",
+        crate::shading::fibre_transport::DENSITY_FORWARD,
+        crate::shading::fibre_transport::DENSITY_BACK,
         crate::shading::dual_scattering::DENSITY_FORWARD,
         crate::shading::dual_scattering::DENSITY_BACK
     );

@@ -60,7 +60,9 @@ def render(args, preset, out, sets, shaders=None):
         cmd += ["--set", s]
     if shaders:
         cmd += ["--shaders", shaders]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    run = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if run.returncode != 0:
+        sys.exit(f"{' '.join(cmd)}\nfailed (exit {run.returncode}): {run.stderr.strip()[-2000:]}")
 
 
 def linear(path):

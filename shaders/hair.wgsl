@@ -82,8 +82,14 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     let t = normalize(in.tangent);
     let to_eye = normalize(frame.eye_position - world);
     let l = light_dir(world);
-    // The method's V and the hair count it stands for (`hair_count`; with 3x3 PCF, of the filtered V).
-    let v = hair_visibility(world);
+    // The method's V and the hair count it stands for (`hair_count`; with 3x3 PCF, of the filtered V). Under
+    // the fibres model read towards the light past the fragment's own strand, which does not shadow it.
+    var read = world;
+    if frame.hair_model == HAIR_MODEL_FIBRES {
+        let texel = frame.light_footprint * (frame.world_to_light_clip * vec4<f32>(world, 1.0)).w;
+        read = world + l * fibre_own_strand_offset(texel, t, l);
+    }
+    let v = hair_visibility(read);
     let count = hair_count(v);
     let mesh = mesh_visibility(world, 1);
     var lit = strand_lit(t, l, to_eye, in.color, v, count) * light_radiance(world) * mesh;

@@ -68,6 +68,18 @@ fn fibre_count(v: f32) -> f32 {
     return max(-log(max(v, 1.17549435e-38)), 0.0);
 }
 
+// `fibre_transport::OWN_STRAND_SLOPE_MAX`.
+const FIBRE_OWN_SLOPE_MAX: f32 = 4.0;
+
+// How far towards the light a fibre point reads the light map so that its own strand does not shadow it
+// (`fibre_transport::own_strand_offset`): texel (world) times sqrt(1/2) the segment's depth slope, capped.
+// Unit tangent and to_light.
+fn fibre_own_strand_offset(texel: f32, tangent: vec3<f32>, to_light: vec3<f32>) -> f32 {
+    let c = min(abs(dot(tangent, to_light)), 1.0);
+    let s = sqrt(max(1.0 - c * c, 1e-6));
+    return texel * min(0.70710678 * c / s, FIBRE_OWN_SLOPE_MAX);
+}
+
 // T_f = d_f a_f(theta)^n per channel.
 fn fibre_transmittance(sin_i: f32, sigma_a: vec3<f32>, count: f32) -> vec3<f32> {
     let af = fibre_attenuation(sin_i, sigma_a).forward;

@@ -88,7 +88,9 @@ impl Truth {
 }
 
 /// The depth-peeled reference's visibility at a world point, read as the eye pass reads it (`Lookup`: the
-/// base texel, supersampling and 3×3 PCF of `render`; half-texel jitter is not modelled).
+/// base texel, supersampling and 3×3 PCF of `render`; half-texel jitter is not modelled; under the fibres model
+/// a fibre's point moved towards the light by `fibre_transport::own_strand_offset`, as `shaders/hair.wgsl`
+/// moves a strand fragment's).
 fn reference_map(gpu: &Gpu, settings: &Settings, scene: &crate::scene::Scene) -> Result<VisibilityMap> {
     let camera = crate::path_scene::camera(settings, scene);
     let mut r = Renderer::new(gpu, scene, settings.render.map_resolution)?;
@@ -105,11 +107,26 @@ fn reference_map(gpu: &Gpu, settings: &Settings, scene: &crate::scene::Scene) ->
     };
     let side = lookup.side() as usize;
     let to_clip = frame.world_to_clip();
-    Ok(Arc::new(move |p: Vec3| {
-        let c = to_clip * p.extend(1.0);
+    let footprint = crate::render::footprint_per_w(&frame.view_to_clip, side as u32, side as u32);
+    let fibres = settings.render.hair_model == crate::shading::HairModel::Fibres;
+    let spot = settings.light.kind == crate::scene::LightKind::Spot;
+    Ok(Arc::new(move |at: Vec3, tangent: Option<Vec3>| {
+        let c = to_clip * at.extend(1.0);
         if c.w <= 0.0 {
             return 1.0;
         }
+        let p = match tangent.filter(|_| fibres) {
+            Some(t) => {
+                let l = if spot {
+                    (frame.position - at).normalize_or_zero()
+                } else {
+                    frame.to_light
+                };
+                at + l * crate::shading::fibre_transport::own_strand_offset(footprint * c.w, t, l)
+            }
+            None => at,
+        };
+        let c = to_clip * p.extend(1.0);
         let uv = Vec2::new(c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5);
         lookup.visibility(uv, frame.depth(p), |[x, y], z| {
             texels

@@ -28,8 +28,10 @@ pub enum Events {
     One,
 }
 
-/// A visibility towards the light at a world point, in [0, 1].
-pub type VisibilityMap = Arc<dyn Fn(Vec3) -> f32 + Send + Sync>;
+/// A visibility towards the light at a world point, in [0, 1]; given the unit tangent of the fibre there, read
+/// as the raster reads a fragment of that strand (past its own strand towards the light,
+/// `shading::fibre_transport::own_strand_offset`, under the fibres model).
+pub type VisibilityMap = Arc<dyn Fn(Vec3, Option<Vec3>) -> f32 + Send + Sync>;
 
 /// What the fibres do to a shadow ray. Meshes block it in every case.
 #[derive(Clone)]
@@ -217,10 +219,11 @@ pub fn map_point(hit: &Hit, axis: Option<(Vec3, Vec3)>) -> Vec3 {
 
 /// A light arrival's share that reaches the shaded point through the fibres under `shadows` (meshes block it
 /// whatever `shadows` says): `blocked_by_all` and `blocked_by_meshes` trace the shadow ray, a map is read at
-/// `at` ([`map_point`]).
+/// `at` ([`map_point`]) with the fibre's unit `tangent` there (none on a mesh).
 pub fn transmittance(
     shadows: &HairShadows,
     at: Vec3,
+    tangent: Option<Vec3>,
     blocked_by_all: impl FnOnce() -> bool,
     blocked_by_meshes: impl FnOnce() -> bool,
 ) -> f32 {
@@ -231,7 +234,7 @@ pub fn transmittance(
             if blocked_by_meshes() {
                 0.0
             } else {
-                map(at).clamp(0.0, 1.0)
+                map(at, tangent).clamp(0.0, 1.0)
             }
         }
     }
@@ -327,7 +330,7 @@ mod tests {
             &LIGHT,
             &settings(one(HairShadows::Off, FirstHit::Physical)),
         );
-        let quarter = HairShadows::Map(Arc::new(|_| 0.25));
+        let quarter = HairShadows::Map(Arc::new(|_, _| 0.25));
         let mapped = render(
             &bvh,
             &camera(),
@@ -374,7 +377,7 @@ mod tests {
             "{full} vs {}",
             lit + ambient
         );
-        let half = centre(HairShadows::Map(Arc::new(|_| 0.5)));
+        let half = centre(HairShadows::Map(Arc::new(|_, _| 0.5)));
         assert!(
             (half - (0.5 * (full - ambient) + ambient)).abs().max_element() < 1e-5,
             "{half}"

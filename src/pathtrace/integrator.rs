@@ -169,6 +169,7 @@ fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut
                     &hit,
                     bvh.segments().get(hit.primitive as usize).map(|g| (g.a, g.b)),
                 ),
+                matches!(hit.surface, Surface::Fibre).then_some(hit.tangent),
                 || bvh.any_hit_from(&shadow, reach, hit.primitive),
                 || bvh.any_mesh_hit_from(&shadow, reach, hit.primitive),
             )

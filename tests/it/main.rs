@@ -45,6 +45,7 @@ mod methods_gpu;
 mod motion;
 mod motion_claims;
 mod motion_colliders;
+mod own_strand;
 mod path_render;
 mod path_view;
 mod pathtrace_numerics;

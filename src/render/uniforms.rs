@@ -68,8 +68,8 @@ pub struct FrameUniforms {
     /// [`crate::shading::MESH_AMBIENT`]): what every hair and mesh fragment adds, times its colour.
     pub hair_ambient: f32,
     pub mesh_ambient: f32,
-    /// [`crate::shading::HairModel::uniform`] (`render.hair_model`): 1 stores `1 − e^(−α)` in the light passes
-    /// and carries light through fibres (`shaders/common/fibre_transport.wgsl`).
+    /// [`crate::shading::HairModel::uniform`] (`render.hair_model`): 1 takes each fragment's alpha from its
+    /// coverage at material opacity 1 and carries light through fibres (`shaders/common/fibre_transport.wgsl`).
     pub hair_model: u32,
     /// Per environment light: the unit direction towards it (xyz) and its radiance (xyz), w unused.
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],

@@ -13,21 +13,29 @@ use hairlab::render::geometry::{hair_indices, hair_vertices};
 use hairlab::render::passes::abuffer::RefFragment;
 use hairlab::render::{AlphaMode, LightStrands, Raster, Renderer};
 use hairlab::settings::Settings;
+use hairlab::shading::HairModel;
 
 fn compute(s: &mut Settings) {
     s.render.raster = Raster::Compute;
 }
 
-/// The stream of a 300-strand head at 64² (both alpha modes) against the CPU model run on the same frame
-/// uniforms and strand points: the same texels and segments in the same order, depth and alpha within 1e-6
-/// (float contraction may differ between the CPU and the shader compiler; measured on lavapipe: 6555
-/// fragments, depth 3.0e-7, alpha 0 in both modes).
+/// The stream of a 300-strand head at 64² (both alpha modes of the absorber model, and the fibres model's
+/// texel coverage) against the CPU model run on the same frame uniforms and strand points: the same texels and
+/// segments in the same order, depth and alpha within 1e-5 (float contraction may differ between the CPU and
+/// the shader compiler; measured on lavapipe: 6555 fragments, depth 3.0e-7, alpha 0 in both modes; the
+/// fibres model's maxima are printed).
 #[test]
 fn gpu_stream_equals_cpu_model() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    for alpha in [AlphaMode::Constant, AlphaMode::Coverage] {
+    for (alpha, hair) in [
+        (AlphaMode::Constant, HairModel::Absorber),
+        (AlphaMode::Coverage, HairModel::Absorber),
+        (AlphaMode::Coverage, HairModel::Fibres),
+    ] {
         let (mut s, scene) = common::setup_scene(common::Setup::new(300, 64));
         s.render.alpha = alpha;
+        s.render.hair_model = hair;
+        let case = (alpha, hair);
         let mut r = Renderer::new(&gpu, &scene, s.render.map_resolution).unwrap();
         let (stream, u) = r.raster_stream(&s.camera, &s.light, &s.render).unwrap();
         let model = rasterise(&u, &hair_vertices(&scene), &hair_indices(&scene));
@@ -36,24 +44,24 @@ fn gpu_stream_equals_cpu_model() {
             "test scene too thin: {} fragments",
             model.len()
         );
-        assert_eq!(stream.len(), model.len(), "{alpha:?}: fragment count");
+        assert_eq!(stream.len(), model.len(), "{case:?}: fragment count");
         let (mut depth, mut alpha_diff) = (0.0f32, 0.0f32);
         for (i, (g, c)) in stream.iter().zip(&model).enumerate() {
             assert_eq!(
                 (g.texel, g.segment),
                 (c.texel, c.segment),
-                "{alpha:?}: fragment {i}: texel and segment"
+                "{case:?}: fragment {i}: texel and segment"
             );
             depth = depth.max((g.depth - c.depth).abs());
             alpha_diff = alpha_diff.max((g.alpha - c.alpha).abs());
         }
         eprintln!(
-            "{alpha:?}: {} fragments, max |depth| difference {depth:e}, max |alpha| difference {alpha_diff:e}",
+            "{case:?}: {} fragments, max |depth| difference {depth:e}, max |alpha| difference {alpha_diff:e}",
             model.len()
         );
         assert!(
             depth <= 1e-5 && alpha_diff <= 1e-5,
-            "{alpha:?}: depth {depth}, alpha {alpha_diff}"
+            "{case:?}: depth {depth}, alpha {alpha_diff}"
         );
     }
 }

@@ -44,7 +44,7 @@ fn every_method_gpu_equals_cpu_under_ribbons() {
 }
 
 /// `n` straight strands of 41 points along x at height 0, `spacing` apart in z, shifted by `dz`.
-fn combed(n: usize, spacing: f32, dz: f32) -> Strands {
+pub(crate) fn combed(n: usize, spacing: f32, dz: f32) -> Strands {
     let mut points = Vec::new();
     for i in 0..n {
         let z = (i as f32 - (n - 1) as f32 / 2.0) * spacing + dz;
@@ -59,7 +59,7 @@ fn combed(n: usize, spacing: f32, dz: f32) -> Strands {
 
 /// Settings for the combed strands: a light straight above them, its frame fitted once to a fixed box so that
 /// moving the strands moves them across the map's texels.
-fn combed_settings(resolution: u32) -> Settings {
+pub(crate) fn combed_settings(resolution: u32) -> Settings {
     let mut s = common::small_settings(8, 8);
     s.render.map_resolution = resolution;
     s.light.elevation_deg = 89.0;
@@ -74,7 +74,7 @@ const BOX: Aabb = Aabb {
 
 /// The reference lists of `strands` under `s`, with the light frame fitted to [`BOX`]; and the world size of
 /// one light texel.
-fn lists_of(gpu: &Gpu, s: &Settings, strands: Strands) -> (Vec<Vec<RefFragment>>, f32) {
+pub(crate) fn lists_of(gpu: &Gpu, s: &Settings, strands: Strands) -> (Vec<Vec<RefFragment>>, f32) {
     let scene = Scene::new(strands, Vec::new());
     let mut s = s.clone();
     s.camera.frame(&scene.framing_bounds());

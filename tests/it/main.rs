@@ -12,6 +12,7 @@ mod cli;
 mod compute_raster;
 mod coverage_alpha;
 mod docs;
+mod fibre_light;
 mod fibre_slab;
 mod fur_density;
 mod fur_gpu;
@@ -45,7 +46,7 @@ mod methods_gpu;
 mod motion;
 mod motion_claims;
 mod motion_colliders;
-mod own_strand;
+
 mod path_render;
 mod path_view;
 mod pathtrace_numerics;

@@ -1,8 +1,11 @@
-//! Under the fibres model a strand does not shadow itself (`fibre_transport::own_strand_offset`,
-//! `shaders/hair.wgsl`): the eye pass reads the light map towards the light past the fragment's own strand, as
-//! the path tracer's shadow ray leaves its own fibre. The WGSL offset equals its CPU model, and a lone straight
-//! strand sloping through the light's depth is lit as if nothing shadowed it, where the absorber model (which
-//! keeps the plain read) darkens it by its own fragments.
+//! The fibres model's light side. A light fragment of the `lines` caster stores the strand's coverage of its
+//! texel, its width over the texel's at most 1, at material opacity 1 (`strand_alpha` in
+//! `shaders/common/frame.wgsl`; the compute rasteriser's twin is in `compute_raster.rs`). A strand does not
+//! shadow itself
+//! (`fibre_transport::own_strand_offset`, `shaders/hair.wgsl`): the eye pass reads the light map towards the
+//! light past the fragment's own strand, as the path tracer's shadow ray leaves its own fibre. The WGSL offset
+//! equals its CPU model, and a lone straight strand sloping through the light's depth is lit as if nothing
+//! shadowed it, where the absorber model (which keeps the plain read) darkens it by its own fragments.
 
 use crate::common;
 
@@ -14,6 +17,30 @@ use hairlab::rng::SplitMix64;
 use hairlab::scene::{LightFit, Scene, Strands};
 use hairlab::settings::Settings;
 use hairlab::shading::{HairModel, ShadingModel, fibre_transport};
+
+/// Three combed strands under a light straight above, drawn as lines 0.5 and 1.5 texels wide: every fragment of
+/// the reference's lists stores 0.5 and 1 (the width over the texel's, at most 1, whatever `hair_alpha`), within
+/// 1e-5.
+#[test]
+fn line_fragments_store_the_texel_coverage() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut s = crate::light_ribbons::combed_settings(32);
+    s.render.hair_model = HairModel::Fibres;
+    let (_, texel) = crate::light_ribbons::lists_of(&gpu, &s, crate::light_ribbons::combed(3, 0.03, 0.0));
+    s.render.hair_alpha = 0.35;
+    for (rho, expected) in [(0.5f32, 0.5f32), (1.5, 1.0)] {
+        s.render.strand_width = rho * texel;
+        let (lists, _) = crate::light_ribbons::lists_of(&gpu, &s, crate::light_ribbons::combed(3, 0.03, 0.0));
+        let alphas: Vec<f32> = lists.iter().flatten().map(|f| f.alpha).collect();
+        assert!(alphas.len() >= 50, "{} fragments", alphas.len());
+        let worst = alphas.iter().map(|a| (a - expected).abs()).fold(0.0f32, f32::max);
+        println!(
+            "rho {rho}: {} fragments, max |alpha - {expected}| = {worst:.1e}",
+            alphas.len()
+        );
+        assert!(worst <= 1e-5, "rho {rho}: alpha off by {worst}");
+    }
+}
 
 /// Per probe `(tangent xyz, texel)` and `(to_light xyz, ·)`: `fibre_own_strand_offset`.
 const OFFSET_PROBE: &str = r#"

@@ -87,14 +87,11 @@ fn wgsl_own_strand_offset_equals_the_cpu_model() {
         rows.push([t.x, t.y, t.z, texel, l.x, l.y, l.z, 0.0]);
     }
     rows.push([0.0, 1.0, 0.0, 0.003, 0.0, 1.0, 0.0, 0.0]);
-    let bytes = common::run_probe(
+    let out: Vec<[f32; 4]> = common::run_probe_rows(
         &gpu,
         ("common/fibre_transport.wgsl", OFFSET_PROBE, "own_strand.probe"),
-        bytemuck::cast_slice(&rows),
-        rows.len(),
-        16,
+        &rows,
     );
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
     let mut worst = 0.0f32;
     for (r, o) in rows.iter().zip(&out) {
         let e = fibre_transport::own_strand_offset(

@@ -52,14 +52,7 @@ fn probe(i: u32, p: Row) {
 
 /// Runs the probe on `points`; returns its output words.
 fn probe(gpu: &Gpu, points: &[[f32; 4]]) -> Vec<[u32; 4]> {
-    let bytes = crate::common::run_probe(
-        gpu,
-        ("common/fur_noise.wgsl", PROBE, "fur_density.probe"),
-        bytemuck::cast_slice(points),
-        points.len(),
-        16,
-    );
-    bytemuck::pod_collect_to_vec(&bytes)
+    crate::common::run_probe_rows(gpu, ("common/fur_noise.wgsl", PROBE, "fur_density.probe"), points)
 }
 
 /// FT-U8, the noise alone: 2^16 points over [−50, 50]³ (the clump field's range on a 10 cm mesh at f = 400

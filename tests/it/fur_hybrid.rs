@@ -54,14 +54,11 @@ fn wgsl_guard_darkening_equals_the_cpu_model() {
         [0.01, 0.01, 800.0, 0.0],
         [0.0, 0.01, 0.0, 0.0],
     ]);
-    let bytes = crate::common::run_probe(
+    let out: Vec<[f32; 4]> = crate::common::run_probe_rows(
         &gpu,
         ("common/guard_darkening.wgsl", PROBE, "guard_darkening.probe"),
-        bytemuck::cast_slice(&rows),
-        rows.len(),
-        16,
+        &rows,
     );
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
     let mut worst = 0.0f32;
     for (r, o) in rows.iter().zip(&out) {
         let cpu = darkening::darkening(r[0], r[1], r[2]);

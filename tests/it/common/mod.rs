@@ -322,6 +322,15 @@ pub fn run_probe(gpu: &Gpu, spec: (&str, &str, &str), input: &[u8], items: usize
     probe_pass(gpu, spec, None, input, items, out_bytes)
 }
 
+/// [`run_probe`] over `rows`, one `Row` each, for a probe that writes one 16-byte `Out` (a `vec4`) per row.
+pub fn run_probe_rows<R: bytemuck::Pod, O: bytemuck::Pod>(
+    gpu: &Gpu,
+    spec: (&str, &str, &str),
+    rows: &[R],
+) -> Vec<O> {
+    bytemuck::pod_collect_to_vec(&run_probe(gpu, spec, bytemuck::cast_slice(rows), rows.len(), 16))
+}
+
 /// [`run_probe`] for a shared file that reads the frame uniforms: `frame` bound at group 0 (binding 0, as every
 /// pass binds it), the probe's input and output at group 1 (bindings 0 and 1).
 pub fn run_probe_with_frame(

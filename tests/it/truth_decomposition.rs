@@ -73,6 +73,50 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
     assert!(ms.hair_noise > 0.0 && ms.hair_noise < ms.hair_rmse, "{ms:?}");
 }
 
+/// One generated strand alone, the light map read as the eye pass reads it: under the fibres model the strand
+/// does not shadow itself (`fibre_transport::own_strand_offset`), so the map's shadow is the traced one, which
+/// leaves the fibre's own segment out, sample for sample: the `shadowing` step's hair ratio is 1 and its RMSE 0
+/// (measured 1.000; 0.850 before the offset). The absorber model keeps the plain read, and the strand's own
+/// fragments darken it (measured 0.862).
+#[test]
+fn a_lone_strand_under_the_fibres_model_casts_the_traced_shadow() {
+    let gpu = Gpu::for_tests().expect("GPU tests opted out");
+    for (model, fibres) in [("fibres", true), ("absorber", false)] {
+        let hair_model = format!("render.hair_model={model}");
+        let settings = small(
+            "stray-strand",
+            &["render.spp=4", "scene.generator.strands=1", hair_model.as_str()],
+        );
+        let configs = [MethodConfig::new("reference", ParamValues::new())];
+        let (_, table) = hairlab::measure::shading::against_truth(
+            &gpu,
+            &settings,
+            &configs,
+            &[ShadingModel::Marschner],
+            &mut hairlab::progress::Quiet,
+        )
+        .unwrap()
+        .expect("not stopped");
+        let step = table
+            .decomposition
+            .iter()
+            .find(|d| d.effect == SHADOWING)
+            .unwrap();
+        println!(
+            "{model}: shadowing ratio {:.4}, rmse {:.4}",
+            step.hair_ratio, step.hair_rmse
+        );
+        if fibres {
+            assert!(
+                (step.hair_ratio - 1.0).abs() < 1e-6 && step.hair_rmse == 0.0,
+                "{step:?}"
+            );
+        } else {
+            assert!(step.hair_ratio < 0.95, "{step:?}");
+        }
+    }
+}
+
 /// Mean linear luminance of a PNG written by `hairlab render`.
 fn mean_luminance(path: &std::path::Path) -> f64 {
     let img = image::open(path).unwrap().to_rgba8();

@@ -22,6 +22,27 @@ fn small(preset: &str, more: &[&str]) -> Settings {
     Settings::load_preset(preset, &overrides).unwrap()
 }
 
+/// The chain against the path-traced truth of `settings` for `method` at its defaults under Marschner.
+fn marschner_chain(
+    gpu: &Gpu,
+    settings: &Settings,
+    method: &str,
+) -> (
+    hairlab::measure::truth::Truth,
+    hairlab::measure::shading::ShadingTable,
+) {
+    let configs = [MethodConfig::new(method, ParamValues::new())];
+    hairlab::measure::shading::against_truth(
+        gpu,
+        settings,
+        &configs,
+        &[ShadingModel::Marschner],
+        &mut hairlab::progress::Quiet,
+    )
+    .unwrap()
+    .expect("not stopped")
+}
+
 /// The chain on the stray strand and its clump: one row per effect in the chain's order, the total last; the
 /// hair's luminance ratios multiply along the chain to the total's (the chain telescopes); one scattering
 /// event carries less light than all of them; the scene has no mesh, so no receiver pixel, no receiver ratio
@@ -30,16 +51,7 @@ fn small(preset: &str, more: &[&str]) -> Settings {
 fn the_chain_telescopes_and_one_event_carries_less_light() {
     let gpu = Gpu::for_tests().expect("GPU tests opted out");
     let settings = small("stray-strand", &["render.spp=4"]);
-    let configs = [MethodConfig::new("occupancy", ParamValues::new())];
-    let (truth, table) = hairlab::measure::shading::against_truth(
-        &gpu,
-        &settings,
-        &configs,
-        &[ShadingModel::Marschner],
-        &mut hairlab::progress::Quiet,
-    )
-    .unwrap()
-    .expect("not stopped");
+    let (truth, table) = marschner_chain(&gpu, &settings, "occupancy");
     let effects: Vec<&str> = table.decomposition.iter().map(|d| d.effect).collect();
     assert_eq!(
         effects,
@@ -87,16 +99,7 @@ fn a_lone_strand_under_the_fibres_model_casts_the_traced_shadow() {
             "stray-strand",
             &["render.spp=4", "scene.generator.strands=1", hair_model.as_str()],
         );
-        let configs = [MethodConfig::new("reference", ParamValues::new())];
-        let (_, table) = hairlab::measure::shading::against_truth(
-            &gpu,
-            &settings,
-            &configs,
-            &[ShadingModel::Marschner],
-            &mut hairlab::progress::Quiet,
-        )
-        .unwrap()
-        .expect("not stopped");
+        let (_, table) = marschner_chain(&gpu, &settings, "reference");
         let step = table
             .decomposition
             .iter()

@@ -139,7 +139,7 @@ pub const OWN_STRAND_SLOPE_MAX: f32 = 4.0;
 /// the segment climbs `|t·l| / √(1 − (t·l)²)` texels of depth per texel there, so the read moves `texel` (the
 /// world size of a light texel at the point) times `√½` that slope, capped at [`OWN_STRAND_SLOPE_MAX`].
 /// `tangent` and `to_light` are unit vectors. Measured against leaving out the fragments of the point's segment
-/// and its two neighbours exactly (a probe of the reference's lists): the reference's hair within 0.4–2.2 % of
+/// and its two neighbours exactly (a probe of the reference's lists): the reference's hair within 0.3–2.2 % of
 /// it on `default`, `blond` and `back-lit` (docs/truth.md).
 pub fn own_strand_offset(texel: f32, tangent: Vec3, to_light: Vec3) -> f32 {
     let c = tangent.dot(to_light).abs().min(1.0);

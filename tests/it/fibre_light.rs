@@ -1,11 +1,10 @@
 //! The fibres model's light side. A light fragment of the `lines` caster stores the strand's coverage of its
 //! texel, its width over the texel's at most 1, at material opacity 1 (`strand_alpha` in
 //! `shaders/common/frame.wgsl`; the compute rasteriser's twin is in `compute_raster.rs`). A strand does not
-//! shadow itself
-//! (`fibre_transport::own_strand_offset`, `shaders/hair.wgsl`): the eye pass reads the light map towards the
-//! light past the fragment's own strand, as the path tracer's shadow ray leaves its own fibre. The WGSL offset
-//! equals its CPU model, and a lone straight strand sloping through the light's depth is lit as if nothing
-//! shadowed it, where the absorber model (which keeps the plain read) darkens it by its own fragments.
+//! shadow itself (`fibre_transport::own_strand_offset`, `shaders/hair.wgsl`): the eye pass reads the light map
+//! towards the light past the fragment's own strand, as the path tracer's shadow ray leaves its own fibre. The
+//! WGSL offset equals its CPU model, and a lone straight strand sloping through the light's depth is lit as if
+//! nothing shadowed it, where the absorber model (which keeps the plain read) darkens it by its own fragments.
 
 use crate::common;
 

@@ -44,6 +44,10 @@ pub enum MeasureMode {
     /// of Chiang's BSDF by quadrature, slabs of parallel fibres path-traced at several depths, and the fitted
     /// d_f, d_b; `fibre_constants.csv` and `.json`.
     Fibres(super::measure_fibres::MeasureFibresArgs),
+    /// The fibres model's light probe against the path tracer's mean radiance arriving at the probe's own
+    /// points (every event, the light itself left out): ratios over all points, per channel and per height band;
+    /// `probe_points.csv`.
+    Probe(super::measure_probe::MeasureProbeArgs),
 }
 
 /// The scene and the timing, shared by every mode.
@@ -494,6 +498,7 @@ pub(super) fn measure(a: &MeasureArgs) -> Result<()> {
         MeasureMode::Motion(a) => super::measure_motion::run(a),
         MeasureMode::Visibility(a) => super::measure_visibility::run(a),
         MeasureMode::Fibres(a) => super::measure_fibres::run(a),
+        MeasureMode::Probe(a) => super::measure_probe::run(a),
     }
 }
 

@@ -15,6 +15,7 @@ pub mod manual;
 pub mod measure;
 pub mod measure_fibres;
 pub mod measure_motion;
+pub mod measure_probe;
 mod measure_shading;
 pub mod measure_visibility;
 pub mod progress;

@@ -9,6 +9,7 @@ pub mod fibre_slab;
 pub mod fibre_visibility;
 pub mod fur;
 pub mod motion;
+pub mod probe;
 pub mod shading;
 pub mod temporal;
 pub mod transparency;

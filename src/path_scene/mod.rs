@@ -73,6 +73,9 @@ pub fn effects(settings: &Settings, scene: &Scene, around: &Aabb) -> Effects {
         first_hit: match p.first_hit {
             PathFirstHit::Fibre => FirstHit::Physical,
             PathFirstHit::Raster => FirstHit::Raster(raster_shading(settings, scene, around)),
+            PathFirstHit::Isotropic => FirstHit::Isotropic(crate::shading::mesh_bounce::hair_response(
+                Vec3::from(settings.render.hair_color),
+            )),
         },
     }
 }

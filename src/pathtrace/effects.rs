@@ -9,7 +9,8 @@
 //!   reference's `(1 − α)` products looked up as the eye pass does), meshes' shadows always traced;
 //! - [`FirstHit::Raster`]: at the first hit, the raster's shading model, lighting and ambient term in place of
 //!   the fibre's BSDF and the mesh's Lambert (`shaders/hair.wgsl`, `shaders/mesh.wgsl`, their CPU models in
-//!   `crate::shading`).
+//!   `crate::shading`); [`FirstHit::Isotropic`]: at the first fibre, the light arriving from elsewhere sent on
+//!   alike every way, as the fibres model's probe response takes it.
 
 use std::sync::Arc;
 
@@ -173,6 +174,10 @@ pub enum FirstHit {
     Physical,
     /// The raster's shading at the first hit, and nothing after it.
     Raster(RasterShading),
+    /// Chiang et al.'s direct light at the first hit of a fibre, and the light arriving from elsewhere scattered
+    /// alike towards every direction with this albedo: the response the fibres model gives its probe's mean
+    /// radiance (`shading::mesh_bounce::hair_response`), lit by the truth's own light field.
+    Isotropic(Vec3),
 }
 
 /// Which effects a path-traced image carries.
@@ -381,6 +386,64 @@ mod tests {
         assert!(
             (half - (0.5 * (full - ambient) + ambient)).abs().max_element() < 1e-5,
             "{half}"
+        );
+    }
+
+    /// [`FirstHit::Isotropic`] at a fibre in front of a lit Lambertian square: the image less the one-event image
+    /// (the same direct light, sample for sample) is the albedo times the square's radiance times its share of
+    /// the sphere seen from the fibre's front. The fibre (radius 0.2) lies along x at the origin, seen along −z
+    /// through a 1° view (every ray meets its front, z ≈ 0.2); the square (half-size 1, albedo ρ) at z = −1 is lit
+    /// at 60° from its normal (irradiance π: radiance ρ/2), the fibre's shadow falling 1.7 below it. Its share
+    /// from (0, 0, 0.2), 1.2 away: `4 asin(1 / (1 + 1.2²)) / 4π` = 0.1344 (0.1341–0.1344 over the view's
+    /// rays). The fibre absorbs all it refracts (σ_a 1000), so that only its surface reflection adds to the
+    /// square's light (a fibre of colour (0.8, 0.6, 0.4) lit it 11 % brighter). 65 536 samples: the share's
+    /// relative standard error is 1.0 %, measured 1.012, the tolerance 4 %.
+    #[test]
+    fn the_isotropic_first_hit_scatters_the_mean_arriving_light_alike() {
+        let rho = Vec3::new(0.9, 0.6, 0.3);
+        let corner = |x: f32, y: f32| Vec3::new(x, y, -1.0);
+        let tri = |p0: Vec3, p1: Vec3, p2: Vec3| crate::pathtrace::triangle::Triangle {
+            p0,
+            e1: p1 - p0,
+            e2: p2 - p0,
+            albedo: rho,
+        };
+        let bvh = Bvh::with_triangles(
+            vec![fibre(0.0, 0.0)],
+            vec![
+                tri(corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)),
+                tri(corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)),
+            ],
+        );
+        let light = Light::Directional(DirectionalLight {
+            to_light: Vec3::new(0.0, 60f32.to_radians().sin(), 0.5),
+            irradiance: Vec3::splat(std::f32::consts::PI),
+        });
+        let mut camera = camera();
+        camera.fov_y_deg = 1.0;
+        let albedo = Vec3::new(0.7, 0.5, 0.3);
+        let image = |first_hit, events| {
+            let s = TraceSettings {
+                width: 1,
+                height: 1,
+                samples: 65_536,
+                effects: Effects {
+                    events,
+                    hair_shadows: HairShadows::Traced,
+                    first_hit,
+                },
+                fibre: crate::pathtrace::bsdf::fibre_absorbing(Vec3::splat(1e3)),
+                ..settings(Effects::TRUTH)
+            };
+            render(&bvh, &camera, &light, &s)[0]
+        };
+        let indirect =
+            image(FirstHit::Isotropic(albedo), Events::All) - image(FirstHit::Physical, Events::One);
+        let share = (1.0f32 / (1.0 + 1.44)).asin() / std::f32::consts::PI;
+        let expected = albedo * rho * 0.5 * share;
+        assert!(
+            ((indirect - expected) / expected).abs().max_element() < 0.04,
+            "{indirect} vs {expected}"
         );
     }
 

@@ -82,6 +82,14 @@ fn cosine_around(n: Vec3, u: [f32; 2]) -> Vec3 {
     (r * phi.cos() * t + r * phi.sin() * b + (1.0 - u[0]).max(0.0).sqrt() * n).normalize()
 }
 
+/// A unit vector uniform over the sphere.
+fn uniform_sphere(u: [f32; 2]) -> Vec3 {
+    let z = 1.0 - 2.0 * u[0];
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * std::f32::consts::PI * u[1];
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
 /// What a hit does with light: the BSDF times the cosine towards the light, and a sampled continuation (its
 /// world direction and `f·|cos|/pdf`).
 fn scatter(
@@ -183,7 +191,10 @@ fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut
         }
         let arrival = light.arrival(hit.point);
         let to_light = arrival.map_or(Vec3::Z, |a| a.to_light);
-        let (direct, next) = scatter(&hit, ray.dir, s, to_light, u);
+        let (direct, mut next) = scatter(&hit, ray.dir, s, to_light, u);
+        if let (0, Surface::Fibre, FirstHit::Isotropic(albedo)) = (depth, hit.surface, &s.effects.first_hit) {
+            next = Some((uniform_sphere([u[2], u[3]]), *albedo));
+        }
         if let Some(a) = arrival.filter(|_| direct.max_element() > 0.0) {
             sum += beta * direct * a.irradiance * visible(a.to_light, a.distance);
         }
@@ -204,6 +215,19 @@ fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut
         ray = Ray::new(leave(&hit, wi, eps), wi);
     }
     sum
+}
+
+/// The mean radiance arriving at `p` from `directions` directions uniform over the sphere (every effect of
+/// `s` along each; the light itself, a delta, is not among them): what the fibres model's probe
+/// (`shading::mesh_bounce`) estimates at its points. A point inside a fibre sees out of it (back faces culled).
+pub fn arriving(bvh: &Bvh, light: &Light, s: &TraceSettings, p: Vec3, directions: u32, stream: u64) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    for k in 0..directions {
+        let mut rng = SplitMix64::stream(s.seed, stream << 32 ^ k as u64);
+        let dir = uniform_sphere([rng.unit(), rng.unit()]);
+        sum += radiance(bvh, light, s, Ray::new(p, dir), &mut rng);
+    }
+    sum / directions.max(1) as f32
 }
 
 /// The image, row after row, `width × height` linear RGB.
@@ -383,6 +407,42 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The mean radiance arriving at a point a unit above the centre of a lit Lambertian square of half-size 1
+    /// (albedo ρ, lit along its normal by irradiance π: radiance ρ) is ρ times the square's share of the sphere,
+    /// `4 asin(a² / (a² + d²)) / 4π` = 1/6 at a = d = 1; what leaves the square escapes. 80 000 directions: the
+    /// share's relative standard error is 0.8 %, measured 0.984, the tolerance 4 %. Below the square (its unlit
+    /// side) nothing arrives.
+    #[test]
+    fn the_light_arriving_over_a_lit_square_is_its_solid_angle() {
+        let albedo = Vec3::new(0.8, 0.5, 0.25);
+        let corner = |x: f32, y: f32| Vec3::new(x, y, 0.0);
+        let tri = |p0: Vec3, p1: Vec3, p2: Vec3| Triangle {
+            p0,
+            e1: p1 - p0,
+            e2: p2 - p0,
+            albedo,
+        };
+        let bvh = Bvh::with_triangles(
+            Vec::new(),
+            vec![
+                tri(corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)),
+                tri(corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)),
+            ],
+        );
+        let light = Light::Directional(DirectionalLight {
+            to_light: Vec3::Z,
+            irradiance: Vec3::splat(std::f32::consts::PI),
+        });
+        let s = settings(11);
+        let above = arriving(&bvh, &light, &s, Vec3::Z, 80_000, 3);
+        let expected = albedo / 6.0;
+        assert!(
+            ((above - expected) / expected).abs().max_element() < 0.04,
+            "{above} vs {expected}"
+        );
+        assert_eq!(arriving(&bvh, &light, &s, -Vec3::Z, 2_000, 3), Vec3::ZERO);
     }
 
     /// A lone fibre along x through the view's centre, lit from the camera: pixels whose four corner rays all

@@ -85,7 +85,9 @@ pub struct PathEffects {
     /// `traced`: the fibres block shadow rays; `off`: they do not (meshes always do).
     pub hair_shadows: PathHairShadows,
     /// The BSDF at the first hit: `fibre` (Chiang et al. 2016's, and Lambert on meshes), or `raster`: the raster's
-    /// shading model (`render.shading`), light and ambient terms at the first hit and nothing after it.
+    /// shading model (`render.shading`), light and ambient terms at the first hit and nothing after it; or
+    /// `isotropic`: the fibre's direct light by Chiang's BSDF, the light arriving from elsewhere scattered alike
+    /// every way with one fibre's albedo `ā_f + ā_b` (the fibres model's response to its probe).
     pub first_hit: PathFirstHit,
 }
 
@@ -116,6 +118,9 @@ pub enum PathFirstHit {
     #[default]
     Fibre,
     Raster,
+    /// Chiang's direct light at a fibre, the rest of its light scattered alike every way with the albedo the
+    /// fibres model's probe response takes.
+    Isotropic,
 }
 
 /// The most samples per pixel `render.spp` takes.

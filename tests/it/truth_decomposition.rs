@@ -131,7 +131,8 @@ fn mean_luminance(path: &std::path::Path) -> f64 {
 }
 
 /// `render --set render.path.*`: one event is darker than all on the side-lit clump, the fibres' shadow off is
-/// brighter than traced; an unknown value is refused naming the key.
+/// brighter than traced, the isotropic first hit brighter than one event; an unknown value is refused naming
+/// the key.
 #[test]
 fn render_path_switches_turn_one_effect_off() {
     let dir = tempfile::tempdir().unwrap();
@@ -167,6 +168,12 @@ fn render_path_switches_turn_one_effect_off() {
     let unshadowed = render("off.png", "render.path.hair_shadows=off");
     assert!(one < 0.9 * all, "one event {one}, all {all}");
     assert!(unshadowed > 1.1 * all, "shadows off {unshadowed}, traced {all}");
+    // The isotropic first hit keeps the direct light and scatters the rest alike every way: neither image.
+    let isotropic = render("isotropic.png", "render.path.first_hit=isotropic");
+    assert!(
+        isotropic > one && isotropic != all,
+        "isotropic {isotropic}, one {one}, all {all}"
+    );
     let bad = dir.path().join("bad.png");
     let o = hairlab(&[
         "render",
@@ -221,4 +228,54 @@ fn the_ambient_term_can_be_left_out_as_the_path_tracer_does() {
         bad.to_str().unwrap(),
     ]);
     assert_fails(&o, &["render.ambient"]);
+}
+
+/// `measure probe` on the head alone under strands too thin to hold light (width 1e-5): the probe is then the
+/// head's Lambert light seen from the strand points, which the path tracer's gather gives too; measured 0.955–0.962
+/// of the gather over seeds 1–3 (the lattice's trilinear read between the points; the gather's halves within
+/// 0.6 % of each other), the tolerance 8 % (the probe's variants docs/truth.md records read 0.6–1.8). It
+/// writes one CSV row per point; fewer than two directions is refused naming the option.
+#[test]
+fn measure_probe_matches_the_gather_where_the_hair_holds_no_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = hairlab(&[
+        "measure",
+        "probe",
+        "--preset",
+        "default",
+        "--set",
+        "scene.generator.strands=60",
+        "--set",
+        "scene.generator.segments=6",
+        "--set",
+        "scene.generator.floor=false",
+        "--set",
+        "render.strand_width=0.00001",
+        "--directions",
+        "512",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let ratio: f64 = out
+        .lines()
+        .find_map(|l| l.strip_prefix("probe / gather: "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|w| w.parse().ok())
+        .unwrap_or_else(|| panic!("no ratio in\n{out}"));
+    assert!((ratio - 1.0).abs() < 0.08, "probe / gather {ratio}\n{out}");
+    assert_eq!(out.lines().filter(|l| l.contains(" of 6 ")).count(), 6, "{out}");
+    let csv = std::fs::read_to_string(dir.path().join("probe_points.csv")).unwrap();
+    let rows = csv.lines().count() - 1;
+    assert!(
+        out.contains(&format!("at its {rows} points")),
+        "{rows} rows against\n{out}"
+    );
+    assert!(
+        csv.starts_with("x,y,z,probe_r,probe_g,probe_b,gather_r,gather_g,gather_b,halves"),
+        "{csv}"
+    );
+    let bad = hairlab(&["measure", "probe", "--directions", "1"]);
+    assert_fails(&bad, &["--directions"]);
 }

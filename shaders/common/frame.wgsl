@@ -73,7 +73,8 @@ struct FrameUniforms {
     env_radiance: array<vec4<f32>, 64>,
     // Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
     // (common/mesh_bounce.wgsl): its lattice's corners and its 8 x 8 x 8 radiances, one node a vector (rgb);
-    // zeros otherwise.
+    // zeros otherwise. bounce_min.w is 1 where the probe holds the fibres' scattered light (render.probe =
+    // traced; strand_shading.wgsl's probe_holds_scattering).
     bounce_min: vec4<f32>,
     bounce_max: vec4<f32>,
     bounce_grid: array<vec4<f32>, 512>,

@@ -10,6 +10,12 @@ const SHADING_KAJIYA_KAY: u32 = 0u;
 const SHADING_MARSCHNER: u32 = 1u;
 const SHADING_DUAL_SCATTERING: u32 = 2u;
 
+// Whether the fibres model's probe holds the light the fibres scatter, forward and back (`render.probe =
+// traced`, the path tracer's gather; the flag rides in bounce_min.w): `shading::strand_lit`'s `probe`.
+fn probe_holds_scattering() -> bool {
+    return frame.hair_model == HAIR_MODEL_FIBRES && frame.bounce_min.w > 0.5;
+}
+
 // Radiance towards `to_eye` per unit radiance arriving from `to_light`, before shadowing (dual scattering: with
 // nothing in front, V = 1 and no strand).
 fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, colour: vec3<f32>) -> vec3<f32> {
@@ -25,7 +31,9 @@ fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, co
 // The same with the hair's shadow (`shading::strand_lit`): `visibility` is the method's V and `count` its hair
 // count, the strands in front towards the light (dual scattering reads both; the other models are multiplied by
 // what arrives: V for absorbers; under fibres Marschner shades V and adds the global forward scattering, Kajiya-Kay
-// takes max(V, T_f); lit there by the irradiance pi x the light).
+// takes max(V, T_f); lit there by the irradiance pi x the light). Under the traced probe (probe_holds_scattering)
+// the probe holds the fibres' scattered light, so every model shades the direct V alone, dual scattering by
+// Marschner's lobes.
 fn strand_lit(
     tangent: vec3<f32>,
     to_light: vec3<f32>,
@@ -34,6 +42,13 @@ fn strand_lit(
     visibility: f32,
     count: f32,
 ) -> vec3<f32> {
+    if probe_holds_scattering() {
+        var direct = kajiya_kay(tangent, to_light, to_eye, colour);
+        if frame.shading_model != SHADING_KAJIYA_KAY {
+            direct = marschner(tangent, to_light, to_eye, colour);
+        }
+        return direct * clamp(visibility, 0.0, 1.0) * FIBRE_IRRADIANCE;
+    }
     if frame.shading_model == SHADING_DUAL_SCATTERING {
         let f = dual_scattering(frame.hair_model, tangent, to_light, to_eye, colour, visibility, count);
         if frame.hair_model == HAIR_MODEL_FIBRES {

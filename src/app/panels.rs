@@ -388,6 +388,23 @@ impl HairlabApp {
                         .labelled_by(label.id)
                         .on_hover_text("how light crosses the strands (render.hair_model; docs/truth.md)");
                     ui.end_row();
+                    let label = ui.label("probe");
+                    ui.add_enabled_ui(r.hair_model == crate::shading::HairModel::Fibres, |ui| {
+                        egui::ComboBox::from_id_salt("probe")
+                            .selected_text(r.probe.label())
+                            .show_ui(ui, |ui| {
+                                for probe in crate::shading::mesh_bounce::Probe::ALL {
+                                    ui.selectable_value(&mut r.probe, probe, probe.label())
+                                        .on_hover_text(probe.description());
+                                }
+                            })
+                            .response
+                            .labelled_by(label.id)
+                            .on_hover_text(
+                                "the fibres model's light other than the light's own (render.probe; docs/truth.md)",
+                            );
+                    });
+                    ui.end_row();
                     ui.label("hair colour");
                     ui.color_edit_button_rgb(&mut r.hair_color);
                     ui.end_row();

@@ -96,6 +96,17 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
     };
     let bounce = (settings.render.hair_model == HairModel::Fibres).then(|| {
         let strands = &scene.strands;
+        let triangles = triangle::triangles(&scene.meshes);
+        if settings.render.probe == mesh_bounce::Probe::Traced {
+            let bvh = Bvh::with_triangles(fibre::segments(strands, settings.render.strand_width), triangles);
+            let fibre = fibre_params(settings.render.hair_color);
+            return std::sync::Arc::new(crate::pathtrace::probe::grid(
+                &bvh,
+                &light,
+                fibre,
+                &strands.points,
+            ));
+        }
         let density = HairDensity::from_strands(&strands.points, strands.ranges(), |k| {
             strands.thickness.as_ref().map_or(1.0, |t| t[k]) * settings.render.strand_width
         });
@@ -104,7 +115,7 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
             sigma_a: crate::shading::marschner::absorption(Vec3::from(settings.render.hair_color)),
         };
         std::sync::Arc::new(mesh_bounce::Grid::measure(
-            &MeshBvh::new(triangle::triangles(&scene.meshes)),
+            &MeshBvh::new(triangles),
             &hair,
             &strands.points,
             |p| {
@@ -121,6 +132,7 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
         model: settings.render.shading,
         colour: Vec3::from(settings.render.hair_color),
         hair: settings.render.hair_model,
+        probe: settings.render.probe,
         hair_alpha: settings.render.opacity(),
         ambient: settings.render.ambient_scale(),
         bounce,

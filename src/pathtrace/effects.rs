@@ -66,6 +66,20 @@ pub struct RasterLight {
     pub spot: Option<(Vec3, Vec3, f32)>,
 }
 
+impl super::light::Lighting for RasterLight {
+    /// The raster's light as an irradiance: `π` times the radiance it brings (a surface facing it, as the
+    /// fibres model's shading takes it), nothing outside a spot's cone.
+    fn arrival(&self, p: Vec3) -> Option<super::light::Arrival> {
+        let irradiance = self.radiance_at(p) * std::f32::consts::PI;
+        let (to_light, distance) = self.toward(p);
+        (irradiance.max_element() > 0.0).then_some(super::light::Arrival {
+            to_light,
+            distance,
+            irradiance,
+        })
+    }
+}
+
 /// The raster spot's edge ramp, `smoothstep(edge, edge + SPOT_RAMP · (1 − edge), cos θ)`.
 pub const SPOT_RAMP: f32 = 0.15;
 
@@ -99,6 +113,9 @@ pub struct RasterShading {
     pub model: ShadingModel,
     /// `render.hair_model`: how light crosses the strands in front.
     pub hair: HairModel,
+    /// `render.probe`: under the fibres model, whether the probe holds the fibres' scattered light
+    /// (`shading::strand_lit`).
+    pub probe: crate::shading::mesh_bounce::Probe,
     /// The hair's linear colour (`render.hair_color`).
     pub colour: Vec3,
     /// The strands' opacity (`RenderSettings::opacity`): the hair count from the visibility.
@@ -123,6 +140,7 @@ impl RasterShading {
                 let lit = crate::shading::strand_lit(
                     self.model,
                     self.hair,
+                    self.probe,
                     hit.tangent,
                     to_light,
                     to_eye,
@@ -360,6 +378,7 @@ mod tests {
         let raster = RasterShading {
             model: ShadingModel::KajiyaKay,
             hair: HairModel::Absorber,
+            probe: crate::shading::mesh_bounce::Probe::Voxels,
             colour: COLOUR,
             hair_alpha: 0.35,
             ambient: 1.0,

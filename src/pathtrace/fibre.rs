@@ -113,15 +113,24 @@ pub fn radius(strands: &Strands, width: f32, i: usize) -> f32 {
 /// The segments of `strands`, strand after strand (segment `i` of the result is the `i`-th of
 /// [`Strands::segment_count`]), each point's radius [`radius`].
 pub fn segments(strands: &Strands, width: f32) -> Vec<Segment> {
-    let radius = |i: usize| radius(strands, width, i);
-    let mut out = Vec::with_capacity(strands.segment_count());
-    for (first, count) in strands.ranges() {
+    segments_of(&strands.points, strands.ranges(), |i| radius(strands, width, i))
+}
+
+/// The segments of the polylines `ranges` (first point, point count) over `points`, strand after strand, point
+/// `i`'s radius `radius(i)`: [`segments`] for strands held otherwise (the renderer's vertices).
+pub fn segments_of(
+    points: &[Vec3],
+    ranges: impl Iterator<Item = (usize, usize)>,
+    radius: impl Fn(usize) -> f32,
+) -> Vec<Segment> {
+    let mut out = Vec::new();
+    for (first, count) in ranges {
         let last = (first + count).saturating_sub(1);
         for i in first..last {
             out.push(Segment {
-                prev: (i > first).then(|| (strands.points[i - 1], radius(i - 1))),
-                next: (i + 1 < last).then(|| (strands.points[i + 2], radius(i + 2))),
-                ..Segment::new(strands.points[i], strands.points[i + 1], radius(i), radius(i + 1))
+                prev: (i > first).then(|| (points[i - 1], radius(i - 1))),
+                next: (i + 1 < last).then(|| (points[i + 2], radius(i + 2))),
+                ..Segment::new(points[i], points[i + 1], radius(i), radius(i + 1))
             });
         }
     }

@@ -18,7 +18,7 @@ use super::bsdf::{FibreBsdf, FibreParams};
 use super::bvh::{Bvh, NO_PRIMITIVE};
 use super::effects::{Effects, Events, FirstHit, map_point, transmittance};
 use super::fibre::{Hit, Ray, Surface};
-use super::light::Light;
+use super::light::{Light, Lighting};
 use crate::rng::SplitMix64;
 use crate::scene::Camera;
 
@@ -156,7 +156,7 @@ impl Rays {
 }
 
 /// Radiance along `ray`.
-fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
+fn radiance(bvh: &Bvh, light: &impl Lighting, s: &TraceSettings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
     // The primitive the ray leaves, which it cannot meet again.
     let mut from = NO_PRIMITIVE;
@@ -220,7 +220,14 @@ fn radiance(bvh: &Bvh, light: &Light, s: &TraceSettings, mut ray: Ray, rng: &mut
 /// The mean radiance arriving at `p` from `directions` directions uniform over the sphere (every effect of
 /// `s` along each; the light itself, a delta, is not among them): what the fibres model's probe
 /// (`shading::mesh_bounce`) estimates at its points. A point inside a fibre sees out of it (back faces culled).
-pub fn arriving(bvh: &Bvh, light: &Light, s: &TraceSettings, p: Vec3, directions: u32, stream: u64) -> Vec3 {
+pub fn arriving(
+    bvh: &Bvh,
+    light: &impl Lighting,
+    s: &TraceSettings,
+    p: Vec3,
+    directions: u32,
+    stream: u64,
+) -> Vec3 {
     let mut sum = Vec3::ZERO;
     for k in 0..directions {
         let mut rng = SplitMix64::stream(s.seed, stream << 32 ^ k as u64);

@@ -51,6 +51,20 @@ impl SpotLight {
     }
 }
 
+/// What the integrator asks of a light: how it reaches a point. [`Light`] is the truth's; the raster's light
+/// (`effects::RasterLight`, a spot with no falloff over distance) lights the traced probe
+/// (`pathtrace::probe`) as the eye pass lights the hair.
+pub trait Lighting: Sync {
+    /// How the light reaches `p`; `None` where it sends nothing.
+    fn arrival(&self, p: Vec3) -> Option<Arrival>;
+}
+
+impl Lighting for Light {
+    fn arrival(&self, p: Vec3) -> Option<Arrival> {
+        Light::arrival(self, p)
+    }
+}
+
 impl Light {
     /// How the light reaches `p`; `None` where it sends nothing.
     pub fn arrival(&self, p: Vec3) -> Option<Arrival> {

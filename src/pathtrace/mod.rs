@@ -12,5 +12,6 @@ pub mod integrator;
 pub mod light;
 pub mod masks;
 pub mod mesh_rays;
+pub mod probe;
 pub mod triangle;
 pub mod visibility;

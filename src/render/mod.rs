@@ -237,8 +237,9 @@ impl Renderer {
             },
         );
         if render.hair_model == crate::shading::HairModel::Fibres {
-            let grid = self.scene.mesh_bounce(&u);
-            u.bounce_min = grid.min.extend(0.0).to_array();
+            let grid = self.scene.mesh_bounce(&u, render.probe);
+            let holds_scattering = render.probe == crate::shading::mesh_bounce::Probe::Traced;
+            u.bounce_min = grid.min.extend(f32::from(u8::from(holds_scattering))).to_array();
             u.bounce_max = grid.max.extend(0.0).to_array();
             u.bounce_grid = grid.packed();
         }

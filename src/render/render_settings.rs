@@ -32,6 +32,10 @@ pub struct RenderSettings {
     /// as the path tracer's fibre scatters it; under `fibres`, `alpha`, `hair_alpha` and `ambient` are not
     /// read: [`RenderSettings::alpha_mode`], [`RenderSettings::opacity`], [`RenderSettings::ambient_scale`]).
     pub hair_model: HairModel,
+    /// Under the fibres model, where the light other than the light's own comes from
+    /// ([`crate::shading::mesh_bounce::Probe`]: `voxels`, the voxel density's estimate, or `traced`, the path
+    /// tracer's gather at the probe's points; docs/truth.md).
+    pub probe: crate::shading::mesh_bounce::Probe,
     /// Colour of strands without their own colour (linear RGB).
     pub hair_color: [f32; 3],
     pub background: [f32; 3],
@@ -193,6 +197,7 @@ impl Default for RenderSettings {
             strand_width: DEFAULT_STRAND_WIDTH,
             shading: ShadingModel::KajiyaKay,
             hair_model: HairModel::Absorber,
+            probe: crate::shading::mesh_bounce::Probe::Voxels,
             hair_color: [0.30, 0.18, 0.09],
             background: [0.12, 0.13, 0.15],
             pcf: false,

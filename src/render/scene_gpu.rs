@@ -349,8 +349,8 @@ fn too_large(&(what, bytes, limit): &(&'static str, u64, u64)) -> GpuError {
 }
 
 /// What the bounce probe's answer depends on besides the geometry's generation: the light's uniform fields, the
-/// hair's colour and its strands' width.
-type BounceKey = (u64, [u32; 15]);
+/// hair's colour, its strands' width and the probe (`render.probe`).
+type BounceKey = (u64, [u32; 15], mesh_bounce::Probe);
 
 /// A mesh triangle for the bounce probe, with the vertices it was built from (so posing can move it).
 #[derive(Clone, Copy, Debug)]
@@ -391,9 +391,14 @@ fn bounce_triangles(vertices: &[MeshVertex], indices: &[u32]) -> Vec<BounceTrian
 impl SceneGpu {
     /// The probe of the light the lit meshes send to the hair (`shading::mesh_bounce`) under the light of `u`, as the eye
     /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`), through the hair of
-    /// `u.hair_color` with the strands' widths (`HairDensity`); kept until the light, the hair or the meshes'
-    /// pose changes.
-    pub fn mesh_bounce(&self, u: &crate::render::uniforms::FrameUniforms) -> mesh_bounce::Grid {
+    /// `u.hair_color` with the strands' widths (`HairDensity`), or under [`mesh_bounce::Probe::Traced`] the path
+    /// tracer's gather at the same points (`pathtrace::probe`, through the fibres of those widths and the
+    /// meshes); kept until the light, the hair, the meshes' pose or the probe changes.
+    pub fn mesh_bounce(
+        &self,
+        u: &crate::render::uniforms::FrameUniforms,
+        probe: mesh_bounce::Probe,
+    ) -> mesh_bounce::Grid {
         let key: BounceKey = (
             self.generation,
             [
@@ -413,6 +418,7 @@ impl SceneGpu {
                 u.hair_color[2].to_bits(),
                 u.strand_width.to_bits(),
             ],
+            probe,
         );
         let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((k, v)) = *cache
@@ -420,8 +426,22 @@ impl SceneGpu {
         {
             return v;
         }
-        let meshes = MeshBvh::new(self.bounce_triangles.iter().map(|t| t.triangle).collect());
+        let triangles: Vec<Triangle> = self.bounce_triangles.iter().map(|t| t.triangle).collect();
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
+        if probe == mesh_bounce::Probe::Traced {
+            let radius = |k: usize| 0.5 * u.strand_width * self.vertices[k].thickness;
+            let fibres = crate::pathtrace::fibre::segments_of(&points, self.ranges.iter().copied(), radius);
+            let bvh = crate::pathtrace::bvh::Bvh::with_triangles(fibres, triangles);
+            let v = crate::pathtrace::probe::grid(
+                &bvh,
+                &u.raster_light(),
+                crate::pathtrace::bsdf::fibre_params(u.hair_color),
+                &points,
+            );
+            *cache = Some((key, v));
+            return v;
+        }
+        let meshes = MeshBvh::new(triangles);
         let density = HairDensity::from_strands(&points, self.ranges.iter().copied(), |k| {
             self.vertices[k].thickness * u.strand_width
         });

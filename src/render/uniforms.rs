@@ -75,8 +75,9 @@ pub struct FrameUniforms {
     pub env_to_light: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     pub env_radiance: [[f32; 4]; crate::fur::environment::MAX_ENV_LIGHTS],
     /// Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
-    /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz, w unused) and its radiances, one node
-    /// a vector (rgb, w unused); zeros under the absorber model.
+    /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz; `bounce_min.w` 1 where the probe
+    /// holds the light the fibres scatter, `render.probe = traced`, else 0, `bounce_max.w` unused) and its
+    /// radiances, one node a vector (rgb, w unused); zeros under the absorber model.
     pub bounce_min: [f32; 4],
     pub bounce_max: [f32; 4],
     pub bounce_grid: [[f32; 4]; BOUNCE_VECTORS],
@@ -153,8 +154,27 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
 };
 
 impl FrameUniforms {
-    /// The light at world point `p` under these uniforms, as `light_dir` and `light_radiance` of
-    /// `shaders/common/frame.wgsl` give it (the spot's cone edge a smoothstep over the outer 15 % of the cosine).
+    /// The light of these uniforms as `light_dir` and `light_radiance` of `shaders/common/frame.wgsl` give it
+    /// (the spot's cone edge a smoothstep over the outer 15 % of the cosine, no falloff over distance), for the
+    /// path tracer (the traced probe, `pathtrace::probe`).
+    pub fn raster_light(&self) -> crate::pathtrace::effects::RasterLight {
+        use glam::Vec3;
+        let to_light = Vec3::from(self.to_light);
+        crate::pathtrace::effects::RasterLight {
+            radiance: Vec3::from(self.light_color),
+            to_light,
+            spot: (self.light_is_spot != 0).then(|| {
+                (
+                    Vec3::from(self.light_position),
+                    -to_light,
+                    self.spot_cos_half_angle,
+                )
+            }),
+        }
+    }
+
+    /// The light at world point `p` under these uniforms, as [`FrameUniforms::raster_light`] gives it, for the
+    /// voxel probe.
     pub fn light_arrival(&self, p: glam::Vec3) -> crate::shading::mesh_bounce::Arrival {
         use glam::Vec3;
         let colour = Vec3::from(self.light_color);

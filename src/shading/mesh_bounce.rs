@@ -32,6 +32,41 @@ pub const DIRECTIONS: usize = 32;
 /// Nodes a side of the probe's [`Grid`] over the strands' bounds.
 pub const NODES: usize = 8;
 
+/// Where the probe's light comes from (`render.probe`, under the fibres model).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Probe {
+    /// This module's estimate: the meshes' light through a voxel density of the strands and the fixed point of
+    /// the fibres' scattering ([`Grid::measure`]).
+    #[default]
+    Voxels,
+    /// The path tracer's gather at the same points (`pathtrace::probe`): the mean radiance arriving over the
+    /// sphere through the fibres themselves, every scattering event, as ray-traced irradiance probes are baked.
+    Traced,
+}
+
+impl Probe {
+    pub const ALL: [Probe; 2] = [Probe::Voxels, Probe::Traced];
+
+    /// The name people read (panels, reports).
+    pub fn label(self) -> &'static str {
+        match self {
+            Probe::Voxels => "Voxels",
+            Probe::Traced => "Path-traced",
+        }
+    }
+
+    /// One line for a tooltip.
+    pub fn description(self) -> &'static str {
+        match self {
+            Probe::Voxels => {
+                "the meshes' light through a voxel density of the strands, the fibres' scattering a fixed point"
+            }
+            Probe::Traced => "the path tracer's mean radiance arriving at the probe's points (slower, CPU)",
+        }
+    }
+}
+
 /// Where a ray from a probe point meets the meshes: the distance, the triangle's unit normal on the side the ray
 /// meets and its albedo.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,6 +101,15 @@ fn fibonacci(k: usize, n: usize) -> Vec3 {
     let r = (1.0 - z * z).max(0.0).sqrt();
     let phi = golden * k as f32;
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// The box around `points`.
+fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+    points
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        })
 }
 
 /// Up to [`POINTS`] of `points`, evenly spaced through the list.
@@ -157,19 +201,11 @@ impl Grid {
         points: &[Vec3],
         light: impl Fn(Vec3) -> Arrival,
     ) -> Grid {
-        let (min, max) = points
-            .iter()
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
-                (lo.min(p), hi.max(p))
-            });
         let samples = spread(points);
         if samples.is_empty() {
-            return Grid {
-                min: Vec3::ZERO,
-                max: Vec3::ONE,
-                values: [Vec3::ZERO; NODES * NODES * NODES],
-            };
+            return Grid::over(points, &[], &[]);
         }
+        let (min, max) = bounds(points);
         let seen: Vec<Vec<View>> = samples.iter().map(|&p| views(meshes, hair, p, &light)).collect();
         let (forward, backward) = fibre_transport::attenuation(0.0, hair.sigma_a);
         let direct: Vec<Vec3> = samples
@@ -181,6 +217,20 @@ impl Grid {
             move |p| grid.at(p)
         });
         Grid::from_points(min, max, &samples, &arriving)
+    }
+
+    /// The lattice over the bounds of `points` (the strands') whose nodes hold the mean of the `values` at
+    /// `at` nearest to them ([`Grid::from_points`]); zero with no points.
+    pub fn over(points: &[Vec3], at: &[Vec3], values: &[Vec3]) -> Grid {
+        if at.is_empty() {
+            return Grid {
+                min: Vec3::ZERO,
+                max: Vec3::ONE,
+                values: [Vec3::ZERO; NODES * NODES * NODES],
+            };
+        }
+        let (min, max) = bounds(points);
+        Grid::from_points(min, max, at, values)
     }
 
     /// The lattice over `min`..`max` whose nodes hold the mean of the `values` of the `points` nearest to them;

@@ -191,11 +191,15 @@ impl HairModel {
 /// `max(V, T_f)` ([`fibre_transport::arriving`]). Under the
 /// fibres model the models' `f · |cos θ_i|` is lit by the irradiance `π × colour × intensity`, as a mesh's Lambert
 /// (`colour × light × N·L`) and the path tracer take the light; the absorber model keeps the workbench's
-/// look, one unit of light per unit of radiance ([`fibre_transport::IRRADIANCE`]).
+/// look, one unit of light per unit of radiance ([`fibre_transport::IRRADIANCE`]). Under the fibres model with
+/// the traced probe (`probe` [`mesh_bounce::Probe::Traced`]) the probe holds the light the fibres scatter, forward
+/// and back, every event (the path tracer's gather), so every model shades the direct `V` alone, dual scattering
+/// by Marschner's lobes: its global and local terms, and Marschner's forward term, are in the probe.
 #[allow(clippy::too_many_arguments)]
 pub fn strand_lit(
     shading: ShadingModel,
     hair: HairModel,
+    probe: mesh_bounce::Probe,
     tangent: Vec3,
     to_light: Vec3,
     to_eye: Vec3,
@@ -203,6 +207,15 @@ pub fn strand_lit(
     v: f32,
     count: f32,
 ) -> Vec3 {
+    if hair == HairModel::Fibres && probe == mesh_bounce::Probe::Traced {
+        let direct = match shading {
+            ShadingModel::DualScattering => ShadingModel::Marschner,
+            other => other,
+        };
+        return direct.shade(tangent, to_light, to_eye, colour)
+            * v.clamp(0.0, 1.0)
+            * fibre_transport::IRRADIANCE;
+    }
     if shading == ShadingModel::DualScattering {
         let f = dual_scattering::dual_scattering(hair, tangent, to_light, to_eye, colour, v, count);
         return match hair {
@@ -291,6 +304,7 @@ mod tests {
         let absorber = strand_lit(
             ShadingModel::Marschner,
             HairModel::Absorber,
+            mesh_bounce::Probe::Voxels,
             t,
             l,
             e,
@@ -304,7 +318,17 @@ mod tests {
         );
         let n = 3.0f32;
         let lit = |shading, t: Vec3, l: Vec3, e: Vec3, v: f32, n: f32| {
-            strand_lit(shading, HairModel::Fibres, t, l, e, colour, v, n)
+            strand_lit(
+                shading,
+                HairModel::Fibres,
+                mesh_bounce::Probe::Voxels,
+                t,
+                l,
+                e,
+                colour,
+                v,
+                n,
+            )
         };
         let (af, _) = fibre_transport::attenuation(0.0, marschner::absorption(colour));
         let t_f = fibre_transport::DENSITY_FORWARD * Vec3::new(af.x.powi(3), af.y.powi(3), af.z.powi(3));

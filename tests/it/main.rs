@@ -63,6 +63,7 @@ mod stability_avsm;
 mod stability_dsm;
 mod stability_fom;
 mod stability_msm;
+mod traced_probe;
 mod transparency_claims;
 mod transparency_gpu;
 mod transparency_occupancy;

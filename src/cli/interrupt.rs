@@ -40,6 +40,35 @@ pub fn finish<T>(outcome: &Outcome<T>, done: usize) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The end of a run that writes one CSV of rows: `rows` written whole as `name` in `dir` (when given) and said;
+/// then `Ok`, or when `stopped` [`InterruptedAt`] after the `rows.len()` `unit` the file holds.
+pub fn write_rows_and_finish<T: serde::Serialize>(
+    dir: Option<&std::path::Path>,
+    name: &str,
+    rows: &[T],
+    stopped: bool,
+    unit: &str,
+) -> anyhow::Result<()> {
+    let wrote = match dir {
+        Some(dir) => {
+            let path = dir.join(name);
+            crate::io::write_atomic(&path, crate::io::csv_text(name, rows)?.as_bytes())?;
+            println!("wrote {}", path.display());
+            Some(path)
+        }
+        None => None,
+    };
+    if stopped {
+        return Err(InterruptedAt {
+            done: rows.len() as u64,
+            unit: unit.to_string(),
+            wrote,
+        }
+        .into());
+    }
+    Ok(())
+}
+
 /// Whether `e` is a run stopped by Ctrl-C ([`Interrupted`] or [`InterruptedAt`]), whose exit code is [`EXIT_CODE`].
 pub fn is_interrupted(e: &anyhow::Error) -> bool {
     e.is::<Interrupted>() || e.is::<InterruptedAt>()

@@ -39,27 +39,13 @@ pub fn run(a: &MeasureProbeArgs) -> Result<()> {
     let stopped = outcome.is_stopped();
     let m = outcome.kept();
     print!("{}", report(&a.preset, &m));
-    let wrote = match &a.out {
-        Some(dir) => {
-            let path = dir.join("probe_points.csv");
-            crate::io::write_atomic(
-                &path,
-                crate::io::csv_text("probe_points.csv", &m.points)?.as_bytes(),
-            )?;
-            println!("wrote {}", path.display());
-            Some(path)
-        }
-        None => None,
-    };
-    if stopped {
-        return Err(crate::cli::interrupt::InterruptedAt {
-            done: m.points.len() as u64,
-            unit: "points".to_string(),
-            wrote,
-        }
-        .into());
-    }
-    Ok(())
+    super::interrupt::write_rows_and_finish(
+        a.out.as_deref(),
+        "probe_points.csv",
+        &m.points,
+        stopped,
+        "points",
+    )
 }
 
 fn row(s: &mut String, name: &str, t: &Totals) {

@@ -56,25 +56,11 @@ pub fn run(a: &MeasureVisibilityArgs) -> Result<()> {
         "best-fitting α {:.4} (the (1 − α)^k closest to the ray-traced V): mean |ΔV| {:.4} at it",
         m.best_alpha, m.mean_abs_dv_at_best
     );
-    let wrote = match &a.out {
-        Some(dir) => {
-            let path = dir.join("visibility_texels.csv");
-            crate::io::write_atomic(
-                &path,
-                crate::io::csv_text("visibility_texels.csv", &m.texels)?.as_bytes(),
-            )?;
-            println!("wrote {}", path.display());
-            Some(path)
-        }
-        None => None,
-    };
-    if stopped {
-        return Err(crate::cli::interrupt::InterruptedAt {
-            done: m.texels.len() as u64,
-            unit: "texels".to_string(),
-            wrote,
-        }
-        .into());
-    }
-    Ok(())
+    super::interrupt::write_rows_and_finish(
+        a.out.as_deref(),
+        "visibility_texels.csv",
+        &m.texels,
+        stopped,
+        "texels",
+    )
 }

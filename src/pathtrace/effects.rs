@@ -420,20 +420,8 @@ mod tests {
     #[test]
     fn the_isotropic_first_hit_scatters_the_mean_arriving_light_alike() {
         let rho = Vec3::new(0.9, 0.6, 0.3);
-        let corner = |x: f32, y: f32| Vec3::new(x, y, -1.0);
-        let tri = |p0: Vec3, p1: Vec3, p2: Vec3| crate::pathtrace::triangle::Triangle {
-            p0,
-            e1: p1 - p0,
-            e2: p2 - p0,
-            albedo: rho,
-        };
-        let bvh = Bvh::with_triangles(
-            vec![fibre(0.0, 0.0)],
-            vec![
-                tri(corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)),
-                tri(corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)),
-            ],
-        );
+        let wall = crate::pathtrace::triangle::square(-Vec3::Z, Vec3::X, Vec3::Y, 1.0, rho);
+        let bvh = Bvh::with_triangles(vec![fibre(0.0, 0.0)], wall);
         let light = Light::Directional(DirectionalLight {
             to_light: Vec3::new(0.0, 60f32.to_radians().sin(), 0.5),
             irradiance: Vec3::splat(std::f32::consts::PI),

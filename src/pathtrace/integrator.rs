@@ -318,7 +318,7 @@ mod tests {
     use super::*;
     use crate::pathtrace::fibre::Segment;
     use crate::pathtrace::light::DirectionalLight;
-    use crate::pathtrace::triangle::Triangle;
+    use crate::pathtrace::triangle::square;
 
     fn settings(seed: u64) -> TraceSettings {
         TraceSettings {
@@ -385,20 +385,7 @@ mod tests {
     fn a_lambertian_square_shows_albedo_times_cosine() {
         let albedo = Vec3::new(0.8, 0.5, 0.25);
         for facing in [1.0f32, -1.0] {
-            let corner = |x: f32, y: f32| Vec3::new(x, y, 0.0);
-            let tri = |p0: Vec3, p1: Vec3, p2: Vec3| Triangle {
-                p0,
-                e1: p1 - p0,
-                e2: p2 - p0,
-                albedo,
-            };
-            let bvh = Bvh::with_triangles(
-                Vec::new(),
-                vec![
-                    tri(corner(-5.0, -5.0), corner(5.0, -5.0), corner(5.0, 5.0)),
-                    tri(corner(-5.0, -5.0), corner(5.0, 5.0), corner(-5.0, 5.0)),
-                ],
-            );
+            let bvh = Bvh::with_triangles(Vec::new(), square(Vec3::ZERO, Vec3::X, Vec3::Y, 5.0, albedo));
             let light = Light::Directional(DirectionalLight {
                 to_light: Vec3::new(0.0, 60f32.to_radians().sin(), facing * 0.5),
                 irradiance: Vec3::splat(std::f32::consts::PI),
@@ -424,20 +411,7 @@ mod tests {
     #[test]
     fn the_light_arriving_over_a_lit_square_is_its_solid_angle() {
         let albedo = Vec3::new(0.8, 0.5, 0.25);
-        let corner = |x: f32, y: f32| Vec3::new(x, y, 0.0);
-        let tri = |p0: Vec3, p1: Vec3, p2: Vec3| Triangle {
-            p0,
-            e1: p1 - p0,
-            e2: p2 - p0,
-            albedo,
-        };
-        let bvh = Bvh::with_triangles(
-            Vec::new(),
-            vec![
-                tri(corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)),
-                tri(corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)),
-            ],
-        );
+        let bvh = Bvh::with_triangles(Vec::new(), square(Vec3::ZERO, Vec3::X, Vec3::Y, 1.0, albedo));
         let light = Light::Directional(DirectionalLight {
             to_light: Vec3::Z,
             irradiance: Vec3::splat(std::f32::consts::PI),

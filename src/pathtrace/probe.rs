@@ -49,7 +49,7 @@ pub fn grid(bvh: &Bvh, light: &RasterLight, fibre: FibreParams, points: &[Vec3])
 mod tests {
     use super::*;
     use crate::pathtrace::fibre::Segment;
-    use crate::pathtrace::triangle::Triangle;
+    use crate::pathtrace::triangle::square;
 
     /// Strands a unit above the middle of a lit Lambertian square 2000 wide (albedo ρ, lit along its normal by
     /// the raster's light of radiance 1: irradiance π, radiance ρ), so thin (radius 1e-6) that they hold no
@@ -60,18 +60,7 @@ mod tests {
     #[test]
     fn the_traced_probe_over_a_lit_floor_is_half_its_radiance() {
         let rho = Vec3::new(0.8, 0.5, 0.25);
-        let corner = |x: f32, z: f32| Vec3::new(x, 0.0, z);
-        let tri = |p0: Vec3, p1: Vec3, p2: Vec3| Triangle {
-            p0,
-            e1: p1 - p0,
-            e2: p2 - p0,
-            albedo: rho,
-        };
-        let a = 1000.0;
-        let floor = vec![
-            tri(corner(-a, -a), corner(a, -a), corner(a, a)),
-            tri(corner(-a, -a), corner(a, a), corner(-a, a)),
-        ];
+        let floor = square(Vec3::ZERO, Vec3::X, Vec3::Z, 1000.0, rho);
         let points: Vec<Vec3> = (0..64)
             .map(|k| Vec3::new(-1.0 + k as f32 / 32.0, 1.0, 0.01 * (k % 8) as f32))
             .collect();

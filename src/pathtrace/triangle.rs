@@ -35,6 +35,23 @@ pub fn triangles(meshes: &[Mesh]) -> Vec<Triangle> {
     out
 }
 
+/// The two triangles of a square of half-size `half` around `centre`, spanned by the unit axes `u` and `v`, of
+/// albedo `albedo` (the tests' lit floors and walls).
+#[cfg(test)]
+pub fn square(centre: Vec3, u: Vec3, v: Vec3, half: f32, albedo: Vec3) -> Vec<Triangle> {
+    let corner = |a: f32, b: f32| centre + half * (a * u + b * v);
+    let tri = |p0: Vec3, p1: Vec3, p2: Vec3| Triangle {
+        p0,
+        e1: p1 - p0,
+        e2: p2 - p0,
+        albedo,
+    };
+    vec![
+        tri(corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)),
+        tri(corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)),
+    ]
+}
+
 impl Triangle {
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(&[self.p0, self.p0 + self.e1, self.p0 + self.e2])

@@ -58,7 +58,7 @@ fn probe(gpu: &Gpu, rows: &[[Vec3; 4]]) -> Vec<[f32; 16]> {
 /// The probe directions: 4096 random triples (tangent, light, eye) with random colours; the lobes' peaks in
 /// the plane of incidence and straight behind (φ = 0 and π at the shifted specular angles, white, brown and
 /// black hair); and the degenerate cases (light or eye along the tangent, light = eye, light = −eye).
-fn probe_rows() -> Vec<[Vec3; 4]> {
+pub(crate) fn probe_rows() -> Vec<[Vec3; 4]> {
     let mut rng = SplitMix64::new(17);
     let unit = |rng: &mut SplitMix64| {
         Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::Y)

@@ -5,22 +5,8 @@
 use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
-use hairlab::settings::Settings;
 use hairlab::shading::mesh_bounce::Probe;
 use hairlab::shading::{HairModel, ShadingModel, strand_lit};
-
-fn small(preset: &str, more: &[&str]) -> Settings {
-    let overrides: Vec<String> = [
-        "scene.generator.strands=80",
-        "scene.generator.segments=12",
-        "render.map_resolution=64",
-    ]
-    .iter()
-    .chain(more)
-    .map(|s| s.to_string())
-    .collect();
-    Settings::load_preset(preset, &overrides).unwrap()
-}
 
 /// Under `render.probe = traced` the renderer's probe (its frame's lattice, `SceneGpu::mesh_bounce`) and the
 /// truth chain's CPU model of the raster (`path_scene::raster_shading`) are one lattice, node for node, and it
@@ -30,7 +16,7 @@ fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
     use hairlab::render::frame::{UniformInputs, uniforms};
     use hairlab::render::scene_gpu::SceneGpu;
     let Some(gpu) = Gpu::for_tests() else { return };
-    let settings = small(
+    let settings = crate::truth_decomposition::small(
         "default",
         &[
             "render.hair_model=fibres",

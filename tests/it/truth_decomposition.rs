@@ -17,7 +17,7 @@ const SMALL: [&str; 3] = [
     "render.map_resolution=64",
 ];
 
-fn small(preset: &str, more: &[&str]) -> Settings {
+pub(crate) fn small(preset: &str, more: &[&str]) -> Settings {
     let overrides: Vec<String> = SMALL.iter().chain(more).map(|s| s.to_string()).collect();
     Settings::load_preset(preset, &overrides).unwrap()
 }

@@ -4,9 +4,11 @@
 //!
 //! | step | from | to | what changes |
 //! |---|---|---|---|
-//! | multiple scattering | truth | one event | the light of every event after the first is dropped |
+//! | mesh bounce | truth | fibre events | the light the meshes bounce after the first hit is dropped |
+//! | multiple scattering | fibre events | one event | the light of every event after the first is dropped |
 //! | shadowing | one event | map shadows | the fibres' traced shadow becomes the reference's `(1 − α)` products |
-//! | shading | map shadows | raster shading | Chiang's BSDF and the physical light become the raster's model, light and ambient |
+//! | shading | map shadows | raster one event | Chiang's BSDF and the physical light become the raster's lobes and light, one event |
+//! | scattered light | raster one event | raster shading | the raster's stand-ins for the light beyond one event are added: ambient, probe, forward and multiple-scattering terms |
 //! | eye coverage | raster shading | reference | round fibres' pixel coverage becomes α-blended strand fragments |
 //! | method | reference | method | the exact light map becomes the method's |
 //!
@@ -28,6 +30,7 @@ pub const MESH_BOUNCE: &str = "mesh-bounce";
 pub const MULTIPLE_SCATTERING: &str = "multiple-scattering";
 pub const SHADOWING: &str = "shadowing";
 pub const SHADING: &str = "shading";
+pub const SCATTERED_LIGHT: &str = "scattered-light";
 pub const EYE_COVERAGE: &str = "eye-coverage";
 pub const METHOD: &str = "method";
 pub const TOTAL: &str = "total";
@@ -221,13 +224,14 @@ impl Decomposition {
     }
 }
 
-/// The steps that do not depend on the method: between the chain's first five images.
+/// The steps that do not depend on the method: between the chain's first six images.
 #[derive(Clone, Debug)]
 pub struct SharedSteps {
     pub mesh_bounce: StepError,
     pub multiple_scattering: StepError,
     pub shadowing: StepError,
     pub shading: StepError,
+    pub scattered_light: StepError,
     pub eye_coverage: StepError,
 }
 
@@ -244,6 +248,7 @@ pub fn rows(
         (MULTIPLE_SCATTERING, &shared.multiple_scattering),
         (SHADOWING, &shared.shadowing),
         (SHADING, &shared.shading),
+        (SCATTERED_LIGHT, &shared.scattered_light),
         (EYE_COVERAGE, &shared.eye_coverage),
         (METHOD, own),
         (TOTAL, total),

@@ -3,7 +3,8 @@
 //! scattering event, and the chain of path-traced images that turn the real-time model's effects on one at a
 //! time (`decompose.rs`, `docs/truth.md`): no light bounced off meshes; one scattering event; the fibres' shadow
 //! read from the depth-peeled
-//! reference's light map; the raster's shading at the first hit, one image per shading model. Each is the mean
+//! reference's light map; the raster's lobes and light at the first hit, one event; its whole shading there,
+//! an image of each per shading model. Each is the mean
 //! of two renders (seeds `render.seed` and `render.seed + 1`, `render.spp / 2` samples each) so that their
 //! difference measures its noise. The regions (hair, receivers) come from the first hits of 4 × 4 rays a pixel.
 
@@ -46,7 +47,10 @@ pub struct Truth {
     pub one_event: Stage,
     /// One event, the fibres' shadow from the depth-peeled reference's light map.
     pub map_shadows: Stage,
-    /// One event, the map's shadow, the raster's shading at the first hit: one per shading model asked for.
+    /// One event, the map's shadow, the raster's lobes and light at the first hit, none of its light beyond
+    /// one event (`RasterShading::scattered` false): one per shading model asked for.
+    pub raster_direct: Vec<(ShadingModel, Stage)>,
+    /// The same with the raster's light beyond one event: its whole shading at the first hit.
     pub raster_shading: Vec<(ShadingModel, Stage)>,
     pub masks: Masks,
     /// The truth's samples per pixel (both seeds together).
@@ -58,7 +62,8 @@ pub struct Truth {
 
 impl Truth {
     /// The chain's path-traced images with the file names they are written as: [`TRUTH_PNG`], then
-    /// `truth_fibre_events.png`, `truth_one_event.png`, `truth_map_shadows.png` and `truth_raster_<model>.png`.
+    /// `truth_fibre_events.png`, `truth_one_event.png`, `truth_map_shadows.png`, `truth_raster_one_<model>.png`
+    /// and `truth_raster_<model>.png`.
     pub fn chain_images(&self) -> Vec<(String, &Stage)> {
         let mut out = vec![
             (TRUTH_PNG.to_owned(), &self.truth),
@@ -66,6 +71,11 @@ impl Truth {
             ("truth_one_event.png".to_owned(), &self.one_event),
             ("truth_map_shadows.png".to_owned(), &self.map_shadows),
         ];
+        out.extend(
+            self.raster_direct
+                .iter()
+                .map(|(m, s)| (format!("truth_raster_one_{}.png", m.word()), s)),
+        );
         out.extend(
             self.raster_shading
                 .iter()
@@ -77,11 +87,13 @@ impl Truth {
     /// The steps that do not depend on the method under `model` (one of those the chain was traced for).
     pub fn shared_steps(&self, model: ShadingModel, reference: &Stage) -> Option<SharedSteps> {
         let (_, raster) = self.raster_shading.iter().find(|(m, _)| *m == model)?;
+        let (_, direct) = self.raster_direct.iter().find(|(m, _)| *m == model)?;
         Some(SharedSteps {
             mesh_bounce: step(&self.truth, &self.fibre_events, &self.masks),
             multiple_scattering: step(&self.fibre_events, &self.one_event, &self.masks),
             shadowing: step(&self.one_event, &self.map_shadows, &self.masks),
-            shading: step(&self.map_shadows, raster, &self.masks),
+            shading: step(&self.map_shadows, direct, &self.masks),
+            scattered_light: step(direct, raster, &self.masks),
             eye_coverage: step(raster, reference, &self.masks),
         })
     }
@@ -167,15 +179,18 @@ pub fn path_traced(
         one(HairShadows::Traced, FirstHit::Physical),
         one(HairShadows::Map(map.clone()), FirstHit::Physical),
     ];
-    chain.extend(models.iter().map(|&model| {
-        one(
-            HairShadows::Map(map.clone()),
-            FirstHit::Raster(crate::pathtrace::effects::RasterShading {
-                model,
-                ..raster.clone()
-            }),
-        )
-    }));
+    for scattered in [false, true] {
+        chain.extend(models.iter().map(|&model| {
+            one(
+                HairShadows::Map(map.clone()),
+                FirstHit::Raster(crate::pathtrace::effects::RasterShading {
+                    model,
+                    scattered,
+                    ..raster.clone()
+                }),
+            )
+        }));
+    }
     let spp = path.settings.samples.max(2);
     let (mut stages, mut dropped) = (Vec::with_capacity(chain.len()), 0);
     let parts = chain.len() as f32;
@@ -195,6 +210,7 @@ pub fn path_traced(
         fibre_events: next(),
         one_event: next(),
         map_shadows: next(),
+        raster_direct: models.iter().map(|&m| (m, next())).collect(),
         raster_shading: models.iter().map(|&m| (m, next())).collect(),
         masks,
         spp: spp / 2 * 2,

@@ -137,6 +137,7 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
         ambient: settings.render.ambient_scale(),
         bounce,
         light,
+        scattered: true,
     }
 }
 

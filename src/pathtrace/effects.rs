@@ -126,6 +126,10 @@ pub struct RasterShading {
     /// (`shading::mesh_bounce::Grid`, `frame.bounce_*`): the hair adds `hair_response` times its value there.
     pub bounce: Option<Arc<crate::shading::mesh_bounce::Grid>>,
     pub light: RasterLight,
+    /// Whether the raster's light beyond one event is kept: its stand-ins for the meshes' bounce and the
+    /// fibres' scattering (the ambient terms, the probe, the forward and multiple-scattering terms). Without
+    /// them a fibre shades one event, `shading::strand_direct`, and a mesh its Lambert through `V`.
+    pub scattered: bool,
 }
 
 impl RasterShading {
@@ -135,6 +139,17 @@ impl RasterShading {
     pub fn radiance(&self, hit: &Hit, to_eye: Vec3, to_light: Vec3, visibility: f32) -> Vec3 {
         let light = self.light.radiance_at(hit.point);
         match hit.surface {
+            super::fibre::Surface::Fibre if !self.scattered => {
+                crate::shading::strand_direct(
+                    self.model,
+                    self.hair,
+                    hit.tangent,
+                    to_light,
+                    to_eye,
+                    self.colour,
+                    visibility,
+                ) * light
+            }
             super::fibre::Surface::Fibre => {
                 let count = self.hair.count(visibility, self.hair_alpha);
                 let lit = crate::shading::strand_lit(
@@ -159,8 +174,11 @@ impl RasterShading {
                 } else {
                     hit.normal
                 };
-                albedo * light * n.dot(to_light).max(0.0) * self.through_hair(visibility)
-                    + albedo * (MESH_AMBIENT * self.ambient)
+                let lambert = albedo * light * n.dot(to_light).max(0.0);
+                if !self.scattered {
+                    return lambert * visibility;
+                }
+                lambert * self.through_hair(visibility) + albedo * (MESH_AMBIENT * self.ambient)
             }
         }
     }
@@ -371,7 +389,8 @@ mod tests {
 
     /// The raster's shading at the first hit of a fibre across the view, lit and seen along +z: Kajiya-Kay at
     /// τ ⟂ l, e (0.75·colour + 0.35, the rays' spread tilting e by under 4°) plus the ambient 0.08·colour; a
-    /// map of 0.5 halves the lit part and leaves the ambient term.
+    /// map of 0.5 halves the lit part and leaves the ambient term; without the light beyond one event
+    /// (`scattered` false) the ambient term goes and the halved lit part stays.
     #[test]
     fn the_raster_first_hit_is_the_shading_model() {
         let bvh = Bvh::new(vec![fibre(0.0, 0.0)]);
@@ -388,11 +407,13 @@ mod tests {
                 to_light: Vec3::Z,
                 spot: None,
             },
+            scattered: true,
         };
-        let centre = |hair_shadows| {
+        let centre_of = |raster: &RasterShading, hair_shadows| {
             let s = settings(one(hair_shadows, FirstHit::Raster(raster.clone())));
             render(&bvh, &camera(), &LIGHT, &s)[8 * 24 + 12]
         };
+        let centre = |hair_shadows| centre_of(&raster, hair_shadows);
         let lit = COLOUR * 0.75 + Vec3::splat(0.35);
         let ambient = COLOUR * HAIR_AMBIENT;
         let full = centre(HairShadows::Off);
@@ -405,6 +426,16 @@ mod tests {
         assert!(
             (half - (0.5 * (full - ambient) + ambient)).abs().max_element() < 1e-5,
             "{half}"
+        );
+        // One event alone: the lit part, without the ambient term.
+        let direct = RasterShading {
+            scattered: false,
+            ..raster.clone()
+        };
+        let lit_only = centre_of(&direct, HairShadows::Map(Arc::new(|_, _| 0.5)));
+        assert!(
+            (lit_only - 0.5 * (full - ambient)).abs().max_element() < 1e-5,
+            "{lit_only}"
         );
     }
 

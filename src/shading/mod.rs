@@ -181,6 +181,31 @@ impl HairModel {
     }
 }
 
+/// One scattering event of `shading`'s lobes: the light through the method's `V` alone, shaded by the model's
+/// single-scattering lobes (dual scattering by Marschner's), lit as `hair` lights them (the irradiance π under
+/// fibres, [`fibre_transport::IRRADIANCE`]); none of the model's light beyond one event (its forward and
+/// multiple-scattering terms). [`strand_lit`] under the traced probe, and the `shading` step of the error
+/// decomposition (`measure::decompose`), which holds the lobes against the fibres' BSDF at one event.
+pub fn strand_direct(
+    shading: ShadingModel,
+    hair: HairModel,
+    tangent: Vec3,
+    to_light: Vec3,
+    to_eye: Vec3,
+    colour: Vec3,
+    v: f32,
+) -> Vec3 {
+    let lobes = match shading {
+        ShadingModel::DualScattering => ShadingModel::Marschner,
+        other => other,
+    };
+    let irradiance = match hair {
+        HairModel::Absorber => 1.0,
+        HairModel::Fibres => fibre_transport::IRRADIANCE,
+    };
+    lobes.shade(tangent, to_light, to_eye, colour) * v.clamp(0.0, 1.0) * irradiance
+}
+
 /// The CPU model of `strand_lit` (`shaders/common/strand_shading.wgsl`): the radiance a hair point sends towards
 /// `to_eye` per unit of the light's `colour × intensity`, with the method's visibility `v` and hair count `count`
 /// towards the light. Dual scattering carries its shadow itself; the single-scattering models are multiplied
@@ -208,13 +233,7 @@ pub fn strand_lit(
     count: f32,
 ) -> Vec3 {
     if hair == HairModel::Fibres && probe == mesh_bounce::Probe::Traced {
-        let direct = match shading {
-            ShadingModel::DualScattering => ShadingModel::Marschner,
-            other => other,
-        };
-        return direct.shade(tangent, to_light, to_eye, colour)
-            * v.clamp(0.0, 1.0)
-            * fibre_transport::IRRADIANCE;
+        return strand_direct(shading, hair, tangent, to_light, to_eye, colour, v);
     }
     if shading == ShadingModel::DualScattering {
         let f = dual_scattering::dual_scattering(hair, tangent, to_light, to_eye, colour, v, count);

@@ -5,7 +5,7 @@ use crate::common::cli::{assert_fails, hairlab, stderr};
 use hairlab::gpu::Gpu;
 use hairlab::measure::MethodConfig;
 use hairlab::measure::decompose::{
-    EYE_COVERAGE, MESH_BOUNCE, METHOD, MULTIPLE_SCATTERING, SHADING, SHADOWING, TOTAL,
+    EYE_COVERAGE, MESH_BOUNCE, METHOD, MULTIPLE_SCATTERING, SCATTERED_LIGHT, SHADING, SHADOWING, TOTAL,
 };
 use hairlab::methods::ParamValues;
 use hairlab::settings::Settings;
@@ -60,6 +60,7 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
             MULTIPLE_SCATTERING,
             SHADOWING,
             SHADING,
+            SCATTERED_LIGHT,
             EYE_COVERAGE,
             METHOD,
             TOTAL
@@ -68,8 +69,8 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
     let hair = truth.masks.hair.iter().filter(|&&m| m).count();
     assert!(hair > 1000, "{hair} hair pixels");
     assert!(!truth.masks.receivers.contains(&true));
-    let steps: f64 = table.decomposition[..6].iter().map(|d| d.hair_ratio).product();
-    let total = table.decomposition[6].hair_ratio;
+    let steps: f64 = table.decomposition[..7].iter().map(|d| d.hair_ratio).product();
+    let total = table.decomposition[7].hair_ratio;
     assert!((steps / total - 1.0).abs() < 1e-9, "{steps} vs {total}");
     let bounce = &table.decomposition[0];
     assert!(bounce.hair_ratio == 1.0 && bounce.hair_rmse == 0.0, "{bounce:?}");
@@ -81,6 +82,9 @@ fn the_chain_telescopes_and_one_event_carries_less_light() {
             .iter()
             .all(|d| d.receivers_ratio.is_nan() && d.receivers_rmse == 0.0)
     );
+    // The absorber model's stand-in for the light beyond one event, its ambient term, adds light.
+    let scattered = &table.decomposition[4];
+    assert!(scattered.hair_ratio > 1.0, "{scattered:?}");
     // Two seeds of 2 samples each: the noise is measured, not assumed.
     assert!(ms.hair_noise > 0.0 && ms.hair_noise < ms.hair_rmse, "{ms:?}");
 }

@@ -1,7 +1,7 @@
 //! The compare window's decomposition against the path-traced truth (`docs/truth.md`): the selected shadow
 //! method under `render.shading` with its error split by physical effect, the rows `measure shadows --truth
 //! path-traced` writes to `decomposition.csv` (`measure::shading::against_truth`, one place for the CLI, the
-//! report and the window). The chain path-traces five images of the still scene at [`crate::measure::IMAGE_SIZE`],
+//! report and the window). The chain path-traces six images of the still scene at [`crate::measure::IMAGE_SIZE`],
 //! so it runs on demand only (a button, never "auto"), as a job: Cancel leaves the last table. The table gives
 //! each step's RMSE (the truth's noise removed) and luminance ratio over the hair and over the shadow receivers;
 //! the pixel inspector reads the chain's images at its pixel ([`Decomposed::at`]).

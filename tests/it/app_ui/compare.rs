@@ -278,8 +278,8 @@ fn the_compare_window_decomposes_against_the_truth_and_the_inspector_notes_the_c
         .at(pixel, (w, h));
     assert_eq!(
         chain.len(),
-        5,
-        "truth, fibre events, one event, map shadows, raster"
+        6,
+        "truth, fibre events, one event, map shadows, raster one event, raster"
     );
     for (label, _) in &chain {
         assert!(

@@ -307,8 +307,8 @@ fn from_a_measurement_against_the_path_traced_truth_gives_its_decomposition() {
     let (header, rows) = csv_file(&measured.join("decomposition.csv"));
     assert_eq!(
         rows.len(),
-        2 * 2 * 7,
-        "two configurations under two models, six steps and the total each"
+        2 * 2 * 8,
+        "two configurations under two models, seven steps and the total each"
     );
     assert_eq!(table(&html, "decomposition"), (header, rows));
     // The truth's image and the speed chart judged by it, whose points are the two configurations.

@@ -5,10 +5,12 @@
 #include "common/marschner.wgsl"
 #include "common/dual_scattering.wgsl"
 #include "common/fibre_transport.wgsl"
+#include "common/chiang.wgsl"
 
 const SHADING_KAJIYA_KAY: u32 = 0u;
 const SHADING_MARSCHNER: u32 = 1u;
 const SHADING_DUAL_SCATTERING: u32 = 2u;
+const SHADING_CHIANG: u32 = 3u;
 
 // Whether the fibres model's probe holds the light the fibres scatter, forward and back (`render.probe =
 // traced`, the path tracer's gather; the flag rides in bounce_min.w): `shading::strand_lit`'s `probe`.
@@ -25,12 +27,16 @@ fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, co
     if frame.shading_model == SHADING_DUAL_SCATTERING {
         return dual_scattering(HAIR_MODEL_ABSORBER, tangent, to_light, to_eye, colour, 1.0, 0.0);
     }
+    if frame.shading_model == SHADING_CHIANG {
+        return chiang(tangent, to_light, to_eye, colour);
+    }
     return kajiya_kay(tangent, to_light, to_eye, colour);
 }
 
 // The same with the hair's shadow (`shading::strand_lit`): `visibility` is the method's V and `count` its hair
 // count, the strands in front towards the light (dual scattering reads both; the other models are multiplied by
-// what arrives: V for absorbers; under fibres Marschner shades V and adds the global forward scattering, Kajiya-Kay
+// what arrives: V for absorbers; under fibres Marschner and Chiang shade V and add the global forward scattering,
+// Kajiya-Kay
 // takes max(V, T_f); lit there by the irradiance pi x the light). Under the traced probe (probe_holds_scattering)
 // the probe holds the fibres' scattered light, so every model shades the direct V alone, dual scattering by
 // Marschner's lobes.
@@ -44,7 +50,9 @@ fn strand_lit(
 ) -> vec3<f32> {
     if probe_holds_scattering() {
         var direct = kajiya_kay(tangent, to_light, to_eye, colour);
-        if frame.shading_model != SHADING_KAJIYA_KAY {
+        if frame.shading_model == SHADING_CHIANG {
+            direct = chiang(tangent, to_light, to_eye, colour);
+        } else if frame.shading_model != SHADING_KAJIYA_KAY {
             direct = marschner(tangent, to_light, to_eye, colour);
         }
         return direct * clamp(visibility, 0.0, 1.0) * FIBRE_IRRADIANCE;
@@ -57,7 +65,8 @@ fn strand_lit(
         return f;
     }
     let s = strand_shading(tangent, to_light, to_eye, colour);
-    if frame.hair_model == HAIR_MODEL_FIBRES && frame.shading_model == SHADING_MARSCHNER {
+    if frame.hair_model == HAIR_MODEL_FIBRES
+        && (frame.shading_model == SHADING_MARSCHNER || frame.shading_model == SHADING_CHIANG) {
         let v = clamp(visibility, 0.0, 1.0);
         let t = dual_scattering_terms(HAIR_MODEL_FIBRES, tangent, to_light, to_eye, colour, v, count);
         let scattered = dual_scattering_forward(t);

@@ -84,7 +84,7 @@ pub struct ShadowsArgs {
     pub shading: Vec<crate::shading::ShadingModel>,
     /// What the shading table's images are judged against besides the depth-peeled reference: `path-traced`
     /// path-traces the scene (`render.spp` samples per pixel) and decomposes each configuration's image error
-    /// under each shading model (all three unless `--shading` names some) into the method's, the opacity
+    /// under each shading model (every one unless `--shading` names some) into the method's, the opacity
     /// model's (the reference against the path-traced image) and their total; decomposition.csv with `--out`.
     #[arg(long, value_enum, default_value = "depth-peeled")]
     pub truth: TruthKind,

@@ -3,30 +3,23 @@
 //! term M_p, a trimmed logistic azimuthal term N_p, cuticle tilt, exact dielectric Fresnel and importance
 //! sampling. Local frame as in pbrt: x along the fibre tangent, y and z across it.
 
+use crate::shading::chiang::{self, Fibre, Trimmed, ap, mp, phi_p, safe_sqrt, wrap};
 use crate::shading::marschner;
 use glam::Vec3;
 use std::f32::consts::PI;
 
 /// The fibres' material for a linear hair colour: Chiang et al. 2016's colour inversion at the real-time
-/// Marschner model's lobe widths ([`BETA_M`]), azimuthal roughness, cuticle tilt and index of refraction.
+/// Marschner model's lobe widths ([`chiang::BETA_M`]), azimuthal roughness, cuticle tilt and index of refraction.
 pub fn fibre_params(hair_color: [f32; 3]) -> FibreParams {
     fibre_absorbing(marschner::absorption(Vec3::from(hair_color)))
 }
 
 /// [`fibre_params`] for an absorption `σ_a` (per unit radius) rather than a colour.
 pub fn fibre_absorbing(sigma_a: Vec3) -> FibreParams {
-    FibreParams::with_absorption(sigma_a, BETA_M, marschner::BETA_N, marschner::ALPHA_R)
+    FibreParams::with_absorption(sigma_a, chiang::BETA_M, marschner::BETA_N, marschner::ALPHA_R)
 }
 
-/// The longitudinal roughness `β_m` whose R lobe is as wide as the real-time Marschner model's: Chiang et al.'s
-/// variance `v = (0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰)²` equal to the square of Karis's standard deviation
-/// `2 sin β_R` in `sin θ_o` ([`marschner::WIDTH`]`[0]`, 15° for Marschner et al.'s β_R = 7.5°, a width in the
-/// half angle θ_h). `β_m = β_R` read Marschner's half-angle width as Chiang's roughness: the traced fibre's
-/// lobes were 2.4× narrower than the raster's (6.2° against 15°). TT and TRT follow in both models (`v/4`, `4v`
-/// against `β_R/2`, `2β_R`). A test solves for it.
-pub const BETA_M: f32 = 0.274_995_65;
-
-const P_MAX: usize = 3;
+const P_MAX: usize = chiang::LOBES - 1;
 
 /// pbrt's eumelanin and pheomelanin absorption per unit concentration.
 const EUMELANIN_SIGMA_A: Vec3 = Vec3::new(0.419, 0.697, 1.37);
@@ -91,139 +84,6 @@ pub struct FibreSample {
     pub pdf: f32,
 }
 
-fn safe_sqrt(x: f32) -> f32 {
-    x.max(0.0).sqrt()
-}
-
-/// Modified Bessel function I0 (f64), by Abramowitz & Stegun's polynomial 9.8.1 (relative error below 1.6e-7;
-/// pbrt's fixed 10-term series loses ~2% of the energy near x = 12).
-fn i0(x: f64) -> f64 {
-    if x >= 3.75 {
-        return x.exp() * i0_scaled(x) / x.sqrt();
-    }
-    let t = (x / 3.75) * (x / 3.75);
-    1.0 + t
-        * (3.5156229 + t * (3.0899424 + t * (1.2067492 + t * (0.2659732 + t * (0.0360768 + t * 0.0045813)))))
-}
-
-/// √x e^-x I0(x) for x ≥ 3.75 by Abramowitz & Stegun's polynomial 9.8.2 (relative error below 5e-7).
-fn i0_scaled(x: f64) -> f64 {
-    let u = 3.75 / x;
-    0.39894228
-        + u * (0.01328592
-            + u * (0.00225319
-                + u * (-0.00157565
-                    + u * (0.00916281
-                        + u * (-0.02057706 + u * (0.02635537 + u * (-0.01647633 + u * 0.00392377)))))))
-}
-
-/// d'Eon et al. 2011's longitudinal scattering, for small variance in the stable form `e^(a − b − 1/v) ·
-/// (√a e^-a I0(a)) / (v √a)` (pbrt's `exp(log I0(a) − b − 1/v + ln(1/v))`, its exponentials and
-/// logarithms gathered into one exponent).
-fn mp(cos_i: f32, cos_o: f32, sin_i: f32, sin_o: f32, v: f32) -> f32 {
-    let v = v as f64;
-    let a = cos_i as f64 * cos_o as f64 / v;
-    let b = sin_i as f64 * sin_o as f64 / v;
-    let m = if v <= 0.1 {
-        if a >= 3.75 {
-            (a - b - 1.0 / v).exp() * i0_scaled(a) / (v * a.sqrt())
-        } else {
-            (-b - 1.0 / v).exp() * i0(a) / v
-        }
-    } else {
-        (-b).exp() * i0(a) / ((1.0 / v).sinh() * 2.0 * v)
-    };
-    m as f32
-}
-
-/// Exact Fresnel reflectance from outside (index 1) into index `eta` at incidence cosine `cos_i`.
-fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let cos_i = cos_i.clamp(-1.0, 1.0);
-    let (cos_i, eta) = if cos_i < 0.0 {
-        (-cos_i, 1.0 / eta)
-    } else {
-        (cos_i, eta)
-    };
-    let sin_t = safe_sqrt(1.0 - cos_i * cos_i) / eta;
-    if sin_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = safe_sqrt(1.0 - sin_t * sin_t);
-    let par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    let perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    0.5 * (par * par + perp * perp)
-}
-
-/// Attenuations A_p for incidence `cos_theta_o`, offset `h` and one-pass transmittance `t`.
-fn ap(cos_theta_o: f32, eta: f32, h: f32, t: Vec3) -> [Vec3; P_MAX + 1] {
-    let cos_gamma_o = safe_sqrt(1.0 - h * h);
-    let f = fresnel_dielectric(cos_theta_o * cos_gamma_o, eta);
-    let mut a = [Vec3::ZERO; P_MAX + 1];
-    a[0] = Vec3::splat(f);
-    a[1] = (1.0 - f) * (1.0 - f) * t;
-    for p in 2..P_MAX {
-        a[p] = a[p - 1] * t * f;
-    }
-    a[P_MAX] = a[P_MAX - 1] * f * t / (Vec3::ONE - t * f);
-    a
-}
-
-/// The lobe's azimuthal centre: Φ(p, γ_o, γ_t).
-fn phi_p(p: usize, gamma_o: f32, gamma_t: f32) -> f32 {
-    let p = p as f32;
-    2.0 * p * gamma_t - 2.0 * gamma_o + p * PI
-}
-
-fn logistic(x: f32, s: f32) -> f32 {
-    let x = x.abs();
-    let e = (-x / s).exp();
-    e / (s * (1.0 + e) * (1.0 + e))
-}
-
-fn logistic_cdf(x: f32, s: f32) -> f32 {
-    1.0 / (1.0 + (-x / s).exp())
-}
-
-/// The logistic of scale `s` trimmed to [-π, π]: its CDF at -π and its mass there, worked out once per scale.
-#[derive(Clone, Copy, Debug)]
-struct Trimmed {
-    s: f32,
-    below: f32,
-    mass: f32,
-}
-
-impl Trimmed {
-    fn new(s: f32) -> Trimmed {
-        let below = logistic_cdf(-PI, s);
-        Trimmed {
-            s,
-            below,
-            mass: logistic_cdf(PI, s) - below,
-        }
-    }
-
-    /// The logistic renormalised on [-π, π].
-    fn density(&self, x: f32) -> f32 {
-        logistic(x, self.s) / self.mass
-    }
-
-    fn sample(&self, u: f32) -> f32 {
-        let x = -self.s * (1.0 / (u * self.mass + self.below) - 1.0).ln();
-        x.clamp(-PI, PI)
-    }
-}
-
-/// Wraps an angle into [-π, π].
-fn wrap(mut x: f32) -> f32 {
-    while x > PI {
-        x -= 2.0 * PI;
-    }
-    while x < -PI {
-        x += 2.0 * PI;
-    }
-    x
-}
-
 fn np(phi: f32, p: usize, n: &Trimmed, gamma_o: f32, gamma_t: f32) -> f32 {
     n.density(wrap(phi - phi_p(p, gamma_o, gamma_t)))
 }
@@ -237,23 +97,20 @@ fn angles(w: Vec3) -> (f32, f32, f32) {
 impl FibreBsdf {
     pub fn new(params: &FibreParams, h: f32) -> Self {
         let h = h.clamp(-1.0, 1.0);
-        let bm = params.beta_m;
-        let v0 = (0.726 * bm + 0.812 * bm * bm + 3.7 * bm.powi(20)).powi(2);
-        let bn = params.beta_n;
-        let s = (PI / 8.0).sqrt() * (0.265 * bn + 1.194 * bn * bn + 5.372 * bn.powi(22));
-        let mut sin_2k_alpha = [params.alpha.sin(), 0.0, 0.0];
-        let mut cos_2k_alpha = [safe_sqrt(1.0 - sin_2k_alpha[0] * sin_2k_alpha[0]), 0.0, 0.0];
-        for i in 1..3 {
-            sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
-            cos_2k_alpha[i] = cos_2k_alpha[i - 1].powi(2) - sin_2k_alpha[i - 1].powi(2);
-        }
+        let fibre = Fibre {
+            beta_m: params.beta_m,
+            beta_n: params.beta_n,
+            alpha: params.alpha,
+            eta: params.eta,
+        };
+        let (sin_2k_alpha, cos_2k_alpha) = fibre.tilts();
         Self {
             h,
             gamma_o: h.asin(),
             eta: params.eta,
             sigma_a: params.sigma_a,
-            v: [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0],
-            n: Trimmed::new(s),
+            v: fibre.variances(),
+            n: Trimmed::new(fibre.logistic_scale()),
             sin_2k_alpha,
             cos_2k_alpha,
         }
@@ -261,33 +118,13 @@ impl FibreBsdf {
 
     /// γ_t and the one-pass transmittance for an outgoing elevation.
     fn refracted(&self, sin_o: f32, cos_o: f32) -> (f32, Vec3) {
-        let sin_t = sin_o / self.eta;
-        let cos_t = safe_sqrt(1.0 - sin_t * sin_t);
-        let etap = safe_sqrt(self.eta * self.eta - sin_o * sin_o) / cos_o;
-        let sin_gamma_t = (self.h / etap).clamp(-1.0, 1.0);
-        let cos_gamma_t = safe_sqrt(1.0 - sin_gamma_t * sin_gamma_t);
-        let t = (-self.sigma_a * (2.0 * cos_gamma_t / cos_t)).exp();
-        (sin_gamma_t.asin(), t)
+        let (gamma_t, length) = chiang::refracted(self.eta, self.h, sin_o, cos_o);
+        (gamma_t, (-self.sigma_a * length).exp())
     }
 
-    /// sin θ_o and |cos θ_o| rotated by the cuticle tilt for lobe `p` (-2α for R, α for TT, 4α for TRT).
+    /// sin θ_o and |cos θ_o| rotated by the cuticle tilt for lobe `p` ([`chiang::tilted`]).
     fn tilted(&self, p: usize, sin_o: f32, cos_o: f32) -> (f32, f32) {
-        let (sa, ca) = (self.sin_2k_alpha, self.cos_2k_alpha);
-        match p {
-            0 => (
-                sin_o * ca[1] - cos_o * sa[1],
-                (cos_o * ca[1] + sin_o * sa[1]).abs(),
-            ),
-            1 => (
-                sin_o * ca[0] + cos_o * sa[0],
-                (cos_o * ca[0] - sin_o * sa[0]).abs(),
-            ),
-            2 => (
-                sin_o * ca[2] + cos_o * sa[2],
-                (cos_o * ca[2] - sin_o * sa[2]).abs(),
-            ),
-            _ => (sin_o, cos_o),
-        }
+        chiang::tilted(p, sin_o, cos_o, (self.sin_2k_alpha, self.cos_2k_alpha))
     }
 
     /// What the lobes need of `wo`, worked out once for any number of evaluations and samples.
@@ -409,17 +246,6 @@ mod tests {
             alpha,
             eta: marschner::ETA,
         }
-    }
-
-    /// [`BETA_M`] gives the R lobe Karis's width: `√v = 0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰` equals
-    /// `2 sin 7.5°` (the real-time model's standard deviation in `sin θ_o`, computed here from Marschner et
-    /// al.'s β_R, not read from `marschner::WIDTH`) within 1e-6, in f64.
-    #[test]
-    fn beta_m_matches_the_real_time_lobe_width() {
-        let b = f64::from(BETA_M);
-        let root_v = 0.726 * b + 0.812 * b * b + 3.7 * b.powi(20);
-        let karis = 2.0 * 7.5f64.to_radians().sin();
-        assert!((root_v - karis).abs() <= 1e-6, "{root_v} against {karis}");
     }
 
     /// `sample` returns eval and pdf at its direction (relative 1e-4), and f |cos| / pdf = 1 per sample when

@@ -1,6 +1,7 @@
 //! The two groups the renderer owns and every pass binds: group 0, the frame uniforms ([`FrameUniforms`], one
 //! buffer written once per frame), and the eye passes' scene group (the uniforms again, the hair light-depth maps,
-//! the meshes' shadow map and its comparison sampler), re-bound when the light maps are re-sized.
+//! the meshes' shadow map and its comparison sampler, the Chiang shading's table), re-bound when the light maps
+//! are re-sized.
 
 use super::passes::light_depth::LightDepthMaps;
 use super::passes::shadow_map::ShadowMap;
@@ -16,10 +17,17 @@ pub struct FrameBindings {
     pub scene_layout: wgpu::BindGroupLayout,
     pub scene_group: wgpu::BindGroup,
     shadow_sampler: wgpu::Sampler,
+    /// `shading::chiang::table`, read by `shaders/common/chiang.wgsl`.
+    chiang_table: wgpu::TextureView,
 }
 
 impl FrameBindings {
-    pub fn new(device: &wgpu::Device, maps: &LightDepthMaps, shadow: &ShadowMap) -> FrameBindings {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        maps: &LightDepthMaps,
+        shadow: &ShadowMap,
+    ) -> FrameBindings {
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hairlab.frame.uniforms"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
@@ -72,8 +80,19 @@ impl FrameBindings {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D3,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         });
+        let chiang_table = chiang_table(device, queue);
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("hairlab.shadow_map.sampler"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -96,6 +115,7 @@ impl FrameBindings {
             maps,
             shadow,
             &shadow_sampler,
+            &chiang_table,
         );
         FrameBindings {
             buffer: frame_buffer,
@@ -104,6 +124,7 @@ impl FrameBindings {
             scene_layout,
             scene_group,
             shadow_sampler,
+            chiang_table,
         }
     }
 
@@ -116,6 +137,7 @@ impl FrameBindings {
             maps,
             shadow,
             &self.shadow_sampler,
+            &self.chiang_table,
         );
     }
 }
@@ -127,6 +149,7 @@ fn scene_group(
     maps: &LightDepthMaps,
     shadow: &ShadowMap,
     sampler: &wgpu::Sampler,
+    chiang_table: &wgpu::TextureView,
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("hairlab.scene.bind_group"),
@@ -152,6 +175,37 @@ fn scene_group(
                 binding: 4,
                 resource: wgpu::BindingResource::Sampler(sampler),
             },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(chiang_table),
+            },
         ],
     })
+}
+
+/// `shading::chiang::table` as the 3D texture `shaders/common/chiang.wgsl` reads (`chiang::PHI_NODES` ×
+/// `COS_NODES` × `LAYERS`, one float a texel).
+pub fn chiang_table(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::TextureView {
+    use crate::shading::chiang::{COS_NODES, LAYERS, PHI_NODES, table};
+    let texture = wgpu::util::DeviceExt::create_texture_with_data(
+        device,
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("hairlab.chiang.table"),
+            size: wgpu::Extent3d {
+                width: PHI_NODES as u32,
+                height: COS_NODES as u32,
+                depth_or_array_layers: LAYERS as u32,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(table()),
+    );
+    texture.create_view(&Default::default())
 }

@@ -76,7 +76,7 @@ impl Renderer {
     pub fn new(gpu: &Gpu, scene: &Scene, map_resolution: u32) -> Result<Renderer, GpuError> {
         let device = &gpu.device;
         let maps = LightSide::maps(gpu, map_resolution)?;
-        let bindings = FrameBindings::new(device, &maps.0, &maps.1);
+        let bindings = FrameBindings::new(device, &gpu.queue, &maps.0, &maps.1);
         let targets = EyeTargets::new(device, 16, 16);
         let ribbon_layout = geometry::ribbon_layout(device);
         let scene = SceneGpu::upload(gpu, scene, &ribbon_layout)?;

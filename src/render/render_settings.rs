@@ -25,7 +25,8 @@ pub struct RenderSettings {
     /// default head's distance at 640×480, so the default head in `coverage` mode looks much as in `constant`
     /// mode, at the same `hair_alpha`.
     pub strand_width: f32,
-    /// How a lit strand point is shaded ([`ShadingModel`]: `kajiya-kay`, `marschner` or `dual-scattering`).
+    /// How a lit strand point is shaded ([`ShadingModel`]: `kajiya-kay`, `marschner`, `dual-scattering` or
+    /// `chiang`).
     pub shading: ShadingModel,
     /// How light crosses the strands ([`HairModel`]: `absorber`, today's look, or `fibres`, which takes the
     /// opacity from geometry at material opacity 1, drops the ambient terms and carries light through fibres

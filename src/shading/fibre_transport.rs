@@ -101,7 +101,7 @@ pub fn quadrature_table(
 }
 
 /// Cell and weight of `x` on nodes `0..=cells`: `(min(floor x, cells − 1), clamp(x − i, 0, 1))`, `x ≥ 0`.
-fn cell(x: f32, cells: usize) -> (usize, f32) {
+pub(crate) fn cell(x: f32, cells: usize) -> (usize, f32) {
     let i = (x.max(0.0).floor() as usize).min(cells - 1);
     (i, (x - i as f32).clamp(0.0, 1.0))
 }

@@ -3,6 +3,7 @@
 //! here (the specification) and one WGSL file (`shaders/common/<model>.wgsl`), selected in the eye pass by
 //! `frame.shading_model` through `shaders/common/strand_shading.wgsl`.
 
+pub mod chiang;
 pub mod dual_scattering;
 pub mod fibre_transport;
 pub mod hair_density;
@@ -14,7 +15,8 @@ pub mod mesh_bounce;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-/// The registered strand shading models (`render.shading = "kajiya-kay" | "marschner" | "dual-scattering"`).
+/// The registered strand shading models (`render.shading = "kajiya-kay" | "marschner" | "dual-scattering" |
+/// "chiang"`).
 ///
 /// Dual scattering is a model of its own rather than a flag on Marschner: it is what `render.shading` selects,
 /// the panels and `measure --shading` list, and the one uniform value the eye pass branches on; a flag would
@@ -31,14 +33,17 @@ pub enum ShadingModel {
     /// The Marschner lobes plus Zinke et al. 2008's multiple scattering from the method's hair count
     /// ([`dual_scattering`]).
     DualScattering,
+    /// Chiang et al. 2016's fibre, the path tracer's BSDF, averaged across the fibre ([`chiang`]).
+    Chiang,
 }
 
 impl ShadingModel {
     /// Every model, in the order of their uniform values.
-    pub const ALL: [ShadingModel; 3] = [
+    pub const ALL: [ShadingModel; 4] = [
         ShadingModel::KajiyaKay,
         ShadingModel::Marschner,
         ShadingModel::DualScattering,
+        ShadingModel::Chiang,
     ];
 
     /// The word presets and `--set render.shading=…` use.
@@ -47,6 +52,7 @@ impl ShadingModel {
             ShadingModel::KajiyaKay => "kajiya-kay",
             ShadingModel::Marschner => "marschner",
             ShadingModel::DualScattering => "dual-scattering",
+            ShadingModel::Chiang => "chiang",
         }
     }
 
@@ -56,6 +62,7 @@ impl ShadingModel {
             ShadingModel::KajiyaKay => "Kajiya-Kay",
             ShadingModel::Marschner => "Marschner",
             ShadingModel::DualScattering => "Dual scattering",
+            ShadingModel::Chiang => "Chiang",
         }
     }
 
@@ -68,6 +75,9 @@ impl ShadingModel {
             }
             ShadingModel::DualScattering => {
                 "Marschner plus multiple scattering from the shadow method's hair count (Zinke et al. 2008)"
+            }
+            ShadingModel::Chiang => {
+                "the path tracer's fibre averaged across its width, from a table (Chiang et al. 2016)"
             }
         }
     }
@@ -100,6 +110,7 @@ impl ShadingModel {
                 1.0,
                 0.0,
             ),
+            ShadingModel::Chiang => chiang::chiang(tangent, to_light, to_eye, colour),
         }
     }
 }
@@ -209,7 +220,7 @@ pub fn strand_direct(
 /// The CPU model of `strand_lit` (`shaders/common/strand_shading.wgsl`): the radiance a hair point sends towards
 /// `to_eye` per unit of the light's `colour × intensity`, with the method's visibility `v` and hair count `count`
 /// towards the light. Dual scattering carries its shadow itself; the single-scattering models are multiplied
-/// by what arrives: `V` for absorbers; under fibres Marschner shades the direct `V` and adds the light
+/// by what arrives: `V` for absorbers; under fibres Marschner (and Chiang) shades the direct `V` and adds the light
 /// forward-scattered through the strands in front, spread (Zinke et al.'s global term,
 /// [`dual_scattering::Terms::forward_scattered`]: the sharp TT lobe must not shade light that no longer arrives along
 /// the light, which made back-lit hair 4× too bright), and Kajiya-Kay, which has no lobes to spread, takes
@@ -245,7 +256,7 @@ pub fn strand_lit(
     let s = shading.shade(tangent, to_light, to_eye, colour);
     match (hair, shading) {
         (HairModel::Absorber, _) => s * v,
-        (HairModel::Fibres, ShadingModel::Marschner) => {
+        (HairModel::Fibres, ShadingModel::Marschner | ShadingModel::Chiang) => {
             let scattered =
                 dual_scattering::terms(hair, tangent, to_light, to_eye, colour, v, count).forward_scattered();
             (s * v.clamp(0.0, 1.0) + scattered) * fibre_transport::IRRADIANCE
@@ -264,7 +275,7 @@ mod tests {
 
     /// The `u32` constants `names` of the composed `file`, read from the parsed module (a panic naming the one
     /// missing or not a `u32` literal).
-    fn wgsl_u32_constants(file: &str, names: &[String]) -> Vec<u32> {
+    pub(super) fn wgsl_u32_constants(file: &str, names: &[String]) -> Vec<u32> {
         let src = crate::shaders::compose(file, None).unwrap();
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         names

@@ -8,6 +8,7 @@ mod common;
 
 mod app_ui;
 mod bench;
+mod chiang_shading;
 mod cli;
 mod compute_raster;
 mod coverage_alpha;

@@ -141,7 +141,7 @@ fn wgsl_strand_lit_equals_the_cpu_model_under_either_probe() {
                     match shading {
                         ShadingModel::DualScattering => traced_ds = cpu_all,
                         ShadingModel::Marschner => traced_m = cpu_all,
-                        ShadingModel::KajiyaKay => {}
+                        ShadingModel::KajiyaKay | ShadingModel::Chiang => {}
                     }
                 }
             }

@@ -317,7 +317,9 @@ pub fn render_method_light(
 /// Runs `probe` (WGSL declaring the input item type `Row`, the output element type `Out` and `fn probe(i: u32,
 /// row: Row)`, which writes `out`), appended to the shared shader file `shared` with the bindings `rows` (0) and
 /// `out` (1) and the entry point ([`probe_entry`]), over `items` items of `input`, and reads back `out_bytes`
-/// bytes per item: how a test evaluates a shared WGSL function against its CPU model.
+/// bytes per item: how a test evaluates a shared WGSL function against its CPU model. A probe that reads the
+/// Chiang shading's table (`chiang_table`, group 0, binding 5, as the scene group binds it) gets the renderer's
+/// texture of `shading::chiang::table`.
 pub fn run_probe(gpu: &Gpu, spec: (&str, &str, &str), input: &[u8], items: usize, out_bytes: u64) -> Vec<u8> {
     probe_pass(gpu, spec, None, input, items, out_bytes)
 }
@@ -369,6 +371,22 @@ fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {{
     )
 }
 
+/// Whether the entry point of `src` reads `chiang_table`.
+fn reads_chiang_table(src: &str) -> bool {
+    let module = naga::front::wgsl::parse_str(src).unwrap();
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap();
+    module
+        .global_variables
+        .iter()
+        .find(|(_, g)| g.name.as_deref() == Some("chiang_table"))
+        .is_some_and(|(handle, _)| !info.get_entry_point(0)[handle].is_empty())
+}
+
 fn probe_pass(
     gpu: &Gpu,
     (shared, probe, label): (&str, &str, &str),
@@ -381,6 +399,7 @@ fn probe_pass(
     let device = &gpu.device;
     let src =
         hairlab::shaders::compose(shared, None).unwrap() + probe + &probe_entry(u32::from(frame.is_some()));
+    let reads_table = reads_chiang_table(&src);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(src.into()),
@@ -404,20 +423,29 @@ fn probe_pass(
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
+    let table = reads_table.then(|| hairlab::render::frame_bindings::chiang_table(device, &gpu.queue));
+    let table_entry = table.as_ref().map(|t| wgpu::BindGroupEntry {
+        binding: 5,
+        resource: wgpu::BindingResource::TextureView(t),
+    });
     let io_group = u32::from(frame.is_some());
+    let mut io_entries = vec![
+        wgpu::BindGroupEntry {
+            binding: 0,
+            resource: input.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 1,
+            resource: output.as_entire_binding(),
+        },
+    ];
+    if frame.is_none() {
+        io_entries.extend(table_entry.clone());
+    }
     let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipeline.get_bind_group_layout(io_group),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
+        entries: &io_entries,
     });
     let frame_group = frame.map(|bytes| {
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -425,13 +453,15 @@ fn probe_pass(
             contents: bytes,
             usage: wgpu::BufferUsages::UNIFORM,
         });
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: buffer.as_entire_binding(),
+        }];
+        entries.extend(table_entry);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
+            entries: &entries,
         })
     });
     let mut encoder = device.create_command_encoder(&Default::default());

@@ -60,36 +60,58 @@ fn chiang_acos(x: f32) -> f32 {
     return r;
 }
 
-// `chiang::index`: node (i, k, j) of lobe p; R ignores the absorption, the residual the azimuth.
-fn chiang_node(p: u32, j: u32, k: u32, i: u32) -> f32 {
-    if p == 0u {
-        return chiang_texel(i, k, 0u);
-    }
-    if p == 3u {
-        return chiang_texel(j, k, 1u + 2u * CHIANG_SIGMA_NODES);
-    }
-    return chiang_texel(i, k, 1u + (p - 1u) * CHIANG_SIGMA_NODES + j);
+// Where a direction falls in the azimuth and inclination axes: the cells and weights `chiang::lookup` takes.
+struct ChiangCell {
+    i: u32,
+    fi: f32,
+    k: u32,
+    fk: f32,
 }
 
-// `chiang::lookup`: N_p at |phi|, cos theta_o and sqrt(sigma_a), trilinear.
-fn chiang_lookup(p: u32, phi: f32, cos_o: f32, root_sigma: f32) -> f32 {
+fn chiang_cell(phi: f32, cos_o: f32) -> ChiangCell {
     let ci = fibre_cell(phi * (f32(CHIANG_PHI_NODES - 1u) / 3.14159265), CHIANG_PHI_NODES - 1u);
     let ck = fibre_cell(cos_o * f32(CHIANG_COS_NODES - 1u), CHIANG_COS_NODES - 1u);
-    let cj = fibre_cell(root_sigma * (f32(CHIANG_SIGMA_NODES - 1u) / FIBRE_ROOT_SIGMA_MAX), CHIANG_SIGMA_NODES - 1u);
-    let i = u32(ci.x);
-    let k = u32(ck.x);
-    let j = u32(cj.x);
-    var plane: array<f32, 2>;
-    for (var dj = 0u; dj < 2u; dj++) {
-        var along: array<f32, 2>;
-        for (var dk = 0u; dk < 2u; dk++) {
-            let a = chiang_node(p, j + dj, k + dk, i);
-            let b = chiang_node(p, j + dj, k + dk, i + 1u);
-            along[dk] = a + (b - a) * ci.y;
-        }
-        plane[dj] = along[0] + (along[1] - along[0]) * ck.y;
+    return ChiangCell(u32(ci.x), ci.y, u32(ck.x), ck.y);
+}
+
+// Azimuth then inclination on one layer, as `chiang::lookup` interpolates.
+fn chiang_bilinear(c: ChiangCell, layer: u32) -> f32 {
+    let a0 = chiang_texel(c.i, c.k, layer);
+    let b0 = chiang_texel(c.i + 1u, c.k, layer);
+    let a1 = chiang_texel(c.i, c.k + 1u, layer);
+    let b1 = chiang_texel(c.i + 1u, c.k + 1u, layer);
+    let lo = a0 + (b0 - a0) * c.fi;
+    let hi = a1 + (b1 - a1) * c.fi;
+    return lo + (hi - lo) * c.fk;
+}
+
+// `chiang::lookup` of lobe p for the three channels' sqrt(sigma_a). The axis a lobe ignores (`chiang::index`)
+// holds equal values, which interpolate to themselves exactly: R is read once for every channel, the residual
+// (its absorption along x) without the azimuth.
+fn chiang_lobe(p: u32, c: ChiangCell, root_sigma: vec3<f32>) -> vec3<f32> {
+    if p == 0u {
+        return vec3<f32>(chiang_bilinear(c, 0u));
     }
-    return plane[0] + (plane[1] - plane[0]) * cj.y;
+    let scale = f32(CHIANG_SIGMA_NODES - 1u) / FIBRE_ROOT_SIGMA_MAX;
+    var out: vec3<f32>;
+    for (var ch = 0u; ch < 3u; ch++) {
+        let cj = fibre_cell(root_sigma[ch] * scale, CHIANG_SIGMA_NODES - 1u);
+        let j = u32(cj.x);
+        var plane: vec2<f32>;
+        if p == 3u {
+            let layer = 1u + 2u * CHIANG_SIGMA_NODES;
+            for (var dj = 0u; dj < 2u; dj++) {
+                let a = chiang_texel(j + dj, c.k, layer);
+                let b = chiang_texel(j + dj, c.k + 1u, layer);
+                plane[dj] = a + (b - a) * c.fk;
+            }
+        } else {
+            let layer = 1u + (p - 1u) * CHIANG_SIGMA_NODES + j;
+            plane = vec2<f32>(chiang_bilinear(c, layer), chiang_bilinear(c, layer + 1u));
+        }
+        out[ch] = plane[0] + (plane[1] - plane[0]) * cj.y;
+    }
+    return out;
 }
 
 // `chiang::tilted`: sin theta_o and |cos theta_o| turned by the cuticle tilt of lobe p.
@@ -118,16 +140,11 @@ fn chiang_absorbing(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, 
     let vp = to_eye - sin_o * tangent;
     let phi = chiang_acos(clamp(dot(lp, vp) / sqrt(max(dot(lp, lp) * dot(vp, vp), 1e-12)), -1.0, 1.0));
     let root_sigma = sqrt(max(sigma_a, vec3<f32>(0.0)));
+    let cell = chiang_cell(phi, cos_o);
     var sum = vec3<f32>(0.0);
     for (var p = 0u; p < 4u; p++) {
         let o = chiang_tilted(p, sin_o, cos_o);
-        let m = chiang_mp(cos_i, o.y, sin_i, o.x, chiang_header(p));
-        let n = vec3<f32>(
-            chiang_lookup(p, phi, cos_o, root_sigma.x),
-            chiang_lookup(p, phi, cos_o, root_sigma.y),
-            chiang_lookup(p, phi, cos_o, root_sigma.z),
-        );
-        sum += m * n;
+        sum += chiang_mp(cos_i, o.y, sin_i, o.x, chiang_header(p)) * chiang_lobe(p, cell, root_sigma);
     }
     return sum;
 }

@@ -35,14 +35,11 @@ fn probe(i: u32, r: Row) {
     let vp = r.to_eye.xyz - sin_o * r.tangent.xyz;
     let phi = chiang_acos(clamp(dot(lp, vp) / sqrt(max(dot(lp, lp) * dot(vp, vp), 1e-12)), -1.0, 1.0));
     let root_sigma = sqrt(max(sigma_a, vec3<f32>(0.0)));
+    let cell = chiang_cell(phi, cos_o);
     for (var p = 0u; p < 4u; p++) {
         let o = chiang_tilted(p, sin_o, cos_o);
         let m = chiang_mp(cos_i, o.y, sin_i, o.x, chiang_header(p));
-        out[5u * i + p] = vec4<f32>(m * vec3<f32>(
-            chiang_lookup(p, phi, cos_o, root_sigma.x),
-            chiang_lookup(p, phi, cos_o, root_sigma.y),
-            chiang_lookup(p, phi, cos_o, root_sigma.z),
-        ), 0.0);
+        out[5u * i + p] = vec4<f32>(m * chiang_lobe(p, cell, root_sigma), 0.0);
     }
     out[5u * i + 4u] = vec4<f32>(chiang(r.tangent.xyz, r.to_light.xyz, r.to_eye.xyz, r.colour.rgb), 0.0);
 }

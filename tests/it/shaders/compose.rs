@@ -242,10 +242,16 @@ fn shared_visibility_expressions_are_written_once() {
             .collect::<Vec<_>>()
             .join("\n")
     };
-    // The hair BSDF's Gaussians and absorption (single and dual scattering) are exponentials that are not
-    // visibility.
+    // The hair BSDFs' Gaussians, longitudinal terms and absorption (Marschner, dual scattering, Chiang) are
+    // exponentials that are not visibility.
     let bsdf = |path: &str, part: &str| {
-        ["common/marschner.wgsl", "common/dual_scattering.wgsl"].contains(&path) && part == "exp("
+        [
+            "common/marschner.wgsl",
+            "common/dual_scattering.wgsl",
+            "common/chiang.wgsl",
+        ]
+        .contains(&path)
+            && part == "exp("
     };
     for part in ["log(1.0 -", "select(select(", "max(floor(", "exp(", "(b - a) * f"] {
         let copies: Vec<&str> = SOURCES

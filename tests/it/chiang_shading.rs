@@ -2,8 +2,7 @@
 //! it) against its CPU model (`hairlab::shading::chiang`), lobe by lobe, through a probe compute pass.
 
 use crate::common;
-use crate::shading::probe_rows;
-use glam::Vec3;
+use crate::shading::{ROW, assert_gpu_equals_cpu, probe_rows};
 use hairlab::gpu::Gpu;
 use hairlab::shading::{chiang, marschner};
 
@@ -17,13 +16,6 @@ const REL_TOL: f32 = 2e-5;
 
 /// Per probe: the four lobes of [`chiang::lobes_with`] and their sum, [`chiang::chiang`].
 const PROBE: &str = r#"
-struct Row {
-    tangent: vec4<f32>,
-    to_light: vec4<f32>,
-    to_eye: vec4<f32>,
-    colour: vec4<f32>,
-}
-alias Out = vec4<f32>;
 
 fn probe(i: u32, r: Row) {
     let sigma_a = marschner_absorption(r.colour.rgb);
@@ -52,43 +44,24 @@ fn wgsl_chiang_equals_the_cpu_model() {
     let packed: Vec<[f32; 4]> = rows.iter().flatten().map(|v| v.extend(0.0).to_array()).collect();
     let bytes = common::run_probe(
         &gpu,
-        ("common/chiang.wgsl", PROBE, "chiang.probe"),
+        ("common/chiang.wgsl", &format!("{ROW}{PROBE}"), "chiang.probe"),
         bytemuck::cast_slice(&packed),
         rows.len(),
         5 * 16,
     );
     let out: Vec<[f32; 20]> = bytemuck::pod_collect_to_vec(&bytes);
     let table = chiang::table();
-    let (mut worst_rel, mut worst_abs, mut peak) = (0.0f32, 0.0f32, 0.0f32);
-    for (row, o) in rows.iter().zip(&out) {
-        let [t, l, v, c] = *row;
+    let peak = assert_gpu_equals_cpu("chiang", &rows, (ABS_TOL, REL_TOL), |r| {
+        let [t, l, v, c] = rows[r];
         let lobes = chiang::lobes_with(table, t, l, v, marschner::absorption(c));
         let sum = chiang::chiang(t, l, v, c);
-        let expected: Vec<Vec3> = lobes.into_iter().chain([sum]).collect();
-        for (k, e) in expected.iter().enumerate() {
-            for ch in 0..3 {
-                let (g, e) = (o[4 * k + ch], e[ch]);
-                assert!(
-                    g.is_finite() && e.is_finite(),
-                    "row {row:?} value {k}.{ch}: GPU {g}, CPU {e}"
-                );
-                let d = (g - e).abs();
-                assert!(
-                    d <= ABS_TOL + REL_TOL * e.abs(),
-                    "row {row:?} value {k}.{ch}: GPU {g}, CPU {e}"
-                );
-                worst_abs = worst_abs.max(d);
-                if e.abs() > 1e-3 {
-                    worst_rel = worst_rel.max(d / e.abs());
-                }
-                peak = peak.max(e);
-            }
-        }
-    }
-    println!(
-        "chiang GPU = CPU: {} directions, max |Δ| = {worst_abs:.2e}, max relative (values > 1e-3) = \
-         {worst_rel:.2e}, largest value {peak:.3}",
-        rows.len()
-    );
+        let expected = lobes
+            .into_iter()
+            .chain([sum])
+            .flat_map(|e| e.to_array())
+            .collect();
+        let got = (0..5).flat_map(|k| out[r][4 * k..4 * k + 3].to_vec()).collect();
+        (got, expected)
+    });
     assert!(peak > 1.0, "no probe reached the TT peak: {peak}");
 }

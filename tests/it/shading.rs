@@ -21,9 +21,9 @@ use hairlab::visibility::count_from_visibility;
 const ABS_TOL: f32 = 2e-6;
 const REL_TOL: f32 = 1e-5;
 
-/// Per probe: the lobes of [`marschner::lobes`] with the absorption of the colour, the summed shading and the
-/// absorption itself.
-const PROBE: &str = r#"
+/// The probe rows of the shading models' tests ([`probe_rows`]): a tangent, the directions to the light and the
+/// eye, a colour (each a `vec4`, w unused); one `vec4` out per value.
+pub(crate) const ROW: &str = r#"
 struct Row {
     tangent: vec4<f32>,
     to_light: vec4<f32>,
@@ -31,6 +31,11 @@ struct Row {
     colour: vec4<f32>,
 }
 alias Out = vec4<f32>;
+"#;
+
+/// Per probe: the lobes of [`marschner::lobes`] with the absorption of the colour, the summed shading and the
+/// absorption itself.
+const PROBE: &str = r#"
 
 fn probe(i: u32, p: Row) {
     let sigma_a = marschner_absorption(p.colour.rgb);
@@ -47,7 +52,7 @@ fn probe(gpu: &Gpu, rows: &[[Vec3; 4]]) -> Vec<[f32; 16]> {
     let packed: Vec<[f32; 4]> = rows.iter().flatten().map(|v| v.extend(0.0).to_array()).collect();
     let bytes = common::run_probe(
         gpu,
-        ("common/marschner.wgsl", PROBE, "shading.probe"),
+        ("common/marschner.wgsl", &format!("{ROW}{PROBE}"), "shading.probe"),
         bytemuck::cast_slice(&packed),
         rows.len(),
         64,
@@ -96,33 +101,28 @@ pub(crate) fn probe_rows() -> Vec<[Vec3; 4]> {
     rows
 }
 
-#[test]
-fn wgsl_marschner_equals_the_cpu_model() {
-    let Some(gpu) = Gpu::for_tests() else { return };
-    let rows = probe_rows();
-    let out = probe(&gpu, &rows);
+/// Checks each probe row's GPU values against the CPU model's, `values(row)` giving both in the same order: both
+/// finite, `|gpu − cpu| ≤ abs_tol + rel_tol · |cpu|`. Prints the largest absolute and relative (values > 1e-3)
+/// differences under `name` and returns the largest CPU value.
+pub(crate) fn assert_gpu_equals_cpu(
+    name: &str,
+    rows: &[[Vec3; 4]],
+    (abs_tol, rel_tol): (f32, f32),
+    values: impl Fn(usize) -> (Vec<f32>, Vec<f32>),
+) -> f32 {
     let (mut worst_rel, mut worst_abs, mut peak) = (0.0f32, 0.0f32, 0.0f32);
-    for (row, o) in rows.iter().zip(&out) {
-        let [t, l, v, c] = *row;
-        let sigma = marschner::absorption(c);
-        let s = marschner::lobes(t, l, v, sigma);
-        let sum = marschner::marschner(t, l, v, c);
-        let expected = [
-            s.r, s.tt.x, s.tt.y, s.tt.z, s.trt.x, s.trt.y, s.trt.z, sum.x, sum.y, sum.z, sigma.x, sigma.y,
-            sigma.z,
-        ];
-        let got = [
-            o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8], o[9], o[10], o[12], o[13], o[14],
-        ];
-        for (k, (g, e)) in got.iter().zip(expected).enumerate() {
+    for (r, row) in rows.iter().enumerate() {
+        let (got, expected) = values(r);
+        assert_eq!(got.len(), expected.len());
+        for (k, (g, e)) in got.into_iter().zip(expected).enumerate() {
             assert!(
                 g.is_finite() && e.is_finite(),
-                "row {row:?} value {k}: GPU {g}, CPU {e}"
+                "{name}: row {row:?} value {k}: GPU {g}, CPU {e}"
             );
             let d = (g - e).abs();
             assert!(
-                d <= ABS_TOL + REL_TOL * e.abs(),
-                "row {row:?} value {k}: GPU {g}, CPU {e}"
+                d <= abs_tol + rel_tol * e.abs(),
+                "{name}: row {row:?} value {k}: GPU {g}, CPU {e}"
             );
             worst_abs = worst_abs.max(d);
             if e.abs() > 1e-3 {
@@ -132,10 +132,33 @@ fn wgsl_marschner_equals_the_cpu_model() {
         }
     }
     println!(
-        "marschner GPU = CPU: {} directions, max |Δ| = {worst_abs:.2e}, max relative (values > 1e-3) = \
+        "{name} GPU = CPU: {} directions, max |Δ| = {worst_abs:.2e}, max relative (values > 1e-3) = \
          {worst_rel:.2e}, largest value {peak:.3}",
         rows.len()
     );
+    peak
+}
+
+#[test]
+fn wgsl_marschner_equals_the_cpu_model() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let rows = probe_rows();
+    let out = probe(&gpu, &rows);
+    let peak = assert_gpu_equals_cpu("marschner", &rows, (ABS_TOL, REL_TOL), |r| {
+        let [t, l, v, c] = rows[r];
+        let o = &out[r];
+        let sigma = marschner::absorption(c);
+        let s = marschner::lobes(t, l, v, sigma);
+        let sum = marschner::marschner(t, l, v, c);
+        let expected = vec![
+            s.r, s.tt.x, s.tt.y, s.tt.z, s.trt.x, s.trt.y, s.trt.z, sum.x, sum.y, sum.z, sigma.x, sigma.y,
+            sigma.z,
+        ];
+        let got = vec![
+            o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8], o[9], o[10], o[12], o[13], o[14],
+        ];
+        (got, expected)
+    });
     assert!(peak > 1.0, "no probe reached the TT peak: {peak}");
 }
 

@@ -25,8 +25,9 @@
 //!   azimuthal roughness `β_n` = `marschner::BETA_N`, tilt `marschner::ALPHA_R`, index `marschner::ETA`, and
 //!   `σ_a` from the colour as `marschner::absorption` takes it.
 //!
-//! Accuracy of the table against the `h` integral taken at each direction (`tests::table_matches_the_integral`):
-//! measured in the test's output and bounded there.
+//! Accuracy of the table against the `h` integral taken at each direction (`tests::table_matches_the_integral`,
+//! 400 random directions and colours): mean 0.56 %, within 3 % + 1e-3 everywhere (the largest relative error,
+//! 5.8 %, on a TRT tail below 2e-3). The eye pass costs 1.13–1.31× Marschner's (docs/truth.md).
 
 use super::{fibre_transport, marschner};
 use glam::Vec3;

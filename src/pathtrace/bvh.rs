@@ -6,7 +6,7 @@
 //! boxes along its length (its one box is mostly empty), and each leaf keeps its primitives with their segments'
 //! axes side by side so the cheap line-distance test before the exact solve reads no other memory. A query
 //! remembers the last few primitives it tested (a segment's pieces sit in several leaves) and skips the
-//! primitive its ray leaves.
+//! primitive its ray leaves; a shadow query first tests the primitive that last blocked one on its thread.
 //! Written in-tree rather than taken from a crate: the primitives are our own round fibres (`fibre.rs`) and we
 //! need every hit along a ray besides the first.
 
@@ -30,6 +30,12 @@ const STACK: usize = 64;
 pub const NO_PRIMITIVE: u32 = u32::MAX;
 /// Traversal remembers this many primitives last tested, not to test a segment's pieces' leaves again.
 const RECENT: usize = 4;
+
+thread_local! {
+    /// The primitive that last blocked a shadow ray on this thread ([`Bvh::any_hit_from`]); an index beyond the
+    /// hierarchy's primitives (another hierarchy's) is not tested.
+    static LAST_OCCLUDER: std::cell::Cell<u32> = const { std::cell::Cell::new(NO_PRIMITIVE) };
+}
 
 #[derive(Clone, Copy, Debug)]
 struct Node {
@@ -533,11 +539,23 @@ impl Bvh {
         self.any_hit_from(ray, t_max, NO_PRIMITIVE)
     }
 
-    /// [`Self::any_hit`] for a ray leaving primitive `from` (as [`Self::closest_hit_from`]).
+    /// [`Self::any_hit`] for a ray leaving primitive `from` (as [`Self::closest_hit_from`]). The thread's last
+    /// occluder is tested first: shadow rays from nearby points (a pixel's samples, neighbouring pixels) are
+    /// mostly blocked by the same fibre. The answer is the walk's, which would test that primitive too.
     pub fn any_hit_from(&self, ray: &Ray, t_max: f32, from: u32) -> bool {
+        let last = LAST_OCCLUDER.get();
+        if last != from
+            && (last as usize) < self.segments.len() + self.triangles.len()
+            && self.intersect(last, ray, t_max).is_some()
+        {
+            return true;
+        }
         let mut hit = false;
         self.traverse(ray, t_max, from, |i, t_max| {
             hit = self.intersect(i, ray, t_max).is_some();
+            if hit {
+                LAST_OCCLUDER.set(i);
+            }
             (!hit).then_some(t_max)
         });
         hit

@@ -246,7 +246,13 @@ impl Segment {
                 }
             }
         }
+        // The sphere at `b` is the next segment's sphere at its `a`, which that segment tests: where the strand
+        // runs on no thinner, what it owns beyond `b` is that segment's sphere or inside its solid.
+        let next_covers_b = self.next.is_some_and(|(_, r)| r >= self.rb);
         for (c, r, beyond) in [(a, ra, -1.0), (b, rb, 1.0)] {
+            if beyond > 0.0 && next_covers_b {
+                continue;
+            }
             let q = o - c;
             let hb = q.dot(d);
             for t in roots(d.dot(d), hb, q.dot(q) - r * r) {

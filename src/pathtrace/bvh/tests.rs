@@ -332,3 +332,43 @@ fn a_ray_leaving_a_primitive_meets_what_the_full_queries_meet() {
         "{leaving} {skipped} {met} {meshes}"
     );
 }
+
+/// The shadow query tests the thread's last occluder first: whatever that holds (a primitive that blocks the
+/// ray, one that does not, the primitive the ray leaves, an index beyond the hierarchy), `any_hit_from` answers
+/// as the loop over every primitive does, and the remembered primitive answers some of the queries alone.
+#[test]
+fn the_last_occluder_changes_no_shadow_answer() {
+    let mut rng = SplitMix64::new(23);
+    let triangles = random_triangles(&mut rng, 200);
+    let bvh = Bvh::with_triangles(random_scene(&mut rng, 2000), triangles);
+    let primitives = (bvh.segments.len() + bvh.triangle_count()) as u32;
+    let (mut blocked, mut answered_by_last) = (0, 0);
+    for k in 0..4000u32 {
+        let Some(hit) = bvh.closest_hit(&random_ray(&mut rng), f32::INFINITY) else {
+            continue;
+        };
+        let w = Vec3::new(rng.normal(), rng.normal(), rng.normal()).normalize();
+        let origin = hit.point + hit.offset() * hit.normal.dot(w).signum() * hit.normal;
+        let ray = Ray::new(origin, w);
+        let t_max = rng.range(0.05, 6.0);
+        let expected = brute_force(&bvh, &ray, t_max)
+            .iter()
+            .any(|h| h.primitive != hit.primitive || !bvh.convex(hit.primitive));
+        let last = match k % 4 {
+            0 => brute_force(&bvh, &ray, t_max).first().map_or(0, |h| h.primitive),
+            1 => rng.range(0.0, primitives as f32) as u32,
+            2 => hit.primitive,
+            _ => primitives + k,
+        };
+        LAST_OCCLUDER.set(last);
+        let got = bvh.any_hit_from(&ray, t_max, hit.primitive);
+        assert_eq!(got, expected, "{ray:?} leaving {hit:?}, last occluder {last}");
+        blocked += got as usize;
+        answered_by_last += (got && LAST_OCCLUDER.get() == last && k % 4 == 0) as usize;
+    }
+    eprintln!("{blocked} shadow rays blocked, {answered_by_last} by the remembered primitive alone");
+    assert!(
+        blocked > 300 && answered_by_last > 100,
+        "{blocked} {answered_by_last}"
+    );
+}

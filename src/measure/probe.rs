@@ -17,7 +17,7 @@ use crate::progress::{Outcome, Progress};
 use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::shading::HairModel;
-use crate::shading::mesh_bounce::spread;
+use crate::shading::mesh_bounce::{Probe, spread};
 
 /// Height bands [`ProbeCheck::bands`] splits the points into.
 pub const BANDS: usize = 6;
@@ -137,7 +137,10 @@ pub fn check(
     let grid = raster_shading(&s, scene, &scene.bounds())
         .bounce
         .ok_or_else(|| anyhow::anyhow!("the fibres model made no probe"))?;
-    let at = spread(&scene.strands.points);
+    let at = match s.render.probe {
+        Probe::Voxels => spread(&scene.strands.points),
+        Probe::Traced => crate::pathtrace::probe::points_of(&path.bvh, &scene.strands.points),
+    };
     anyhow::ensure!(
         !at.is_empty(),
         "the scene has no strands: the probe has no points"

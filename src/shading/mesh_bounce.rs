@@ -95,7 +95,7 @@ pub struct Arrival {
 }
 
 /// The `k`-th of `n` directions of a Fibonacci sphere.
-fn fibonacci(k: usize, n: usize) -> Vec3 {
+pub(crate) fn fibonacci(k: usize, n: usize) -> Vec3 {
     let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
     let z = 1.0 - (2.0 * k as f32 + 1.0) / n as f32;
     let r = (1.0 - z * z).max(0.0).sqrt();
@@ -114,7 +114,12 @@ fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
 
 /// Up to [`POINTS`] of `points`, evenly spaced through the list.
 pub fn spread(points: &[Vec3]) -> Vec<Vec3> {
-    let n = points.len().min(POINTS);
+    spread_over(points, POINTS)
+}
+
+/// Up to `most` of `points`, evenly spaced through the list.
+pub fn spread_over(points: &[Vec3], most: usize) -> Vec<Vec3> {
+    let n = points.len().min(most);
     (0..n).map(|k| points[k * points.len() / n]).collect()
 }
 

@@ -51,10 +51,8 @@ pub fn points_of(bvh: &Bvh, points: &[Vec3]) -> Vec<Vec3> {
             })
         })
         .collect();
-    match open.is_empty() {
-        true => spread_over(&candidates, mesh_bounce::POINTS),
-        false => spread_over(&open, mesh_bounce::POINTS),
-    }
+    let kept = if open.is_empty() { &candidates } else { &open };
+    spread_over(kept, mesh_bounce::POINTS)
 }
 
 /// The probe of the fibres `bvh` holds (with the meshes) under `light`, the fibres' BSDF `fibre`, at up to

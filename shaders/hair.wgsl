@@ -99,7 +99,7 @@ fn shade_hair(in: VertexOut) -> ShadedHair {
     }
     let dark = guard_darkening(in.base_height, frame.guard_shell_height, frame.guard_sigma);
     var out: ShadedHair;
-    out.color = (lit + hair_ambient_light(in.color, world)) * dark;
+    out.color = (lit + hair_ambient_light(in.color, world, t, to_eye)) * dark;
     out.alpha = in.alpha;
     out.depth = eye_depth(world);
     out.segment = in.segment;

@@ -6,14 +6,16 @@
 #include "common/fibre_transport.wgsl"
 
 // `chiang::table`, a 3D texture of PHI x COS x LAYERS floats (x the azimuth, y the inclination; layers R, TT per
-// absorption node, TRT per absorption node, the residual with the absorption along x, the header).
+// absorption node, TRT per absorption node, the residual with the absorption along x, the response to spread
+// light K_0, K_1, K_2 with sin theta_o along x and the absorption along y, the header).
 @group(0) @binding(5) var chiang_table: texture_3d<f32>;
 
-// `chiang::PHI_NODES`, `COS_NODES`, `SIGMA_NODES`, `HEADER_LAYER` (a test compares them).
+// `chiang::PHI_NODES`, `COS_NODES`, `SIGMA_NODES`, `RESPONSE_LAYER`, `HEADER_LAYER` (a test compares them).
 const CHIANG_PHI_NODES: u32 = 65u;
 const CHIANG_COS_NODES: u32 = 17u;
 const CHIANG_SIGMA_NODES: u32 = 17u;
-const CHIANG_HEADER_LAYER: u32 = 36u;
+const CHIANG_RESPONSE_LAYER: u32 = 36u;
+const CHIANG_HEADER_LAYER: u32 = 39u;
 
 fn chiang_texel(x: u32, y: u32, layer: u32) -> f32 {
     return textureLoad(chiang_table, vec3<u32>(x, y, layer), 0).x;
@@ -152,4 +154,27 @@ fn chiang_absorbing(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, 
 // `chiang::chiang`: the fibre coloured `colour`.
 fn chiang(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, colour: vec3<f32>) -> vec3<f32> {
     return chiang_absorbing(tangent, to_light, to_eye, marschner_absorption(colour));
+}
+
+// `chiang::response_lookup`: K_0, K_1, K_2 at sin theta_o `sin_o` for the channels' sqrt(sigma_a), bilinear.
+fn chiang_response(sin_o: f32, root_sigma: vec3<f32>) -> array<vec3<f32>, 3> {
+    let ci = fibre_cell((clamp(sin_o, -1.0, 1.0) + 1.0) * 0.5 * f32(CHIANG_PHI_NODES - 1u), CHIANG_PHI_NODES - 1u);
+    let i = u32(ci.x);
+    let scale = f32(CHIANG_SIGMA_NODES - 1u) / FIBRE_ROOT_SIGMA_MAX;
+    var out: array<vec3<f32>, 3>;
+    for (var l = 0u; l < 3u; l++) {
+        let layer = CHIANG_RESPONSE_LAYER + l;
+        for (var ch = 0u; ch < 3u; ch++) {
+            let cj = fibre_cell(root_sigma[ch] * scale, CHIANG_SIGMA_NODES - 1u);
+            let j = u32(cj.x);
+            var plane: vec2<f32>;
+            for (var dj = 0u; dj < 2u; dj++) {
+                let a = chiang_texel(i, j + dj, layer);
+                let b = chiang_texel(i + 1u, j + dj, layer);
+                plane[dj] = a + (b - a) * ci.y;
+            }
+            out[l][ch] = plane[0] + (plane[1] - plane[0]) * cj.y;
+        }
+    }
+    return out;
 }

@@ -18,6 +18,18 @@ fn probe_holds_scattering() -> bool {
     return frame.hair_model == HAIR_MODEL_FIBRES && frame.bounce_min.w > 0.5;
 }
 
+// The single-scattering lobes of the shading model per unit radiance arriving from `to_light` (dual scattering's
+// are Marschner's): what `shading::strand_direct` shades the direct light with under the traced probe.
+fn traced_lobes(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, colour: vec3<f32>) -> vec3<f32> {
+    if frame.shading_model == SHADING_CHIANG {
+        return chiang(tangent, to_light, to_eye, colour);
+    }
+    if frame.shading_model != SHADING_KAJIYA_KAY {
+        return marschner(tangent, to_light, to_eye, colour);
+    }
+    return kajiya_kay(tangent, to_light, to_eye, colour);
+}
+
 // Radiance towards `to_eye` per unit radiance arriving from `to_light`, before shadowing (dual scattering: with
 // nothing in front, V = 1 and no strand).
 fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, colour: vec3<f32>) -> vec3<f32> {
@@ -38,8 +50,8 @@ fn strand_shading(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, co
 // what arrives: V for absorbers; under fibres Marschner and Chiang shade V and add the global forward scattering,
 // Kajiya-Kay
 // takes max(V, T_f); lit there by the irradiance pi x the light). Under the traced probe (probe_holds_scattering)
-// the probe holds the fibres' scattered light, so every model shades the direct V alone, dual scattering by
-// Marschner's lobes.
+// the probe holds the fibres' scattered light but for the cone about the light, so every model shades the direct
+// V (dual scattering by Marschner's lobes) and adds the global forward-scattered term from the count.
 fn strand_lit(
     tangent: vec3<f32>,
     to_light: vec3<f32>,
@@ -49,13 +61,11 @@ fn strand_lit(
     count: f32,
 ) -> vec3<f32> {
     if probe_holds_scattering() {
-        var direct = kajiya_kay(tangent, to_light, to_eye, colour);
-        if frame.shading_model == SHADING_CHIANG {
-            direct = chiang(tangent, to_light, to_eye, colour);
-        } else if frame.shading_model != SHADING_KAJIYA_KAY {
-            direct = marschner(tangent, to_light, to_eye, colour);
-        }
-        return direct * clamp(visibility, 0.0, 1.0) * FIBRE_IRRADIANCE;
+        let v = clamp(visibility, 0.0, 1.0);
+        let forward = dual_scattering_forward(
+            dual_scattering_terms(HAIR_MODEL_FIBRES, tangent, to_light, to_eye, colour, v, count),
+        );
+        return traced_lobes(tangent, to_light, to_eye, colour) * v * FIBRE_IRRADIANCE + forward * FIBRE_IRRADIANCE;
     }
     if frame.shading_model == SHADING_DUAL_SCATTERING {
         let f = dual_scattering(frame.hair_model, tangent, to_light, to_eye, colour, visibility, count);

@@ -45,8 +45,8 @@ pub enum MeasureMode {
     /// d_f, d_b; `fibre_constants.csv` and `.json`.
     Fibres(super::measure_fibres::MeasureFibresArgs),
     /// The fibres model's light probe against the path tracer's mean radiance arriving at the probe's own
-    /// points (every event, the light itself left out): ratios over all points, per channel and per height band;
-    /// `probe_points.csv`.
+    /// points (every event, the light itself left out; for the traced probe none from the cone about the
+    /// light): ratios over all points, per channel and per height band; `probe_points.csv`.
     Probe(super::measure_probe::MeasureProbeArgs),
 }
 

@@ -2,17 +2,20 @@
 //! model", item 5) against the path tracer's own answer at the probe's points. At each strand point the probe
 //! averages over, the path tracer gathers the mean radiance arriving over the sphere (`pathtrace::integrator::
 //! arriving`: every event of the truth along each direction, the light itself left out as the probe leaves it
-//! out); beside it stands what the eye pass reads there, the probe's lattice ([`Grid::at`]). The gather runs in
-//! two halves of the directions, each with its own random stream, so their ratio shows the gather's own noise.
-//! What the gather holds that the probe leaves to other terms: the light the fibres between the point and the
-//! light scatter forward, which the eye pass shades as `T_f` (dual scattering's global term).
+//! out; for the traced probe the directions outside the cone about the light, `pathtrace::probe::light_at`, as
+//! it bakes); beside it stands what the eye pass reads there, the probe's lattice's mean
+//! (`mesh_bounce::Grid::at`). The gather runs in two halves of the directions, each with its own random
+//! stream, so their ratio shows the gather's own noise. What the gather holds that the voxel probe leaves to
+//! other terms: the light the fibres between the point and the light scatter forward, which the eye pass shades
+//! as `T_f` (dual scattering's global term).
 
 use anyhow::Result;
 use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::path_scene::{PathScene, raster_shading};
-use crate::pathtrace::integrator::arriving;
+use crate::pathtrace::integrator::{arriving, arriving_mean};
+use crate::pathtrace::probe::light_at;
 use crate::progress::{Outcome, Progress};
 use crate::scene::Scene;
 use crate::settings::Settings;
@@ -134,9 +137,17 @@ pub fn check(
     let mut s = settings.clone();
     s.render.hair_model = HairModel::Fibres;
     let path = PathScene::new(&s, scene)?;
-    let grid = raster_shading(&s, scene, &scene.bounds())
+    let raster = raster_shading(&s, scene, &scene.bounds());
+    let grid = raster
         .bounce
         .ok_or_else(|| anyhow::anyhow!("the fibres model made no probe"))?;
+    let gather = |p: Vec3, n: u32, stream: u64| match s.render.probe {
+        Probe::Voxels => arriving_mean(arriving(&path.bvh, &path.light, &path.settings, p, n, stream)),
+        Probe::Traced => {
+            let to_light = raster.light.toward(p).0;
+            light_at(&path.bvh, &path.light, to_light, &path.settings, p, n, stream).mean()
+        }
+    };
     let at = match s.render.probe {
         Probe::Voxels => spread(&scene.strands.points),
         Probe::Traced => crate::pathtrace::probe::points_of(&path.bvh, &scene.strands.points),
@@ -154,17 +165,10 @@ pub fn check(
             .enumerate()
             .map(|(k, &p)| {
                 let stream = ((c * CHUNK + k) as u64) << 1;
-                let a = arriving(&path.bvh, &path.light, &path.settings, p, half, stream);
-                let b = arriving(
-                    &path.bvh,
-                    &path.light,
-                    &path.settings,
-                    p,
-                    directions - half,
-                    stream | 1,
-                );
+                let a = gather(p, half, stream);
+                let b = gather(p, directions - half, stream | 1);
                 let gather = (a * half as f32 + b * (directions - half) as f32) / directions as f32;
-                let probe = grid.at(p);
+                let probe = grid.at(p).mean();
                 let (la, lb) = (luminance(a), luminance(b));
                 let point = ProbePoint {
                     x: p.x,

@@ -114,19 +114,15 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
             density: &density,
             sigma_a: crate::shading::marschner::absorption(Vec3::from(settings.render.hair_color)),
         };
-        std::sync::Arc::new(mesh_bounce::Grid::measure(
-            &MeshBvh::new(triangles),
-            &hair,
-            &strands.points,
-            |p| {
-                let (to_light, distance) = light.toward(p);
-                mesh_bounce::Arrival {
-                    to_light,
-                    distance,
-                    radiance: light.radiance_at(p),
-                }
-            },
-        ))
+        let grid = mesh_bounce::Grid::measure(&MeshBvh::new(triangles), &hair, &strands.points, |p| {
+            let (to_light, distance) = light.toward(p);
+            mesh_bounce::Arrival {
+                to_light,
+                distance,
+                radiance: light.radiance_at(p),
+            }
+        });
+        std::sync::Arc::new(crate::shading::probe_light::isotropic(&grid))
     });
     RasterShading {
         model: settings.render.shading,

@@ -122,9 +122,10 @@ pub struct RasterShading {
     pub hair_alpha: f32,
     /// `RenderSettings::ambient_scale`: the scale of the ambient terms.
     pub ambient: f32,
-    /// Under the fibres model, the probe of the light the meshes bounce onto the hair
-    /// (`shading::mesh_bounce::Grid`, `frame.bounce_*`): the hair adds `hair_response` times its value there.
-    pub bounce: Option<Arc<crate::shading::mesh_bounce::Grid>>,
+    /// Under the fibres model, the probe of the light the meshes bounce (and, traced, the fibres scatter) onto
+    /// the hair (`shading::mesh_bounce::Grid`, `frame.bounce_*`): the hair adds its response to the light there
+    /// (`shading::probe_light::probe_response`).
+    pub bounce: Option<Arc<crate::shading::mesh_bounce::Grid<crate::shading::probe_light::ProbeLight>>>,
     pub light: RasterLight,
     /// Whether the raster's light beyond one event is kept: its stand-ins for the meshes' bounce and the
     /// fibres' scattering (the ambient terms, the probe, the forward and multiple-scattering terms). Without
@@ -164,7 +165,14 @@ impl RasterShading {
                     count,
                 );
                 let bounce = self.bounce.as_ref().map_or(Vec3::ZERO, |g| {
-                    crate::shading::mesh_bounce::hair_response(self.colour) * g.at(hit.point)
+                    crate::shading::probe_light::probe_response(
+                        g,
+                        self.probe,
+                        hit.point,
+                        hit.tangent,
+                        to_eye,
+                        self.colour,
+                    )
                 });
                 lit * light + self.colour * (HAIR_AMBIENT * self.ambient) + bounce
             }
@@ -211,8 +219,8 @@ pub enum FirstHit {
     /// The raster's shading at the first hit, and nothing after it.
     Raster(RasterShading),
     /// Chiang et al.'s direct light at the first hit of a fibre, and the light arriving from elsewhere scattered
-    /// alike towards every direction with this albedo: the response the fibres model gives its probe's mean
-    /// radiance (`shading::mesh_bounce::hair_response`), lit by the truth's own light field.
+    /// alike towards every direction with this albedo: the response the fibres model gives its voxel probe's
+    /// mean radiance (`shading::mesh_bounce::hair_response`), lit by the truth's own light field.
     Isotropic(Vec3),
 }
 

@@ -155,7 +155,8 @@ impl Rays {
     }
 }
 
-/// Radiance along `ray`.
+/// The radiance arriving at `ray`'s origin from along `ray.dir`: every effect of `s` (the light itself, a delta,
+/// is not met).
 fn radiance(bvh: &Bvh, light: &impl Lighting, s: &TraceSettings, mut ray: Ray, rng: &mut SplitMix64) -> Vec3 {
     let (mut sum, mut beta) = (Vec3::ZERO, Vec3::ONE);
     // The primitive the ray leaves, which it cannot meet again.
@@ -217,24 +218,29 @@ fn radiance(bvh: &Bvh, light: &impl Lighting, s: &TraceSettings, mut ray: Ray, r
     sum
 }
 
-/// The mean radiance arriving at `p` from `directions` directions uniform over the sphere (every effect of
-/// `s` along each; the light itself, a delta, is not among them): what the fibres model's probe
-/// (`shading::mesh_bounce`) estimates at its points. A point inside a fibre sees out of it (back faces culled).
-pub fn arriving(
-    bvh: &Bvh,
-    light: &impl Lighting,
-    s: &TraceSettings,
+/// The radiance arriving at `p` from `directions` directions uniform over the sphere (every effect of `s` along
+/// each; the light itself, a delta, is not among them), each with its direction: what the fibres model's probe
+/// (`shading::mesh_bounce`, `pathtrace::probe`) estimates at its points. A point inside a fibre sees out of it
+/// (back faces culled). `stream` picks the directions and their paths.
+pub fn arriving<'a>(
+    bvh: &'a Bvh,
+    light: &'a impl Lighting,
+    s: &'a TraceSettings,
     p: Vec3,
     directions: u32,
     stream: u64,
-) -> Vec3 {
-    let mut sum = Vec3::ZERO;
-    for k in 0..directions {
+) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
+    (0..directions).map(move |k| {
         let mut rng = SplitMix64::stream(s.seed, stream << 32 ^ k as u64);
         let dir = uniform_sphere([rng.unit(), rng.unit()]);
-        sum += radiance(bvh, light, s, Ray::new(p, dir), &mut rng);
-    }
-    sum / directions.max(1) as f32
+        (dir, radiance(bvh, light, s, Ray::new(p, dir), &mut rng))
+    })
+}
+
+/// The mean of [`arriving`]'s radiances.
+pub fn arriving_mean(directions: impl Iterator<Item = (Vec3, Vec3)>) -> Vec3 {
+    let (sum, n) = directions.fold((Vec3::ZERO, 0u32), |(sum, n), (_, l)| (sum + l, n + 1));
+    sum / n.max(1) as f32
 }
 
 /// The image, row after row, `width × height` linear RGB.
@@ -417,13 +423,16 @@ mod tests {
             irradiance: Vec3::splat(std::f32::consts::PI),
         });
         let s = settings(11);
-        let above = arriving(&bvh, &light, &s, Vec3::Z, 80_000, 3);
+        let above = arriving_mean(arriving(&bvh, &light, &s, Vec3::Z, 80_000, 3));
         let expected = albedo / 6.0;
         assert!(
             ((above - expected) / expected).abs().max_element() < 0.04,
             "{above} vs {expected}"
         );
-        assert_eq!(arriving(&bvh, &light, &s, -Vec3::Z, 2_000, 3), Vec3::ZERO);
+        assert_eq!(
+            arriving_mean(arriving(&bvh, &light, &s, -Vec3::Z, 2_000, 3)),
+            Vec3::ZERO
+        );
     }
 
     /// A lone fibre along x through the view's centre, lit from the camera: pixels whose four corner rays all

@@ -241,7 +241,7 @@ impl Renderer {
             let holds_scattering = render.probe == crate::shading::mesh_bounce::Probe::Traced;
             u.bounce_min = grid.min.extend(f32::from(u8::from(holds_scattering))).to_array();
             u.bounce_max = grid.max.extend(0.0).to_array();
-            u.bounce_grid = grid.packed();
+            u.bounce_grid = crate::shading::probe_light::packed(&grid);
         }
         if let Some(f) = self.fur.as_ref().filter(|f| f.settings.mode.strands()) {
             u.guard_sigma = f.settings.guard_sigma();

@@ -23,6 +23,7 @@ use crate::pathtrace::triangle::Triangle;
 use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
 use crate::shading::hair_density::HairDensity;
 use crate::shading::mesh_bounce;
+use crate::shading::probe_light::ProbeLight;
 use glam::{Affine3A, Vec3};
 use wgpu::util::DeviceExt;
 
@@ -81,7 +82,7 @@ pub struct SceneGpu {
     /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its last answer with
     /// the light and generation it was found for.
     bounce_triangles: Vec<BounceTriangle>,
-    bounce_cache: std::sync::Mutex<Option<(BounceKey, mesh_bounce::Grid)>>,
+    bounce_cache: std::sync::Mutex<Option<(BounceKey, mesh_bounce::Grid<ProbeLight>)>>,
 }
 
 impl SceneGpu {
@@ -398,7 +399,7 @@ impl SceneGpu {
         &self,
         u: &crate::render::uniforms::FrameUniforms,
         probe: mesh_bounce::Probe,
-    ) -> mesh_bounce::Grid {
+    ) -> mesh_bounce::Grid<ProbeLight> {
         let key: BounceKey = (
             self.generation,
             [
@@ -449,7 +450,8 @@ impl SceneGpu {
             density: &density,
             sigma_a: crate::shading::marschner::absorption(Vec3::from(u.hair_color)),
         };
-        let v = mesh_bounce::Grid::measure(&meshes, &hair, &points, |p| u.light_arrival(p));
+        let grid = mesh_bounce::Grid::measure(&meshes, &hair, &points, |p| u.light_arrival(p));
+        let v = crate::shading::probe_light::isotropic(&grid);
         *cache = Some((key, v));
         v
     }

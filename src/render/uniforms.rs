@@ -77,14 +77,15 @@ pub struct FrameUniforms {
     /// Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
     /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz; `bounce_min.w` 1 where the probe
     /// holds the light the fibres scatter, `render.probe = traced`, else 0, `bounce_max.w` unused) and its
-    /// radiances, one node a vector (rgb, w unused); zeros under the absorber model.
+    /// nodes' light, four vectors a node ([`crate::shading::probe_light::packed`]); zeros under the absorber
+    /// model.
     pub bounce_min: [f32; 4],
     pub bounce_max: [f32; 4],
     pub bounce_grid: [[f32; 4]; BOUNCE_VECTORS],
 }
 
 /// Vectors of [`FrameUniforms::bounce_grid`].
-pub const BOUNCE_VECTORS: usize = crate::shading::mesh_bounce::NODES.pow(3);
+pub const BOUNCE_VECTORS: usize = crate::shading::probe_light::PACKED;
 
 /// Field names and byte offsets, in declaration order, for the layout test.
 pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {

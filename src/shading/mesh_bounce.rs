@@ -40,8 +40,9 @@ pub enum Probe {
     /// the fibres' scattering ([`Grid::measure`]).
     #[default]
     Voxels,
-    /// The path tracer's gather at the same points (`pathtrace::probe`): the mean radiance arriving over the
-    /// sphere through the fibres themselves, every scattering event, as ray-traced irradiance probes are baked.
+    /// The path tracer's gather at the points of the hair's skin (`pathtrace::probe`): the light arriving through
+    /// the fibres themselves, every scattering event, as ray-traced irradiance probes are baked, kept with the
+    /// directions it comes from (`probe_light`).
     Traced,
 }
 
@@ -62,7 +63,9 @@ impl Probe {
             Probe::Voxels => {
                 "the meshes' light through a voxel density of the strands, the fibres' scattering a fixed point"
             }
-            Probe::Traced => "the path tracer's mean radiance arriving at the probe's points (slower, CPU)",
+            Probe::Traced => {
+                "the path tracer's light arriving at the hair's skin, by its directions (slower, CPU)"
+            }
         }
     }
 }
@@ -191,11 +194,33 @@ fn reaching(meshes: &impl MeshRays, hair: &Hair, p: Vec3, light: &impl Fn(Vec3) 
 /// ([`Grid::at`]; the eye pass's `bounce_at` in `shaders/common/mesh_bounce.wgsl`, which `frame.bounce_*`
 /// carries).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Grid {
+pub struct Grid<T = Vec3> {
     pub min: Vec3,
     pub max: Vec3,
     /// Node `(x, y, z)` at `(z · NODES + y) · NODES + x`.
-    pub values: [Vec3; NODES * NODES * NODES],
+    pub values: [T; NODES * NODES * NODES],
+}
+
+/// What a lattice node holds: a value that averages and interpolates linearly (a radiance, or the traced
+/// probe's light, `probe_light::ProbeLight`).
+pub trait Node:
+    Copy
+    + Default
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<f32, Output = Self>
+    + std::ops::Div<f32, Output = Self>
+{
+}
+
+impl<T> Node for T where
+    T: Copy
+        + Default
+        + std::ops::Add<Output = T>
+        + std::ops::Sub<Output = T>
+        + std::ops::Mul<f32, Output = T>
+        + std::ops::Div<f32, Output = T>
+{
 }
 
 impl Grid {
@@ -223,15 +248,17 @@ impl Grid {
         });
         Grid::from_points(min, max, &samples, &arriving)
     }
+}
 
+impl<T: Node> Grid<T> {
     /// The lattice over the bounds of `points` (the strands') whose nodes hold the mean of the `values` at
     /// `at` nearest to them ([`Grid::from_points`]); zero with no points.
-    pub fn over(points: &[Vec3], at: &[Vec3], values: &[Vec3]) -> Grid {
+    pub fn over(points: &[Vec3], at: &[Vec3], values: &[T]) -> Grid<T> {
         if at.is_empty() {
             return Grid {
                 min: Vec3::ZERO,
                 max: Vec3::ONE,
-                values: [Vec3::ZERO; NODES * NODES * NODES],
+                values: [T::default(); NODES * NODES * NODES],
             };
         }
         let (min, max) = bounds(points);
@@ -242,16 +269,16 @@ impl Grid {
     /// a node no point is nearest to (inside the head, beyond a lock's edge) takes the mean of its filled
     /// neighbours along the axes, filled outwards from the points (zero where there are none), so that no
     /// value reaches a node from far away.
-    fn from_points(min: Vec3, max: Vec3, points: &[Vec3], values: &[Vec3]) -> Grid {
+    fn from_points(min: Vec3, max: Vec3, points: &[Vec3], values: &[T]) -> Grid<T> {
         let mut grid = Grid {
             min,
             max,
-            values: [Vec3::ZERO; NODES * NODES * NODES],
+            values: [T::default(); NODES * NODES * NODES],
         };
-        let mut sums = [(Vec3::ZERO, 0u32); NODES * NODES * NODES];
+        let mut sums = [(T::default(), 0u32); NODES * NODES * NODES];
         for (&p, &v) in points.iter().zip(values) {
             let node = grid.nearest_node(p);
-            sums[node].0 += v;
+            sums[node].0 = sums[node].0 + v;
             sums[node].1 += 1;
         }
         let mut filled: Vec<bool> = sums.iter().map(|s| s.1 > 0).collect();
@@ -267,7 +294,7 @@ impl Grid {
                     continue;
                 }
                 let (x, y, z) = (n % NODES, n / NODES % NODES, n / (NODES * NODES));
-                let (mut sum, mut count) = (Vec3::ZERO, 0);
+                let (mut sum, mut count) = (T::default(), 0);
                 for (axis, at) in [x, y, z].into_iter().enumerate() {
                     let stride = NODES.pow(axis as u32);
                     for m in [(at > 0).then(|| n - stride), (at + 1 < NODES).then(|| n + stride)]
@@ -275,7 +302,7 @@ impl Grid {
                         .flatten()
                     {
                         if before[m] {
-                            sum += grid.values[m];
+                            sum = sum + grid.values[m];
                             count += 1;
                         }
                     }
@@ -300,14 +327,14 @@ impl Grid {
         ((t.z as usize * NODES) + t.y as usize) * NODES + t.x as usize
     }
 
-    /// The radiance at `p`: trilinear between the nodes, the edge held beyond the bounds.
-    pub fn at(&self, p: Vec3) -> Vec3 {
+    /// The value at `p`: trilinear between the nodes, the edge held beyond the bounds.
+    pub fn at(&self, p: Vec3) -> T {
         let t = self.lattice(p);
         let cell = |x: f32| (x.floor() as usize).min(NODES - 2);
         let (i, j, k) = (cell(t.x), cell(t.y), cell(t.z));
         let f = t - Vec3::new(i as f32, j as f32, k as f32);
         let v = |x: usize, y: usize, z: usize| self.values[(z * NODES + y) * NODES + x];
-        let lerp = |a: Vec3, b: Vec3, w: f32| a + (b - a) * w;
+        let lerp = |a: T, b: T, w: f32| a + (b - a) * w;
         let plane = |z: usize| {
             lerp(
                 lerp(v(i, j, z), v(i + 1, j, z), f.x),
@@ -316,11 +343,6 @@ impl Grid {
             )
         };
         lerp(plane(k), plane(k + 1), f.z)
-    }
-
-    /// The grid as the frame uniforms carry it: one node a vector (rgb, w unused).
-    pub fn packed(&self) -> [[f32; 4]; NODES * NODES * NODES] {
-        std::array::from_fn(|n| self.values[n].extend(0.0).to_array())
     }
 }
 
@@ -439,7 +461,6 @@ mod tests {
             ramp.at(Vec3::new(7.0, 0.0, 2.0)),
             Vec3::new(last, 1.0, 2.0 * last)
         );
-        assert_eq!(ramp.packed()[1], [1.0, 1.0, 2.0, 0.0]);
     }
 
     /// A floor under a layer of hair, lit from straight above: the floor's light comes through the layer as
@@ -535,7 +556,7 @@ mod tests {
             let at = Vec3::new(x as f32, 2.0, 5.0) / (NODES - 1) as f32;
             assert_eq!(grid.at(at), Vec3::splat(want), "node {x}");
         }
-        let none = Grid::from_points(Vec3::ZERO, Vec3::ONE, &[], &[]);
+        let none: Grid = Grid::from_points(Vec3::ZERO, Vec3::ONE, &[], &[]);
         assert_eq!(none.values, [Vec3::ZERO; NODES * NODES * NODES]);
     }
 

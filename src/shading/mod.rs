@@ -11,6 +11,7 @@ pub mod hair_scatter;
 pub mod kajiya_kay;
 pub mod marschner;
 pub mod mesh_bounce;
+pub mod probe_light;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -228,9 +229,12 @@ pub fn strand_direct(
 /// fibres model the models' `f · |cos θ_i|` is lit by the irradiance `π × colour × intensity`, as a mesh's Lambert
 /// (`colour × light × N·L`) and the path tracer take the light; the absorber model keeps the workbench's
 /// look, one unit of light per unit of radiance ([`fibre_transport::IRRADIANCE`]). Under the fibres model with
-/// the traced probe (`probe` [`mesh_bounce::Probe::Traced`]) the probe holds the light the fibres scatter, forward
-/// and back, every event (the path tracer's gather), so every model shades the direct `V` alone, dual scattering
-/// by Marschner's lobes: its global and local terms, and Marschner's forward term, are in the probe.
+/// the traced probe (`probe` [`mesh_bounce::Probe::Traced`]) the probe holds the light the fibres scatter, every
+/// event (the path tracer's gather), but for the light arriving from about the light's own direction
+/// (`probe_light`): every model shades the direct `V` (dual scattering by Marschner's lobes, its local term in the
+/// probe) and adds the global forward-scattered term from the method's count, which follows the strands in front
+/// pixel by pixel where a lattice node would spread it (docs/truth.md, "The probe's light by where it comes
+/// from").
 #[allow(clippy::too_many_arguments)]
 pub fn strand_lit(
     shading: ShadingModel,
@@ -244,7 +248,11 @@ pub fn strand_lit(
     count: f32,
 ) -> Vec3 {
     if hair == HairModel::Fibres && probe == mesh_bounce::Probe::Traced {
-        return strand_direct(shading, hair, tangent, to_light, to_eye, colour, v);
+        let v = v.clamp(0.0, 1.0);
+        let forward =
+            dual_scattering::terms(hair, tangent, to_light, to_eye, colour, v, count).forward_scattered();
+        return strand_direct(shading, hair, tangent, to_light, to_eye, colour, v)
+            + forward * fibre_transport::IRRADIANCE;
     }
     if shading == ShadingModel::DualScattering {
         let f = dual_scattering::dual_scattering(hair, tangent, to_light, to_eye, colour, v, count);

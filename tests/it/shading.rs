@@ -518,50 +518,76 @@ fn wgsl_fibre_transport_equals_the_cpu_model() {
     );
 }
 
-/// Per probe `(world xyz, ·)` and `(colour rgb, ·)`: `hair_ambient_light` of `shaders/common/mesh_bounce.wgsl`.
+/// Per probe `(world xyz, ·)`, `(colour rgb, ·)`, `(tangent, ·)`, `(to eye, ·)`: `hair_ambient_light` of
+/// `shaders/common/mesh_bounce.wgsl`.
 const BOUNCE_PROBE: &str = r#"
 struct Row {
     world: vec4<f32>,
     colour: vec4<f32>,
+    tangent: vec4<f32>,
+    to_eye: vec4<f32>,
 }
 alias Out = vec4<f32>;
 
 fn probe(i: u32, p: Row) {
-    out[i] = vec4<f32>(hair_ambient_light(p.colour.rgb, p.world.xyz), 0.0);
+    out[i] = vec4<f32>(hair_ambient_light(p.colour.rgb, p.world.xyz, p.tangent.xyz, p.to_eye.xyz), 0.0);
 }
 "#;
 
-/// GPU = CPU: the ambient light of a hair fragment under both hair models: the absorber's `colour × 0.08`, and
-/// the fibres model's `hair_response(colour) × Grid::at(p)` on a grid of random colours, at 2048 random points
-/// inside, on and beyond the lattice, within `|Δ| ≤ 2e-6 + 1e-5 |x|`.
+/// GPU = CPU: the light beyond one event of a hair fragment under both hair models: the absorber's
+/// `colour × 0.08`, and the fibres model's response to its probe (`probe_light::probe_response`) under the
+/// voxel probe (`hair_response(colour) ×` the mean) and the traced one (the fibre's response to the light's
+/// moments along it), on a lattice of random nodes (each the light of 1–6 random directions), at 2048 random
+/// points inside, on and beyond the lattice with random colours, tangents and eyes, within
+/// `|Δ| ≤ 2e-6 + 1e-5 |x|`.
 #[test]
 fn wgsl_mesh_bounce_equals_the_cpu_model() {
-    use hairlab::shading::mesh_bounce::{Grid, NODES, hair_response};
+    use hairlab::shading::mesh_bounce::{Grid, NODES, Probe};
+    use hairlab::shading::probe_light::{ProbeLight, packed, probe_response};
     let Some(gpu) = Gpu::for_tests() else { return };
     let mut rng = SplitMix64::new(31);
     let mut grid = Grid {
         min: Vec3::new(-0.2, 0.1, -0.3),
         max: Vec3::new(0.25, 0.6, 0.2),
-        values: [Vec3::ZERO; NODES * NODES * NODES],
+        values: [ProbeLight::default(); NODES * NODES * NODES],
+    };
+    let unit = |rng: &mut SplitMix64| {
+        Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::Y)
     };
     for v in &mut grid.values {
-        *v = Vec3::new(rng.range(0.0, 0.4), rng.range(0.0, 0.4), rng.range(0.0, 0.4));
+        for _ in 0..1 + (rng.unit() * 6.0) as usize {
+            let l = Vec3::new(rng.range(0.0, 0.4), rng.range(0.0, 0.4), rng.range(0.0, 0.4));
+            v.add_rest(unit(&mut rng), l, rng.range(0.1, 2.0));
+        }
     }
-    let rows: Vec<[f32; 8]> = (0..2048)
+    let rows: Vec<[f32; 16]> = (0..2048)
         .map(|_| {
             let p: [f32; 3] = std::array::from_fn(|_| rng.range(-0.5, 0.8));
             let c: [f32; 3] = std::array::from_fn(|_| rng.range(0.0, 1.0));
-            [p[0], p[1], p[2], 0.0, c[0], c[1], c[2], 0.0]
+            let [t, e] = [unit(&mut rng), unit(&mut rng)];
+            let mut r = [0.0; 16];
+            r[..3].copy_from_slice(&p);
+            r[4..7].copy_from_slice(&c);
+            r[8..11].copy_from_slice(&t.to_array());
+            r[12..15].copy_from_slice(&e.to_array());
+            r
         })
         .collect();
     let mut frame: hairlab::render::uniforms::FrameUniforms = bytemuck::Zeroable::zeroed();
     frame.hair_ambient = 0.08;
-    frame.bounce_min = grid.min.extend(0.0).to_array();
     frame.bounce_max = grid.max.extend(0.0).to_array();
-    frame.bounce_grid = grid.packed();
+    frame.bounce_grid = packed(&grid);
+    let v = |r: &[f32; 16], k: usize| Vec3::new(r[k], r[k + 1], r[k + 2]);
     let mut worst = 0.0f32;
-    for model in HairModel::ALL {
+    let cases: [(HairModel, Option<Probe>); 3] = [
+        (HairModel::Absorber, None),
+        (HairModel::Fibres, Some(Probe::Voxels)),
+        (HairModel::Fibres, Some(Probe::Traced)),
+    ];
+    for (model, probe) in cases {
         frame.hair_model = model.uniform();
+        let traced = probe == Some(Probe::Traced);
+        frame.bounce_min = grid.min.extend(f32::from(u8::from(traced))).to_array();
         let bytes = common::run_probe_with_frame(
             &gpu,
             ("common/mesh_bounce.wgsl", BOUNCE_PROBE, "mesh_bounce.probe"),
@@ -572,23 +598,22 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
         );
         let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
         for (r, o) in rows.iter().zip(&out) {
-            let (p, c) = (Vec3::new(r[0], r[1], r[2]), Vec3::new(r[4], r[5], r[6]));
-            let cpu = match model {
-                HairModel::Absorber => c * 0.08,
-                HairModel::Fibres => hair_response(c) * grid.at(p),
+            let cpu = match probe {
+                None => v(r, 4) * 0.08,
+                Some(probe) => probe_response(&grid, probe, v(r, 0), v(r, 8), v(r, 12), v(r, 4)),
             };
             for k in 0..3 {
                 let d = (o[k] - cpu[k]).abs();
                 worst = worst.max(d);
                 assert!(
                     d <= ABS_TOL + REL_TOL * cpu[k].abs(),
-                    "{model:?} {p} {c}: GPU {o:?}, CPU {cpu}"
+                    "{model:?} {probe:?} {r:?}: GPU {o:?}, CPU {cpu}"
                 );
             }
         }
     }
     println!(
-        "mesh bounce GPU = CPU: {} rows × 2 models, max |Δ| = {worst:.2e}",
+        "mesh bounce GPU = CPU: {} rows × 3 cases, max |Δ| = {worst:.2e}",
         rows.len()
     );
 }

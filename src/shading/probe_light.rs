@@ -16,7 +16,9 @@
 //! linearly; the moments are kept as sums and divided at the read. Measured at the strand points under the
 //! camera on `default` / `blond` / `back-lit`, against the light the path tracer's fibre sends to the eye there
 //! (docs/truth.md): the fibre's albedo times the mean read 0.97 / 0.85 / 0.67 of it, 0.20–1.61 by height band;
-//! this response with the cone's light shaded by the lobes 0.98 / 0.89 / 0.94, 0.83–1.22.
+//! this response, with the cone's light shaded there by the lobes for the light, 0.98 / 0.89 / 0.94, 0.83–1.22.
+//! Through the image the reference's hair now reads 0.97 / 0.91 / 1.04 / 0.89 of the truth's mean on `default` /
+//! `blond` / `back-lit` / `dense-coverage` ÷4 (0.95 / 0.88 / 0.97 / 0.89 with the albedo times the mean).
 
 use glam::Vec3;
 

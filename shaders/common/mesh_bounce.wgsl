@@ -13,7 +13,9 @@ fn bounce_vector(x: u32, y: u32, z: u32, k: u32) -> vec4<f32> {
     return frame.bounce_grid[((z * 8u + y) * 8u + x) * 3u + k];
 }
 
-fn bounce_at(world: vec3<f32>) -> ProbeLight {
+// The node's light at `world`, its first `vectors` vectors interpolated (1 holds `rest`, what the voxel probe
+// reads; 3 all of it), the others zero.
+fn bounce_at(world: vec3<f32>, vectors: u32) -> ProbeLight {
     let span = max(frame.bounce_max.xyz - frame.bounce_min.xyz, vec3<f32>(1e-6));
     let t = clamp((world - frame.bounce_min.xyz) / span, vec3<f32>(0.0), vec3<f32>(1.0)) * 7.0;
     let i = min(u32(floor(t.x)), 6u);
@@ -21,7 +23,7 @@ fn bounce_at(world: vec3<f32>) -> ProbeLight {
     let k = min(u32(floor(t.z)), 6u);
     let f = t - vec3<f32>(f32(i), f32(j), f32(k));
     var v: array<vec4<f32>, 3>;
-    for (var n = 0u; n < 3u; n++) {
+    for (var n = 0u; n < vectors; n++) {
         let p0 = mix(
             mix(bounce_vector(i, j, k, n), bounce_vector(i + 1u, j, k, n), f.x),
             mix(bounce_vector(i, j + 1u, k, n), bounce_vector(i + 1u, j + 1u, k, n), f.x),
@@ -43,12 +45,11 @@ fn bounce_at(world: vec3<f32>) -> ProbeLight {
 // fibre's albedo times the voxel probe's mean (`shading::mesh_bounce::hair_response`).
 fn hair_ambient_light(colour: vec3<f32>, world: vec3<f32>, tangent: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
     if frame.hair_model == HAIR_MODEL_FIBRES {
-        let light = bounce_at(world);
         if probe_holds_scattering() {
-            return probe_response(light, tangent, to_eye, marschner_absorption(colour));
+            return probe_response(bounce_at(world, 3u), tangent, to_eye, marschner_absorption(colour));
         }
         let a = fibre_attenuation(0.0, marschner_absorption(colour));
-        return (a.forward + a.backward) * (light.rest / (4.0 * 3.14159265));
+        return (a.forward + a.backward) * (bounce_at(world, 1u).rest / (4.0 * 3.14159265));
     }
     return colour * frame.hair_ambient;
 }

@@ -21,6 +21,7 @@ use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::shading::HairModel;
 use crate::shading::mesh_bounce::{Probe, spread};
+pub use crate::shading::probe_light::luminance;
 
 /// Height bands [`ProbeCheck::bands`] splits the points into.
 pub const BANDS: usize = 6;
@@ -90,11 +91,6 @@ impl Totals {
     pub fn ratio(&self) -> f32 {
         luminance(self.probe) / luminance(self.gather).max(f32::MIN_POSITIVE)
     }
-}
-
-/// Rec. 709 luminance of linear RGB.
-pub fn luminance(c: Vec3) -> f32 {
-    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
 impl ProbeCheck {

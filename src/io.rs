@@ -238,15 +238,19 @@ pub fn write_png(path: &Path, image: &impl PngSource) -> Result<()> {
     write_atomic(path, &png)
 }
 
-/// Linear `c` clamped to `[0, 1]` and sRGB-encoded (IEC 61966-2-1) to 8 bits.
-pub fn srgb8(c: f32) -> u8 {
+/// Linear `c` clamped to `[0, 1]` and sRGB-encoded (IEC 61966-2-1), in `[0, 1]`.
+pub fn srgb(c: f32) -> f32 {
     let c = c.clamp(0.0, 1.0);
-    let v = if c <= 0.003_130_8 {
+    if c <= 0.003_130_8 {
         12.92 * c
     } else {
         1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (v * 255.0).round() as u8
+    }
+}
+
+/// [`srgb`] to 8 bits.
+pub fn srgb8(c: f32) -> u8 {
+    (srgb(c) * 255.0).round() as u8
 }
 
 /// A premultiplied linear capture over black as an 8-bit sRGB image: each pixel's colour `H` clamped to `[0, 1]`

@@ -92,6 +92,7 @@ mod tests {
                 ratio: 1.0,
                 noise: 0.0,
                 structure: rmse,
+                coarse: rmse,
             };
             StepError {
                 hair: region,

@@ -104,25 +104,29 @@ fn print_decomposition(
 ) {
     println!(
         "\nerror by effect against the path-traced truth ({} spp, {} hair and {} receiver pixels): RMSE of sRGB \
-         with the noise removed, the ratio of mean linear luminance (later image over earlier), and the hair's \
-         structure (the RMSE left once the later image's channels are scaled to the earlier's means)",
+         with the noise removed, the ratio of mean linear luminance (later image over earlier), the hair's \
+         structure (the RMSE left once the later image's channels are scaled to the earlier's means) and its \
+         coarse RMSE (over {}×{} blocks wholly in the hair, their noise removed)",
         t.spp,
         t.masks.hair.iter().filter(|&&m| m).count(),
         t.masks.receivers.iter().filter(|&&m| m).count(),
+        crate::measure::decompose::BLOCK,
+        crate::measure::decompose::BLOCK,
     );
     println!(
-        "{:<width$} {:<15} {:<19} {:>9} {:>9} {:>9}   {:>9} {:>9}",
-        "method", "shading", "effect", "hair RMSE", "ratio", "structure", "recv RMSE", "ratio"
+        "{:<width$} {:<15} {:<19} {:>9} {:>9} {:>9} {:>9}   {:>9} {:>9}",
+        "method", "shading", "effect", "hair RMSE", "ratio", "structure", "coarse", "recv RMSE", "ratio"
     );
     for d in rows {
         println!(
-            "{:<width$} {:<15} {:<19} {:>9.4} {:>9.3} {:>9.4}   {:>9.4} {:>9.3}",
+            "{:<width$} {:<15} {:<19} {:>9.4} {:>9.3} {:>9.4} {:>9.4}   {:>9.4} {:>9.3}",
             d.method,
             d.shading,
             d.effect,
             d.hair_rmse,
             d.hair_ratio,
             d.hair_structure,
+            d.hair_coarse,
             d.receivers_rmse,
             d.receivers_ratio
         );

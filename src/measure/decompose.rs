@@ -17,7 +17,9 @@
 //! first hits. The mean ratios multiply along the chain to the total's exactly; the RMSEs do not add (see the
 //! docs). The path-traced images carry noise: each is the mean of two renders of different seeds, whose
 //! difference measures it, and an RMSE is reported with the noise of both sides removed,
-//! `sqrt(max(0, rmse² − noise_a² − noise_b²))`.
+//! `sqrt(max(0, rmse² − noise_a² − noise_b²))`. The coarse RMSE is the same over blocks of [`BLOCK`]² pixels
+//! wholly in the region, each its pixels' mean: the error at the scale of locks rather than strands, where the
+//! truth's noise is some `BLOCK` times smaller.
 
 use image::RgbaImage;
 use serde::Serialize;
@@ -37,6 +39,10 @@ pub const TOTAL: &str = "total";
 
 /// A pixel belongs to a region when at least this share of its footprint is seen as it.
 pub const REGION_SHARE: f32 = 0.5;
+
+/// The side in pixels of the blocks the coarse RMSE compares: on `default` at 320 × 240 a strand is about a
+/// pixel wide and a lock some ten, so a block's mean keeps the light of the locks and averages the strands'.
+pub const BLOCK: u32 = 8;
 
 /// The pixels of each region.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,12 +64,13 @@ impl Masks {
     }
 }
 
-/// An image of the chain (sRGB, over black) and its noise's mean square per region (hair, receivers): 0 for a
-/// raster image.
+/// An image of the chain (sRGB, over black) and its noise's mean square per region (hair, receivers), per pixel
+/// and per block ([`BLOCK`]): 0 for a raster image.
 #[derive(Clone, Debug)]
 pub struct Stage {
     pub image: RgbaImage,
     pub noise_sq: [f64; 2],
+    pub coarse_noise_sq: [f64; 2],
 }
 
 impl Stage {
@@ -72,16 +79,19 @@ impl Stage {
         Stage {
             image,
             noise_sq: [0.0; 2],
+            coarse_noise_sq: [0.0; 2],
         }
     }
 
     /// The mean of two independent renders `a` and `b` (sRGB of their linear mean, `mean`): each differs from the
-    /// expectation by `rmse(a, b) / √2`, so their mean by `rmse(a, b) / 2`.
+    /// expectation by `rmse(a, b) / √2`, so their mean by `rmse(a, b) / 2`; alike for the blocks' means.
     pub fn of_two(mean: RgbaImage, a: &RgbaImage, b: &RgbaImage, masks: &Masks) -> Stage {
         let noise = |m: &[bool]| mean_square(a, b, m) / 4.0;
+        let coarse = |m: &[bool]| coarse_mean_square(a, b, m) / 4.0;
         Stage {
             image: mean,
             noise_sq: [noise(&masks.hair), noise(&masks.receivers)],
+            coarse_noise_sq: [coarse(&masks.hair), coarse(&masks.receivers)],
         }
     }
 }
@@ -100,6 +110,48 @@ fn mean_square(a: &RgbaImage, b: &RgbaImage, mask: &[bool]) -> f64 {
         }
     }
     if n == 0 { 0.0 } else { sum / (3 * n) as f64 }
+}
+
+/// The blocks of [`BLOCK`] × [`BLOCK`] pixels of `image` wholly in `mask`, row after row, each the sRGB
+/// (unquantised, in `[0, 1]`) of its pixels' mean linear value per channel.
+fn blocks(image: &RgbaImage, mask: &[bool]) -> Vec<[f64; 3]> {
+    let (w, h) = image.dimensions();
+    let pixels = |bx: u32, by: u32| {
+        (0..BLOCK).flat_map(move |y| (0..BLOCK).map(move |x| (bx * BLOCK + x, by * BLOCK + y)))
+    };
+    let mut out = Vec::new();
+    for by in 0..h / BLOCK {
+        for bx in 0..w / BLOCK {
+            if !pixels(bx, by).all(|(x, y)| mask[(y * w + x) as usize]) {
+                continue;
+            }
+            let mut sum = [0.0f64; 3];
+            for (x, y) in pixels(bx, by) {
+                let p = image.get_pixel(x, y);
+                for (c, s) in sum.iter_mut().enumerate() {
+                    *s += srgb_to_linear(p[c]);
+                }
+            }
+            out.push(sum.map(|s| f64::from(crate::io::srgb((s / f64::from(BLOCK * BLOCK)) as f32))));
+        }
+    }
+    out
+}
+
+/// [`mean_square`] over [`blocks`]: the mean over the blocks wholly in the mask and their three channels of the
+/// squared difference of the blocks' sRGB; 0 where no block is.
+fn coarse_mean_square(a: &RgbaImage, b: &RgbaImage, mask: &[bool]) -> f64 {
+    let (ba, bb) = (blocks(a, mask), blocks(b, mask));
+    let sum: f64 = ba
+        .iter()
+        .zip(&bb)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).powi(2)))
+        .sum();
+    if ba.is_empty() {
+        0.0
+    } else {
+        sum / (3 * ba.len()) as f64
+    }
 }
 
 /// Per channel, the mean linear value over the masked pixels (zeros for an empty mask).
@@ -152,6 +204,9 @@ pub struct RegionError {
     /// The RMSE (noise removed) once the later image's linear channels are scaled to the earlier's means over the
     /// region: the part of `rmse` that neither the mean nor the colour balance explains (where pixels differ).
     pub structure: f64,
+    /// The RMSE over the blocks of [`BLOCK`]² pixels wholly in the region ([`coarse_mean_square`]), the blocks'
+    /// noise removed: the error at the scale of locks (NaN where the region holds no block).
+    pub coarse: f64,
 }
 
 /// One step's figures: over the hair, over the receivers, and the whole image's RMSE and FLIP (noise kept).
@@ -168,11 +223,20 @@ pub fn step(from: &Stage, to: &Stage, masks: &Masks) -> StepError {
     let region = |k: usize, mask: &[bool]| {
         let noise_sq = from.noise_sq[k] + to.noise_sq[k];
         let without_noise = |ms: f64| (ms - noise_sq).max(0.0).sqrt();
+        let coarse_noise_sq = from.coarse_noise_sq[k] + to.coarse_noise_sq[k];
+        let has_blocks = !blocks(&from.image, mask).is_empty();
         RegionError {
             rmse: without_noise(mean_square(&from.image, &to.image, mask)),
             ratio: mean_luminance(&to.image, mask) / mean_luminance(&from.image, mask),
             noise: noise_sq.sqrt(),
             structure: without_noise(mean_square_matched(&from.image, &to.image, mask)),
+            coarse: if has_blocks {
+                (coarse_mean_square(&from.image, &to.image, mask) - coarse_noise_sq)
+                    .max(0.0)
+                    .sqrt()
+            } else {
+                f64::NAN
+            },
         }
     };
     let [hair, receivers] = masks.regions();
@@ -196,10 +260,12 @@ pub struct Decomposition {
     pub hair_ratio: f64,
     pub hair_noise: f64,
     pub hair_structure: f64,
+    pub hair_coarse: f64,
     pub receivers_rmse: f64,
     pub receivers_ratio: f64,
     pub receivers_noise: f64,
     pub receivers_structure: f64,
+    pub receivers_coarse: f64,
     pub image_rmse: f64,
     pub image_flip: f64,
 }
@@ -214,10 +280,12 @@ impl Decomposition {
             hair_ratio: e.hair.ratio,
             hair_noise: e.hair.noise,
             hair_structure: e.hair.structure,
+            hair_coarse: e.hair.coarse,
             receivers_rmse: e.receivers.rmse,
             receivers_ratio: e.receivers.ratio,
             receivers_noise: e.receivers.noise,
             receivers_structure: e.receivers.structure,
+            receivers_coarse: e.receivers.coarse,
             image_rmse: e.image_rmse,
             image_flip: e.image_flip,
         }
@@ -349,6 +417,56 @@ mod tests {
         let red = Stage::exact(pixels(lin(base.map(|p| [2.0 * p[0], p[1], p[2]]))));
         let e = step(&a, &red, &masks);
         assert!(e.hair.rmse > 0.03 && e.hair.structure <= 1.0 / 255.0, "{e:?}");
+    }
+
+    /// The coarse RMSE compares the means of 8 × 8 blocks wholly in the region. On a 16 × 8 image (two blocks)
+    /// whose mask leaves out one pixel of the right block: a checkerboard of 100 / 200 against its swap differs
+    /// by 100 levels in every pixel and not at all coarsely; against a flat image of the left block's mean
+    /// linear value it differs by nothing coarsely either, while a flat offset of 20 levels is 20 levels both
+    /// ways. Two renders whose checkerboards are swapped are per-pixel noise that their blocks' means do not
+    /// carry: it is removed from the RMSE and none from the coarse RMSE. A mask with no whole block gives NaN.
+    #[test]
+    fn the_coarse_rmse_compares_blocks_of_the_region() {
+        let mut hair = vec![true; 16 * 8];
+        hair[15] = false;
+        let masks = Masks {
+            hair,
+            receivers: vec![false; 16 * 8],
+        };
+        let board = |lo: u8, hi: u8| {
+            RgbaImage::from_fn(16, 8, |x, y| {
+                let v = if (x + y) % 2 == 0 { lo } else { hi };
+                image::Rgba([v, v, v, 255])
+            })
+        };
+        let e = step(
+            &Stage::exact(board(100, 200)),
+            &Stage::exact(board(200, 100)),
+            &masks,
+        );
+        assert!((e.hair.rmse - 100.0 / 255.0).abs() < 1e-12, "{e:?}");
+        assert!(e.hair.coarse < 1e-12, "{e:?}");
+        let mean = (srgb_to_linear(100) + srgb_to_linear(200)) / 2.0;
+        let flat_mean = Stage::exact(flat(16, 8, crate::io::srgb8(mean as f32)));
+        let e = step(&Stage::exact(board(100, 200)), &flat_mean, &masks);
+        assert!(e.hair.rmse > 0.15 && e.hair.coarse < 0.5 / 255.0, "{e:?}");
+        let e = step(
+            &Stage::exact(flat(16, 8, 100)),
+            &Stage::exact(flat(16, 8, 120)),
+            &masks,
+        );
+        assert!((e.hair.coarse - 20.0 / 255.0).abs() < 1e-6, "{e:?}");
+        assert!((e.hair.rmse - 20.0 / 255.0).abs() < 1e-12, "{e:?}");
+        let noisy = Stage::of_two(
+            flat_mean.image.clone(),
+            &board(100, 200),
+            &board(200, 100),
+            &masks,
+        );
+        assert!((noisy.noise_sq[0] - (100.0f64 / 255.0).powi(2) / 4.0).abs() < 1e-12);
+        assert!(noisy.coarse_noise_sq[0] < 1e-24, "{:?}", noisy.coarse_noise_sq);
+        let e = step(&noisy, &Stage::exact(flat(16, 8, 120)), &masks);
+        assert!(e.hair.coarse > 0.0 && e.receivers.coarse.is_nan(), "{e:?}");
     }
 
     /// Pixels at least half fibre are hair, at least half mesh are receivers, the rest neither.

@@ -188,12 +188,14 @@ fn table(ui: &mut egui::Ui, d: &Decomposed) {
     egui::Grid::new("truth_decomposition")
         .striped(true)
         .show(ui, |ui| {
+            let block = crate::measure::decompose::BLOCK;
             for h in [
-                "effect",
-                "hair RMSE",
-                "hair ratio",
-                "receivers RMSE",
-                "receivers ratio",
+                "effect".to_string(),
+                "hair RMSE".to_string(),
+                "hair ratio".to_string(),
+                format!("hair {block}×{block} RMSE"),
+                "receivers RMSE".to_string(),
+                "receivers ratio".to_string(),
             ] {
                 ui.strong(h);
             }
@@ -202,6 +204,7 @@ fn table(ui: &mut egui::Ui, d: &Decomposed) {
                 ui.label(r.effect);
                 ui.label(number(r.hair_rmse));
                 ui.label(number(r.hair_ratio));
+                ui.label(number(r.hair_coarse));
                 ui.label(number(r.receivers_rmse));
                 ui.label(number(r.receivers_ratio));
                 ui.end_row();
@@ -209,12 +212,14 @@ fn table(ui: &mut egui::Ui, d: &Decomposed) {
         });
     if let Some(total) = d.rows.last() {
         ui.label(format!(
-            "{} under {}: RMSE of sRGB with the truth's noise removed (hair {}, receivers {}); ratio: the \
-             step's later image's mean luminance over the earlier's. The steps' ratios multiply to the total's.",
+            "{} under {}: RMSE of sRGB with the truth's noise removed (hair {}, receivers {}); {b}×{b}: over \
+             blocks of {b} × {b} pixels wholly in the hair, the error at the scale of locks; ratio: the step's \
+             later image's mean luminance over the earlier's. The steps' ratios multiply to the total's.",
             d.settings.method.name,
             total.shading,
             number(total.hair_noise),
-            number(total.receivers_noise)
+            number(total.receivers_noise),
+            b = crate::measure::decompose::BLOCK,
         ));
     }
 }

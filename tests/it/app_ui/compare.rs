@@ -253,13 +253,12 @@ fn the_compare_window_decomposes_against_the_truth_and_the_inspector_notes_the_c
         );
     }
     let total = expected.last().unwrap();
-    assert!(
-        harness
-            .query_by_label(&format!("{:.3}", total.hair_rmse))
-            .is_some(),
-        "the total's hair RMSE {:.3} is not on screen",
-        total.hair_rmse
-    );
+    for (what, v) in [("RMSE", total.hair_rmse), ("coarse RMSE", total.hair_coarse)] {
+        assert!(
+            harness.query_all_by_label(&format!("{v:.3}")).next().is_some(),
+            "the total's hair {what} {v:.3} is not on screen"
+        );
+    }
     // The inspector's note: every chain image at the deepest hair pixel.
     let frames = harness.state().compare().frames().unwrap();
     let (w, h) = (frames.width, frames.height);

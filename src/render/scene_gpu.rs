@@ -79,10 +79,36 @@ pub struct SceneGpu {
     /// fits to and [`LightFit::Stable`] takes the bounding sphere of.
     fit_bound: Aabb,
     generation: u64,
-    /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its last answer with
-    /// the light and generation it was found for.
+    /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its last answers
+    /// ([`PROBE_CACHE`] at most, the last used last) with the pose and light each was found for.
     bounce_triangles: Vec<BounceTriangle>,
-    bounce_cache: std::sync::Mutex<Option<(BounceKey, mesh_bounce::Grid<ProbeLight>)>>,
+    bounce_cache: std::sync::Mutex<Vec<(BounceKey, mesh_bounce::Grid<ProbeLight>)>>,
+    /// A digest of what the probe sees of the geometry ([`pose_digest`]), which a motion's frame gives again
+    /// whenever the timeline comes back to it.
+    pose: u64,
+    /// The probes baked so far (the cache's misses).
+    bakes: std::sync::atomic::AtomicUsize,
+}
+
+/// The probes a scene keeps: a motion's frames up to this many (the presets' longest, `wind`, has 120) are baked
+/// once however often the timeline loops; 24 KiB each.
+pub const PROBE_CACHE: usize = 128;
+
+/// A digest of the strand points' positions and thicknesses and the posed triangles: equal poses give equal
+/// digests, and two poses whose digests are equal are taken for one (a 64-bit hash).
+fn pose_digest(vertices: &[HairVertex], triangles: &[BounceTriangle]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for v in vertices {
+        (v.position.map(f32::to_bits), v.thickness.to_bits()).hash(&mut h);
+    }
+    for t in triangles {
+        let t = &t.triangle;
+        [t.p0, t.e1, t.e2, t.albedo]
+            .map(|v| v.to_array().map(f32::to_bits))
+            .hash(&mut h);
+    }
+    h.finish()
 }
 
 impl SceneGpu {
@@ -166,6 +192,7 @@ impl SceneGpu {
             })),
         };
         let bounce = bounce_triangles(&mv, &mi);
+        let pose = pose_digest(&hv, &bounce);
         let mesh_bounds = scene
             .meshes
             .iter()
@@ -207,8 +234,10 @@ impl SceneGpu {
             },
             fit_bound: strands,
             generation: next_generation(),
+            pose,
             bounce_triangles: bounce,
-            bounce_cache: std::sync::Mutex::new(None),
+            bounce_cache: std::sync::Mutex::new(Vec::new()),
+            bakes: std::sync::atomic::AtomicUsize::new(0),
         })
     }
 
@@ -236,6 +265,7 @@ impl SceneGpu {
             all: strands.union(self.mesh_bounds),
         };
         self.generation = next_generation();
+        self.pose = pose_digest(&self.vertices, &self.bounce_triangles);
         Ok(())
     }
 
@@ -263,6 +293,7 @@ impl SceneGpu {
         }
         self.bounds.all = self.bounds.strands.union(self.mesh_bounds);
         self.generation = next_generation();
+        self.pose = pose_digest(&self.vertices, &self.bounce_triangles);
         Ok(())
     }
 
@@ -287,6 +318,11 @@ impl SceneGpu {
     /// Changes whenever the geometry (or the bound the light frame fits) changes; unique across scenes.
     pub fn generation(&self) -> u64 {
         self.generation
+    }
+
+    /// How many probes [`SceneGpu::mesh_bounce`] has baked (the answers it did not find kept).
+    pub fn probe_bakes(&self) -> usize {
+        self.bakes.load(Ordering::Relaxed)
     }
 
     pub fn bounds(&self) -> &SceneBounds {
@@ -349,8 +385,8 @@ fn too_large(&(what, bytes, limit): &(&'static str, u64, u64)) -> GpuError {
     }
 }
 
-/// What the bounce probe's answer depends on besides the geometry's generation: the light's uniform fields, the
-/// hair's colour, its strands' width and the probe (`render.probe`).
+/// What the bounce probe's answer depends on: the pose ([`pose_digest`]), the light's uniform fields, the hair's
+/// colour, its strands' width and the probe (`render.probe`).
 type BounceKey = (u64, [u32; 15], mesh_bounce::Probe);
 
 /// A mesh triangle for the bounce probe, with the vertices it was built from (so posing can move it).
@@ -394,14 +430,14 @@ impl SceneGpu {
     /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`), through the hair of
     /// `u.hair_color` with the strands' widths (`HairDensity`), or under [`mesh_bounce::Probe::Traced`] the path
     /// tracer's gather at the same points (`pathtrace::probe`, through the fibres of those widths and the
-    /// meshes); kept until the light, the hair, the meshes' pose or the probe changes.
+    /// meshes); kept per pose ([`PROBE_CACHE`] of them), so a motion bakes each frame once.
     pub fn mesh_bounce(
         &self,
         u: &crate::render::uniforms::FrameUniforms,
         probe: mesh_bounce::Probe,
     ) -> mesh_bounce::Grid<ProbeLight> {
         let key: BounceKey = (
-            self.generation,
+            self.pose,
             [
                 u.to_light[0].to_bits(),
                 u.to_light[1].to_bits(),
@@ -422,10 +458,15 @@ impl SceneGpu {
             probe,
         );
         let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((k, v)) = *cache
-            && k == key
-        {
+        if let Some(i) = cache.iter().position(|(k, _)| *k == key) {
+            let hit = cache.remove(i);
+            let v = hit.1;
+            cache.push(hit);
             return v;
+        }
+        self.bakes.fetch_add(1, Ordering::Relaxed);
+        if cache.len() >= PROBE_CACHE {
+            cache.remove(0);
         }
         let triangles: Vec<Triangle> = self.bounce_triangles.iter().map(|t| t.triangle).collect();
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
@@ -439,7 +480,7 @@ impl SceneGpu {
                 crate::pathtrace::bsdf::fibre_params(u.hair_color),
                 &points,
             );
-            *cache = Some((key, v));
+            cache.push((key, v));
             return v;
         }
         let meshes = MeshBvh::new(triangles);
@@ -452,7 +493,7 @@ impl SceneGpu {
         };
         let grid = mesh_bounce::Grid::measure(&meshes, &hair, &points, |p| u.light_arrival(p));
         let v = crate::shading::probe_light::isotropic(&grid);
-        *cache = Some((key, v));
+        cache.push((key, v));
         v
     }
 }

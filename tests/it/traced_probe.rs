@@ -49,6 +49,59 @@ fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
     assert_ne!(traced, uploaded.mesh_bounce(&u, Probe::Voxels));
 }
 
+/// The probe is kept per pose: asked again for the same pose and light, the scene answers without baking; a
+/// moved pose bakes a probe of its own, and back at the first pose (a motion's timeline looping) the first answer
+/// comes back unbaked; another light bakes again. Counted by `SceneGpu::probe_bakes`.
+#[test]
+fn a_motion_bakes_each_poses_probe_once() {
+    use hairlab::render::frame::{UniformInputs, uniforms};
+    use hairlab::render::scene_gpu::SceneGpu;
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let mut settings = crate::truth_decomposition::small(
+        "default",
+        &["render.hair_model=fibres", "scene.generator.strands=80"],
+    );
+    let scene = settings.scene.build().unwrap();
+    let layout = hairlab::render::geometry::ribbon_layout(&gpu.device);
+    let mut uploaded = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
+    let camera = hairlab::path_scene::camera(&settings, &scene);
+    let frame = |uploaded: &SceneGpu, settings: &hairlab::settings::Settings| {
+        uniforms(
+            uploaded,
+            &UniformInputs {
+                camera: &camera,
+                light: &settings.light,
+                render: &settings.render,
+                size: (64, 48),
+                method_params: [0.0; 4],
+                light_map_resolution: 64,
+                shadow_map_resolution: 64,
+            },
+        )
+    };
+    let u = frame(&uploaded, &settings);
+    let first = uploaded.mesh_bounce(&u, Probe::Voxels);
+    assert_eq!(uploaded.probe_bakes(), 1);
+    assert_eq!(uploaded.mesh_bounce(&u, Probe::Voxels), first);
+    assert_eq!(uploaded.probe_bakes(), 1);
+    let rest = scene.strands.points.clone();
+    let moved: Vec<Vec3> = rest.iter().map(|p| *p + Vec3::new(0.0, 0.0, 0.02)).collect();
+    uploaded.update_points(&gpu, &moved).unwrap();
+    let second = uploaded.mesh_bounce(&frame(&uploaded, &settings), Probe::Voxels);
+    assert_eq!(uploaded.probe_bakes(), 2);
+    assert_ne!(second, first);
+    uploaded.update_points(&gpu, &rest).unwrap();
+    assert_eq!(
+        uploaded.mesh_bounce(&frame(&uploaded, &settings), Probe::Voxels),
+        first
+    );
+    assert_eq!(uploaded.probe_bakes(), 2);
+    settings.light.intensity *= 2.0;
+    let brighter = uploaded.mesh_bounce(&frame(&uploaded, &settings), Probe::Voxels);
+    assert_eq!(uploaded.probe_bakes(), 3);
+    assert_ne!(brighter, first);
+}
+
 /// `strand_lit` on a probe row: `(tangent, V)`, `(to light, count)`, `(to eye, ·)`, `(colour, ·)`.
 fn cpu_lit(shading: ShadingModel, hair: HairModel, probe: Probe, r: &[[f32; 4]; 4]) -> Vec3 {
     let v3 = |x: [f32; 4]| Vec3::new(x[0], x[1], x[2]);

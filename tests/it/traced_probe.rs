@@ -5,16 +5,35 @@
 use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
+use hairlab::render::frame::{UniformInputs, uniforms};
+use hairlab::render::scene_gpu::SceneGpu;
+use hairlab::render::uniforms::FrameUniforms;
+use hairlab::scene::Camera;
+use hairlab::settings::Settings;
 use hairlab::shading::mesh_bounce::Probe;
 use hairlab::shading::{HairModel, ShadingModel, strand_lit};
+
+/// The frame uniforms of `uploaded` under `settings`, seen by `camera` at 64 × 48 with maps of 64².
+fn small_frame(uploaded: &SceneGpu, camera: &Camera, settings: &Settings) -> FrameUniforms {
+    uniforms(
+        uploaded,
+        &UniformInputs {
+            camera,
+            light: &settings.light,
+            render: &settings.render,
+            size: (64, 48),
+            method_params: [0.0; 4],
+            light_map_resolution: 64,
+            shadow_map_resolution: 64,
+        },
+    )
+}
 
 /// Under `render.probe = traced` the renderer's probe (its frame's lattice, `SceneGpu::mesh_bounce`) and the
 /// truth chain's CPU model of the raster (`path_scene::raster_shading`) are one lattice, node for node, and it
 /// holds light; the voxel probe of the same scene differs from it.
 #[test]
 fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
-    use hairlab::render::frame::{UniformInputs, uniforms};
-    use hairlab::render::scene_gpu::SceneGpu;
     let Some(gpu) = Gpu::for_tests() else { return };
     let settings = crate::truth_decomposition::small(
         "default",
@@ -28,18 +47,7 @@ fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
     let layout = hairlab::render::geometry::ribbon_layout(&gpu.device);
     let uploaded = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
     let camera = hairlab::path_scene::camera(&settings, &scene);
-    let u = uniforms(
-        &uploaded,
-        &UniformInputs {
-            camera: &camera,
-            light: &settings.light,
-            render: &settings.render,
-            size: (64, 48),
-            method_params: [0.0; 4],
-            light_map_resolution: 64,
-            shadow_map_resolution: 64,
-        },
-    );
+    let u = small_frame(&uploaded, &camera, &settings);
     let traced = uploaded.mesh_bounce(&u, Probe::Traced);
     let chain = hairlab::path_scene::raster_shading(&settings, &scene, &scene.bounds())
         .bounce
@@ -54,8 +62,6 @@ fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
 /// comes back unbaked; another light bakes again. Counted by `SceneGpu::probe_bakes`.
 #[test]
 fn a_motion_bakes_each_poses_probe_once() {
-    use hairlab::render::frame::{UniformInputs, uniforms};
-    use hairlab::render::scene_gpu::SceneGpu;
     let Some(gpu) = Gpu::for_tests() else { return };
     let mut settings = crate::truth_decomposition::small(
         "default",
@@ -65,20 +71,7 @@ fn a_motion_bakes_each_poses_probe_once() {
     let layout = hairlab::render::geometry::ribbon_layout(&gpu.device);
     let mut uploaded = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
     let camera = hairlab::path_scene::camera(&settings, &scene);
-    let frame = |uploaded: &SceneGpu, settings: &hairlab::settings::Settings| {
-        uniforms(
-            uploaded,
-            &UniformInputs {
-                camera: &camera,
-                light: &settings.light,
-                render: &settings.render,
-                size: (64, 48),
-                method_params: [0.0; 4],
-                light_map_resolution: 64,
-                shadow_map_resolution: 64,
-            },
-        )
-    };
+    let frame = |uploaded: &SceneGpu, settings: &Settings| small_frame(uploaded, &camera, settings);
     let u = frame(&uploaded, &settings);
     let first = uploaded.mesh_bounce(&u, Probe::Voxels);
     assert_eq!(uploaded.probe_bakes(), 1);

@@ -304,17 +304,21 @@ pub fn motion(m: &Motion) -> String {
 
 /// The path-traced truth: its image and each configuration's error decomposed under each shading model.
 pub fn truth(t: &Truth) -> String {
-    let mut content = String::from(
+    let mut content = format!(
         "<p>Each configuration's error against the path-traced image, split by physical effect under each \
          shading model (hairlab's docs/truth.md): \
-         one chain of images turns the real-time model's effects on one at a time — <em>multiple \
-         scattering</em> (every event against one), <em>shadowing</em> (the fibres' traced shadow against the \
-         reference's (1 − α) products), <em>shading</em> (Chiang et al. 2016's fibre BSDF against the raster's \
-         model, light and ambient), <em>eye coverage</em> (round fibres against α-blended strand fragments), \
-         <em>method</em> (the exact light map against the method's) — and the <em>total</em>. Each step's RMSE \
-         of sRGB (the path-traced images' noise removed) and its ratio of mean linear luminance (later over \
-         earlier; the ratios multiply to the total's) are taken over the hair and over the shadow receivers \
-         apart, from the path tracer's first hits.</p>\n",
+         one chain of images turns the real-time model's effects on one at a time — <em>mesh bounce</em> (the \
+         light the meshes bounce after the first hit dropped), <em>multiple scattering</em> (every event \
+         against one), <em>shadowing</em> (the fibres' traced shadow against the reference's light map), \
+         <em>shading</em> (Chiang et al. 2016's fibre BSDF against the raster's lobes and light, one event), \
+         <em>scattered light</em> (the raster's stand-ins for the light beyond one event: ambient, probe, \
+         forward and multiple-scattering terms), <em>eye coverage</em> (round fibres against blended strand \
+         fragments), <em>method</em> (the exact light map against the method's) — and the <em>total</em>. Each \
+         step's RMSE of sRGB (the path-traced images' noise removed), its ratio of mean linear luminance (later \
+         over earlier; the ratios multiply to the total's) and its coarse RMSE (over {b} × {b}-pixel blocks, the \
+         scale of locks) are taken over the hair and over the shadow receivers apart, from the path tracer's \
+         first hits.</p>\n",
+        b = crate::measure::decompose::BLOCK,
     );
     if t.image.is_some() {
         content += &figure(

@@ -122,7 +122,7 @@ fn blocks(image: &RgbaImage, mask: &[bool]) -> Vec<[f64; 3]> {
     let mut out = Vec::new();
     for by in 0..h / BLOCK {
         for bx in 0..w / BLOCK {
-            if !pixels(bx, by).all(|(x, y)| mask[(y * w + x) as usize]) {
+            if !pixels(bx, by).all(|(x, y)| mask.get((y * w + x) as usize) == Some(&true)) {
                 continue;
             }
             let mut sum = [0.0f64; 3];

@@ -87,7 +87,7 @@ impl Stage {
     /// expectation by `rmse(a, b) / √2`, so their mean by `rmse(a, b) / 2`; alike for the blocks' means.
     pub fn of_two(mean: RgbaImage, a: &RgbaImage, b: &RgbaImage, masks: &Masks) -> Stage {
         let noise = |m: &[bool]| mean_square(a, b, m) / 4.0;
-        let coarse = |m: &[bool]| coarse_mean_square(a, b, m) / 4.0;
+        let coarse = |m: &[bool]| coarse_mean_square(a, b, m).unwrap_or(0.0) / 4.0;
         Stage {
             image: mean,
             noise_sq: [noise(&masks.hair), noise(&masks.receivers)],
@@ -139,19 +139,15 @@ fn blocks(image: &RgbaImage, mask: &[bool]) -> Vec<[f64; 3]> {
 }
 
 /// [`mean_square`] over [`blocks`]: the mean over the blocks wholly in the mask and their three channels of the
-/// squared difference of the blocks' sRGB; 0 where no block is.
-fn coarse_mean_square(a: &RgbaImage, b: &RgbaImage, mask: &[bool]) -> f64 {
+/// squared difference of the blocks' sRGB; `None` where no block is.
+fn coarse_mean_square(a: &RgbaImage, b: &RgbaImage, mask: &[bool]) -> Option<f64> {
     let (ba, bb) = (blocks(a, mask), blocks(b, mask));
     let sum: f64 = ba
         .iter()
         .zip(&bb)
         .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).powi(2)))
         .sum();
-    if ba.is_empty() {
-        0.0
-    } else {
-        sum / (3 * ba.len()) as f64
-    }
+    (!ba.is_empty()).then(|| sum / (3 * ba.len()) as f64)
 }
 
 /// Per channel, the mean linear value over the masked pixels (zeros for an empty mask).
@@ -224,19 +220,13 @@ pub fn step(from: &Stage, to: &Stage, masks: &Masks) -> StepError {
         let noise_sq = from.noise_sq[k] + to.noise_sq[k];
         let without_noise = |ms: f64| (ms - noise_sq).max(0.0).sqrt();
         let coarse_noise_sq = from.coarse_noise_sq[k] + to.coarse_noise_sq[k];
-        let has_blocks = !blocks(&from.image, mask).is_empty();
         RegionError {
             rmse: without_noise(mean_square(&from.image, &to.image, mask)),
             ratio: mean_luminance(&to.image, mask) / mean_luminance(&from.image, mask),
             noise: noise_sq.sqrt(),
             structure: without_noise(mean_square_matched(&from.image, &to.image, mask)),
-            coarse: if has_blocks {
-                (coarse_mean_square(&from.image, &to.image, mask) - coarse_noise_sq)
-                    .max(0.0)
-                    .sqrt()
-            } else {
-                f64::NAN
-            },
+            coarse: coarse_mean_square(&from.image, &to.image, mask)
+                .map_or(f64::NAN, |ms| (ms - coarse_noise_sq).max(0.0).sqrt()),
         }
     };
     let [hair, receivers] = masks.regions();

@@ -79,15 +79,20 @@ pub struct SceneGpu {
     /// fits to and [`LightFit::Stable`] takes the bounding sphere of.
     fit_bound: Aabb,
     generation: u64,
-    /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its last answers
-    /// ([`PROBE_CACHE`] at most, the last used last) with the pose and light each was found for.
+    /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its answers kept.
     bounce_triangles: Vec<BounceTriangle>,
-    bounce_cache: std::sync::Mutex<Vec<(BounceKey, mesh_bounce::Grid<ProbeLight>)>>,
-    /// A digest of what the probe sees of the geometry ([`pose_digest`]), which a motion's frame gives again
-    /// whenever the timeline comes back to it.
-    pose: u64,
+    bounce_cache: std::sync::Mutex<BounceCache>,
     /// The probes baked so far (the cache's misses).
     bakes: std::sync::atomic::AtomicUsize,
+}
+
+/// The probes [`SceneGpu::mesh_bounce`] keeps ([`PROBE_CACHE`] at most, the last used last) with the pose and
+/// light each was found for, and the digest of the current pose ([`pose_digest`]) with the generation it was
+/// taken at: taken when a probe is asked for, not when the geometry moves (the absorber model asks for none).
+#[derive(Default)]
+struct BounceCache {
+    pose: Option<(u64, u64)>,
+    probes: Vec<(BounceKey, mesh_bounce::Grid<ProbeLight>)>,
 }
 
 /// The probes a scene keeps: a motion's frames up to this many (the presets' longest, `wind`, has 120) are baked
@@ -192,7 +197,6 @@ impl SceneGpu {
             })),
         };
         let bounce = bounce_triangles(&mv, &mi);
-        let pose = pose_digest(&hv, &bounce);
         let mesh_bounds = scene
             .meshes
             .iter()
@@ -234,9 +238,8 @@ impl SceneGpu {
             },
             fit_bound: strands,
             generation: next_generation(),
-            pose,
             bounce_triangles: bounce,
-            bounce_cache: std::sync::Mutex::new(Vec::new()),
+            bounce_cache: std::sync::Mutex::new(BounceCache::default()),
             bakes: std::sync::atomic::AtomicUsize::new(0),
         })
     }
@@ -265,7 +268,6 @@ impl SceneGpu {
             all: strands.union(self.mesh_bounds),
         };
         self.generation = next_generation();
-        self.pose = pose_digest(&self.vertices, &self.bounce_triangles);
         Ok(())
     }
 
@@ -293,7 +295,6 @@ impl SceneGpu {
         }
         self.bounds.all = self.bounds.strands.union(self.mesh_bounds);
         self.generation = next_generation();
-        self.pose = pose_digest(&self.vertices, &self.bounce_triangles);
         Ok(())
     }
 
@@ -436,8 +437,17 @@ impl SceneGpu {
         u: &crate::render::uniforms::FrameUniforms,
         probe: mesh_bounce::Probe,
     ) -> mesh_bounce::Grid<ProbeLight> {
+        let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
+        let pose = match cache.pose {
+            Some((generation, digest)) if generation == self.generation => digest,
+            _ => {
+                let digest = pose_digest(&self.vertices, &self.bounce_triangles);
+                cache.pose = Some((self.generation, digest));
+                digest
+            }
+        };
         let key: BounceKey = (
-            self.pose,
+            pose,
             [
                 u.to_light[0].to_bits(),
                 u.to_light[1].to_bits(),
@@ -457,16 +467,16 @@ impl SceneGpu {
             ],
             probe,
         );
-        let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(i) = cache.iter().position(|(k, _)| *k == key) {
-            let hit = cache.remove(i);
+        let probes = &mut cache.probes;
+        if let Some(i) = probes.iter().position(|(k, _)| *k == key) {
+            let hit = probes.remove(i);
             let v = hit.1;
-            cache.push(hit);
+            probes.push(hit);
             return v;
         }
         self.bakes.fetch_add(1, Ordering::Relaxed);
-        if cache.len() >= PROBE_CACHE {
-            cache.remove(0);
+        if probes.len() >= PROBE_CACHE {
+            probes.remove(0);
         }
         let triangles: Vec<Triangle> = self.bounce_triangles.iter().map(|t| t.triangle).collect();
         let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
@@ -480,7 +490,7 @@ impl SceneGpu {
                 crate::pathtrace::bsdf::fibre_params(u.hair_color),
                 &points,
             );
-            cache.push((key, v));
+            probes.push((key, v));
             return v;
         }
         let meshes = MeshBvh::new(triangles);
@@ -493,7 +503,7 @@ impl SceneGpu {
         };
         let grid = mesh_bounce::Grid::measure(&meshes, &hair, &points, |p| u.light_arrival(p));
         let v = crate::shading::probe_light::isotropic(&grid);
-        cache.push((key, v));
+        probes.push((key, v));
         v
     }
 }

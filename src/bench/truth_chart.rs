@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// The speed chart of `result` against the path-traced truth: each configuration's GPU time against its RMSE
 /// over the hair against the path-traced image under `shading` (a shading model's word; the decomposition's
 /// total, the truth's noise removed), with its Pareto front; a configuration with no total under `shading`
-/// stays off it.
+/// stays off it. A note under the title says whether the truth tells them apart ([`separation_note`]).
 pub fn truth_chart(
     result: &BenchResult,
     decomposition: &[crate::measure::decompose::Decomposition],
@@ -26,12 +26,51 @@ pub fn truth_chart(
             })
             .map_or(f64::NAN, |d| d.hair_rmse)
     };
-    chart::speed_chart_by(
+    let mut chart = chart::speed_chart_by(
         result,
         &total,
         &format!("hair RMSE against the path-traced truth ({shading} shading)"),
         "Speed vs accuracy against the path-traced truth",
-    )
+    );
+    if let Some(s) = crate::measure::decompose::separation(decomposition, shading) {
+        chart.notes.push(separation_note(&s));
+    }
+    chart
+}
+
+/// One line saying how far apart the configurations are against what the truth's noise does to them: the
+/// spread of their totals over the noise on one configuration's figure against the others' (from the truth's
+/// two renders, [`crate::measure::decompose::Separation`]), and over the truth's noise per pixel.
+pub fn separation_note(s: &crate::measure::decompose::Separation) -> String {
+    let times = |noise: f64| {
+        let t = s.spread / noise;
+        if t < 10.0 {
+            format!("{t:.2}×")
+        } else {
+            format!("{t:.0}×")
+        }
+    };
+    let mut against = Vec::new();
+    if s.figure_noise > 0.0 {
+        against.push(format!(
+            "{} the truth's noise on a figure (±{:.4})",
+            times(s.figure_noise),
+            s.figure_noise
+        ));
+    }
+    if s.pixel_noise > 0.0 {
+        against.push(format!(
+            "{} its noise per pixel ({:.3})",
+            times(s.pixel_noise),
+            s.pixel_noise
+        ));
+    }
+    let apart = format!("{} configurations {:.4} apart", s.configurations, s.spread);
+    if against.is_empty() {
+        apart
+    } else {
+        format!("{apart}: {}", against.join(", "))
+    }
 }
 
 /// Writes [`truth_chart`] as `measure::truth::TRUTH_CHART_FILES` into `dir`.
@@ -93,6 +132,7 @@ mod tests {
                 noise: 0.0,
                 structure: rmse,
                 coarse: rmse,
+                gap: rmse / 10.0,
             };
             StepError {
                 hair: region,
@@ -125,6 +165,11 @@ mod tests {
         };
         let chart = truth_chart(&r, &decomposition, "kajiya-kay");
         assert_eq!(ys(&chart), [0.3, 0.2]);
+        let note = chart.notes.last().unwrap();
+        assert!(
+            note == "2 configurations 0.1000 apart: 14× the truth's noise on a figure (±0.0071)",
+            "{note}"
+        );
         assert_eq!(chart.front.unwrap().points.len(), 2);
         // Under Marschner only method-a has a row: method-b is left off rather than drawn at a made-up error.
         let chart = truth_chart(&r, &decomposition, "marschner");

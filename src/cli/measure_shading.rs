@@ -75,6 +75,15 @@ pub(super) fn shading_table(
     }
     if let Some(t) = &truth {
         print_decomposition(t, &table.decomposition, width);
+        for m in &models {
+            if let Some(s) = crate::measure::decompose::separation(&table.decomposition, m.word()) {
+                println!(
+                    "under {}: {}",
+                    m.word(),
+                    crate::bench::truth_chart::separation_note(&s)
+                );
+            }
+        }
     }
     let mut written = Vec::new();
     if let Some(dir) = out {
@@ -104,8 +113,8 @@ fn print_decomposition(
 ) {
     println!(
         "\nerror by effect against the path-traced truth ({} spp, {} hair and {} receiver pixels): RMSE of sRGB \
-         with the noise removed, the ratio of mean linear luminance (later image over earlier), the hair's \
-         structure (the RMSE left once the later image's channels are scaled to the earlier's means) and its \
+         with the noise removed and (±) how far the truth's noise moves it, the ratio of mean linear luminance \
+         (later image over earlier), the hair's structure (the RMSE left once the later image's channels are scaled to the earlier's means) and its \
          coarse RMSE (over {}×{} blocks wholly in the hair, their noise removed)",
         t.spp,
         t.masks.hair.iter().filter(|&&m| m).count(),
@@ -114,16 +123,17 @@ fn print_decomposition(
         crate::measure::decompose::BLOCK,
     );
     println!(
-        "{:<width$} {:<15} {:<19} {:>9} {:>9} {:>9} {:>9}   {:>9} {:>9}",
-        "method", "shading", "effect", "hair RMSE", "ratio", "structure", "coarse", "recv RMSE", "ratio"
+        "{:<width$} {:<15} {:<19} {:>9} {:>7} {:>9} {:>9} {:>9}   {:>9} {:>9}",
+        "method", "shading", "effect", "hair RMSE", "±", "ratio", "structure", "coarse", "recv RMSE", "ratio"
     );
     for d in rows {
         println!(
-            "{:<width$} {:<15} {:<19} {:>9.4} {:>9.3} {:>9.4} {:>9.4}   {:>9.4} {:>9.3}",
+            "{:<width$} {:<15} {:<19} {:>9.4} {:>7.4} {:>9.3} {:>9.4} {:>9.4}   {:>9.4} {:>9.3}",
             d.method,
             d.shading,
             d.effect,
             d.hair_rmse,
+            d.hair_gap.abs(),
             d.hair_ratio,
             d.hair_structure,
             d.hair_coarse,

@@ -65,12 +65,15 @@ impl Masks {
 }
 
 /// An image of the chain (sRGB, over black) and its noise's mean square per region (hair, receivers), per pixel
-/// and per block ([`BLOCK`]): 0 for a raster image.
+/// and per block ([`BLOCK`]): 0 for a raster image; a path-traced image keeps its two renders, so that each of
+/// them gives a figure of its own ([`RegionError::sd`]).
 #[derive(Clone, Debug)]
 pub struct Stage {
     pub image: RgbaImage,
     pub noise_sq: [f64; 2],
     pub coarse_noise_sq: [f64; 2],
+    /// The two independent renders whose mean `image` is; `None` for a raster image.
+    pub halves: Option<Box<[RgbaImage; 2]>>,
 }
 
 impl Stage {
@@ -80,18 +83,29 @@ impl Stage {
             image,
             noise_sq: [0.0; 2],
             coarse_noise_sq: [0.0; 2],
+            halves: None,
         }
     }
 
     /// The mean of two independent renders `a` and `b` (sRGB of their linear mean, `mean`): each differs from the
     /// expectation by `rmse(a, b) / √2`, so their mean by `rmse(a, b) / 2`; alike for the blocks' means.
-    pub fn of_two(mean: RgbaImage, a: &RgbaImage, b: &RgbaImage, masks: &Masks) -> Stage {
-        let noise = |m: &[bool]| mean_square(a, b, m) / 4.0;
-        let coarse = |m: &[bool]| coarse_mean_square(a, b, m).unwrap_or(0.0) / 4.0;
+    pub fn of_two(mean: RgbaImage, a: RgbaImage, b: RgbaImage, masks: &Masks) -> Stage {
+        let noise = |m: &[bool]| mean_square(&a, &b, m) / 4.0;
+        let coarse = |m: &[bool]| coarse_mean_square(&a, &b, m).unwrap_or(0.0) / 4.0;
         Stage {
             image: mean,
             noise_sq: [noise(&masks.hair), noise(&masks.receivers)],
             coarse_noise_sq: [coarse(&masks.hair), coarse(&masks.receivers)],
+            halves: Some(Box::new([a, b])),
+        }
+    }
+
+    /// Render `k` (0 or 1) with its noise's mean square per region (twice the mean's), or, for a raster image,
+    /// the image itself.
+    fn half(&self, k: usize) -> (&RgbaImage, [f64; 2]) {
+        match &self.halves {
+            Some(h) => (&h[k], self.noise_sq.map(|n| 2.0 * n)),
+            None => (&self.image, [0.0; 2]),
         }
     }
 }
@@ -203,6 +217,12 @@ pub struct RegionError {
     /// The RMSE over the blocks of [`BLOCK`]² pixels wholly in the region ([`coarse_mean_square`]), the blocks'
     /// noise removed: the error at the scale of locks (NaN where the region holds no block).
     pub coarse: f64,
+    /// Half the difference between the RMSEs the noisy sides' two renders give apart (`(rmse₀ − rmse₁) / 2`,
+    /// each with its own noise removed): its size estimates how far the images' noise moves `rmse` (a render at
+    /// half the samples strays √2 times as far as their mean), with one degree of freedom; it errs high, each
+    /// render's figure carrying the noise of its own noise removal too, and a firefly in one render moves every
+    /// configuration's figure alike, which [`separation`] takes out. 0 between raster images.
+    pub gap: f64,
 }
 
 /// One step's figures: over the hair, over the receivers, and the whole image's RMSE and FLIP (noise kept).
@@ -217,16 +237,21 @@ pub struct StepError {
 /// The step from `from` (the truth's side) to `to` (the real-time side).
 pub fn step(from: &Stage, to: &Stage, masks: &Masks) -> StepError {
     let region = |k: usize, mask: &[bool]| {
+        let without_noise = |ms: f64, noise_sq: f64| (ms - noise_sq).max(0.0).sqrt();
         let noise_sq = from.noise_sq[k] + to.noise_sq[k];
-        let without_noise = |ms: f64| (ms - noise_sq).max(0.0).sqrt();
         let coarse_noise_sq = from.coarse_noise_sq[k] + to.coarse_noise_sq[k];
+        let by_half = |h: usize| {
+            let ((a, na), (b, nb)) = (from.half(h), to.half(h));
+            without_noise(mean_square(a, b, mask), na[k] + nb[k])
+        };
         RegionError {
-            rmse: without_noise(mean_square(&from.image, &to.image, mask)),
+            rmse: without_noise(mean_square(&from.image, &to.image, mask), noise_sq),
             ratio: mean_luminance(&to.image, mask) / mean_luminance(&from.image, mask),
             noise: noise_sq.sqrt(),
-            structure: without_noise(mean_square_matched(&from.image, &to.image, mask)),
+            structure: without_noise(mean_square_matched(&from.image, &to.image, mask), noise_sq),
             coarse: coarse_mean_square(&from.image, &to.image, mask)
-                .map_or(f64::NAN, |ms| (ms - coarse_noise_sq).max(0.0).sqrt()),
+                .map_or(f64::NAN, |ms| without_noise(ms, coarse_noise_sq)),
+            gap: 0.5 * (by_half(0) - by_half(1)),
         }
     };
     let [hair, receivers] = masks.regions();
@@ -251,11 +276,13 @@ pub struct Decomposition {
     pub hair_noise: f64,
     pub hair_structure: f64,
     pub hair_coarse: f64,
+    pub hair_gap: f64,
     pub receivers_rmse: f64,
     pub receivers_ratio: f64,
     pub receivers_noise: f64,
     pub receivers_structure: f64,
     pub receivers_coarse: f64,
+    pub receivers_gap: f64,
     pub image_rmse: f64,
     pub image_flip: f64,
 }
@@ -271,11 +298,13 @@ impl Decomposition {
             hair_noise: e.hair.noise,
             hair_structure: e.hair.structure,
             hair_coarse: e.hair.coarse,
+            hair_gap: e.hair.gap,
             receivers_rmse: e.receivers.rmse,
             receivers_ratio: e.receivers.ratio,
             receivers_noise: e.receivers.noise,
             receivers_structure: e.receivers.structure,
             receivers_coarse: e.receivers.coarse,
+            receivers_gap: e.receivers.gap,
             image_rmse: e.image_rmse,
             image_flip: e.image_flip,
         }
@@ -291,6 +320,47 @@ pub struct SharedSteps {
     pub shading: StepError,
     pub scattered_light: StepError,
     pub eye_coverage: StepError,
+}
+
+/// Whether the truth tells the configurations apart under one shading model: the spread of their totals over
+/// the hair against what the truth's noise does to them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Separation {
+    pub configurations: usize,
+    /// The worst total hair RMSE less the best.
+    pub spread: f64,
+    /// The noise on one configuration's figure against the others': the standard deviation over the
+    /// configurations of their [`RegionError::gap`]s, so that what moves every figure alike (a firefly in one
+    /// render) and leaves their order is left out; how far another truth of as many samples would move one
+    /// configuration's total relative to the rest.
+    pub figure_noise: f64,
+    /// The truth's noise per pixel over the hair (the `noise` removed from each RMSE).
+    pub pixel_noise: f64,
+}
+
+/// [`Separation`] of the `total` rows of `rows` under `shading`; `None` with fewer than two configurations.
+pub fn separation(rows: &[Decomposition], shading: &str) -> Option<Separation> {
+    let totals: Vec<&Decomposition> = rows
+        .iter()
+        .filter(|d| d.effect == TOTAL && d.shading == shading && d.hair_rmse.is_finite())
+        .collect();
+    if totals.len() < 2 {
+        return None;
+    }
+    let (lo, hi) = totals
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| {
+            (lo.min(d.hair_rmse), hi.max(d.hair_rmse))
+        });
+    let n = totals.len() as f64;
+    let mean_gap = totals.iter().map(|d| d.hair_gap).sum::<f64>() / n;
+    let gaps_sq: f64 = totals.iter().map(|d| (d.hair_gap - mean_gap).powi(2)).sum();
+    Some(Separation {
+        configurations: totals.len(),
+        spread: hi - lo,
+        figure_noise: (gaps_sq / (n - 1.0)).sqrt(),
+        pixel_noise: totals.iter().map(|d| d.hair_noise).sum::<f64>() / n,
+    })
 }
 
 /// A configuration's rows under one shading model, in the chain's order and the total last.
@@ -353,7 +423,7 @@ mod tests {
         };
         // Renders a and b: 100 and 110 on every pixel; their mean 105. Noise² = (10/255)² / 4.
         let noisy =
-            |mean: u8, a: u8, b: u8| Stage::of_two(flat(2, 2, mean), &flat(2, 2, a), &flat(2, 2, b), &masks);
+            |mean: u8, a: u8, b: u8| Stage::of_two(flat(2, 2, mean), flat(2, 2, a), flat(2, 2, b), &masks);
         let x = noisy(105, 100, 110);
         let y = noisy(105, 110, 100);
         let e = step(&x, &y, &masks);
@@ -447,16 +517,95 @@ mod tests {
         );
         assert!((e.hair.coarse - 20.0 / 255.0).abs() < 1e-6, "{e:?}");
         assert!((e.hair.rmse - 20.0 / 255.0).abs() < 1e-12, "{e:?}");
-        let noisy = Stage::of_two(
-            flat_mean.image.clone(),
-            &board(100, 200),
-            &board(200, 100),
-            &masks,
-        );
+        let noisy = Stage::of_two(flat_mean.image.clone(), board(100, 200), board(200, 100), &masks);
         assert!((noisy.noise_sq[0] - (100.0f64 / 255.0).powi(2) / 4.0).abs() < 1e-12);
         assert!(noisy.coarse_noise_sq[0] < 1e-24, "{:?}", noisy.coarse_noise_sq);
         let e = step(&noisy, &Stage::exact(flat(16, 8, 120)), &masks);
         assert!(e.hair.coarse > 0.0 && e.receivers.coarse.is_nan(), "{e:?}");
+    }
+
+    /// The figures' noise, estimated from the two renders of one truth, is the noise another truth puts on a
+    /// figure. Over 400 independent noisy truths of a 32 × 32 image (linear 0.2, noise of standard deviation 0.05
+    /// per render) against two raster images (30 % brighter on every other pixel; 20 % darker on every third
+    /// column): the root mean square of one image's per-truth `|gap|` reads 1.14× the standard deviation of its
+    /// hair RMSE across the truths (asked for 0.9–1.3×: the estimate errs high, each render's figure carrying
+    /// the noise of its own noise removal, and its sampling error over 400 truths is some 4 %); `separation`'s
+    /// figure noise reads 0.91× the spread of one figure against the other's across the truths
+    /// (`sd(e₁ − e₂) / √2`), and 1.22× with a firefly (linear 4) in one render of every truth (asked for
+    /// 0.8–1.3× both), where `|gap|` reads 1.35×.
+    #[test]
+    fn the_figures_noise_from_two_renders_is_what_another_truth_moves() {
+        let (w, h) = (32u32, 32u32);
+        let masks = Masks {
+            hair: vec![true; (w * h) as usize],
+            receivers: vec![false; (w * h) as usize],
+        };
+        let image = |f: &dyn Fn(u32, u32) -> f32| {
+            RgbaImage::from_fn(w, h, |x, y| {
+                let v = crate::io::srgb8(f(x, y));
+                image::Rgba([v, v, v, 255])
+            })
+        };
+        let methods = [
+            Stage::exact(image(&|x, y| if (x + y) % 2 == 0 { 0.26 } else { 0.2 })),
+            Stage::exact(image(&|x, _| if x % 3 == 0 { 0.16 } else { 0.2 })),
+        ];
+        let sd = |v: &[f64]| {
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
+            (v.iter().map(|f| (f - mean).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+        };
+        let rms = |v: &[f64]| (v.iter().map(|g| g * g).sum::<f64>() / v.len() as f64).sqrt();
+        let mut rng = crate::rng::SplitMix64::stream(42, 0);
+        let trials = 400;
+        for firefly in [false, true] {
+            let (mut figures, mut gaps, mut apart, mut noise) =
+                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            for _ in 0..trials {
+                let mut n: Vec<[f32; 2]> = (0..w * h)
+                    .map(|_| [0.05 * rng.normal(), 0.05 * rng.normal()])
+                    .collect();
+                if firefly {
+                    n[rng.int(0, (w * h) as usize - 1)][rng.int(0, 1)] = 4.0;
+                }
+                let at = |x: u32, y: u32, k: usize| 0.2 + n[(y * w + x) as usize][k];
+                let truth = Stage::of_two(
+                    image(&|x, y| 0.5 * (at(x, y, 0) + at(x, y, 1))),
+                    image(&|x, y| at(x, y, 0)),
+                    image(&|x, y| at(x, y, 1)),
+                    &masks,
+                );
+                let [a, b] = [0, 1].map(|k| step(&truth, &methods[k], &masks).hair);
+                figures.push(a.rmse);
+                gaps.push(a.gap);
+                apart.push(a.rmse - b.rmse);
+                let rows: Vec<Decomposition> = [("a", a), ("b", b)]
+                    .into_iter()
+                    .map(|(m, e)| Decomposition {
+                        hair_rmse: e.rmse,
+                        hair_gap: e.gap,
+                        hair_noise: e.noise,
+                        ..Decomposition::new(m, "chiang", TOTAL, &step(&methods[0], &methods[0], &masks))
+                    })
+                    .collect();
+                let s = separation(&rows, "chiang").unwrap();
+                assert_eq!(s.configurations, 2);
+                assert!((s.spread - (a.rmse - b.rmse).abs()).abs() < 1e-15);
+                assert!((s.pixel_noise - 0.5 * (a.noise + b.noise)).abs() < 1e-15);
+                assert_eq!(separation(&rows[..1], "chiang"), None);
+                noise.push(s.figure_noise);
+            }
+            let (own, relative) = (
+                rms(&gaps) / sd(&figures),
+                rms(&noise) / (sd(&apart) / 2f64.sqrt()),
+            );
+            if !firefly {
+                assert!((0.9..1.3).contains(&own), "|gap| {own}× the spread across truths");
+            }
+            assert!(
+                (0.8..1.3).contains(&relative),
+                "figure noise {relative}× the relative spread"
+            );
+        }
     }
 
     /// Pixels at least half fibre are hair, at least half mesh are receivers, the rest neither.

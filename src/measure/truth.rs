@@ -258,8 +258,8 @@ fn traced_pair(
         .collect();
     Some(Stage::of_two(
         srgb(&mean),
-        &srgb(&renders[0]),
-        &srgb(&renders[1]),
+        srgb(&renders[0]),
+        srgb(&renders[1]),
         masks,
     ))
 }

@@ -317,7 +317,8 @@ pub fn truth(t: &Truth) -> String {
          step's RMSE of sRGB (the path-traced images' noise removed), its ratio of mean linear luminance (later \
          over earlier; the ratios multiply to the total's) and its coarse RMSE (over {b} × {b}-pixel blocks, the \
          scale of locks) are taken over the hair and over the shadow receivers apart, from the path tracer's \
-         first hits.</p>\n",
+         first hits; <code>hair_sd</code> is how far the truth's noise moves the hair's RMSE (from the figures \
+         its two renders give apart), and the chart's note sets the configurations' spread against it.</p>\n",
         b = crate::measure::decompose::BLOCK,
     );
     if t.image.is_some() {

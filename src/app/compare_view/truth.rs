@@ -212,13 +212,15 @@ fn table(ui: &mut egui::Ui, d: &Decomposed) {
         });
     if let Some(total) = d.rows.last() {
         ui.label(format!(
-            "{} under {}: RMSE of sRGB with the truth's noise removed (hair {}, receivers {}); {b}×{b}: over \
-             blocks of {b} × {b} pixels wholly in the hair, the error at the scale of locks; ratio: the step's \
-             later image's mean luminance over the earlier's. The steps' ratios multiply to the total's.",
+            "{} under {}: RMSE of sRGB with the truth's noise removed (hair {}, receivers {}; that noise moves \
+             the hair's total by ±{:.4}, from the figures its two renders give); {b}×{b}: over blocks of {b} × \
+             {b} pixels wholly in the hair, the error at the scale of locks; ratio: the step's later image's mean \
+             luminance over the earlier's. The steps' ratios multiply to the total's.",
             d.settings.method.name,
             total.shading,
             number(total.hair_noise),
             number(total.receivers_noise),
+            total.hair_gap.abs(),
             b = crate::measure::decompose::BLOCK,
         ));
     }

@@ -465,7 +465,7 @@ mod tests {
     fn font_has_the_glyphs_the_charts_print() {
         use ab_glyph::Font;
         let font = ab_glyph::FontRef::try_from_slice(FONT).unwrap();
-        for c in ['×', '²', 'Δ', 'σ', 'A', 'z', '0', '|', '.'] {
+        for c in ['×', '²', 'Δ', 'σ', '±', 'A', 'z', '0', '|', '.'] {
             assert_ne!(font.glyph_id(c).0, 0, "no glyph for {c}");
         }
     }

@@ -450,11 +450,12 @@ impl HairlabApp {
                 let raster_before = render.raster;
                 ui.horizontal(|ui| {
                     ui.label("strands").on_hover_text(
-                        "How every light pass and the exact reference draw the strands: lines, or light-facing \
+                        "How every light pass and the exact reference draw the strands: lines, light-facing \
                          ribbons at least one texel wide with a coverage alpha (anti-aliased shadow maps, less \
-                         flicker in motion). render.light_strands",
+                         flicker in motion), or auto: ribbons under the fibres model, which take a strand's \
+                         width as its coverage, lines otherwise. render.light_strands",
                     );
-                    for s in LightStrands::ALL {
+                    for s in LightStrands::SETTINGS {
                         ui.selectable_value(&mut render.light_strands, s, s.word());
                     }
                 });
@@ -488,7 +489,7 @@ impl HairlabApp {
                         render.light_strands = LightStrands::Lines;
                     }
                 }
-                if render.light_strands == LightStrands::Ribbons {
+                if render.strands_drawn() == LightStrands::Ribbons {
                     let width = &mut render.light_min_width;
                     ui.horizontal(|ui| {
                         ui.label("least width").on_hover_text(

@@ -155,7 +155,7 @@ impl Renderer {
         self.light.ensure_stage(
             &device,
             &self.bindings.frame_layout,
-            render.light_strands,
+            render.strands_drawn(),
             render.raster,
         )?;
         let u = self.frame_uniforms(camera, light, render, (1, 1), [0.0; 4]);

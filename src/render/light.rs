@@ -56,7 +56,7 @@ impl LightSide {
         ribbon_layout: &wgpu::BindGroupLayout,
         (maps, shadow_map): (LightDepthMaps, ShadowMap),
     ) -> LightSide {
-        let strands = LightStrands::default();
+        let strands = LightStrands::Lines;
         let stage = LightStage {
             caster: strands.stage(),
             ribbon_layout: ribbon_layout.clone(),

@@ -425,7 +425,7 @@ impl Renderer {
         self.light.ensure_stage(
             &device,
             &self.bindings.frame_layout,
-            f.render.light_strands,
+            f.render.strands_drawn(),
             f.render.raster,
         )?;
         let u = self.uniforms(f);

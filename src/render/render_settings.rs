@@ -44,9 +44,10 @@ pub struct RenderSettings {
     pub pcf: bool,
     /// Half-texel jitter of the light-map coordinate before every lookup (Sintorn & Assarsson 2009 §3.3).
     pub jitter: bool,
-    /// How every light pass and the exact reference draw the strands from the light: `lines`, or light-facing
+    /// How every light pass and the exact reference draw the strands from the light: `lines`, light-facing
     /// `ribbons` at least one texel wide with a coverage alpha (the anti-aliasing engines apply in the shadow
-    /// view; [`LightStrands`]).
+    /// view), or `auto`, ribbons under the fibres model and lines otherwise ([`LightStrands`]; what is drawn:
+    /// [`RenderSettings::strands_drawn`]).
     pub light_strands: LightStrands,
     /// Least width of a light-space ribbon in light texels, 1..=8 (`ribbons` only): a strand thinner is drawn
     /// this wide with its alpha scaled by the covered fraction, so its opacity spreads over more texels and a
@@ -181,6 +182,11 @@ impl RenderSettings {
         }
     }
 
+    /// How the light passes draw the strands: `light_strands` with `auto` resolved ([`LightStrands::drawn`]).
+    pub fn strands_drawn(&self) -> LightStrands {
+        self.light_strands.drawn(self.hair_model, self.raster)
+    }
+
     /// Texels a side of every light map as built: `map_resolution × light_supersample`.
     pub fn light_map_side(&self) -> u32 {
         self.map_resolution.saturating_mul(self.light_supersample.max(1))
@@ -203,7 +209,7 @@ impl Default for RenderSettings {
             background: [0.12, 0.13, 0.15],
             pcf: false,
             jitter: false,
-            light_strands: LightStrands::Lines,
+            light_strands: LightStrands::Auto,
             light_min_width: 1.0,
             raster: Raster::Hardware,
             raster_tile: 0,

@@ -350,11 +350,12 @@ impl SceneGpu {
     }
 
     /// What every light pass draws from the light (the light-depth pass, the exact reference, each method's
-    /// passes), the strands drawn as `strands` says: the one list, so a new caster is added here once. The
-    /// casters of a frame share one vertex stage (the light pipelines are built for it).
+    /// passes), the strands drawn as `strands` says (`Auto` resolved before, as lines if not): the one list, so
+    /// a new caster is added here once. The casters of a frame share one vertex stage (the light pipelines are
+    /// built for it).
     pub fn casters(&self, strands: LightStrands) -> Result<[&dyn LightCaster; 1], GpuError> {
         Ok(match strands {
-            LightStrands::Lines => [&self.lines],
+            LightStrands::Auto | LightStrands::Lines => [&self.lines],
             LightStrands::Ribbons => [self.ribbons.as_ref().map_err(too_large)?],
         })
     }

@@ -199,3 +199,38 @@ fn round_trips_through_toml() {
     let back = Settings::from_toml(&s.to_toml(), "roundtrip").unwrap();
     assert_eq!(back, s);
 }
+
+/// `render.light_strands` defaults to `auto`, which draws ribbons under the fibres model on the hardware
+/// rasteriser and lines under the absorber model or the compute rasteriser; a word given is drawn as it is.
+#[test]
+fn auto_light_strands_follow_the_hair_model() {
+    use crate::render::LightStrands;
+    let drawn = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let s = Settings::load_preset("default", &sets).unwrap();
+        (s.render.light_strands, s.render.strands_drawn())
+    };
+    assert_eq!(drawn(&[]), (LightStrands::Auto, LightStrands::Lines));
+    assert_eq!(
+        drawn(&["render.hair_model=fibres"]),
+        (LightStrands::Auto, LightStrands::Ribbons)
+    );
+    assert_eq!(
+        drawn(&["render.hair_model=fibres", "render.raster=compute"]).1,
+        LightStrands::Lines
+    );
+    assert_eq!(
+        drawn(&["render.hair_model=fibres", "render.light_strands=lines"]).1,
+        LightStrands::Lines
+    );
+    assert_eq!(drawn(&["render.light_strands=ribbons"]).1, LightStrands::Ribbons);
+    let e = Settings::load_preset(
+        "default",
+        &[
+            "render.light_strands=ribbons".into(),
+            "render.raster=compute".into(),
+        ],
+    )
+    .unwrap_err();
+    assert!(format!("{e:#}").contains("render.light_strands"), "{e:#}");
+}

@@ -11,7 +11,7 @@ use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
 use hairlab::methods::registry;
-use hairlab::render::Renderer;
+use hairlab::render::{LightStrands, Renderer};
 use hairlab::rng::SplitMix64;
 use hairlab::scene::{LightFit, Scene, Strands};
 use hairlab::settings::Settings;
@@ -25,6 +25,7 @@ fn line_fragments_store_the_texel_coverage() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let mut s = crate::light_ribbons::combed_settings(32);
     s.render.hair_model = HairModel::Fibres;
+    s.render.light_strands = LightStrands::Lines;
     let (_, texel) = crate::light_ribbons::lists_of(&gpu, &s, crate::light_ribbons::combed(3, 0.03, 0.0));
     s.render.hair_alpha = 0.35;
     for (rho, expected) in [(0.5f32, 0.5f32), (1.5, 1.0)] {

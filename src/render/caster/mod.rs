@@ -28,20 +28,44 @@ pub use stage::{CasterStage, LightCaster, LightStage, draw_casters};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum LightStrands {
+    /// Whichever the hair model draws its width with ([`LightStrands::drawn`]): ribbons under the fibres model
+    /// (a fibre's coverage of its texel is its width, which a line does not draw), lines under the absorber
+    /// model or the compute rasteriser.
+    #[default]
+    Auto,
     /// One line per segment ([`lines::LINES`]): a strand thinner than a texel covers a texel or not as the
     /// rasteriser's line rule decides.
-    #[default]
     Lines,
     /// Light-facing ribbons at least one texel wide, alpha scaled by the covered fraction ([`ribbons::RIBBONS`]).
     Ribbons,
 }
 
 impl LightStrands {
+    /// The choices a setting offers.
+    pub const SETTINGS: [LightStrands; 3] = [LightStrands::Auto, LightStrands::Lines, LightStrands::Ribbons];
+    /// What the light passes draw ([`LightStrands::drawn`] never gives `Auto`).
     pub const ALL: [LightStrands; 2] = [LightStrands::Lines, LightStrands::Ribbons];
 
+    /// What the light passes draw under `hair` and `raster`: `Auto` resolved, the rest as they are. Under the
+    /// fibres model a light fragment's alpha is its strand's coverage of the texel, which ribbons draw across the
+    /// strand's width and lines only in the texel the line marks (`docs/truth.md`, "The light map's strands at
+    /// their width": on `back-lit` the map passed 1.51× the traced fibres' light with lines, 1.17× with
+    /// ribbons); the compute rasteriser draws lines only.
+    pub fn drawn(self, hair: crate::shading::HairModel, raster: Raster) -> LightStrands {
+        match (self, hair, raster) {
+            (LightStrands::Auto, crate::shading::HairModel::Fibres, Raster::Hardware) => {
+                LightStrands::Ribbons
+            }
+            (LightStrands::Auto, _, _) => LightStrands::Lines,
+            (s, _, _) => s,
+        }
+    }
+
+    /// The vertex stage of strands drawn this way; `Auto`, which [`LightStrands::drawn`] resolves before a
+    /// caster is chosen, as lines (what it resolves to under the default hair model).
     pub fn stage(self) -> &'static CasterStage {
         match self {
-            LightStrands::Lines => &lines::LINES,
+            LightStrands::Auto | LightStrands::Lines => &lines::LINES,
             LightStrands::Ribbons => &ribbons::RIBBONS,
         }
     }
@@ -49,6 +73,7 @@ impl LightStrands {
     /// The setting's word.
     pub fn word(self) -> &'static str {
         match self {
+            LightStrands::Auto => "auto",
             LightStrands::Lines => "lines",
             LightStrands::Ribbons => "ribbons",
         }
@@ -82,7 +107,7 @@ impl Raster {
     pub fn stage(self, strands: LightStrands) -> Result<&'static CasterStage, String> {
         match (self, strands) {
             (Raster::Hardware, s) => Ok(s.stage()),
-            (Raster::Compute, LightStrands::Lines) => Ok(&compute::COMPUTE),
+            (Raster::Compute, LightStrands::Lines | LightStrands::Auto) => Ok(&compute::COMPUTE),
             (Raster::Compute, s) => Err(format!(
                 "render.raster = compute rasterises the strands as lines; render.light_strands = {} needs \
                  render.raster = hardware",

@@ -118,6 +118,9 @@ pub struct HairlabApp {
     /// The viewport texture registered with egui, and the renderer's target generation it shows.
     texture: Option<(egui::TextureId, u64)>,
     last_rendered: Option<(Settings, u32, u32)>,
+    /// Whether the last frame was drawn while its path-traced probe baked (`Renderer::probe_pending`): drawn
+    /// again once it is kept.
+    probe_baking: bool,
     adapter: String,
     message: Option<Message>,
     dialog: Option<(DialogPurpose, mpsc::Receiver<Option<PathBuf>>)>,
@@ -216,6 +219,7 @@ impl HairlabApp {
             scene_ms: 0.0,
             texture: None,
             last_rendered: None,
+            probe_baking: false,
             adapter,
             message,
             dialog: None,
@@ -484,6 +488,9 @@ impl HairlabApp {
             }
             if let Some(ms) = self.motion_ms.filter(|_| self.timeline.is_moving()) {
                 ui.label(format!("simulation (CPU) {ms:.1} ms"));
+            }
+            if self.probe_baking {
+                ui.label("path-traced probe: baking on the CPU, drawn meanwhile with the last one");
             }
             ui.separator();
             ui.label(&self.adapter);

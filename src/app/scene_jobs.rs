@@ -110,7 +110,9 @@ impl HairlabApp {
         };
         let result = match self.renderer.as_mut() {
             Some(r) => r.set_scene(&scene),
-            None => Renderer::new(&gpu, &scene, self.settings.render.map_resolution).map(|r| {
+            None => Renderer::new(&gpu, &scene, self.settings.render.map_resolution).map(|mut r| {
+                // The window does not stop for the path tracer's probe: it bakes on another thread.
+                r.set_background_probes(true);
                 self.renderer = Some(r);
             }),
         };

@@ -62,6 +62,15 @@ impl HairlabApp {
             return;
         };
         let key = (self.settings.clone(), width, height);
+        if self.probe_baking {
+            if renderer.probe_pending() {
+                ui.ctx()
+                    .request_repaint_after(std::time::Duration::from_millis(200));
+            } else {
+                // The probe the last frame asked for is kept now: draw it.
+                self.last_rendered = None;
+            }
+        }
         if self.continuous || self.last_rendered.as_ref() != Some(&key) {
             let method = match registry::find(&self.settings.method.name) {
                 Ok(m) => m,
@@ -93,6 +102,7 @@ impl HairlabApp {
             };
             let result = renderer.render(&input);
             self.last_rendered = Some(key);
+            self.probe_baking = renderer.probe_pending();
             if let Err(e) = result {
                 let msg = format!("render failed: {e}");
                 self.viewport_error = Some(msg.clone());

@@ -20,6 +20,7 @@ pub mod memory;
 pub mod method;
 pub mod passes;
 pub mod pipelines;
+pub mod probe_cache;
 pub mod render_settings;
 pub mod scene_gpu;
 pub mod targets;
@@ -70,6 +71,8 @@ pub struct Renderer {
     /// state from; a technique that cannot show it is refused.
     fur: Option<fur::state::SceneFur>,
     fur_generation: u64,
+    /// Whether the path-traced probe is baked on another thread ([`Renderer::set_background_probes`]).
+    background_probes: bool,
 }
 
 impl Renderer {
@@ -91,6 +94,7 @@ impl Renderer {
             targets_generation: 0,
             fur: None,
             fur_generation: 0,
+            background_probes: false,
             timer: GpuTimer::new(device, &gpu.queue),
             creations: Creations {
                 scene_uploads: 1,
@@ -101,6 +105,19 @@ impl Renderer {
             scene,
             targets,
         })
+    }
+
+    /// With `true` (the window), a frame under the fibres model whose path-traced probe is not kept asks for it
+    /// on another thread and is drawn meanwhile with the path-traced probe used last, or the voxel probe where
+    /// none was ([`Renderer::probe_pending`] says so until it is kept); with `false`, the default, it is baked
+    /// before the frame is drawn, so a measurement's image is the one its settings give.
+    pub fn set_background_probes(&mut self, background: bool) {
+        self.background_probes = background;
+    }
+
+    /// Whether a probe asked for by a frame is being baked on another thread (draw again once it is not).
+    pub fn probe_pending(&self) -> bool {
+        self.scene.probe_pending()
     }
 
     /// Replaces the scene (buffers re-sized from the new scene, a new generation).
@@ -237,8 +254,18 @@ impl Renderer {
             },
         );
         if render.hair_model == crate::shading::HairModel::Fibres {
-            let grid = self.scene.mesh_bounce(&u, render.probe);
-            let holds_scattering = render.probe == crate::shading::mesh_bounce::Probe::Traced;
+            use crate::shading::mesh_bounce::Probe;
+            use probe_cache::Answer;
+            let (grid, probe) = match render.probe {
+                Probe::Traced if self.background_probes => {
+                    match self.scene.mesh_bounce_or_bake(&u, Probe::Traced) {
+                        Answer::Kept(grid) | Answer::Baking(Some(grid)) => (grid, Probe::Traced),
+                        Answer::Baking(None) => (self.scene.mesh_bounce(&u, Probe::Voxels), Probe::Voxels),
+                    }
+                }
+                probe => (self.scene.mesh_bounce(&u, probe), probe),
+            };
+            let holds_scattering = probe == Probe::Traced;
             u.bounce_min = grid.min.extend(f32::from(u8::from(holds_scattering))).to_array();
             u.bounce_max = grid.max.extend(0.0).to_array();
             u.bounce_grid = crate::shading::probe_light::packed(&grid);

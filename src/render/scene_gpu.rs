@@ -17,11 +17,10 @@ use super::caster::{LightCaster, LightStrands};
 use super::geometry::{
     HairVertex, MeshVertex, RIBBON_VERTICES_PER_SEGMENT, hair_indices, hair_vertices, write_tangents,
 };
+use super::probe_cache::{self, Bake, ProbeCache, ProbeKey};
 use crate::gpu::{Gpu, GpuError};
-use crate::pathtrace::mesh_rays::MeshBvh;
 use crate::pathtrace::triangle::Triangle;
 use crate::scene::{Aabb, LightFit, PointCountMismatch, Scene};
-use crate::shading::hair_density::HairDensity;
 use crate::shading::mesh_bounce;
 use crate::shading::probe_light::ProbeLight;
 use glam::{Affine3A, Vec3};
@@ -81,23 +80,8 @@ pub struct SceneGpu {
     generation: u64,
     /// The meshes as the probe of `shading::mesh_bounce` sees them (posed as drawn), and its answers kept.
     bounce_triangles: Vec<BounceTriangle>,
-    bounce_cache: std::sync::Mutex<BounceCache>,
-    /// The probes baked so far (the cache's misses).
-    bakes: std::sync::atomic::AtomicUsize,
+    probes: ProbeCache,
 }
-
-/// The probes [`SceneGpu::mesh_bounce`] keeps ([`PROBE_CACHE`] at most, the last used last) with the pose and
-/// light each was found for, and the digest of the current pose ([`pose_digest`]) with the generation it was
-/// taken at: taken when a probe is asked for, not when the geometry moves (the absorber model asks for none).
-#[derive(Default)]
-struct BounceCache {
-    pose: Option<(u64, u64)>,
-    probes: Vec<(BounceKey, mesh_bounce::Grid<ProbeLight>)>,
-}
-
-/// The probes a scene keeps: a motion's frames up to this many (the presets' longest, `wind`, has 120) are baked
-/// once however often the timeline loops; 24 KiB each.
-pub const PROBE_CACHE: usize = 128;
 
 /// A digest of the strand points' positions and thicknesses and the posed triangles: equal poses give equal
 /// digests, and two poses whose digests are equal are taken for one (a 64-bit hash).
@@ -239,8 +223,7 @@ impl SceneGpu {
             fit_bound: strands,
             generation: next_generation(),
             bounce_triangles: bounce,
-            bounce_cache: std::sync::Mutex::new(BounceCache::default()),
-            bakes: std::sync::atomic::AtomicUsize::new(0),
+            probes: ProbeCache::default(),
         })
     }
 
@@ -321,9 +304,15 @@ impl SceneGpu {
         self.generation
     }
 
-    /// How many probes [`SceneGpu::mesh_bounce`] has baked (the answers it did not find kept).
+    /// How many probes [`SceneGpu::mesh_bounce`] and [`SceneGpu::mesh_bounce_or_bake`] have baked (the answers
+    /// they did not find kept).
     pub fn probe_bakes(&self) -> usize {
-        self.bakes.load(Ordering::Relaxed)
+        self.probes.bakes()
+    }
+
+    /// Whether a probe asked for by [`SceneGpu::mesh_bounce_or_bake`] is being baked.
+    pub fn probe_pending(&self) -> bool {
+        self.probes.pending()
     }
 
     pub fn bounds(&self) -> &SceneBounds {
@@ -387,10 +376,6 @@ fn too_large(&(what, bytes, limit): &(&'static str, u64, u64)) -> GpuError {
     }
 }
 
-/// What the bounce probe's answer depends on: the pose ([`pose_digest`]), the light's uniform fields, the hair's
-/// colour, its strands' width and the probe (`render.probe`).
-type BounceKey = (u64, [u32; 15], mesh_bounce::Probe);
-
 /// A mesh triangle for the bounce probe, with the vertices it was built from (so posing can move it).
 #[derive(Clone, Copy, Debug)]
 struct BounceTriangle {
@@ -432,79 +417,45 @@ impl SceneGpu {
     /// passes light a point (`light_dir`, `light_radiance` of `shaders/common/frame.wgsl`), through the hair of
     /// `u.hair_color` with the strands' widths (`HairDensity`), or under [`mesh_bounce::Probe::Traced`] the path
     /// tracer's gather at the same points (`pathtrace::probe`, through the fibres of those widths and the
-    /// meshes); kept per pose ([`PROBE_CACHE`] of them), so a motion bakes each frame once.
+    /// meshes); kept per pose ([`probe_cache::PROBE_CACHE`] of them), so a motion bakes each frame once. Baked here when not
+    /// kept.
     pub fn mesh_bounce(
         &self,
         u: &crate::render::uniforms::FrameUniforms,
         probe: mesh_bounce::Probe,
     ) -> mesh_bounce::Grid<ProbeLight> {
-        let mut cache = self.bounce_cache.lock().unwrap_or_else(|e| e.into_inner());
-        let pose = match cache.pose {
-            Some((generation, digest)) if generation == self.generation => digest,
-            _ => {
-                let digest = pose_digest(&self.vertices, &self.bounce_triangles);
-                cache.pose = Some((self.generation, digest));
-                digest
-            }
-        };
-        let key: BounceKey = (
-            pose,
-            [
-                u.to_light[0].to_bits(),
-                u.to_light[1].to_bits(),
-                u.to_light[2].to_bits(),
-                u.light_position[0].to_bits(),
-                u.light_position[1].to_bits(),
-                u.light_position[2].to_bits(),
-                u.light_color[0].to_bits(),
-                u.light_color[1].to_bits(),
-                u.light_color[2].to_bits(),
-                u.spot_cos_half_angle.to_bits(),
-                u.light_is_spot,
-                u.hair_color[0].to_bits(),
-                u.hair_color[1].to_bits(),
-                u.hair_color[2].to_bits(),
-                u.strand_width.to_bits(),
-            ],
-            probe,
-        );
-        let probes = &mut cache.probes;
-        if let Some(i) = probes.iter().position(|(k, _)| *k == key) {
-            let hit = probes.remove(i);
-            let v = hit.1;
-            probes.push(hit);
-            return v;
-        }
-        self.bakes.fetch_add(1, Ordering::Relaxed);
-        if probes.len() >= PROBE_CACHE {
-            probes.remove(0);
-        }
-        let triangles: Vec<Triangle> = self.bounce_triangles.iter().map(|t| t.triangle).collect();
-        let points: Vec<Vec3> = self.vertices.iter().map(|v| Vec3::from(v.position)).collect();
-        if probe == mesh_bounce::Probe::Traced {
-            let radius = |k: usize| 0.5 * u.strand_width * self.vertices[k].thickness;
-            let fibres = crate::pathtrace::fibre::segments_of(&points, self.ranges.iter().copied(), radius);
-            let bvh = crate::pathtrace::bvh::Bvh::with_triangles(fibres, triangles);
-            let v = crate::pathtrace::probe::grid(
-                &bvh,
-                &u.raster_light(),
-                crate::pathtrace::bsdf::fibre_params(u.hair_color),
-                &points,
-            );
-            probes.push((key, v));
-            return v;
-        }
-        let meshes = MeshBvh::new(triangles);
-        let density = HairDensity::from_strands(&points, self.ranges.iter().copied(), |k| {
-            self.vertices[k].thickness * u.strand_width
+        let key = self.probe_key(u, probe);
+        self.probes
+            .get(&key)
+            .unwrap_or_else(|| self.probes.bake_now(self.probe_bake(key, u)))
+    }
+
+    /// [`SceneGpu::mesh_bounce`] if kept; else the probe bakes on another thread ([`SceneGpu::probe_pending`]
+    /// until it is kept) and the answer holds the probe of that kind used last, to draw with meanwhile.
+    pub fn mesh_bounce_or_bake(
+        &self,
+        u: &crate::render::uniforms::FrameUniforms,
+        probe: mesh_bounce::Probe,
+    ) -> probe_cache::Answer {
+        let key = self.probe_key(u, probe);
+        self.probes.get_or_bake_later(&key, || self.probe_bake(key, u))
+    }
+
+    fn probe_key(&self, u: &crate::render::uniforms::FrameUniforms, probe: mesh_bounce::Probe) -> ProbeKey {
+        let pose = self.probes.pose(self.generation, || {
+            pose_digest(&self.vertices, &self.bounce_triangles)
         });
-        let hair = mesh_bounce::Hair {
-            density: &density,
-            sigma_a: crate::shading::marschner::absorption(Vec3::from(u.hair_color)),
-        };
-        let grid = mesh_bounce::Grid::measure(&meshes, &hair, &points, |p| u.light_arrival(p));
-        let v = crate::shading::probe_light::isotropic(&grid);
-        probes.push((key, v));
-        v
+        probe_cache::key(pose, u, probe)
+    }
+
+    fn probe_bake(&self, key: ProbeKey, u: &crate::render::uniforms::FrameUniforms) -> Bake {
+        Bake {
+            key,
+            uniforms: *u,
+            points: self.vertices.iter().map(|v| Vec3::from(v.position)).collect(),
+            thickness: self.vertices.iter().map(|v| v.thickness).collect(),
+            ranges: self.ranges.clone(),
+            triangles: self.bounce_triangles.iter().map(|t| t.triangle).collect(),
+        }
     }
 }

@@ -6,6 +6,7 @@ use crate::common;
 use glam::Vec3;
 use hairlab::gpu::Gpu;
 use hairlab::render::frame::{UniformInputs, uniforms};
+use hairlab::render::probe_cache::Answer;
 use hairlab::render::scene_gpu::SceneGpu;
 use hairlab::render::uniforms::FrameUniforms;
 use hairlab::scene::Camera;
@@ -93,6 +94,93 @@ fn a_motion_bakes_each_poses_probe_once() {
     let brighter = uploaded.mesh_bounce(&frame(&uploaded, &settings), Probe::Voxels);
     assert_eq!(uploaded.probe_bakes(), 3);
     assert_ne!(brighter, first);
+}
+
+/// Waits until `pending` says no more, failing after two minutes.
+fn settle(pending: impl Fn() -> bool) {
+    let start = std::time::Instant::now();
+    while pending() {
+        assert!(
+            start.elapsed().as_secs() < 120,
+            "the probe's bake did not finish in 120 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// The window bakes the traced probe on another thread (`Renderer::set_background_probes`): asked for a probe it
+/// does not keep, the scene bakes it (`SceneGpu::probe_pending`) with no traced probe yet to stand in; once
+/// baked, it answers the lattice a bake on the caller's thread gives, bit for bit, without baking again; a moved
+/// pose asks again, the last pose's probe standing in meanwhile, and gets a probe of its own. A renderer drawing in the
+/// background draws its first frame with the voxel probe while the bake runs and, drawn again once it is kept,
+/// the image a renderer that waits for the bake draws, pixel for pixel.
+#[test]
+fn the_window_bakes_the_traced_probe_in_the_background() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let settings = crate::truth_decomposition::small(
+        "default",
+        &[
+            "render.hair_model=fibres",
+            "render.probe=traced",
+            "scene.generator.strands=80",
+        ],
+    );
+    let scene = settings.scene.build().unwrap();
+    let layout = hairlab::render::geometry::ribbon_layout(&gpu.device);
+    let mut uploaded = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
+    let camera = hairlab::path_scene::camera(&settings, &scene);
+    let u = small_frame(&uploaded, &camera, &settings);
+    assert_eq!(
+        uploaded.mesh_bounce_or_bake(&u, Probe::Traced),
+        Answer::Baking(None)
+    );
+    settle(|| uploaded.probe_pending());
+    let Answer::Kept(baked) = uploaded.mesh_bounce_or_bake(&u, Probe::Traced) else {
+        panic!("kept once baked")
+    };
+    assert_eq!(uploaded.probe_bakes(), 1);
+    let waited = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
+    assert_eq!(waited.mesh_bounce(&u, Probe::Traced), baked);
+    let moved: Vec<Vec3> = scene
+        .strands
+        .points
+        .iter()
+        .map(|p| *p + Vec3::new(0.0, 0.0, 0.02))
+        .collect();
+    uploaded.update_points(&gpu, &moved).unwrap();
+    let u = small_frame(&uploaded, &camera, &settings);
+    assert_eq!(
+        uploaded.mesh_bounce_or_bake(&u, Probe::Traced),
+        Answer::Baking(Some(baked))
+    );
+    settle(|| uploaded.probe_pending());
+    assert_eq!(uploaded.probe_bakes(), 2);
+    let Answer::Kept(second) = uploaded.mesh_bounce_or_bake(&u, Probe::Traced) else {
+        panic!("the moved pose's probe kept once baked")
+    };
+    assert_ne!(second, baked);
+
+    let mut s = settings.clone();
+    (s.render.width, s.render.height) = (64, 48);
+    s.camera = camera;
+    let method = hairlab::methods::registry::reference();
+    let mut background = hairlab::render::Renderer::new(&gpu, &scene, 64).unwrap();
+    background.set_background_probes(true);
+    let early = background
+        .render_capture(&common::frame_input(&s, method))
+        .unwrap();
+    settle(|| background.probe_pending());
+    let late = background
+        .render_capture(&common::frame_input(&s, method))
+        .unwrap();
+    assert!(!background.probe_pending());
+    let mut waiting = hairlab::render::Renderer::new(&gpu, &scene, 64).unwrap();
+    let expected = waiting.render_capture(&common::frame_input(&s, method)).unwrap();
+    assert!(
+        late == expected,
+        "drawn again once baked, the frame is the one that waits for its probe"
+    );
+    assert!(early != expected, "the first frame is drawn with the voxel probe");
 }
 
 /// `strand_lit` on a probe row: `(tangent, V)`, `(to light, count)`, `(to eye, ·)`, `(colour, ·)`.

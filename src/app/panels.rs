@@ -492,11 +492,11 @@ impl HairlabApp {
                 if render.strands_drawn() == LightStrands::Ribbons {
                     let width = &mut render.light_min_width;
                     ui.horizontal(|ui| {
-                        ui.label("least width").on_hover_text(
+                        let label = ui.label("least width").on_hover_text(
                             "Least ribbon width in light texels: a thinner strand is drawn this wide, its alpha \
                              scaled by the covered fraction. render.light_min_width",
                         );
-                        ui.add(egui::Slider::new(width, 1.0..=8.0));
+                        ui.add(egui::Slider::new(width, 1.0..=8.0)).labelled_by(label.id);
                     });
                 }
                 ui.horizontal(|ui| {

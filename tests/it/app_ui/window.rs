@@ -76,6 +76,40 @@ fn workbench_headless() {
     );
 }
 
+/// Under the fibres model with the path-traced probe the window does not stop for the probe's bake: a frame is
+/// drawn while it bakes on another thread and the status line says so; once it is kept the frame is drawn again
+/// with it and the line is gone.
+#[test]
+fn the_window_draws_while_the_traced_probe_bakes() {
+    if Gpu::for_tests().is_none() {
+        return;
+    }
+    let mut settings = common::small_settings(320, 240);
+    settings.render.hair_model = hairlab::shading::HairModel::Fibres;
+    settings.render.probe = hairlab::shading::mesh_bounce::Probe::Traced;
+    let mut harness = Harness::builder()
+        .with_size([1000.0, 640.0])
+        .wgpu_setup(wgpu_setup(AdapterPreference::Software))
+        .build_eframe(move |cc| HairlabApp::new(cc, Some(settings)));
+    let baking = "path-traced probe: baking on the CPU, drawn meanwhile with the last one";
+    let start = std::time::Instant::now();
+    let mut seen = false;
+    loop {
+        harness.step();
+        let shown = harness.query_all_by_label(baking).next().is_some();
+        seen |= shown;
+        if seen && !shown {
+            break;
+        }
+        assert!(
+            start.elapsed().as_secs() < 180,
+            "after 180 s: the baking line {}",
+            if seen { "still shown" } else { "never shown" }
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
 /// The Render section's shading selector offers every strand shading model and switches `render.shading`.
 #[test]
 fn render_section_switches_the_shading_model() {

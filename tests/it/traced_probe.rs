@@ -30,12 +30,9 @@ fn small_frame(uploaded: &SceneGpu, camera: &Camera, settings: &Settings) -> Fra
     )
 }
 
-/// Under `render.probe = traced` the renderer's probe (its frame's lattice, `SceneGpu::mesh_bounce`) and the
-/// truth chain's CPU model of the raster (`path_scene::raster_shading`) are one lattice, node for node, and it
-/// holds light; the voxel probe of the same scene differs from it.
-#[test]
-fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
-    let Some(gpu) = Gpu::for_tests() else { return };
+/// The small `default` scene of 80 strands under the fibres model and the traced probe: its settings, the scene
+/// and the ribbon layout a `SceneGpu` is uploaded with.
+fn traced_scene(gpu: &Gpu) -> (Settings, hairlab::scene::Scene, wgpu::BindGroupLayout) {
     let settings = crate::truth_decomposition::small(
         "default",
         &[
@@ -45,7 +42,20 @@ fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
         ],
     );
     let scene = settings.scene.build().unwrap();
-    let layout = hairlab::render::geometry::ribbon_layout(&gpu.device);
+    (
+        settings,
+        scene,
+        hairlab::render::geometry::ribbon_layout(&gpu.device),
+    )
+}
+
+/// Under `render.probe = traced` the renderer's probe (its frame's lattice, `SceneGpu::mesh_bounce`) and the
+/// truth chain's CPU model of the raster (`path_scene::raster_shading`) are one lattice, node for node, and it
+/// holds light; the voxel probe of the same scene differs from it.
+#[test]
+fn the_renderer_and_the_truth_chain_hold_one_traced_probe() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let (settings, scene, layout) = traced_scene(&gpu);
     let uploaded = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
     let camera = hairlab::path_scene::camera(&settings, &scene);
     let u = small_frame(&uploaded, &camera, &settings);
@@ -117,16 +127,7 @@ fn settle(pending: impl Fn() -> bool) {
 #[test]
 fn the_window_bakes_the_traced_probe_in_the_background() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let settings = crate::truth_decomposition::small(
-        "default",
-        &[
-            "render.hair_model=fibres",
-            "render.probe=traced",
-            "scene.generator.strands=80",
-        ],
-    );
-    let scene = settings.scene.build().unwrap();
-    let layout = hairlab::render::geometry::ribbon_layout(&gpu.device);
+    let (settings, scene, layout) = traced_scene(&gpu);
     let mut uploaded = SceneGpu::upload(&gpu, &scene, &layout).unwrap();
     let camera = hairlab::path_scene::camera(&settings, &scene);
     let u = small_frame(&uploaded, &camera, &settings);

@@ -66,7 +66,7 @@ impl Masks {
 
 /// An image of the chain (sRGB, over black) and its noise's mean square per region (hair, receivers), per pixel
 /// and per block ([`BLOCK`]): 0 for a raster image; a path-traced image keeps its two renders, so that each of
-/// them gives a figure of its own ([`RegionError::sd`]).
+/// them gives a figure of its own ([`RegionError::gap`]).
 #[derive(Clone, Debug)]
 pub struct Stage {
     pub image: RgbaImage,
@@ -214,7 +214,7 @@ pub struct RegionError {
     /// The RMSE (noise removed) once the later image's linear channels are scaled to the earlier's means over the
     /// region: the part of `rmse` that neither the mean nor the colour balance explains (where pixels differ).
     pub structure: f64,
-    /// The RMSE over the blocks of [`BLOCK`]² pixels wholly in the region ([`coarse_mean_square`]), the blocks'
+    /// The RMSE over the blocks of [`BLOCK`]² pixels wholly in the region (`coarse_mean_square`), the blocks'
     /// noise removed: the error at the scale of locks (NaN where the region holds no block).
     pub coarse: f64,
     /// Half the difference between the RMSEs the noisy sides' two renders give apart (`(rmse₀ − rmse₁) / 2`,

@@ -1,9 +1,11 @@
 // Eye pass for opaque meshes: Lambert shading, shadowed by other meshes (shadow map) and by hair (the selected
-// shadow method's visibility; under the fibres model, the light its fibres scatter forward).
+// shadow method's visibility; under the fibres model, the light its fibres scatter forward), and under the
+// fibres model lit by the light the hair around it scatters (`mesh_probe_light`).
 #include "common/frame.wgsl"
 #include "common/scene_bindings.wgsl"
 #include "common/marschner.wgsl"
 #include "common/fibre_transport.wgsl"
+#include "common/mesh_bounce.wgsl"
 #include_method
 #include "common/method_lookup.wgsl"
 
@@ -46,5 +48,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let v = mesh_visibility(in.world, 3) * through;
     let lit = in.color * light_radiance(in.world) * max(dot(n, l), 0.0) * v;
-    return vec4<f32>(lit + in.color * frame.mesh_ambient, 1.0);
+    return vec4<f32>(lit + in.color * frame.mesh_ambient + mesh_probe_light(in.world, n, in.color), 1.0);
 }

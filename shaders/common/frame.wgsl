@@ -72,13 +72,14 @@ struct FrameUniforms {
     env_to_light: array<vec4<f32>, 64>,
     env_radiance: array<vec4<f32>, 64>,
     // Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
-    // (common/mesh_bounce.wgsl): its lattice's corners and its 8 x 8 x 8 nodes' light, three vectors a node
-    // (`probe_light::packed`: rest and s_xx, first and s_yy, s_zz s_xy s_xz s_yz); zeros otherwise.
+    // (common/mesh_bounce.wgsl): its lattice's corners and its 8 x 8 x 8 nodes' light and the hair's cover,
+    // five vectors a node (`probe_light::packed`: rest and s_xx, first and s_yy, s_zz s_xy s_xz s_yz, the cover
+    // of +x -x +y -y, of +z -z); zeros otherwise.
     // bounce_min.w is 1 where the probe holds the fibres' scattered light (render.probe = traced;
     // strand_shading.wgsl's probe_holds_scattering).
     bounce_min: vec4<f32>,
     bounce_max: vec4<f32>,
-    bounce_grid: array<vec4<f32>, 1536>,
+    bounce_grid: array<vec4<f32>, 2560>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

@@ -14,13 +14,11 @@ use crate::pathtrace::bvh::Bvh;
 use crate::pathtrace::effects::{self, Effects, Events, FirstHit, HairShadows, RasterLight, RasterShading};
 use crate::pathtrace::integrator::{self, MAX_DEPTH};
 use crate::pathtrace::light::{DirectionalLight, Light, SpotLight};
-use crate::pathtrace::mesh_rays::MeshBvh;
 use crate::pathtrace::{fibre, triangle};
 use crate::render::render_settings::{PathEvents, PathFirstHit, PathHairShadows};
 use crate::scene::{Aabb, Camera, LightKind, Scene};
 use crate::settings::Settings;
-use crate::shading::hair_density::HairDensity;
-use crate::shading::{HairModel, mesh_bounce};
+use crate::shading::HairModel;
 
 /// The light of `settings` over `scene`. Both kinds give a white Lambertian surface facing the light at the
 /// scene's centre what the raster shows it (`colour × light × N·L`: the light's colour × intensity): the
@@ -96,33 +94,16 @@ pub fn raster_shading(settings: &Settings, scene: &Scene, around: &Aabb) -> Rast
     };
     let bounce = (settings.render.hair_model == HairModel::Fibres).then(|| {
         let strands = &scene.strands;
-        let triangles = triangle::triangles(&scene.meshes);
-        if settings.render.probe == mesh_bounce::Probe::Traced {
-            let bvh = Bvh::with_triangles(fibre::segments(strands, settings.render.strand_width), triangles);
-            let fibre = fibre_params(settings.render.hair_color);
-            return std::sync::Arc::new(crate::pathtrace::probe::grid(
-                &bvh,
-                &light,
-                fibre,
-                &strands.points,
-            ));
-        }
-        let density = HairDensity::from_strands(&strands.points, strands.ranges(), |k| {
-            strands.thickness.as_ref().map_or(1.0, |t| t[k]) * settings.render.strand_width
-        });
-        let hair = mesh_bounce::Hair {
-            density: &density,
-            sigma_a: crate::shading::marschner::absorption(Vec3::from(settings.render.hair_color)),
-        };
-        let grid = mesh_bounce::Grid::measure(&MeshBvh::new(triangles), &hair, &strands.points, |p| {
-            let (to_light, distance) = light.toward(p);
-            mesh_bounce::Arrival {
-                to_light,
-                distance,
-                radiance: light.radiance_at(p),
-            }
-        });
-        std::sync::Arc::new(crate::shading::probe_light::isotropic(&grid))
+        let ranges: Vec<(usize, usize)> = strands.ranges().collect();
+        std::sync::Arc::new(crate::pathtrace::probe::bake(
+            settings.render.probe,
+            &light,
+            Vec3::from(settings.render.hair_color),
+            &strands.points,
+            &ranges,
+            |k| strands.thickness.as_ref().map_or(1.0, |t| t[k]) * settings.render.strand_width,
+            triangle::triangles(&scene.meshes),
+        ))
     });
     RasterShading {
         model: settings.render.shading,

@@ -136,7 +136,8 @@ pub struct RasterShading {
 impl RasterShading {
     /// What the raster shows at `hit` seen along `-to_eye`'s opposite, with `visibility` towards the light
     /// (`to_light` from the hit): the shading model lit by the raster's light plus the ambient term on a
-    /// fibre; Lambert plus the ambient term on a mesh, its normal turned towards the eye.
+    /// fibre; Lambert plus the ambient term on a mesh, its normal turned towards the eye, and under the fibres
+    /// model the light of the hair around it (`shading::probe_light::mesh_probe_light`).
     pub fn radiance(&self, hit: &Hit, to_eye: Vec3, to_light: Vec3, visibility: f32) -> Vec3 {
         let light = self.light.radiance_at(hit.point);
         match hit.surface {
@@ -186,7 +187,10 @@ impl RasterShading {
                 if !self.scattered {
                     return lambert * visibility;
                 }
-                lambert * self.through_hair(visibility) + albedo * (MESH_AMBIENT * self.ambient)
+                let bounce = self.bounce.as_ref().map_or(Vec3::ZERO, |g| {
+                    crate::shading::probe_light::mesh_probe_light(g, hit.point, n, albedo, self.colour)
+                });
+                lambert * self.through_hair(visibility) + albedo * (MESH_AMBIENT * self.ambient) + bounce
             }
         }
     }

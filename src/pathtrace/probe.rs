@@ -17,8 +17,12 @@ use super::effects::{Effects, RasterLight};
 use super::fibre::Ray;
 use super::integrator::{MAX_DEPTH, TraceSettings, arriving};
 use super::light::Lighting;
+use super::mesh_rays::MeshBvh;
+use super::triangle::Triangle;
+use crate::shading::hair_cover;
+use crate::shading::hair_density::HairDensity;
 use crate::shading::mesh_bounce::{self, Grid, spread_over};
-use crate::shading::probe_light::{ProbeLight, cone_cos};
+use crate::shading::probe_light::{self, ProbeLight, cone_cos};
 
 /// Directions per point: at 64 the lattice's nodes (a point or two each) kept the gather's noise (the
 /// reference's hair RMSE against a 64-spp truth, its noise kept, 0.103 / 0.122 against 0.096 / 0.109 at 256 on
@@ -99,6 +103,49 @@ pub fn grid(bvh: &Bvh, light: &RasterLight, fibre: FibreParams, points: &[Vec3])
         .map(|(k, &p)| light_at(bvh, light, light.toward(p).0, &s, p, DIRECTIONS, k as u64))
         .collect();
     Grid::over(points, &at, &values)
+}
+
+/// The fibres model's probe of `kind` for strands `ranges` (`(first point, point count)` into `points`, point
+/// `k` of width `width(k)`) among `triangles` under `light`, the hair's linear colour `colour`: under
+/// [`mesh_bounce::Probe::Traced`] the path tracer's gather ([`grid`]), else the meshes' light through a voxel
+/// density of the strands (`mesh_bounce::Grid::measure`); either with the hair's cover at its nodes
+/// (`shading::hair_cover::lattice`), which lights the meshes under the hair. What the window's frame
+/// (`render::probe_cache`) and the truth chain's CPU model of it (`path_scene::raster_shading`) both bake.
+pub fn bake(
+    kind: mesh_bounce::Probe,
+    light: &RasterLight,
+    colour: Vec3,
+    points: &[Vec3],
+    ranges: &[(usize, usize)],
+    width: impl Fn(usize) -> f32,
+    triangles: Vec<Triangle>,
+) -> Grid<ProbeLight> {
+    let density = HairDensity::from_strands(points, ranges.iter().copied(), &width);
+    let meshes = MeshBvh::new(triangles.clone());
+    let light_grid = match kind {
+        mesh_bounce::Probe::Traced => {
+            let fibres = super::fibre::segments_of(points, ranges.iter().copied(), |k| 0.5 * width(k));
+            let bvh = Bvh::with_triangles(fibres, triangles);
+            grid(&bvh, light, super::bsdf::fibre_params(colour.to_array()), points)
+        }
+        mesh_bounce::Probe::Voxels => {
+            let hair = mesh_bounce::Hair {
+                density: &density,
+                sigma_a: crate::shading::marschner::absorption(colour),
+            };
+            let grid = Grid::measure(&meshes, &hair, points, |p| {
+                let (to_light, distance) = light.toward(p);
+                mesh_bounce::Arrival {
+                    to_light,
+                    distance,
+                    radiance: light.radiance_at(p),
+                }
+            });
+            probe_light::isotropic(&grid)
+        }
+    };
+    let cover = hair_cover::lattice(&density, &meshes, light_grid.min, light_grid.max);
+    probe_light::covered(light_grid, &cover)
 }
 
 #[cfg(test)]

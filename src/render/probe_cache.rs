@@ -14,12 +14,11 @@ use glam::Vec3;
 
 use crate::pathtrace::triangle::Triangle;
 use crate::render::uniforms::FrameUniforms;
-use crate::shading::hair_density::HairDensity;
 use crate::shading::mesh_bounce::{self, Grid};
 use crate::shading::probe_light::ProbeLight;
 
 /// The probes a scene keeps: a motion's frames up to this many (the presets' longest, `wind`, has 120) are baked
-/// once however often the timeline loops; 24 KiB each.
+/// once however often the timeline loops; 36 KiB each.
 pub const PROBE_CACHE: usize = 128;
 
 /// What a probe's answer depends on: the pose's digest, the light's uniform fields, the hair's colour, its
@@ -65,33 +64,18 @@ pub struct Bake {
 }
 
 impl Bake {
-    /// The probe: under [`mesh_bounce::Probe::Traced`] the path tracer's gather through the fibres of these
-    /// widths and the meshes (`pathtrace::probe`), else the meshes' light through a voxel density of the strands
-    /// (`mesh_bounce::Grid::measure`).
+    /// The probe (`pathtrace::probe::bake`) of the key's kind through the fibres of these widths and the meshes.
     pub fn run(&self) -> Grid<ProbeLight> {
         let u = &self.uniforms;
-        if self.key.2 == mesh_bounce::Probe::Traced {
-            let radius = |k: usize| 0.5 * u.strand_width * self.thickness[k];
-            let fibres =
-                crate::pathtrace::fibre::segments_of(&self.points, self.ranges.iter().copied(), radius);
-            let bvh = crate::pathtrace::bvh::Bvh::with_triangles(fibres, self.triangles.clone());
-            return crate::pathtrace::probe::grid(
-                &bvh,
-                &u.raster_light(),
-                crate::pathtrace::bsdf::fibre_params(u.hair_color),
-                &self.points,
-            );
-        }
-        let meshes = crate::pathtrace::mesh_rays::MeshBvh::new(self.triangles.clone());
-        let density = HairDensity::from_strands(&self.points, self.ranges.iter().copied(), |k| {
-            self.thickness[k] * u.strand_width
-        });
-        let hair = mesh_bounce::Hair {
-            density: &density,
-            sigma_a: crate::shading::marschner::absorption(Vec3::from(u.hair_color)),
-        };
-        let grid = mesh_bounce::Grid::measure(&meshes, &hair, &self.points, |p| u.light_arrival(p));
-        crate::shading::probe_light::isotropic(&grid)
+        crate::pathtrace::probe::bake(
+            self.key.2,
+            &u.raster_light(),
+            Vec3::from(u.hair_color),
+            &self.points,
+            &self.ranges,
+            |k| self.thickness[k] * u.strand_width,
+            self.triangles.clone(),
+        )
     }
 }
 

@@ -77,7 +77,7 @@ pub struct FrameUniforms {
     /// Under the fibres model, the probe of the light the meshes bounce and the fibres scatter onto the hair
     /// ([`crate::shading::mesh_bounce::Grid`]): its lattice's corners (xyz; `bounce_min.w` 1 where the probe
     /// holds the light the fibres scatter, `render.probe = traced`, else 0, `bounce_max.w` unused) and its
-    /// nodes' light, four vectors a node ([`crate::shading::probe_light::packed`]); zeros under the absorber
+    /// nodes' light and the hair's cover there, five vectors a node ([`crate::shading::probe_light::packed`]); zeros under the absorber
     /// model.
     pub bounce_min: [f32; 4],
     pub bounce_max: [f32; 4],
@@ -157,7 +157,7 @@ pub const FRAME_UNIFORMS_FIELDS: &[(&str, usize)] = {
 impl FrameUniforms {
     /// The light of these uniforms as `light_dir` and `light_radiance` of `shaders/common/frame.wgsl` give it
     /// (the spot's cone edge a smoothstep over the outer 15 % of the cosine, no falloff over distance), for the
-    /// path tracer (the traced probe, `pathtrace::probe`).
+    /// probe's bake (`pathtrace::probe::bake`).
     pub fn raster_light(&self) -> crate::pathtrace::effects::RasterLight {
         use glam::Vec3;
         let to_light = Vec3::from(self.to_light);
@@ -171,30 +171,6 @@ impl FrameUniforms {
                     self.spot_cos_half_angle,
                 )
             }),
-        }
-    }
-
-    /// The light at world point `p` under these uniforms, as [`FrameUniforms::raster_light`] gives it, for the
-    /// voxel probe.
-    pub fn light_arrival(&self, p: glam::Vec3) -> crate::shading::mesh_bounce::Arrival {
-        use glam::Vec3;
-        let colour = Vec3::from(self.light_color);
-        if self.light_is_spot == 0 {
-            return crate::shading::mesh_bounce::Arrival {
-                to_light: Vec3::from(self.to_light),
-                distance: f32::INFINITY,
-                radiance: colour,
-            };
-        }
-        let towards = Vec3::from(self.light_position) - p;
-        let to_light = towards.normalize_or_zero();
-        let edge = self.spot_cos_half_angle;
-        let hi = edge + (1.0 - edge) * 0.15;
-        let x = ((to_light.dot(Vec3::from(self.to_light)) - edge) / (hi - edge)).clamp(0.0, 1.0);
-        crate::shading::mesh_bounce::Arrival {
-            to_light,
-            distance: towards.length(),
-            radiance: colour * (x * x * (3.0 - 2.0 * x)),
         }
     }
 }

@@ -269,7 +269,7 @@ impl<T: Node> Grid<T> {
     /// a node no point is nearest to (inside the head, beyond a lock's edge) takes the mean of its filled
     /// neighbours along the axes, filled outwards from the points (zero where there are none), so that no
     /// value reaches a node from far away.
-    fn from_points(min: Vec3, max: Vec3, points: &[Vec3], values: &[T]) -> Grid<T> {
+    pub(crate) fn from_points(min: Vec3, max: Vec3, points: &[Vec3], values: &[T]) -> Grid<T> {
         let mut grid = Grid {
             min,
             max,
@@ -314,6 +314,12 @@ impl<T: Node> Grid<T> {
             }
         }
         grid
+    }
+
+    /// Where node `n` (at `(z · NODES + y) · NODES + x`) of the lattice `min`..`max` lies.
+    pub(crate) fn node_position(min: Vec3, max: Vec3, n: usize) -> Vec3 {
+        let (x, y, z) = (n % NODES, n / NODES % NODES, n / (NODES * NODES));
+        min + (max - min) * Vec3::new(x as f32, y as f32, z as f32) / (NODES - 1) as f32
     }
 
     /// The lattice coordinate of `p`, clamped to `[0, NODES − 1]` per axis.

@@ -6,6 +6,7 @@
 pub mod chiang;
 pub mod dual_scattering;
 pub mod fibre_transport;
+pub mod hair_cover;
 pub mod hair_density;
 pub mod hair_scatter;
 pub mod kajiya_kay;

@@ -22,6 +22,7 @@
 
 use glam::Vec3;
 
+use super::hair_cover::{self, Cube};
 use super::{chiang, mesh_bounce};
 
 /// Rec. 709 luminance, the moments' weight.
@@ -38,7 +39,8 @@ pub fn cone_cos() -> f32 {
     chiang::FIBRE.variances()[0].sqrt().cos()
 }
 
-/// One probe node's light from outside the cone (integrals over the sphere, linear RGB or luminance).
+/// One probe node's light from outside the cone (integrals over the sphere, linear RGB or luminance), and the
+/// hair's cover of the sky seen from the node, which lights a mesh with that light ([`mesh_probe_light`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ProbeLight {
     /// `∫ L dω`.
@@ -47,6 +49,8 @@ pub struct ProbeLight {
     pub first: Vec3,
     /// `∫ lum(L) ω ωᵀ dω`: xx, yy, zz, xy, xz, yz.
     pub second: [f32; 6],
+    /// The hair's cover of the six hemispheres about the axes ([`hair_cover::lattice`]).
+    pub cover: Cube,
 }
 
 impl ProbeLight {
@@ -58,6 +62,7 @@ impl ProbeLight {
             rest: e,
             first: Vec3::ZERO,
             second: [third, third, third, 0.0, 0.0, 0.0],
+            cover: Cube::default(),
         }
     }
 
@@ -128,6 +133,48 @@ pub fn probe_response(
     }
 }
 
+/// What a Lambertian mesh point of albedo `albedo` at `at`, its unit normal `normal` turned towards the eye,
+/// sends to the eye of the light the hair around it scatters (`mesh_probe_light` in
+/// `shaders/common/mesh_bounce.wgsl`), the hair's colour `colour`: the hair leaves with one fibre's albedo times
+/// the light arriving around it in the probe (`hair_response(colour) ×` the mean, the voxel probe's own
+/// response) and fills the part of the point's hemisphere the node's cover says ([`hair_cover::hemisphere`]).
+/// The scalp seen between strands is lit so, as the path tracer's is, where with the light map's direct light
+/// alone it was black; a floor beneath hanging hair takes what the little hair it sees sends. The lattice spans
+/// the strands, so the light fades to nothing over one node spacing outside its bounds ([`fade`]) rather than
+/// holding its edge.
+pub fn mesh_probe_light(
+    grid: &mesh_bounce::Grid<ProbeLight>,
+    at: Vec3,
+    normal: Vec3,
+    albedo: Vec3,
+    colour: Vec3,
+) -> Vec3 {
+    let node = grid.at(at);
+    albedo
+        * mesh_bounce::hair_response(colour)
+        * node.mean()
+        * hair_cover::hemisphere(node.cover, normal)
+        * fade(grid, at)
+}
+
+/// 1 inside `grid`'s bounds, falling linearly to 0 at one node spacing outside them (by the distance to the box).
+pub fn fade<T>(grid: &mesh_bounce::Grid<T>, at: Vec3) -> f32 {
+    let spacing = ((grid.max - grid.min) / (mesh_bounce::NODES - 1) as f32).max(Vec3::splat(1e-6));
+    let outside = ((grid.min - at).max(at - grid.max).max(Vec3::ZERO)) / spacing;
+    (1.0 - outside.length()).max(0.0)
+}
+
+/// `grid` with each node's cover taken from `cover` (a lattice on the same bounds, [`hair_cover::lattice`]).
+pub fn covered(
+    mut grid: mesh_bounce::Grid<ProbeLight>,
+    cover: &mesh_bounce::Grid<Cube>,
+) -> mesh_bounce::Grid<ProbeLight> {
+    for (node, c) in grid.values.iter_mut().zip(&cover.values) {
+        node.cover = *c;
+    }
+    grid
+}
+
 /// The radiances of `grid` as light arriving alike from every direction ([`ProbeLight::isotropic`]), as the eye
 /// pass reads a probe.
 pub fn isotropic(grid: &mesh_bounce::Grid) -> mesh_bounce::Grid<ProbeLight> {
@@ -138,22 +185,28 @@ pub fn isotropic(grid: &mesh_bounce::Grid) -> mesh_bounce::Grid<ProbeLight> {
     }
 }
 
-/// The grid as the frame uniforms carry it (`frame.bounce_grid`): three vectors a node, `(rest, s_xx)`,
-/// `(first, s_yy)`, `(s_zz, s_xy, s_xz, s_yz)`.
+/// The grid as the frame uniforms carry it (`frame.bounce_grid`): [`NODE_VECTORS`] vectors a node,
+/// `(rest, s_xx)`, `(first, s_yy)`, `(s_zz, s_xy, s_xz, s_yz)`, the cover's `(+x, −x, +y, −y)` and
+/// `(+z, −z, 0, 0)`.
 pub fn packed(grid: &mesh_bounce::Grid<ProbeLight>) -> [[f32; 4]; PACKED] {
     std::array::from_fn(|k| {
-        let n = &grid.values[k / 3];
-        let s = n.second;
-        match k % 3 {
+        let n = &grid.values[k / NODE_VECTORS];
+        let (s, c) = (n.second, n.cover.0);
+        match k % NODE_VECTORS {
             0 => n.rest.extend(s[0]).to_array(),
             1 => n.first.extend(s[1]).to_array(),
-            _ => [s[2], s[3], s[4], s[5]],
+            2 => [s[2], s[3], s[4], s[5]],
+            3 => [c[0], c[1], c[2], c[3]],
+            _ => [c[4], c[5], 0.0, 0.0],
         }
     })
 }
 
+/// Vectors a node of [`packed`].
+pub const NODE_VECTORS: usize = 5;
+
 /// Vectors of [`packed`].
-pub const PACKED: usize = 3 * mesh_bounce::NODES * mesh_bounce::NODES * mesh_bounce::NODES;
+pub const PACKED: usize = NODE_VECTORS * mesh_bounce::NODES * mesh_bounce::NODES * mesh_bounce::NODES;
 
 impl std::ops::Add for ProbeLight {
     type Output = ProbeLight;
@@ -162,6 +215,7 @@ impl std::ops::Add for ProbeLight {
             rest: self.rest + o.rest,
             first: self.first + o.first,
             second: std::array::from_fn(|k| self.second[k] + o.second[k]),
+            cover: self.cover + o.cover,
         }
     }
 }
@@ -180,6 +234,7 @@ impl std::ops::Mul<f32> for ProbeLight {
             rest: self.rest * w,
             first: self.first * w,
             second: self.second.map(|s| s * w),
+            cover: self.cover * w,
         }
     }
 }
@@ -191,6 +246,7 @@ impl std::ops::Div<f32> for ProbeLight {
             rest: self.rest / w,
             first: self.first / w,
             second: self.second.map(|s| s / w),
+            cover: self.cover / w,
         }
     }
 }

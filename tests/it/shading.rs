@@ -534,16 +534,35 @@ fn probe(i: u32, p: Row) {
 }
 "#;
 
+/// The same rows for `mesh_probe_light` (the colour read as the mesh's albedo, the tangent as its normal).
+const MESH_PROBE: &str = r#"
+struct Row {
+    world: vec4<f32>,
+    colour: vec4<f32>,
+    tangent: vec4<f32>,
+    to_eye: vec4<f32>,
+}
+alias Out = vec4<f32>;
+
+fn probe(i: u32, p: Row) {
+    out[i] = vec4<f32>(mesh_probe_light(p.world.xyz, p.tangent.xyz, p.colour.rgb), 0.0);
+}
+"#;
+
 /// GPU = CPU: the light beyond one event of a hair fragment under both hair models: the absorber's
 /// `colour × 0.08`, and the fibres model's response to its probe (`probe_light::probe_response`) under the
 /// voxel probe (`hair_response(colour) ×` the mean) and the traced one (the fibre's response to the light's
-/// moments along it), on a lattice of random nodes (each the light of 1–6 random directions), at 2048 random
-/// points inside, on and beyond the lattice with random colours, tangents and eyes, within
-/// `|Δ| ≤ 2e-6 + 1e-5 |x|`.
+/// moments along it), on a lattice of random nodes (each the light of 1–6 random directions and a random
+/// cover), at 2048 random points inside, on and beyond the lattice with random colours, tangents and eyes,
+/// within `|Δ| ≤ 2e-6 + 1e-5 |x|`; and a mesh point's light of the hair around it
+/// (`probe_light::mesh_probe_light`: none under the absorber model, faded out beyond the lattice) at the same
+/// points, the colours as albedos and the tangents as normals (the lattice's box and the one node spacing
+/// beyond it hold at least 150 of the points lit, measured 215).
 #[test]
 fn wgsl_mesh_bounce_equals_the_cpu_model() {
+    use hairlab::shading::hair_cover::Cube;
     use hairlab::shading::mesh_bounce::{Grid, NODES, Probe};
-    use hairlab::shading::probe_light::{ProbeLight, packed, probe_response};
+    use hairlab::shading::probe_light::{ProbeLight, mesh_probe_light, packed, probe_response};
     let Some(gpu) = Gpu::for_tests() else { return };
     let mut rng = SplitMix64::new(31);
     let mut grid = Grid {
@@ -559,6 +578,7 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
             let l = Vec3::new(rng.range(0.0, 0.4), rng.range(0.0, 0.4), rng.range(0.0, 0.4));
             v.add_rest(unit(&mut rng), l, rng.range(0.1, 2.0));
         }
+        v.cover = Cube(std::array::from_fn(|_| rng.unit()));
     }
     let rows: Vec<[f32; 16]> = (0..2048)
         .map(|_| {
@@ -575,6 +595,8 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
         .collect();
     let mut frame: hairlab::render::uniforms::FrameUniforms = bytemuck::Zeroable::zeroed();
     frame.hair_ambient = 0.08;
+    let hair_colour = Vec3::new(0.8, 0.6, 0.4);
+    frame.hair_color = hair_colour.to_array();
     frame.bounce_max = grid.max.extend(0.0).to_array();
     frame.bounce_grid = packed(&grid);
     let v = |r: &[f32; 16], k: usize| Vec3::new(r[k], r[k + 1], r[k + 2]);
@@ -597,6 +619,36 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
             16,
         );
         let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let mesh_bytes = common::run_probe_with_frame(
+            &gpu,
+            ("common/mesh_bounce.wgsl", MESH_PROBE, "mesh_bounce.mesh_probe"),
+            &frame,
+            bytemuck::cast_slice(&rows),
+            rows.len(),
+            16,
+        );
+        let mesh_out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&mesh_bytes);
+        let mut lit_meshes = 0;
+        for (r, o) in rows.iter().zip(&mesh_out) {
+            let cpu = match probe {
+                None => Vec3::ZERO,
+                Some(_) => mesh_probe_light(&grid, v(r, 0), v(r, 8), v(r, 4), hair_colour),
+            };
+            lit_meshes += usize::from(cpu.max_element() > 0.0);
+            for k in 0..3 {
+                let d = (o[k] - cpu[k]).abs();
+                worst = worst.max(d);
+                assert!(
+                    d <= ABS_TOL + REL_TOL * cpu[k].abs(),
+                    "mesh {model:?} {probe:?} {r:?}: GPU {o:?}, CPU {cpu}"
+                );
+            }
+        }
+        println!("{model:?} {probe:?}: {lit_meshes} mesh points lit");
+        assert!(
+            probe.is_none() || lit_meshes >= 150,
+            "{lit_meshes} mesh points lit"
+        );
         for (r, o) in rows.iter().zip(&out) {
             let cpu = match probe {
                 None => v(r, 4) * 0.08,

@@ -519,7 +519,8 @@ fn wgsl_fibre_transport_equals_the_cpu_model() {
 }
 
 /// Per probe `(world xyz, ·)`, `(colour rgb, ·)`, `(tangent, ·)`, `(to eye, ·)`: `hair_ambient_light` of
-/// `shaders/common/mesh_bounce.wgsl`.
+/// `shaders/common/mesh_bounce.wgsl`, and `mesh_probe_light` of the same rows (the colour read as the mesh's
+/// albedo, the tangent as its normal).
 const BOUNCE_PROBE: &str = r#"
 struct Row {
     world: vec4<f32>,
@@ -527,25 +528,14 @@ struct Row {
     tangent: vec4<f32>,
     to_eye: vec4<f32>,
 }
-alias Out = vec4<f32>;
+struct Out {
+    hair: vec4<f32>,
+    mesh: vec4<f32>,
+}
 
 fn probe(i: u32, p: Row) {
-    out[i] = vec4<f32>(hair_ambient_light(p.colour.rgb, p.world.xyz, p.tangent.xyz, p.to_eye.xyz), 0.0);
-}
-"#;
-
-/// The same rows for `mesh_probe_light` (the colour read as the mesh's albedo, the tangent as its normal).
-const MESH_PROBE: &str = r#"
-struct Row {
-    world: vec4<f32>,
-    colour: vec4<f32>,
-    tangent: vec4<f32>,
-    to_eye: vec4<f32>,
-}
-alias Out = vec4<f32>;
-
-fn probe(i: u32, p: Row) {
-    out[i] = vec4<f32>(mesh_probe_light(p.world.xyz, p.tangent.xyz, p.colour.rgb), 0.0);
+    out[i].hair = vec4<f32>(hair_ambient_light(p.colour.rgb, p.world.xyz, p.tangent.xyz, p.to_eye.xyz), 0.0);
+    out[i].mesh = vec4<f32>(mesh_probe_light(p.world.xyz, p.tangent.xyz, p.colour.rgb), 0.0);
 }
 "#;
 
@@ -616,32 +606,28 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
             &frame,
             bytemuck::cast_slice(&rows),
             rows.len(),
-            16,
+            32,
         );
-        let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
-        let mesh_bytes = common::run_probe_with_frame(
-            &gpu,
-            ("common/mesh_bounce.wgsl", MESH_PROBE, "mesh_bounce.mesh_probe"),
-            &frame,
-            bytemuck::cast_slice(&rows),
-            rows.len(),
-            16,
-        );
-        let mesh_out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&mesh_bytes);
+        let out: Vec<[[f32; 4]; 2]> = bytemuck::pod_collect_to_vec(&bytes);
         let mut lit_meshes = 0;
-        for (r, o) in rows.iter().zip(&mesh_out) {
-            let cpu = match probe {
-                None => Vec3::ZERO,
-                Some(_) => mesh_probe_light(&grid, v(r, 0), v(r, 8), v(r, 4), hair_colour),
+        for (r, [hair, mesh]) in rows.iter().zip(&out) {
+            let (cpu_hair, cpu_mesh) = match probe {
+                None => (v(r, 4) * 0.08, Vec3::ZERO),
+                Some(probe) => (
+                    probe_response(&grid, probe, v(r, 0), v(r, 8), v(r, 12), v(r, 4)),
+                    mesh_probe_light(&grid, v(r, 0), v(r, 8), v(r, 4), hair_colour),
+                ),
             };
-            lit_meshes += usize::from(cpu.max_element() > 0.0);
-            for k in 0..3 {
-                let d = (o[k] - cpu[k]).abs();
-                worst = worst.max(d);
-                assert!(
-                    d <= ABS_TOL + REL_TOL * cpu[k].abs(),
-                    "mesh {model:?} {probe:?} {r:?}: GPU {o:?}, CPU {cpu}"
-                );
+            lit_meshes += usize::from(cpu_mesh.max_element() > 0.0);
+            for (what, gpu, cpu) in [("hair", hair, cpu_hair), ("mesh", mesh, cpu_mesh)] {
+                for k in 0..3 {
+                    let d = (gpu[k] - cpu[k]).abs();
+                    worst = worst.max(d);
+                    assert!(
+                        d <= ABS_TOL + REL_TOL * cpu[k].abs(),
+                        "{what} {model:?} {probe:?} {r:?}: GPU {gpu:?}, CPU {cpu}"
+                    );
+                }
             }
         }
         println!("{model:?} {probe:?}: {lit_meshes} mesh points lit");
@@ -649,20 +635,6 @@ fn wgsl_mesh_bounce_equals_the_cpu_model() {
             probe.is_none() || lit_meshes >= 150,
             "{lit_meshes} mesh points lit"
         );
-        for (r, o) in rows.iter().zip(&out) {
-            let cpu = match probe {
-                None => v(r, 4) * 0.08,
-                Some(probe) => probe_response(&grid, probe, v(r, 0), v(r, 8), v(r, 12), v(r, 4)),
-            };
-            for k in 0..3 {
-                let d = (o[k] - cpu[k]).abs();
-                worst = worst.max(d);
-                assert!(
-                    d <= ABS_TOL + REL_TOL * cpu[k].abs(),
-                    "{model:?} {probe:?} {r:?}: GPU {o:?}, CPU {cpu}"
-                );
-            }
-        }
     }
     println!(
         "mesh bounce GPU = CPU: {} rows × 3 cases, max |Δ| = {worst:.2e}",

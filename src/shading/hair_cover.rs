@@ -56,6 +56,8 @@ pub fn hemisphere(cube: Cube, normal: Vec3) -> f32 {
 
 /// The cover at each node of the lattice `min`..`max` ([`Cube::at`]), nodes inside a mesh filled from their
 /// neighbours along the axes (as `mesh_bounce::Grid` fills a probe); zero everywhere where every node is inside.
+/// On the caller's thread (0.25–0.32 s in the dev profile at 128 directions): on rayon's pool it queued behind a
+/// traced probe baking there, and the window's voxel stand-in with it (2.6 s).
 pub fn lattice(density: &HairDensity, meshes: &impl MeshRays, min: Vec3, max: Vec3) -> Grid<Cube> {
     let inside = (max - min).length();
     let nodes: Vec<(Vec3, Option<Cube>)> = (0..NODES * NODES * NODES)

@@ -186,7 +186,7 @@ mod tests {
 
     /// Inside a closed box (a head) every direction meets a wall: no cover of its own ([`Cube::at`] answers
     /// none), and on the lattice the nodes inside take their neighbours' cover, so a node inside reads what the
-    /// hair around the box covers, not zero; a lattice whose every node is enclosed reads zero.
+    /// hair around the box covers, not zero.
     #[test]
     fn a_node_inside_a_mesh_takes_its_neighbours_cover() {
         let density = slab(40, -1.0, 0.05, 0.01);

@@ -4,7 +4,8 @@
 //! four child boxes a ray tests at once (Wald et al. 2008), and stack traversal nearest child first (the box
 //! test ordered by the direction's signs where no component is 0). A slanted segment enters the build as a few
 //! boxes along its length (its one box is mostly empty), and each leaf keeps its primitives with their segments'
-//! axes side by side so the cheap line-distance test before the exact solve reads no other memory. A query
+//! axes side by side so the cheap test before the exact solve (`fibre::misses_axis`: the ray's distance from
+//! the segment's line, and where along the ray and the axis it passes that near) reads no other memory. A query
 //! remembers the last few primitives it tested (a segment's pieces sit in several leaves) and skips the
 //! primitive its ray leaves; a shadow query first tests the primitive that last blocked one on its thread.
 //! Written in-tree rather than taken from a crate: the primitives are our own round fibres (`fibre.rs`) and we
@@ -403,7 +404,7 @@ impl Bvh {
     }
 
     /// Calls `visit` with each primitive of each leaf whose box the ray meets within `(0, t_max)`, nearest box
-    /// first, but for primitive `from` and for segments the ray passes too far from ([`misses_axis`]); `visit`
+    /// first, but for primitive `from` and for segments the ray cannot meet within `t_max` ([`misses_axis`]); `visit`
     /// returns the new `t_max` (a shorter one prunes), or `None` to stop.
     fn traverse(&self, ray: &Ray, t_max: f32, from: u32, visit: impl FnMut(u32, f32) -> Option<f32>) {
         if self.nodes.is_empty() {
@@ -460,7 +461,7 @@ impl Bvh {
                     }
                     recent[seen % RECENT] = i;
                     seen += 1;
-                    if misses_axis(e.a, e.axis, e.r, ray) {
+                    if misses_axis(e.a, e.axis, e.r, ray, t_max) {
                         continue;
                     }
                     t_max = match visit(i, t_max) {

@@ -21,6 +21,11 @@ block size:
   stand-in   the blocks' ratio of the stand-ins' light to the truth's beyond one event, linear luminance: its
              10th, 50th and 90th percentile and the ratio of the sums
 The truth's noise is not removed: a block's mean over B x B pixels has about 1/B of a pixel's.
+
+With --window W (repeatable) it also prints, per pixel over the same hair pixels, the RMSE against the truth of
+the raster shading image whose stand-ins are scaled at each pixel by the truth's light beyond one event over the
+stand-ins' in the W x W window about it (the hair's pixels in it): the error left by a stand-in exact at the scale
+of W pixels and the raster's own within it, the least any probe of that resolution could reach.
 """
 import argparse
 import os
@@ -46,6 +51,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--shading", default="chiang")
     ap.add_argument("--block", type=int, action="append")
+    ap.add_argument("--window", type=int, action="append", default=[])
     args = ap.parse_args()
     read = lambda name: linear(os.path.join(args.dir, name + ".png"))
     truth, one = read("truth_path_traced"), read("truth_one_event")
@@ -65,6 +71,25 @@ def main():
             f"stand-in / truth beyond one event p10 {p10:.2f} p50 {p50:.2f} p90 {p90:.2f}, "
             f"sums {stand_in.sum() / rest.sum():.3f}"
         )
+    pixel_rmse = lambda x: np.sqrt(((srgb(x) - srgb(truth)) ** 2)[hair].mean())
+    if args.window:
+        print(f"per pixel over {hair.sum()} hair pixels: the raster shading {pixel_rmse(raster):.4f}")
+    for w in args.window:
+        inside = hair.astype(np.float64)
+        stand_in = ((raster - raster_one) @ LUMA) * inside
+        rest = ((truth - one) @ LUMA) * inside
+        scale = box(rest, w) / np.maximum(box(stand_in, w), 1e-12)
+        exact_at_w = raster_one + (raster - raster_one) * scale[..., None]
+        print(f"  stand-ins exact over {w:>2} x {w:<2} windows: {pixel_rmse(exact_at_w):.4f}")
+
+
+def box(x, w):
+    """The sum of x over the w x w window about each pixel (cut at the image's edges)."""
+    c = np.pad(x, ((1, 0), (1, 0))).cumsum(0).cumsum(1)
+    h, wd = x.shape
+    y0, x0 = np.clip(np.arange(h) - w // 2, 0, h), np.clip(np.arange(wd) - w // 2, 0, wd)
+    y1, x1 = np.clip(np.arange(h) + w - w // 2, 0, h), np.clip(np.arange(wd) + w - w // 2, 0, wd)
+    return c[y1][:, x1] - c[y0][:, x1] - c[y1][:, x0] + c[y0][:, x0]
 
 
 if __name__ == "__main__":

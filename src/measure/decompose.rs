@@ -15,9 +15,10 @@
 //! and the total, truth against method. Every figure is taken over two regions apart: the hair (pixels whose
 //! footprint the camera sees mostly as fibres) and the shadow receivers (mostly meshes), from the path tracer's
 //! first hits. The mean ratios multiply along the chain to the total's exactly; the RMSEs do not add (see the
-//! docs). The path-traced images carry noise: each is the mean of two renders of different seeds, whose
-//! difference measures it, and an RMSE is reported with the noise of both sides removed,
-//! `sqrt(max(0, rmse² − noise_a² − noise_b²))`. The coarse RMSE is the same over blocks of [`BLOCK`]² pixels
+//! docs). The path-traced images carry noise: each is the mean of two renders of different seeds, and an RMSE is
+//! reported with the noise of the step's difference removed, `sqrt(max(0, rmse² − noise²))`, that noise measured
+//! by how the difference the two renders give apart changes between them ([`difference_noise`]): the chain's
+//! images share their seeds, so two path-traced sides share part of their noise. The coarse RMSE is the same over blocks of [`BLOCK`]² pixels
 //! wholly in the region, each its pixels' mean: the error at the scale of locks rather than strands, where the
 //! truth's noise is some `BLOCK` times smaller.
 
@@ -64,14 +65,11 @@ impl Masks {
     }
 }
 
-/// An image of the chain (sRGB, over black) and its noise's mean square per region (hair, receivers), per pixel
-/// and per block ([`BLOCK`]): 0 for a raster image; a path-traced image keeps its two renders, so that each of
-/// them gives a figure of its own ([`RegionError::gap`]).
+/// An image of the chain (sRGB, over black); a path-traced image keeps its two renders, which measure its noise
+/// ([`difference_noise`]) and give a figure each ([`RegionError::gap`]).
 #[derive(Clone, Debug)]
 pub struct Stage {
     pub image: RgbaImage,
-    pub noise_sq: [f64; 2],
-    pub coarse_noise_sq: [f64; 2],
     /// The two independent renders whose mean `image` is; `None` for a raster image.
     pub halves: Option<Box<[RgbaImage; 2]>>,
 }
@@ -79,35 +77,58 @@ pub struct Stage {
 impl Stage {
     /// A noiseless (raster) image.
     pub fn exact(image: RgbaImage) -> Stage {
-        Stage {
-            image,
-            noise_sq: [0.0; 2],
-            coarse_noise_sq: [0.0; 2],
-            halves: None,
-        }
+        Stage { image, halves: None }
     }
 
-    /// The mean of two independent renders `a` and `b` (sRGB of their linear mean, `mean`): each differs from the
-    /// expectation by `rmse(a, b) / √2`, so their mean by `rmse(a, b) / 2`; alike for the blocks' means.
-    pub fn of_two(mean: RgbaImage, a: RgbaImage, b: RgbaImage, masks: &Masks) -> Stage {
-        let noise = |m: &[bool]| mean_square(&a, &b, m) / 4.0;
-        let coarse = |m: &[bool]| coarse_mean_square(&a, &b, m).unwrap_or(0.0) / 4.0;
+    /// The mean of two independent renders `a` and `b` (sRGB of their linear mean, `mean`).
+    pub fn of_two(mean: RgbaImage, a: RgbaImage, b: RgbaImage) -> Stage {
         Stage {
             image: mean,
-            noise_sq: [noise(&masks.hair), noise(&masks.receivers)],
-            coarse_noise_sq: [coarse(&masks.hair), coarse(&masks.receivers)],
             halves: Some(Box::new([a, b])),
         }
     }
 
-    /// Render `k` (0 or 1) with its noise's mean square per region (twice the mean's), or, for a raster image,
-    /// the image itself.
-    fn half(&self, k: usize) -> (&RgbaImage, [f64; 2]) {
-        match &self.halves {
-            Some(h) => (&h[k], self.noise_sq.map(|n| 2.0 * n)),
-            None => (&self.image, [0.0; 2]),
+    /// Render `k` (0 or 1), or, for a raster image, the image itself.
+    fn half(&self, k: usize) -> &RgbaImage {
+        self.halves.as_ref().map_or(&self.image, |h| &h[k])
+    }
+}
+
+/// The mean square of the noise in the difference `from − to` over `mask` (sRGB in [0, 1], three channels), per
+/// pixel and per block ([`blocks`]; `None` where the mask holds no whole block): the difference the renders `k`
+/// of both sides give, `dₖ = fromₖ − toₖ`, departs from its expectation by `d₀ − d₁` over √2 in each render, so
+/// the mean's noise is `(d₀ − d₁)² / 4`. A raster side's renders are its image and drop out (the path-traced
+/// side's own noise, `(from₀ − from₁)² / 4`); two path-traced sides, rendered with the same seeds, share part of
+/// their noise (the camera's rays, the paths up to where their effects part), and adding each side's noise in
+/// quadrature removed that part twice (`default`'s `shadowing` step read 0.000 at 32 samples a pixel and
+/// 0.017 at 512; this reads 0.022 and 0.021).
+fn difference_noise(from: &Stage, to: &Stage, mask: &[bool]) -> (f64, Option<f64>) {
+    let [f0, f1, t0, t1] = [from.half(0), from.half(1), to.half(0), to.half(1)];
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for (((p0, p1), (q0, q1)), &m) in f0
+        .pixels()
+        .zip(f1.pixels())
+        .zip(t0.pixels().zip(t1.pixels()))
+        .zip(mask)
+    {
+        if m {
+            n += 1;
+            for c in 0..3 {
+                let level = |p: &image::Rgba<u8>| f64::from(p[c]) / 255.0;
+                sum += ((level(p0) - level(q0)) - (level(p1) - level(q1))).powi(2);
+            }
         }
     }
+    let pixels = if n == 0 { 0.0 } else { sum / (12 * n) as f64 };
+    let [b0, b1, c0, c1] = [f0, f1, t0, t1].map(|image| blocks(image, mask));
+    let coarse = (!b0.is_empty()).then(|| {
+        let sum: f64 = (0..b0.len())
+            .flat_map(|i| (0..3).map(move |c| (i, c)))
+            .map(|(i, c)| ((b0[i][c] - c0[i][c]) - (b1[i][c] - c1[i][c])).powi(2))
+            .sum();
+        sum / (12 * b0.len()) as f64
+    });
+    (pixels, coarse)
 }
 
 /// Mean over the masked pixels and their three channels of the squared sRGB difference (in [0, 1]); 0 for an
@@ -209,7 +230,7 @@ pub struct RegionError {
     pub rmse: f64,
     /// The later image's mean linear luminance over the earlier's (NaN for an empty region).
     pub ratio: f64,
-    /// The noise removed: `sqrt(noise_a² + noise_b²)`.
+    /// The noise removed, the noise of the step's difference ([`difference_noise`]).
     pub noise: f64,
     /// The RMSE (noise removed) once the later image's linear channels are scaled to the earlier's means over the
     /// region: the part of `rmse` that neither the mean nor the colour balance explains (where pixels differ).
@@ -218,7 +239,7 @@ pub struct RegionError {
     /// noise removed: the error at the scale of locks (NaN where the region holds no block).
     pub coarse: f64,
     /// Half the difference between the RMSEs the noisy sides' two renders give apart (`(rmse₀ − rmse₁) / 2`,
-    /// each with its own noise removed): its size estimates how far the images' noise moves `rmse` (a render at
+    /// each with its own noise removed, twice the mean's): its size estimates how far the images' noise moves `rmse` (a render at
     /// half the samples strays √2 times as far as their mean), with one degree of freedom; it errs high, each
     /// render's figure carrying the noise of its own noise removal too, and a firefly in one render moves every
     /// configuration's figure alike, which [`separation`] takes out. 0 between raster images.
@@ -236,28 +257,24 @@ pub struct StepError {
 
 /// The step from `from` (the truth's side) to `to` (the real-time side).
 pub fn step(from: &Stage, to: &Stage, masks: &Masks) -> StepError {
-    let region = |k: usize, mask: &[bool]| {
+    let region = |mask: &[bool]| {
         let without_noise = |ms: f64, noise_sq: f64| (ms - noise_sq).max(0.0).sqrt();
-        let noise_sq = from.noise_sq[k] + to.noise_sq[k];
-        let coarse_noise_sq = from.coarse_noise_sq[k] + to.coarse_noise_sq[k];
-        let by_half = |h: usize| {
-            let ((a, na), (b, nb)) = (from.half(h), to.half(h));
-            without_noise(mean_square(a, b, mask), na[k] + nb[k])
-        };
+        let (noise_sq, coarse_noise_sq) = difference_noise(from, to, mask);
+        let by_half = |h: usize| without_noise(mean_square(from.half(h), to.half(h), mask), 2.0 * noise_sq);
         RegionError {
             rmse: without_noise(mean_square(&from.image, &to.image, mask), noise_sq),
             ratio: mean_luminance(&to.image, mask) / mean_luminance(&from.image, mask),
             noise: noise_sq.sqrt(),
             structure: without_noise(mean_square_matched(&from.image, &to.image, mask), noise_sq),
             coarse: coarse_mean_square(&from.image, &to.image, mask)
-                .map_or(f64::NAN, |ms| without_noise(ms, coarse_noise_sq)),
+                .map_or(f64::NAN, |ms| without_noise(ms, coarse_noise_sq.unwrap_or(0.0))),
             gap: 0.5 * (by_half(0) - by_half(1)),
         }
     };
     let [hair, receivers] = masks.regions();
     StepError {
-        hair: region(0, hair),
-        receivers: region(1, receivers),
+        hair: region(hair),
+        receivers: region(receivers),
         image_rmse: super::image_error(&to.image, &from.image).0,
         image_flip: crate::transparency::FlipMap::new(&to.image, &from.image)
             .metrics(|_, _| false)
@@ -414,30 +431,36 @@ mod tests {
     }
 
     /// Two noisy images of the same expectation step by an RMSE of 0 once their noise is removed; a real
-    /// difference keeps its RMSE less the noise, in quadrature.
+    /// difference keeps its RMSE less the noise, in quadrature. The noise removed is the difference's: two sides
+    /// whose renders carry opposite noise differ by twice it, two whose renders carry the same noise (as the
+    /// chain's images, which share their seeds, partly do) differ by none of it, and their step keeps its whole
+    /// RMSE, where adding the two sides' noise in quadrature took some of it away.
     #[test]
     fn noise_is_removed_from_the_rmse() {
         let masks = Masks {
             hair: vec![true; 4],
             receivers: vec![true; 4],
         };
-        // Renders a and b: 100 and 110 on every pixel; their mean 105. Noise² = (10/255)² / 4.
-        let noisy =
-            |mean: u8, a: u8, b: u8| Stage::of_two(flat(2, 2, mean), flat(2, 2, a), flat(2, 2, b), &masks);
+        let noisy = |mean: u8, a: u8, b: u8| Stage::of_two(flat(2, 2, mean), flat(2, 2, a), flat(2, 2, b));
+        // Renders 100 and 110 against 110 and 100: the differences -10 and +10, noise² = (20/255)² / 4.
         let x = noisy(105, 100, 110);
-        let y = noisy(105, 110, 100);
-        let e = step(&x, &y, &masks);
+        let e = step(&x, &noisy(105, 110, 100), &masks);
         assert_eq!(e.hair.rmse, 0.0);
-        assert!((e.hair.noise - (2.0f64 * (10.0f64 / 255.0).powi(2) / 4.0).sqrt()).abs() < 1e-12);
-        // Against a raster image 40 levels away: sqrt(40² − 5²) / 255.
-        let far = Stage::exact(flat(2, 2, 145));
-        let e = step(&x, &far, &masks);
+        assert!((e.hair.noise - 10.0 / 255.0).abs() < 1e-12, "{}", e.hair.noise);
+        // Against a raster image 40 levels away: the truth's own noise, 5 levels; sqrt(40² − 5²) / 255.
+        let e = step(&x, &Stage::exact(flat(2, 2, 145)), &masks);
         let expect = (40.0f64.powi(2) - 25.0).sqrt() / 255.0;
+        assert!((e.hair.noise - 5.0 / 255.0).abs() < 1e-12, "{}", e.hair.noise);
         assert!(
             (e.hair.rmse - expect).abs() < 1e-12,
             "{} vs {expect}",
             e.hair.rmse
         );
+        // 20 levels apart in both renders: the whole 20 levels (in quadrature it read sqrt(20² − 50) = 18.7).
+        let e = step(&x, &noisy(125, 120, 130), &masks);
+        assert!(e.hair.noise < 1e-12, "{}", e.hair.noise);
+        assert!((e.hair.rmse - 20.0 / 255.0).abs() < 1e-12, "{}", e.hair.rmse);
+        assert!(e.hair.gap.abs() < 1e-15, "{}", e.hair.gap);
     }
 
     /// The structure column keeps what the mean does not explain: an image against itself twice as bright in
@@ -517,11 +540,15 @@ mod tests {
         );
         assert!((e.hair.coarse - 20.0 / 255.0).abs() < 1e-6, "{e:?}");
         assert!((e.hair.rmse - 20.0 / 255.0).abs() < 1e-12, "{e:?}");
-        let noisy = Stage::of_two(flat_mean.image.clone(), board(100, 200), board(200, 100), &masks);
-        assert!((noisy.noise_sq[0] - (100.0f64 / 255.0).powi(2) / 4.0).abs() < 1e-12);
-        assert!(noisy.coarse_noise_sq[0] < 1e-24, "{:?}", noisy.coarse_noise_sq);
-        let e = step(&noisy, &Stage::exact(flat(16, 8, 120)), &masks);
-        assert!(e.hair.coarse > 0.0 && e.receivers.coarse.is_nan(), "{e:?}");
+        let noisy = Stage::of_two(flat_mean.image.clone(), board(100, 200), board(200, 100));
+        let flat_120 = flat(16, 8, 120);
+        let e = step(&noisy, &Stage::exact(flat_120.clone()), &masks);
+        assert!((e.hair.noise - 50.0 / 255.0).abs() < 1e-12, "{e:?}");
+        let coarse = coarse_mean_square(&noisy.image, &flat_120, &masks.hair)
+            .unwrap()
+            .sqrt();
+        assert!(coarse > 0.05 && e.hair.coarse == coarse, "{e:?}, {coarse}");
+        assert!(e.receivers.coarse.is_nan(), "{e:?}");
     }
 
     /// The figures' noise, estimated from the two renders of one truth, is the noise another truth puts on a
@@ -572,7 +599,6 @@ mod tests {
                     image(&|x, y| 0.5 * (at(x, y, 0) + at(x, y, 1))),
                     image(&|x, y| at(x, y, 0)),
                     image(&|x, y| at(x, y, 1)),
-                    &masks,
                 );
                 let [a, b] = [0, 1].map(|k| step(&truth, &methods[k], &masks).hair);
                 figures.push(a.rmse);

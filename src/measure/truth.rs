@@ -198,7 +198,7 @@ pub fn path_traced(
         // The truth takes most of the time: the one-event images stop after one bounce.
         let (from, to) = (k as f32 / parts, (k + 1) as f32 / parts);
         let mut part = Part::of(&mut *progress, from, to);
-        let Some(stage) = traced_pair(&path, effects, spp, &masks, &mut dropped, &mut part) else {
+        let Some(stage) = traced_pair(&path, effects, spp, &mut dropped, &mut part) else {
             return Ok(None);
         };
         stages.push(stage);
@@ -225,7 +225,6 @@ fn traced_pair(
     path: &PathScene,
     effects: Effects,
     spp: u32,
-    masks: &Masks,
     dropped: &mut u64,
     progress: &mut dyn Progress,
 ) -> Option<Stage> {
@@ -256,12 +255,7 @@ fn traced_pair(
         .zip(&renders[1])
         .map(|(a, b)| 0.5 * (*a + *b))
         .collect();
-    Some(Stage::of_two(
-        srgb(&mean),
-        srgb(&renders[0]),
-        srgb(&renders[1]),
-        masks,
-    ))
+    Some(Stage::of_two(srgb(&mean), srgb(&renders[0]), srgb(&renders[1])))
 }
 
 /// The shading model the truth chart is drawn under: the settings' when measured, else the first measured.

@@ -6,7 +6,7 @@ stand-in for the light beyond one scattering event (docs/truth.md, "What is left
     hairlab measure shadows --preset default --frames 1 --truth path-traced --shading chiang --config reference \
         --set render.spp=32 --set render.hair_model=fibres --set render.probe=traced \
         --set render.light_strands=ribbons --out DIR
-    python3 scripts/stand-in-by-block.py DIR [--shading chiang] [--block 8]...
+    python3 scripts/stand-in-by-block.py DIR [--shading chiang] [--block 8]... [--window 9]...
 
 It reads the chain's images `measure shadows` writes into DIR (sRGB over black): the truth
 (`truth_path_traced.png`), its one event (`truth_one_event.png`), and the path tracer with the raster's shading at

@@ -41,6 +41,8 @@ pub struct ShadingTable {
     /// Model after model, configuration after configuration, the chain's steps and the total (empty without a
     /// truth).
     pub decomposition: Vec<Decomposition>,
+    /// With a truth, the reference's image under each model (empty without one).
+    pub reference: Vec<(ShadingModel, image::RgbaImage)>,
 }
 
 /// Renders the scene of `settings` at [`IMAGE_SIZE`] under each of `models`, with the reference and with each
@@ -73,6 +75,7 @@ pub fn shading_errors_on(
         })
         .collect();
     let mut decomposition = Vec::new();
+    let mut references = Vec::new();
     for &model in models {
         progress(model.word());
         let mut render = s.render.clone();
@@ -118,8 +121,15 @@ pub fn shading_errors_on(
                 ));
             }
         }
+        if truth.is_some() {
+            references.push((model, reference.image));
+        }
     }
-    Ok(ShadingTable { rows, decomposition })
+    Ok(ShadingTable {
+        rows,
+        decomposition,
+        reference: references,
+    })
 }
 
 /// The truth of `settings` for `models` and every configuration's error under each model, decomposed by
@@ -141,10 +151,15 @@ pub fn against_truth(
     else {
         return Ok(None);
     };
-    let table = shading_errors_on(gpu, settings, configs, models, Some(&truth), |m| {
+    let mut table = shading_errors_on(gpu, settings, configs, models, Some(&truth), |m| {
         // Raster images only, and the table is whole or nothing: a stop takes effect at the caller's next step.
         let _ = progress.step(&format!("decomposing under {m}"), 0.95);
     })?;
+    let mut truth = truth;
+    truth.reference = std::mem::take(&mut table.reference)
+        .into_iter()
+        .map(|(m, image)| (m, Stage::exact(image)))
+        .collect();
     Ok(Some((truth, table)))
 }
 

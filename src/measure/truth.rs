@@ -52,6 +52,9 @@ pub struct Truth {
     pub raster_direct: Vec<(ShadingModel, Stage)>,
     /// The same with the raster's light beyond one event: its whole shading at the first hit.
     pub raster_shading: Vec<(ShadingModel, Stage)>,
+    /// The depth-peeled reference's raster image under each model, the chain's last image before the method's
+    /// (`shading::against_truth` adds them once drawn; empty until then).
+    pub reference: Vec<(ShadingModel, Stage)>,
     pub masks: Masks,
     /// The truth's samples per pixel (both seeds together).
     pub spp: u32,
@@ -62,8 +65,8 @@ pub struct Truth {
 
 impl Truth {
     /// The chain's path-traced images with the file names they are written as: [`TRUTH_PNG`], then
-    /// `truth_fibre_events.png`, `truth_one_event.png`, `truth_map_shadows.png`, `truth_raster_one_<model>.png`
-    /// and `truth_raster_<model>.png`.
+    /// `truth_fibre_events.png`, `truth_one_event.png`, `truth_map_shadows.png`, `truth_raster_one_<model>.png`,
+    /// `truth_raster_<model>.png` and the raster's own `truth_reference_<model>.png`.
     pub fn chain_images(&self) -> Vec<(String, &Stage)> {
         let mut out = vec![
             (TRUTH_PNG.to_owned(), &self.truth),
@@ -80,6 +83,11 @@ impl Truth {
             self.raster_shading
                 .iter()
                 .map(|(m, s)| (format!("truth_raster_{}.png", m.word()), s)),
+        );
+        out.extend(
+            self.reference
+                .iter()
+                .map(|(m, s)| (format!("truth_reference_{}.png", m.word()), s)),
         );
         out
     }
@@ -212,6 +220,7 @@ pub fn path_traced(
         map_shadows: next(),
         raster_direct: models.iter().map(|&m| (m, next())).collect(),
         raster_shading: models.iter().map(|&m| (m, next())).collect(),
+        reference: Vec::new(),
         masks,
         spp: spp / 2 * 2,
         dropped,

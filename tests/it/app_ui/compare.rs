@@ -277,8 +277,8 @@ fn the_compare_window_decomposes_against_the_truth_and_the_inspector_notes_the_c
         .at(pixel, (w, h));
     assert_eq!(
         chain.len(),
-        6,
-        "truth, fibre events, one event, map shadows, raster one event, raster"
+        7,
+        "truth, fibre events, one event, map shadows, raster one event, raster, reference"
     );
     for (label, _) in &chain {
         assert!(

@@ -142,7 +142,7 @@ pub fn against_truth(
     models: &[ShadingModel],
     progress: &mut dyn crate::progress::Progress,
 ) -> Result<Option<(Truth, ShadingTable)>> {
-    let Some(truth) = super::truth::path_traced(
+    let Some(mut truth) = super::truth::path_traced(
         gpu,
         settings,
         models,
@@ -155,7 +155,6 @@ pub fn against_truth(
         // Raster images only, and the table is whole or nothing: a stop takes effect at the caller's next step.
         let _ = progress.step(&format!("decomposing under {m}"), 0.95);
     })?;
-    let mut truth = truth;
     truth.reference = std::mem::take(&mut table.reference)
         .into_iter()
         .map(|(m, image)| (m, Stage::exact(image)))

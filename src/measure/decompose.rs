@@ -18,9 +18,9 @@
 //! docs). The path-traced images carry noise: each is the mean of two renders of different seeds, and an RMSE is
 //! reported with the noise of the step's difference removed, `sqrt(max(0, rmse² − noise²))`, that noise measured
 //! by how the difference the two renders give apart changes between them ([`difference_noise`]): the chain's
-//! images share their seeds, so two path-traced sides share part of their noise. The coarse RMSE is the same over blocks of [`BLOCK`]² pixels
-//! wholly in the region, each its pixels' mean: the error at the scale of locks rather than strands, where the
-//! truth's noise is some `BLOCK` times smaller.
+//! images share their seeds, so two path-traced sides share part of their noise. The coarse RMSE is the same
+//! over blocks of [`BLOCK`]² pixels wholly in the region, each its pixels' mean: the error at the scale of locks
+//! rather than strands, where the truth's noise is some `BLOCK` times smaller.
 
 use image::RgbaImage;
 use serde::Serialize;
@@ -239,10 +239,10 @@ pub struct RegionError {
     /// noise removed: the error at the scale of locks (NaN where the region holds no block).
     pub coarse: f64,
     /// Half the difference between the RMSEs the noisy sides' two renders give apart (`(rmse₀ − rmse₁) / 2`,
-    /// each with its own noise removed, twice the mean's): its size estimates how far the images' noise moves `rmse` (a render at
-    /// half the samples strays √2 times as far as their mean), with one degree of freedom; it errs high, each
-    /// render's figure carrying the noise of its own noise removal too, and a firefly in one render moves every
-    /// configuration's figure alike, which [`separation`] takes out. 0 between raster images.
+    /// each with its own noise removed, twice the mean's): its size estimates how far the images' noise moves
+    /// `rmse` (a render at half the samples strays √2 times as far as their mean), with one degree of freedom; it
+    /// errs high, each render's figure carrying the noise of its own noise removal too, and a firefly in one
+    /// render moves every configuration's figure alike, which [`separation`] takes out. 0 between raster images.
     pub gap: f64,
 }
 

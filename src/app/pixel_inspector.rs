@@ -351,8 +351,7 @@ fn linear(c: [f32; 3]) -> Color32 {
     egui::Rgba::from_rgb(c[0].max(0.0), c[1].max(0.0), c[2].max(0.0)).into()
 }
 
-/// Every technique's composite against the reference's, and the GPU images' pixel.
-/// The path-traced chain at the pixel: each stage's linear colour, from the truth to the raster's shading.
+/// The truth chain at the pixel: each stage's linear colour, from the truth to the reference's image.
 fn truth_note(ui: &mut egui::Ui, t: &Decomposed, pixel: [u32; 2], size: (u32, u32)) {
     ui.horizontal_wrapped(|ui| {
         ui.label("path-traced chain here:").on_hover_text(
@@ -366,6 +365,7 @@ fn truth_note(ui: &mut egui::Ui, t: &Decomposed, pixel: [u32; 2], size: (u32, u3
     });
 }
 
+/// Every technique's composite against the reference's, and the GPU images' pixel.
 fn composites_ui(ui: &mut egui::Ui, r: &PixelReport) {
     egui::Grid::new("pixel_composites").striped(true).show(ui, |ui| {
         ui.strong("CPU model");

@@ -20,7 +20,8 @@ pub struct Decomposed {
     pub settings: Settings,
     /// The configuration's rows under its shading model, in the chain's order, the total last.
     pub rows: Vec<Decomposition>,
-    /// The chain's path-traced images (sRGB over black), labelled, in the chain's order.
+    /// The chain's images (sRGB over black; the path-traced ones, then the reference's), labelled, in the
+    /// chain's order.
     pub stages: Vec<(String, RgbaImage)>,
     /// The truth's samples per pixel.
     pub spp: u32,
